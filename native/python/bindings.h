@@ -1,0 +1,52 @@
+// Shared declarations of the binding files: one file per bound concept.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <stdexcept>
+#include <string>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/math.h"
+
+namespace py = pybind11;
+
+// Colours, points and directions cross the boundary as 3-sequences of floats.
+namespace pybind11::detail {
+template <>
+struct type_caster<glm::vec3> {
+  PYBIND11_TYPE_CASTER(glm::vec3, const_name("tuple[float, float, float]"));
+  bool load(handle src, bool) {
+    if (!isinstance<sequence>(src) || isinstance<str>(src)) return false;
+    auto seq = reinterpret_borrow<sequence>(src);
+    if (seq.size() != 3) return false;
+    for (size_t i = 0; i < 3; ++i) value[static_cast<int>(i)] = seq[i].cast<float>();
+    return true;
+  }
+  static handle cast(const glm::vec3& v, return_value_policy, handle) {
+    return py::make_tuple(v.x, v.y, v.z).release();
+  }
+};
+}  // namespace pybind11::detail
+
+namespace whitted::python {
+
+void bind_camera(py::module_& m);
+void bind_light(py::module_& m);
+void bind_material(py::module_& m);
+void bind_scene(py::module_& m);
+void bind_render(py::module_& m);
+
+// 4x4 row-major numpy matrices <-> glm (column-major) matrices.
+glm::mat4 matrix_from_numpy(const py::handle& h);
+py::array_t<double> matrix_to_numpy(const glm::mat4& m);
+
+// Raises ValueError unless every component of a colour/vector is finite.
+inline void require_finite(const Vec3& v, const char* what) {
+  if (!is_finite(v)) throw std::invalid_argument(std::string(what) + " must be finite");
+}
+
+}  // namespace whitted::python

@@ -1,0 +1,72 @@
+#include "scene/camera.h"
+
+#include "bindings.h"
+
+namespace whitted::python {
+namespace {
+
+glm::mat4 to_glm(const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+  if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) {
+    throw std::invalid_argument("a transform must be a 4x4 matrix");
+  }
+  glm::mat4 m;
+  auto r = a.unchecked<2>();
+  // numpy rows are Blender's rows; glm indexes [column][row].
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) m[col][row] = static_cast<float>(r(row, col));
+  }
+  return m;
+}
+
+}  // namespace
+
+glm::mat4 matrix_from_numpy(const py::handle& h) {
+  return to_glm(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h));
+}
+
+py::array_t<double> matrix_to_numpy(const glm::mat4& m) {
+  py::array_t<double> out({4, 4});
+  auto w = out.mutable_unchecked<2>();
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) w(row, col) = m[col][row];
+  }
+  return out;
+}
+
+void bind_camera(py::module_& m) {
+  py::enum_<Projection>(m, "Projection")
+      .value("PERSPECTIVE", Projection::kPerspective)
+      .value("ORTHOGRAPHIC", Projection::kOrthographic);
+
+  py::class_<Camera>(m, "Camera", "Looks down its local -Z with +Y up (Blender's convention).")
+      .def(py::init([](const py::object& to_world, Projection projection,
+                       std::array<float, 4> window, float clip_start, float clip_end) {
+             Camera c;
+             if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
+             c.projection = projection;
+             std::copy(window.begin(), window.end(), c.window);
+             c.clip_start = clip_start;
+             c.clip_end = clip_end;
+             return c;
+           }),
+           py::arg("to_world") = py::none(), py::arg("projection") = Projection::kPerspective,
+           py::arg("window") = std::array<float, 4>{-0.5f, 0.5f, -0.5f, 0.5f},
+           py::arg("clip_start") = 0.1f, py::arg("clip_end") = 1000.0f)
+      .def_property(
+          "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
+          [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },
+          "Camera to world, 4x4 row-major.")
+      .def_readwrite("projection", &Camera::projection)
+      .def_property(
+          "window",
+          [](const Camera& c) {
+            return std::array<float, 4>{c.window[0], c.window[1], c.window[2], c.window[3]};
+          },
+          [](Camera& c, std::array<float, 4> w) { std::copy(w.begin(), w.end(), c.window); },
+          "(xmin, xmax, ymin, ymax) on the plane at distance 1 (perspective) or in camera "
+          "units (orthographic).")
+      .def_readwrite("clip_start", &Camera::clip_start)
+      .def_readwrite("clip_end", &Camera::clip_end);
+}
+
+}  // namespace whitted::python

@@ -1,0 +1,11 @@
+// The whitted_native Python module: the native Whitted ray tracer.
+#include "bindings.h"
+
+PYBIND11_MODULE(whitted_native, m) {
+  m.doc() = "Whitted: a native Whitted (1980) ray tracer on Embree.";
+  whitted::python::bind_camera(m);
+  whitted::python::bind_light(m);
+  whitted::python::bind_material(m);
+  whitted::python::bind_scene(m);
+  whitted::python::bind_render(m);
+}

@@ -1,0 +1,103 @@
+#include "integrator/render.h"
+
+#include "bindings.h"
+
+namespace whitted::python {
+namespace {
+
+py::dict stats_dict(const RenderStats& s) {
+  py::dict rays;
+  rays["camera"] = s.rays.camera;
+  rays["shadow"] = s.rays.shadow;
+  rays["reflection"] = s.rays.reflection;
+  rays["refraction"] = s.rays.refraction;
+  rays["total"] = s.rays.total();
+  py::dict out;
+  out["rays"] = rays;
+  out["total_internal_reflections"] = s.rays.total_internal_reflection;
+  out["depth_limited"] = s.rays.depth_limited;
+  out["nonfinite_samples"] = s.rays.nonfinite_samples;
+  out["compile_seconds"] = s.compile_seconds;
+  out["trace_seconds"] = s.trace_seconds;
+  out["threads"] = s.threads;
+  out["samples"] = s.samples;
+  out["triangles"] = s.triangles;
+  out["instances"] = s.instances;
+  out["lights"] = s.lights;
+  out["cancelled"] = s.cancelled;
+  return out;
+}
+
+// Copies a rectangle of the image into a C-contiguous float32[h*w, 4] array, the shape
+// Blender's foreach_set takes for a render pass.
+py::array_t<float> copy_rect(const RenderJob& job, int x, int y, int w, int h) {
+  const Settings& s = job.settings();
+  if (x < 0 || y < 0 || w < 0 || h < 0 || x + w > s.width || y + h > s.height) {
+    throw std::invalid_argument("rectangle outside the image");
+  }
+  py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{4}});
+  float* dst = out.mutable_data();
+  const float* src = job.pixels().data();
+  for (int row = 0; row < h; ++row) {
+    const float* line = src + 4 * (static_cast<size_t>(y + row) * s.width + x);
+    std::copy(line, line + 4 * static_cast<size_t>(w), dst + 4 * static_cast<size_t>(row) * w);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  py::enum_<Fresnel>(m, "Fresnel")
+      .value("OFF", Fresnel::kOff)
+      .value("SCHLICK", Fresnel::kSchlick)
+      .value("EXACT", Fresnel::kExact);
+
+  py::class_<Settings>(m, "Settings")
+      .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
+                       int tile_size, Fresnel fresnel) {
+             Settings s{width, height, max_depth, aa_samples, threads, tile_size, fresnel};
+             s.validate();
+             return s;
+           }),
+           py::arg("width") = 640, py::arg("height") = 480, py::arg("max_depth") = 5,
+           py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
+           py::arg("fresnel") = Fresnel::kExact)
+      .def_readwrite("width", &Settings::width)
+      .def_readwrite("height", &Settings::height)
+      .def_readwrite("max_depth", &Settings::max_depth)
+      .def_readwrite("aa_samples", &Settings::aa_samples)
+      .def_readwrite("threads", &Settings::threads)
+      .def_readwrite("tile_size", &Settings::tile_size)
+      .def_readwrite("fresnel", &Settings::fresnel);
+
+  py::class_<RenderJob>(m, "RenderJob",
+                        "A render on worker threads. Poll with wait(), collect finished "
+                        "tiles, cancel() to stop. Rows run bottom to top.")
+      .def(py::init<const Scene&, const Settings&>(), py::arg("scene"), py::arg("settings"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("start", &RenderJob::start)
+      .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
+           py::call_guard<py::gil_scoped_release>(),
+           "True once the render has finished or stopped after cancel().")
+      .def("cancel", &RenderJob::cancel)
+      .def_property_readonly("progress", &RenderJob::progress)
+      .def("take_finished_tiles",
+           [](RenderJob& job) {
+             std::vector<py::tuple> out;
+             for (const Tile& t : job.take_finished_tiles()) {
+               out.push_back(py::make_tuple(t.x, t.y, t.width, t.height));
+             }
+             return out;
+           })
+      .def("tile", &copy_rect, py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"))
+      .def("image",
+           [](const RenderJob& job) {
+             const Settings& s = job.settings();
+             return copy_rect(job, 0, 0, s.width, s.height)
+                 .reshape({s.height, s.width, 4});
+           })
+      .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); });
+}
+
+}  // namespace whitted::python

@@ -1,0 +1,91 @@
+#include "scene/scene.h"
+
+#include "bindings.h"
+
+namespace whitted::python {
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using UintArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+void require_shape(const py::array& a, const char* name, std::initializer_list<py::ssize_t> shape) {
+  bool ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
+  py::ssize_t axis = 0;
+  for (py::ssize_t s : shape) {
+    if (ok && s >= 0 && a.shape(axis) != s) ok = false;
+    ++axis;
+  }
+  if (!ok) {
+    std::string expected = "(";
+    for (py::ssize_t s : shape) expected += (s < 0 ? std::string("N") : std::to_string(s)) + ",";
+    expected.back() = ')';
+    throw std::invalid_argument(std::string(name) + " must have shape " + expected);
+  }
+}
+
+void set_mesh(Scene& scene, const std::string& name, const FloatArray& positions,
+              const UintArray& triangles, const std::optional<FloatArray>& normals,
+              const std::optional<IntArray>& material_slots) {
+  require_shape(positions, "positions", {-1, 3});
+  require_shape(triangles, "triangles", {-1, 3});
+  const auto m = static_cast<py::ssize_t>(triangles.shape(0));
+  if (normals) require_shape(*normals, "normals", {m, 3, 3});
+  if (material_slots) require_shape(*material_slots, "material_slots", {m});
+  const float* p = positions.data();
+  const uint32_t* t = triangles.data();
+  const float* n = normals ? normals->data() : nullptr;
+  const int32_t* s = material_slots ? material_slots->data() : nullptr;
+  const auto vertex_count = static_cast<size_t>(positions.shape(0));
+  // The arrays stay alive in this frame; copying and the BVH build need no GIL.
+  py::gil_scoped_release release;
+  scene.set_mesh(name, make_mesh(p, vertex_count, t, static_cast<size_t>(m), n, s));
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<Scene>(m, "Scene",
+                    "Meshes, instances, materials and lights keyed by name; setting a name "
+                    "again replaces only that item.")
+      .def(py::init<>())
+      .def("set_mesh", &set_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
+           py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
+           "positions float32[N,3], triangles uint32[M,3], normals float32[M,3,3] corner "
+           "normals or None (flat), material_slots int32[M] or None (slot 0).")
+      .def(
+          "set_instance",
+          [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
+             std::vector<std::string> materials) {
+            s.set_instance(name, Instance{mesh, matrix_from_numpy(to_world), std::move(materials)});
+          },
+          py::arg("name"), py::arg("mesh"), py::arg("transform"),
+          py::arg("materials") = std::vector<std::string>{},
+          "transform: 4x4 row-major object to world; materials: material name per slot "
+          "('' for the default material).")
+      .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"))
+      .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"))
+      .def("remove_mesh", &Scene::remove_mesh, py::arg("name"))
+      .def("remove_instance", &Scene::remove_instance, py::arg("name"))
+      .def("remove_material", &Scene::remove_material, py::arg("name"))
+      .def("remove_light", &Scene::remove_light, py::arg("name"))
+      .def_readwrite("camera", &Scene::camera)
+      .def_property(
+          "background", [](const Scene& s) { return s.background; },
+          [](Scene& s, Vec3 c) {
+            require_finite(c, "background");
+            s.background = c;
+          },
+          "Radiance of a ray that hits nothing.")
+      .def_property(
+          "ambient", [](const Scene& s) { return s.ambient; },
+          [](Scene& s, Vec3 c) {
+            require_finite(c, "ambient");
+            s.ambient = c;
+          },
+          "Ambient light Ia; a material's ambient term is ka * Ia * kd.")
+      .def_property_readonly("mesh_count", &Scene::mesh_count)
+      .def_property_readonly("instance_count", &Scene::instance_count);
+}
+
+}  // namespace whitted::python

@@ -1,0 +1,141 @@
+// All Embree calls live here. Written for Embree 3 (Debian's); for Embree 4 change the
+// include, the query calls (rtcIntersect1/rtcOccluded1 take optional arguments instead of
+// an RTCIntersectContext) and set the geometry mask explicitly.
+#include "accel/embree.h"
+
+#include <embree3/rtcore.h>
+
+#include <glm/gtc/type_ptr.hpp>
+#include <stdexcept>
+
+namespace whitted {
+namespace {
+
+RTCDevice as_device(void* p) { return static_cast<RTCDevice>(p); }
+RTCScene as_scene(void* p) { return static_cast<RTCScene>(p); }
+
+// Embree reports errors through this callback; it records the first message per device.
+void on_error(void* user, RTCError code, const char* message) {
+  auto* error = static_cast<std::string*>(user);
+  if (error->empty()) {
+    *error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
+             (message != nullptr ? message : "");
+  }
+}
+
+}  // namespace
+
+AccelDevice::AccelDevice() {
+  RTCDevice device = rtcNewDevice(nullptr);
+  if (device == nullptr) {
+    throw std::runtime_error("Embree could not create a device (error " +
+                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) +
+                             ")");
+  }
+  rtcSetDeviceErrorFunction(device, on_error, &error_);
+  device_ = device;
+}
+
+AccelDevice::~AccelDevice() { rtcReleaseDevice(as_device(device_)); }
+
+void AccelDevice::check(const char* what) const {
+  if (!error_.empty()) throw std::runtime_error(std::string(what) + ": " + error_);
+}
+
+MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
+    : device_(std::move(device)) {
+  RTCDevice d = as_device(device_->handle());
+  RTCScene scene = rtcNewScene(d);
+  // Robust mode: watertight-leaning intersectors, so rays do not slip through shared edges.
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Shared buffers: Embree reads the mesh's own arrays (positions are padded by one float).
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                             mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                             mesh.triangles.data(), 0, 3 * sizeof(uint32_t),
+                             mesh.triangle_count());
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(scene, geometry, 0);
+  rtcReleaseGeometry(geometry);  // the scene holds its own reference
+  rtcCommitScene(scene);
+  scene_ = scene;
+  device_->check("building a mesh BVH");
+}
+
+MeshAccel::~MeshAccel() { rtcReleaseScene(as_scene(scene_)); }
+
+SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
+                       const std::vector<AccelInstance>& instances)
+    : device_(std::move(device)) {
+  RTCDevice d = as_device(device_->handle());
+  RTCScene scene = rtcNewScene(d);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  for (size_t i = 0; i < instances.size(); ++i) {
+    RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geometry, as_scene(instances[i].mesh->handle()));
+    // glm matrices are column-major 4x4: exactly RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR.
+    rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
+                            glm::value_ptr(instances[i].to_world));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(scene, geometry, static_cast<unsigned>(i));
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(scene);
+  scene_ = scene;
+  device_->check("building the scene BVH");
+}
+
+SceneAccel::~SceneAccel() { rtcReleaseScene(as_scene(scene_)); }
+
+bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.t_min;
+  rh.ray.tfar = ray.t_max;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(as_scene(scene_), &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->t = rh.ray.tfar;
+  hit->u = rh.hit.u;
+  hit->v = rh.hit.v;
+  hit->instance = rh.hit.instID[0];
+  hit->primitive = rh.hit.primID;
+  return true;
+}
+
+bool SceneAccel::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.t_min;
+  r.tfar = ray.t_max;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(as_scene(scene_), &context, &r);
+  // Embree sets tfar to -inf when the ray is blocked.
+  return r.tfar < 0.0f;
+}
+
+}  // namespace whitted

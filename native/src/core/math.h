@@ -1,0 +1,68 @@
+// Vector helpers shared by every layer: reflection, refraction, Fresnel.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+namespace whitted {
+
+using Vec3 = glm::vec3;
+using Color = glm::vec3;
+
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr float kInvPi = 1.0f / kPi;
+
+inline float max_component(const Color& c) { return std::max({c.x, c.y, c.z}); }
+inline bool is_black(const Color& c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
+inline bool is_finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Mirror direction of incident direction u about unit normal n: r = u - 2(u.n)n.
+inline Vec3 reflect(const Vec3& u, const Vec3& n) { return u - 2.0f * glm::dot(u, n) * n; }
+
+// Refraction of unit incident direction u through a surface with unit normal n facing
+// against u (dot(u, n) < 0). eta = eta_incident / eta_transmitted. Snell's law:
+// eta1 sin(theta_i) = eta2 sin(theta_t). Returns false on total internal reflection.
+inline bool refract(const Vec3& u, const Vec3& n, float eta, Vec3* t) {
+  const float cos_i = std::min(1.0f, -glm::dot(u, n));
+  const float sin2_t = eta * eta * std::max(0.0f, 1.0f - cos_i * cos_i);
+  if (sin2_t >= 1.0f) return false;  // total internal reflection
+  const float cos_t = std::sqrt(1.0f - sin2_t);
+  *t = glm::normalize(eta * u + (eta * cos_i - cos_t) * n);
+  return true;
+}
+
+// Schlick's approximation of dielectric reflectance; cos_i is measured on the incident side.
+inline float fresnel_schlick(float cos_i, float eta) {
+  // Beyond the critical angle all light reflects.
+  const float sin2_t = eta * eta * std::max(0.0f, 1.0f - cos_i * cos_i);
+  if (sin2_t >= 1.0f) return 1.0f;
+  // Use the angle on the optically thinner side so the curve is right when leaving glass.
+  const float c = eta > 1.0f ? std::sqrt(1.0f - sin2_t) : cos_i;
+  const float r0 = (1.0f - eta) / (1.0f + eta);
+  const float f0 = r0 * r0;
+  const float m = 1.0f - std::clamp(c, 0.0f, 1.0f);
+  return f0 + (1.0f - f0) * m * m * m * m * m;
+}
+
+// Exact unpolarised dielectric Fresnel reflectance; 1 on total internal reflection.
+inline float fresnel_exact(float cos_i, float eta) {
+  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
+  const float sin2_t = eta * eta * (1.0f - cos_i * cos_i);
+  if (sin2_t >= 1.0f) return 1.0f;
+  const float cos_t = std::sqrt(1.0f - sin2_t);
+  // eta = n1/n2, so r_s = (n1 cos_i - n2 cos_t)/(n1 cos_i + n2 cos_t) divided through by n2.
+  const float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
+inline float smoothstep01(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+}  // namespace whitted

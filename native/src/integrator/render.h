@@ -1,0 +1,71 @@
+// A render in progress: tiles traced on worker threads, polled and cancelled from Python.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "integrator/settings.h"
+#include "integrator/whitted.h"
+#include "scene/scene.h"
+
+namespace whitted {
+
+struct Tile {
+  int x, y, width, height;  // pixels; y counts from the bottom row
+};
+
+struct RenderStats {
+  RayCounts rays;
+  double compile_seconds = 0.0;  // name resolution and top-level BVH build
+  double trace_seconds = 0.0;
+  int threads = 0;
+  uint64_t samples = 0;  // camera samples taken
+  size_t triangles = 0;
+  size_t instances = 0;
+  size_t lights = 0;
+  bool cancelled = false;
+};
+
+class RenderJob {
+ public:
+  RenderJob(const Scene& scene, const Settings& settings);
+  ~RenderJob();  // cancels and joins
+  RenderJob(const RenderJob&) = delete;
+  RenderJob& operator=(const RenderJob&) = delete;
+
+  void start();
+  // Waits up to `seconds`; true once every worker has finished (or stopped on cancel).
+  bool wait(double seconds);
+  void cancel();
+  float progress() const;
+  std::vector<Tile> take_finished_tiles();
+  const Settings& settings() const { return settings_; }
+  // RGBA float pixels, rows bottom to top. Read only finished tiles while running.
+  const std::vector<float>& pixels() const { return pixels_; }
+  RenderStats stats() const;
+
+ private:
+  void work();
+  void render_tile(const Tile& tile, const WhittedIntegrator& integrator, RayCounts* counts);
+
+  Settings settings_;
+  std::shared_ptr<const CompiledScene> scene_;
+  std::vector<Tile> tiles_;
+  std::vector<float> pixels_;
+  std::vector<std::thread> workers_;
+  std::atomic<size_t> next_tile_{0};
+  std::atomic<size_t> done_tiles_{0};
+  std::atomic<bool> cancel_{false};
+  mutable std::mutex mutex_;  // guards everything below
+  std::condition_variable finished_cv_;
+  int running_ = 0;
+  std::vector<Tile> finished_;
+  RenderStats stats_;
+  double start_time_ = 0.0;
+};
+
+}  // namespace whitted

@@ -1,0 +1,123 @@
+#include "integrator/whitted.h"
+
+#include <cmath>
+
+namespace whitted {
+
+RayCounts& RayCounts::operator+=(const RayCounts& o) {
+  camera += o.camera;
+  shadow += o.shadow;
+  reflection += o.reflection;
+  refraction += o.refraction;
+  total_internal_reflection += o.total_internal_reflection;
+  depth_limited += o.depth_limited;
+  nonfinite_samples += o.nonfinite_samples;
+  return *this;
+}
+
+WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings)
+    : scene_(scene), settings_(settings) {
+  for (const Material& m : scene.materials) any_transmissive_ |= m.transmissive();
+}
+
+Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) const {
+  Hit hit;
+  if (!scene_.accel->intersect(ray, &hit)) return scene_.background;
+  const Interaction it = scene_.interaction(ray, hit);
+  const Material& m = *it.material;
+  // Entering or leaving is decided by the geometric normal, never the shading normal.
+  const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+  const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
+  Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
+  if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
+  const Vec3 wo = -ray.direction;
+  Color radiance = m.emission + local(it, wo, ng, ns, counts);
+
+  Color kr = m.reflectivity;
+  Color kt = m.transmissivity;
+  if (is_black(kr) && is_black(kt)) return radiance;
+  if (depth >= settings_.max_depth) {
+    counts->depth_limited += (is_black(kr) ? 0 : 1) + (is_black(kt) ? 0 : 1);
+    return radiance;
+  }
+  const float cos_i = std::min(1.0f, glm::dot(wo, ns));
+  const float eta = entering ? 1.0f / m.ior : m.ior;  // eta_incident / eta_transmitted
+  Vec3 t_dir(0.0f);
+  const bool refracts = !is_black(kt) && refract(ray.direction, ns, eta, &t_dir) &&
+                        glm::dot(t_dir, ng) < 0.0f;
+  if (!is_black(kt)) {
+    const float f = !refracts                               ? 1.0f
+                    : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
+                    : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
+                                                             : 0.0f;
+    // The reflected share of the transmissive layer: all of it on total internal reflection.
+    kr += kt * f;
+    kt *= 1.0f - f;
+    if (!refracts) counts->total_internal_reflection += 1;
+  }
+  if (!is_black(kr)) {
+    Vec3 r = reflect(ray.direction, ns);
+    if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
+    counts->reflection += 1;
+    radiance += kr * trace(spawn_ray(it.position, it.geometric_normal, r), depth + 1, counts);
+  }
+  if (refracts && !is_black(kt)) {
+    counts->refraction += 1;
+    radiance +=
+        kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir), depth + 1, counts);
+  }
+  return radiance;
+}
+
+// I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
+Color WhittedIntegrator::local(const Interaction& it, const Vec3& wo, const Vec3& facing_ng,
+                               const Vec3& n, RayCounts* counts) const {
+  const Material& m = *it.material;
+  Color radiance = m.ambient * scene_.ambient * m.diffuse;
+  const float phong_norm = (m.shininess + 2.0f) * (0.5f * kInvPi);
+  for (const Light& light : scene_.lights) {
+    for (int s = 0; s < light.sample_count(); ++s) {
+      const LightSample ls = sample_light(light, it.position, s);
+      const float cos_l = glm::dot(n, ls.wi);
+      // No feeler towards a light behind the surface or one that sends nothing here.
+      if (cos_l <= 0.0f || glm::dot(facing_ng, ls.wi) <= 0.0f || is_black(ls.irradiance)) {
+        continue;
+      }
+      Color delta(1.0f);
+      if (light.cast_shadows) {
+        // Stop the feeler just short of the light sample.
+        const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
+        delta = shadow_transmittance(spawn_ray(it.position, facing_ng, ls.wi, t_max), counts);
+        if (is_black(delta)) continue;
+      }
+      const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
+      const Color brdf = m.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
+      radiance += delta * brdf * ls.irradiance * cos_l;
+    }
+  }
+  return radiance;
+}
+
+// Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque,
+// the product of the transmissivities of the glass it passes through (coloured shadows).
+Color WhittedIntegrator::shadow_transmittance(Ray ray, RayCounts* counts) const {
+  counts->shadow += 1;
+  if (!any_transmissive_) return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
+  Color transmittance(1.0f);
+  constexpr int kMaxSurfaces = 64;  // beyond this many glass surfaces, treat as blocked
+  for (int i = 0; i < kMaxSurfaces; ++i) {
+    Hit hit;
+    if (!scene_.accel->intersect(ray, &hit)) return transmittance;
+    const Interaction it = scene_.interaction(ray, hit);
+    transmittance *= it.material->transmissivity;
+    if (is_black(transmittance)) return transmittance;
+    const Vec3 p = it.position;
+    const float remaining = ray.t_max - glm::length(p - ray.origin);
+    if (!(remaining > 0.0f)) return transmittance;
+    ray = spawn_ray(p, it.geometric_normal, ray.direction, remaining);
+    counts->shadow += 1;
+  }
+  return Color(0.0f);
+}
+
+}  // namespace whitted

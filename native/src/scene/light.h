@@ -1,0 +1,43 @@
+// Lights, in the units Cycles uses, and the feelers a shading point sends to them.
+#pragma once
+
+#include <cstdint>
+
+#include "core/ray.h"
+
+namespace whitted {
+
+enum class LightType { kPoint, kSpot, kSun, kArea };
+enum class AreaShape { kRectangle, kEllipse };
+
+struct Light {
+  LightType type = LightType::kPoint;
+  // In the light's own unit, light colour included: radiant intensity (W/sr) for point and
+  // spot, irradiance (W/m^2) for sun, radiance (W/(m^2 sr)) for area.
+  Color color{1.0f};
+  Vec3 position{0.0f};
+  Vec3 direction{0.0f, 0.0f, -1.0f};  // the way light travels: spot axis, sun, area normal
+  float spot_size = 0.785398f;        // full cone angle, radians
+  float spot_blend = 0.15f;
+  float size[2] = {0.0f, 0.0f};  // area extents along axis_u and axis_v, world units
+  Vec3 axis_u{1.0f, 0.0f, 0.0f};
+  Vec3 axis_v{0.0f, 1.0f, 0.0f};
+  AreaShape shape = AreaShape::kRectangle;
+  int samples = 1;  // per axis for area lights: samples x samples feelers
+  bool cast_shadows = true;
+
+  int sample_count() const { return type == LightType::kArea ? samples * samples : 1; }
+};
+
+// One feeler's worth of light arriving at a point.
+struct LightSample {
+  Vec3 wi;          // unit direction from the point towards the light
+  float distance;   // to the light sample; infinity for the sun
+  Color irradiance; // on a surface facing wi, before the surface's cosine and visibility
+};
+
+// Sample `index` of light.sample_count() arriving at point p. Irradiance is zero where
+// the light cannot reach (outside a spot cone, behind an area light).
+LightSample sample_light(const Light& light, const Vec3& p, int index);
+
+}  // namespace whitted

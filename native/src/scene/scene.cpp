@@ -1,0 +1,137 @@
+#include "scene/scene.h"
+
+#include <glm/matrix.hpp>
+#include <stdexcept>
+
+namespace whitted {
+namespace {
+
+template <typename Map>
+void erase_or_throw(Map* map, const std::string& name, const char* kind) {
+  if (map->erase(name) == 0) {
+    throw std::invalid_argument(std::string("no ") + kind + " named '" + name + "'");
+  }
+}
+
+bool is_finite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(m[c][r])) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Scene::Scene() : device_(std::make_shared<AccelDevice>()) {}
+
+void Scene::set_mesh(const std::string& name, Mesh mesh) {
+  meshes_[name] = std::make_shared<const MeshEntry>(device_, std::move(mesh));
+}
+
+void Scene::set_instance(const std::string& name, Instance instance) {
+  if (!is_finite(instance.to_world)) {
+    throw std::invalid_argument("instance '" + name + "' has a NaN or infinite transform");
+  }
+  instances_[name] = std::move(instance);
+}
+
+void Scene::set_material(const std::string& name, const Material& material) {
+  materials_[name] = material;
+}
+void Scene::set_light(const std::string& name, const Light& light) { lights_[name] = light; }
+void Scene::remove_mesh(const std::string& name) { erase_or_throw(&meshes_, name, "mesh"); }
+void Scene::remove_instance(const std::string& name) {
+  erase_or_throw(&instances_, name, "instance");
+}
+void Scene::remove_material(const std::string& name) {
+  erase_or_throw(&materials_, name, "material");
+}
+void Scene::remove_light(const std::string& name) { erase_or_throw(&lights_, name, "light"); }
+
+std::shared_ptr<const CompiledScene> Scene::compile() const {
+  auto compiled = std::make_shared<CompiledScene>();
+  compiled->camera = camera;
+  compiled->background = background;
+  compiled->ambient = ambient;
+  std::map<std::string, uint32_t> material_index;
+  compiled->materials.push_back(Material{});
+  for (const auto& [name, material] : materials_) {
+    material_index[name] = static_cast<uint32_t>(compiled->materials.size());
+    compiled->materials.push_back(material);
+  }
+  for (const auto& [name, light] : lights_) compiled->lights.push_back(light);
+
+  std::vector<AccelInstance> accel_instances;
+  for (const auto& [name, instance] : instances_) {
+    auto mesh = meshes_.find(instance.mesh);
+    if (mesh == meshes_.end()) {
+      throw std::invalid_argument("instance '" + name + "' uses missing mesh '" +
+                                  instance.mesh + "'");
+    }
+    CompiledScene::Instance out;
+    out.mesh = mesh->second;
+    out.to_world = instance.to_world;
+    out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
+    for (const std::string& material : instance.materials) {
+      if (material.empty()) {
+        out.materials.push_back(0);
+        continue;
+      }
+      auto found = material_index.find(material);
+      if (found == material_index.end()) {
+        throw std::invalid_argument("instance '" + name + "' uses missing material '" +
+                                    material + "'");
+      }
+      out.materials.push_back(found->second);
+    }
+    if (out.mesh->mesh.triangle_count() == 0) continue;  // nothing to hit
+    accel_instances.push_back({&out.mesh->accel, out.to_world});
+    compiled->instances.push_back(std::move(out));
+  }
+  compiled->accel = std::make_unique<SceneAccel>(device_, accel_instances);
+  return compiled;
+}
+
+size_t CompiledScene::triangle_count() const {
+  size_t n = 0;
+  for (const Instance& instance : instances) n += instance.mesh->mesh.triangle_count();
+  return n;
+}
+
+Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
+  const Instance& instance = instances[hit.instance];
+  const Mesh& mesh = instance.mesh->mesh;
+  const uint32_t* tri = &mesh.triangles[3 * size_t{hit.primitive}];
+  const Vec3 p0 = mesh.vertex(tri[0]);
+  const Vec3 p1 = mesh.vertex(tri[1]);
+  const Vec3 p2 = mesh.vertex(tri[2]);
+  const float w0 = 1.0f - hit.u - hit.v;
+  Interaction out;
+  // The point from barycentrics on the triangle, not origin + t*direction: its error is
+  // a few ulps of the coordinates, which is what the ray-origin offset assumes.
+  const Vec3 local = w0 * p0 + hit.u * p1 + hit.v * p2;
+  out.position = Vec3(instance.to_world * glm::vec4(local, 1.0f));
+  Vec3 ng = instance.normal_to_world * glm::cross(p1 - p0, p2 - p0);
+  const float ng_length = glm::length(ng);
+  // A degenerate (zero-area) triangle has no normal; face the ray instead.
+  out.geometric_normal = ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length
+                                                                      : -ray.direction;
+  out.shading_normal = out.geometric_normal;
+  if (!mesh.normals.empty()) {
+    const float* n = &mesh.normals[9 * size_t{hit.primitive}];
+    const Vec3 ns = w0 * Vec3(n[0], n[1], n[2]) + hit.u * Vec3(n[3], n[4], n[5]) +
+                    hit.v * Vec3(n[6], n[7], n[8]);
+    const Vec3 world = instance.normal_to_world * ns;
+    const float length = glm::length(world);
+    if (length > 0.0f && std::isfinite(length)) out.shading_normal = world / length;
+  }
+  const size_t slot =
+      mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
+  const uint32_t index = slot < instance.materials.size() ? instance.materials[slot] : 0;
+  out.material = &materials[index];
+  return out;
+}
+
+}  // namespace whitted
