@@ -37,7 +37,7 @@ class WhittedIntegrator {
   Color shadow_transmittance(Ray ray, RayCounts* counts) const;
 
   const CompiledScene& scene_;
-  const Settings& settings_;
+  const Settings settings_;
   bool any_transmissive_ = false;  // coloured shadows need a walk through glass
 };
 

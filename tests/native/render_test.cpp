@@ -1,0 +1,156 @@
+// The render job: determinism across threads and tiles, prompt cancellation, validation.
+#include "integrator/render.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <stdexcept>
+
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::looking_down;
+using testing::quad;
+
+Scene glass_and_mirror_scene() {
+  Scene scene;
+  Material floor;
+  floor.diffuse = Color(0.6f, 0.5f, 0.4f);
+  floor.specular = Color(0.2f);
+  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), floor);
+  Material glass;
+  glass.diffuse = Color(0.0f);
+  glass.transmissivity = Color(0.9f);
+  add_object(&scene, "glass", quad(-1, 1, -1, 1, 1), glass);
+  Material mirror;
+  mirror.reflectivity = Color(0.8f);
+  add_object(&scene, "mirror", quad(-3, -2, -3, 3, 0.5f), mirror);
+  Light light;
+  light.color = Color(30.0f);
+  light.position = Vec3(1.0f, 2.0f, 4.0f);
+  scene.set_light("light", light);
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(5.0f);
+  area.position = Vec3(-2.0f, 0.0f, 3.0f);
+  area.size[0] = area.size[1] = 1.0f;
+  area.samples = 3;
+  scene.set_light("area", area);
+  scene.ambient = Color(0.05f);
+  scene.camera = looking_down(Vec3(0.3f, 0.2f, 6.0f), 0.9f);
+  return scene;
+}
+
+std::vector<float> render(const Scene& scene, Settings settings) {
+  RenderJob job(scene, settings);
+  job.start();
+  while (!job.wait(1.0)) {
+  }
+  return job.pixels();
+}
+
+TEST(Render, ImageIsBitIdenticalWhateverTheThreadCountAndTileSize) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 67;
+  settings.height = 45;
+  settings.aa_samples = 2;
+  settings.threads = 1;
+  settings.tile_size = 64;
+  const std::vector<float> reference = render(scene, settings);
+  for (auto [threads, tile] : {std::pair{2, 7}, std::pair{4, 16}, std::pair{3, 1}}) {
+    settings.threads = threads;
+    settings.tile_size = tile;
+    EXPECT_TRUE(render(scene, settings) == reference) << threads << " threads, tile " << tile;
+  }
+}
+
+TEST(Render, EveryTileIsReportedOnceAndProgressReachesOne) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 50;
+  settings.height = 30;
+  settings.tile_size = 16;
+  RenderJob job(scene, settings);
+  job.start();
+  while (!job.wait(1.0)) {
+  }
+  int pixels = 0;
+  for (const Tile& t : job.take_finished_tiles()) pixels += t.width * t.height;
+  EXPECT_EQ(pixels, 50 * 30);
+  EXPECT_FLOAT_EQ(job.progress(), 1.0f);
+  const RenderStats stats = job.stats();
+  EXPECT_EQ(stats.rays.camera, 50u * 30u);
+  EXPECT_FALSE(stats.cancelled);
+}
+
+TEST(Render, CancelStopsPromptly) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 4096;
+  settings.height = 4096;
+  settings.aa_samples = 4;  // minutes of work
+  settings.threads = 2;
+  RenderJob job(scene, settings);
+  job.start();
+  EXPECT_FALSE(job.wait(0.05));
+  const auto t0 = std::chrono::steady_clock::now();
+  job.cancel();
+  EXPECT_TRUE(job.wait(5.0));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 0.2);
+  EXPECT_TRUE(job.stats().cancelled);
+  EXPECT_LT(job.progress(), 1.0f);
+}
+
+TEST(Render, BadSettingsAreRefusedWithAMessage) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 0;
+  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  settings.width = 65536;
+  settings.height = 65536;  // 64 GiB of pixels
+  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  settings = Settings{};
+  settings.max_depth = 100000;
+  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+}
+
+TEST(Render, MissingMeshOrMaterialIsAClearError) {
+  Scene scene;
+  scene.set_instance("orphan", Instance{"nothing", glm::mat4(1.0f), {}});
+  EXPECT_THROW(RenderJob(scene, Settings{}), std::invalid_argument);
+  Scene scene2;
+  scene2.set_mesh("m", quad(0, 1, 0, 1, 0));
+  scene2.set_instance("i", Instance{"m", glm::mat4(1.0f), {"no such material"}});
+  EXPECT_THROW(RenderJob(scene2, Settings{}), std::invalid_argument);
+}
+
+TEST(Render, AnEmptySceneRendersTheBackground) {
+  Scene scene;
+  scene.background = Color(0.1f, 0.2f, 0.3f);
+  Settings settings;
+  settings.width = 8;
+  settings.height = 8;
+  const std::vector<float> pixels = render(scene, settings);
+  EXPECT_FLOAT_EQ(pixels[0], 0.1f);
+  EXPECT_FLOAT_EQ(pixels[4 * 63 + 2], 0.3f);
+  EXPECT_FLOAT_EQ(pixels[3], 1.0f);
+}
+
+TEST(Render, BadMeshesAreRefusedWithAMessage) {
+  const float nan = std::nanf("");
+  const float p[] = {0, 0, 0, 1, 0, 0, nan, 1, 0};
+  const uint32_t t[] = {0, 1, 2};
+  EXPECT_THROW(make_mesh(p, 3, t, 1, nullptr, nullptr), std::invalid_argument);
+  const float q[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint32_t bad[] = {0, 1, 3};
+  EXPECT_THROW(make_mesh(q, 3, bad, 1, nullptr, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace whitted

@@ -1,0 +1,49 @@
+// Small scenes for the native tests, built through the same Scene API the add-on uses.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "scene/scene.h"
+
+namespace whitted::testing {
+
+// An axis-aligned rectangle in the plane z = `z`, spanning [x0,x1] x [y0,y1], wound so
+// its normal points along +z.
+inline Mesh quad(float x0, float x1, float y0, float y1, float z) {
+  const float p[] = {x0, y0, z, x1, y0, z, x1, y1, z, x0, y1, z};
+  const uint32_t t[] = {0, 1, 2, 0, 2, 3};
+  return make_mesh(p, 4, t, 2, nullptr, nullptr);
+}
+
+inline void add_object(Scene* scene, const std::string& name, Mesh mesh,
+                       const Material& material, const glm::mat4& to_world = glm::mat4(1.0f)) {
+  scene->set_mesh(name, std::move(mesh));
+  scene->set_material(name, material);
+  scene->set_instance(name, Instance{name, to_world, {name}});
+}
+
+inline Material emitter(Color radiance) {
+  Material m;
+  m.diffuse = Color(0.0f);
+  m.ambient = 0.0f;
+  m.emission = radiance;
+  return m;
+}
+
+// A camera at `position` looking down -z with a square window of half-width `half`.
+inline Camera looking_down(Vec3 position, float half) {
+  Camera c;
+  c.to_world = glm::translate(glm::mat4(1.0f), position);
+  c.window[0] = -half;
+  c.window[1] = half;
+  c.window[2] = -half;
+  c.window[3] = half;
+  c.clip_start = 1e-3f;
+  c.clip_end = 1e6f;
+  return c;
+}
+
+}  // namespace whitted::testing

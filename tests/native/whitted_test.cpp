@@ -1,0 +1,226 @@
+// The integrator against analytic expectations: Lambertian shading under a point light,
+// mirror reflection, refraction through a slab, shadows, depth limits.
+#include "integrator/whitted.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::emitter;
+using testing::looking_down;
+using testing::quad;
+
+// Every pixel of a Lambertian plane under a point light is kd/pi * I cos(theta) / r^2.
+// Any shadow acne would darken some pixel and fail this.
+TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
+  Scene scene;
+  Material white;
+  white.diffuse = Color(0.7f);
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+  Light light;
+  light.type = LightType::kPoint;
+  light.color = Color(80.0f);  // radiant intensity, W/sr
+  light.position = Vec3(1.5f, -0.5f, 3.0f);
+  scene.set_light("light", light);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 1.5f);
+  scene.background = Color(0.0f);
+  const auto compiled = scene.compile();
+  Settings settings;
+  const WhittedIntegrator integrator(*compiled, settings);
+  RayCounts counts;
+  const int n = 96;
+  int checked = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const Ray ray = compiled->camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
+      const Color c = integrator.trace(ray, 0, &counts);
+      // Where the camera ray meets z = 0, in double precision.
+      const double t = -double(ray.origin.z) / ray.direction.z;
+      const double px = ray.origin.x + t * ray.direction.x;
+      const double py = ray.origin.y + t * ray.direction.y;
+      const double dx = light.position.x - px, dy = light.position.y - py, dz = light.position.z;
+      const double r2 = dx * dx + dy * dy + dz * dz;
+      const double expected = 0.7 / M_PI * 80.0 * (dz / std::sqrt(r2)) / r2;
+      ASSERT_NEAR(c.x, expected, 1e-3 * expected) << "pixel " << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, n * n);
+  EXPECT_EQ(counts.shadow, static_cast<uint64_t>(n * n));
+  EXPECT_EQ(counts.reflection + counts.refraction, 0u);
+}
+
+TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
+  Scene scene;
+  Material white;
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f), white);
+  Light light;
+  light.color = Color(10.0f);
+  light.position = Vec3(0.0f, 0.0f, 2.0f);
+  scene.set_light("light", light);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1.0f);
+  const auto compiled = scene.compile();
+  const WhittedIntegrator integrator(*compiled, Settings{});
+  RayCounts counts;
+  // From height 2 a 1x1 blocker at height 1 shadows the square |x|,|y| < 1 on the floor.
+  const auto floor_radiance = [&](float x, float y) {
+    Ray ray{Vec3(x, y, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    return integrator.trace(ray, 0, &counts).x;
+  };
+  EXPECT_EQ(floor_radiance(0.0f, 0.0f), 0.0f);
+  EXPECT_EQ(floor_radiance(0.95f, 0.0f), 0.0f);
+  EXPECT_GT(floor_radiance(1.05f, 0.0f), 0.0f);
+  EXPECT_GT(floor_radiance(0.0f, -1.05f), 0.0f);
+}
+
+// A camera ray bounced off a mirror sees what geometry says it should: the marker at the
+// reflected position, the background just beside it.
+TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
+  Scene scene;
+  Material mirror;
+  mirror.diffuse = Color(0.0f);
+  mirror.ambient = 0.0f;
+  mirror.reflectivity = Color(0.9f);
+  add_object(&scene, "mirror", quad(-10, 10, -10, 10, 0), mirror);
+  // Marker 0.2 wide around x = 4 at height 1 (the ray from (0,0,1) towards (2,0,0)
+  // reflects there).
+  add_object(&scene, "marker", quad(3.9f, 4.1f, -0.1f, 0.1f, 1.0f), emitter(Color(2.0f)));
+  scene.background = Color(0.25f);
+  const auto compiled = scene.compile();
+  const WhittedIntegrator integrator(*compiled, Settings{});
+  RayCounts counts;
+  const auto look = [&](float x_target) {
+    const Vec3 origin(0.0f, 0.0f, 1.0f);
+    Ray ray{origin, glm::normalize(Vec3(x_target, 0.0f, 0.0f) - origin), 0.0f, kInfinity};
+    return integrator.trace(ray, 0, &counts).x;
+  };
+  EXPECT_NEAR(look(2.0f), 0.9f * 2.0f, 1e-5f);    // marker, times reflectivity
+  EXPECT_NEAR(look(1.9f), 0.9f * 0.25f, 1e-5f);   // background beside it
+  EXPECT_NEAR(look(2.1f), 0.9f * 0.25f, 1e-5f);
+  EXPECT_EQ(counts.reflection, 3u);
+}
+
+// A ray through a glass slab of thickness d leaves parallel to itself, shifted sideways
+// by d sin(theta_i - theta_t) / cos(theta_t) (the textbook lateral displacement).
+TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
+  Scene scene;
+  Material glass;
+  glass.diffuse = Color(0.0f);
+  glass.ambient = 0.0f;
+  glass.transmissivity = Color(1.0f);
+  glass.ior = 1.5f;
+  // Slab between z = -1 and z = 0: top faces +z, bottom faces -z (outward normals).
+  add_object(&scene, "slab_top", quad(-50, 50, -50, 50, 0.0f), glass);
+  Mesh bottom = quad(-50, 50, -50, 50, -1.0f);
+  std::swap(bottom.triangles[1], bottom.triangles[2]);
+  std::swap(bottom.triangles[4], bottom.triangles[5]);
+  scene.set_mesh("slab_bottom", std::move(bottom));
+  scene.set_instance("slab_bottom", Instance{"slab_bottom", glm::mat4(1.0f), {"slab_top"}});
+  // A floor at z = -2, bright for x > 0 and black for x < 0.
+  add_object(&scene, "bright", quad(0.0f, 50, -50, 50, -2.0f), emitter(Color(1.0f)));
+  scene.background = Color(0.0f);
+  const auto compiled = scene.compile();
+  Settings settings;
+  settings.fresnel = Fresnel::kOff;
+  const WhittedIntegrator integrator(*compiled, settings);
+  RayCounts counts;
+  for (float theta : {0.2f, 0.5f, 0.9f}) {
+    const Vec3 dir(std::sin(theta), 0.0f, -std::cos(theta));
+    // Find the origin x at which the ray's landing point crosses the floor's edge.
+    float lo = -20.0f;
+    float hi = 20.0f;
+    for (int i = 0; i < 60; ++i) {
+      const float mid = 0.5f * (lo + hi);
+      Ray ray{Vec3(mid, 0.0f, 5.0f), dir, 0.0f, kInfinity};
+      (integrator.trace(ray, 0, &counts).x > 0.5f ? hi : lo) = mid;
+    }
+    const double theta_t = std::asin(std::sin(theta) / 1.5);
+    const double lateral = std::sin(theta - theta_t) / std::cos(theta_t);  // d = 1
+    // Without the slab the edge is met from x0 = -7 tan(theta); the slab shifts the ray
+    // back by `lateral` perpendicular to it, i.e. lateral / cos(theta) along x.
+    const double expected = -7.0 * std::tan(theta) + lateral / std::cos(theta);
+    EXPECT_NEAR(lo, expected, 1e-4) << "theta " << theta;
+  }
+  EXPECT_GT(counts.refraction, 0u);
+  EXPECT_EQ(counts.total_internal_reflection, 0u);
+}
+
+TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
+  Scene scene;
+  Material mirror;
+  mirror.diffuse = Color(0.0f);
+  mirror.ambient = 0.0f;
+  mirror.emission = Color(1.0f);
+  mirror.reflectivity = Color(0.5f);
+  add_object(&scene, "a", quad(-10, 10, -10, 10, 0.0f), mirror);
+  add_object(&scene, "b", quad(-10, 10, -10, 10, 1.0f), mirror);
+  const auto compiled = scene.compile();
+  for (int depth : {0, 1, 5, 256}) {
+    Settings settings;
+    settings.max_depth = depth;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    Ray ray{Vec3(0.0f, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    const float c = integrator.trace(ray, 0, &counts).x;
+    // A geometric series: sum_{k=0..depth} 0.5^k.
+    EXPECT_NEAR(c, 2.0f * (1.0f - std::pow(0.5f, depth + 1)), 1e-5f) << depth;
+    EXPECT_EQ(counts.reflection, static_cast<uint64_t>(depth));
+    EXPECT_EQ(counts.depth_limited, 1u);
+  }
+}
+
+TEST(Whitted, SpotLightSendsNothingOutsideItsCone) {
+  Scene scene;
+  Material white;
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+  Light spot;
+  spot.type = LightType::kSpot;
+  spot.color = Color(10.0f);
+  spot.position = Vec3(0.0f, 0.0f, 2.0f);
+  spot.direction = Vec3(0.0f, 0.0f, -1.0f);
+  spot.spot_size = 2.0f * std::atan(0.5f);  // cone edge at radius 1 on the floor
+  spot.spot_blend = 0.0f;
+  scene.set_light("spot", spot);
+  const auto compiled = scene.compile();
+  const WhittedIntegrator integrator(*compiled, Settings{});
+  RayCounts counts;
+  const auto floor_radiance = [&](float x) {
+    Ray ray{Vec3(x, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    return integrator.trace(ray, 0, &counts).x;
+  };
+  EXPECT_NEAR(floor_radiance(0.0f), 0.8f / kPi * 10.0f / 4.0f, 1e-5f);
+  EXPECT_GT(floor_radiance(0.95f), 0.0f);
+  EXPECT_EQ(floor_radiance(1.05f), 0.0f);
+  EXPECT_EQ(counts.shadow, 2u);  // none for the point outside the cone
+}
+
+TEST(Whitted, AmbientAndBackground) {
+  Scene scene;
+  Material m;
+  m.diffuse = Color(0.5f, 0.25f, 1.0f);
+  m.ambient = 0.8f;
+  add_object(&scene, "floor", quad(-1, 1, -1, 1, 0), m);
+  scene.ambient = Color(0.1f, 0.2f, 0.3f);
+  scene.background = Color(0.3f, 0.6f, 0.9f);
+  const auto compiled = scene.compile();
+  const WhittedIntegrator integrator(*compiled, Settings{});
+  RayCounts counts;
+  const Color hit = integrator.trace({Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, 0, &counts);
+  const Color miss = integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, 0, &counts);
+  EXPECT_NEAR(hit.x, 0.8f * 0.1f * 0.5f, 1e-6f);
+  EXPECT_NEAR(hit.z, 0.8f * 0.3f * 1.0f, 1e-6f);
+  EXPECT_EQ(miss, scene.background);
+}
+
+}  // namespace
+}  // namespace whitted
