@@ -1,0 +1,180 @@
+"""The binding API without Blender: scenes from numpy arrays, rendered and checked."""
+
+import math
+import time
+
+import numpy as np
+import pytest
+import whitted_native as wn
+
+
+def quad(x0, x1, y0, y1, z):
+    positions = np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]], np.float32)
+    triangles = np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+    return positions, triangles
+
+
+def looking_down(height, half):
+    to_world = np.eye(4)
+    to_world[2, 3] = height
+    return wn.Camera(to_world=to_world, window=(-half, half, -half, half), clip_end=1e4)
+
+
+def finish(job):
+    job.start()
+    while not job.wait(1.0):
+        pass
+    return job.image()
+
+
+def point_light(power):
+    return wn.Light(type=wn.LightType.POINT, color=(power,) * 3, position=(0, 0, 2))
+
+
+def lit_floor_scene():
+    scene = wn.Scene()
+    scene.set_mesh("floor", *quad(-10, 10, -10, 10, 0))
+    scene.set_material("white", wn.Material(diffuse=(0.5, 0.5, 0.5), ambient=0.0))
+    scene.set_instance("floor", "floor", np.eye(4), ["white"])
+    scene.set_light("key", point_light(40))
+    scene.camera = looking_down(5.0, 1.0)
+    scene.background = (0.0, 0.0, 0.0)
+    return scene
+
+
+def test_lambertian_floor_matches_the_inverse_square_cosine_law():
+    image = finish(wn.RenderJob(lit_floor_scene(), wn.Settings(width=33, height=33)))
+    assert image.shape == (33, 33, 4)
+    assert image.dtype == np.float32
+    # The centre pixel looks straight down at the point under the light.
+    assert image[16, 16, 0] == pytest.approx(0.5 / math.pi * 40 / 4, rel=1e-4)
+    # A corner: camera ray through the window corner meets the floor at (+-x, +-y) * 5.
+    x = (-1 + 2 * 0.5 / 33) * 5  # centre of column 0 in the window [-1, 1], on the floor
+    r2 = 2 * x * x + 4
+    expected = 0.5 / math.pi * 40 * (2 / math.sqrt(r2)) / r2
+    assert image[0, 0, 1] == pytest.approx(expected, rel=1e-3)
+    assert np.all(image[..., 3] == 1.0)
+
+
+def test_rows_run_bottom_to_top_like_blenders_render_result():
+    scene = lit_floor_scene()
+    scene.remove_light("key")
+    scene.set_mesh("marker", *quad(-10, 10, -10, 0, 0.5))  # covers the lower half (y < 0)
+    scene.set_material("glow", wn.Material(diffuse=(0, 0, 0), ambient=0, emission=(1, 0, 0)))
+    scene.set_instance("marker", "marker", np.eye(4), ["glow"])
+    image = finish(wn.RenderJob(scene, wn.Settings(width=8, height=8)))
+    assert np.all(image[:4, :, 0] == 1.0)  # first rows: the bottom of the picture
+    assert np.all(image[4:, :, 0] == 0.0)
+
+
+def test_replacing_one_light_changes_only_its_contribution():
+    scene = lit_floor_scene()
+    before = finish(wn.RenderJob(scene, wn.Settings(width=16, height=16)))
+    scene.set_light("key", point_light(80))
+    after = finish(wn.RenderJob(scene, wn.Settings(width=16, height=16)))
+    np.testing.assert_allclose(after[..., :3], 2 * before[..., :3], rtol=1e-6)
+
+
+def test_instances_share_one_mesh():
+    scene = wn.Scene()
+    scene.set_mesh("tile", *quad(-0.4, 0.4, -0.4, 0.4, 0))
+    scene.set_material("glow", wn.Material(diffuse=(0, 0, 0), ambient=0, emission=(1, 1, 1)))
+    for i in range(100):
+        transform = np.eye(4)
+        transform[0, 3] = (i % 10) - 4.5
+        transform[1, 3] = (i // 10) - 4.5
+        scene.set_instance(f"tile.{i}", "tile", transform, ["glow"])
+    assert scene.mesh_count == 1
+    assert scene.instance_count == 100
+    scene.camera = looking_down(10, 0.5)
+    job = wn.RenderJob(scene, wn.Settings(width=100, height=100))
+    image = finish(job)
+    stats = job.stats()
+    assert stats["instances"] == 100
+    assert stats["triangles"] == 200
+    # 80% of the floor is covered by tiles (0.8 x 0.8 of each unit cell).
+    assert image[..., 0].mean() == pytest.approx(0.64, abs=0.03)
+
+
+def test_stats_count_rays_by_type():
+    scene = lit_floor_scene()
+    scene.set_material("white", wn.Material(diffuse=(0.5, 0.5, 0.5), reflectivity=(0.5, 0.5, 0.5)))
+    job = wn.RenderJob(scene, wn.Settings(width=10, height=10, aa_samples=2, max_depth=3))
+    finish(job)
+    stats = job.stats()
+    assert stats["rays"]["camera"] == 400
+    assert stats["rays"]["reflection"] == 400  # each reflects once, into the sky
+    assert stats["rays"]["shadow"] == 400
+    assert stats["rays"]["refraction"] == 0
+    assert stats["rays"]["total"] == 1200
+
+
+@pytest.mark.parametrize(
+    ("positions", "triangles", "message"),
+    [
+        (np.zeros((4, 2), np.float32), np.zeros((1, 3), np.uint32), "positions"),
+        (np.zeros((4, 3), np.float32), np.zeros((3,), np.uint32), "triangles"),
+        (np.array([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]]), np.array([[0, 1, 2]]), "NaN"),
+        (np.array([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]]), np.array([[0, 1, 2]]), "NaN"),
+        (np.zeros((3, 3), np.float32), np.array([[0, 1, 5]], np.uint32), "vertex"),
+    ],
+)
+def test_bad_mesh_arrays_raise_value_error(positions, triangles, message):
+    with pytest.raises(ValueError, match=message):
+        wn.Scene().set_mesh("bad", positions, triangles)
+
+
+def test_bad_normals_and_slots_shapes_raise():
+    scene = wn.Scene()
+    positions, triangles = quad(0, 1, 0, 1, 0)
+    with pytest.raises(ValueError, match="normals"):
+        scene.set_mesh("m", positions, triangles, normals=np.zeros((2, 3), np.float32))
+    with pytest.raises(ValueError, match="material_slots"):
+        scene.set_mesh("m", positions, triangles, material_slots=np.zeros(5, np.int32))
+
+
+def test_bad_values_raise_instead_of_crashing():
+    scene = wn.Scene()
+    with pytest.raises(ValueError):
+        scene.set_instance("i", "m", np.full((4, 4), np.nan))
+    with pytest.raises(ValueError):
+        scene.set_instance("i", "m", np.eye(3))
+    with pytest.raises(ValueError):
+        wn.Material(diffuse=(np.nan, 0, 0))
+    with pytest.raises(ValueError):
+        wn.Material(ior=0.0)
+    with pytest.raises(ValueError):
+        wn.Light(color=(np.inf, 1, 1))
+    with pytest.raises(ValueError):
+        wn.Settings(width=100000)
+    with pytest.raises(ValueError):
+        wn.Settings(width=60000, height=60000)
+    with pytest.raises(ValueError, match="missing mesh"):
+        scene.set_instance("i", "nothing", np.eye(4))
+        wn.RenderJob(scene, wn.Settings(width=4, height=4))
+    with pytest.raises(ValueError, match="no light"):
+        scene.remove_light("nothing")
+
+
+def test_cancel_returns_within_a_fifth_of_a_second():
+    scene = lit_floor_scene()
+    job = wn.RenderJob(scene, wn.Settings(width=4000, height=4000, aa_samples=4, threads=2))
+    job.start()
+    assert not job.wait(0.02)
+    t0 = time.perf_counter()
+    job.cancel()
+    assert job.wait(5.0)
+    assert time.perf_counter() - t0 < 0.2
+    assert job.stats()["cancelled"]
+
+
+def test_tiles_cover_the_image_and_match_it():
+    job = wn.RenderJob(lit_floor_scene(), wn.Settings(width=40, height=24, tile_size=16))
+    image = finish(job)
+    tiles = job.take_finished_tiles()
+    assert sum(w * h for _, _, w, h in tiles) == 40 * 24
+    for x, y, w, h in tiles:
+        expected = image[y : y + h, x : x + w].reshape(-1, 4)
+        np.testing.assert_array_equal(job.tile(x, y, w, h), expected)
+    with pytest.raises(ValueError):
+        job.tile(30, 0, 16, 16)
