@@ -17,10 +17,9 @@ void bind_light(py::module_& m) {
   py::class_<Light>(m, "Light",
                     "color is W/sr (point, spot), W/m^2 (sun) or W/(m^2 sr) (area), "
                     "light colour included; direction is the way light travels.")
-      .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction,
-                       float spot_size, float spot_blend, std::array<float, 2> size,
-                       Vec3 axis_u, Vec3 axis_v, AreaShape shape, int samples,
-                       bool cast_shadows) {
+      .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
+                       float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
+                       AreaShape shape, int samples, bool cast_shadows) {
              for (const Vec3* v : {&color, &position, &direction, &axis_u, &axis_v}) {
                require_finite(*v, "light colour, position and axes");
              }

@@ -6,25 +6,25 @@ namespace whitted::python {
 
 void bind_material(py::module_& m) {
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
-      .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
-                       Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission) {
-             Material out{diffuse, specular, shininess, ambient, reflectivity,
-                          transmissivity, ior, emission};
-             for (const Vec3* v : {&diffuse, &specular, &reflectivity, &transmissivity,
-                                   &emission}) {
-               require_finite(*v, "material colours");
-             }
-             if (!std::isfinite(shininess) || !std::isfinite(ambient) || !std::isfinite(ior) ||
-                 ior <= 0.0f) {
-               throw std::invalid_argument(
-                   "material shininess, ambient and ior must be finite and ior positive");
-             }
-             return out;
-           }),
-           py::arg("diffuse") = Vec3(0.8f), py::arg("specular") = Vec3(0.0f),
-           py::arg("shininess") = 50.0f, py::arg("ambient") = 1.0f,
-           py::arg("reflectivity") = Vec3(0.0f), py::arg("transmissivity") = Vec3(0.0f),
-           py::arg("ior") = 1.5f, py::arg("emission") = Vec3(0.0f))
+      .def(
+          py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
+                      Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission) {
+            Material out{diffuse,      specular,       shininess, ambient,
+                         reflectivity, transmissivity, ior,       emission};
+            for (const Vec3* v : {&diffuse, &specular, &reflectivity, &transmissivity, &emission}) {
+              require_finite(*v, "material colours");
+            }
+            if (!std::isfinite(shininess) || !std::isfinite(ambient) || !std::isfinite(ior) ||
+                ior <= 0.0f) {
+              throw std::invalid_argument(
+                  "material shininess, ambient and ior must be finite and ior positive");
+            }
+            return out;
+          }),
+          py::arg("diffuse") = Vec3(0.8f), py::arg("specular") = Vec3(0.0f),
+          py::arg("shininess") = 50.0f, py::arg("ambient") = 1.0f,
+          py::arg("reflectivity") = Vec3(0.0f), py::arg("transmissivity") = Vec3(0.0f),
+          py::arg("ior") = 1.5f, py::arg("emission") = Vec3(0.0f))
       .def_readwrite("diffuse", &Material::diffuse)
       .def_readwrite("specular", &Material::specular)
       .def_readwrite("shininess", &Material::shininess)

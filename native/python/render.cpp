@@ -94,8 +94,7 @@ void bind_render(py::module_& m) {
       .def("image",
            [](const RenderJob& job) {
              const Settings& s = job.settings();
-             return copy_rect(job, 0, 0, s.width, s.height)
-                 .reshape({s.height, s.width, 4});
+             return copy_rect(job, 0, 0, s.width, s.height).reshape({s.height, s.width, 4});
            })
       .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); });
 }

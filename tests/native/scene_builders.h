@@ -18,8 +18,8 @@ inline Mesh quad(float x0, float x1, float y0, float y1, float z) {
   return make_mesh(p, 4, t, 2, nullptr, nullptr);
 }
 
-inline void add_object(Scene* scene, const std::string& name, Mesh mesh,
-                       const Material& material, const glm::mat4& to_world = glm::mat4(1.0f)) {
+inline void add_object(Scene* scene, const std::string& name, Mesh mesh, const Material& material,
+                       const glm::mat4& to_world = glm::mat4(1.0f)) {
   scene->set_mesh(name, std::move(mesh));
   scene->set_material(name, material);
   scene->set_instance(name, Instance{name, to_world, {name}});

@@ -103,8 +103,8 @@ TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
     Ray ray{origin, glm::normalize(Vec3(x_target, 0.0f, 0.0f) - origin), 0.0f, kInfinity};
     return integrator.trace(ray, 0, &counts).x;
   };
-  EXPECT_NEAR(look(2.0f), 0.9f * 2.0f, 1e-5f);    // marker, times reflectivity
-  EXPECT_NEAR(look(1.9f), 0.9f * 0.25f, 1e-5f);   // background beside it
+  EXPECT_NEAR(look(2.0f), 0.9f * 2.0f, 1e-5f);   // marker, times reflectivity
+  EXPECT_NEAR(look(1.9f), 0.9f * 0.25f, 1e-5f);  // background beside it
   EXPECT_NEAR(look(2.1f), 0.9f * 0.25f, 1e-5f);
   EXPECT_EQ(counts.reflection, 3u);
 }

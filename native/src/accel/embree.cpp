@@ -11,8 +11,12 @@
 namespace whitted {
 namespace {
 
-RTCDevice as_device(void* p) { return static_cast<RTCDevice>(p); }
-RTCScene as_scene(void* p) { return static_cast<RTCScene>(p); }
+RTCDevice as_device(void* p) {
+  return static_cast<RTCDevice>(p);
+}
+RTCScene as_scene(void* p) {
+  return static_cast<RTCScene>(p);
+}
 
 // Embree reports errors through this callback; it records the first message per device.
 void on_error(void* user, RTCError code, const char* message) {
@@ -29,14 +33,15 @@ AccelDevice::AccelDevice() {
   RTCDevice device = rtcNewDevice(nullptr);
   if (device == nullptr) {
     throw std::runtime_error("Embree could not create a device (error " +
-                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) +
-                             ")");
+                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
   rtcSetDeviceErrorFunction(device, on_error, &error_);
   device_ = device;
 }
 
-AccelDevice::~AccelDevice() { rtcReleaseDevice(as_device(device_)); }
+AccelDevice::~AccelDevice() {
+  rtcReleaseDevice(as_device(device_));
+}
 
 void AccelDevice::check(const char* what) const {
   if (!error_.empty()) throw std::runtime_error(std::string(what) + ": " + error_);
@@ -54,8 +59,7 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                              mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                             mesh.triangles.data(), 0, 3 * sizeof(uint32_t),
-                             mesh.triangle_count());
+                             mesh.triangles.data(), 0, 3 * sizeof(uint32_t), mesh.triangle_count());
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(scene, geometry, 0);
   rtcReleaseGeometry(geometry);  // the scene holds its own reference
@@ -64,7 +68,9 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
   device_->check("building a mesh BVH");
 }
 
-MeshAccel::~MeshAccel() { rtcReleaseScene(as_scene(scene_)); }
+MeshAccel::~MeshAccel() {
+  rtcReleaseScene(as_scene(scene_));
+}
 
 SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
                        const std::vector<AccelInstance>& instances)
@@ -87,7 +93,9 @@ SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
   device_->check("building the scene BVH");
 }
 
-SceneAccel::~SceneAccel() { rtcReleaseScene(as_scene(scene_)); }
+SceneAccel::~SceneAccel() {
+  rtcReleaseScene(as_scene(scene_));
+}
 
 bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
   RTCIntersectContext context;

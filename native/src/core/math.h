@@ -14,14 +14,20 @@ using Color = glm::vec3;
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 1.0f / kPi;
 
-inline float max_component(const Color& c) { return std::max({c.x, c.y, c.z}); }
-inline bool is_black(const Color& c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
+inline float max_component(const Color& c) {
+  return std::max({c.x, c.y, c.z});
+}
+inline bool is_black(const Color& c) {
+  return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f;
+}
 inline bool is_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 // Mirror direction of incident direction u about unit normal n: r = u - 2(u.n)n.
-inline Vec3 reflect(const Vec3& u, const Vec3& n) { return u - 2.0f * glm::dot(u, n) * n; }
+inline Vec3 reflect(const Vec3& u, const Vec3& n) {
+  return u - 2.0f * glm::dot(u, n) * n;
+}
 
 // Refraction of unit incident direction u through a surface with unit normal n facing
 // against u (dot(u, n) < 0). eta = eta_incident / eta_transmitted. Snell's law:

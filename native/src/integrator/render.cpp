@@ -24,7 +24,8 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   const int ts = settings_.tile_size;
   for (int y = 0; y < settings_.height; y += ts) {
     for (int x = 0; x < settings_.width; x += ts) {
-      tiles_.push_back({x, y, std::min(ts, settings_.width - x), std::min(ts, settings_.height - y)});
+      tiles_.push_back(
+          {x, y, std::min(ts, settings_.width - x), std::min(ts, settings_.height - y)});
     }
   }
 }
@@ -106,11 +107,14 @@ bool RenderJob::wait(double seconds) {
                                [this] { return running_ == 0; });
 }
 
-void RenderJob::cancel() { cancel_ = true; }
+void RenderJob::cancel() {
+  cancel_ = true;
+}
 
 float RenderJob::progress() const {
-  return tiles_.empty() ? 1.0f
-                        : static_cast<float>(done_tiles_.load()) / static_cast<float>(tiles_.size());
+  return tiles_.empty()
+             ? 1.0f
+             : static_cast<float>(done_tiles_.load()) / static_cast<float>(tiles_.size());
 }
 
 std::vector<Tile> RenderJob::take_finished_tiles() {

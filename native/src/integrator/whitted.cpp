@@ -43,10 +43,10 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) con
   const float cos_i = std::min(1.0f, glm::dot(wo, ns));
   const float eta = entering ? 1.0f / m.ior : m.ior;  // eta_incident / eta_transmitted
   Vec3 t_dir(0.0f);
-  const bool refracts = !is_black(kt) && refract(ray.direction, ns, eta, &t_dir) &&
-                        glm::dot(t_dir, ng) < 0.0f;
+  const bool refracts =
+      !is_black(kt) && refract(ray.direction, ns, eta, &t_dir) && glm::dot(t_dir, ng) < 0.0f;
   if (!is_black(kt)) {
-    const float f = !refracts                               ? 1.0f
+    const float f = !refracts                                ? 1.0f
                     : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
                     : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
                                                              : 0.0f;
@@ -63,8 +63,7 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) con
   }
   if (refracts && !is_black(kt)) {
     counts->refraction += 1;
-    radiance +=
-        kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir), depth + 1, counts);
+    radiance += kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir), depth + 1, counts);
   }
   return radiance;
 }
@@ -91,7 +90,8 @@ Color WhittedIntegrator::local(const Interaction& it, const Vec3& wo, const Vec3
         if (is_black(delta)) continue;
       }
       const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
-      const Color brdf = m.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
+      const Color brdf =
+          m.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
       radiance += delta * brdf * ls.irradiance * cos_l;
     }
   }

@@ -56,8 +56,8 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
     float b = 0.0f;
     area_offset(light, index, &a, &b);
     target += a * light.size[0] * light.axis_u + b * light.size[1] * light.axis_v;
-    const float area = light.size[0] * light.size[1] *
-                       (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
+    const float area =
+        light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
     area_weight = area / static_cast<float>(light.sample_count());
   }
   const Vec3 d = target - p;

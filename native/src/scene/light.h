@@ -31,9 +31,9 @@ struct Light {
 
 // One feeler's worth of light arriving at a point.
 struct LightSample {
-  Vec3 wi;          // unit direction from the point towards the light
-  float distance;   // to the light sample; infinity for the sun
-  Color irradiance; // on a surface facing wi, before the surface's cosine and visibility
+  Vec3 wi;           // unit direction from the point towards the light
+  float distance;    // to the light sample; infinity for the sun
+  Color irradiance;  // on a surface facing wi, before the surface's cosine and visibility
 };
 
 // Sample `index` of light.sample_count() arriving at point p. Irradiance is zero where

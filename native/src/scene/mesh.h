@@ -9,9 +9,9 @@
 namespace whitted {
 
 struct Mesh {
-  std::vector<float> positions;     // 3 per vertex, plus one float of padding Embree reads
-  std::vector<uint32_t> triangles;  // 3 vertex indices per triangle
-  std::vector<float> normals;       // 9 per triangle (corner normals), or empty for flat
+  std::vector<float> positions;         // 3 per vertex, plus one float of padding Embree reads
+  std::vector<uint32_t> triangles;      // 3 vertex indices per triangle
+  std::vector<float> normals;           // 9 per triangle (corner normals), or empty for flat
   std::vector<int32_t> material_slots;  // 1 per triangle, or empty for slot 0
 
   size_t vertex_count() const { return positions.size() / 3; }

@@ -40,15 +40,21 @@ void Scene::set_instance(const std::string& name, Instance instance) {
 void Scene::set_material(const std::string& name, const Material& material) {
   materials_[name] = material;
 }
-void Scene::set_light(const std::string& name, const Light& light) { lights_[name] = light; }
-void Scene::remove_mesh(const std::string& name) { erase_or_throw(&meshes_, name, "mesh"); }
+void Scene::set_light(const std::string& name, const Light& light) {
+  lights_[name] = light;
+}
+void Scene::remove_mesh(const std::string& name) {
+  erase_or_throw(&meshes_, name, "mesh");
+}
 void Scene::remove_instance(const std::string& name) {
   erase_or_throw(&instances_, name, "instance");
 }
 void Scene::remove_material(const std::string& name) {
   erase_or_throw(&materials_, name, "material");
 }
-void Scene::remove_light(const std::string& name) { erase_or_throw(&lights_, name, "light"); }
+void Scene::remove_light(const std::string& name) {
+  erase_or_throw(&lights_, name, "light");
+}
 
 std::shared_ptr<const CompiledScene> Scene::compile() const {
   auto compiled = std::make_shared<CompiledScene>();
@@ -67,8 +73,8 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
   for (const auto& [name, instance] : instances_) {
     auto mesh = meshes_.find(instance.mesh);
     if (mesh == meshes_.end()) {
-      throw std::invalid_argument("instance '" + name + "' uses missing mesh '" +
-                                  instance.mesh + "'");
+      throw std::invalid_argument("instance '" + name + "' uses missing mesh '" + instance.mesh +
+                                  "'");
     }
     CompiledScene::Instance out;
     out.mesh = mesh->second;
@@ -81,8 +87,8 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
       }
       auto found = material_index.find(material);
       if (found == material_index.end()) {
-        throw std::invalid_argument("instance '" + name + "' uses missing material '" +
-                                    material + "'");
+        throw std::invalid_argument("instance '" + name + "' uses missing material '" + material +
+                                    "'");
       }
       out.materials.push_back(found->second);
     }
@@ -116,8 +122,8 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   Vec3 ng = instance.normal_to_world * glm::cross(p1 - p0, p2 - p0);
   const float ng_length = glm::length(ng);
   // A degenerate (zero-area) triangle has no normal; face the ray instead.
-  out.geometric_normal = ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length
-                                                                      : -ray.direction;
+  out.geometric_normal =
+      ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
   out.shading_normal = out.geometric_normal;
   if (!mesh.normals.empty()) {
     const float* n = &mesh.normals[9 * size_t{hit.primitive}];

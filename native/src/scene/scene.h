@@ -45,7 +45,7 @@ struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
     glm::mat4 to_world;
-    glm::mat3 normal_to_world;  // inverse transpose of the linear part
+    glm::mat3 normal_to_world;        // inverse transpose of the linear part
     std::vector<uint32_t> materials;  // slot -> index into `materials`
   };
   std::vector<Instance> instances;
