@@ -85,7 +85,9 @@ void bind_scene(py::module_& m) {
           },
           "Ambient light Ia; a material's ambient term is ka * Ia * kd.")
       .def_property_readonly("mesh_count", &Scene::mesh_count)
-      .def_property_readonly("instance_count", &Scene::instance_count);
+      .def_property_readonly("instance_count", &Scene::instance_count)
+      .def_property_readonly("mesh_build_seconds", &Scene::mesh_build_seconds,
+                             "Seconds spent in set_mesh building mesh BVHs, summed.");
 }
 
 }  // namespace whitted::python

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -28,11 +29,15 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
   constexpr float kIntScale = 256.0f;             // ulps moved, relative to n
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
+    if (std::fabs(p[i]) < kOrigin) {
+      out[i] = p[i] + kFloatScale * n[i];  // near zero ulps are tiny: use a fixed step
+      continue;
+    }
     const int of_i = static_cast<int>(kIntScale * n[i]);
     const int32_t bits = std::bit_cast<int32_t>(p[i]);
-    // Step away from zero for positive offsets on positive p (and vice versa).
-    const float p_i = std::bit_cast<float>(bits + ((p[i] < 0.0f) ? -of_i : of_i));
-    out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : p_i;
+    // Step away from zero for positive offsets on positive p (and vice versa). |p| >= 1/32
+    // keeps the integer far from overflow.
+    out[i] = std::bit_cast<float>(bits + ((p[i] < 0.0f) ? -of_i : of_i));
   }
   return out;
 }

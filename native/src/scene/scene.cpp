@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <chrono>
 #include <glm/matrix.hpp>
 #include <stdexcept>
 
@@ -27,7 +28,10 @@ bool is_finite(const glm::mat4& m) {
 Scene::Scene() : device_(std::make_shared<AccelDevice>()) {}
 
 void Scene::set_mesh(const std::string& name, Mesh mesh) {
+  const auto t0 = std::chrono::steady_clock::now();
   meshes_[name] = std::make_shared<const MeshEntry>(device_, std::move(mesh));
+  mesh_build_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void Scene::set_instance(const std::string& name, Instance instance) {

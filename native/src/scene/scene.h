@@ -82,6 +82,8 @@ class Scene {
   std::shared_ptr<const CompiledScene> compile() const;
 
   size_t mesh_count() const { return meshes_.size(); }
+  // Seconds spent copying meshes and building their BVHs in set_mesh, summed.
+  double mesh_build_seconds() const { return mesh_build_seconds_; }
   size_t instance_count() const { return instances_.size(); }
 
  private:
@@ -91,6 +93,7 @@ class Scene {
   std::map<std::string, Instance> instances_;
   std::map<std::string, Material> materials_;
   std::map<std::string, Light> lights_;
+  double mesh_build_seconds_ = 0.0;
 };
 
 }  // namespace whitted
