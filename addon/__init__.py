@@ -1,0 +1,71 @@
+"""Whitted: a Blender render engine whose core is a native C++ Whitted ray tracer.
+
+The package registers the engine, its scene settings and their panel. The
+native module is loaded only when a render starts (see native.py), so the
+add-on and its exporters import even before the module is built.
+"""
+
+import bpy
+
+from . import engine
+from .properties import scene as scene_properties
+from .ui import render as render_ui
+
+bl_info = {
+    "name": "Whitted",
+    "author": "The Whitted authors",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties > Render > Render Engine > Whitted",
+    "description": "A classic Whitted ray tracer (C++, Embree) as a render engine",
+    "category": "Render",
+}
+
+# Registered in this order, unregistered in reverse.
+classes = (
+    scene_properties.WhittedSceneProperties,
+    engine.WhittedRenderEngine,
+    render_ui.WHITTED_RENDER_PT_settings,
+)
+
+# Blender's own panels that also make sense for Whitted. Names differ between
+# Blender versions, so a name missing from bpy.types is skipped.
+COMPAT_PANELS = (
+    # Output properties: dimensions, frame range, output file.
+    "RENDER_PT_format",
+    "RENDER_PT_frame_range",
+    "RENDER_PT_output",
+    "RENDER_PT_color_management",
+    # Camera.
+    "DATA_PT_context_camera",
+    "DATA_PT_lens",
+    "DATA_PT_camera",
+    # Light: colour, power, radius, spot and area shape.
+    "DATA_PT_context_light",
+    "DATA_PT_EEVEE_light",
+    "DATA_PT_spot",
+    # Material slots and the surface node tree.
+    "EEVEE_MATERIAL_PT_context_material",
+    "EEVEE_MATERIAL_PT_surface",
+    # World.
+    "WORLD_PT_context_world",
+    "EEVEE_WORLD_PT_surface",
+)
+
+
+def _compat_panels():
+    return [panel for name in COMPAT_PANELS if (panel := getattr(bpy.types, name, None))]
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    for panel in _compat_panels():
+        panel.COMPAT_ENGINES.add(engine.WhittedRenderEngine.bl_idname)
+
+
+def unregister():
+    for panel in _compat_panels():
+        panel.COMPAT_ENGINES.discard(engine.WhittedRenderEngine.bl_idname)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

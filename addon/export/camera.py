@@ -1,0 +1,115 @@
+"""The scene camera and the image size, as plain data.
+
+Axes: Blender's camera looks down its local -Z with +Y up, which is also the
+native camera's convention, so no axis change is needed.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import ExportError
+
+
+@dataclass(frozen=True)
+class CameraData:
+    width: int  # final image size in pixels (resolution times percentage)
+    height: int
+    to_world: np.ndarray  # float64[4,4] row-major camera to world, scale removed
+    projection: str  # "PERSPECTIVE" or "ORTHOGRAPHIC"
+    window: tuple[float, float, float, float]  # (xmin, xmax, ymin, ymax), shift included
+    clip_start: float
+    clip_end: float
+
+
+def convert_camera(camera_object, render, warnings):
+    """Convert the scene's camera object (evaluated) and its RenderSettings.
+
+    Raises ExportError when there is no camera or the scene camera is not a camera.
+    """
+    if camera_object is None:
+        raise ExportError("Whitted: the scene has no camera")
+    if camera_object.type != "CAMERA":
+        raise ExportError(
+            f"Whitted: the scene camera '{camera_object.name}' is not a camera object "
+            f"(its type is {camera_object.type})"
+        )
+    camera = camera_object.data
+
+    # Blender's final size: resolution times percentage, rounded down like Blender does.
+    width = render.resolution_x * render.resolution_percentage // 100
+    height = render.resolution_y * render.resolution_percentage // 100
+
+    if camera.type == "ORTHO":
+        projection = "ORTHOGRAPHIC"
+        # ortho_scale is the extent, in camera units, of the fitted image side.
+        fitted_extent = camera.ortho_scale
+    else:
+        if camera.type != "PERSP":
+            warnings.append(
+                f"Whitted: camera '{camera_object.name}' is {camera.type}, which Whitted does "
+                "not support; rendering it as a perspective camera"
+            )
+        projection = "PERSPECTIVE"
+        # The sensor side (mm) over the focal length (mm) is the fitted image side on
+        # the plane at distance 1.
+        fitted_extent = _sensor_size(camera) / camera.lens
+
+    return CameraData(
+        width=width,
+        height=height,
+        to_world=_without_scale(camera_object),
+        projection=projection,
+        window=_window(camera, fitted_extent, width, height, render),
+        clip_start=camera.clip_start,
+        clip_end=camera.clip_end,
+    )
+
+
+def _aspect_ratios(width, height, render):
+    # The image's shape in pixel units times the pixel aspect, as Cycles' viewplane.
+    return width * render.pixel_aspect_x, height * render.pixel_aspect_y
+
+
+def _horizontal_fit(camera, width, height, render):
+    # AUTO fits the sensor to the longer side of the image.
+    if camera.sensor_fit == "AUTO":
+        x_ratio, y_ratio = _aspect_ratios(width, height, render)
+        return x_ratio > y_ratio
+    return camera.sensor_fit == "HORIZONTAL"
+
+
+def _sensor_size(camera):
+    # AUTO and HORIZONTAL use sensor_width, VERTICAL uses sensor_height (Cycles does
+    # the same: with AUTO, sensor_width goes to whichever side is longer).
+    if camera.sensor_fit == "VERTICAL":
+        return camera.sensor_height
+    return camera.sensor_width
+
+
+def _window(camera, fitted_extent, width, height, render):
+    """Cycles' viewplane (blender/camera.cpp) scaled to the plane at distance 1.
+
+    The fitted side spans `fitted_extent`; the other side follows the image
+    aspect. Shift is in units of the fitted extent on both axes.
+    """
+    x_ratio, y_ratio = _aspect_ratios(width, height, render)
+    if _horizontal_fit(camera, width, height, render):
+        half_x = fitted_extent / 2
+        half_y = half_x * y_ratio / x_ratio
+    else:
+        half_y = fitted_extent / 2
+        half_x = half_y * x_ratio / y_ratio
+    dx = camera.shift_x * fitted_extent
+    dy = camera.shift_y * fitted_extent
+    return (-half_x + dx, half_x + dx, -half_y + dy, half_y + dy)
+
+
+def _without_scale(camera_object):
+    # Object scale would stretch the rays; Cycles clears it from the camera matrix too.
+    matrix = np.array(camera_object.matrix_world, dtype=np.float64)
+    scale = np.linalg.norm(matrix[:3, :3], axis=0)
+    if not np.all(scale > 0.0):
+        raise ExportError(f"Whitted: camera '{camera_object.name}' has a zero scale")
+    matrix[:3, :3] /= scale
+    return matrix

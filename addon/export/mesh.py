@@ -1,0 +1,156 @@
+"""Mesh-like objects as shared triangle meshes plus the instances that place them.
+
+Positions and normals stay in object space (Blender's units and axes, Z up);
+each instance carries its object-to-world matrix. Arrays are filled with
+foreach_get, never per vertex in Python.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .instance import instance_name
+
+# The tracer's default material: what an empty material slot renders with.
+# Blender names are never empty, so it cannot clash with a material's name.
+DEFAULT_MATERIAL = ""
+
+
+@dataclass(frozen=True)
+class MeshData:
+    name: str
+    positions: np.ndarray  # float32[N,3], object space
+    triangles: np.ndarray  # uint32[M,3], vertex indices
+    normals: np.ndarray | None  # float32[M,3,3] corner normals; None: all faces flat
+    material_slots: np.ndarray | None  # int32[M]; None: every triangle uses slot 0
+
+
+@dataclass(frozen=True)
+class InstanceData:
+    name: str
+    mesh: str  # MeshData.name
+    transform: np.ndarray  # float64[4,4], row-major, object to world
+    materials: tuple[str, ...]  # material name per slot, DEFAULT_MATERIAL if empty
+
+
+@dataclass(frozen=True)
+class MeshExport:
+    meshes: list[MeshData]
+    instances: list[InstanceData]
+
+
+def convert_meshes(depsgraph, warnings):
+    """Every renderable mesh-like object of the evaluated depsgraph, each distinct
+    geometry once, placed by one instance per object or instance.
+
+    Curves, text, surfaces and metaballs need no case of their own: the
+    depsgraph evaluates them to a mesh, which it yields as a MESH instance of
+    the object (besides the object itself, whose to_mesh() is that same mesh
+    again). So only MESH objects and instances are exported, as Cycles does.
+    """
+    meshes = []
+    instances = []
+    # Evaluated mesh address -> the name of its mesh, or None when it has no triangles.
+    mesh_names = {}
+    taken_names = set()
+    for object_instance in depsgraph.object_instances:
+        obj = object_instance.object
+        if (
+            obj.type != "MESH"
+            or obj.original.hide_render
+            # An instancer can hide its own geometry (particles' "Show Emitter").
+            or not object_instance.show_self
+        ):
+            continue
+        # The depsgraph hands every unmodified user of a mesh (collection instances
+        # too), and every geometry-nodes instance of one geometry, the same evaluated
+        # mesh; an object with modifiers owns its evaluated mesh. So the address of
+        # the evaluated mesh tells which instances can share one exported mesh.
+        key = obj.data.as_pointer()
+        if key not in mesh_names:
+            name = _unique_name(f"{obj.original.name_full}/{obj.data.name_full}", taken_names)
+            taken_names.add(name)
+            mesh = _convert_geometry(obj, name, warnings)
+            mesh_names[key] = None if mesh is None else mesh.name
+            if mesh is not None:
+                meshes.append(mesh)
+        if mesh_names[key] is None:
+            continue
+        instances.append(
+            InstanceData(
+                name=instance_name(object_instance),
+                mesh=mesh_names[key],
+                # Valid only while iterating: copy it now.
+                transform=np.array(object_instance.matrix_world, dtype=np.float64),
+                materials=_slot_materials(obj),
+            )
+        )
+    return MeshExport(meshes=meshes, instances=instances)
+
+
+def _unique_name(name, taken):
+    # Two geometries of one object (geometry nodes) can share a data name.
+    suffix = 1
+    unique = name
+    while unique in taken:
+        unique = f"{name}.{suffix}"
+        suffix += 1
+    return unique
+
+
+def _convert_geometry(obj, name, warnings):
+    # `obj` comes from depsgraph.object_instances and is already evaluated (with
+    # modifiers); a geometry-nodes instance is a temporary object that
+    # evaluated_get() would not find, so it is converted directly.
+    try:
+        mesh = obj.to_mesh()
+    except RuntimeError as error:
+        warnings.append(f"Whitted: object '{obj.name}' could not be made a mesh ({error}); skipped")
+        return None
+    try:
+        return _triangulate(mesh, name)
+    finally:
+        obj.to_mesh_clear()
+
+
+def _triangulate(mesh, name):
+    mesh.calc_loop_triangles()
+    triangles = mesh.loop_triangles
+    count = len(triangles)
+    if count == 0:
+        return None
+    positions = np.empty((len(mesh.vertices), 3), dtype=np.float32)
+    mesh.vertices.foreach_get("co", positions.reshape(-1))
+    corners = np.empty((count, 3), dtype=np.int32)
+    triangles.foreach_get("vertices", corners.reshape(-1))
+    slots = np.empty(count, dtype=np.int32)
+    triangles.foreach_get("material_index", slots)
+    # Blender renders an index past the last slot with the last slot.
+    np.clip(slots, 0, max(len(mesh.materials), 1) - 1, out=slots)
+    smooth = np.empty(count, dtype=bool)
+    triangles.foreach_get("use_smooth", smooth)
+    normals = None
+    if smooth.any():
+        # Corner ("split") normals: smooth faces interpolate, flat faces and sharp
+        # edges keep the face normal. Blender < 4.1 computes them only on request.
+        if hasattr(mesh, "calc_normals_split"):
+            mesh.calc_normals_split()
+        normals = np.empty((count, 3, 3), dtype=np.float32)
+        triangles.foreach_get("split_normals", normals.reshape(-1))
+    return MeshData(
+        name=name,
+        positions=positions,
+        # Indices are never negative: reinterpret the bits, no copy.
+        triangles=corners.view(np.uint32),
+        normals=normals,
+        material_slots=slots if slots.any() else None,
+    )
+
+
+def _slot_materials(obj):
+    # The evaluated object's slots already resolve object- versus data-linked materials.
+    names = tuple(
+        slot.material.name_full if slot.material is not None else DEFAULT_MATERIAL
+        for slot in obj.material_slots
+    )
+    return names or (DEFAULT_MATERIAL,)

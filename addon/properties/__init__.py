@@ -1,0 +1,1 @@
+"""Settings that Whitted stores in Blender data (scene.whitted)."""

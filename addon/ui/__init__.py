@@ -1,0 +1,1 @@
+"""Panels that draw Whitted's settings."""

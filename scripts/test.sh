@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Set up (scripts/setup.sh), then run the whole test suite: the native gtest suite
+# (ctest, then again under ASan+UBSan), the bindings without Blender (pytest), the
+# add-on inside Blender 3.4 and inside the bpy 5.0 module, and the linters.
+# Every step runs even when an earlier one failed; a summary line per step is
+# printed at the end, and the exit status is non-zero if any step failed.
+# Run from anywhere. .ci/run runs exactly this.
+# Environment: WHITTED_STEP_TIMEOUT=seconds caps each step (default 900).
+set -euo pipefail
+
+REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$REPO_ROOT"
+
+VENV="$REPO_ROOT/.venv"
+JOBS=${WHITTED_JOBS:-$(nproc)}
+STEP_TIMEOUT=${WHITTED_STEP_TIMEOUT:-900}
+SUITE_START=$(date +%s.%N)
+
+seconds_since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }'; }
+
+SUMMARY=()
+FAILED=0
+
+# run_step NAME FUNCTION: runs FUNCTION in a subshell with `set -e` and a time
+# limit, records "ok"/"FAILED" and the duration, and never stops the suite.
+run_step() {
+  local name=$1 fn=$2 start rc
+  start=$(date +%s.%N)
+  echo
+  echo "==> [test] $name"
+  set +e
+  (
+    set -e
+    "$fn"
+  )
+  rc=$?
+  set -e
+  local took
+  took=$(seconds_since "$start")
+  if [[ $rc -eq 0 ]]; then
+    echo "<== [test] $name: ok ($took s)"
+    SUMMARY+=("$(printf '  %-8s %-32s %7s s' ok "$name" "$took")")
+  else
+    [[ $rc -eq 124 ]] && echo "[test] $name: timed out after $STEP_TIMEOUT s" >&2
+    echo "<== [test] $name: FAILED (exit $rc, $took s)" >&2
+    SUMMARY+=("$(printf '  %-8s %-32s %7s s  (exit %d)' FAILED "$name" "$took" "$rc")")
+    FAILED=$((FAILED + 1))
+  fi
+}
+
+# Kill a hung step (a render that never finishes) instead of eating CI's 90 minutes.
+limited() { timeout --kill-after=30 "$STEP_TIMEOUT" "$@"; }
+
+step_setup() { bash scripts/setup.sh; }
+
+step_ctest() {
+  limited ctest --test-dir build --output-on-failure --no-tests=error --parallel "$JOBS"
+}
+
+# The native tests again, built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (only the core and its tests: a sanitized Python module could not be loaded).
+step_ctest_sanitized() {
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DWHITTED_SANITIZE=ON -DWHITTED_PYTHON=OFF -DWHITTED_TESTS=ON
+  cmake --build build-asan --parallel "$JOBS"
+  export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  limited ctest --test-dir build-asan --output-on-failure --no-tests=error --parallel "$JOBS"
+}
+
+# pytest exits 5 when it collected nothing: that counts as a failure here.
+step_pytest_bindings() { limited "$VENV/bin/python" -m pytest tests/python -q; }
+
+step_blender_34() {
+  limited blender -b --factory-startup --python-exit-code 1 --python tests/blender/run.py -- -q
+}
+
+step_bpy_50() { limited "$VENV/bin/python" tests/blender/run.py -q; }
+
+step_ruff_check() { "$VENV/bin/ruff" check .; }
+
+step_ruff_format() { "$VENV/bin/ruff" format --check .; }
+
+step_clang_format() {
+  local files=()
+  mapfile -d '' files < <(find native tests/native -type f \
+    \( -name '*.h' -o -name '*.hpp' -o -name '*.cpp' -o -name '*.cc' \) -print0 | sort -z)
+  [[ ${#files[@]} -gt 0 ]] || { echo "no C++ files found under native/ and tests/native/" >&2; return 1; }
+  echo "$(clang-format --version), ${#files[@]} files"
+  clang-format --dry-run -Werror "${files[@]}"
+}
+
+echo "[test] $(nproc) cores, CI=${CI:-false}, repo $REPO_ROOT"
+run_step "setup" step_setup
+run_step "native tests (ctest)" step_ctest
+run_step "native tests (ASan+UBSan)" step_ctest_sanitized
+run_step "bindings (pytest)" step_pytest_bindings
+run_step "add-on in Blender 3.4" step_blender_34
+run_step "add-on in bpy 5.0" step_bpy_50
+run_step "lint: ruff check" step_ruff_check
+run_step "lint: ruff format" step_ruff_format
+run_step "lint: clang-format" step_clang_format
+
+echo
+echo "[test] summary ($(seconds_since "$SUITE_START") s in all):"
+printf '%s\n' "${SUMMARY[@]}"
+if [[ $FAILED -gt 0 ]]; then
+  echo "steps: $((${#SUMMARY[@]} - FAILED)) passed, $FAILED failed"
+  exit 1
+fi
+echo "steps: ${#SUMMARY[@]} passed, 0 failed"

@@ -1,0 +1,90 @@
+"""The add-on registers the Whitted engine, its settings and panels."""
+
+import sys
+
+import bpy
+import pytest
+import whitted
+from whitted import native
+
+
+def registered_engines():
+    # Python keeps unregistered subclasses too; is_registered tells them apart. Some
+    # built-in engines (HydraRenderEngine in 5.0) have no bl_idname.
+    engines = bpy.types.RenderEngine.__subclasses__()
+    return {getattr(e, "bl_idname", None) for e in engines if e.is_registered}
+
+
+def test_engine_is_listed(empty_scene):
+    assert "WHITTED" in registered_engines()
+    empty_scene.render.engine = "WHITTED"  # refused unless the engine is registered
+    assert empty_scene.render.engine == "WHITTED"
+
+
+def test_engine_reads_shader_nodes():
+    engine = whitted.engine.WhittedRenderEngine
+    assert engine.bl_label == "Whitted"
+    assert engine.bl_use_shading_nodes_custom is False
+    assert engine.bl_use_preview is False
+
+
+def test_scene_settings_defaults(empty_scene):
+    settings = empty_scene.whitted
+    assert settings.max_depth == 5
+    assert settings.aa_samples == 2
+    assert settings.fresnel == "EXACT"
+    assert settings.tile_size == 32
+
+
+def test_render_panel_polls_only_for_whitted(empty_scene):
+    panel = bpy.types.WHITTED_RENDER_PT_settings
+    empty_scene.render.engine = "WHITTED"
+    assert panel.poll(bpy.context)
+    empty_scene.render.engine = "CYCLES"
+    assert not panel.poll(bpy.context)
+
+
+def test_blender_panels_shown_for_whitted():
+    panels = [getattr(bpy.types, name, None) for name in whitted.COMPAT_PANELS]
+    present = [panel for panel in panels if panel is not None]
+    # The output dimensions, camera lens and light panels exist in every target version.
+    for name in ("RENDER_PT_format", "DATA_PT_lens", "DATA_PT_context_light"):
+        assert getattr(bpy.types, name) in present
+    for panel in present:
+        assert "WHITTED" in panel.COMPAT_ENGINES, panel.__name__
+
+
+def test_unregister_removes_engine_and_panels():
+    import addon_utils
+
+    addon_utils.disable("whitted", default_set=True)
+    try:
+        assert "WHITTED" not in registered_engines()
+        with pytest.raises(TypeError):
+            bpy.context.scene.render.engine = "WHITTED"
+        assert "WHITTED" not in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+        assert not hasattr(bpy.types.Scene, "whitted")
+    finally:
+        addon_utils.enable("whitted", default_set=True)
+
+
+def test_missing_native_module_names_the_build_command(monkeypatch):
+    # As if the module had never been built: importing it fails.
+    monkeypatch.delattr(whitted, "whitted_native", raising=False)
+    monkeypatch.setitem(sys.modules, "whitted.whitted_native", None)
+    with pytest.raises(ImportError, match="whitted_native") as error:
+        native.load_native()
+    assert native.BUILD_COMMAND in str(error.value)
+
+
+def test_render_without_native_module_reports_error(monkeypatch, empty_scene):
+    monkeypatch.delattr(whitted, "whitted_native", raising=False)
+    monkeypatch.setitem(sys.modules, "whitted.whitted_native", None)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    empty_scene.collection.objects.link(camera)
+    empty_scene.camera = camera
+    empty_scene.render.engine = "WHITTED"
+    empty_scene.render.resolution_x, empty_scene.render.resolution_y = 8, 8
+    # An ERROR report from the engine makes the operator raise.
+    with pytest.raises(RuntimeError, match="Build it from the repository root"):
+        bpy.ops.render.render()
