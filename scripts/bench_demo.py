@@ -77,7 +77,7 @@ def main():
         f"per pixel, depth {first['settings']['max_depth']}, {first['threads']} threads, "
         f"Blender {first['blender']}, median of {len(runs)} renders"
     )
-    print(f"command: {' '.join(sys.argv)}")
+    print(f"command: python {' '.join(sys.argv)}")
     print()
     print("| phase | seconds (median) | min | max |")
     print("|---|---:|---:|---:|")

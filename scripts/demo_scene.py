@@ -205,6 +205,9 @@ def _parse_args():
     parser.add_argument("--output", default="out/demo.png", help="PNG to write")
     parser.add_argument("--resolution", nargs=2, type=int, default=(640, 480), metavar=("W", "H"))
     parser.add_argument("--save", help="also save the scene as this .blend file")
+    parser.add_argument(
+        "--no-render", action="store_true", help="only build the scene (and --save it)"
+    )
     return parser.parse_args(argv)
 
 
@@ -229,11 +232,12 @@ def main():
     output = os.path.abspath(args.output)
     os.makedirs(os.path.dirname(output), exist_ok=True)
     scene.render.filepath = output
-    bpy.ops.render.render(write_still=True)
     if args.save:
         bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save))
         print(f"demo_scene: saved {os.path.abspath(args.save)}")
-    print(f"demo_scene: wrote {output}", flush=True)
+    if not args.no_render:
+        bpy.ops.render.render(write_still=True)
+        print(f"demo_scene: wrote {output}", flush=True)
 
 
 if __name__ == "__main__":
