@@ -38,6 +38,7 @@ void bind_camera(py::module_& m);
 void bind_light(py::module_& m);
 void bind_material(py::module_& m);
 void bind_scene(py::module_& m);
+void bind_texture(py::module_& m);
 void bind_render(py::module_& m);
 
 // 4x4 row-major numpy matrices <-> glm (column-major) matrices.

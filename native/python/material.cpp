@@ -8,9 +8,14 @@ void bind_material(py::module_& m) {
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(
           py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
-                      Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission) {
+                      Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission, float alpha,
+                      std::string diffuse_texture, std::string alpha_texture) {
             Material out{diffuse,      specular,       shininess, ambient,
                          reflectivity, transmissivity, ior,       emission};
+            if (!std::isfinite(alpha)) throw std::invalid_argument("alpha must be finite");
+            out.alpha = std::clamp(alpha, 0.0f, 1.0f);
+            out.diffuse_texture = std::move(diffuse_texture);
+            out.alpha_texture = std::move(alpha_texture);
             for (const Vec3* v : {&diffuse, &specular, &reflectivity, &transmissivity, &emission}) {
               require_finite(*v, "material colours");
             }
@@ -24,7 +29,8 @@ void bind_material(py::module_& m) {
           py::arg("diffuse") = Vec3(0.8f), py::arg("specular") = Vec3(0.0f),
           py::arg("shininess") = 50.0f, py::arg("ambient") = 1.0f,
           py::arg("reflectivity") = Vec3(0.0f), py::arg("transmissivity") = Vec3(0.0f),
-          py::arg("ior") = 1.5f, py::arg("emission") = Vec3(0.0f))
+          py::arg("ior") = 1.5f, py::arg("emission") = Vec3(0.0f), py::arg("alpha") = 1.0f,
+          py::arg("diffuse_texture") = "", py::arg("alpha_texture") = "")
       .def_readwrite("diffuse", &Material::diffuse)
       .def_readwrite("specular", &Material::specular)
       .def_readwrite("shininess", &Material::shininess)
@@ -32,7 +38,10 @@ void bind_material(py::module_& m) {
       .def_readwrite("reflectivity", &Material::reflectivity)
       .def_readwrite("transmissivity", &Material::transmissivity)
       .def_readwrite("ior", &Material::ior)
-      .def_readwrite("emission", &Material::emission);
+      .def_readwrite("emission", &Material::emission)
+      .def_readwrite("alpha", &Material::alpha)
+      .def_readwrite("diffuse_texture", &Material::diffuse_texture)
+      .def_readwrite("alpha_texture", &Material::alpha_texture);
 }
 
 }  // namespace whitted::python

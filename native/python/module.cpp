@@ -6,6 +6,7 @@ PYBIND11_MODULE(whitted_native, m) {
   whitted::python::bind_camera(m);
   whitted::python::bind_light(m);
   whitted::python::bind_material(m);
+  whitted::python::bind_texture(m);
   whitted::python::bind_scene(m);
   whitted::python::bind_render(m);
 }

@@ -11,6 +11,7 @@ py::dict stats_dict(const RenderStats& s) {
   rays["shadow"] = s.rays.shadow;
   rays["reflection"] = s.rays.reflection;
   rays["refraction"] = s.rays.refraction;
+  rays["transparent"] = s.rays.transparent;
   rays["total"] = s.rays.total();
   py::dict out;
   out["rays"] = rays;
@@ -55,21 +56,33 @@ void bind_render(py::module_& m) {
 
   py::class_<Settings>(m, "Settings")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
-                       int tile_size, Fresnel fresnel) {
+                       int tile_size, Fresnel fresnel, std::array<int, 4> border,
+                       bool transparent_background) {
              Settings s{width, height, max_depth, aa_samples, threads, tile_size, fresnel};
+             std::copy(border.begin(), border.end(), s.border);
+             s.transparent_background = transparent_background;
              s.validate();
              return s;
            }),
            py::arg("width") = 640, py::arg("height") = 480, py::arg("max_depth") = 5,
            py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
-           py::arg("fresnel") = Fresnel::kExact)
+           py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
+           py::arg("transparent_background") = false,
+           "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
+           "bottom; all zero for the whole image.")
       .def_readwrite("width", &Settings::width)
       .def_readwrite("height", &Settings::height)
       .def_readwrite("max_depth", &Settings::max_depth)
       .def_readwrite("aa_samples", &Settings::aa_samples)
       .def_readwrite("threads", &Settings::threads)
       .def_readwrite("tile_size", &Settings::tile_size)
-      .def_readwrite("fresnel", &Settings::fresnel);
+      .def_readwrite("fresnel", &Settings::fresnel)
+      .def_property_readonly(
+          "border",
+          [](const Settings& s) {
+            return std::array<int, 4>{s.border[0], s.border[1], s.border[2], s.border[3]};
+          })
+      .def_readwrite("transparent_background", &Settings::transparent_background);
 
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "

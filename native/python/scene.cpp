@@ -26,49 +26,66 @@ void require_shape(const py::array& a, const char* name, std::initializer_list<p
 
 void set_mesh(Scene& scene, const std::string& name, const FloatArray& positions,
               const UintArray& triangles, const std::optional<FloatArray>& normals,
-              const std::optional<IntArray>& material_slots) {
+              const std::optional<IntArray>& material_slots, const std::optional<FloatArray>& uvs) {
   require_shape(positions, "positions", {-1, 3});
   require_shape(triangles, "triangles", {-1, 3});
   const auto m = static_cast<py::ssize_t>(triangles.shape(0));
   if (normals) require_shape(*normals, "normals", {m, 3, 3});
   if (material_slots) require_shape(*material_slots, "material_slots", {m});
+  if (uvs) require_shape(*uvs, "uvs", {m, 3, 2});
   const float* p = positions.data();
   const uint32_t* t = triangles.data();
   const float* n = normals ? normals->data() : nullptr;
   const int32_t* s = material_slots ? material_slots->data() : nullptr;
+  const float* uv = uvs ? uvs->data() : nullptr;
   const auto vertex_count = static_cast<size_t>(positions.shape(0));
   // The arrays stay alive in this frame; copying and the BVH build need no GIL.
   py::gil_scoped_release release;
-  scene.set_mesh(name, make_mesh(p, vertex_count, t, static_cast<size_t>(m), n, s));
+  scene.set_mesh(name, make_mesh(p, vertex_count, t, static_cast<size_t>(m), n, s, uv));
 }
 
 }  // namespace
 
 void bind_scene(py::module_& m) {
+  py::enum_<RayKind>(m, "Visibility", py::arithmetic(),
+                     "Kinds of ray an instance is visible to; combine with |.")
+      .value("CAMERA", kCameraRay)
+      .value("SHADOW", kShadowRay)
+      .value("REFLECTION", kReflectionRay)
+      .value("REFRACTION", kRefractionRay)
+      .value("ALL", kAllRayKinds);
+
   py::class_<Scene>(m, "Scene",
                     "Meshes, instances, materials and lights keyed by name; setting a name "
                     "again replaces only that item.")
       .def(py::init<>())
       .def("set_mesh", &set_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
+           py::arg("uvs") = py::none(),
            "positions float32[N,3], triangles uint32[M,3], normals float32[M,3,3] corner "
-           "normals or None (flat), material_slots int32[M] or None (slot 0).")
+           "normals or None (flat), material_slots int32[M] or None (slot 0), uvs "
+           "float32[M,3,2] corner texture coordinates or None.")
       .def(
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
-             std::vector<std::string> materials) {
-            s.set_instance(name, Instance{mesh, matrix_from_numpy(to_world), std::move(materials)});
+             std::vector<std::string> materials, uint32_t visibility, bool holdout) {
+            s.set_instance(name, Instance{mesh, matrix_from_numpy(to_world), std::move(materials),
+                                          visibility & kAllRayKinds, holdout});
           },
           py::arg("name"), py::arg("mesh"), py::arg("transform"),
           py::arg("materials") = std::vector<std::string>{},
+          py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
           "transform: 4x4 row-major object to world; materials: material name per slot "
-          "('' for the default material).")
+          "('' for the default material); visibility: Visibility flags of the rays that see "
+          "it; holdout: camera rays that meet it give colour 0 and alpha 0.")
       .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"))
       .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"))
+      .def("set_texture", &Scene::set_texture, py::arg("name"), py::arg("texture"))
       .def("remove_mesh", &Scene::remove_mesh, py::arg("name"))
       .def("remove_instance", &Scene::remove_instance, py::arg("name"))
       .def("remove_material", &Scene::remove_material, py::arg("name"))
       .def("remove_light", &Scene::remove_light, py::arg("name"))
+      .def("remove_texture", &Scene::remove_texture, py::arg("name"))
       .def_readwrite("camera", &Scene::camera)
       .def_property(
           "background", [](const Scene& s) { return s.background; },

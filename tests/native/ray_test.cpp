@@ -42,7 +42,7 @@ TEST(Ray, SpawnedRaysNeverReHitTheirOwnTriangle) {
       const uint32_t t[] = {0, 1, 2};
       const Mesh mesh = make_mesh(p, 3, t, 1, nullptr, nullptr);
       const MeshAccel blas(device, mesh);
-      const SceneAccel tlas(device, {{&blas, glm::mat4(1.0f)}});
+      const SceneAccel tlas(device, {{&blas, glm::mat4(1.0f), kAllRayKinds}});
       const Vec3 a = mesh.vertex(0), b = mesh.vertex(1), c = mesh.vertex(2);
       Vec3 ng = glm::cross(b - a, c - a);
       if (!(glm::length(ng) > 0.0f)) continue;
@@ -66,7 +66,7 @@ TEST(Ray, SpawnedRaysNeverReHitTheirOwnTriangle) {
       for (const Vec3& d : {reflected, ray.direction, light_dir}) {
         Hit again;
         ++rays;
-        if (tlas.intersect(spawn_ray(x, ng, d), &again)) ++self_hits;
+        if (tlas.intersect(spawn_ray(x, ng, d, kReflectionRay), &again)) ++self_hits;
       }
     }
   }

@@ -81,6 +81,8 @@ SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
   for (size_t i = 0; i < instances.size(); ++i) {
     RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(geometry, as_scene(instances[i].mesh->handle()));
+    // Ray masks implement per-kind visibility: a ray sees an instance when the masks meet.
+    rtcSetGeometryMask(geometry, instances[i].visibility);
     // glm matrices are column-major 4x4: exactly RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR.
     rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
                             glm::value_ptr(instances[i].to_world));
@@ -110,7 +112,7 @@ bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
   rh.ray.tnear = ray.t_min;
   rh.ray.tfar = ray.t_max;
   rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.mask = ray.kind;
   rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -138,7 +140,7 @@ bool SceneAccel::occluded(const Ray& ray) const {
   r.tnear = ray.t_min;
   r.tfar = ray.t_max;
   r.time = 0.0f;
-  r.mask = 0xFFFFFFFFu;
+  r.mask = ray.kind;
   r.id = 0;
   r.flags = 0;
   rtcOccluded1(as_scene(scene_), &context, &r);

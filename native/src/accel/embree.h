@@ -55,6 +55,7 @@ class MeshAccel {
 struct AccelInstance {
   const MeshAccel* mesh;
   glm::mat4 to_world;
+  uint32_t visibility;  // RayKind bits of the rays that see it
 };
 
 // The top-level BVH. Queries are thread-safe.
@@ -65,9 +66,9 @@ class SceneAccel {
   SceneAccel(const SceneAccel&) = delete;
   SceneAccel& operator=(const SceneAccel&) = delete;
 
-  // Closest hit in (ray.t_min, ray.t_max).
+  // Closest hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
   bool intersect(const Ray& ray, Hit* hit) const;
-  // Any hit in (ray.t_min, ray.t_max).
+  // Any hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
   bool occluded(const Ray& ray) const;
 
  private:

@@ -12,11 +12,22 @@ namespace whitted {
 
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+// What a ray is for, as a bit mask: an instance is seen only by the kinds of ray in its
+// visibility mask (Blender's ray visibility: camera, shadow, glossy, transmission).
+enum RayKind : uint32_t {
+  kCameraRay = 1u << 0,
+  kShadowRay = 1u << 1,
+  kReflectionRay = 1u << 2,
+  kRefractionRay = 1u << 3,
+  kAllRayKinds = kCameraRay | kShadowRay | kReflectionRay | kRefractionRay,
+};
+
 struct Ray {
   Vec3 origin{0.0f};
   Vec3 direction{0.0f, 0.0f, -1.0f};  // unit length
   float t_min = 0.0f;
   float t_max = kInfinity;
+  uint32_t kind = kAllRayKinds;  // one RayKind for traced rays
 };
 
 // Moves a surface point off its surface along the geometric normal by a few ulps of its
@@ -42,13 +53,14 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
   return out;
 }
 
-// The one place secondary rays (reflection, refraction, shadow) are made. `ng` is the
-// unit geometric normal; the origin is pushed to the side of `ng` that `direction` leaves
-// towards. `t_max` bounds the ray (a shadow feeler stops before its light).
-inline Ray spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& direction,
+// The one place secondary rays (reflection, refraction, shadow, and the continuation
+// behind a cut-out) are made. `ng` is the unit geometric normal; the origin is pushed to
+// the side of `ng` that `direction` leaves towards. `t_max` bounds the ray (a shadow
+// feeler stops before its light).
+inline Ray spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& direction, RayKind kind,
                      float t_max = kInfinity) {
   const Vec3 side = glm::dot(direction, ng) >= 0.0f ? ng : -ng;
-  return Ray{offset_ray_origin(p, side), direction, 0.0f, t_max};
+  return Ray{offset_ray_origin(p, side), direction, 0.0f, t_max, kind};
 }
 
 }  // namespace whitted

@@ -22,10 +22,11 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   stats_.lights = scene_->lights.size();
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
   const int ts = settings_.tile_size;
-  for (int y = 0; y < settings_.height; y += ts) {
-    for (int x = 0; x < settings_.width; x += ts) {
-      tiles_.push_back(
-          {x, y, std::min(ts, settings_.width - x), std::min(ts, settings_.height - y)});
+  int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+  settings_.border_rect(&xmin, &ymin, &xmax, &ymax);
+  for (int y = ymin; y < ymax; y += ts) {
+    for (int x = xmin; x < xmax; x += ts) {
+      tiles_.push_back({x, y, std::min(ts, xmax - x), std::min(ts, ymax - y)});
     }
   }
 }
@@ -76,15 +77,18 @@ void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrato
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
       Color sum(0.0f);
+      float coverage = 0.0f;
       // Regular n x n grid of sample positions inside the pixel, averaged (box filter).
       for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
           const float sx = (static_cast<float>(x) + (static_cast<float>(i) + 0.5f) * inv_n) * inv_w;
           const float sy = (static_cast<float>(y) + (static_cast<float>(j) + 0.5f) * inv_n) * inv_h;
           counts->camera += 1;
-          const Color c = integrator.trace(scene_->camera.generate_ray(sx, sy), 0, counts);
+          float alpha = 1.0f;
+          const Color c = integrator.trace(scene_->camera.generate_ray(sx, sy), 0, counts, &alpha);
           if (is_finite(c)) {
             sum += c;
+            coverage += alpha;
           } else {
             counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
           }
@@ -95,7 +99,7 @@ void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrato
       out[0] = c.x;
       out[1] = c.y;
       out[2] = c.z;
-      out[3] = 1.0f;
+      out[3] = coverage * (inv_n * inv_n);
     }
   }
 }

@@ -25,6 +25,20 @@ void Settings::validate() const {
   check_range("aa_samples", aa_samples, 1, 64);
   check_range("threads", threads, 0, 1024);
   check_range("tile_size", tile_size, 1, 4096);
+  int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+  border_rect(&xmin, &ymin, &xmax, &ymax);
+  check_range("border xmin", xmin, 0, width - 1);
+  check_range("border ymin", ymin, 0, height - 1);
+  check_range("border xmax", xmax, xmin + 1, width);
+  check_range("border ymax", ymax, ymin + 1, height);
+}
+
+void Settings::border_rect(int* xmin, int* ymin, int* xmax, int* ymax) const {
+  const bool whole = border[0] == 0 && border[1] == 0 && border[2] == 0 && border[3] == 0;
+  *xmin = whole ? 0 : border[0];
+  *ymin = whole ? 0 : border[1];
+  *xmax = whole ? width : border[2];
+  *ymax = whole ? height : border[3];
 }
 
 }  // namespace whitted

@@ -15,6 +15,13 @@ struct Settings {
   int threads = 0;     // 0: all hardware threads
   int tile_size = 32;
   Fresnel fresnel = Fresnel::kExact;
+  // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
+  // whole image. The rest of the image stays 0.
+  int border[4] = {0, 0, 0, 0};
+  bool transparent_background = false;  // camera rays that miss give alpha 0
+
+  // The border as a rectangle, the whole image when unset.
+  void border_rect(int* xmin, int* ymin, int* xmax, int* ymax) const;
 
   // Throws std::invalid_argument naming the first bad value.
   void validate() const;

@@ -3,12 +3,19 @@
 #include <cmath>
 
 namespace whitted {
+namespace {
+
+// Beyond this many cut-out layers a surface counts as opaque: a bound on the walk.
+constexpr int kMaxTransparentLayers = 64;
+
+}  // namespace
 
 RayCounts& RayCounts::operator+=(const RayCounts& o) {
   camera += o.camera;
   shadow += o.shadow;
   reflection += o.reflection;
   refraction += o.refraction;
+  transparent += o.transparent;
   total_internal_reflection += o.total_internal_reflection;
   depth_limited += o.depth_limited;
   nonfinite_samples += o.nonfinite_samples;
@@ -16,14 +23,45 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
 }
 
 WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings)
-    : scene_(scene), settings_(settings) {
-  for (const Material& m : scene.materials) any_transmissive_ |= m.transmissive();
+    : scene_(scene), settings_(settings), any_translucent_(scene.any_translucent()) {}
+
+Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts, float* alpha) const {
+  Color radiance(0.0f);
+  float coverage = 0.0f;
+  float behind = 1.0f;  // the share of the ray not yet covered by a surface
+  Ray r = ray;
+  for (int layer = 0; behind > 0.0f; ++layer) {
+    Hit hit;
+    if (!scene_.accel->intersect(r, &hit)) {
+      // A transparent film shows nothing where camera rays miss.
+      if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
+        radiance += behind * scene_.background;
+        coverage += behind;
+      }
+      break;
+    }
+    const Interaction it = scene_.interaction(r, hit);
+    if (it.holdout) break;  // a holdout shows nothing and covers nothing
+    const SurfaceParams surface = scene_.surface(it);
+    const float a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
+    if (a > 0.0f) {
+      radiance += (behind * a) * shade(r, it, surface, depth, counts);
+      coverage += behind * a;
+    }
+    behind *= 1.0f - a;
+    if (behind <= 0.0f) break;
+    // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
+    const float left = r.t_max - glm::length(it.position - r.origin);
+    if (!(left > 0.0f)) break;
+    r = spawn_ray(it.position, it.geometric_normal, r.direction, RayKind(r.kind), left);
+    counts->transparent += 1;
+  }
+  if (alpha != nullptr) *alpha = coverage;
+  return radiance;
 }
 
-Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) const {
-  Hit hit;
-  if (!scene_.accel->intersect(ray, &hit)) return scene_.background;
-  const Interaction it = scene_.interaction(ray, hit);
+Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+                               int depth, RayCounts* counts) const {
   const Material& m = *it.material;
   // Entering or leaving is decided by the geometric normal, never the shading normal.
   const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
@@ -31,7 +69,7 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) con
   Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
   if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
   const Vec3 wo = -ray.direction;
-  Color radiance = m.emission + local(it, wo, ng, ns, counts);
+  Color radiance = m.emission + local(it, surface, wo, ng, ns, counts);
 
   Color kr = m.reflectivity;
   Color kt = m.transmissivity;
@@ -59,62 +97,62 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts) con
     Vec3 r = reflect(ray.direction, ns);
     if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
     counts->reflection += 1;
-    radiance += kr * trace(spawn_ray(it.position, it.geometric_normal, r), depth + 1, counts);
+    radiance += kr * trace(spawn_ray(it.position, it.geometric_normal, r, kReflectionRay),
+                           depth + 1, counts);
   }
   if (refracts && !is_black(kt)) {
     counts->refraction += 1;
-    radiance += kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir), depth + 1, counts);
+    radiance += kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir, kRefractionRay),
+                           depth + 1, counts);
   }
   return radiance;
 }
 
 // I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
-Color WhittedIntegrator::local(const Interaction& it, const Vec3& wo, const Vec3& facing_ng,
-                               const Vec3& n, RayCounts* counts) const {
+Color WhittedIntegrator::local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo,
+                               const Vec3& ng, const Vec3& n, RayCounts* counts) const {
   const Material& m = *it.material;
-  Color radiance = m.ambient * scene_.ambient * m.diffuse;
+  Color radiance = m.ambient * scene_.ambient * surface.diffuse;
   const float phong_norm = (m.shininess + 2.0f) * (0.5f * kInvPi);
   for (const Light& light : scene_.lights) {
     for (int s = 0; s < light.sample_count(); ++s) {
       const LightSample ls = sample_light(light, it.position, s);
       const float cos_l = glm::dot(n, ls.wi);
       // No feeler towards a light behind the surface or one that sends nothing here.
-      if (cos_l <= 0.0f || glm::dot(facing_ng, ls.wi) <= 0.0f || is_black(ls.irradiance)) {
-        continue;
-      }
+      if (cos_l <= 0.0f || glm::dot(ng, ls.wi) <= 0.0f || is_black(ls.irradiance)) continue;
       Color delta(1.0f);
       if (light.cast_shadows) {
         // Stop the feeler just short of the light sample.
         const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
-        delta = shadow_transmittance(spawn_ray(it.position, facing_ng, ls.wi, t_max), counts);
+        delta = shadow_transmittance(spawn_ray(it.position, ng, ls.wi, kShadowRay, t_max), counts);
         if (is_black(delta)) continue;
       }
       const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
       const Color brdf =
-          m.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
+          surface.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
       radiance += delta * brdf * ls.irradiance * cos_l;
     }
   }
   return radiance;
 }
 
-// Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque,
-// the product of the transmissivities of the glass it passes through (coloured shadows).
+// Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
+// through a surface of coverage a and transmissivity T, (1 - a) + a*T passes (cut-outs,
+// and coloured shadows behind glass).
 Color WhittedIntegrator::shadow_transmittance(Ray ray, RayCounts* counts) const {
   counts->shadow += 1;
-  if (!any_transmissive_) return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
+  if (!any_translucent_) return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
   Color transmittance(1.0f);
-  constexpr int kMaxSurfaces = 64;  // beyond this many glass surfaces, treat as blocked
-  for (int i = 0; i < kMaxSurfaces; ++i) {
+  for (int i = 0; i < kMaxTransparentLayers; ++i) {
     Hit hit;
     if (!scene_.accel->intersect(ray, &hit)) return transmittance;
     const Interaction it = scene_.interaction(ray, hit);
-    transmittance *= it.material->transmissivity;
+    const float a = scene_.surface(it).alpha;
+    transmittance *= (1.0f - a) + a * it.material->transmissivity;
     if (is_black(transmittance)) return transmittance;
-    const Vec3 p = it.position;
-    const float remaining = ray.t_max - glm::length(p - ray.origin);
+    const float remaining = ray.t_max - glm::length(it.position - ray.origin);
     if (!(remaining > 0.0f)) return transmittance;
-    ray = spawn_ray(p, it.geometric_normal, ray.direction, remaining);
+    ray = spawn_ray(it.position, it.geometric_normal, ray.direction, kShadowRay, remaining);
     counts->shadow += 1;
   }
   return Color(0.0f);

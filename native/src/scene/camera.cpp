@@ -13,6 +13,7 @@ Ray Camera::generate_ray(float sx, float sy) const {
   const Vec3 back = glm::normalize(Vec3(to_world[2]));
   const Vec3 position = Vec3(to_world[3]);
   Ray ray;
+  ray.kind = kCameraRay;
   if (projection == Projection::kPerspective) {
     const Vec3 d = x * right + y * up - back;  // point on the plane at distance 1
     const float length = glm::length(d);

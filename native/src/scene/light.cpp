@@ -15,16 +15,18 @@ float spot_falloff(const Light& light, const Vec3& to_point) {
   return band > 0.0f ? smoothstep01((c - c0) / band) : 1.0f;
 }
 
-// Centre of stratum (i, j) of an n x n grid on the light's shape, in [-0.5, 0.5]^2.
-void area_offset(const Light& light, int index, float* a, float* b) {
+// Centre of stratum `index` of an n x n grid, in [0, 1]^2.
+void stratum(const Light& light, int index, float* u, float* v) {
   const int n = light.samples;
-  const float u = (static_cast<float>(index % n) + 0.5f) / static_cast<float>(n);
-  const float v = (static_cast<float>(index / n) + 0.5f) / static_cast<float>(n);
-  if (light.shape == AreaShape::kRectangle) {
-    *a = u - 0.5f;
-    *b = v - 0.5f;
-    return;
-  }
+  *u = (static_cast<float>(index % n) + 0.5f) / static_cast<float>(n);
+  *v = (static_cast<float>(index / n) + 0.5f) / static_cast<float>(n);
+}
+
+// Stratum `index` on the unit-diameter disc, in [-0.5, 0.5]^2.
+void disc_offset(const Light& light, int index, float* a, float* b) {
+  float u = 0.0f;
+  float v = 0.0f;
+  stratum(light, index, &u, &v);
   // Shirley's concentric map keeps the strata equal in area on the disk.
   const float x = 2.0f * u - 1.0f;
   const float y = 2.0f * v - 1.0f;
@@ -43,22 +45,65 @@ void area_offset(const Light& light, int index, float* a, float* b) {
   *b = 0.5f * r * std::sin(phi);
 }
 
+// Stratum `index` on an area light's shape, in [-0.5, 0.5]^2.
+void area_offset(const Light& light, int index, float* a, float* b) {
+  if (light.shape == AreaShape::kEllipse) {
+    disc_offset(light, index, a, b);
+    return;
+  }
+  stratum(light, index, a, b);
+  *a -= 0.5f;
+  *b -= 0.5f;
+}
+
+// Two unit vectors perpendicular to unit vector w and to each other.
+void basis(const Vec3& w, Vec3* u, Vec3* v) {
+  const Vec3 helper = std::fabs(w.x) > 0.9f ? Vec3(0.0f, 1.0f, 0.0f) : Vec3(1.0f, 0.0f, 0.0f);
+  *u = glm::normalize(glm::cross(helper, w));
+  *v = glm::cross(w, *u);
+}
+
 }  // namespace
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {
+  const float share = 1.0f / static_cast<float>(light.sample_count());
   if (light.type == LightType::kSun) {
-    return {-glm::normalize(light.direction), kInfinity, light.color};
+    const Vec3 towards = -glm::normalize(light.direction);
+    if (light.angle <= 0.0f) return {towards, kInfinity, light.color};
+    // Directions spread over the sun's disc, of angular radius angle/2.
+    Vec3 u;
+    Vec3 v;
+    basis(towards, &u, &v);
+    float a = 0.0f;
+    float b = 0.0f;
+    disc_offset(light, index, &a, &b);
+    const float spread = 2.0f * std::tan(0.5f * std::min(light.angle, 3.0f));
+    return {glm::normalize(towards + spread * (a * u + b * v)), kInfinity, light.color * share};
   }
   Vec3 target = light.position;
-  float area_weight = 1.0f;
-  if (light.type == LightType::kArea) {
+  float weight = 1.0f;
+  if (light.type != LightType::kArea && light.radius > 0.0f) {
+    // A sphere light seen from p: a disc of its radius facing p, as Cycles 3.x does.
+    const Vec3 axis = p - light.position;
+    const float length = glm::length(axis);
+    if (length > light.radius) {
+      Vec3 u;
+      Vec3 v;
+      basis(axis / length, &u, &v);
+      float a = 0.0f;
+      float b = 0.0f;
+      disc_offset(light, index, &a, &b);
+      target += 2.0f * light.radius * (a * u + b * v);
+    }
+    weight = share;  // each feeler carries its share of the intensity
+  } else if (light.type == LightType::kArea) {
     float a = 0.0f;
     float b = 0.0f;
     area_offset(light, index, &a, &b);
     target += a * light.size[0] * light.axis_u + b * light.size[1] * light.axis_v;
     const float area =
         light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
-    area_weight = area / static_cast<float>(light.sample_count());
+    weight = area * share;
   }
   const Vec3 d = target - p;
   const float dist2 = glm::dot(d, d);
@@ -68,15 +113,22 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
   Color irradiance(0.0f);
   switch (light.type) {
     case LightType::kPoint:
-      irradiance = light.color / dist2;  // E = I / r^2
+      irradiance = light.color * (weight / dist2);  // E = I / r^2
       break;
     case LightType::kSpot:
-      irradiance = light.color * (spot_falloff(light, -wi) / dist2);
+      // The cone is measured from the light's centre, as Cycles does.
+      {
+        const Vec3 from_centre = p - light.position;
+        const float length = glm::length(from_centre);
+        if (length > 0.0f) {
+          irradiance = light.color * (weight * spot_falloff(light, from_centre / length) / dist2);
+        }
+      }
       break;
     case LightType::kArea: {
       // A patch of area dA and radiance L gives E = L cos(theta_l) dA / r^2, one-sided.
       const float cos_l = glm::dot(glm::normalize(light.direction), -wi);
-      if (cos_l > 0.0f) irradiance = light.color * (cos_l * area_weight / dist2);
+      if (cos_l > 0.0f) irradiance = light.color * (cos_l * weight / dist2);
       break;
     }
     case LightType::kSun:

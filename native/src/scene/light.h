@@ -23,10 +23,15 @@ struct Light {
   Vec3 axis_u{1.0f, 0.0f, 0.0f};
   Vec3 axis_v{0.0f, 1.0f, 0.0f};
   AreaShape shape = AreaShape::kRectangle;
-  int samples = 1;  // per axis for area lights: samples x samples feelers
+  float radius = 0.0f;  // point and spot: a sphere of this radius (soft shadows)
+  float angle = 0.0f;   // sun: full apex angle of the sun's disc, radians
+  int samples = 1;      // per axis for sized lights: samples x samples feelers
   bool cast_shadows = true;
 
-  int sample_count() const { return type == LightType::kArea ? samples * samples : 1; }
+  bool sized() const {
+    return type == LightType::kArea || (type == LightType::kSun ? angle > 0.0f : radius > 0.0f);
+  }
+  int sample_count() const { return sized() ? samples * samples : 1; }
 };
 
 // One feeler's worth of light arriving at a point.

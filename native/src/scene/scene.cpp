@@ -59,17 +59,40 @@ void Scene::remove_material(const std::string& name) {
 void Scene::remove_light(const std::string& name) {
   erase_or_throw(&lights_, name, "light");
 }
+void Scene::set_texture(const std::string& name, Texture texture) {
+  textures_[name] = std::make_shared<const Texture>(std::move(texture));
+}
+void Scene::remove_texture(const std::string& name) {
+  erase_or_throw(&textures_, name, "texture");
+}
 
 std::shared_ptr<const CompiledScene> Scene::compile() const {
   auto compiled = std::make_shared<CompiledScene>();
   compiled->camera = camera;
   compiled->background = background;
   compiled->ambient = ambient;
+  std::map<std::string, int32_t> texture_index;
+  for (const auto& [name, texture] : textures_) {
+    texture_index[name] = static_cast<int32_t>(compiled->textures.size());
+    compiled->textures.push_back(texture);
+  }
+  const auto resolve_texture = [&](const std::string& material, const std::string& texture) {
+    if (texture.empty()) return -1;
+    auto found = texture_index.find(texture);
+    if (found == texture_index.end()) {
+      throw std::invalid_argument("material '" + material + "' uses missing texture '" + texture +
+                                  "'");
+    }
+    return found->second;
+  };
   std::map<std::string, uint32_t> material_index;
   compiled->materials.push_back(Material{});
   for (const auto& [name, material] : materials_) {
     material_index[name] = static_cast<uint32_t>(compiled->materials.size());
-    compiled->materials.push_back(material);
+    Material resolved = material;
+    resolved.diffuse_texture_index = resolve_texture(name, material.diffuse_texture);
+    resolved.alpha_texture_index = resolve_texture(name, material.alpha_texture);
+    compiled->materials.push_back(std::move(resolved));
   }
   for (const auto& [name, light] : lights_) compiled->lights.push_back(light);
 
@@ -84,6 +107,7 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
     out.mesh = mesh->second;
     out.to_world = instance.to_world;
     out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
+    out.holdout = instance.holdout;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);
@@ -97,7 +121,7 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
       out.materials.push_back(found->second);
     }
     if (out.mesh->mesh.triangle_count() == 0) continue;  // nothing to hit
-    accel_instances.push_back({&out.mesh->accel, out.to_world});
+    accel_instances.push_back({&out.mesh->accel, out.to_world, instance.visibility});
     compiled->instances.push_back(std::move(out));
   }
   compiled->accel = std::make_unique<SceneAccel>(device_, accel_instances);
@@ -141,7 +165,37 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
       mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
   const uint32_t index = slot < instance.materials.size() ? instance.materials[slot] : 0;
   out.material = &materials[index];
+  out.holdout = instance.holdout;
+  TexturePoint& tp = out.texture_point;
+  tp.object = local;
+  tp.generated =
+      (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
+  if (!mesh.uvs.empty()) {
+    const float* uv = &mesh.uvs[6 * size_t{hit.primitive}];
+    tp.uv = w0 * glm::vec2(uv[0], uv[1]) + hit.u * glm::vec2(uv[2], uv[3]) +
+            hit.v * glm::vec2(uv[4], uv[5]);
+  }
   return out;
+}
+
+SurfaceParams CompiledScene::surface(const Interaction& it) const {
+  const Material& m = *it.material;
+  SurfaceParams out{m.diffuse, m.alpha};
+  if (m.diffuse_texture_index >= 0) {
+    out.diffuse *= Color(textures[m.diffuse_texture_index]->evaluate(it.texture_point));
+  }
+  if (m.alpha_texture_index >= 0) {
+    out.alpha *= textures[m.alpha_texture_index]->evaluate(it.texture_point).w;
+  }
+  out.alpha = std::clamp(out.alpha, 0.0f, 1.0f);
+  return out;
+}
+
+bool CompiledScene::any_translucent() const {
+  for (const Material& m : materials) {
+    if (m.transmissive() || m.alpha < 1.0f || m.alpha_texture_index >= 0) return true;
+  }
+  return false;
 }
 
 }  // namespace whitted

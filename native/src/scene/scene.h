@@ -15,6 +15,7 @@
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/mesh.h"
+#include "scene/texture.h"
 
 namespace whitted {
 
@@ -30,6 +31,8 @@ struct Instance {
   std::string mesh;
   glm::mat4 to_world{1.0f};
   std::vector<std::string> materials;  // by slot; "" is the default material
+  uint32_t visibility = kAllRayKinds;  // RayKind bits of the rays that see it
+  bool holdout = false;                // camera rays that meet it give colour 0, alpha 0
 };
 
 // Where a ray met a surface, in world space.
@@ -38,6 +41,14 @@ struct Interaction {
   Vec3 geometric_normal;  // unit, as the triangle winds
   Vec3 shading_normal;    // unit, interpolated corner normals (or the geometric normal)
   const Material* material;
+  TexturePoint texture_point;
+  bool holdout;
+};
+
+// A material's parameters at one point, textures applied.
+struct SurfaceParams {
+  Color diffuse;
+  float alpha;
 };
 
 // What a render reads: resolved, immutable, safe to share between threads.
@@ -47,9 +58,11 @@ struct CompiledScene {
     glm::mat4 to_world;
     glm::mat3 normal_to_world;        // inverse transpose of the linear part
     std::vector<uint32_t> materials;  // slot -> index into `materials`
+    bool holdout;
   };
   std::vector<Instance> instances;
   std::vector<Material> materials;  // index 0 is the default material
+  std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
   Camera camera;
   Color background{0.0f};
@@ -58,6 +71,10 @@ struct CompiledScene {
 
   size_t triangle_count() const;
   Interaction interaction(const Ray& ray, const Hit& hit) const;
+  SurfaceParams surface(const Interaction& it) const;
+  // Does any material let light through (transmission or alpha)? Shadow feelers then
+  // walk through surfaces instead of stopping at the first.
+  bool any_translucent() const;
 };
 
 class Scene {
@@ -68,10 +85,12 @@ class Scene {
   void set_instance(const std::string& name, Instance instance);
   void set_material(const std::string& name, const Material& material);
   void set_light(const std::string& name, const Light& light);
+  void set_texture(const std::string& name, Texture texture);
   void remove_mesh(const std::string& name);
   void remove_instance(const std::string& name);
   void remove_material(const std::string& name);
   void remove_light(const std::string& name);
+  void remove_texture(const std::string& name);
 
   Camera camera;
   Color background{0.05f};
@@ -93,6 +112,7 @@ class Scene {
   std::map<std::string, Instance> instances_;
   std::map<std::string, Material> materials_;
   std::map<std::string, Light> lights_;
+  std::map<std::string, std::shared_ptr<const Texture>> textures_;
   double mesh_build_seconds_ = 0.0;
 };
 
