@@ -8,7 +8,11 @@ add-on and its exporters import even before the module is built.
 import bpy
 
 from . import engine
+from .properties import light as light_properties
+from .properties import material as material_properties
 from .properties import scene as scene_properties
+from .ui import light as light_ui
+from .ui import material as material_ui
 from .ui import render as render_ui
 
 bl_info = {
@@ -24,8 +28,12 @@ bl_info = {
 # Registered in this order, unregistered in reverse.
 classes = (
     scene_properties.WhittedSceneProperties,
+    light_properties.WhittedLightProperties,
+    material_properties.WhittedMaterialProperties,
     engine.WhittedRenderEngine,
     render_ui.WHITTED_RENDER_PT_settings,
+    light_ui.WHITTED_LIGHT_PT_settings,
+    material_ui.WHITTED_MATERIAL_PT_settings,
 )
 
 # Blender's own panels that also make sense for Whitted. Names differ between

@@ -1,7 +1,19 @@
-"""Names of the objects that the evaluated depsgraph yields, instances included."""
+"""Names, ray visibility and holdout of the objects that the evaluated depsgraph yields."""
+
+from dataclasses import dataclass
 
 # Blender pads unused levels of DepsgraphObjectInstance.persistent_id with INT_MAX.
 _UNUSED_ID = 2**31 - 1
+
+
+@dataclass(frozen=True)
+class RayVisibility:
+    """Which rays see an instance (Object Properties > Visibility > Ray Visibility)."""
+
+    camera: bool = True  # visible_camera
+    shadow: bool = True  # visible_shadow
+    reflection: bool = True  # visible_glossy
+    refraction: bool = True  # visible_transmission
 
 
 def instance_name(object_instance):
@@ -15,3 +27,39 @@ def instance_name(object_instance):
         return obj.original.name_full
     path = ".".join(str(i) for i in object_instance.persistent_id if i != _UNUSED_ID)
     return f"{object_instance.parent.original.name_full}/{obj.original.name_full}/{path}"
+
+
+def ray_visibility(object_instance):
+    """The rays that see this instance: as in Cycles, an instance must be visible
+    both by its own object's flags and by its instancer's."""
+    visibility = _object_visibility(object_instance.object)
+    if object_instance.is_instance:
+        parent = _object_visibility(object_instance.parent)
+        visibility = RayVisibility(
+            camera=visibility.camera and parent.camera,
+            shadow=visibility.shadow and parent.shadow,
+            reflection=visibility.reflection and parent.reflection,
+            refraction=visibility.refraction and parent.refraction,
+        )
+    return visibility
+
+
+def is_holdout(object_instance, view_layer):
+    """Whether camera rays that hit this instance leave colour 0 and alpha 0.
+
+    `holdout_get` covers both the object's own Holdout switch and the holdout of
+    a collection it is in (per view layer); an instance takes its instancer's,
+    as Cycles does. `view_layer` is the depsgraph's evaluated view layer, whose
+    bases hold the evaluated objects.
+    """
+    owner = object_instance.parent if object_instance.is_instance else object_instance.object
+    return owner.holdout_get(view_layer=view_layer)
+
+
+def _object_visibility(obj):
+    return RayVisibility(
+        camera=obj.visible_camera,
+        shadow=obj.visible_shadow,
+        reflection=obj.visible_glossy,
+        refraction=obj.visible_transmission,
+    )

@@ -1,25 +1,37 @@
-"""Lights in the units Cycles uses, so a diffuse surface is as bright as in Cycles.
+"""Lights as Cycles defines them, so a diffuse surface is as bright as in Cycles.
 
 Blender gives a point, spot or area light's power P in watts and a sun's
-strength as irradiance in W/m^2. The tracer takes each light's own unit,
-light colour included:
+strength S as irradiance in W/m^2. Cycles multiplies them by the light colour,
+by the blackbody colour when `use_temperature` is on (4.x+) and by
+2^exposure (4.x+). The tracer takes each light's own unit:
     point, spot:  radiant intensity  I = P / (4 pi)      W/sr
-    sun:          irradiance         E = strength         W/m^2
-    area:         radiance           L = P / (4 A)        W/(m^2 sr)
-A light shines along its local -Z axis.
+    sun:          irradiance         E = S                W/m^2
+    area:         radiance           L = P / (pi A)       W/(m^2 sr), one-sided,
+                                     L = P / (4 A) before Blender 4.0
+Blender 4.0 changed the area light's flux-to-radiance factor from 1/4 to 1/pi
+(Blender issue #109404; measured: Cycles 5.0 renders an area light 4/pi times
+as bright as Cycles 3.4 does). With `normalize` off (4.x+), Cycles does not
+divide the power by the light's area: each quantity above is multiplied by
+Cycles' `Light::area()`, which is 4 pi r^2 for a point or spot of radius r
+(4 when r = 0), A for an area light and pi sin^2(angle / 2) for a sun (1 when
+the angle is 0). A light shines along its local -Z axis.
 """
 
 import math
 from dataclasses import dataclass
 
+import bpy
 import numpy as np
 
 from .instance import instance_name
 
 Vector = tuple[float, float, float]
 
-# Shadow feelers per axis of an area light (4 x 4 per shading point).
-AREA_SAMPLES = 4
+# Shadow feelers per axis of a sized light whose own setting is 0 (4 x 4).
+DEFAULT_LIGHT_SAMPLES = 4
+
+# Radiance of an area light per watt and square metre of its area (see above).
+AREA_WATTS_TO_RADIANCE = 1.0 / math.pi if bpy.app.version >= (4, 0, 0) else 0.25
 
 # Blender's area shapes -> the tracer's two shapes (a square is a rectangle with
 # size_y = size, a disk an ellipse).
@@ -44,7 +56,9 @@ class LightData:
     axis_u: Vector = (1.0, 0.0, 0.0)  # unit
     axis_v: Vector = (0.0, 1.0, 0.0)  # unit
     shape: str = "RECTANGLE"  # "RECTANGLE" or "ELLIPSE"
-    samples: int = 1  # per axis, area lights only
+    radius: float = 0.0  # point and spot: sphere radius (world units)
+    angle: float = 0.0  # sun: full apex angle of its cone of directions, radians
+    samples: int = 1  # feelers per axis: n x n for a sized light, 1 otherwise
     cast_shadows: bool = True
 
 
@@ -70,28 +84,57 @@ def convert_lights(depsgraph, warnings):
     return lights
 
 
+def shadow_switch(light):
+    """(owner, property name) of the per-light shadow switch Cycles reads:
+    Blender 3.x's Cycles has its own (`light.cycles.cast_shadow`; `use_shadow`
+    is EEVEE's there); from 4.0 both engines read `light.use_shadow`."""
+    cycles = getattr(light, "cycles", None)
+    if cycles is not None and hasattr(cycles, "cast_shadow"):
+        return cycles, "cast_shadow"
+    return light, "use_shadow"
+
+
 def _convert_light(name, light, position, unit_axes, scale, warnings):
+    owner, switch = shadow_switch(light)
     common = {
         "name": name,
         "type": light.type,
         "position": tuple(position),
         # The light travels along its local -Z axis.
         "direction": tuple(-unit_axes[:, 2]),
-        "cast_shadows": light.use_shadow,
+        "cast_shadows": getattr(owner, switch),
     }
     color = _light_color(light)
+    # Blender 3.x always normalises; 4.x+ lets the artist turn it off.
+    normalize = getattr(light, "normalize", True)
     if light.type in {"POINT", "SPOT"}:
+        # The radius is not scaled by the object, as in Cycles.
+        radius = max(0.0, light.shadow_soft_size)
         # Power P in W spread over the whole sphere: I = P / (4 pi) W/sr. Cycles does
         # not renormalise a spot to its cone, so neither do we.
-        intensity = tuple(light.energy / (4.0 * math.pi) * c for c in color)
-        if light.type == "POINT":
-            return LightData(color=intensity, **common)
+        watts_to_intensity = 1.0 / (4.0 * math.pi)
+        if not normalize:
+            watts_to_intensity *= 4.0 * math.pi * radius * radius if radius > 0.0 else 4.0
+        if light.type == "SPOT":
+            common |= {"spot_size": light.spot_size, "spot_blend": light.spot_blend}
         return LightData(
-            color=intensity, spot_size=light.spot_size, spot_blend=light.spot_blend, **common
+            color=tuple(light.energy * watts_to_intensity * c for c in color),
+            radius=radius,
+            samples=_samples(light, sized=radius > 0.0),
+            **common,
         )
     if light.type == "SUN":
+        angle = min(max(0.0, light.angle), math.pi)  # full apex angle, radians
         # Strength is the irradiance on a surface facing the sun, W/m^2.
-        return LightData(color=tuple(light.energy * c for c in color), **common)
+        irradiance = light.energy
+        if not normalize and angle > 0.0:
+            irradiance *= math.pi * math.sin(0.5 * angle) ** 2
+        return LightData(
+            color=tuple(irradiance * c for c in color),
+            angle=angle,
+            samples=_samples(light, sized=angle > 0.0),
+            **common,
+        )
     if light.type == "AREA":
         shape = _AREA_SHAPES[light.shape]
         # size (and size_y for rectangles and ellipses) are local lengths: the
@@ -99,26 +142,42 @@ def _convert_light(name, light, position, unit_axes, scale, warnings):
         size_y = light.size_y if light.shape in {"RECTANGLE", "ELLIPSE"} else light.size
         size = (light.size * scale[0], size_y * scale[1])
         area = size[0] * size[1] * (math.pi / 4.0 if shape == "ELLIPSE" else 1.0)
-        # One-sided radiance L = P / (4 A) W/(m^2 sr), as Cycles. Blender 4.x's
-        # `normalize` off keeps the power per unit area: L = P / 4 whatever the size.
-        normalize = getattr(light, "normalize", True)
-        per_area = 1.0 / area if normalize and area > 0.0 else 1.0
+        if area <= 0.0:
+            warnings.append(f"Whitted: area light '{name}' has no area; skipped, as in Cycles")
+            return None
+        if light.spread < math.pi:
+            warnings.append(
+                f"Whitted: area light '{name}' has a spread of "
+                f"{math.degrees(light.spread):.0f} degrees; Whitted emits over 180"
+            )
+        # One-sided radiance L = P / (pi A) W/(m^2 sr) (P / (4 A) before 4.0), as
+        # Cycles; with normalize off, L = P / pi whatever the size.
+        watts_to_radiance = AREA_WATTS_TO_RADIANCE / (area if normalize else 1.0)
         return LightData(
-            color=tuple(light.energy / 4.0 * per_area * c for c in color),
+            color=tuple(light.energy * watts_to_radiance * c for c in color),
             size=size,
             axis_u=tuple(unit_axes[:, 0]),
             axis_v=tuple(unit_axes[:, 1]),
             shape=shape,
-            samples=AREA_SAMPLES,
+            samples=_samples(light, sized=True),
             **common,
         )
     warnings.append(f"Whitted: light '{name}' is of type {light.type}, which Whitted skips")
     return None
 
 
+def _samples(light, sized):
+    """Shadow feelers per axis: the light's own setting (0: the default) when it
+    has a size, one when it is a point."""
+    if not sized:
+        return 1
+    return light.whitted.samples or DEFAULT_LIGHT_SAMPLES
+
+
 def _light_color(light):
     color = tuple(light.color)
-    # Blender 4.x+: a blackbody temperature can tint the colour ...
+    # Blender 4.x+: a blackbody temperature tints the colour; Cycles multiplies by
+    # Blender's own `temperature_color` (linear RGB), so Whitted uses the same.
     if getattr(light, "use_temperature", False):
         color = tuple(c * t for c, t in zip(color, light.temperature_color, strict=True))
     # ... and the exposure (in stops) scales the power: x 2^exposure.

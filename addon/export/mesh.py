@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .instance import instance_name
+from .instance import RayVisibility, instance_name, is_holdout, ray_visibility
 
 # The tracer's default material: what an empty material slot renders with.
 # Blender names are never empty, so it cannot clash with a material's name.
@@ -23,6 +23,7 @@ class MeshData:
     triangles: np.ndarray  # uint32[M,3], vertex indices
     normals: np.ndarray | None  # float32[M,3,3] corner normals; None: all faces flat
     material_slots: np.ndarray | None  # int32[M]; None: every triangle uses slot 0
+    uvs: np.ndarray | None = None  # float32[M,3,2] corner UVs; None: no texture needs them
 
 
 @dataclass(frozen=True)
@@ -31,6 +32,8 @@ class InstanceData:
     mesh: str  # MeshData.name
     transform: np.ndarray  # float64[4,4], row-major, object to world
     materials: tuple[str, ...]  # material name per slot, DEFAULT_MATERIAL if empty
+    visibility: RayVisibility  # which rays see it
+    holdout: bool  # camera rays that hit it give colour 0 and alpha 0
 
 
 @dataclass(frozen=True)
@@ -39,7 +42,7 @@ class MeshExport:
     instances: list[InstanceData]
 
 
-def convert_meshes(depsgraph, warnings):
+def convert_meshes(depsgraph, warnings, uv_maps=None):
     """Every renderable mesh-like object of the evaluated depsgraph, each distinct
     geometry once, placed by one instance per object or instance.
 
@@ -47,12 +50,17 @@ def convert_meshes(depsgraph, warnings):
     depsgraph evaluates them to a mesh, which it yields as a MESH instance of
     the object (besides the object itself, whose to_mesh() is that same mesh
     again). So only MESH objects and instances are exported, as Cycles does.
+
+    `uv_maps` maps a material name to the UV map its textures read ("" for the
+    active render map); a mesh exports corner UVs when one of its materials is there.
     """
+    uv_maps = uv_maps or {}
     meshes = []
     instances = []
     # Evaluated mesh address -> the name of its mesh, or None when it has no triangles.
     mesh_names = {}
     taken_names = set()
+    view_layer = depsgraph.view_layer_eval  # holdout is per view layer
     for object_instance in depsgraph.object_instances:
         obj = object_instance.object
         if (
@@ -70,7 +78,7 @@ def convert_meshes(depsgraph, warnings):
         if key not in mesh_names:
             name = _unique_name(f"{obj.original.name_full}/{obj.data.name_full}", taken_names)
             taken_names.add(name)
-            mesh = _convert_geometry(obj, name, warnings)
+            mesh = _convert_geometry(obj, name, _uv_map(obj, uv_maps), warnings)
             mesh_names[key] = None if mesh is None else mesh.name
             if mesh is not None:
                 meshes.append(mesh)
@@ -83,6 +91,8 @@ def convert_meshes(depsgraph, warnings):
                 # Valid only while iterating: copy it now.
                 transform=np.array(object_instance.matrix_world, dtype=np.float64),
                 materials=_slot_materials(obj),
+                visibility=ray_visibility(object_instance),
+                holdout=is_holdout(object_instance, view_layer),
             )
         )
     return MeshExport(meshes=meshes, instances=instances)
@@ -98,7 +108,7 @@ def _unique_name(name, taken):
     return unique
 
 
-def _convert_geometry(obj, name, warnings):
+def _convert_geometry(obj, name, uv_map, warnings):
     # `obj` comes from depsgraph.object_instances and is already evaluated (with
     # modifiers); a geometry-nodes instance is a temporary object that
     # evaluated_get() would not find, so it is converted directly.
@@ -108,12 +118,12 @@ def _convert_geometry(obj, name, warnings):
         warnings.append(f"Whitted: object '{obj.name}' could not be made a mesh ({error}); skipped")
         return None
     try:
-        return _triangulate(mesh, name)
+        return _triangulate(mesh, name, uv_map, warnings)
     finally:
         obj.to_mesh_clear()
 
 
-def _triangulate(mesh, name):
+def _triangulate(mesh, name, uv_map, warnings):
     mesh.calc_loop_triangles()
     triangles = mesh.loop_triangles
     count = len(triangles)
@@ -130,7 +140,7 @@ def _triangulate(mesh, name):
     smooth = np.empty(count, dtype=bool)
     triangles.foreach_get("use_smooth", smooth)
     normals = None
-    if smooth.any():
+    if smooth.any() or mesh.has_custom_normals:
         # Corner ("split") normals: smooth faces interpolate, flat faces and sharp
         # edges keep the face normal. Blender < 4.1 computes them only on request.
         if hasattr(mesh, "calc_normals_split"):
@@ -144,7 +154,35 @@ def _triangulate(mesh, name):
         triangles=corners.view(np.uint32),
         normals=normals,
         material_slots=slots if slots.any() else None,
+        uvs=None if uv_map is None else _corner_uvs(mesh, uv_map, name, warnings),
     )
+
+
+def _uv_map(obj, uv_maps):
+    # The UV map the first textured material of the object asks for, or None.
+    return next((uv_maps[m] for m in _slot_materials(obj) if m in uv_maps), None)
+
+
+def _corner_uvs(mesh, uv_map, name, warnings):
+    """float32[M,3,2]: the UV of each loop triangle's corners, from the UV map
+    named `uv_map` or, for "" or a map the mesh lacks, the active render one."""
+    layers = mesh.uv_layers
+    if len(layers) == 0:
+        warnings.append(f"Whitted: mesh '{name}' has no UV map; its textures read UV (0, 0)")
+        return None
+    layer = layers.get(uv_map) if uv_map else None
+    if layer is None:
+        if uv_map:
+            warnings.append(
+                f"Whitted: mesh '{name}' has no UV map '{uv_map}'; using the active render one"
+            )
+        layer = next((candidate for candidate in layers if candidate.active_render), layers[0])
+    loop_uvs = np.empty((len(mesh.loops), 2), dtype=np.float32)
+    layer.data.foreach_get("uv", loop_uvs.reshape(-1))
+    triangles = mesh.loop_triangles
+    loops = np.empty((len(triangles), 3), dtype=np.int32)
+    triangles.foreach_get("loops", loops.reshape(-1))
+    return loop_uvs[loops]
 
 
 def _slot_materials(obj):

@@ -13,6 +13,7 @@ from .camera import convert_camera
 from .light import convert_lights
 from .material import convert_material
 from .mesh import convert_meshes
+from .texture import CheckerTextureSpec, convert_textures
 from .world import convert_world
 
 
@@ -44,17 +45,38 @@ def convert_scene(depsgraph, native):
     )
 
     # Every material the evaluated objects use is in the depsgraph.
-    for material in depsgraph.ids:
-        if isinstance(material, bpy.types.Material):
-            data = convert_material(material, warnings)
-            scene.set_material(material.name_full, native.Material(**asdict(data)))
+    materials = {
+        material.name_full: convert_material(material, warnings)
+        for material in depsgraph.ids
+        if isinstance(material, bpy.types.Material)
+    }
+    # The textures the materials name, each image read once.
+    specs = {spec.name: spec for m in materials.values() for spec in m.textures}
+    for name, texture in convert_textures(specs, warnings).items():
+        scene.set_texture(name, _native_texture(native, texture))
+    for name, material in materials.items():
+        scene.set_material(name, native.Material(**asdict(material.data)))
+    # Material name -> the UV map its textures read: the meshes that use it export it.
+    uv_maps = {name: m.uv_map for name, m in materials.items() if m.uv_map is not None}
 
-    exported = convert_meshes(depsgraph, warnings)
+    exported = convert_meshes(depsgraph, warnings, uv_maps)
     for mesh in exported.meshes:
-        scene.set_mesh(mesh.name, mesh.positions, mesh.triangles, mesh.normals, mesh.material_slots)
+        scene.set_mesh(
+            mesh.name,
+            mesh.positions,
+            mesh.triangles,
+            mesh.normals,
+            mesh.material_slots,
+            uvs=mesh.uvs,
+        )
     for instance in exported.instances:
         scene.set_instance(
-            instance.name, instance.mesh, instance.transform, list(instance.materials)
+            instance.name,
+            instance.mesh,
+            instance.transform,
+            list(instance.materials),
+            visibility=_native_visibility(native, instance.visibility),
+            holdout=instance.holdout,
         )
 
     lights = convert_lights(depsgraph, warnings)
@@ -67,8 +89,37 @@ def convert_scene(depsgraph, native):
     if not lights:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
 
-    world = convert_world(blender_scene.world, warnings)
+    world = convert_world(blender_scene.world, blender_scene.whitted.ambient_strength, warnings)
     scene.background = world.background
     scene.ambient = world.ambient
 
     return ExportedScene(scene=scene, width=camera.width, height=camera.height, warnings=warnings)
+
+
+def _native_visibility(native, visibility):
+    # RayVisibility's fields as an int of whitted_native.Visibility flags.
+    flags = native.Visibility
+    return (
+        (flags.CAMERA if visibility.camera else 0)
+        | (flags.SHADOW if visibility.shadow else 0)
+        | (flags.REFLECTION if visibility.reflection else 0)
+        | (flags.REFRACTION if visibility.refraction else 0)
+    )
+
+
+def _native_texture(native, texture):
+    # ImageTextureData or CheckerTextureSpec (export/texture.py) as a native texture.
+    coordinates = getattr(native.TexCoord, texture.coordinates)
+    if isinstance(texture, CheckerTextureSpec):
+        return native.CheckerTexture(
+            color1=texture.color1,
+            color2=texture.color2,
+            scale=texture.scale,
+            coordinates=coordinates,
+        )
+    return native.ImageTexture(
+        pixels=texture.pixels,
+        extension=getattr(native.Extension, texture.extension),
+        interpolation=getattr(native.Interpolation, texture.interpolation),
+        coordinates=coordinates,
+    )

@@ -13,8 +13,12 @@ class WorldData:
     ambient: Color  # Ia of the Phong ambient term ka * Ia * kd
 
 
-def convert_world(world, warnings):
-    """Convert the scene's world (None renders black, as in Cycles)."""
+def convert_world(world, ambient_strength, warnings):
+    """Convert the scene's world (None renders black, as in Cycles).
+
+    `ambient_strength` (scene.whitted.ambient_strength) scales the ambient light
+    the world gives; 0 turns the ambient term off.
+    """
     if world is None:
         background = (0.0, 0.0, 0.0)
     elif uses_nodes(world):
@@ -22,8 +26,10 @@ def convert_world(world, warnings):
     else:
         background = tuple(world.color)
     # A uniform sky of radiance L lights an open surface with irradiance pi*L, of
-    # which the diffuse term kd/pi * E keeps kd*L: the ambient term with Ia = L.
-    return WorldData(background=background, ambient=background)
+    # which the diffuse term kd/pi * E keeps kd*L: the ambient term with Ia = L,
+    # which the scene's ambient strength scales.
+    ambient = tuple(c * ambient_strength for c in background)
+    return WorldData(background=background, ambient=ambient)
 
 
 def _background_node_radiance(world, warnings):

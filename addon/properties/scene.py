@@ -1,7 +1,7 @@
 """Render settings stored on each scene as `scene.whitted`."""
 
 import bpy
-from bpy.props import EnumProperty, IntProperty, PointerProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty
 
 
 class WhittedSceneProperties(bpy.types.PropertyGroup):
@@ -29,6 +29,14 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
             ("EXACT", "Exact", "The exact dielectric Fresnel equations"),
         ),
         default="EXACT",
+    )
+    ambient_strength: FloatProperty(
+        name="Ambient Strength",
+        description="Scale of the ambient light Ia that the world's colour gives every "
+        "surface (the Phong ambient term); 0 disables it",
+        default=1.0,
+        min=0.0,
+        soft_max=2.0,
     )
     tile_size: IntProperty(
         name="Tile Size",

@@ -23,6 +23,7 @@ class WHITTED_RENDER_PT_settings(bpy.types.Panel):
         column.prop(settings, "max_depth")
         column.prop(settings, "aa_samples")
         column.prop(settings, "fresnel")
+        column.prop(settings, "ambient_strength")
         column.prop(settings, "tile_size")
         column.prop(context.scene.render, "threads_mode")
         row = column.row()

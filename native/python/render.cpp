@@ -17,6 +17,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["rays"] = rays;
   out["total_internal_reflections"] = s.rays.total_internal_reflection;
   out["depth_limited"] = s.rays.depth_limited;
+  out["cutoff"] = s.rays.cutoff;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["compile_seconds"] = s.compile_seconds;
   out["trace_seconds"] = s.trace_seconds;
@@ -57,17 +58,18 @@ void bind_render(py::module_& m) {
   py::class_<Settings>(m, "Settings")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
-                       bool transparent_background) {
+                       bool transparent_background, float cutoff) {
              Settings s{width, height, max_depth, aa_samples, threads, tile_size, fresnel};
              std::copy(border.begin(), border.end(), s.border);
              s.transparent_background = transparent_background;
+             s.cutoff = cutoff;
              s.validate();
              return s;
            }),
            py::arg("width") = 640, py::arg("height") = 480, py::arg("max_depth") = 5,
            py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
            py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
-           py::arg("transparent_background") = false,
+           py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image.")
       .def_readwrite("width", &Settings::width)
@@ -82,7 +84,8 @@ void bind_render(py::module_& m) {
           [](const Settings& s) {
             return std::array<int, 4>{s.border[0], s.border[1], s.border[2], s.border[3]};
           })
-      .def_readwrite("transparent_background", &Settings::transparent_background);
+      .def_readwrite("transparent_background", &Settings::transparent_background)
+      .def_readwrite("cutoff", &Settings::cutoff);
 
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "

@@ -34,6 +34,7 @@ def test_scene_settings_defaults(empty_scene):
     assert settings.aa_samples == 2
     assert settings.fresnel == "EXACT"
     assert settings.tile_size == 32
+    assert settings.ambient_strength == 1.0
 
 
 def test_render_panel_polls_only_for_whitted(empty_scene):
@@ -88,3 +89,10 @@ def test_render_without_native_module_reports_error(monkeypatch, empty_scene):
     # An ERROR report from the engine makes the operator raise.
     with pytest.raises(RuntimeError, match="Build it from the repository root"):
         bpy.ops.render.render()
+
+
+def test_tiles_are_clipped_to_the_render_region():
+    clip = whitted.engine._clip_tiles
+    region = (10, 20, 30, 25)  # xmin, ymin, xmax, ymax
+    tiles = [(0, 0, 16, 16), (0, 16, 16, 16), (16, 16, 16, 16), (32, 16, 16, 16), (12, 21, 2, 2)]
+    assert list(clip(tiles, region)) == [(10, 20, 6, 5), (16, 20, 14, 5), (12, 21, 2, 2)]

@@ -4,7 +4,12 @@ import math
 
 import bpy
 import pytest
-from whitted.export.light import AREA_SAMPLES, convert_lights
+from whitted.export.light import (
+    AREA_WATTS_TO_RADIANCE,
+    DEFAULT_LIGHT_SAMPLES,
+    convert_lights,
+    shadow_switch,
+)
 
 
 def add_light(scene, light_type, name="Light", location=(0.0, 0.0, 0.0), **light_settings):
@@ -62,14 +67,14 @@ def test_area_rectangle_radiance_uses_world_size(empty_scene, warnings):
     obj = add_light(empty_scene, "AREA", energy=120.0, shape="RECTANGLE", size=2.0, size_y=0.5)
     obj.scale = (2.0, 3.0, 1.0)
     (light,) = convert(warnings)
-    # World size 4 x 1.5 = 6 m^2; L = P / (4 A) = 120 / 24 = 5 W/(m^2 sr).
+    # World size 4 x 1.5 = 6 m^2; L = P / (pi A) (P / (4 A) before 4.0).
     assert light.size == pytest.approx((4.0, 1.5))
-    assert light.color == pytest.approx((5.0, 5.0, 5.0))
+    assert light.color == pytest.approx((120.0 * AREA_WATTS_TO_RADIANCE / 6.0,) * 3)
     assert light.shape == "RECTANGLE"
     assert light.axis_u == pytest.approx((1.0, 0.0, 0.0))
     assert light.axis_v == pytest.approx((0.0, 1.0, 0.0))
     assert light.direction == pytest.approx((0.0, 0.0, -1.0))
-    assert light.samples == AREA_SAMPLES
+    assert light.samples == DEFAULT_LIGHT_SAMPLES
 
 
 def test_area_disk_radiance(empty_scene, warnings):
@@ -78,20 +83,75 @@ def test_area_disk_radiance(empty_scene, warnings):
     # A disk of diameter 2: A = pi/4 * 2 * 2 = pi.
     assert light.shape == "ELLIPSE"
     assert light.size == pytest.approx((2.0, 2.0))
-    assert light.color == pytest.approx((100.0 / (4.0 * math.pi),) * 3)
+    assert light.color == pytest.approx((100.0 * AREA_WATTS_TO_RADIANCE / math.pi,) * 3)
+
+
+def test_area_radiance_factor_follows_the_blender_version():
+    # Blender 4.0 changed Cycles' area light from L = P / (4 A) to L = P / (pi A).
+    expected = 1.0 / math.pi if bpy.app.version >= (4, 0, 0) else 0.25
+    assert expected == AREA_WATTS_TO_RADIANCE
 
 
 def test_area_square_uses_size_for_both_axes(empty_scene, warnings):
     add_light(empty_scene, "AREA", energy=16.0, shape="SQUARE", size=2.0, size_y=9.0)
     (light,) = convert(warnings)
     assert light.size == pytest.approx((2.0, 2.0))
-    assert light.color == pytest.approx((1.0, 1.0, 1.0))
+    assert light.color == pytest.approx((16.0 * AREA_WATTS_TO_RADIANCE / 4.0,) * 3)
 
 
-def test_shadowless_light(empty_scene, warnings):
-    add_light(empty_scene, "POINT", use_shadow=False)
+def test_shadowless_light_uses_the_switch_cycles_reads(empty_scene, warnings):
+    obj = add_light(empty_scene, "POINT")
+    owner, switch = shadow_switch(obj.data)
+    # Blender 3.x's Cycles: light.cycles.cast_shadow; 4.0+: light.use_shadow.
+    expected_owner = obj.data.cycles if bpy.app.version < (4, 0, 0) else obj.data
+    assert (owner, switch) == (
+        expected_owner,
+        "cast_shadow" if bpy.app.version < (4, 0, 0) else "use_shadow",
+    )
+    setattr(owner, switch, False)
     (light,) = convert(warnings)
     assert light.cast_shadows is False
+
+
+def test_point_radius_and_samples(empty_scene, warnings):
+    obj = add_light(empty_scene, "POINT", energy=100.0, shadow_soft_size=0.25)
+    obj.scale = (2.0, 2.0, 2.0)
+    (light,) = convert(warnings)
+    # The radius is not scaled by the object (as in Cycles) and does not change I.
+    assert light.radius == pytest.approx(0.25)
+    assert light.color == pytest.approx((100.0 / (4.0 * math.pi),) * 3)
+    assert light.samples == DEFAULT_LIGHT_SAMPLES
+    obj.data.whitted.samples = 7
+    obj.data.update_tag()  # custom properties do not tag the light for re-evaluation
+    (light,) = convert(warnings)
+    assert light.samples == 7
+
+
+def test_size_zero_lights_send_one_feeler(empty_scene, warnings):
+    add_light(empty_scene, "POINT", name="Point", shadow_soft_size=0.0).data.whitted.samples = 9
+    add_light(empty_scene, "SUN", name="Sun", angle=0.0).data.whitted.samples = 9
+    assert [light.samples for light in convert(warnings)] == [1, 1]
+
+
+def test_sun_angle(empty_scene, warnings):
+    add_light(empty_scene, "SUN", energy=2.0, angle=math.radians(10.0))
+    (light,) = convert(warnings)
+    assert light.angle == pytest.approx(math.radians(10.0))
+    # Normalised: the strength stays the irradiance whatever the angle.
+    assert light.color == pytest.approx((2.0, 2.0, 2.0))
+    assert light.samples == DEFAULT_LIGHT_SAMPLES
+
+
+def test_area_spread_below_180_degrees_is_reported(empty_scene, warnings):
+    add_light(empty_scene, "AREA", spread=math.radians(90.0))
+    assert len(convert(warnings)) == 1
+    assert "spread of 90 degrees" in warnings[0]
+
+
+def test_area_of_size_zero_is_skipped(empty_scene, warnings):
+    add_light(empty_scene, "AREA", size=0.0)
+    assert convert(warnings) == []
+    assert "no area" in warnings[0]
 
 
 def test_exposure_and_normalize_when_blender_has_them(empty_scene, warnings):
@@ -100,8 +160,33 @@ def test_exposure_and_normalize_when_blender_has_them(empty_scene, warnings):
         pytest.skip(f"Blender {bpy.app.version_string} lights have no exposure/normalize")
     add_light(empty_scene, "AREA", energy=40.0, size=2.0, exposure=1.0, normalize=False)
     (light,) = convert(warnings)
-    # x 2^1 for the exposure; not normalised: L = P / 4 whatever the area.
-    assert light.color == pytest.approx((20.0, 20.0, 20.0))
+    # x 2^1 for the exposure; not normalised: L = P / pi whatever the area.
+    assert light.color == pytest.approx((80.0 / math.pi,) * 3)
+
+
+def test_unnormalized_point_and_sun_scale_by_cycles_light_area(empty_scene, warnings):
+    if not hasattr(bpy.data.lights.new("probe", "POINT"), "normalize"):
+        pytest.skip(f"Blender {bpy.app.version_string} lights have no normalize")
+    add_light(empty_scene, "POINT", name="A", energy=100.0, normalize=False)
+    add_light(empty_scene, "POINT", name="B", energy=100.0, shadow_soft_size=0.5, normalize=False)
+    add_light(empty_scene, "SUN", name="C", energy=2.0, angle=math.radians(10.0), normalize=False)
+    point, sphere, sun = convert(warnings)
+    # I = P / (4 pi) x Cycles' area: 4 for radius 0, 4 pi r^2 for a sphere.
+    assert point.color == pytest.approx((100.0 / math.pi,) * 3)
+    assert sphere.color == pytest.approx((100.0 * 0.25,) * 3)
+    # E = S x pi sin^2(angle / 2).
+    assert sun.color == pytest.approx((2.0 * math.pi * math.sin(math.radians(5.0)) ** 2,) * 3)
+
+
+def test_temperature_tints_like_cycles(empty_scene, warnings):
+    if not hasattr(bpy.data.lights.new("probe", "POINT"), "use_temperature"):
+        pytest.skip(f"Blender {bpy.app.version_string} lights have no temperature")
+    obj = add_light(empty_scene, "POINT", energy=4.0 * math.pi, use_temperature=True)
+    obj.data.temperature = 3000.0
+    (light,) = convert(warnings)
+    # Cycles multiplies the colour by Blender's own blackbody colour.
+    assert light.color == pytest.approx(tuple(obj.data.temperature_color), rel=1e-6)
+    assert light.color[0] > light.color[2]
 
 
 def test_hidden_light_is_skipped(empty_scene, warnings):

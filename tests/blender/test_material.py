@@ -1,10 +1,17 @@
-"""Material export: the Principled BSDF (3.x and 4.x socket names) as Whitted parameters."""
+"""Material export: the Principled BSDF (3.x and 4.x socket names), the other BSDFs,
+Mix Shader, textures as the mapping records them, and the Whitted override."""
 
 from dataclasses import dataclass, field
 
 import bpy
 import pytest
-from whitted.export.material import MAX_SHININESS, convert_material
+from whitted.export.material import MAX_SHININESS, convert_material, map_material
+from whitted.export.texture import CheckerTextureSpec, ImageTextureSpec
+
+
+def convert(material, warnings):
+    """The Whitted parameters a material exports with."""
+    return convert_material(material, warnings).data
 
 
 def node_material(name, **inputs):
@@ -32,7 +39,7 @@ def assert_material(data, **expected):
 
 
 def test_default_principled_is_a_grey_dielectric(warnings):
-    data = convert_material(node_material("Default"), warnings)
+    data = convert(node_material("Default"), warnings)
     # roughness 0.5 -> alpha 0.25 -> shininess 2 / 0.0625 - 2 = 30;
     # specular 0.5 -> 0.08 * 0.5 = 0.04.
     assert_material(
@@ -52,7 +59,7 @@ def test_polished_metal_is_a_tinted_mirror(warnings):
     color = (0.9, 0.8, 0.7, 1.0)
     material = node_material("Metal", **{"Base Color": color, "Metallic": 1.0, "Roughness": 0.0})
     assert_material(
-        convert_material(material, warnings),
+        convert(material, warnings),
         diffuse=(0.0, 0.0, 0.0),
         reflectivity=color[:3],
         specular=(0.0, 0.0, 0.0),
@@ -66,7 +73,7 @@ def test_rough_metal_moves_reflection_into_the_highlight(warnings):
     # sharp = 1 - 4 * 0.2 = 0.2 of the base colour is mirror, the rest highlight;
     # alpha = 0.04 -> shininess 2 / 0.0016 - 2 = 1248.
     assert_material(
-        convert_material(material, warnings),
+        convert(material, warnings),
         reflectivity=tuple(0.2 * c for c in color[:3]),
         specular=tuple(0.8 * c for c in color[:3]),
         shininess=1248.0,
@@ -79,7 +86,7 @@ def test_glass(warnings):
         "Glass", **{transmission: 1.0, "IOR": 1.5, "Roughness": 0.0, "Base Color": (1, 1, 1, 1)}
     )
     assert_material(
-        convert_material(material, warnings),
+        convert(material, warnings),
         diffuse=(0.0, 0.0, 0.0),
         transmissivity=(1.0, 1.0, 1.0),
         ior=1.5,
@@ -90,15 +97,15 @@ def test_glass(warnings):
 def test_emission_color_times_strength(warnings):
     emission = first_present(("Emission Color", "Emission"))
     material = node_material("Lamp", **{emission: (1.0, 0.5, 0.0, 1.0), "Emission Strength": 4.0})
-    assert_material(convert_material(material, warnings), emission=(4.0, 2.0, 0.0))
+    assert_material(convert(material, warnings), emission=(4.0, 2.0, 0.0))
 
 
 def test_linked_input_uses_its_value_and_warns(warnings):
     material = node_material("Textured", **{"Base Color": (0.2, 0.4, 0.6, 1.0)})
     tree = material.node_tree
-    texture = tree.nodes.new("ShaderNodeTexChecker")
+    texture = tree.nodes.new("ShaderNodeTexNoise")
     tree.links.new(texture.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
-    data = convert_material(material, warnings)
+    data = convert(material, warnings)
     assert data.diffuse == pytest.approx((0.2, 0.4, 0.6))
     assert len(warnings) == 1
     assert "'Textured'" in warnings[0]
@@ -113,26 +120,27 @@ def test_reroute_between_shader_and_output_is_followed(warnings):
     output = tree.nodes["Material Output"]
     tree.links.new(tree.nodes["Principled BSDF"].outputs[0], reroute.inputs[0])
     tree.links.new(reroute.outputs[0], output.inputs["Surface"])
-    assert convert_material(material, warnings).diffuse == pytest.approx((0.1, 0.2, 0.3))
+    assert convert(material, warnings).diffuse == pytest.approx((0.1, 0.2, 0.3))
 
 
-def test_other_shader_uses_viewport_colour_and_warns(warnings):
-    material = node_material("Diffuse")
+def test_unsupported_shader_uses_viewport_colour_and_warns(warnings):
+    material = node_material("Toon")
     material.diffuse_color = (0.3, 0.2, 0.1, 1.0)
     material.metallic = 0.0
-    tree = material.node_tree
-    shader = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    tree.links.new(shader.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    data = convert_material(material, warnings)
+    shader = surface_shader(material, "ShaderNodeBsdfToon")
+    data = convert(material, warnings)
     assert data.diffuse == pytest.approx((0.3, 0.2, 0.1))
-    assert "is not a Principled BSDF" in warnings[0]
+    assert warnings == [
+        f"Whitted: material 'Toon', node '{shader.name}': shader 'ShaderNodeBsdfToon' is not "
+        "supported; using the material's viewport display colour"
+    ]
 
 
 def test_no_surface_shader_renders_black(warnings):
     material = node_material("Empty")
     tree = material.node_tree
     tree.links.remove(tree.nodes["Material Output"].inputs["Surface"].links[0])
-    data = convert_material(material, warnings)
+    data = convert(material, warnings)
     assert data.diffuse == (0.0, 0.0, 0.0)
     assert "no surface shader" in warnings[0]
 
@@ -147,7 +155,7 @@ def test_material_without_nodes_uses_viewport_display(warnings):
     material.roughness = 0.0
     material.specular_intensity = 0.25
     assert_material(
-        convert_material(material, warnings),
+        convert(material, warnings),
         diffuse=(0.25, 0.125, 0.0625),
         reflectivity=(0.25, 0.125, 0.0625),
         # (1 - metallic) * 0.08 * specular; the metal part is all mirror at roughness 0.
@@ -162,6 +170,7 @@ class FakeSocket:
     name: str
     default_value: object
     links: list = field(default_factory=list)
+    node: object = None
 
     @property
     def is_linked(self):
@@ -170,8 +179,19 @@ class FakeSocket:
 
 @dataclass
 class FakeLink:
-    from_node: object
+    from_socket: FakeSocket
     is_muted: bool = False
+
+    @property
+    def from_node(self):
+        return self.from_socket.node
+
+
+class FakeInputs(dict):
+    """A node's inputs: looked up by name, iterated as sockets (like Blender's)."""
+
+    def __iter__(self):
+        return iter(self.values())
 
 
 @dataclass
@@ -179,6 +199,7 @@ class FakeNode:
     bl_idname: str
     name: str
     inputs: dict
+    outputs: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -190,19 +211,26 @@ class FakeNodeTree:
 
 
 @dataclass
+class FakeSettings:
+    use_override: bool = False
+
+
+@dataclass
 class FakeMaterial:
     name: str
     node_tree: FakeNodeTree
     use_nodes: bool = True
+    whitted: FakeSettings = field(default_factory=FakeSettings)
 
 
 def fake_principled_material(inputs):
     principled = FakeNode(
         "ShaderNodeBsdfPrincipled",
         "Principled BSDF",
-        {name: FakeSocket(name, value) for name, value in inputs.items()},
+        FakeInputs({name: FakeSocket(name, value) for name, value in inputs.items()}),
     )
-    surface = FakeSocket("Surface", None, [FakeLink(principled)])
+    bsdf = FakeSocket("BSDF", None, node=principled)
+    surface = FakeSocket("Surface", None, [FakeLink(bsdf)])
     output = FakeNode("ShaderNodeOutputMaterial", "Material Output", {"Surface": surface})
     return FakeMaterial("Fake", FakeNodeTree(output))
 
@@ -213,35 +241,424 @@ COMMON_INPUTS = {
     "Roughness": 0.2,
     "IOR": 1.33,
     "Emission Strength": 2.0,
+    "Alpha": 0.75,
 }
 BLENDER_3_INPUTS = {
     **COMMON_INPUTS,
     "Specular": 0.5,
+    "Specular Tint": 0.0,
     "Transmission": 0.5,
     "Emission": (1.0, 0.5, 0.0, 1.0),
+    "Clearcoat": 0.0,
 }
 BLENDER_4_INPUTS = {
     **COMMON_INPUTS,
     "Specular IOR Level": 0.5,
+    "Specular Tint": (1.0, 1.0, 1.0, 1.0),
     "Transmission Weight": 0.5,
     "Emission Color": (1.0, 0.5, 0.0, 1.0),
+    "Coat Weight": 0.0,
 }
+# Dielectric reflectance at normal incidence: 3.x 0.08 * Specular; 4.x from the
+# IOR, ((1.33 - 1) / (1.33 + 1))^2, times 2 * Specular IOR Level.
+F0 = {"3.x": 0.08 * 0.5, "4.x": (0.33 / 2.33) ** 2}
 
 
-@pytest.mark.parametrize("inputs", [BLENDER_3_INPUTS, BLENDER_4_INPUTS], ids=["3.x", "4.x"])
-def test_principled_mapping_by_socket_name(inputs, warnings):
-    data = convert_material(fake_principled_material(inputs), warnings)
+@pytest.mark.parametrize(
+    ("version", "inputs"), [("3.x", BLENDER_3_INPUTS), ("4.x", BLENDER_4_INPUTS)]
+)
+def test_principled_mapping_by_socket_name(version, inputs, warnings):
+    data = convert(fake_principled_material(inputs), warnings)
     base = (0.5, 0.4, 0.3)
     # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04).
     assert_material(
         data,
         diffuse=tuple(0.75 * 0.5 * c for c in base),
         reflectivity=tuple(0.25 * 0.2 * c for c in base),
-        specular=tuple(0.75 * 0.08 * 0.5 + 0.25 * 0.8 * c for c in base),
+        specular=tuple(0.75 * F0[version] + 0.25 * 0.8 * c for c in base),
         shininess=1248.0,
         transmissivity=tuple(0.5 * 0.75 * c for c in base),
         ior=1.33,
         emission=(2.0, 1.0, 0.0),
         ambient=1.0,
+        alpha=0.75,
     )
     assert warnings == []
+
+
+@pytest.mark.parametrize(
+    ("version", "inputs", "tint"),
+    [
+        # 3.x: a float that blends white towards base colour / its luminance.
+        ("3.x", {**BLENDER_3_INPUTS, "Specular Tint": 1.0}, "hue"),
+        # 4.x: a colour that multiplies F0.
+        ("4.x", {**BLENDER_4_INPUTS, "Specular Tint": (1.0, 0.5, 0.25, 1.0)}, (1.0, 0.5, 0.25)),
+    ],
+)
+def test_principled_specular_tint(version, inputs, tint, warnings):
+    inputs = {**inputs, "Metallic": 0.0}
+    data = convert(fake_principled_material(inputs), warnings)
+    base = (0.5, 0.4, 0.3)
+    if tint == "hue":
+        luminance = 0.2126 * 0.5 + 0.7152 * 0.4 + 0.0722 * 0.3
+        tint = tuple(c / luminance for c in base)
+    assert_material(data, specular=tuple(F0[version] * t for t in tint))
+
+
+@pytest.mark.parametrize("name", ["Clearcoat", "Coat Weight"])
+def test_principled_lobe_without_equivalent_warns(name, warnings):
+    inputs = BLENDER_3_INPUTS if name == "Clearcoat" else BLENDER_4_INPUTS
+    convert(fake_principled_material({**inputs, name: 0.5}), warnings)
+    assert warnings == [
+        f"Whitted: material 'Fake', node 'Principled BSDF': '{name}' has no Whitted "
+        "equivalent; it is ignored"
+    ]
+
+
+def surface_shader(material, bl_idname, **inputs):
+    """A new node of type `bl_idname`, linked to the material's output, inputs set."""
+    tree = material.node_tree
+    node = tree.nodes.new(bl_idname)
+    for name, value in inputs.items():
+        node.inputs[name].default_value = value
+    tree.links.new(node.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    return node
+
+
+def test_diffuse_bsdf_is_lambert(warnings):
+    material = node_material("Diffuse")
+    surface_shader(material, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.2, 0.1, 1.0))
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.3, 0.2, 0.1),
+        specular=(0.0, 0.0, 0.0),
+        reflectivity=(0.0, 0.0, 0.0),
+        transmissivity=(0.0, 0.0, 0.0),
+        alpha=1.0,
+    )
+    assert warnings == []
+
+
+def test_diffuse_roughness_warns(warnings):
+    material = node_material("Rough")
+    surface_shader(material, "ShaderNodeBsdfDiffuse", Roughness=0.5)
+    convert(material, warnings)
+    assert "Oren-Nayar" in warnings[0]
+
+
+def test_sharp_glossy_is_a_mirror(warnings):
+    material = node_material("Mirror")
+    surface_shader(material, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.7, 1.0), Roughness=0.0)
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.0, 0.0, 0.0),
+        reflectivity=(0.9, 0.8, 0.7),
+        specular=(0.0, 0.0, 0.0),
+        shininess=MAX_SHININESS,
+    )
+
+
+def test_rough_glossy_is_a_highlight(warnings):
+    material = node_material("Satin")
+    surface_shader(material, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.7, 1.0), Roughness=0.5)
+    # roughness 0.5: sharp = 0, alpha = 0.25 -> shininess 2 / 0.0625 - 2 = 30.
+    assert_material(
+        convert(material, warnings),
+        reflectivity=(0.0, 0.0, 0.0),
+        specular=(0.9, 0.8, 0.7),
+        shininess=30.0,
+    )
+
+
+def test_glass_bsdf(warnings):
+    material = node_material("Glass")
+    surface_shader(
+        material, "ShaderNodeBsdfGlass", Color=(1.0, 0.9, 0.8, 1.0), Roughness=0.0, IOR=1.5
+    )
+    # F0 of IOR 1.5: (0.5 / 2.5)^2 = 0.04.
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.0, 0.0, 0.0),
+        transmissivity=(1.0, 0.9, 0.8),
+        reflectivity=(0.0, 0.0, 0.0),
+        specular=(0.04, 0.04, 0.04),
+        ior=1.5,
+    )
+
+
+def test_refraction_bsdf(warnings):
+    material = node_material("Refraction")
+    surface_shader(material, "ShaderNodeBsdfRefraction", Color=(0.5, 0.6, 0.7, 1.0), IOR=1.33)
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.0, 0.0, 0.0),
+        transmissivity=(0.5, 0.6, 0.7),
+        specular=(0.0, 0.0, 0.0),
+        ior=1.33,
+    )
+
+
+def test_transparent_bsdf_is_coverage(warnings):
+    material = node_material("Transparent")
+    surface_shader(material, "ShaderNodeBsdfTransparent", Color=(1.0, 1.0, 1.0, 1.0))
+    assert_material(convert(material, warnings), alpha=0.0, diffuse=(0.0, 0.0, 0.0))
+    assert warnings == []
+
+
+def test_grey_transparent_bsdf_passes_its_grey(warnings):
+    material = node_material("Smoked")
+    surface_shader(material, "ShaderNodeBsdfTransparent", Color=(0.25, 0.25, 0.25, 1.0))
+    assert_material(convert(material, warnings), alpha=0.75)
+
+
+def test_coloured_transparent_bsdf_warns(warnings):
+    material = node_material("Tinted")
+    surface_shader(material, "ShaderNodeBsdfTransparent", Color=(0.9, 0.6, 0.3, 1.0))
+    assert_material(convert(material, warnings), alpha=0.4)
+    assert "mean grey" in warnings[0]
+
+
+def test_emission_bsdf(warnings):
+    material = node_material("Emission")
+    surface_shader(material, "ShaderNodeEmission", Color=(1.0, 0.5, 0.25, 1.0), Strength=2.0)
+    assert_material(convert(material, warnings), emission=(2.0, 1.0, 0.5), diffuse=(0.0, 0.0, 0.0))
+
+
+def mix_shader(material, factor, first, second):
+    """A Mix Shader of two new shader nodes ((bl_idname, inputs) pairs), linked to
+    the output; returns (mix, first node, second node)."""
+    tree = material.node_tree
+    mix = surface_shader(material, "ShaderNodeMixShader")
+    mix.inputs[0].default_value = factor
+    nodes = []
+    for index, (bl_idname, inputs) in enumerate((first, second), start=1):
+        node = tree.nodes.new(bl_idname)
+        for name, value in inputs.items():
+            node.inputs[name].default_value = value
+        tree.links.new(node.outputs[0], mix.inputs[index])
+        nodes.append(node)
+    return mix, *nodes
+
+
+def test_mix_shader_blends_linearly(warnings):
+    material = node_material("Mix")
+    mix_shader(
+        material,
+        0.25,
+        ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.4, 0.0, 1.0)}),
+        ("ShaderNodeEmission", {"Color": (1.0, 1.0, 1.0, 1.0), "Strength": 4.0}),
+    )
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.6, 0.3, 0.0),
+        emission=(1.0, 1.0, 1.0),
+        alpha=1.0,
+    )
+    assert warnings == []
+
+
+def test_mix_with_transparent_is_coverage_of_the_other_shader(warnings):
+    material = node_material("Leaf")
+    mix_shader(
+        material,
+        0.25,
+        ("ShaderNodeBsdfTransparent", {}),
+        ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.6, 0.1, 1.0)}),
+    )
+    # A quarter of the surface is there, and what is there is the diffuse shader.
+    assert_material(convert(material, warnings), alpha=0.25, diffuse=(0.2, 0.6, 0.1))
+
+
+def test_mix_with_linked_factor_warns_and_uses_half(warnings):
+    material = node_material("Noisy")
+    mix, *_ = mix_shader(
+        material,
+        0.0,
+        ("ShaderNodeBsdfDiffuse", {"Color": (1.0, 0.0, 0.0, 1.0)}),
+        ("ShaderNodeBsdfDiffuse", {"Color": (0.0, 0.0, 1.0, 1.0)}),
+    )
+    noise = material.node_tree.nodes.new("ShaderNodeTexNoise")
+    material.node_tree.links.new(noise.outputs[0], mix.inputs[0])
+    assert_material(convert(material, warnings), diffuse=(0.5, 0.0, 0.5))
+    assert warnings == [
+        f"Whitted: material 'Noisy', node '{mix.name}': Factor linked to '{noise.name}' is "
+        "not supported; using 0.5"
+    ]
+
+
+def test_mix_factor_from_image_alpha_over_transparent_is_an_alpha_texture(warnings):
+    material = node_material("Cutout")
+    mix, *_ = mix_shader(
+        material, 0.0, ("ShaderNodeBsdfTransparent", {}), ("ShaderNodeBsdfDiffuse", {})
+    )
+    image = material.node_tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("leaf", 2, 2, alpha=True)
+    material.node_tree.links.new(image.outputs["Alpha"], mix.inputs[0])
+    exported = convert_material(material, warnings)
+    assert exported.data.alpha_texture == exported.textures[0].name
+    assert exported.data.alpha == 1.0
+    assert exported.data.diffuse == pytest.approx((0.8, 0.8, 0.8))
+    assert warnings == []
+
+
+def test_unsupported_node_in_both_mix_inputs_warns_once(warnings):
+    material = node_material("Twice")
+    mix, toon, _ = mix_shader(
+        material, 0.5, ("ShaderNodeBsdfToon", {}), ("ShaderNodeBsdfDiffuse", {})
+    )
+    material.node_tree.links.new(toon.outputs[0], mix.inputs[2])
+    convert(material, warnings)
+    assert len(warnings) == 1
+    assert "ShaderNodeBsdfToon" in warnings[0]
+
+
+def test_empty_mix_input_is_black(warnings):
+    material = node_material("Half")
+    mix, *_ = mix_shader(
+        material,
+        0.5,
+        ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0)}),
+        ("ShaderNodeBsdfDiffuse", {}),
+    )
+    material.node_tree.links.remove(mix.inputs[2].links[0])
+    assert_material(convert(material, warnings), diffuse=(0.4, 0.4, 0.4), alpha=1.0)
+
+
+def test_image_on_base_color_is_a_diffuse_texture(warnings):
+    material = node_material("Photo", **{"Base Color": (0.1, 0.1, 0.1, 1.0)})
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("photo", 4, 4)
+    image.interpolation = "Closest"
+    image.extension = "CLIP"
+    tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    exported = convert_material(material, warnings)
+    (spec,) = exported.textures
+    assert isinstance(spec, ImageTextureSpec)
+    assert (spec.image, spec.interpolation, spec.extension) == (image.image, "CLOSEST", "CLIP")
+    assert (spec.coordinates, spec.uv_map) == ("UV", "")
+    assert exported.uv_map == ""
+    # The texture multiplies kd, which is the diffuse weight (1) times white.
+    assert exported.data.diffuse_texture == spec.name
+    assert exported.data.diffuse == pytest.approx((1.0, 1.0, 1.0))
+    assert warnings == []
+
+
+def test_image_alpha_on_principled_alpha_is_an_alpha_texture(warnings):
+    material = node_material("Fence", Alpha=0.3)
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("fence", 4, 4, alpha=True)
+    tree.links.new(image.outputs["Alpha"], tree.nodes["Principled BSDF"].inputs["Alpha"])
+    exported = convert_material(material, warnings)
+    assert exported.data.alpha_texture == exported.textures[0].name
+    assert exported.data.diffuse_texture == ""
+    assert exported.data.alpha == 1.0
+
+
+def test_uv_map_node_names_the_map(warnings):
+    material = node_material("Decal")
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("decal", 4, 4)
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "Decal UVs"
+    tree.links.new(uv.outputs["UV"], image.inputs["Vector"])
+    tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    assert convert_material(material, warnings).uv_map == "Decal UVs"
+
+
+def test_image_without_image_warns_and_uses_the_unlinked_colour(warnings):
+    material = node_material("Blank", **{"Base Color": (0.1, 0.2, 0.3, 1.0)})
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    exported = convert_material(material, warnings)
+    assert exported.data.diffuse == pytest.approx((0.1, 0.2, 0.3))
+    assert exported.textures == ()
+    assert "no image" in warnings[0]
+
+
+def test_unsupported_texture_settings_warn(warnings):
+    material = node_material("Smart")
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("smart", 4, 4)
+    image.interpolation = "Cubic"
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    tree.links.new(mapping.outputs[0], image.inputs["Vector"])
+    tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    (spec,) = convert_material(material, warnings).textures
+    assert (spec.interpolation, spec.coordinates) == ("LINEAR", "UV")
+    assert any("Cubic interpolation is not supported; Linear" in w for w in warnings)
+    assert any(f"coordinates from '{mapping.name}'" in w for w in warnings)
+
+
+@pytest.mark.parametrize(
+    ("output", "coordinates"), [(None, "GENERATED"), ("UV", "UV"), ("Object", "OBJECT")]
+)
+def test_checker_texture(output, coordinates, warnings):
+    material = node_material("Checker")
+    tree = material.node_tree
+    checker = tree.nodes.new("ShaderNodeTexChecker")
+    checker.inputs["Color1"].default_value = (1.0, 0.0, 0.0, 1.0)
+    checker.inputs["Color2"].default_value = (0.0, 0.0, 1.0, 1.0)
+    checker.inputs["Scale"].default_value = 3.0
+    if output is not None:
+        coords = tree.nodes.new("ShaderNodeTexCoord")
+        tree.links.new(coords.outputs[output], checker.inputs["Vector"])
+    tree.links.new(checker.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    exported = convert_material(material, warnings)
+    assert exported.textures == (
+        CheckerTextureSpec((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), 3.0, coordinates, ""),
+    )
+    assert exported.data.diffuse_texture == exported.textures[0].name
+    assert exported.uv_map == ("" if coordinates == "UV" else None)
+    assert warnings == []
+
+
+def test_override_starts_from_the_mapping_and_wins(warnings):
+    color = (0.9, 0.6, 0.3, 1.0)
+    material = node_material("Override", **{"Base Color": color, "Roughness": 0.1})
+    derived = map_material(material, []).data
+    settings = material.whitted
+    settings.use_override = True
+    # The panel shows what the mapping derived: kd = 0.9 * (1, 2/3, 1/3).
+    assert settings.diffuse_weight == pytest.approx(0.9)
+    assert tuple(settings.diffuse_color) == pytest.approx((1.0, 2.0 / 3.0, 1.0 / 3.0))
+    assert settings.shininess == pytest.approx(derived.shininess)
+    assert_material(
+        convert(material, warnings),
+        diffuse=derived.diffuse,
+        specular=derived.specular,
+        shininess=derived.shininess,
+        ambient=derived.ambient,
+        reflectivity=derived.reflectivity,
+        transmissivity=derived.transmissivity,
+        ior=derived.ior,
+    )
+    # Edits in the panel are what the exporter uses.
+    settings.diffuse_weight = 0.5
+    settings.reflectivity = (0.25, 0.25, 0.25)
+    settings.ior = 2.0
+    assert_material(
+        convert(material, warnings),
+        diffuse=(0.5, 1.0 / 3.0, 1.0 / 6.0),
+        reflectivity=(0.25, 0.25, 0.25),
+        ior=2.0,
+    )
+    # Switched off, the nodes rule again.
+    settings.use_override = False
+    assert convert(material, warnings) == derived
+
+
+def test_linked_input_the_mapping_ignores_warns(warnings):
+    material = node_material("Bumpy")
+    diffuse = surface_shader(material, "ShaderNodeBsdfDiffuse")
+    bump = material.node_tree.nodes.new("ShaderNodeBump")
+    material.node_tree.links.new(bump.outputs[0], diffuse.inputs["Normal"])
+    convert(material, warnings)
+    assert warnings == [
+        f"Whitted: material 'Bumpy', node '{diffuse.name}': input 'Normal' is linked; "
+        "Whitted ignores it"
+    ]

@@ -16,13 +16,13 @@ def node_world(color, strength):
 
 
 def test_no_world_is_black(warnings):
-    world = convert_world(None, warnings)
+    world = convert_world(None, 1.0, warnings)
     assert world.background == (0.0, 0.0, 0.0)
     assert world.ambient == (0.0, 0.0, 0.0)
 
 
 def test_background_node_color_times_strength(warnings):
-    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), warnings)
+    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), 1.0, warnings)
     assert world.background == pytest.approx((0.4, 0.8, 1.6))
     assert world.ambient == pytest.approx((0.4, 0.8, 1.6))
     assert warnings == []
@@ -33,7 +33,7 @@ def test_linked_background_color_warns(warnings):
     tree = world.node_tree
     sky = tree.nodes.new("ShaderNodeTexSky")
     tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    assert convert_world(world, warnings).background == pytest.approx((0.2, 0.4, 0.8))
+    assert convert_world(world, 1.0, warnings).background == pytest.approx((0.2, 0.4, 0.8))
     assert "'World'" in warnings[0]
     assert "'Background'" in warnings[0]
 
@@ -44,4 +44,37 @@ def test_world_without_nodes_uses_its_colour(warnings):
     world = bpy.data.worlds.new("Plain")
     world.use_nodes = False
     world.color = (0.1, 0.2, 0.3)
-    assert convert_world(world, warnings).background == pytest.approx((0.1, 0.2, 0.3))
+    assert convert_world(world, 1.0, warnings).background == pytest.approx((0.1, 0.2, 0.3))
+
+
+@pytest.mark.parametrize("ambient_strength", [0.5, 0.0])
+def test_ambient_strength_scales_the_ambient_light_only(warnings, ambient_strength):
+    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), ambient_strength, warnings)
+    assert world.background == pytest.approx((0.4, 0.8, 1.6))
+    assert world.ambient == pytest.approx(tuple(ambient_strength * c for c in (0.4, 0.8, 1.6)))
+
+
+@pytest.mark.parametrize("ambient_strength", [1.0, 0.25, 0.0])
+def test_world_lights_an_unlit_scene_by_its_ambient_strength(
+    empty_scene, render_pixels, ambient_strength
+):
+    # No lights: a surface of the default material (albedo 0.8) facing the
+    # orthographic camera shows only the ambient term ka * Ia * kd, with
+    # Ia = world radiance * ambient strength; the sky shows the world itself.
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    empty_scene.collection.objects.link(camera)
+    empty_scene.camera = camera
+    quad = bpy.data.meshes.new("Quad")
+    quad.from_pydata([(-1, -1, -5), (1, -1, -5), (1, 1, -5), (-1, 1, -5)], [], [(0, 1, 2, 3)])
+    empty_scene.collection.objects.link(bpy.data.objects.new("Quad", quad))
+    empty_scene.world = node_world((0.2, 0.4, 0.8), 0.5)
+    empty_scene.whitted.ambient_strength = ambient_strength
+    render = empty_scene.render
+    render.resolution_x = render.resolution_y = 8
+    render.resolution_percentage = 100
+    pixels = render_pixels(empty_scene)
+    sky = (0.1, 0.2, 0.4)
+    assert pixels[0, 0, :3] == pytest.approx(sky, rel=1e-5)
+    surface = tuple(0.8 * ambient_strength * c for c in sky)
+    assert pixels[4, 4, :3] == pytest.approx(surface, rel=1e-5, abs=1e-7)

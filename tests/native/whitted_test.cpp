@@ -40,7 +40,7 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
       const Ray ray = compiled->camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
-      const Color c = integrator.trace(ray, 0, &counts);
+      const Color c = integrator.trace(ray, PathState{}, &counts);
       // Where the camera ray meets z = 0, in double precision.
       const double t = -double(ray.origin.z) / ray.direction.z;
       const double px = ray.origin.x + t * ray.direction.x;
@@ -74,7 +74,7 @@ TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
   // From height 2 a 1x1 blocker at height 1 shadows the square |x|,|y| < 1 on the floor.
   const auto floor_radiance = [&](float x, float y) {
     Ray ray{Vec3(x, y, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    return integrator.trace(ray, 0, &counts).x;
+    return integrator.trace(ray, PathState{}, &counts).x;
   };
   EXPECT_EQ(floor_radiance(0.0f, 0.0f), 0.0f);
   EXPECT_EQ(floor_radiance(0.95f, 0.0f), 0.0f);
@@ -101,7 +101,7 @@ TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
   const auto look = [&](float x_target) {
     const Vec3 origin(0.0f, 0.0f, 1.0f);
     Ray ray{origin, glm::normalize(Vec3(x_target, 0.0f, 0.0f) - origin), 0.0f, kInfinity};
-    return integrator.trace(ray, 0, &counts).x;
+    return integrator.trace(ray, PathState{}, &counts).x;
   };
   EXPECT_NEAR(look(2.0f), 0.9f * 2.0f, 1e-5f);   // marker, times reflectivity
   EXPECT_NEAR(look(1.9f), 0.9f * 0.25f, 1e-5f);  // background beside it
@@ -141,7 +141,7 @@ TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
     for (int i = 0; i < 60; ++i) {
       const float mid = 0.5f * (lo + hi);
       Ray ray{Vec3(mid, 0.0f, 5.0f), dir, 0.0f, kInfinity};
-      (integrator.trace(ray, 0, &counts).x > 0.5f ? hi : lo) = mid;
+      (integrator.trace(ray, PathState{}, &counts).x > 0.5f ? hi : lo) = mid;
     }
     const double theta_t = std::asin(std::sin(theta) / 1.5);
     const double lateral = std::sin(theta - theta_t) / std::cos(theta_t);  // d = 1
@@ -167,14 +167,48 @@ TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
   for (int depth : {0, 1, 5, 256}) {
     Settings settings;
     settings.max_depth = depth;
+    settings.cutoff = 0.0f;  // only the depth limit stops the recursion
     const WhittedIntegrator integrator(*compiled, settings);
     RayCounts counts;
     Ray ray{Vec3(0.0f, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    const float c = integrator.trace(ray, 0, &counts).x;
+    const float c = integrator.trace(ray, PathState{}, &counts).x;
     // A geometric series: sum_{k=0..depth} 0.5^k.
     EXPECT_NEAR(c, 2.0f * (1.0f - std::pow(0.5f, depth + 1)), 1e-5f) << depth;
     EXPECT_EQ(counts.reflection, static_cast<uint64_t>(depth));
     EXPECT_EQ(counts.depth_limited, 1u);
+  }
+}
+
+// Adaptive depth control: a branch stops once its weight on the pixel falls below the
+// cutoff, and what it leaves out is bounded by that weight times what it would have seen.
+TEST(Whitted, CutoffStopsTheRayTreeWhenItsContributionCannotShow) {
+  Scene scene;
+  Material mirror;
+  mirror.diffuse = Color(0.0f);
+  mirror.ambient = 0.0f;
+  mirror.emission = Color(1.0f);
+  mirror.reflectivity = Color(0.5f);
+  add_object(&scene, "a", quad(-10, 10, -10, 10, 0.0f), mirror);
+  add_object(&scene, "b", quad(-10, 10, -10, 10, 1.0f), mirror);
+  const auto compiled = scene.compile();
+  uint64_t previous_rays = 0;
+  for (float cutoff : {0.1f, 1.0f / 255.0f, 1e-4f, 0.0f}) {
+    Settings settings;
+    settings.max_depth = 256;
+    settings.cutoff = cutoff;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    Ray ray{Vec3(0.0f, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    const float c = integrator.trace(ray, PathState{}, &counts).x;
+    // Bounce k has weight 0.5^k: traced while 0.5^k >= cutoff.
+    const int traced = cutoff > 0.0f ? static_cast<int>(std::floor(-std::log2(cutoff))) : 256;
+    EXPECT_EQ(counts.reflection, static_cast<uint64_t>(traced)) << cutoff;
+    EXPECT_EQ(counts.cutoff + counts.depth_limited, 1u) << cutoff;
+    // The untraced tail sum_{k>traced} 0.5^k is below twice the cutoff.
+    EXPECT_NEAR(c, 2.0f, std::max(2.0f * cutoff, 1e-5f)) << cutoff;
+    // A lower cutoff never traces fewer rays.
+    EXPECT_GE(counts.total(), previous_rays) << cutoff;
+    previous_rays = counts.total();
   }
 }
 
@@ -196,7 +230,7 @@ TEST(Whitted, SpotLightSendsNothingOutsideItsCone) {
   RayCounts counts;
   const auto floor_radiance = [&](float x) {
     Ray ray{Vec3(x, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    return integrator.trace(ray, 0, &counts).x;
+    return integrator.trace(ray, PathState{}, &counts).x;
   };
   EXPECT_NEAR(floor_radiance(0.0f), 0.8f / kPi * 10.0f / 4.0f, 1e-5f);
   EXPECT_GT(floor_radiance(0.95f), 0.0f);
@@ -215,8 +249,10 @@ TEST(Whitted, AmbientAndBackground) {
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
-  const Color hit = integrator.trace({Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, 0, &counts);
-  const Color miss = integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, 0, &counts);
+  const Color hit =
+      integrator.trace({Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, PathState{}, &counts);
+  const Color miss =
+      integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, PathState{}, &counts);
   EXPECT_NEAR(hit.x, 0.8f * 0.1f * 0.5f, 1e-6f);
   EXPECT_NEAR(hit.z, 0.8f * 0.3f * 1.0f, 1e-6f);
   EXPECT_EQ(miss, scene.background);

@@ -21,6 +21,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   stats_.instances = scene_->instances.size();
   stats_.lights = scene_->lights.size();
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
+  camera_media_ = WhittedIntegrator(*scene_, settings_).media_at(Vec3(scene_->camera.to_world[3]));
   const int ts = settings_.tile_size;
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   settings_.border_rect(&xmin, &ymin, &xmax, &ymax);
@@ -73,6 +74,7 @@ void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrato
   const float inv_n = 1.0f / static_cast<float>(n);
   const float inv_w = 1.0f / static_cast<float>(settings_.width);
   const float inv_h = 1.0f / static_cast<float>(settings_.height);
+  const PathState camera_path{0, Color(1.0f), camera_media_};
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
@@ -85,7 +87,8 @@ void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrato
           const float sy = (static_cast<float>(y) + (static_cast<float>(j) + 0.5f) * inv_n) * inv_h;
           counts->camera += 1;
           float alpha = 1.0f;
-          const Color c = integrator.trace(scene_->camera.generate_ray(sx, sy), 0, counts, &alpha);
+          const Color c =
+              integrator.trace(scene_->camera.generate_ray(sx, sy), camera_path, counts, &alpha);
           if (is_finite(c)) {
             sum += c;
             coverage += alpha;

@@ -54,6 +54,7 @@ class RenderJob {
 
   Settings settings_;
   std::shared_ptr<const CompiledScene> scene_;
+  MediumStack camera_media_;  // the glass the camera is inside, if any
   std::vector<Tile> tiles_;
   std::vector<float> pixels_;
   std::vector<std::thread> workers_;

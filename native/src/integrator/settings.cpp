@@ -25,6 +25,9 @@ void Settings::validate() const {
   check_range("aa_samples", aa_samples, 1, 64);
   check_range("threads", threads, 0, 1024);
   check_range("tile_size", tile_size, 1, 4096);
+  if (!(cutoff >= 0.0f && cutoff <= 1.0f)) {
+    throw std::invalid_argument("cutoff must be between 0 and 1");
+  }
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   border_rect(&xmin, &ymin, &xmax, &ymax);
   check_range("border xmin", xmin, 0, width - 1);

@@ -15,6 +15,9 @@ struct Settings {
   int threads = 0;     // 0: all hardware threads
   int tile_size = 32;
   Fresnel fresnel = Fresnel::kExact;
+  // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
+  // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.
+  float cutoff = 1.0f / 255.0f;
   // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
   // whole image. The rest of the image stays 0.
   int border[4] = {0, 0, 0, 0};

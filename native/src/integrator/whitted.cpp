@@ -8,6 +8,11 @@ namespace {
 // Beyond this many cut-out layers a surface counts as opaque: a bound on the walk.
 constexpr int kMaxTransparentLayers = 64;
 
+// IOR of a medium (-1 is the surrounding air).
+float ior_of(const CompiledScene& scene, int32_t medium) {
+  return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
+}
+
 }  // namespace
 
 RayCounts& RayCounts::operator+=(const RayCounts& o) {
@@ -18,6 +23,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   transparent += o.transparent;
   total_internal_reflection += o.total_internal_reflection;
   depth_limited += o.depth_limited;
+  cutoff += o.cutoff;
   nonfinite_samples += o.nonfinite_samples;
   return *this;
 }
@@ -25,7 +31,8 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
 WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings)
     : scene_(scene), settings_(settings), any_translucent_(scene.any_translucent()) {}
 
-Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts, float* alpha) const {
+Color WhittedIntegrator::trace(const Ray& ray, const PathState& path, RayCounts* counts,
+                               float* alpha) const {
   Color radiance(0.0f);
   float coverage = 0.0f;
   float behind = 1.0f;  // the share of the ray not yet covered by a surface
@@ -45,7 +52,7 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts, flo
     const SurfaceParams surface = scene_.surface(it);
     const float a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
     if (a > 0.0f) {
-      radiance += (behind * a) * shade(r, it, surface, depth, counts);
+      radiance += (behind * a) * shade(r, it, surface, path, counts);
       coverage += behind * a;
     }
     behind *= 1.0f - a;
@@ -61,10 +68,32 @@ Color WhittedIntegrator::trace(const Ray& ray, int depth, RayCounts* counts, flo
 }
 
 Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-                               int depth, RayCounts* counts) const {
+                               const PathState& path, RayCounts* counts) const {
   const Material& m = *it.material;
   // Entering or leaving is decided by the geometric normal, never the shading normal.
   const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+  MediumStack media = path.media;  // the media on the far side of this surface
+  float eta = 1.0f;                // eta_incident / eta_transmitted
+  if (m.transmissive()) {
+    const int32_t from = media.current();
+    const auto self = static_cast<int32_t>(it.material_index);
+    if (entering) {
+      media.enter(it.material_index);
+      eta = ior_of(scene_, from) / m.ior;
+    } else if (media.leave(it.material_index)) {
+      if (from != self) {
+        // Leaving a medium the ray is not in: a false interface where objects overlap.
+        counts->transparent += 1;
+        return branch(spawn_ray(it.position, it.geometric_normal, ray.direction, RayKind(ray.kind)),
+                      path, Color(1.0f), media, /*bounce=*/false, counts);
+      }
+      eta = m.ior / ior_of(scene_, media.current());
+    } else {
+      // Leaving a medium it never entered (flipped normals, an open mesh): out into the
+      // current medium, as a renderer without media lists would.
+      eta = m.ior / ior_of(scene_, from);
+    }
+  }
   const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
   Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
   if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
@@ -74,16 +103,11 @@ Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const Surf
   Color kr = m.reflectivity;
   Color kt = m.transmissivity;
   if (is_black(kr) && is_black(kt)) return radiance;
-  if (depth >= settings_.max_depth) {
-    counts->depth_limited += (is_black(kr) ? 0 : 1) + (is_black(kt) ? 0 : 1);
-    return radiance;
-  }
-  const float cos_i = std::min(1.0f, glm::dot(wo, ns));
-  const float eta = entering ? 1.0f / m.ior : m.ior;  // eta_incident / eta_transmitted
   Vec3 t_dir(0.0f);
   const bool refracts =
       !is_black(kt) && refract(ray.direction, ns, eta, &t_dir) && glm::dot(t_dir, ng) < 0.0f;
   if (!is_black(kt)) {
+    const float cos_i = std::min(1.0f, glm::dot(wo, ns));
     const float f = !refracts                                ? 1.0f
                     : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
                     : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
@@ -93,19 +117,40 @@ Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const Surf
     kt *= 1.0f - f;
     if (!refracts) counts->total_internal_reflection += 1;
   }
+  // A surface returns at most what arrives: sigma_r + sigma_t <= 1 keeps the ray tree
+  // from growing without bound (two facing mirror-glass panes at depth 256).
+  const float sum = max_component(kr + kt);
+  if (sum > 1.0f) {
+    kr /= sum;
+    kt /= sum;
+  }
   if (!is_black(kr)) {
     Vec3 r = reflect(ray.direction, ns);
     if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
-    counts->reflection += 1;
-    radiance += kr * trace(spawn_ray(it.position, it.geometric_normal, r, kReflectionRay),
-                           depth + 1, counts);
+    radiance += kr * branch(spawn_ray(it.position, it.geometric_normal, r, kReflectionRay), path,
+                            kr, path.media, /*bounce=*/true, counts);
   }
   if (refracts && !is_black(kt)) {
-    counts->refraction += 1;
-    radiance += kt * trace(spawn_ray(it.position, it.geometric_normal, t_dir, kRefractionRay),
-                           depth + 1, counts);
+    radiance += kt * branch(spawn_ray(it.position, it.geometric_normal, t_dir, kRefractionRay),
+                            path, kt, media, /*bounce=*/true, counts);
   }
   return radiance;
+}
+
+Color WhittedIntegrator::branch(const Ray& ray, const PathState& path, const Color& weight,
+                                const MediumStack& media, bool bounce, RayCounts* counts) const {
+  PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
+  if (next.depth > settings_.max_depth) {
+    counts->depth_limited += 1;
+    return Color(0.0f);
+  }
+  if (max_component(next.weight) < settings_.cutoff) {
+    counts->cutoff += 1;  // its contribution could no longer show
+    return Color(0.0f);
+  }
+  if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
+  if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+  return trace(ray, next, counts);
 }
 
 // I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
@@ -124,7 +169,8 @@ Color WhittedIntegrator::local(const Interaction& it, const SurfaceParams& surfa
       if (light.cast_shadows) {
         // Stop the feeler just short of the light sample.
         const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
-        delta = shadow_transmittance(spawn_ray(it.position, ng, ls.wi, kShadowRay, t_max), counts);
+        delta =
+            shadow_transmittance(spawn_ray(it.shadow_origin, ng, ls.wi, kShadowRay, t_max), counts);
         if (is_black(delta)) continue;
       }
       const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
@@ -156,6 +202,33 @@ Color WhittedIntegrator::shadow_transmittance(Ray ray, RayCounts* counts) const 
     counts->shadow += 1;
   }
   return Color(0.0f);
+}
+
+// Walks a ray from p through every surface: a transmissive surface the walk leaves
+// without having entered it encloses p. The first such surface is the innermost medium.
+MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
+  // An arbitrary direction unlikely to graze edges of axis-aligned models.
+  Ray ray{p, glm::normalize(Vec3(0.3717f, 0.5419f, 0.7537f)), 0.0f, kInfinity, kRefractionRay};
+  std::vector<uint32_t> enclosing;  // innermost first
+  std::vector<int> entered(scene_.materials.size(), 0);
+  for (int i = 0; i < 1024; ++i) {
+    Hit hit;
+    if (!scene_.accel->intersect(ray, &hit)) break;
+    const Interaction it = scene_.interaction(ray, hit);
+    if (it.material->transmissive()) {
+      if (glm::dot(ray.direction, it.geometric_normal) < 0.0f) {
+        entered[it.material_index] += 1;
+      } else if (entered[it.material_index] > 0) {
+        entered[it.material_index] -= 1;
+      } else {
+        enclosing.push_back(it.material_index);
+      }
+    }
+    ray = spawn_ray(it.position, it.geometric_normal, ray.direction, kRefractionRay);
+  }
+  MediumStack media;
+  for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) media.enter(*m);
+  return media;
 }
 
 }  // namespace whitted

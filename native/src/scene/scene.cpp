@@ -153,18 +153,32 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   out.geometric_normal =
       ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
   out.shading_normal = out.geometric_normal;
+  out.shadow_origin = out.position;
   if (!mesh.normals.empty()) {
     const float* n = &mesh.normals[9 * size_t{hit.primitive}];
-    const Vec3 ns = w0 * Vec3(n[0], n[1], n[2]) + hit.u * Vec3(n[3], n[4], n[5]) +
-                    hit.v * Vec3(n[6], n[7], n[8]);
-    const Vec3 world = instance.normal_to_world * ns;
+    const Vec3 n0(n[0], n[1], n[2]);
+    const Vec3 n1(n[3], n[4], n[5]);
+    const Vec3 n2(n[6], n[7], n[8]);
+    const Vec3 world = instance.normal_to_world * (w0 * n0 + hit.u * n1 + hit.v * n2);
     const float length = glm::length(world);
-    if (length > 0.0f && std::isfinite(length)) out.shading_normal = world / length;
+    if (length > 0.0f && std::isfinite(length)) {
+      out.shading_normal = world / length;
+      // Project the point onto the tangent plane of each corner it lies below, and
+      // blend: the lifted point lies on a smooth surface through the corners.
+      const auto lift = [&](const Vec3& corner, const Vec3& normal) {
+        const float below = std::min(0.0f, glm::dot(local - corner, normal));
+        return -below * normal;
+      };
+      const Vec3 lifted = local + w0 * lift(p0, n0) + hit.u * lift(p1, n1) + hit.v * lift(p2, n2);
+      const Vec3 world_lifted = Vec3(instance.to_world * glm::vec4(lifted, 1.0f));
+      if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
+    }
   }
   const size_t slot =
       mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
   const uint32_t index = slot < instance.materials.size() ? instance.materials[slot] : 0;
   out.material = &materials[index];
+  out.material_index = index;
   out.holdout = instance.holdout;
   TexturePoint& tp = out.texture_point;
   tp.object = local;

@@ -40,7 +40,12 @@ struct Interaction {
   Vec3 position;
   Vec3 geometric_normal;  // unit, as the triangle winds
   Vec3 shading_normal;    // unit, interpolated corner normals (or the geometric normal)
+  // Where shadow feelers start: on smooth meshes the point is lifted towards the curved
+  // surface the corner normals describe, so a coarse mesh shows no stair-step terminator
+  // (Hanika, "Hacking the Shadow Terminator", Ray Tracing Gems II ch. 4).
+  Vec3 shadow_origin;
   const Material* material;
+  uint32_t material_index;
   TexturePoint texture_point;
   bool holdout;
 };

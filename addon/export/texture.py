@@ -1,0 +1,215 @@
+"""Textures: what a material's texture nodes ask for, and the images' linear pixels.
+
+The node mapping (material.py) records each texture as a small spec without
+reading any pixels; `convert_textures` then reads every image once per render
+into a float32 numpy array of linear RGBA, rows bottom to top (Blender's
+`Image.pixels` order, which the tracer uses as is).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .nodes import linked_output, socket_value, warn
+
+Color = tuple[float, float, float]
+
+# What Cycles shows for an image it cannot load.
+MISSING_COLOR = (1.0, 0.0, 1.0, 1.0)
+
+# Blender's texture settings -> the tracer's; others fall back with a warning.
+INTERPOLATIONS = {"Linear": "LINEAR", "Closest": "CLOSEST"}
+EXTENSIONS = {"REPEAT": "REPEAT", "CLIP": "CLIP", "EXTEND": "EXTEND"}
+
+# Colour spaces whose stored values are already linear (or are data, not colour).
+LINEAR_SPACES = {"Linear", "Linear Rec.709", "Non-Color", "Raw"}
+
+# Texture Coordinate node outputs the tracer can evaluate.
+TEX_COORD_OUTPUTS = {"UV": "UV", "Generated": "GENERATED", "Object": "OBJECT"}
+
+
+@dataclass(frozen=True)
+class ImageTextureSpec:
+    image: object  # bpy.types.Image (the original, not the evaluated copy)
+    interpolation: str  # LINEAR | CLOSEST
+    extension: str  # REPEAT | CLIP | EXTEND
+    coordinates: str  # UV | GENERATED | OBJECT
+    uv_map: str  # the UV map for UV coordinates; "" means the active render map
+
+    @property
+    def name(self):
+        # One native texture per image and sampling settings; pixels are still read
+        # once per image (convert_textures).
+        return (
+            f"image:{self.image.name_full}:{self.interpolation}:{self.extension}:{self.coordinates}"
+        )
+
+
+@dataclass(frozen=True)
+class CheckerTextureSpec:
+    color1: Color  # linear RGB
+    color2: Color
+    scale: float  # squares per unit of the coordinates
+    coordinates: str  # GENERATED | UV | OBJECT
+    uv_map: str
+
+    @property
+    def name(self):
+        return f"checker:{self.color1}:{self.color2}:{self.scale}:{self.coordinates}"
+
+
+@dataclass(frozen=True)
+class ImageTextureData:
+    pixels: np.ndarray  # float32[H,W,4], linear RGBA with straight alpha, rows bottom to top
+    interpolation: str
+    extension: str
+    coordinates: str
+
+
+def image_texture_spec(node, owner, warnings):
+    """An Image Texture node as an ImageTextureSpec, or None when it has no image
+    (the caller then warns and uses the input's unlinked value)."""
+    if node.image is None:
+        return None
+    where = f"Whitted: {owner}, node '{node.name}'"
+    interpolation = INTERPOLATIONS.get(node.interpolation)
+    if interpolation is None:
+        warn(warnings, f"{where}: {node.interpolation} interpolation is not supported; Linear")
+        interpolation = "LINEAR"
+    extension = EXTENSIONS.get(node.extension)
+    if extension is None:
+        warn(warnings, f"{where}: {node.extension} extension is not supported; Repeat")
+        extension = "REPEAT"
+    if node.projection != "FLAT":
+        warn(warnings, f"{where}: {node.projection} projection is not supported; Flat")
+    coordinates, uv_map = texture_coordinates(node, "UV", owner, warnings)
+    return ImageTextureSpec(
+        # A material from the depsgraph holds evaluated copies; pixels live in the original.
+        image=node.image.original,
+        interpolation=interpolation,
+        extension=extension,
+        coordinates=coordinates,
+        uv_map=uv_map,
+    )
+
+
+def checker_texture_spec(node, owner, warnings):
+    """A Checker Texture node as a CheckerTextureSpec; linked colours or scale
+    fall back to their unlinked values (input_value warns)."""
+    values = {}
+    for name in ("Color1", "Color2", "Scale"):
+        socket = node.inputs[name]
+        if linked_output(socket) is not None:
+            warn(
+                warnings,
+                f"Whitted: {owner}, node '{node.name}': input '{name}' is linked; "
+                "Whitted uses its unlinked value",
+            )
+        values[name] = socket_value(socket)
+    coordinates, uv_map = texture_coordinates(node, "GENERATED", owner, warnings)
+    return CheckerTextureSpec(
+        color1=values["Color1"][:3],
+        color2=values["Color2"][:3],
+        scale=values["Scale"],
+        coordinates=coordinates,
+        uv_map=uv_map,
+    )
+
+
+def texture_coordinates(node, default, owner, warnings):
+    """(coordinates, uv_map) of a texture node's Vector input.
+
+    Unlinked: the node's default (UV for images, Generated for procedurals, as in
+    Cycles). A UV Map node picks a named map; a Texture Coordinate node's UV,
+    Generated or Object output is used as such. Anything else (a Mapping node,
+    say) is not evaluated: warning, and the default coordinates.
+    """
+    output = linked_output(node.inputs["Vector"])
+    if output is None:
+        return default, ""
+    source = output.node
+    if source.bl_idname == "ShaderNodeUVMap":
+        return "UV", source.uv_map
+    if source.bl_idname == "ShaderNodeTexCoord" and output.name in TEX_COORD_OUTPUTS:
+        return TEX_COORD_OUTPUTS[output.name], ""
+    warn(
+        warnings,
+        f"Whitted: {owner}, node '{node.name}': coordinates from '{source.name}' "
+        f"({output.name}) are not supported; using {default} coordinates",
+    )
+    return default, ""
+
+
+def convert_textures(specs, warnings):
+    """Texture name -> ImageTextureData or CheckerTextureSpec (the checker needs no
+    data of its own), reading each image's pixels once."""
+    pixels_by_image = {}
+    textures = {}
+    for name, spec in specs.items():
+        if isinstance(spec, CheckerTextureSpec):
+            textures[name] = spec
+            continue
+        key = spec.image.name_full
+        if key not in pixels_by_image:
+            pixels_by_image[key] = image_pixels(spec.image, warnings)
+        textures[name] = ImageTextureData(
+            pixels=pixels_by_image[key],
+            interpolation=spec.interpolation,
+            extension=spec.extension,
+            coordinates=spec.coordinates,
+        )
+    return textures
+
+
+def image_pixels(image, warnings):
+    """An image's pixels as float32[H,W,4] linear RGBA, rows bottom to top.
+
+    A packed image reads from its packed file, like any other. An image that
+    cannot be loaded is one magenta pixel, reported by name.
+    """
+    # `size` loads the image if needed; (0, 0) means Blender could not load it.
+    width, height = image.size
+    if width == 0 or height == 0:
+        warn(
+            warnings,
+            f"Whitted: image '{image.name}' ({image.filepath or 'no file'}) could not be "
+            "loaded; it renders magenta",
+        )
+        return np.array(MISSING_COLOR, dtype=np.float32).reshape(1, 1, 4)
+    if image.source == "TILED":
+        warn(warnings, f"Whitted: image '{image.name}' has UDIM tiles; only its first tile is used")
+    flat = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(flat)
+    channels = flat.size // (width * height)
+    stored = flat.reshape(height, width, channels)
+    pixels = np.ones((height, width, 4), dtype=np.float32)
+    # Grey (1 channel) fills R, G and B; a missing alpha channel is opaque.
+    pixels[..., :3] = stored[..., : min(channels, 3)]
+    if channels == 4:
+        pixels[..., 3] = stored[..., 3]
+    if image.alpha_mode == "NONE":
+        pixels[..., 3] = 1.0
+    _to_linear(image, pixels, warnings)
+    return pixels
+
+
+def _to_linear(image, pixels, warnings):
+    # Blender converts float images to scene linear when it loads them, but returns
+    # a byte image's values as stored, in the image's colour space (checked in 3.4
+    # and 5.0: a saved sRGB PNG of 0.5 reads back 128/255).
+    space = image.colorspace_settings.name
+    if image.is_float or image.colorspace_settings.is_data or space in LINEAR_SPACES:
+        return
+    if space != "sRGB":
+        warn(
+            warnings,
+            f"Whitted: image '{image.name}': colour space '{space}' is not supported; "
+            "it is read as sRGB",
+        )
+    rgb = pixels[..., :3]
+    # The sRGB EOTF (IEC 61966-2-1): linear below 0.04045, a 2.4 power above.
+    np.copyto(
+        rgb,
+        np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4),
+        casting="same_kind",
+    )
