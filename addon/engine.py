@@ -46,7 +46,9 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             self.report({"WARNING"}, warning)
         self._run(job, film.region, phases)
         phases.total = time.perf_counter() - started
-        stats = render_stats.render_stats(bpy.app.version_string, settings, job.stats(), phases)
+        stats = render_stats.render_stats(
+            bpy.app.version_string, settings, job.stats(), phases, exported.sanitised
+        )
         line = render_stats.summary_line(stats)
         self.update_stats("", line)
         print(line)  # for the logs of headless and farm renders

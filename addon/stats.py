@@ -20,8 +20,12 @@ class PhaseTimes:
     total: float = 0.0  # the engine's render() call
 
 
-def render_stats(blender_version, settings, native_stats, phases):
-    """One render's statistics as plain data (what WHITTED_STATS files hold)."""
+def render_stats(blender_version, settings, native_stats, phases, sanitised):
+    """One render's statistics as plain data (what WHITTED_STATS files hold).
+
+    `sanitised` counts the bad geometry the exporter dropped or repaired
+    (export.mesh.Sanitised as a dict: triangles and corner normals).
+    """
     rays = dict(native_stats["rays"])
     trace = phases.trace
     return {
@@ -51,6 +55,7 @@ def render_stats(blender_version, settings, native_stats, phases):
         "total_internal_reflections": native_stats["total_internal_reflections"],
         "depth_limited": native_stats["depth_limited"],
         "nonfinite_samples": native_stats["nonfinite_samples"],
+        "sanitised": dict(sanitised),
     }
 
 

@@ -156,20 +156,8 @@ def write_markdown(out_dir):
                 f"exposure {result['exposure']:+.2f} stops",
                 "",
             ]
-            if result.get("note"):
-                lines += [result["note"], ""]
     with open(os.path.join(out_dir, "GALLERY.md"), "w", encoding="utf-8") as file:
         file.write("\n".join(lines).rstrip() + "\n")
-
-
-def note(case):
-    """What a reader should know about a pair that does not match."""
-    if case.type == "SPOT" and bpy.app.version < (4, 0, 0):
-        return (
-            "Known difference: Cycles 3.x multiplies the spot's cone falloff by the "
-            "cosine of the angle to its axis; Whitted's native falloff does not yet."
-        )
-    return ""
 
 
 def main():
@@ -183,7 +171,6 @@ def main():
             fresh_scene()
             if cycles_scenes.supported(case):
                 result = render_case(case, args.scale, image_dir, work_dir)
-                result["note"] = note(case)
                 results.append(result)
     run = {"blender": f"Blender {bpy.app.version_string}", "results": results}
     with open(os.path.join(image_dir, "results.json"), "w", encoding="utf-8") as file:

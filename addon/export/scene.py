@@ -23,6 +23,7 @@ class ExportedScene:
     width: int  # image size in pixels
     height: int
     warnings: list[str]  # one line per object that could not be exported as authored
+    sanitised: dict[str, int]  # bad geometry dropped or repaired, totals (export.mesh.Sanitised)
 
 
 def convert_scene(depsgraph, native):
@@ -93,7 +94,13 @@ def convert_scene(depsgraph, native):
     scene.background = world.background
     scene.ambient = world.ambient
 
-    return ExportedScene(scene=scene, width=camera.width, height=camera.height, warnings=warnings)
+    return ExportedScene(
+        scene=scene,
+        width=camera.width,
+        height=camera.height,
+        warnings=warnings,
+        sanitised=asdict(exported.sanitised),
+    )
 
 
 def _native_visibility(native, visibility):

@@ -19,7 +19,8 @@ void bind_light(py::module_& m) {
                     "light colour included; direction is the way light travels.")
       .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
-                       AreaShape shape, int samples, bool cast_shadows, float radius, float angle) {
+                       AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
+                       bool spot_cosine_falloff) {
              for (const Vec3* v : {&color, &position, &direction, &axis_u, &axis_v}) {
                require_finite(*v, "light colour, position and axes");
              }
@@ -48,6 +49,7 @@ void bind_light(py::module_& m) {
              }
              l.radius = std::max(0.0f, radius);
              l.angle = std::clamp(angle, 0.0f, kPi);
+             l.spot_cosine_falloff = spot_cosine_falloff;
              return l;
            }),
            py::arg("type") = LightType::kPoint, py::arg("color") = Vec3(1.0f),
@@ -56,7 +58,8 @@ void bind_light(py::module_& m) {
            py::arg("size") = std::array<float, 2>{0.0f, 0.0f},
            py::arg("axis_u") = Vec3(1.0f, 0.0f, 0.0f), py::arg("axis_v") = Vec3(0.0f, 1.0f, 0.0f),
            py::arg("shape") = AreaShape::kRectangle, py::arg("samples") = 1,
-           py::arg("cast_shadows") = true, py::arg("radius") = 0.0f, py::arg("angle") = 0.0f)
+           py::arg("cast_shadows") = true, py::arg("radius") = 0.0f, py::arg("angle") = 0.0f,
+           py::arg("spot_cosine_falloff") = false)
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)
@@ -64,6 +67,7 @@ void bind_light(py::module_& m) {
       .def_readonly("samples", &Light::samples)
       .def_readonly("radius", &Light::radius)
       .def_readonly("angle", &Light::angle)
+      .def_readonly("spot_cosine_falloff", &Light::spot_cosine_falloff)
       .def_readonly("cast_shadows", &Light::cast_shadows);
 }
 

@@ -40,6 +40,9 @@ void bind_material(py::module_& m) {
       .def_readwrite("ior", &Material::ior)
       .def_readwrite("emission", &Material::emission)
       .def_readwrite("alpha", &Material::alpha)
+      .def_readwrite("priority", &Material::priority,
+                     "Nested dielectrics: where two transmissive objects overlap, the higher "
+                     "priority owns the overlap (ties: the one entered last).")
       .def_readwrite("diffuse_texture", &Material::diffuse_texture)
       .def_readwrite("alpha_texture", &Material::alpha_texture);
 }

@@ -25,6 +25,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["samples"] = s.samples;
   out["triangles"] = s.triangles;
   out["instances"] = s.instances;
+  out["degenerate_instances"] = s.degenerate_instances;
   out["lights"] = s.lights;
   out["cancelled"] = s.cancelled;
   return out;

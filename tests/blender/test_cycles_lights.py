@@ -24,24 +24,9 @@ import pytest
 MEAN_RATIO_TOLERANCE = 0.02
 
 
-def _spot_mark(case):
-    # Cycles 3.x multiplies a spot's cone falloff by the cosine of the angle to its
-    # axis (measured: Cycles/Whitted = that cosine to 1e-5 over a 120-degree cone);
-    # 4.0 dropped the cosine, and Whitted's native falloff has none.
-    if case.type == "SPOT" and bpy.app.version < (4, 0, 0):
-        return [
-            pytest.mark.xfail(
-                reason="Cycles 3.x's extra cosine in the spot falloff is not in the "
-                "native module yet",
-                strict=True,
-            )
-        ]
-    return []
-
-
 @pytest.mark.parametrize(
     "case",
-    [pytest.param(case, id=case.name, marks=_spot_mark(case)) for case in cycles_scenes.CASES],
+    [pytest.param(case, id=case.name) for case in cycles_scenes.CASES],
 )
 def test_light_matches_cycles(empty_scene, tmp_path, native, case):
     if not cycles_scenes.supported(case):

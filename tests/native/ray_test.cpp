@@ -11,66 +11,76 @@
 namespace whitted {
 namespace {
 
-TEST(Ray, OffsetMovesToTheRequestedSideAtEveryMagnitude) {
+TEST(Ray, OffsetMovesToTheRequestedSideByItsErrorBound) {
   for (float magnitude : {0.0f, 1e-8f, 1e-3f, 1.0f, 1e3f, 1e8f}) {
     const Vec3 p(magnitude, -magnitude, 0.5f * magnitude);
+    const Vec3 error = gamma(7) * glm::abs(p) + Vec3(1e-30f);
     const Vec3 n = glm::normalize(Vec3(1.0f, 2.0f, -3.0f));
-    const Vec3 q = offset_ray_origin(p, n);
+    const Vec3 q = offset_ray_origin(p, error, n);
     EXPECT_GT(glm::dot(q - p, n), 0.0f) << magnitude;
-    EXPECT_LT(glm::dot(offset_ray_origin(p, -n) - p, n), 0.0f) << magnitude;
-    // A few hundred ulps: small against the point's own magnitude.
-    EXPECT_LT(glm::length(q - p), 1e-4f * std::max(magnitude, 1.0f)) << magnitude;
+    EXPECT_LT(glm::dot(offset_ray_origin(p, error, -n) - p, n), 0.0f) << magnitude;
+    // A few ulps: small against the point's own magnitude (or tiny near zero).
+    EXPECT_LE(glm::length(q - p), 1e-5f * magnitude + 1e-29f) << magnitude;
   }
 }
 
-// Random triangles at magnitudes 1e-4..1e5: rays spawned from a hit point in the
-// reflection, refraction (through) and shadow directions never hit their own triangle.
+// Thousands of random triangles at magnitudes 1e-8..1e8 (pbrt-v4's test in spirit): rays
+// spawned from a hit point in the reflection, refraction (straight through) and shadow
+// directions never hit their own triangle again.
 TEST(Ray, SpawnedRaysNeverReHitTheirOwnTriangle) {
   std::mt19937 rng(12345);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   auto device = std::make_shared<AccelDevice>();
   int self_hits = 0;
   int rays = 0;
-  for (float scale : {1e-4f, 1e-2f, 1.0f, 1e2f, 1e5f}) {
-    for (int trial = 0; trial < 200; ++trial) {
-      const Vec3 centre = scale * Vec3(unit(rng), unit(rng), unit(rng)) * 10.0f;
-      float p[9];
-      for (float& c : p) c = 0.0f;
+  constexpr int kTriangles = 300;
+  for (float scale = 1e-8f; scale <= 1.5e8f; scale *= 10.0f) {
+    std::vector<float> p;
+    std::vector<uint32_t> t;
+    for (int i = 0; i < kTriangles; ++i) {
+      // Triangles of size ~scale, scattered over ~100 * scale around an offset centre.
+      const Vec3 centre = scale * (Vec3(unit(rng), unit(rng), unit(rng)) * 100.0f);
       for (int v = 0; v < 3; ++v) {
-        for (int k = 0; k < 3; ++k) p[3 * v + k] = centre[k] + scale * unit(rng);
+        for (int k = 0; k < 3; ++k) p.push_back(centre[k] + scale * unit(rng));
+        t.push_back(static_cast<uint32_t>(3 * i + v));
       }
-      const uint32_t t[] = {0, 1, 2};
-      const Mesh mesh = make_mesh(p, 3, t, 1, nullptr, nullptr);
-      const MeshAccel blas(device, mesh);
-      const SceneAccel tlas(device, {{&blas, glm::mat4(1.0f), kAllRayKinds}});
-      const Vec3 a = mesh.vertex(0), b = mesh.vertex(1), c = mesh.vertex(2);
+    }
+    const Mesh mesh = make_mesh(p.data(), p.size() / 3, t.data(), kTriangles, nullptr, nullptr);
+    const MeshAccel blas(device, mesh);
+    const SceneAccel tlas(device, {{&blas, glm::mat4(1.0f), kAllRayKinds}});
+    for (uint32_t i = 0; i < kTriangles; ++i) {
+      const Vec3 a = mesh.vertex(3 * i), b = mesh.vertex(3 * i + 1), c = mesh.vertex(3 * i + 2);
       Vec3 ng = glm::cross(b - a, c - a);
       if (!(glm::length(ng) > 0.0f)) continue;
       ng = glm::normalize(ng);
-      // A ray from outside towards a random interior point.
       float w1 = 0.5f * (unit(rng) + 1.0f), w2 = 0.5f * (unit(rng) + 1.0f);
       if (w1 + w2 > 1.0f) {
         w1 = 1.0f - w1;
         w2 = 1.0f - w2;
       }
       const Vec3 target = a + w1 * (b - a) + w2 * (c - a);
-      const Vec3 origin = target + scale * ng + scale * 0.3f * Vec3(unit(rng), unit(rng), 0.0f);
-      Ray ray{origin, glm::normalize(target - origin), 0.0f, kInfinity};
+      const Vec3 origin = target + scale * (ng + 0.5f * Vec3(unit(rng), unit(rng), unit(rng)));
+      const Ray ray{origin, glm::normalize(target - origin), 0.0f, kInfinity};
       Hit hit;
-      if (!tlas.intersect(ray, &hit)) continue;
-      const Vec3 x = (1.0f - hit.u - hit.v) * a + hit.u * b + hit.v * c;
+      if (!tlas.intersect(ray, &hit) || hit.primitive != i) continue;  // occluded by another
+      // The hit point and its error bound as the integrator computes them.
+      const float w0 = 1.0f - hit.u - hit.v;
+      const Vec3 x = w0 * a + hit.u * b + hit.v * c;
+      const Vec3 error(max_component(barycentric_error(a, b, c, w0, hit.u, hit.v)));
       const Vec3 facing = glm::dot(ray.direction, ng) < 0.0f ? ng : -ng;
-      const Vec3 reflected = reflect(ray.direction, facing);
       Vec3 light_dir = glm::normalize(facing + 0.9f * Vec3(unit(rng), unit(rng), unit(rng)));
       if (glm::dot(light_dir, facing) <= 0.0f) light_dir = facing;
-      for (const Vec3& d : {reflected, ray.direction, light_dir}) {
+      for (const Vec3& d : {reflect(ray.direction, facing), ray.direction, light_dir}) {
         Hit again;
         ++rays;
-        if (tlas.intersect(spawn_ray(x, ng, d, kReflectionRay), &again)) ++self_hits;
+        if (tlas.intersect(spawn_ray(x, error, ng, d, kReflectionRay), &again) &&
+            again.primitive == i) {
+          ++self_hits;
+        }
       }
     }
   }
-  EXPECT_GT(rays, 2000);
+  EXPECT_GT(rays, 10000);
   EXPECT_EQ(self_hits, 0);
 }
 

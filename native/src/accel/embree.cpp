@@ -5,6 +5,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
 
@@ -25,6 +26,21 @@ void on_error(void* user, RTCError code, const char* message) {
     *error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
              (message != nullptr ? message : "");
   }
+}
+
+// Embree asserts (and so aborts the whole process, Blender with it) on a ray whose
+// origin or direction has a NaN or a component above FLT_LARGE (1.8e18), or whose
+// interval is NaN (RayK::valid in Embree's kernels), also after an instance has moved the
+// ray into object space. Such rays come only from absurd scenes: past 1e10 from the
+// origin they hit nothing here (instances scale by at most 1e8, scene.cpp).
+bool valid_for_embree(const Ray& ray) {
+  constexpr float kLimit = 1e10f;
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::fabs(ray.origin[i]) <= kLimit) || !(std::fabs(ray.direction[i]) <= kLimit)) {
+      return false;
+    }
+  }
+  return !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min >= 0.0f;
 }
 
 }  // namespace
@@ -100,6 +116,7 @@ SceneAccel::~SceneAccel() {
 }
 
 bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
+  if (!valid_for_embree(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -128,6 +145,7 @@ bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
 }
 
 bool SceneAccel::occluded(const Ray& ray) const {
+  if (!valid_for_embree(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;

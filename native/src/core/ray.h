@@ -1,7 +1,6 @@
 // Rays and the one function that starts every secondary ray.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -30,37 +29,43 @@ struct Ray {
   uint32_t kind = kAllRayKinds;  // one RayKind for traced rays
 };
 
-// Moves a surface point off its surface along the geometric normal by a few ulps of its
-// own magnitude, so a ray leaving it cannot re-hit the same triangle whatever the scene's
-// scale (Waechter & Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
-// Ray Tracing Gems ch. 6). `n` must point to the side the new ray leaves towards.
-inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
-  constexpr float kOrigin = 1.0f / 32.0f;         // below this magnitude use a fixed offset
-  constexpr float kFloatScale = 1.0f / 65536.0f;  // that fixed offset, relative to n
-  constexpr float kIntScale = 256.0f;             // ulps moved, relative to n
-  Vec3 out;
+// Rounding error bounds (Higham; pbrt-v4 util/float.h): n float operations in a row are
+// off by at most gamma(n) relative.
+inline constexpr float kMachineEpsilon = std::numeric_limits<float>::epsilon() * 0.5f;
+inline constexpr float gamma(int n) {
+  return (static_cast<float>(n) * kMachineEpsilon) /
+         (1.0f - static_cast<float>(n) * kMachineEpsilon);
+}
+
+// Bound on the error of p = w0*p0 + w1*p1 + w2*p2 (pbrt-v4's triangle hit point).
+inline Vec3 barycentric_error(const Vec3& p0, const Vec3& p1, const Vec3& p2, float w0, float w1,
+                              float w2) {
+  return gamma(7) * (glm::abs(w0 * p0) + glm::abs(w1 * p1) + glm::abs(w2 * p2));
+}
+
+// Moves a surface point off its surface along the geometric normal by just more than its
+// rounding error bound, so a ray leaving it cannot re-hit the same surface whatever the
+// scene's scale (pbrt-v4 OffsetRayOrigin). `n` points to the side the ray leaves towards.
+inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& error, const Vec3& n) {
+  const float d = glm::dot(glm::abs(n), error);
+  const Vec3 offset = d * n;
+  Vec3 out = p + offset;
+  // Round away from p so the offset survives the addition's own rounding.
   for (int i = 0; i < 3; ++i) {
-    if (std::fabs(p[i]) < kOrigin) {
-      out[i] = p[i] + kFloatScale * n[i];  // near zero ulps are tiny: use a fixed step
-      continue;
-    }
-    const int of_i = static_cast<int>(kIntScale * n[i]);
-    const int32_t bits = std::bit_cast<int32_t>(p[i]);
-    // Step away from zero for positive offsets on positive p (and vice versa). |p| >= 1/32
-    // keeps the integer far from overflow.
-    out[i] = std::bit_cast<float>(bits + ((p[i] < 0.0f) ? -of_i : of_i));
+    if (offset[i] > 0.0f) out[i] = std::nextafter(out[i], kInfinity);
+    if (offset[i] < 0.0f) out[i] = std::nextafter(out[i], -kInfinity);
   }
   return out;
 }
 
 // The one place secondary rays (reflection, refraction, shadow, and the continuation
-// behind a cut-out) are made. `ng` is the unit geometric normal; the origin is pushed to
-// the side of `ng` that `direction` leaves towards. `t_max` bounds the ray (a shadow
-// feeler stops before its light).
-inline Ray spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& direction, RayKind kind,
-                     float t_max = kInfinity) {
+// behind a cut-out) are made. `p` is a surface point with error bound `error`; `ng` is
+// the unit geometric normal; the origin is pushed to the side of `ng` that `direction`
+// leaves towards. `t_max` bounds the ray (a shadow feeler stops before its light).
+inline Ray spawn_ray(const Vec3& p, const Vec3& error, const Vec3& ng, const Vec3& direction,
+                     RayKind kind, float t_max = kInfinity) {
   const Vec3 side = glm::dot(direction, ng) >= 0.0f ? ng : -ng;
-  return Ray{offset_ray_origin(p, side), direction, 0.0f, t_max, kind};
+  return Ray{offset_ray_origin(p, error, side), direction, 0.0f, t_max, kind};
 }
 
 }  // namespace whitted

@@ -19,6 +19,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   stats_.compile_seconds = now_seconds() - t0;
   stats_.triangles = scene_->triangle_count();
   stats_.instances = scene_->instances.size();
+  stats_.degenerate_instances = scene_->degenerate_instances;
   stats_.lights = scene_->lights.size();
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
   camera_media_ = WhittedIntegrator(*scene_, settings_).media_at(Vec3(scene_->camera.to_world[3]));

@@ -26,6 +26,7 @@ struct RenderStats {
   uint64_t samples = 0;  // camera samples taken
   size_t triangles = 0;
   size_t instances = 0;
+  size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;
   bool cancelled = false;
 };

@@ -60,7 +60,8 @@ Color WhittedIntegrator::trace(const Ray& ray, const PathState& path, RayCounts*
     // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
     const float left = r.t_max - glm::length(it.position - r.origin);
     if (!(left > 0.0f)) break;
-    r = spawn_ray(it.position, it.geometric_normal, r.direction, RayKind(r.kind), left);
+    r = spawn_ray(it.position, it.position_error, it.geometric_normal, r.direction, RayKind(r.kind),
+                  left);
     counts->transparent += 1;
   }
   if (alpha != nullptr) *alpha = coverage;
@@ -76,22 +77,24 @@ Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const Surf
   float eta = 1.0f;                // eta_incident / eta_transmitted
   if (m.transmissive()) {
     const int32_t from = media.current();
-    const auto self = static_cast<int32_t>(it.material_index);
+    bool false_interface = false;  // the current medium stays what it was
     if (entering) {
-      media.enter(it.material_index);
+      false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
+      media.enter(it.material_index, m.priority);
       eta = ior_of(scene_, from) / m.ior;
     } else if (media.leave(it.material_index)) {
-      if (from != self) {
-        // Leaving a medium the ray is not in: a false interface where objects overlap.
-        counts->transparent += 1;
-        return branch(spawn_ray(it.position, it.geometric_normal, ray.direction, RayKind(ray.kind)),
-                      path, Color(1.0f), media, /*bounce=*/false, counts);
-      }
+      false_interface = from != static_cast<int32_t>(it.material_index);
       eta = m.ior / ior_of(scene_, media.current());
     } else {
       // Leaving a medium it never entered (flipped normals, an open mesh): out into the
       // current medium, as a renderer without media lists would.
       eta = m.ior / ior_of(scene_, from);
+    }
+    if (false_interface) {
+      counts->transparent += 1;
+      return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+                              RayKind(ray.kind)),
+                    path, Color(1.0f), media, /*bounce=*/false, counts);
     }
   }
   const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
@@ -127,11 +130,13 @@ Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const Surf
   if (!is_black(kr)) {
     Vec3 r = reflect(ray.direction, ns);
     if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
-    radiance += kr * branch(spawn_ray(it.position, it.geometric_normal, r, kReflectionRay), path,
-                            kr, path.media, /*bounce=*/true, counts);
+    radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
+                                      kReflectionRay),
+                            path, kr, path.media, /*bounce=*/true, counts);
   }
   if (refracts && !is_black(kt)) {
-    radiance += kt * branch(spawn_ray(it.position, it.geometric_normal, t_dir, kRefractionRay),
+    radiance += kt * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir,
+                                      kRefractionRay),
                             path, kt, media, /*bounce=*/true, counts);
   }
   return radiance;
@@ -169,8 +174,8 @@ Color WhittedIntegrator::local(const Interaction& it, const SurfaceParams& surfa
       if (light.cast_shadows) {
         // Stop the feeler just short of the light sample.
         const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
-        delta =
-            shadow_transmittance(spawn_ray(it.shadow_origin, ng, ls.wi, kShadowRay, t_max), counts);
+        delta = shadow_transmittance(
+            spawn_ray(it.shadow_origin, it.position_error, ng, ls.wi, kShadowRay, t_max), counts);
         if (is_black(delta)) continue;
       }
       const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
@@ -198,7 +203,8 @@ Color WhittedIntegrator::shadow_transmittance(Ray ray, RayCounts* counts) const 
     if (is_black(transmittance)) return transmittance;
     const float remaining = ray.t_max - glm::length(it.position - ray.origin);
     if (!(remaining > 0.0f)) return transmittance;
-    ray = spawn_ray(it.position, it.geometric_normal, ray.direction, kShadowRay, remaining);
+    ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction, kShadowRay,
+                    remaining);
     counts->shadow += 1;
   }
   return Color(0.0f);
@@ -224,10 +230,13 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
         enclosing.push_back(it.material_index);
       }
     }
-    ray = spawn_ray(it.position, it.geometric_normal, ray.direction, kRefractionRay);
+    ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+                    kRefractionRay);
   }
   MediumStack media;
-  for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) media.enter(*m);
+  for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) {
+    media.enter(*m, scene_.materials[*m].priority);
+  }
   return media;
 }
 

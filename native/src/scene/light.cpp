@@ -12,7 +12,8 @@ float spot_falloff(const Light& light, const Vec3& to_point) {
   const float c0 = std::cos(0.5f * light.spot_size);
   if (c <= c0) return 0.0f;
   const float band = (1.0f - c0) * light.spot_blend;
-  return band > 0.0f ? smoothstep01((c - c0) / band) : 1.0f;
+  const float falloff = band > 0.0f ? smoothstep01((c - c0) / band) : 1.0f;
+  return light.spot_cosine_falloff ? c * falloff : falloff;
 }
 
 // Centre of stratum `index` of an n x n grid, in [0, 1]^2.

@@ -19,6 +19,8 @@ struct Light {
   Vec3 direction{0.0f, 0.0f, -1.0f};  // the way light travels: spot axis, sun, area normal
   float spot_size = 0.785398f;        // full cone angle, radians
   float spot_blend = 0.15f;
+  // Cycles before Blender 4.0 also multiplies the cone falloff by the cosine to the axis.
+  bool spot_cosine_falloff = false;
   float size[2] = {0.0f, 0.0f};  // area extents along axis_u and axis_v, world units
   Vec3 axis_u{1.0f, 0.0f, 0.0f};
   Vec3 axis_v{0.0f, 1.0f, 0.0f};

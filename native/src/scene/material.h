@@ -18,6 +18,7 @@ struct Material {
   float ior = 1.5f;             // index of refraction inside the surface (outside: 1)
   Color emission{0.0f};         // radiance added as is
   float alpha = 1.0f;           // coverage: 1 opaque, 0 invisible (cut-outs)
+  int32_t priority = 0;         // nested dielectrics: the higher owns overlaps (medium.h)
   std::string diffuse_texture;  // multiplies `diffuse` by its RGB ("" for none)
   std::string alpha_texture;    // multiplies `alpha` by its A ("" for none)
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).

@@ -23,6 +23,25 @@ bool is_finite(const glm::mat4& m) {
   return true;
 }
 
+// Embree traces an instance by moving the ray into object space with the inverse
+// transform; a singular or near-singular transform (an object scaled to zero) would make
+// that ray invalid, which Embree's assertions turn into an abort. Such an instance covers
+// no area worth rendering, so it is left out. With both the transform and its inverse
+// below 1e8, and ray origins below 1e10 (embree.cpp), object-space rays stay valid.
+bool safely_invertible(const glm::mat4& m) {
+  constexpr float kLimit = 1e8f;
+  const glm::mat3 linear(m);
+  const glm::mat3 inverse = glm::inverse(linear);
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) {
+      if (!(std::fabs(inverse[c][r]) <= kLimit) || !(std::fabs(linear[c][r]) <= kLimit)) {
+        return false;
+      }
+    }
+  }
+  return std::fabs(glm::determinant(linear)) > 0.0f;
+}
+
 }  // namespace
 
 Scene::Scene() : device_(std::make_shared<AccelDevice>()) {}
@@ -121,6 +140,10 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
       out.materials.push_back(found->second);
     }
     if (out.mesh->mesh.triangle_count() == 0) continue;  // nothing to hit
+    if (!safely_invertible(instance.to_world)) {
+      compiled->degenerate_instances += 1;
+      continue;
+    }
     accel_instances.push_back({&out.mesh->accel, out.to_world, instance.visibility});
     compiled->instances.push_back(std::move(out));
   }
@@ -147,6 +170,19 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   // a few ulps of the coordinates, which is what the ray-origin offset assumes.
   const Vec3 local = w0 * p0 + hit.u * p1 + hit.v * p2;
   out.position = Vec3(instance.to_world * glm::vec4(local, 1.0f));
+  // Error of the object-space point, carried through the transform (pbrt-v4 Transform):
+  // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|).
+  const glm::mat3 m(instance.to_world);
+  glm::mat3 abs_m;
+  for (int c = 0; c < 3; ++c) abs_m[c] = glm::abs(m[c]);
+  const Vec3 local_error = barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
+  const Vec3 world_error =
+      (1.0f + gamma(3)) * (abs_m * local_error) +
+      gamma(3) * (abs_m * glm::abs(local) + glm::abs(Vec3(instance.to_world[3])));
+  // Embree's intersector computes with all coordinates at once (relative to the ray
+  // origin), so its error scales with the largest of them: use the largest bound on
+  // every axis. A flat triangle exactly on a coordinate plane then still gets an offset.
+  out.position_error = Vec3(max_component(world_error));
   Vec3 ng = instance.normal_to_world * glm::cross(p1 - p0, p2 - p0);
   const float ng_length = glm::length(ng);
   // A degenerate (zero-area) triangle has no normal; face the ray instead.

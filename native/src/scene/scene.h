@@ -38,6 +38,7 @@ struct Instance {
 // Where a ray met a surface, in world space.
 struct Interaction {
   Vec3 position;
+  Vec3 position_error;    // bound on the rounding error of `position`, per axis
   Vec3 geometric_normal;  // unit, as the triangle winds
   Vec3 shading_normal;    // unit, interpolated corner normals (or the geometric normal)
   // Where shadow feelers start: on smooth meshes the point is lifted towards the curved
@@ -73,6 +74,7 @@ struct CompiledScene {
   Color background{0.0f};
   Color ambient{0.0f};
   std::unique_ptr<SceneAccel> accel;
+  size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
 
   size_t triangle_count() const;
   Interaction interaction(const Ray& ray, const Hit& hit) const;
