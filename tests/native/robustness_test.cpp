@@ -318,5 +318,67 @@ TEST(Robustness, CoplanarFacesGiveTheSameImageEveryTime) {
   EXPECT_EQ(render_image(build(), 3, 1), first);
 }
 
+// A low-poly UV sphere with smooth (vertex) normals, as corner normals.
+Mesh smooth_sphere(int rings, int segments) {
+  std::vector<float> p;
+  std::vector<uint32_t> t;
+  std::vector<float> n;
+  const auto vertex = [&](int ring, int segment) {
+    const float theta = kPi * static_cast<float>(ring) / static_cast<float>(rings);
+    const float phi = 2.0f * kPi * static_cast<float>(segment) / static_cast<float>(segments);
+    return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  for (int r = 0; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const Vec3 a = vertex(r, s), b = vertex(r + 1, s), c = vertex(r + 1, s + 1),
+                 d = vertex(r, s + 1);
+      for (const Vec3& v : {a, b, c, a, c, d}) {
+        t.push_back(static_cast<uint32_t>(p.size() / 3));
+        p.insert(p.end(), {v.x, v.y, v.z});
+        n.insert(n.end(), {v.x, v.y, v.z});  // on a unit sphere the normal is the point
+      }
+    }
+  }
+  return make_mesh(p.data(), p.size() / 3, t.data(), t.size() / 3, n.data(), nullptr);
+}
+
+// A coarse smooth sphere lit at a grazing angle: where the smooth shading normal faces
+// the light, the point is lit as the normal says, with no stair-step dark bands where
+// the flat facets would shadow each other (the shading-point offset of Hanika).
+TEST(Robustness, LowPolySmoothSphereShowsNoShadowTerminatorSteps) {
+  Scene scene;
+  Material white;
+  white.ambient = 0.0f;
+  add_object(&scene, "sphere", smooth_sphere(8, 12), white);
+  Light sun;
+  sun.type = LightType::kSun;
+  sun.color = Color(3.0f);
+  sun.direction = glm::normalize(Vec3(-1.0f, 0.0f, -0.15f));  // grazing the camera's view
+  scene.set_light("sun", sun);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 0.2f);
+  const auto compiled = scene.compile();
+  const WhittedIntegrator integrator(*compiled, Settings{});
+  RayCounts counts;
+  int lit = 0;
+  int dark = 0;
+  const int size = 120;
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      const Ray ray = compiled->camera.generate_ray((x + 0.5f) / size, (y + 0.5f) / size);
+      Hit hit;
+      if (!compiled->accel->intersect(ray, &hit)) continue;
+      const Interaction it = compiled->interaction(ray, hit);
+      const float cos_l = glm::dot(it.shading_normal, -sun.direction);
+      if (cos_l < 0.1f) continue;  // only where the smooth surface clearly faces the light
+      const float expected = 0.8f * kInvPi * 3.0f * cos_l;
+      const float got = integrator.trace(ray, PathState{}, &counts).x;
+      ++lit;
+      if (got < 0.5f * expected) ++dark;
+    }
+  }
+  EXPECT_GT(lit, 1000);
+  EXPECT_EQ(dark, 0) << "of " << lit << " pixels facing the light";
+}
+
 }  // namespace
 }  // namespace whitted

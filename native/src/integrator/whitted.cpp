@@ -168,8 +168,10 @@ Color WhittedIntegrator::local(const Interaction& it, const SurfaceParams& surfa
     for (int s = 0; s < light.sample_count(); ++s) {
       const LightSample ls = sample_light(light, it.position, s);
       const float cos_l = glm::dot(n, ls.wi);
-      // No feeler towards a light behind the surface or one that sends nothing here.
-      if (cos_l <= 0.0f || glm::dot(ng, ls.wi) <= 0.0f || is_black(ls.irradiance)) continue;
+      // No feeler towards a light behind the (smooth) surface or one that sends nothing
+      // here. The shading normal decides, not the flat facet: gating on the facet too is
+      // what draws stair-steps along the terminator of a coarse smooth mesh.
+      if (cos_l <= 0.0f || is_black(ls.irradiance)) continue;
       Color delta(1.0f);
       if (light.cast_shadows) {
         // Stop the feeler just short of the light sample.
