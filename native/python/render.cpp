@@ -23,11 +23,27 @@ py::dict stats_dict(const RenderStats& s) {
   out["trace_seconds"] = s.trace_seconds;
   out["threads"] = s.threads;
   out["samples"] = s.samples;
+  out["pixels"] = s.pixels;
   out["triangles"] = s.triangles;
   out["instances"] = s.instances;
   out["degenerate_instances"] = s.degenerate_instances;
   out["lights"] = s.lights;
   out["cancelled"] = s.cancelled;
+  return out;
+}
+
+// Copies a rectangle of the per-pixel ray counts into a float32[h*w, 1] array.
+py::array_t<float> copy_cost(const RenderJob& job, int x, int y, int w, int h) {
+  const Settings& s = job.settings();
+  if (x < 0 || y < 0 || w < 0 || h < 0 || x + w > s.width || y + h > s.height) {
+    throw std::invalid_argument("rectangle outside the image");
+  }
+  py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{1}});
+  float* dst = out.mutable_data();
+  for (int row = 0; row < h; ++row) {
+    const float* line = job.cost().data() + static_cast<size_t>(y + row) * s.width + x;
+    std::copy(line, line + w, dst + static_cast<size_t>(row) * w);
+  }
   return out;
 }
 
@@ -51,6 +67,11 @@ py::array_t<float> copy_rect(const RenderJob& job, int x, int y, int w, int h) {
 }  // namespace
 
 void bind_render(py::module_& m) {
+  py::enum_<AntiAliasing>(m, "AntiAliasing")
+      .value("REGULAR", AntiAliasing::kRegular)
+      .value("JITTERED", AntiAliasing::kJittered)
+      .value("ADAPTIVE", AntiAliasing::kAdaptive);
+
   py::enum_<Fresnel>(m, "Fresnel")
       .value("OFF", Fresnel::kOff)
       .value("SCHLICK", Fresnel::kSchlick)
@@ -59,11 +80,22 @@ void bind_render(py::module_& m) {
   py::class_<Settings>(m, "Settings")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
-                       bool transparent_background, float cutoff) {
-             Settings s{width, height, max_depth, aa_samples, threads, tile_size, fresnel};
+                       bool transparent_background, float cutoff, AntiAliasing aa_mode,
+                       float aa_threshold, int aa_depth) {
+             Settings s;
+             s.width = width;
+             s.height = height;
+             s.max_depth = max_depth;
+             s.aa_samples = aa_samples;
+             s.threads = threads;
+             s.tile_size = tile_size;
+             s.fresnel = fresnel;
              std::copy(border.begin(), border.end(), s.border);
              s.transparent_background = transparent_background;
              s.cutoff = cutoff;
+             s.aa_mode = aa_mode;
+             s.aa_threshold = aa_threshold;
+             s.aa_depth = aa_depth;
              s.validate();
              return s;
            }),
@@ -71,6 +103,8 @@ void bind_render(py::module_& m) {
            py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
            py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
            py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
+           py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
+           py::arg("aa_depth") = 3,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image.")
       .def_readwrite("width", &Settings::width)
@@ -86,7 +120,10 @@ void bind_render(py::module_& m) {
             return std::array<int, 4>{s.border[0], s.border[1], s.border[2], s.border[3]};
           })
       .def_readwrite("transparent_background", &Settings::transparent_background)
-      .def_readwrite("cutoff", &Settings::cutoff);
+      .def_readwrite("cutoff", &Settings::cutoff)
+      .def_readwrite("aa_mode", &Settings::aa_mode)
+      .def_readwrite("aa_threshold", &Settings::aa_threshold)
+      .def_readwrite("aa_depth", &Settings::aa_depth);
 
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "
@@ -108,6 +145,13 @@ void bind_render(py::module_& m) {
              return out;
            })
       .def("tile", &copy_rect, py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"))
+      .def("cost_tile", &copy_cost, py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
+           "Rays traced per pixel (all kinds), float32[h*w, 1].")
+      .def("cost_image",
+           [](const RenderJob& job) {
+             const Settings& s = job.settings();
+             return copy_cost(job, 0, 0, s.width, s.height).reshape({s.height, s.width});
+           })
       .def("image",
            [](const RenderJob& job) {
              const Settings& s = job.settings();

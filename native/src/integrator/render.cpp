@@ -5,6 +5,18 @@
 namespace whitted {
 namespace {
 
+// A hash of (x, y, i) to [0, 1) (a PCG-style integer mix): jitter that depends only on
+// the pixel and the sample, so images do not depend on tiles or threads.
+float hash01(uint32_t x, uint32_t y, uint32_t i) {
+  uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ i * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+}
+
 double now_seconds() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
@@ -22,6 +34,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   stats_.degenerate_instances = scene_->degenerate_instances;
   stats_.lights = scene_->lights.size();
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
+  cost_.assign(static_cast<size_t>(settings_.width) * settings_.height, 0.0f);
   camera_media_ = WhittedIntegrator(*scene_, settings_).media_at(Vec3(scene_->camera.to_world[3]));
   const int ts = settings_.tile_size;
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
@@ -59,6 +72,7 @@ void RenderJob::work() {
     done_tiles_ += 1;
     std::lock_guard lock(mutex_);
     finished_.push_back(tiles_[i]);
+    stats_.pixels += static_cast<uint64_t>(tiles_[i].width) * tiles_[i].height;
   }
   std::lock_guard lock(mutex_);
   stats_.rays += counts;
@@ -71,41 +85,112 @@ void RenderJob::work() {
 
 void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrator,
                             RayCounts* counts) {
-  const int n = settings_.aa_samples;
-  const float inv_n = 1.0f / static_cast<float>(n);
-  const float inv_w = 1.0f / static_cast<float>(settings_.width);
-  const float inv_h = 1.0f / static_cast<float>(settings_.height);
-  const PathState camera_path{0, Color(1.0f), camera_media_};
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
-      Color sum(0.0f);
-      float coverage = 0.0f;
-      // Regular n x n grid of sample positions inside the pixel, averaged (box filter).
-      for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-          const float sx = (static_cast<float>(x) + (static_cast<float>(i) + 0.5f) * inv_n) * inv_w;
-          const float sy = (static_cast<float>(y) + (static_cast<float>(j) + 0.5f) * inv_n) * inv_h;
-          counts->camera += 1;
-          float alpha = 1.0f;
-          const Color c =
-              integrator.trace(scene_->camera.generate_ray(sx, sy), camera_path, counts, &alpha);
-          if (is_finite(c)) {
-            sum += c;
-            coverage += alpha;
-          } else {
-            counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
-          }
-        }
-      }
-      float* out = &pixels_[4 * (static_cast<size_t>(y) * settings_.width + x)];
-      const Color c = sum * (inv_n * inv_n);
-      out[0] = c.x;
-      out[1] = c.y;
-      out[2] = c.z;
-      out[3] = coverage * (inv_n * inv_n);
+      const uint64_t rays_before = counts->total();
+      const Sample pixel = render_pixel(x, y, integrator, counts);
+      const size_t index = static_cast<size_t>(y) * settings_.width + x;
+      float* out = &pixels_[4 * index];
+      out[0] = pixel.radiance.x;
+      out[1] = pixel.radiance.y;
+      out[2] = pixel.radiance.z;
+      out[3] = pixel.alpha;
+      cost_[index] = static_cast<float>(counts->total() - rays_before);
     }
   }
+}
+
+RenderJob::Sample RenderJob::render_pixel(int x, int y, const WhittedIntegrator& integrator,
+                                          RayCounts* counts) const {
+  const auto fx = static_cast<float>(x);
+  const auto fy = static_cast<float>(y);
+  if (settings_.aa_mode == AntiAliasing::kAdaptive) {
+    const Sample corners[4] = {camera_sample(fx, fy, integrator, counts),
+                               camera_sample(fx + 1.0f, fy, integrator, counts),
+                               camera_sample(fx, fy + 1.0f, integrator, counts),
+                               camera_sample(fx + 1.0f, fy + 1.0f, integrator, counts)};
+    return subdivide(fx, fy, 1.0f, corners, 0, integrator, counts);
+  }
+  // An n x n grid over the pixel, averaged (box filter); jittered inside each cell.
+  const int n = settings_.aa_samples;
+  const float cell = 1.0f / static_cast<float>(n);
+  Sample sum{Color(0.0f), 0.0f};
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      float du = 0.5f;
+      float dv = 0.5f;
+      if (settings_.aa_mode == AntiAliasing::kJittered) {
+        const auto k = static_cast<uint32_t>(j * n + i);
+        du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k);
+        dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k + 1);
+      }
+      const Sample s = camera_sample(fx + (static_cast<float>(i) + du) * cell,
+                                     fy + (static_cast<float>(j) + dv) * cell, integrator, counts);
+      sum.radiance += s.radiance;
+      sum.alpha += s.alpha;
+    }
+  }
+  const float w = cell * cell;
+  return {sum.radiance * w, sum.alpha * w};
+}
+
+RenderJob::Sample RenderJob::camera_sample(float px, float py, const WhittedIntegrator& integrator,
+                                           RayCounts* counts) const {
+  counts->camera += 1;
+  const Ray ray = scene_->camera.generate_ray(px / static_cast<float>(settings_.width),
+                                              py / static_cast<float>(settings_.height));
+  float alpha = 1.0f;
+  const Color c = integrator.trace(ray, PathState{0, Color(1.0f), camera_media_}, counts, &alpha);
+  if (!is_finite(c)) {
+    counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+    return {Color(0.0f), 0.0f};
+  }
+  return {c, alpha};
+}
+
+RenderJob::Sample RenderJob::subdivide(float x0, float y0, float size, const Sample corners[4],
+                                       int depth, const WhittedIntegrator& integrator,
+                                       RayCounts* counts) const {
+  // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
+  // summed over RGB.
+  Color lo(kInfinity);
+  Color hi(-kInfinity);
+  for (int i = 0; i < 4; ++i) {
+    const Color c = glm::min(corners[i].radiance, Color(1.0f));
+    lo = glm::min(lo, c);
+    hi = glm::max(hi, c);
+  }
+  const Color spread = hi - lo;
+  const bool split =
+      depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
+  if (!split) {
+    Sample mean{Color(0.0f), 0.0f};
+    for (int i = 0; i < 4; ++i) {
+      mean.radiance += 0.25f * corners[i].radiance;
+      mean.alpha += 0.25f * corners[i].alpha;
+    }
+    return mean;
+  }
+  const float h = 0.5f * size;
+  const Sample bottom = camera_sample(x0 + h, y0, integrator, counts);
+  const Sample left = camera_sample(x0, y0 + h, integrator, counts);
+  const Sample centre = camera_sample(x0 + h, y0 + h, integrator, counts);
+  const Sample right = camera_sample(x0 + size, y0 + h, integrator, counts);
+  const Sample top = camera_sample(x0 + h, y0 + size, integrator, counts);
+  const Sample quadrants[4][4] = {{corners[0], bottom, left, centre},
+                                  {bottom, corners[1], centre, right},
+                                  {left, centre, corners[2], top},
+                                  {centre, right, top, corners[3]}};
+  const float offsets[4][2] = {{0.0f, 0.0f}, {h, 0.0f}, {0.0f, h}, {h, h}};
+  Sample mean{Color(0.0f), 0.0f};
+  for (int q = 0; q < 4; ++q) {
+    const Sample s = subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q], depth + 1,
+                               integrator, counts);
+    mean.radiance += 0.25f * s.radiance;
+    mean.alpha += 0.25f * s.alpha;
+  }
+  return mean;
 }
 
 bool RenderJob::wait(double seconds) {

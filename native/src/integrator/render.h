@@ -24,6 +24,7 @@ struct RenderStats {
   double trace_seconds = 0.0;
   int threads = 0;
   uint64_t samples = 0;  // camera samples taken
+  uint64_t pixels = 0;   // pixels rendered
   size_t triangles = 0;
   size_t instances = 0;
   size_t degenerate_instances = 0;  // left out: (near) zero scale
@@ -47,17 +48,33 @@ class RenderJob {
   const Settings& settings() const { return settings_; }
   // RGBA float pixels, rows bottom to top. Read only finished tiles while running.
   const std::vector<float>& pixels() const { return pixels_; }
+  // Rays traced for each pixel (all kinds): where the time goes. Rows bottom to top.
+  const std::vector<float>& cost() const { return cost_; }
   RenderStats stats() const;
 
  private:
   void work();
+  struct Sample {
+    Color radiance;
+    float alpha;
+  };
   void render_tile(const Tile& tile, const WhittedIntegrator& integrator, RayCounts* counts);
+  // The pixel whose bottom-left corner is (x, y), by the settings' anti-aliasing.
+  Sample render_pixel(int x, int y, const WhittedIntegrator& integrator, RayCounts* counts) const;
+  // One camera ray through image point (px, py), in pixels from the bottom-left corner.
+  Sample camera_sample(float px, float py, const WhittedIntegrator& integrator,
+                       RayCounts* counts) const;
+  // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner
+  // samples are `corners` (bottom-left, bottom-right, top-left, top-right).
+  Sample subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
+                   const WhittedIntegrator& integrator, RayCounts* counts) const;
 
   Settings settings_;
   std::shared_ptr<const CompiledScene> scene_;
   MediumStack camera_media_;  // the glass the camera is inside, if any
   std::vector<Tile> tiles_;
   std::vector<float> pixels_;
+  std::vector<float> cost_;
   std::vector<std::thread> workers_;
   std::atomic<size_t> next_tile_{0};
   std::atomic<size_t> done_tiles_{0};

@@ -23,6 +23,10 @@ void Settings::validate() const {
   check_range("width * height", int64_t{width} * height, 1, int64_t{1} << 28);
   check_range("max_depth", max_depth, 0, 256);
   check_range("aa_samples", aa_samples, 1, 64);
+  check_range("aa_depth", aa_depth, 0, 6);
+  if (!(aa_threshold >= 0.0f && aa_threshold <= 3.0f)) {
+    throw std::invalid_argument("aa_threshold must be between 0 and 3");
+  }
   check_range("threads", threads, 0, 1024);
   check_range("tile_size", tile_size, 1, 4096);
   if (!(cutoff >= 0.0f && cutoff <= 1.0f)) {

@@ -7,12 +7,21 @@ namespace whitted {
 
 enum class Fresnel { kOff, kSchlick, kExact };
 
+// Where camera rays go inside a pixel. Regular: the centres of an n x n grid. Jittered:
+// one point in each cell of that grid, placed by a hash of the pixel (deterministic).
+// Adaptive (Whitted 1980; POV-Ray's method 2): the pixel's corners, and a square is
+// split in four while its corners differ by more than the threshold, to a depth.
+enum class AntiAliasing { kRegular, kJittered, kAdaptive };
+
 struct Settings {
   int width = 640;
   int height = 480;
-  int max_depth = 5;   // secondary bounces allowed after the camera ray
-  int aa_samples = 1;  // per axis: aa_samples x aa_samples samples on a regular grid
-  int threads = 0;     // 0: all hardware threads
+  int max_depth = 5;  // secondary bounces allowed after the camera ray
+  AntiAliasing aa_mode = AntiAliasing::kRegular;
+  int aa_samples = 1;         // per axis, regular and jittered: n x n samples
+  float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)
+  int aa_depth = 3;           // adaptive: how many times a square may be split
+  int threads = 0;            // 0: all hardware threads
   int tile_size = 32;
   Fresnel fresnel = Fresnel::kExact;
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
