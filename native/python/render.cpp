@@ -18,6 +18,12 @@ py::dict stats_dict(const RenderStats& s) {
   out["total_internal_reflections"] = s.rays.total_internal_reflection;
   out["depth_limited"] = s.rays.depth_limited;
   out["cutoff"] = s.rays.cutoff;
+  py::dict skipped;
+  skipped["backfacing"] = s.rays.shadow_backfacing;
+  skipped["unlit"] = s.rays.shadow_unlit;
+  skipped["cutoff"] = s.rays.shadow_cutoff;
+  out["shadow_rays_skipped"] = skipped;
+  out["effects"] = s.effects;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["compile_seconds"] = s.compile_seconds;
   out["trace_seconds"] = s.trace_seconds;
@@ -81,7 +87,7 @@ void bind_render(py::module_& m) {
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
-                       float aa_threshold, int aa_depth) {
+                       float aa_threshold, int aa_depth, bool analysis) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -96,6 +102,7 @@ void bind_render(py::module_& m) {
              s.aa_mode = aa_mode;
              s.aa_threshold = aa_threshold;
              s.aa_depth = aa_depth;
+             s.analysis = analysis;
              s.validate();
              return s;
            }),
@@ -104,7 +111,7 @@ void bind_render(py::module_& m) {
            py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
            py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
            py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
-           py::arg("aa_depth") = 3,
+           py::arg("aa_depth") = 3, py::arg("analysis") = true,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image.")
       .def_readwrite("width", &Settings::width)
@@ -123,7 +130,10 @@ void bind_render(py::module_& m) {
       .def_readwrite("cutoff", &Settings::cutoff)
       .def_readwrite("aa_mode", &Settings::aa_mode)
       .def_readwrite("aa_threshold", &Settings::aa_threshold)
-      .def_readwrite("aa_depth", &Settings::aa_depth);
+      .def_readwrite("aa_depth", &Settings::aa_depth)
+      .def_readwrite("analysis", &Settings::analysis,
+                     "Trace only the effects the scene calls for and skip rays that cannot "
+                     "show; off forces every effect on (a benchmark baseline).");
 
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "

@@ -178,3 +178,15 @@ def test_tiles_cover_the_image_and_match_it():
         np.testing.assert_array_equal(job.tile(x, y, w, h), expected)
     with pytest.raises(ValueError):
         job.tile(30, 0, 16, 16)
+
+
+def test_analysis_names_what_it_skips_and_forcing_everything_changes_no_pixel():
+    scene = lit_floor_scene()
+    pruned = wn.RenderJob(scene, wn.Settings(width=16, height=16, cutoff=0.0))
+    forced = wn.RenderJob(scene, wn.Settings(width=16, height=16, analysis=False))
+    np.testing.assert_array_equal(finish(pruned), finish(forced))
+    assert "reflection: off, no reflective or transmissive material" in pruned.stats()["effects"]
+    assert forced.stats()["effects"] == ["analysis: off, every effect forced on, no ray skipped"]
+    assert pruned.stats()["rays"]["reflection"] == 0
+    assert forced.stats()["rays"]["reflection"] > 0
+    assert set(pruned.stats()["shadow_rays_skipped"]) == {"backfacing", "unlit", "cutoff"}

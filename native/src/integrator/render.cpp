@@ -35,7 +35,9 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(s
   stats_.lights = scene_->lights.size();
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
   cost_.assign(static_cast<size_t>(settings_.width) * settings_.height, 0.0f);
-  camera_media_ = WhittedIntegrator(*scene_, settings_).media_at(Vec3(scene_->camera.to_world[3]));
+  const WhittedIntegrator integrator(*scene_, settings_);
+  camera_media_ = integrator.media_at(Vec3(scene_->camera.to_world[3]));
+  stats_.effects = integrator.effects().reasons;
   const int ts = settings_.tile_size;
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   settings_.border_rect(&xmin, &ymin, &xmax, &ymax);

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct RenderStats {
   size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;
   bool cancelled = false;
+  std::vector<std::string> effects;  // what the scene analysis simulated and skipped, why
 };
 
 class RenderJob {

@@ -27,6 +27,9 @@ struct Settings {
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
   // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.
   float cutoff = 1.0f / 255.0f;
+  // Scene analysis: trace only the effects the scene calls for and skip rays that cannot
+  // show. Off forces every effect on and traces every ray (a baseline for benchmarks).
+  bool analysis = true;
   // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
   // whole image. The rest of the image stays 0.
   int border[4] = {0, 0, 0, 0};

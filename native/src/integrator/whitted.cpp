@@ -1,6 +1,8 @@
 #include "integrator/whitted.h"
 
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace whitted {
 namespace {
@@ -13,6 +15,244 @@ float ior_of(const CompiledScene& scene, int32_t medium) {
   return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
 }
 
+// The Whitted recursion for one set of effects E (EffectBits); what E leaves out is not
+// compiled in.
+template <uint32_t E>
+class Kernel {
+ public:
+  explicit Kernel(const WhittedIntegrator& w) : scene_(w.scene()), settings_(w.settings()) {}
+
+  static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
+                   RayCounts* counts, float* alpha) {
+    return Kernel(w).trace(ray, path, counts, alpha);
+  }
+
+ private:
+  static constexpr bool has(uint32_t bit) { return (E & bit) != 0; }
+
+  // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
+  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha) const {
+    Color radiance(0.0f);
+    float coverage = 0.0f;
+    float behind = 1.0f;  // the share of the ray not yet covered by a surface
+    Ray r = ray;
+    for (int layer = 0; behind > 0.0f; ++layer) {
+      Hit hit;
+      if (!scene_.accel->intersect(r, &hit)) {
+        // A transparent film shows nothing where camera rays miss.
+        if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
+          radiance += behind * scene_.background;
+          coverage += behind;
+        }
+        break;
+      }
+      const Interaction it = scene_.interaction(r, hit);
+      if (it.holdout) break;  // a holdout shows nothing and covers nothing
+      const SurfaceParams surface = scene_.surface(it);
+      float a = 1.0f;
+      if constexpr (has(kTranslucencyEffect)) {
+        a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
+      }
+      if (a > 0.0f) {
+        radiance += (behind * a) * shade(r, it, surface, path, counts);
+        coverage += behind * a;
+      }
+      behind *= 1.0f - a;
+      if (behind <= 0.0f) break;
+      // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
+      const float left = r.t_max - glm::length(it.position - r.origin);
+      if (!(left > 0.0f)) break;
+      r = spawn_ray(it.position, it.position_error, it.geometric_normal, r.direction,
+                    RayKind(r.kind), left);
+      counts->transparent += 1;
+    }
+    if (alpha != nullptr) *alpha = coverage;
+    return radiance;
+  }
+
+  // Radiance leaving a surface point towards the ray: the Whitted step.
+  Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+              const PathState& path, RayCounts* counts) const {
+    const Material& m = *it.material;
+    // Entering or leaving is decided by the geometric normal, never the shading normal.
+    const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+    MediumStack media = path.media;  // the media on the far side of this surface
+    float eta = 1.0f;                // eta_incident / eta_transmitted
+    if (has(kRefractionEffect) && m.transmissive()) {
+      const int32_t from = media.current();
+      bool false_interface = false;  // the current medium stays what it was
+      if (entering) {
+        false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
+        media.enter(it.material_index, m.priority);
+        eta = ior_of(scene_, from) / m.ior;
+      } else if (media.leave(it.material_index)) {
+        false_interface = from != static_cast<int32_t>(it.material_index);
+        eta = m.ior / ior_of(scene_, media.current());
+      } else {
+        // Leaving a medium it never entered (flipped normals, an open mesh): out into the
+        // current medium, as a renderer without media lists would.
+        eta = m.ior / ior_of(scene_, from);
+      }
+      if (false_interface) {
+        counts->transparent += 1;
+        return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+                                RayKind(ray.kind)),
+                      path, Color(1.0f), media, /*bounce=*/false, counts);
+      }
+    }
+    const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
+    Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
+    if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
+    const Vec3 wo = -ray.direction;
+    Color radiance = m.emission + local(it, surface, wo, ng, ns, path.weight, counts);
+    if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
+
+    Color kr = has(kReflectionEffect) ? m.reflectivity : Color(0.0f);
+    Color kt = has(kRefractionEffect) ? m.transmissivity : Color(0.0f);
+    if (has(kPruningEffect) && is_black(kr) && is_black(kt)) return radiance;
+    Vec3 t_dir(0.0f);
+    const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
+                          glm::dot(t_dir, ng) < 0.0f;
+    if (!is_black(kt)) {
+      const float cos_i = std::min(1.0f, glm::dot(wo, ns));
+      const float f = !refracts                                ? 1.0f
+                      : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
+                      : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
+                                                               : 0.0f;
+      // The reflected share of the transmissive layer: all of it on total internal
+      // reflection.
+      kr += kt * f;
+      kt *= 1.0f - f;
+      if (!refracts) counts->total_internal_reflection += 1;
+    }
+    // A surface returns at most what arrives: sigma_r + sigma_t <= 1 keeps the ray tree
+    // from growing without bound (two facing mirror-glass panes at depth 256).
+    const float sum = max_component(kr + kt);
+    if (sum > 1.0f) {
+      kr /= sum;
+      kt /= sum;
+    }
+    if (has(kReflectionEffect) && (!has(kPruningEffect) || !is_black(kr))) {
+      Vec3 r = reflect(ray.direction, ns);
+      if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
+      radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
+                                        kReflectionRay),
+                              path, kr, path.media, /*bounce=*/true, counts);
+    }
+    if (refracts && (!has(kPruningEffect) || !is_black(kt))) {
+      radiance += kt * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir,
+                                        kRefractionRay),
+                              path, kt, media, /*bounce=*/true, counts);
+    }
+    return radiance;
+  }
+
+  // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
+  // the cutoff stops it; `bounce` is false for a ray that only continues straight on. The
+  // one place the ray tree branches.
+  Color branch(const Ray& ray, const PathState& path, const Color& weight, const MediumStack& media,
+               bool bounce, RayCounts* counts) const {
+    const PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
+    if (next.depth > settings_.max_depth) {
+      counts->depth_limited += 1;
+      return Color(0.0f);
+    }
+    if (has(kPruningEffect) && max_component(next.weight) < settings_.cutoff) {
+      counts->cutoff += 1;  // its contribution could no longer show
+      return Color(0.0f);
+    }
+    if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
+    if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+    return trace(ray, next, counts, nullptr);
+  }
+
+  // I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
+  Color local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo, const Vec3& ng,
+              const Vec3& n, const Color& weight, RayCounts* counts) const {
+    const Material& m = *it.material;
+    Color radiance = m.ambient * scene_.ambient * surface.diffuse;
+    const float phong_norm = (m.shininess + 2.0f) * (0.5f * kInvPi);
+    for (const Light& light : scene_.lights) {
+      for (int s = 0; s < light.sample_count(); ++s) {
+        const LightSample ls = sample_light(light, it.position, s);
+        const float cos_l = glm::dot(n, ls.wi);
+        // The shading normal decides whether a light is behind the (smooth) surface, not
+        // the flat facet: gating on the facet draws stair-steps along the terminator of a
+        // coarse smooth mesh.
+        if constexpr (has(kPruningEffect)) {
+          if (cos_l <= 0.0f) {
+            counts->shadow_backfacing += 1;
+            continue;
+          }
+          if (is_black(ls.irradiance)) {
+            counts->shadow_unlit += 1;  // outside a spot's cone, behind an area light
+            continue;
+          }
+        }
+        const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
+        const Color brdf =
+            surface.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
+        const Color contribution = brdf * ls.irradiance * std::max(0.0f, cos_l);
+        if (!has(kShadowEffect) || !light.cast_shadows) {
+          radiance += contribution;
+          continue;
+        }
+        if constexpr (has(kPruningEffect)) {
+          // Lit or not, this light cannot change the pixel by more than the cutoff.
+          if (max_component(weight * contribution) < settings_.cutoff) {
+            counts->shadow_cutoff += 1;
+            radiance += contribution;
+            continue;
+          }
+        }
+        // Stop the feeler just short of the light sample.
+        const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
+        radiance +=
+            contribution * shadow_transmittance(spawn_ray(it.shadow_origin, it.position_error, ng,
+                                                          ls.wi, kShadowRay, t_max),
+                                                counts);
+      }
+    }
+    return radiance;
+  }
+
+  // Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
+  // through a surface of coverage a and transmissivity T, (1 - a) + a*T passes (cut-outs,
+  // and coloured shadows behind glass).
+  Color shadow_transmittance(Ray ray, RayCounts* counts) const {
+    counts->shadow += 1;
+    if constexpr (!has(kTranslucencyEffect)) {
+      return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
+    }
+    Color transmittance(1.0f);
+    for (int i = 0; i < kMaxTransparentLayers; ++i) {
+      Hit hit;
+      if (!scene_.accel->intersect(ray, &hit)) return transmittance;
+      const Interaction it = scene_.interaction(ray, hit);
+      const float a = scene_.surface(it).alpha;
+      transmittance *= (1.0f - a) + a * it.material->transmissivity;
+      if (is_black(transmittance)) return transmittance;
+      const float remaining = ray.t_max - glm::length(it.position - ray.origin);
+      if (!(remaining > 0.0f)) return transmittance;
+      ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+                      kShadowRay, remaining);
+      counts->shadow += 1;
+    }
+    return Color(0.0f);
+  }
+
+  const CompiledScene& scene_;
+  const Settings& settings_;
+};
+
+// One kernel per set of effects, indexed by its bits.
+template <size_t... I>
+constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(I)> kernels(
+    std::index_sequence<I...> /*bits*/) {
+  return {&Kernel<static_cast<uint32_t>(I)>::run...};
+}
+constexpr auto kKernels = kernels(std::make_index_sequence<kAllEffects + 1>{});
+
 }  // namespace
 
 RayCounts& RayCounts::operator+=(const RayCounts& o) {
@@ -24,193 +264,18 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   total_internal_reflection += o.total_internal_reflection;
   depth_limited += o.depth_limited;
   cutoff += o.cutoff;
+  shadow_backfacing += o.shadow_backfacing;
+  shadow_unlit += o.shadow_unlit;
+  shadow_cutoff += o.shadow_cutoff;
   nonfinite_samples += o.nonfinite_samples;
   return *this;
 }
 
 WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings)
-    : scene_(scene), settings_(settings), any_translucent_(scene.any_translucent()) {}
-
-Color WhittedIntegrator::trace(const Ray& ray, const PathState& path, RayCounts* counts,
-                               float* alpha) const {
-  Color radiance(0.0f);
-  float coverage = 0.0f;
-  float behind = 1.0f;  // the share of the ray not yet covered by a surface
-  Ray r = ray;
-  for (int layer = 0; behind > 0.0f; ++layer) {
-    Hit hit;
-    if (!scene_.accel->intersect(r, &hit)) {
-      // A transparent film shows nothing where camera rays miss.
-      if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
-        radiance += behind * scene_.background;
-        coverage += behind;
-      }
-      break;
-    }
-    const Interaction it = scene_.interaction(r, hit);
-    if (it.holdout) break;  // a holdout shows nothing and covers nothing
-    const SurfaceParams surface = scene_.surface(it);
-    const float a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
-    if (a > 0.0f) {
-      radiance += (behind * a) * shade(r, it, surface, path, counts);
-      coverage += behind * a;
-    }
-    behind *= 1.0f - a;
-    if (behind <= 0.0f) break;
-    // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
-    const float left = r.t_max - glm::length(it.position - r.origin);
-    if (!(left > 0.0f)) break;
-    r = spawn_ray(it.position, it.position_error, it.geometric_normal, r.direction, RayKind(r.kind),
-                  left);
-    counts->transparent += 1;
-  }
-  if (alpha != nullptr) *alpha = coverage;
-  return radiance;
-}
-
-Color WhittedIntegrator::shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-                               const PathState& path, RayCounts* counts) const {
-  const Material& m = *it.material;
-  // Entering or leaving is decided by the geometric normal, never the shading normal.
-  const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
-  MediumStack media = path.media;  // the media on the far side of this surface
-  float eta = 1.0f;                // eta_incident / eta_transmitted
-  if (m.transmissive()) {
-    const int32_t from = media.current();
-    bool false_interface = false;  // the current medium stays what it was
-    if (entering) {
-      false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
-      media.enter(it.material_index, m.priority);
-      eta = ior_of(scene_, from) / m.ior;
-    } else if (media.leave(it.material_index)) {
-      false_interface = from != static_cast<int32_t>(it.material_index);
-      eta = m.ior / ior_of(scene_, media.current());
-    } else {
-      // Leaving a medium it never entered (flipped normals, an open mesh): out into the
-      // current medium, as a renderer without media lists would.
-      eta = m.ior / ior_of(scene_, from);
-    }
-    if (false_interface) {
-      counts->transparent += 1;
-      return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
-                              RayKind(ray.kind)),
-                    path, Color(1.0f), media, /*bounce=*/false, counts);
-    }
-  }
-  const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
-  Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
-  if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
-  const Vec3 wo = -ray.direction;
-  Color radiance = m.emission + local(it, surface, wo, ng, ns, counts);
-
-  Color kr = m.reflectivity;
-  Color kt = m.transmissivity;
-  if (is_black(kr) && is_black(kt)) return radiance;
-  Vec3 t_dir(0.0f);
-  const bool refracts =
-      !is_black(kt) && refract(ray.direction, ns, eta, &t_dir) && glm::dot(t_dir, ng) < 0.0f;
-  if (!is_black(kt)) {
-    const float cos_i = std::min(1.0f, glm::dot(wo, ns));
-    const float f = !refracts                                ? 1.0f
-                    : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
-                    : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
-                                                             : 0.0f;
-    // The reflected share of the transmissive layer: all of it on total internal reflection.
-    kr += kt * f;
-    kt *= 1.0f - f;
-    if (!refracts) counts->total_internal_reflection += 1;
-  }
-  // A surface returns at most what arrives: sigma_r + sigma_t <= 1 keeps the ray tree
-  // from growing without bound (two facing mirror-glass panes at depth 256).
-  const float sum = max_component(kr + kt);
-  if (sum > 1.0f) {
-    kr /= sum;
-    kt /= sum;
-  }
-  if (!is_black(kr)) {
-    Vec3 r = reflect(ray.direction, ns);
-    if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
-    radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
-                                      kReflectionRay),
-                            path, kr, path.media, /*bounce=*/true, counts);
-  }
-  if (refracts && !is_black(kt)) {
-    radiance += kt * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir,
-                                      kRefractionRay),
-                            path, kt, media, /*bounce=*/true, counts);
-  }
-  return radiance;
-}
-
-Color WhittedIntegrator::branch(const Ray& ray, const PathState& path, const Color& weight,
-                                const MediumStack& media, bool bounce, RayCounts* counts) const {
-  PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
-  if (next.depth > settings_.max_depth) {
-    counts->depth_limited += 1;
-    return Color(0.0f);
-  }
-  if (max_component(next.weight) < settings_.cutoff) {
-    counts->cutoff += 1;  // its contribution could no longer show
-    return Color(0.0f);
-  }
-  if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
-  if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
-  return trace(ray, next, counts);
-}
-
-// I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
-Color WhittedIntegrator::local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo,
-                               const Vec3& ng, const Vec3& n, RayCounts* counts) const {
-  const Material& m = *it.material;
-  Color radiance = m.ambient * scene_.ambient * surface.diffuse;
-  const float phong_norm = (m.shininess + 2.0f) * (0.5f * kInvPi);
-  for (const Light& light : scene_.lights) {
-    for (int s = 0; s < light.sample_count(); ++s) {
-      const LightSample ls = sample_light(light, it.position, s);
-      const float cos_l = glm::dot(n, ls.wi);
-      // No feeler towards a light behind the (smooth) surface or one that sends nothing
-      // here. The shading normal decides, not the flat facet: gating on the facet too is
-      // what draws stair-steps along the terminator of a coarse smooth mesh.
-      if (cos_l <= 0.0f || is_black(ls.irradiance)) continue;
-      Color delta(1.0f);
-      if (light.cast_shadows) {
-        // Stop the feeler just short of the light sample.
-        const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
-        delta = shadow_transmittance(
-            spawn_ray(it.shadow_origin, it.position_error, ng, ls.wi, kShadowRay, t_max), counts);
-        if (is_black(delta)) continue;
-      }
-      const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
-      const Color brdf =
-          surface.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
-      radiance += delta * brdf * ls.irradiance * cos_l;
-    }
-  }
-  return radiance;
-}
-
-// Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
-// through a surface of coverage a and transmissivity T, (1 - a) + a*T passes (cut-outs,
-// and coloured shadows behind glass).
-Color WhittedIntegrator::shadow_transmittance(Ray ray, RayCounts* counts) const {
-  counts->shadow += 1;
-  if (!any_translucent_) return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
-  Color transmittance(1.0f);
-  for (int i = 0; i < kMaxTransparentLayers; ++i) {
-    Hit hit;
-    if (!scene_.accel->intersect(ray, &hit)) return transmittance;
-    const Interaction it = scene_.interaction(ray, hit);
-    const float a = scene_.surface(it).alpha;
-    transmittance *= (1.0f - a) + a * it.material->transmissivity;
-    if (is_black(transmittance)) return transmittance;
-    const float remaining = ray.t_max - glm::length(it.position - ray.origin);
-    if (!(remaining > 0.0f)) return transmittance;
-    ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction, kShadowRay,
-                    remaining);
-    counts->shadow += 1;
-  }
-  return Color(0.0f);
-}
+    : scene_(scene),
+      settings_(settings),
+      effects_(analyse(scene, settings)),
+      trace_(kKernels[effects_.bits]) {}
 
 // Walks a ray from p through every surface: a transmissive surface the walk leaves
 // without having entered it encloses p. The first such surface is the innermost medium.

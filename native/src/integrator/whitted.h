@@ -4,13 +4,14 @@
 
 #include <cstdint>
 
+#include "integrator/analysis.h"
 #include "integrator/medium.h"
 #include "integrator/settings.h"
 #include "scene/scene.h"
 
 namespace whitted {
 
-// Rays traced by type, per thread, summed at the end of a render.
+// Rays traced by type, and rays not traced by reason, per thread, summed at the end.
 struct RayCounts {
   uint64_t camera = 0;
   uint64_t shadow = 0;
@@ -20,6 +21,9 @@ struct RayCounts {
   uint64_t total_internal_reflection = 0;  // refracted rays that became reflections
   uint64_t depth_limited = 0;              // secondary rays not traced: maximum depth
   uint64_t cutoff = 0;                     // secondary rays not traced: weight below cutoff
+  uint64_t shadow_backfacing = 0;          // feelers not sent: light behind the surface
+  uint64_t shadow_unlit = 0;               // feelers not sent: no light arrives (spot cone)
+  uint64_t shadow_cutoff = 0;              // feelers not sent: contribution below cutoff
   uint64_t nonfinite_samples = 0;          // samples discarded as NaN or infinite
 
   RayCounts& operator+=(const RayCounts& o);
@@ -34,6 +38,8 @@ struct PathState {
   MediumStack media;
 };
 
+// Analyses the scene once, then traces with a kernel specialised to the effects the
+// scene calls for (integrator/whitted.cpp), so a disabled effect costs nothing.
 class WhittedIntegrator {
  public:
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings);
@@ -42,28 +48,25 @@ class WhittedIntegrator {
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
   // coverage (0..1).
   Color trace(const Ray& ray, const PathState& path, RayCounts* counts,
-              float* alpha = nullptr) const;
+              float* alpha = nullptr) const {
+    return trace_(*this, ray, path, counts, alpha);
+  }
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
 
- private:
-  // Radiance leaving a surface point towards the ray: the Whitted step.
-  Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-              const PathState& path, RayCounts* counts) const;
-  // Traces a secondary ray of weight `weight` (relative to this one), unless the depth
-  // or the cutoff stops it; `bounce` is false for a ray that only continues straight on.
-  // The one place the ray tree branches.
-  Color branch(const Ray& ray, const PathState& path, const Color& weight, const MediumStack& media,
-               bool bounce, RayCounts* counts) const;
-  // `ng` and `n` are the geometric and shading normals turned towards `wo`.
-  Color local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo, const Vec3& ng,
-              const Vec3& n, RayCounts* counts) const;
-  Color shadow_transmittance(Ray ray, RayCounts* counts) const;
+  const Effects& effects() const { return effects_; }
+  const CompiledScene& scene() const { return scene_; }
+  const Settings& settings() const { return settings_; }
 
+  using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
+                            float*);
+
+ private:
   const CompiledScene& scene_;
   const Settings settings_;
-  bool any_translucent_ = false;  // coloured shadows need a walk through glass
+  Effects effects_;
+  TraceFn trace_;
 };
 
 }  // namespace whitted

@@ -127,6 +127,7 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
     out.to_world = instance.to_world;
     out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
     out.holdout = instance.holdout;
+    out.visibility = instance.visibility;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);

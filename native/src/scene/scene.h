@@ -65,6 +65,7 @@ struct CompiledScene {
     glm::mat3 normal_to_world;        // inverse transpose of the linear part
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
+    uint32_t visibility;  // RayKind bits
   };
   std::vector<Instance> instances;
   std::vector<Material> materials;  // index 0 is the default material

@@ -1,0 +1,60 @@
+#include "integrator/analysis.h"
+
+namespace whitted {
+namespace {
+
+void decide(Effects* effects, uint32_t bit, bool on, const std::string& name,
+            const std::string& why) {
+  if (!on) effects->bits &= ~bit;
+  effects->reasons.push_back(name + (on ? ": on, " : ": off, ") + why);
+}
+
+}  // namespace
+
+Effects analyse(const CompiledScene& scene, const Settings& settings) {
+  Effects effects;
+  if (!settings.analysis) {
+    effects.bits = kAllEffects & ~kPruningEffect;
+    effects.reasons.emplace_back("analysis: off, every effect forced on, no ray skipped");
+    return effects;
+  }
+  // Only materials some instance uses can contribute.
+  std::vector<bool> used(scene.materials.size(), false);
+  bool any_blocker = false;
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    for (uint32_t m : instance.materials) used[m] = true;
+    if (instance.materials.empty()) used[0] = true;
+    any_blocker |= (instance.visibility & kShadowRay) != 0;
+  }
+  bool reflective = false;
+  bool transmissive = false;
+  bool translucent = false;
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    if (!used[m]) continue;
+    const Material& mat = scene.materials[m];
+    reflective |= mat.reflective() || mat.transmissive();
+    transmissive |= mat.transmissive();
+    translucent |= mat.transmissive() || mat.alpha < 1.0f || mat.alpha_texture_index >= 0;
+  }
+  bool casting = false;
+  for (const Light& light : scene.lights) casting |= light.cast_shadows;
+  decide(&effects, kShadowEffect, casting && any_blocker, "shadows",
+         !casting      ? "no light casts shadows"
+         : any_blocker ? "lights cast shadows"
+                       : "nothing is visible to shadow rays");
+  decide(&effects, kReflectionEffect, reflective && settings.max_depth > 0, "reflection",
+         settings.max_depth == 0 ? "maximum depth 0"
+         : reflective            ? "reflective or transmissive materials"
+                                 : "no reflective or transmissive material");
+  decide(&effects, kRefractionEffect, transmissive && settings.max_depth > 0, "refraction",
+         settings.max_depth == 0 ? "maximum depth 0"
+         : transmissive          ? "transmissive materials"
+                                 : "no transmissive material");
+  decide(&effects, kTranslucencyEffect, translucent, "translucency",
+         translucent ? "materials with alpha or transmission" : "every material is opaque");
+  decide(&effects, kPruningEffect, true, "pruning",
+         "rays that cannot show are skipped (cutoff " + std::to_string(settings.cutoff) + ")");
+  return effects;
+}
+
+}  // namespace whitted
