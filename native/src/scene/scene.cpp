@@ -24,20 +24,24 @@ bool is_finite(const glm::mat4& m) {
 }
 
 // Embree traces an instance by moving the ray into object space with the inverse
-// transform; a singular or near-singular transform (an object scaled to zero) would make
-// that ray invalid, which Embree's assertions turn into an abort. Such an instance covers
-// no area worth rendering, so it is left out. With both the transform and its inverse
-// below 1e8, and ray origins below 1e10 (embree.cpp), object-space rays stay valid.
+// transform; a singular or near-singular transform (an object scaled to zero), or one
+// absurdly far away, would make that ray invalid, which Embree's assertions turn into an
+// abort. Such an instance shows nothing worth rendering, so it is left out. With the
+// linear part and its inverse below 1e8, and translations and ray origins below 1e9
+// (embree.cpp), object-space rays stay below 2e17, inside Embree's 1.8e18.
 bool safely_invertible(const glm::mat4& m) {
-  constexpr float kLimit = 1e8f;
+  constexpr float kLinearLimit = 1e8f;
+  constexpr float kTranslationLimit = 1e9f;
   const glm::mat3 linear(m);
   const glm::mat3 inverse = glm::inverse(linear);
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r) {
-      if (!(std::fabs(inverse[c][r]) <= kLimit) || !(std::fabs(linear[c][r]) <= kLimit)) {
+      if (!(std::fabs(inverse[c][r]) <= kLinearLimit) ||
+          !(std::fabs(linear[c][r]) <= kLinearLimit)) {
         return false;
       }
     }
+    if (!(std::fabs(m[3][c]) <= kTranslationLimit)) return false;
   }
   return std::fabs(glm::determinant(linear)) > 0.0f;
 }
