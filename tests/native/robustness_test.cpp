@@ -12,6 +12,7 @@ namespace whitted {
 namespace {
 
 using testing::add_object;
+using testing::clear;
 using testing::emitter;
 using testing::looking_down;
 using testing::quad;
@@ -68,12 +69,7 @@ TEST(Robustness, GlassInAUniformSkyConservesEnergy) {
   for (Fresnel fresnel : {Fresnel::kExact, Fresnel::kSchlick}) {
     for (float ior : {1.5f, 2.4f, 0.7f}) {
       Scene scene;
-      Material glass;
-      glass.diffuse = Color(0.0f);
-      glass.ambient = 0.0f;
-      glass.transmissivity = Color(1.0f);
-      glass.ior = ior;
-      add_object(&scene, "ball", octahedron(), glass);
+      add_object(&scene, "ball", octahedron(), clear(ior));
       scene.background = Color(1.0f);
       const auto compiled = scene.compile();
       Settings settings;
@@ -99,12 +95,7 @@ TEST(Robustness, GlassInAUniformSkyConservesEnergy) {
 
 TEST(Robustness, IndexOfRefractionOnePassesStraightThrough) {
   Scene scene;
-  Material air_glass;
-  air_glass.diffuse = Color(0.0f);
-  air_glass.ambient = 0.0f;
-  air_glass.transmissivity = Color(1.0f);
-  air_glass.ior = 1.0f;
-  add_object(&scene, "ball", octahedron(), air_glass);
+  add_object(&scene, "ball", octahedron(), clear(1.0f));
   add_object(&scene, "marker", quad(-0.05f, 0.05f, -0.05f, 0.05f, -5.0f), emitter(Color(7.0f)));
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, Settings{});
@@ -160,15 +151,6 @@ void add_slab(Scene* scene, const std::string& name, float z0, float z1, const M
   scene->set_mesh(name + "_bottom", std::move(bottom));
   scene->set_instance(name + "_bottom",
                       Instance{name + "_bottom", glm::mat4(1.0f), {name + "_top"}});
-}
-
-Material clear(float ior) {
-  Material m;
-  m.diffuse = Color(0.0f);
-  m.ambient = 0.0f;
-  m.transmissivity = Color(1.0f);
-  m.ior = ior;
-  return m;
 }
 
 // Where a ray from (x0, 0, 5) at angle theta lands on the floor z = -3 (found by the

@@ -33,6 +33,16 @@ inline Material emitter(Color radiance) {
   return m;
 }
 
+// Clear glass (or any dielectric) of index `ior`: no diffuse, all transmitted.
+inline Material clear(float ior) {
+  Material m;
+  m.diffuse = Color(0.0f);
+  m.ambient = 0.0f;
+  m.transmissivity = Color(1.0f);
+  m.ior = ior;
+  return m;
+}
+
 // A camera at `position` looking down -z with a square window of half-width `half`.
 inline Camera looking_down(Vec3 position, float half) {
   Camera c;

@@ -12,6 +12,7 @@ namespace whitted {
 namespace {
 
 using testing::add_object;
+using testing::clear;
 using testing::emitter;
 using testing::looking_down;
 using testing::quad;
@@ -113,11 +114,7 @@ TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
 // by d sin(theta_i - theta_t) / cos(theta_t) (the textbook lateral displacement).
 TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
   Scene scene;
-  Material glass;
-  glass.diffuse = Color(0.0f);
-  glass.ambient = 0.0f;
-  glass.transmissivity = Color(1.0f);
-  glass.ior = 1.5f;
+  const Material glass = clear(1.5f);
   // Slab between z = -1 and z = 0: top faces +z, bottom faces -z (outward normals).
   add_object(&scene, "slab_top", quad(-50, 50, -50, 50, 0.0f), glass);
   Mesh bottom = quad(-50, 50, -50, 50, -1.0f);
