@@ -7,7 +7,7 @@ add-on and its exporters import even before the module is built.
 
 import bpy
 
-from . import engine
+from . import engine, operators
 from .properties import light as light_properties
 from .properties import material as material_properties
 from .properties import scene as scene_properties
@@ -27,11 +27,16 @@ bl_info = {
 
 # Registered in this order, unregistered in reverse.
 classes = (
+    scene_properties.WhittedEstimate,
     scene_properties.WhittedSceneProperties,
     light_properties.WhittedLightProperties,
     material_properties.WhittedMaterialProperties,
     engine.WhittedRenderEngine,
+    operators.WHITTED_OT_apply_preset,
+    operators.WHITTED_OT_estimate,
     render_ui.WHITTED_RENDER_PT_settings,
+    render_ui.WHITTED_RENDER_PT_estimate,
+    render_ui.WHITTED_RENDER_PT_last_render,
     light_ui.WHITTED_LIGHT_PT_settings,
     material_ui.WHITTED_MATERIAL_PT_settings,
 )

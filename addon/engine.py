@@ -5,11 +5,14 @@ import time
 
 import bpy
 
+from . import result as render_result
 from . import stats as render_stats
 from .export import ExportError
 from .export.film import convert_film
 from .export.scene import convert_scene
 from .native import load_native
+from .properties.presets import quality_of
+from .settings import native_settings
 
 # One poll of the render job waits this long. Esc (test_break) is checked after
 # every poll, so the render stops within this time plus the job's cancel latency.
@@ -24,16 +27,21 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
     # hiding them behind nodes of our own.
     bl_use_shading_nodes_custom = False
 
+    def update_render_passes(self, scene=None, renderlayer=None):
+        render_result.register_passes(self, scene, renderlayer)
+
     def render(self, depsgraph):
         phases = render_stats.PhaseTimes()
         started = time.perf_counter()
+        scene = depsgraph.scene
+        quality = quality_of(scene.whitted)
         try:
             native = load_native()
             exported = convert_scene(depsgraph, native)
             phases.mesh_bvh = exported.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
-            film = convert_film(depsgraph.scene.render, exported.width, exported.height)
-            settings = _settings(native, depsgraph.scene, exported, film)
+            film = convert_film(scene.render, exported.width, exported.height)
+            settings = native_settings(native, scene, exported.width, exported.height, film)
             job = native.RenderJob(exported.scene, settings)
         except (ImportError, ExportError) as error:
             self.report({"ERROR"}, str(error))
@@ -44,14 +52,17 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             return
         for warning in exported.warnings:
             self.report({"WARNING"}, warning)
+        render_result.add_passes(self)
         self._run(job, film.region, phases)
         phases.total = time.perf_counter() - started
         stats = render_stats.render_stats(
-            bpy.app.version_string, settings, job.stats(), phases, exported.sanitised
+            bpy.app.version_string, quality, settings, job.stats(), phases, exported.sanitised
         )
         line = render_stats.summary_line(stats)
         self.update_stats("", line)
         print(line)  # for the logs of headless and farm renders
+        # The evaluated scene is a copy; Python reads the original.
+        scene.original.whitted.last_stats = render_stats.to_json(stats)
         path = os.environ.get("WHITTED_STATS")
         if path:
             render_stats.write_json(path, stats)
@@ -62,10 +73,12 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         while True:
             finished = job.wait(POLL_SECONDS)
             write_started = time.perf_counter()
-            self._write_finished_tiles(job, region)
+            for tile in _clip_tiles(job.take_finished_tiles(), region):
+                render_result.write_tile(self, job, tile, region)
             phases.writeback += time.perf_counter() - write_started
             self.update_progress(job.progress)
-            self.update_stats("", _progress_line(job.stats(), time.perf_counter() - started))
+            seconds = time.perf_counter() - started
+            self.update_stats("", render_stats.progress_line(job.stats(), seconds))
             if finished:
                 break
             if self.test_break():
@@ -78,20 +91,6 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         phases.scene_bvh = native_stats["compile_seconds"]
         phases.trace = native_stats["trace_seconds"]
 
-    def _write_finished_tiles(self, job, region):
-        # Tile rows run bottom to top, as in Blender's render result. The fast path
-        # is foreach_set of C-contiguous float32 pixels, but `rect.foreach_set`
-        # wants shape (w*h, 4) in Blender 3.4 and a flat (w*h*4,) array in 5.0.
-        # `passes.foreach_set("rect", flat)` takes the flat array in both; it fills
-        # every pass in turn, and Whitted adds none, so the layer holds only Combined.
-        for x, y, width, height in _clip_tiles(job.take_finished_tiles(), region):
-            # The render result covers only the region (the render border), so
-            # its pixel (0, 0) is the region's corner.
-            result = self.begin_result(x - region[0], y - region[1], width, height)
-            pixels = job.tile(x, y, width, height).reshape(-1)  # a view, no copy
-            result.layers[0].passes.foreach_set("rect", pixels)
-            self.end_result(result)
-
 
 def _clip_tiles(tiles, region):
     """The parts of tiles (x, y, w, h) inside region (xmin, ymin, xmax, ymax)."""
@@ -101,28 +100,3 @@ def _clip_tiles(tiles, region):
         right, top = min(x + width, xmax), min(y + height, ymax)
         if left < right and bottom < top:
             yield left, bottom, right - left, top - bottom
-
-
-def _settings(native, scene, exported, film):
-    whitted = scene.whitted
-    return native.Settings(
-        width=exported.width,
-        height=exported.height,
-        border=film.region,
-        transparent_background=film.transparent_background,
-        max_depth=whitted.max_depth,
-        aa_samples=whitted.aa_samples,
-        # Blender's thread setting (Auto = all cores, or the -t command-line value).
-        threads=scene.render.threads,
-        tile_size=whitted.tile_size,
-        fresnel=getattr(native.Fresnel, whitted.fresnel),
-    )
-
-
-def _progress_line(stats, seconds):
-    rays = stats["rays"]["total"]
-    rate = rays / seconds / 1e6 if seconds > 0.0 else 0.0
-    return (
-        f"Whitted | {stats['threads']} threads | {rays / 1e6:.1f} M rays "
-        f"| {rate:.1f} M rays/s | {seconds:.1f} s"
-    )

@@ -1,11 +1,14 @@
-"""Render statistics: per-phase times and ray counts, for the status line and JSON.
+"""Render statistics: per-phase times, ray counts, samples and peak memory, for
+the status line and JSON.
 
 Headless and farm renders write them as JSON to the file named by the environment
-variable WHITTED_STATS (overwritten by each frame).
+variable WHITTED_STATS (overwritten by each frame); the last render's JSON is
+also kept in `scene.whitted.last_stats`.
 """
 
 import json
-from dataclasses import dataclass
+import resource
+from dataclasses import asdict, dataclass
 
 
 @dataclass
@@ -20,23 +23,26 @@ class PhaseTimes:
     total: float = 0.0  # the engine's render() call
 
 
-def render_stats(blender_version, settings, native_stats, phases, sanitised):
+def peak_memory_mib():
+    """Peak resident memory of this (Blender's) process so far, MiB (Linux: ru_maxrss
+    is in KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def render_stats(blender_version, quality, settings, native_stats, phases, sanitised):
     """One render's statistics as plain data (what WHITTED_STATS files hold).
 
-    `sanitised` counts the bad geometry the exporter dropped or repaired
-    (export.mesh.Sanitised as a dict: triangles and corner normals).
+    `quality` is the properties.presets.Quality rendered, `settings` the native
+    Settings (image size). `sanitised` counts the bad geometry the exporter
+    dropped or repaired (export.mesh.Sanitised as a dict: triangles and corner
+    normals).
     """
     rays = dict(native_stats["rays"])
     trace = phases.trace
+    pixels = native_stats["pixels"]
     return {
         "blender": blender_version,
-        "settings": {
-            "width": settings.width,
-            "height": settings.height,
-            "max_depth": settings.max_depth,
-            "aa_samples": settings.aa_samples,
-            "fresnel": settings.fresnel.name,
-        },
+        "settings": {"width": settings.width, "height": settings.height, **asdict(quality)},
         "threads": native_stats["threads"],
         "triangles": native_stats["triangles"],
         "instances": native_stats["instances"],
@@ -53,7 +59,18 @@ def render_stats(blender_version, settings, native_stats, phases, sanitised):
         "rays": rays,
         "rays_per_second": rays["total"] / trace if trace > 0.0 else 0.0,
         "total_internal_reflections": native_stats["total_internal_reflections"],
+        # Rays not traced: beyond the max depth, and with a weight below the cutoff.
         "depth_limited": native_stats["depth_limited"],
+        "cutoff_skipped": native_stats["cutoff"],
+        # Shadow feelers not sent, by reason (backfacing, unlit, below the cutoff).
+        "shadow_rays_skipped": dict(native_stats["shadow_rays_skipped"]),
+        # Which effects the scene analysis switched on, and why.
+        "effects": list(native_stats["effects"]),
+        # Camera samples; adaptive anti-aliasing takes a different number per pixel.
+        "samples": native_stats["samples"],
+        "pixels": pixels,
+        "samples_per_pixel": native_stats["samples"] / pixels if pixels else 0.0,
+        "peak_memory_mib": peak_memory_mib(),
         "nonfinite_samples": native_stats["nonfinite_samples"],
         "sanitised": dict(sanitised),
     }
@@ -66,11 +83,39 @@ def summary_line(stats):
         f"Whitted | {stats['settings']['width']}x{stats['settings']['height']} "
         f"in {p['total']:.2f} s (export {p['export']:.2f}, BVH "
         f"{p['mesh_bvh'] + p['scene_bvh']:.2f}, trace {p['trace']:.2f}, write-back "
-        f"{p['writeback']:.3f}) | {stats['rays']['total'] / 1e6:.2f} M rays, "
-        f"{stats['rays_per_second'] / 1e6:.1f} M rays/s on {stats['threads']} threads"
+        f"{p['writeback']:.3f}) | {_rays_line(stats['rays'])}, "
+        f"{stats['rays_per_second'] / 1e6:.1f} M rays/s on {stats['threads']} threads "
+        f"| {stats['samples_per_pixel']:.1f} samples/px | cut: depth {stats['depth_limited']}, "
+        f"cutoff {stats['cutoff_skipped']} | TIR {stats['total_internal_reflections']} "
+        f"| peak {stats['peak_memory_mib']:.0f} MiB"
     )
+
+
+def progress_line(native_stats, seconds):
+    """The status line while rendering: rays so far, their rate, samples per pixel."""
+    rays = native_stats["rays"]["total"]
+    rate = rays / seconds / 1e6 if seconds > 0.0 else 0.0
+    pixels = native_stats["pixels"]
+    per_pixel = native_stats["samples"] / pixels if pixels else 0.0
+    return (
+        f"Whitted | {native_stats['threads']} threads | {rays / 1e6:.1f} M rays "
+        f"| {rate:.1f} M rays/s | {per_pixel:.1f} samples/px | {seconds:.1f} s "
+        f"| peak {peak_memory_mib():.0f} MiB"
+    )
+
+
+def _rays_line(rays):
+    return (
+        f"{rays['total'] / 1e6:.2f} M rays (camera {rays['camera'] / 1e6:.2f}, shadow "
+        f"{rays['shadow'] / 1e6:.2f}, reflection {rays['reflection'] / 1e6:.2f}, refraction "
+        f"{rays['refraction'] / 1e6:.2f}, transparent {rays['transparent'] / 1e6:.2f})"
+    )
+
+
+def to_json(stats):
+    return json.dumps(stats, indent=2)
 
 
 def write_json(path, stats):
     with open(path, "w", encoding="utf-8") as out:
-        json.dump(stats, out, indent=2)
+        out.write(to_json(stats))

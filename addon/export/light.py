@@ -27,7 +27,8 @@ from .instance import instance_name
 
 Vector = tuple[float, float, float]
 
-# Shadow feelers per axis of a sized light whose own setting is 0 (4 x 4).
+# Shadow feelers per axis of a sized light whose own setting is 0 (4 x 4), unless
+# the scene says otherwise (scene.whitted.light_samples).
 DEFAULT_LIGHT_SAMPLES = 4
 
 # Radiance of an area light per watt and square metre of its area (see above).
@@ -65,8 +66,11 @@ class LightData:
     cast_shadows: bool = True
 
 
-def convert_lights(depsgraph, warnings):
-    """Every renderable light of the evaluated depsgraph, instances included."""
+def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
+    """Every renderable light of the evaluated depsgraph, instances included.
+
+    `default_samples` (per axis) is used by a sized light whose own setting is 0
+    (the scene's `scene.whitted.light_samples`)."""
     lights = []
     for object_instance in depsgraph.object_instances:
         obj = object_instance.object
@@ -81,7 +85,9 @@ def convert_lights(depsgraph, warnings):
         if not np.all(scale > 0.0):
             warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
             continue
-        light = _convert_light(name, obj.data, matrix[:3, 3], axes / scale, scale, warnings)
+        light = _convert_light(
+            name, obj.data, matrix[:3, 3], axes / scale, scale, default_samples, warnings
+        )
         if light is not None:
             lights.append(light)
     return lights
@@ -97,7 +103,7 @@ def shadow_switch(light):
     return light, "use_shadow"
 
 
-def _convert_light(name, light, position, unit_axes, scale, warnings):
+def _convert_light(name, light, position, unit_axes, scale, default_samples, warnings):
     owner, switch = shadow_switch(light)
     common = {
         "name": name,
@@ -127,7 +133,7 @@ def _convert_light(name, light, position, unit_axes, scale, warnings):
         return LightData(
             color=tuple(light.energy * watts_to_intensity * c for c in color),
             radius=radius,
-            samples=_samples(light, sized=radius > 0.0),
+            samples=_samples(light, default_samples, sized=radius > 0.0),
             **common,
         )
     if light.type == "SUN":
@@ -139,7 +145,7 @@ def _convert_light(name, light, position, unit_axes, scale, warnings):
         return LightData(
             color=tuple(irradiance * c for c in color),
             angle=angle,
-            samples=_samples(light, sized=angle > 0.0),
+            samples=_samples(light, default_samples, sized=angle > 0.0),
             **common,
         )
     if light.type == "AREA":
@@ -166,19 +172,19 @@ def _convert_light(name, light, position, unit_axes, scale, warnings):
             axis_u=tuple(unit_axes[:, 0]),
             axis_v=tuple(unit_axes[:, 1]),
             shape=shape,
-            samples=_samples(light, sized=True),
+            samples=_samples(light, default_samples, sized=True),
             **common,
         )
     warnings.append(f"Whitted: light '{name}' is of type {light.type}, which Whitted skips")
     return None
 
 
-def _samples(light, sized):
-    """Shadow feelers per axis: the light's own setting (0: the default) when it
-    has a size, one when it is a point."""
+def _samples(light, default_samples, sized):
+    """Shadow feelers per axis: the light's own setting (0: `default_samples`) when
+    it has a size, one when it is a point."""
     if not sized:
         return 1
-    return light.whitted.samples or DEFAULT_LIGHT_SAMPLES
+    return light.whitted.samples or default_samples
 
 
 def _light_color(light):

@@ -53,7 +53,8 @@ def convert_scene(depsgraph, native):
     }
     # The textures the materials name, each image read once.
     specs = {spec.name: spec for m in materials.values() for spec in m.textures}
-    for name, texture in convert_textures(specs, warnings).items():
+    whitted = blender_scene.whitted
+    for name, texture in convert_textures(specs, warnings, whitted.texture_filter).items():
         scene.set_texture(name, _native_texture(native, texture))
     for name, material in materials.items():
         scene.set_material(name, native.Material(**asdict(material.data)))
@@ -80,17 +81,12 @@ def convert_scene(depsgraph, native):
             holdout=instance.holdout,
         )
 
-    lights = convert_lights(depsgraph, warnings)
-    for light in lights:
-        fields = asdict(light)
-        name = fields.pop("name")
-        fields["type"] = getattr(native.LightType, light.type)
-        fields["shape"] = getattr(native.AreaShape, light.shape)
-        scene.set_light(name, native.Light(**fields))
+    lights = convert_lights(depsgraph, warnings, whitted.light_samples)
+    set_lights(scene, lights, native)
     if not lights:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
 
-    world = convert_world(blender_scene.world, blender_scene.whitted.ambient_strength, warnings)
+    world = convert_world(blender_scene.world, whitted.ambient_strength, warnings)
     scene.background = world.background
     scene.ambient = world.ambient
 
@@ -101,6 +97,16 @@ def convert_scene(depsgraph, native):
         warnings=warnings,
         sanitised=asdict(exported.sanitised),
     )
+
+
+def set_lights(scene, lights, native):
+    """Add (or replace, by name) export.light.LightData `lights` in native `scene`."""
+    for light in lights:
+        fields = asdict(light)
+        name = fields.pop("name")
+        fields["type"] = getattr(native.LightType, light.type)
+        fields["shape"] = getattr(native.AreaShape, light.shape)
+        scene.set_light(name, native.Light(**fields))
 
 
 def _native_visibility(native, visibility):

@@ -140,9 +140,13 @@ def texture_coordinates(node, default, owner, warnings):
     return default, ""
 
 
-def convert_textures(specs, warnings):
+def convert_textures(specs, warnings, texture_filter="AUTHORED"):
     """Texture name -> ImageTextureData or CheckerTextureSpec (the checker needs no
-    data of its own), reading each image's pixels once."""
+    data of its own), reading each image's pixels once.
+
+    `texture_filter` (scene.whitted.texture_filter) is AUTHORED, each node's own
+    interpolation, or CLOSEST, which overrides them all.
+    """
     pixels_by_image = {}
     textures = {}
     for name, spec in specs.items():
@@ -154,7 +158,7 @@ def convert_textures(specs, warnings):
             pixels_by_image[key] = image_pixels(spec.image, warnings)
         textures[name] = ImageTextureData(
             pixels=pixels_by_image[key],
-            interpolation=spec.interpolation,
+            interpolation=spec.interpolation if texture_filter == "AUTHORED" else texture_filter,
             extension=spec.extension,
             coordinates=spec.coordinates,
         )

@@ -8,7 +8,7 @@ class WhittedLightProperties(bpy.types.PropertyGroup):
     samples: IntProperty(
         name="Shadow Samples",
         description="Shadow feelers per axis for a light with a size (area, radius or angle): "
-        "n x n stratified feelers per shading point; 0 uses the default (4). "
+        "n x n stratified feelers per shading point; 0 uses the scene's Shadow Samples. "
         "A light of size 0 always sends one",
         default=0,
         min=0,

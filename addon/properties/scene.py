@@ -1,7 +1,28 @@
-"""Render settings stored on each scene as `scene.whitted`."""
+"""Render settings stored on each scene as `scene.whitted`.
+
+The quality controls are the fields of properties.presets.Quality; the
+presets set them all at once (operators.WHITTED_OT_apply_preset).
+"""
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import (
+    CollectionProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+
+from ..export.light import DEFAULT_LIGHT_SAMPLES
+
+
+class WhittedEstimate(bpy.types.PropertyGroup):
+    """One preset's predicted full-resolution render time (the Estimate button)."""
+
+    preset: StringProperty(name="Preset", description="Key of the preset")
+    seconds: FloatProperty(name="Seconds", description="Predicted render time", unit="TIME")
+    rays_per_pixel: FloatProperty(name="Rays per Pixel", description="Measured on the probe")
 
 
 class WhittedSceneProperties(bpy.types.PropertyGroup):
@@ -13,12 +34,53 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         min=0,
         max=256,
     )
+    aa_mode: EnumProperty(
+        name="Anti-Aliasing",
+        description="Where a pixel's camera samples go",
+        items=(
+            ("REGULAR", "Regular", "An n x n regular grid of samples per pixel"),
+            ("JITTERED", "Jittered", "An n x n grid with each sample moved at random in its cell"),
+            (
+                "ADAPTIVE",
+                "Adaptive",
+                "The pixel's corners; a square is split in four while its corners differ by "
+                "more than the threshold, up to the depth (Whitted 1980)",
+            ),
+        ),
+        default="REGULAR",
+    )
     aa_samples: IntProperty(
         name="AA Samples",
-        description="Anti-aliasing samples per pixel along each axis (an n x n grid)",
+        description="Anti-aliasing samples per pixel along each axis (an n x n grid); "
+        "regular and jittered",
         default=2,
         min=1,
         max=16,
+    )
+    aa_threshold: FloatProperty(
+        name="AA Threshold",
+        description="Adaptive: split a square when its corners differ by more than this "
+        "(sum over R, G, B of the spread of the values clamped to [0, 1])",
+        default=0.3,
+        min=0.0,
+        max=3.0,
+        precision=3,
+    )
+    aa_depth: IntProperty(
+        name="AA Depth",
+        description="Adaptive: how many times a square may be split (at most "
+        "(2^depth + 1)^2 samples per pixel)",
+        default=3,
+        min=0,
+        max=6,
+    )
+    light_samples: IntProperty(
+        name="Shadow Samples",
+        description="Shadow feelers per axis (n x n) of a sized light (area, radius or "
+        "angle) whose own Shadow Samples are 0",
+        default=DEFAULT_LIGHT_SAMPLES,
+        min=1,
+        max=64,
     )
     fresnel: EnumProperty(
         name="Fresnel",
@@ -29,6 +91,24 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
             ("EXACT", "Exact", "The exact dielectric Fresnel equations"),
         ),
         default="EXACT",
+    )
+    cutoff: FloatProperty(
+        name="Cutoff",
+        description="Adaptive depth control: a reflected or refracted ray whose weight on "
+        "the pixel is below this is not traced; 0 traces every ray up to the max depth",
+        default=1.0 / 255.0,
+        min=0.0,
+        max=1.0,
+        precision=4,
+    )
+    texture_filter: EnumProperty(
+        name="Texture Filter",
+        description="How image textures are sampled",
+        items=(
+            ("AUTHORED", "As Authored", "Each Image Texture node's interpolation"),
+            ("CLOSEST", "Closest", "The closest texel everywhere (cheaper, blocky)"),
+        ),
+        default="AUTHORED",
     )
     ambient_strength: FloatProperty(
         name="Ambient Strength",
@@ -44,6 +124,22 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         default=32,
         min=8,
         max=4096,
+    )
+    last_stats: StringProperty(
+        name="Last Render Statistics",
+        description="JSON statistics of the last Whitted render of this scene "
+        "(the same as the WHITTED_STATS file)",
+        default="",
+    )
+    estimates: CollectionProperty(
+        type=WhittedEstimate,
+        name="Estimates",
+        description="Predicted full-resolution render time of each preset (Estimate button)",
+    )
+    estimate_probe: StringProperty(
+        name="Estimate Probe",
+        description="The probe the estimates were extrapolated from",
+        default="",
     )
 
     @classmethod

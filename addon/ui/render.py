@@ -1,10 +1,14 @@
-"""The Whitted panel in Render Properties."""
+"""The Whitted panels in Render Properties: quality (presets and controls), the
+render-time estimate of each preset, and the last render's statistics."""
+
+import json
 
 import bpy
 
+from ..properties.presets import PRESETS, matching_preset, preset_label
 
-class WHITTED_RENDER_PT_settings(bpy.types.Panel):
-    bl_label = "Whitted"
+
+class _WhittedRenderPanel:
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "render"
@@ -14,18 +18,82 @@ class WHITTED_RENDER_PT_settings(bpy.types.Panel):
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
 
+
+class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
+    bl_label = "Whitted"
+
     def draw(self, context):
         layout = self.layout
+        settings = context.scene.whitted
+        current = matching_preset(settings)
+        layout.label(text=f"Quality: {preset_label(current) if current else 'Custom'}")
+        row = layout.row(align=True)
+        for key, label, _, _ in PRESETS:
+            row.operator("whitted.apply_preset", text=label, depress=key == current).preset = key
         layout.use_property_split = True
         layout.use_property_decorate = False
-        settings = context.scene.whitted
         column = layout.column()
         column.prop(settings, "max_depth")
-        column.prop(settings, "aa_samples")
+        column.prop(settings, "cutoff")
+        column.prop(settings, "aa_mode")
+        if settings.aa_mode == "ADAPTIVE":
+            column.prop(settings, "aa_threshold")
+            column.prop(settings, "aa_depth")
+        else:
+            column.prop(settings, "aa_samples")
+        column.prop(settings, "light_samples")
         column.prop(settings, "fresnel")
+        column.prop(settings, "texture_filter")
         column.prop(settings, "ambient_strength")
         column.prop(settings, "tile_size")
         column.prop(context.scene.render, "threads_mode")
         row = column.row()
         row.enabled = context.scene.render.threads_mode == "FIXED"
         row.prop(context.scene.render, "threads")
+
+
+class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
+    bl_label = "Render Time Estimate"
+    bl_parent_id = "WHITTED_RENDER_PT_settings"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.whitted
+        layout.operator("whitted.estimate", icon="TIME")
+        if not settings.estimates:
+            return
+        layout.label(text=settings.estimate_probe)
+        for estimate in settings.estimates:
+            row = layout.row()
+            row.label(text=preset_label(estimate.preset))
+            row.label(text=f"{estimate.seconds:.2f} s")
+            row.label(text=f"{estimate.rays_per_pixel:.0f} rays/px")
+
+
+class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
+    bl_label = "Last Render"
+    bl_parent_id = "WHITTED_RENDER_PT_settings"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        text = context.scene.whitted.last_stats
+        if not text:
+            layout.label(text="No Whitted render of this scene yet")
+            return
+        stats = json.loads(text)
+        rays = stats["rays"]
+        phases = stats["phases"]
+        column = layout.column(align=True)
+        for line in (
+            f"{phases['total']:.2f} s: export {phases['export']:.2f}, BVH "
+            f"{phases['mesh_bvh'] + phases['scene_bvh']:.2f}, trace {phases['trace']:.2f}, "
+            f"write-back {phases['writeback']:.3f}",
+            f"{rays['total']:,} rays, {stats['rays_per_second'] / 1e6:.1f} M rays/s",
+            f"camera {rays['camera']:,}, shadow {rays['shadow']:,}",
+            f"reflection {rays['reflection']:,}, refraction {rays['refraction']:,}",
+            f"transparent {rays['transparent']:,}, TIR {stats['total_internal_reflections']:,}",
+            f"cut by depth {stats['depth_limited']:,}, by cutoff {stats['cutoff_skipped']:,}",
+            f"{stats['samples_per_pixel']:.2f} samples/px, peak {stats['peak_memory_mib']:.0f} MiB",
+        ):
+            column.label(text=line)

@@ -1,8 +1,12 @@
-"""Render statistics: the WHITTED_STATS JSON a headless or farm render writes."""
+"""Render statistics and the cost pass: the WHITTED_STATS JSON a headless or farm
+render writes, scene.whitted.last_stats, and the "Whitted Rays" render pass."""
 
 import json
 
+import bpy
+import numpy as np
 import pytest
+from whitted import result
 
 WIDTH, HEIGHT = 64, 48
 
@@ -28,8 +32,14 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "width": WIDTH,
         "height": HEIGHT,
         "max_depth": 4,
+        "aa_mode": "REGULAR",
         "aa_samples": 2,
+        "aa_threshold": pytest.approx(0.3),
+        "aa_depth": 3,
+        "light_samples": 4,
         "fresnel": "EXACT",
+        "cutoff": pytest.approx(1.0 / 255.0),
+        "texture_filter": "AUTHORED",
     }
     rays = stats["rays"]
     assert rays["camera"] == WIDTH * HEIGHT * 4
@@ -37,7 +47,16 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
     assert rays["reflection"] > 0
     assert rays["refraction"] > 0
     assert rays["shadow"] > rays["camera"]
-    assert rays["total"] == sum(rays[k] for k in ("camera", "shadow", "reflection", "refraction"))
+    assert rays["transparent"] == 0  # nothing has alpha
+    kinds = ("camera", "shadow", "reflection", "refraction", "transparent")
+    assert rays["total"] == sum(rays[k] for k in kinds)
+    assert stats["total_internal_reflections"] > 0  # light trapped in the glass sphere
+    assert stats["depth_limited"] > 0
+    assert stats["cutoff_skipped"] >= 0
+    assert stats["samples"] == rays["camera"]
+    assert stats["pixels"] == WIDTH * HEIGHT
+    assert stats["samples_per_pixel"] == 4.0
+    assert stats["peak_memory_mib"] > 10.0
     phases = stats["phases"]
     assert all(phases[k] >= 0.0 for k in phases)
     assert phases["trace"] > 0.0
@@ -46,3 +65,57 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
     assert stats["nonfinite_samples"] == 0
     assert stats["cancelled"] is False
     assert stats["lights"] == 2
+    # The same statistics stay on the scene for Python after the render.
+    assert json.loads(demo.whitted.last_stats) == stats
+
+
+def test_last_stats_without_the_environment_variable(demo, render_pixels, monkeypatch):
+    monkeypatch.delenv("WHITTED_STATS", raising=False)
+    assert demo.whitted.last_stats == ""
+    render_pixels(demo)
+    stats = json.loads(demo.whitted.last_stats)
+    assert stats["settings"]["width"] == WIDTH
+    assert stats["rays"]["total"] > 0
+
+
+def test_cost_pass_holds_the_rays_of_each_pixel(demo, render_pixels, monkeypatch):
+    # Read every pass back from Blender's render result right after writing it
+    # (Blender 3.4 cannot read the Render Result image from Python).
+    read_back = {}
+    write = result._set_pass
+
+    def write_and_read_back(render_pass, pixels):
+        write(render_pass, pixels)
+        back = np.empty(pixels.size if result.FLAT_RECT else pixels.shape, dtype=np.float32)
+        render_pass.rect.foreach_get(back)
+        read_back.setdefault(render_pass.name, []).append(back.reshape(pixels.shape))
+
+    monkeypatch.setattr(result, "_set_pass", write_and_read_back)
+    render_pixels(demo)
+    stats = json.loads(demo.whitted.last_stats)
+    assert sorted(read_back) == ["Combined", result.COST_PASS]
+    rays = np.concatenate(read_back[result.COST_PASS])
+    assert rays.shape == (WIDTH * HEIGHT, 1)
+    # Every ray of the render is in some pixel; each pixel traced its 4 camera rays.
+    assert rays.sum() == stats["rays"]["total"]
+    assert rays.min() >= 4.0
+    assert rays.max() > 4.0 * 10  # the glass and the mirror cost more
+    combined = np.concatenate(read_back["Combined"])
+    assert combined.shape == (WIDTH * HEIGHT, 4)
+    assert np.all(combined[:, 3] == 1.0)  # the colour pass is not overwritten by the cost
+
+
+@pytest.mark.skipif(
+    bpy.app.version >= (5, 0, 0),
+    reason="observed: bpy 5.0 writes only the Combined pass into a multilayer EXR",
+)
+def test_cost_pass_is_saved_in_a_multilayer_exr(demo, tmp_path):
+    demo.render.engine = "WHITTED"
+    settings = demo.render.image_settings
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.color_depth = "32"
+    demo.render.filepath = str(tmp_path / "passes.exr")
+    bpy.ops.render.render(write_still=True)
+    assert (tmp_path / "passes.exr").stat().st_size > 0
+    text = (tmp_path / "passes.exr").read_bytes()[:4096]
+    assert f"{result.COST_PASS}.X".encode() in text  # the channel list is in the header

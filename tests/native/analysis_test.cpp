@@ -117,6 +117,30 @@ TEST(Analysis, CutoffPrunesWithinItsBound) {
   }
 }
 
+// Pruning judges a sized light as a whole: more soft-shadow samples never let more of
+// its shadow be skipped (each feeler carries 1/n^2 of the light).
+TEST(Analysis, MoreShadowSamplesNeverFadeTheShadow) {
+  Scene scene = diffuse_scene();
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(0.4f);  // dim: a single feeler's share is far below the cutoff
+  area.position = Vec3(0.0f, 0.0f, 3.0f);
+  area.size[0] = area.size[1] = 2.0f;
+  scene.remove_light("key");
+  scene.remove_light("spot");
+  for (int n : {1, 4, 8}) {
+    area.samples = n;
+    scene.set_light("area", area);
+    const Result pruned = render(scene, true);
+    const Result forced = render(scene, false);
+    double worst = 0.0;
+    for (size_t i = 0; i < pruned.pixels.size(); ++i) {
+      worst = std::max(worst, std::fabs(double(pruned.pixels[i]) - forced.pixels[i]));
+    }
+    EXPECT_LE(worst, 1.0 / 255.0 + 1e-6) << n << "x" << n << " samples";
+  }
+}
+
 TEST(Analysis, OneGlassObjectRefractsOnlyThroughIt) {
   Scene scene = diffuse_scene();
   Material glass;

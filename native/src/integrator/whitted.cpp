@@ -198,8 +198,11 @@ class Kernel {
           continue;
         }
         if constexpr (has(kPruningEffect)) {
-          // Lit or not, this light cannot change the pixel by more than the cutoff.
-          if (max_component(weight * contribution) < settings_.cutoff) {
+          // Lit or not, this light cannot change the pixel by more than the cutoff. The
+          // whole light is judged, not this feeler's share of it: otherwise more samples
+          // would each fall below the cutoff and soft shadows would fade.
+          const float whole_light = static_cast<float>(light.sample_count());
+          if (max_component(weight * contribution) * whole_light < settings_.cutoff) {
             counts->shadow_cutoff += 1;
             radiance += contribution;
             continue;

@@ -1,0 +1,54 @@
+"""Operators of the Render Properties panel: apply a preset, estimate render times."""
+
+import bpy
+from bpy.props import EnumProperty
+
+from .estimate import estimate_presets
+from .export import ExportError
+from .native import load_native
+from .properties.presets import PRESETS, apply_quality, preset
+
+
+class WHITTED_OT_apply_preset(bpy.types.Operator):
+    bl_idname = "whitted.apply_preset"
+    bl_label = "Apply Quality Preset"
+    bl_description = "Set every Whitted quality control to the preset's value"
+    bl_options = {"REGISTER", "UNDO"}
+
+    preset: EnumProperty(
+        name="Preset",
+        items=[(key, label, description) for key, label, description, _ in PRESETS],
+    )
+
+    def execute(self, context):
+        apply_quality(context.scene.whitted, preset(self.preset))
+        return {"FINISHED"}
+
+
+class WHITTED_OT_estimate(bpy.types.Operator):
+    bl_idname = "whitted.estimate"
+    bl_label = "Estimate"
+    bl_description = (
+        "Render a low-resolution probe of the scene with each preset and predict the "
+        "full-resolution render time of each"
+    )
+
+    def execute(self, context):
+        try:
+            native = load_native()
+            probe, full, estimates = estimate_presets(context.evaluated_depsgraph_get(), native)
+        except (ImportError, ExportError) as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        except (ValueError, RuntimeError) as error:
+            self.report({"ERROR"}, f"Whitted: the renderer refused the scene: {error}")
+            return {"CANCELLED"}
+        whitted = context.scene.whitted
+        whitted.estimates.clear()
+        for estimate in estimates:
+            item = whitted.estimates.add()
+            item.preset = estimate.preset
+            item.seconds = estimate.seconds
+            item.rays_per_pixel = estimate.rays_per_pixel
+        whitted.estimate_probe = f"{probe[0]}x{probe[1]} probe, extrapolated to {full[0]}x{full[1]}"
+        return {"FINISHED"}

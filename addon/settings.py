@@ -1,0 +1,29 @@
+"""The native render settings of a render: scene.whitted's quality and Blender's film."""
+
+from .properties.presets import quality_of
+
+
+def native_settings(native, scene, width, height, film, quality=None):
+    """whitted_native.Settings for `scene` at `width` x `height` pixels.
+
+    `film` is export.film.FilmData (border, transparent sky); `quality` is a
+    properties.presets.Quality, by default the one scene.whitted holds.
+    """
+    whitted = scene.whitted
+    quality = quality or quality_of(whitted)
+    return native.Settings(
+        width=width,
+        height=height,
+        border=film.region,
+        transparent_background=film.transparent_background,
+        max_depth=quality.max_depth,
+        aa_mode=getattr(native.AntiAliasing, quality.aa_mode),
+        aa_samples=quality.aa_samples,
+        aa_threshold=quality.aa_threshold,
+        aa_depth=quality.aa_depth,
+        cutoff=quality.cutoff,
+        fresnel=getattr(native.Fresnel, quality.fresnel),
+        # Blender's thread setting (Auto = all cores, or the -t command-line value).
+        threads=scene.render.threads,
+        tile_size=whitted.tile_size,
+    )
