@@ -59,8 +59,11 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             bpy.app.version_string, quality, settings, job.stats(), phases, exported.sanitised
         )
         line = render_stats.summary_line(stats)
+        effects = render_stats.effects_line(stats)
         self.update_stats("", line)
+        self.report({"INFO"}, effects)
         print(line)  # for the logs of headless and farm renders
+        print(effects)
         # The evaluated scene is a copy; Python reads the original.
         scene.original.whitted.last_stats = render_stats.to_json(stats)
         path = os.environ.get("WHITTED_STATS")

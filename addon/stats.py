@@ -91,6 +91,32 @@ def summary_line(stats):
     )
 
 
+def effects_line(stats):
+    """What the render simulated and what it skipped, and why, in one line.
+
+    From the native scene analysis ("refraction: off, no transmissive material") and the
+    shadow feelers not sent, by reason.
+    """
+    simulated = []
+    skipped = []
+    for reason in stats["effects"]:
+        name, rest = reason.split(": ", 1)
+        state, why = rest.split(", ", 1)
+        (simulated if state == "on" else skipped).append(f"{name} ({why})")
+    feelers = stats["shadow_rays_skipped"]
+    considered = stats["rays"]["shadow"] + sum(feelers.values())
+
+    def share(count):
+        return f"{count / considered:.0%}" if considered else "0%"
+
+    return (
+        f"Whitted simulated: {', '.join(simulated) or 'nothing'} | skipped: "
+        f"{', '.join(skipped) or 'nothing'} | shadow rays: {share(sum(feelers.values()))} "
+        f"skipped (light behind surface {share(feelers['backfacing'])}, no light arrives "
+        f"{share(feelers['unlit'])}, below cutoff {share(feelers['cutoff'])})"
+    )
+
+
 def progress_line(native_stats, seconds):
     """The status line while rendering: rays so far, their rate, samples per pixel."""
     rays = native_stats["rays"]["total"]

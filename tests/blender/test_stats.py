@@ -6,6 +6,7 @@ import json
 import bpy
 import numpy as np
 import pytest
+import whitted.stats
 from whitted import result
 
 WIDTH, HEIGHT = 64, 48
@@ -119,3 +120,31 @@ def test_cost_pass_is_saved_in_a_multilayer_exr(demo, tmp_path):
     assert (tmp_path / "passes.exr").stat().st_size > 0
     text = (tmp_path / "passes.exr").read_bytes()[:4096]
     assert f"{result.COST_PASS}.X".encode() in text  # the channel list is in the header
+
+
+def test_each_render_states_what_it_simulated_and_skipped(
+    demo, render_pixels, tmp_path, monkeypatch
+):
+    path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(path))
+    # Make the demo diffuse only: no glass, no mirror.
+    for name in ("Glass", "Mirror"):
+        principled = next(
+            n
+            for n in bpy.data.materials[name].node_tree.nodes
+            if n.bl_idname == "ShaderNodeBsdfPrincipled"
+        )
+        for socket in ("Metallic", "Transmission Weight", "Transmission"):
+            if socket in principled.inputs:
+                principled.inputs[socket].default_value = 0.0
+    render_pixels(demo)
+    stats = json.loads(path.read_text())
+    assert "refraction: off, no transmissive material" in stats["effects"]
+    assert "reflection: off, no reflective or transmissive material" in stats["effects"]
+    assert stats["rays"]["reflection"] == 0
+    assert stats["rays"]["refraction"] == 0
+    line = whitted.stats.effects_line(stats)
+    assert "skipped: reflection (no reflective or transmissive material)" in line
+    assert "shadows (lights cast shadows)" in line
+    # Points facing away from one of the two lights send it no feeler.
+    assert stats["shadow_rays_skipped"]["backfacing"] > 0
