@@ -3,13 +3,14 @@
 The scene is exported once; each preset then renders the whole frame at
 1/PROBE_DIVISOR of the resolution (in this process, with the native module).
 The probe gives rays per pixel and rays per second; the prediction is
-
     export + BVH time (as measured) + rays per pixel * pixels / rays per second
-
-so it assumes rays per pixel and the ray rate do not change with resolution.
-Adaptive anti-aliasing breaks the first assumption a little: a low-resolution
-pixel covers more edges, so it splits more often (docs/ACCURACY_COST.md gives
-the measured error).
+with the probe's rays per pixel carried to full resolution: unchanged for grid
+anti-aliasing, and for adaptive anti-aliasing the splits along edges scaled by
+the probe's side over the full side (edges are curves: a probe pixel meets more
+of them). A probe lasts milliseconds, so thread start-up and a cold cache would
+dominate its time: one warm-up render runs first, and each probe repeats until
+it has traced for MIN_PROBE_SECONDS, keeping its fastest rate.
+docs/ACCURACY_COST.md gives the measured error of the prediction.
 """
 
 import time
@@ -24,10 +25,15 @@ from .settings import native_settings
 PROBE_DIVISOR = 8
 # A probe narrower than this is not one (the whole frame when it is smaller).
 MIN_PROBE_WIDTH = 80
-# Small tiles keep every thread busy on the small probe.
-PROBE_TILE_SIZE = 16
+# Small tiles keep every thread busy on the small probe: with few large tiles one
+# expensive tile (glass) leaves the other threads idle and the rate looks halved.
+PROBE_TILE_SIZE = 4
 # How long one poll of a probe job waits.
 POLL_SECONDS = 0.1
+# Trace time a probe gathers (over repeats) before its ray rate is trusted.
+MIN_PROBE_SECONDS = 0.1
+# Repeats of one probe at most, however fast it is.
+MAX_PROBE_REPEATS = 20
 
 
 @dataclass(frozen=True)
@@ -63,20 +69,53 @@ def estimate_presets(depsgraph, native):
         set_lights(exported.scene, convert_lights(depsgraph, [], quality.light_samples), native)
         settings = native_settings(native, scene, width, height, probe_film, quality)
         settings.tile_size = PROBE_TILE_SIZE
-        stats = _render(native.RenderJob(exported.scene, settings))
-        rays = stats["rays"]["total"]
-        rays_per_pixel = rays / (width * height)
-        rays_per_second = rays / stats["trace_seconds"] if stats["trace_seconds"] > 0 else 0.0
+        stats, rays_per_second = _probe(native, exported.scene, settings)
+        rays_per_pixel = _full_resolution_rays_per_pixel(
+            native, settings, stats, width * height, width / exported.width
+        )
+        compile_seconds = stats["compile_seconds"]
         trace = rays_per_pixel * pixels / rays_per_second if rays_per_second > 0 else 0.0
         estimates.append(
             Estimate(
                 preset=key,
-                seconds=export_seconds + stats["compile_seconds"] + trace,
+                seconds=export_seconds + compile_seconds + trace,
                 rays_per_pixel=rays_per_pixel,
                 rays_per_second=rays_per_second,
             )
         )
     return (width, height), (xmax - xmin, ymax - ymin), estimates
+
+
+def _probe(native, scene, settings):
+    """(statistics, fastest rays per second) of the probe render, after a warm-up and
+    over enough repeats to have traced for MIN_PROBE_SECONDS."""
+    _render(native.RenderJob(scene, settings))  # warm-up: threads, caches
+    traced = 0.0
+    rates = []
+    for _ in range(MAX_PROBE_REPEATS):
+        stats = _render(native.RenderJob(scene, settings))
+        rays = stats["rays"]["total"]
+        if stats["trace_seconds"] > 0.0:
+            rates.append(rays / stats["trace_seconds"])
+        traced += stats["trace_seconds"]
+        if traced >= MIN_PROBE_SECONDS:
+            break
+    return stats, max(rates, default=0.0)
+
+
+def _full_resolution_rays_per_pixel(native, settings, stats, probe_pixels, scale):
+    """Rays per pixel the full-resolution render will trace, from the probe's.
+
+    Grid anti-aliasing takes the same samples per pixel at any resolution. Adaptive
+    anti-aliasing takes 4 corner samples per pixel plus splits along edges; edges are
+    curves, so the share of pixels they cross shrinks with the resolution's side (a
+    probe pixel, 1/scale full pixels wide, meets 1/scale times as many edges).
+    """
+    rays_per_sample = stats["rays"]["total"] / stats["samples"] if stats["samples"] else 0.0
+    samples_per_pixel = stats["samples"] / probe_pixels
+    if settings.aa_mode == native.AntiAliasing.ADAPTIVE:
+        samples_per_pixel = 4.0 + max(0.0, samples_per_pixel - 4.0) * scale
+    return samples_per_pixel * rays_per_sample
 
 
 def _render(job):

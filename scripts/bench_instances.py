@@ -95,6 +95,10 @@ def build_scene(scene, count, resolution):
     import bpy
     import numpy as np
 
+    # The geometry-nodes tree the tests use too (as scripts/gallery.py shares scenes).
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "tests", "blender"))
+    import node_trees
+
     side = math.ceil(math.sqrt(count))
     spacing = 1.0
     u = (np.arange(side) - (side - 1) / 2.0) * spacing
@@ -106,7 +110,8 @@ def build_scene(scene, count, resolution):
     mesh.vertices.foreach_set("co", points.astype(np.float32).reshape(-1))
     scatter = bpy.data.objects.new("Scatter", mesh)
     scene.collection.objects.link(scatter)
-    scatter.modifiers.new("Scatter", "NODES").node_group = scatter_tree()
+    tree = node_trees.ico_sphere_on_points("Scatter", radius=0.4, subdivisions=ICO_SUBDIVISIONS)
+    scatter.modifiers.new("Scatter", "NODES").node_group = tree
 
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     camera.data.type = "ORTHO"
@@ -122,29 +127,6 @@ def build_scene(scene, count, resolution):
     scene.render.resolution_x = scene.render.resolution_y = resolution
     scene.render.resolution_percentage = 100
     scene.whitted.aa_samples = 1
-
-
-def scatter_tree():
-    """Geometry nodes: an ico sphere instanced on every point of the mesh."""
-    import bpy
-
-    tree = bpy.data.node_groups.new("Scatter", "GeometryNodeTree")
-    if hasattr(tree, "interface"):  # Blender 4.0+
-        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        tree.inputs.new("NodeSocketGeometry", "Geometry")
-        tree.outputs.new("NodeSocketGeometry", "Geometry")
-    group_input = tree.nodes.new("NodeGroupInput")
-    group_output = tree.nodes.new("NodeGroupOutput")
-    instance_on_points = tree.nodes.new("GeometryNodeInstanceOnPoints")
-    ico_sphere = tree.nodes.new("GeometryNodeMeshIcoSphere")
-    ico_sphere.inputs["Radius"].default_value = 0.4
-    ico_sphere.inputs["Subdivisions"].default_value = ICO_SUBDIVISIONS
-    tree.links.new(group_input.outputs[0], instance_on_points.inputs["Points"])
-    tree.links.new(ico_sphere.outputs["Mesh"], instance_on_points.inputs["Instance"])
-    tree.links.new(instance_on_points.outputs["Instances"], group_output.inputs[0])
-    return tree
 
 
 if __name__ == "__main__":

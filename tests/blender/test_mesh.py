@@ -5,6 +5,7 @@ import bpy
 # isort: split
 # Blender as a Python module makes bmesh importable only after bpy.
 import bmesh
+import node_trees
 import numpy as np
 import pytest
 from whitted.export.mesh import DEFAULT_MATERIAL, convert_meshes
@@ -175,20 +176,7 @@ def test_geometry_nodes_instances_share_one_mesh(empty_scene, warnings):
         "Grid", lambda bm: bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=2.0)
     )
     obj = add_object(empty_scene.collection, "Scatter", grid)
-    tree = bpy.data.node_groups.new("Scatter", "GeometryNodeTree")
-    if hasattr(tree, "interface"):  # Blender 4.0+
-        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        tree.inputs.new("NodeSocketGeometry", "Geometry")
-        tree.outputs.new("NodeSocketGeometry", "Geometry")
-    group_input = tree.nodes.new("NodeGroupInput")
-    group_output = tree.nodes.new("NodeGroupOutput")
-    instance_on_points = tree.nodes.new("GeometryNodeInstanceOnPoints")
-    ico_sphere = tree.nodes.new("GeometryNodeMeshIcoSphere")
-    tree.links.new(group_input.outputs[0], instance_on_points.inputs["Points"])
-    tree.links.new(ico_sphere.outputs["Mesh"], instance_on_points.inputs["Instance"])
-    tree.links.new(instance_on_points.outputs["Instances"], group_output.inputs[0])
+    tree = node_trees.ico_sphere_on_points("Scatter")
     obj.modifiers.new("Scatter", "NODES").node_group = tree
 
     exported = convert(warnings)

@@ -17,6 +17,7 @@ import bpy
 # isort: split
 # Blender as a Python module makes bmesh importable only after bpy.
 import bmesh
+import node_trees
 import numpy as np
 import pytest
 from whitted.export.film import FilmData, convert_film
@@ -294,21 +295,7 @@ def scatter(scene, points, name="Scatter"):
     mesh.vertices.add(len(points))
     mesh.vertices.foreach_set("co", np.asarray(points, dtype=np.float32).reshape(-1))
     obj = link(scene, name, mesh)
-    tree = bpy.data.node_groups.new(name, "GeometryNodeTree")
-    if hasattr(tree, "interface"):  # Blender 4.0+
-        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    else:
-        tree.inputs.new("NodeSocketGeometry", "Geometry")
-        tree.outputs.new("NodeSocketGeometry", "Geometry")
-    group_input = tree.nodes.new("NodeGroupInput")
-    group_output = tree.nodes.new("NodeGroupOutput")
-    instance_on_points = tree.nodes.new("GeometryNodeInstanceOnPoints")
-    ico_sphere = tree.nodes.new("GeometryNodeMeshIcoSphere")
-    ico_sphere.inputs["Radius"].default_value = 0.015
-    tree.links.new(group_input.outputs[0], instance_on_points.inputs["Points"])
-    tree.links.new(ico_sphere.outputs["Mesh"], instance_on_points.inputs["Instance"])
-    tree.links.new(instance_on_points.outputs["Instances"], group_output.inputs[0])
+    tree = node_trees.ico_sphere_on_points(name, radius=0.015)
     obj.modifiers.new(name, "NODES").node_group = tree
     return obj
 
