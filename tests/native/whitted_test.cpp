@@ -151,7 +151,9 @@ TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
   EXPECT_EQ(counts.total_internal_reflection, 0u);
 }
 
-TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
+// Two parallel mirrors one unit apart that glow with radiance 1 and reflect half: a ray
+// between them sees the geometric series 1 + 1/2 + 1/4 + ...
+Scene facing_mirrors() {
   Scene scene;
   Material mirror;
   mirror.diffuse = Color(0.0f);
@@ -160,7 +162,11 @@ TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
   mirror.reflectivity = Color(0.5f);
   add_object(&scene, "a", quad(-10, 10, -10, 10, 0.0f), mirror);
   add_object(&scene, "b", quad(-10, 10, -10, 10, 1.0f), mirror);
-  const auto compiled = scene.compile();
+  return scene;
+}
+
+TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
+  const auto compiled = facing_mirrors().compile();
   for (int depth : {0, 1, 5, 256}) {
     Settings settings;
     settings.max_depth = depth;
@@ -180,15 +186,7 @@ TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
 // Adaptive depth control: a branch stops once its weight on the pixel falls below the
 // cutoff, and what it leaves out is bounded by that weight times what it would have seen.
 TEST(Whitted, CutoffStopsTheRayTreeWhenItsContributionCannotShow) {
-  Scene scene;
-  Material mirror;
-  mirror.diffuse = Color(0.0f);
-  mirror.ambient = 0.0f;
-  mirror.emission = Color(1.0f);
-  mirror.reflectivity = Color(0.5f);
-  add_object(&scene, "a", quad(-10, 10, -10, 10, 0.0f), mirror);
-  add_object(&scene, "b", quad(-10, 10, -10, 10, 1.0f), mirror);
-  const auto compiled = scene.compile();
+  const auto compiled = facing_mirrors().compile();
   uint64_t previous_rays = 0;
   for (float cutoff : {0.1f, 1.0f / 255.0f, 1e-4f, 0.0f}) {
     Settings settings;
