@@ -34,7 +34,7 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
     const Material& mat = scene.materials[m];
     reflective |= mat.reflective() || mat.transmissive();
     transmissive |= mat.transmissive();
-    translucent |= mat.transmissive() || mat.alpha < 1.0f || mat.alpha_texture_index >= 0;
+    translucent |= mat.translucent();
   }
   bool casting = false;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;

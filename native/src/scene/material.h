@@ -27,6 +27,9 @@ struct Material {
 
   bool reflective() const { return !is_black(reflectivity); }
   bool transmissive() const { return !is_black(transmissivity); }
+  // Lets some light through: transmission, or coverage below 1 (after compile, which
+  // resolves the alpha texture).
+  bool translucent() const { return transmissive() || alpha < 1.0f || alpha_texture_index >= 0; }
 };
 
 }  // namespace whitted

@@ -246,11 +246,4 @@ SurfaceParams CompiledScene::surface(const Interaction& it) const {
   return out;
 }
 
-bool CompiledScene::any_translucent() const {
-  for (const Material& m : materials) {
-    if (m.transmissive() || m.alpha < 1.0f || m.alpha_texture_index >= 0) return true;
-  }
-  return false;
-}
-
 }  // namespace whitted

@@ -80,9 +80,6 @@ struct CompiledScene {
   size_t triangle_count() const;
   Interaction interaction(const Ray& ray, const Hit& hit) const;
   SurfaceParams surface(const Interaction& it) const;
-  // Does any material let light through (transmission or alpha)? Shadow feelers then
-  // walk through surfaces instead of stopping at the first.
-  bool any_translucent() const;
 };
 
 class Scene {
