@@ -138,8 +138,11 @@ void bind_render(py::module_& m) {
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "
                         "tiles, cancel() to stop. Rows run bottom to top.")
-      .def(py::init<const Scene&, const Settings&>(), py::arg("scene"), py::arg("settings"),
-           py::call_guard<py::gil_scoped_release>())
+      .def(py::init<const Scene&, const Settings&, uint32_t>(), py::arg("scene"),
+           py::arg("settings"), py::arg("record_stride") = 0,
+           py::call_guard<py::gil_scoped_release>(),
+           "record_stride n > 0 records the rays of every n-th pixel for trace_bare() "
+           "(a benchmark baseline).")
       .def("start", &RenderJob::start)
       .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
            py::call_guard<py::gil_scoped_release>(),
@@ -167,7 +170,24 @@ void bind_render(py::module_& m) {
              const Settings& s = job.settings();
              return copy_rect(job, 0, 0, s.width, s.height).reshape({s.height, s.width, 4});
            })
-      .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); });
+      .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); })
+      .def(
+          "trace_bare",
+          [](const RenderJob& job) {
+            BareTrace bare;
+            {
+              py::gil_scoped_release release;
+              bare = job.trace_bare();
+            }
+            py::dict out;
+            out["rays"] = bare.rays;
+            out["seconds"] = bare.seconds;
+            out["threads"] = bare.threads;
+            return out;
+          },
+          "After a finished render made with record_stride: its recorded rays traced again "
+          "by a bare loop of single-ray Embree queries on as many threads; "
+          "{rays, seconds, threads}.");
 }
 
 }  // namespace whitted::python

@@ -152,5 +152,64 @@ TEST(Render, BadMeshesAreRefusedWithAMessage) {
   EXPECT_THROW(make_mesh(q, 3, bad, 1, nullptr, nullptr), std::invalid_argument);
 }
 
+// Camera rays traced as a packet find exactly the hits single-ray queries find.
+TEST(Render, PacketHitsAreTheSingleRayHits) {
+  const auto scene = glass_and_mirror_scene().compile();
+  constexpr int kPacket = SceneAccel::kPacketSize;
+  for (int count = 1; count <= kPacket; ++count) {
+    for (int row = 0; row < 16; ++row) {
+      Ray rays[kPacket];
+      Hit hits[kPacket];
+      for (int i = 0; i < count; ++i) {
+        rays[i] = scene->camera.generate_ray((static_cast<float>(i) + 0.5f) / kPacket,
+                                             (static_cast<float>(row) + 0.5f) / 16.0f);
+      }
+      scene->accel->intersect_packet(rays, count, hits);
+      for (int i = 0; i < count; ++i) {
+        Hit single;
+        const bool found = scene->accel->intersect(rays[i], &single);
+        ASSERT_EQ(found, hits[i].t < kInfinity) << "row " << row << " lane " << i;
+        if (!found) continue;
+        EXPECT_EQ(hits[i].instance, single.instance);
+        EXPECT_EQ(hits[i].primitive, single.primitive);
+        EXPECT_NEAR(hits[i].t, single.t, 1e-5f * single.t);
+      }
+    }
+  }
+}
+
+// The bare-Embree baseline traces exactly the rays the render traced: all of them with a
+// stride of 1, fewer with a larger stride; it needs a finished render made with recording.
+TEST(Render, BareTraceRetracesTheRecordedRays) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 40;
+  settings.height = 30;
+  settings.aa_samples = 2;
+  settings.threads = 2;
+  RenderJob all(scene, settings, 1);
+  EXPECT_THROW(all.trace_bare(), std::logic_error);  // not started
+  all.start();
+  while (!all.wait(1.0)) {
+  }
+  const BareTrace bare = all.trace_bare();
+  EXPECT_EQ(bare.rays, all.stats().rays.total());
+  EXPECT_EQ(bare.threads, all.stats().threads);
+  EXPECT_GT(bare.seconds, 0.0);
+
+  RenderJob some(scene, settings, 7);
+  some.start();
+  while (!some.wait(1.0)) {
+  }
+  EXPECT_LT(some.trace_bare().rays, bare.rays / 4);
+  EXPECT_EQ(render(scene, settings), some.pixels());  // recording does not change the image
+
+  RenderJob none(scene, settings);
+  none.start();
+  while (!none.wait(1.0)) {
+  }
+  EXPECT_THROW(none.trace_bare(), std::logic_error);  // nothing recorded
+}
+
 }  // namespace
 }  // namespace whitted

@@ -5,6 +5,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
@@ -43,7 +44,25 @@ bool valid_for_embree(const Ray& ray) {
   return !std::isnan(ray.t_min) && !std::isnan(ray.t_max) && ray.t_min >= 0.0f;
 }
 
+void to_embree(const Ray& ray, RTCRay* r) {
+  r->org_x = ray.origin.x;
+  r->org_y = ray.origin.y;
+  r->org_z = ray.origin.z;
+  r->dir_x = ray.direction.x;
+  r->dir_y = ray.direction.y;
+  r->dir_z = ray.direction.z;
+  r->tnear = ray.t_min;
+  r->tfar = ray.t_max;
+  r->time = 0.0f;
+  r->mask = ray.kind;
+  r->id = 0;
+  r->flags = 0;
+}
+
 }  // namespace
+
+static_assert(sizeof(BareRays::Record) == sizeof(RTCRayHit) &&
+              alignof(BareRays::Record) >= alignof(RTCRayHit));
 
 AccelDevice::AccelDevice() {
   RTCDevice device = rtcNewDevice(nullptr);
@@ -120,18 +139,7 @@ bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.t_min;
-  rh.ray.tfar = ray.t_max;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = ray.kind;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  to_embree(ray, &rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(as_scene(scene_), &context, &rh);
@@ -149,21 +157,79 @@ bool SceneAccel::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;
-  r.org_x = ray.origin.x;
-  r.org_y = ray.origin.y;
-  r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x;
-  r.dir_y = ray.direction.y;
-  r.dir_z = ray.direction.z;
-  r.tnear = ray.t_min;
-  r.tfar = ray.t_max;
-  r.time = 0.0f;
-  r.mask = ray.kind;
-  r.id = 0;
-  r.flags = 0;
+  to_embree(ray, &r);
   rtcOccluded1(as_scene(scene_), &context, &r);
   // Embree sets tfar to -inf when the ray is blocked.
   return r.tfar < 0.0f;
+}
+
+void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
+  static_assert(kPacketSize == 8, "the packet type below is RTCRayHit8");
+  alignas(32) int valid[8] = {};
+  RTCRayHit8 rh;
+  for (int i = 0; i < 8; ++i) {
+    // Lanes past `count` and rays Embree cannot take stay inactive (valid 0).
+    const Ray& ray = rays[std::min(i, count - 1)];
+    valid[i] = i < count && valid_for_embree(ray) ? -1 : 0;
+    rh.ray.org_x[i] = ray.origin.x;
+    rh.ray.org_y[i] = ray.origin.y;
+    rh.ray.org_z[i] = ray.origin.z;
+    rh.ray.dir_x[i] = ray.direction.x;
+    rh.ray.dir_y[i] = ray.direction.y;
+    rh.ray.dir_z[i] = ray.direction.z;
+    rh.ray.tnear[i] = ray.t_min;
+    rh.ray.tfar[i] = ray.t_max;
+    rh.ray.time[i] = 0.0f;
+    rh.ray.mask[i] = ray.kind;
+    rh.ray.id[i] = 0;
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect8(valid, as_scene(scene_), &context, &rh);
+  for (int i = 0; i < count; ++i) {
+    hits[i] = Hit{};
+    if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    hits[i].t = rh.ray.tfar[i];
+    hits[i].u = rh.hit.u[i];
+    hits[i].v = rh.hit.v[i];
+    hits[i].instance = rh.hit.instID[0][i];
+    hits[i].primitive = rh.hit.primID[i];
+  }
+}
+
+BareRays SceneAccel::prepare_bare(const std::vector<RayQuery>& queries) {
+  BareRays out;
+  out.records.reserve(queries.size());
+  out.occlusion.reserve(queries.size());
+  for (const RayQuery& q : queries) {
+    if (!valid_for_embree(q.ray)) continue;
+    auto* rh = reinterpret_cast<RTCRayHit*>(&out.records.emplace_back());
+    to_embree(q.ray, &rh->ray);
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    out.occlusion.push_back(q.occlusion ? 1 : 0);
+  }
+  return out;
+}
+
+size_t SceneAccel::trace_bare(BareRays* rays) const {
+  RTCScene scene = as_scene(scene_);
+  const size_t n = rays->records.size();
+  for (size_t i = 0; i < n; ++i) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    auto* rh = reinterpret_cast<RTCRayHit*>(&rays->records[i]);
+    if (rays->occlusion[i] != 0) {
+      rtcOccluded1(scene, &context, &rh->ray);
+    } else {
+      rtcIntersect1(scene, &context, rh);
+    }
+  }
+  return n;
 }
 
 }  // namespace whitted

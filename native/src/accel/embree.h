@@ -15,9 +15,9 @@
 namespace whitted {
 
 struct Hit {
-  float t = kInfinity;
-  float u = 0.0f;  // barycentric weight of vertex 1
-  float v = 0.0f;  // barycentric weight of vertex 2
+  float t = kInfinity;  // infinite: no hit
+  float u = 0.0f;       // barycentric weight of vertex 1
+  float v = 0.0f;       // barycentric weight of vertex 2
   uint32_t instance = 0;
   uint32_t primitive = 0;
 };
@@ -52,6 +52,23 @@ class MeshAccel {
   void* scene_ = nullptr;
 };
 
+// One query as the integrator made it: a closest-hit or an any-hit (occlusion) ray.
+// A render can record them so the same rays can be traced again by a bare Embree loop.
+struct RayQuery {
+  Ray ray;
+  bool occlusion;
+};
+
+// Recorded queries in Embree's own ray layout (RTCRayHit, 80 bytes), ready for
+// SceneAccel::trace_bare.
+struct BareRays {
+  struct alignas(16) Record {
+    unsigned char bytes[80];
+  };
+  std::vector<Record> records;
+  std::vector<uint8_t> occlusion;  // 1: an any-hit query (the record's ray part is used)
+};
+
 struct AccelInstance {
   const MeshAccel* mesh;
   glm::mat4 to_world;
@@ -70,6 +87,17 @@ class SceneAccel {
   bool intersect(const Ray& ray, Hit* hit) const;
   // Any hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
   bool occluded(const Ray& ray) const;
+  // Closest hits of up to kPacketSize coherent rays (camera rays) traced together as one
+  // packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t infinite.
+  static constexpr int kPacketSize = 8;
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const;
+
+  // The benchmark baseline, in two steps so the conversion is not timed:
+  // prepare_bare converts queries to Embree's layout, leaving out rays Embree cannot take
+  // (see intersect); trace_bare traces them with a bare loop of single-ray Embree calls
+  // (no shading, no checks) and returns how many it traced.
+  static BareRays prepare_bare(const std::vector<RayQuery>& queries);
+  size_t trace_bare(BareRays* rays) const;
 
  private:
   std::shared_ptr<AccelDevice> device_;

@@ -19,6 +19,12 @@ enum RayKind : uint32_t {
   kReflectionRay = 1u << 2,
   kRefractionRay = 1u << 3,
   kAllRayKinds = kCameraRay | kShadowRay | kReflectionRay | kRefractionRay,
+  // A shadow feeler is traced in two queries when some surfaces let light through: an
+  // any-hit query against the instances whose materials are all opaque (the cheap common
+  // case), then, if nothing opaque blocks it, a walk through the translucent ones. An
+  // instance seen by shadow rays carries one of these two bits (Scene::compile).
+  kOpaqueShadowRay = 1u << 4,
+  kTranslucentShadowRay = 1u << 5,
 };
 
 struct Ray {

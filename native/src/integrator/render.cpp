@@ -1,6 +1,10 @@
 #include "integrator/render.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <latch>
+#include <stdexcept>
 
 namespace whitted {
 namespace {
@@ -24,7 +28,8 @@ double now_seconds() {
 
 }  // namespace
 
-RenderJob::RenderJob(const Scene& scene, const Settings& settings) : settings_(settings) {
+RenderJob::RenderJob(const Scene& scene, const Settings& settings, uint32_t record_stride)
+    : settings_(settings), record_stride_(record_stride) {
   settings_.validate();
   const double t0 = now_seconds();
   scene_ = scene.compile();
@@ -62,11 +67,15 @@ void RenderJob::start() {
   stats_.threads = threads;
   running_ = threads;
   start_time_ = now_seconds();
-  for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { work(); });
+  if (record_stride_ > 0) logs_.resize(static_cast<size_t>(threads));
+  for (int i = 0; i < threads; ++i) {
+    RayLog* log = record_stride_ > 0 ? &logs_[static_cast<size_t>(i)] : nullptr;
+    workers_.emplace_back([this, log] { work(log); });
+  }
 }
 
-void RenderJob::work() {
-  const WhittedIntegrator integrator(*scene_, settings_);
+void RenderJob::work(RayLog* log) {
+  const WhittedIntegrator integrator(*scene_, settings_, log);
   RayCounts counts;
   for (size_t i = next_tile_++; i < tiles_.size() && !cancel_; i = next_tile_++) {
     render_tile(tiles_[i], integrator, &counts);
@@ -87,11 +96,14 @@ void RenderJob::work() {
 
 void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrator,
                             RayCounts* counts) {
+  const bool adaptive = settings_.aa_mode == AntiAliasing::kAdaptive;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
+      if (integrator.log() != nullptr) integrator.log()->active = recorded(x, y);
       const uint64_t rays_before = counts->total();
-      const Sample pixel = render_pixel(x, y, integrator, counts);
+      const Sample pixel = adaptive ? render_pixel_adaptive(x, y, integrator, counts)
+                                    : render_pixel_grid(x, y, integrator, counts);
       const size_t index = static_cast<size_t>(y) * settings_.width + x;
       float* out = &pixels_[4 * index];
       out[0] = pixel.radiance.x;
@@ -103,47 +115,90 @@ void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrato
   }
 }
 
-RenderJob::Sample RenderJob::render_pixel(int x, int y, const WhittedIntegrator& integrator,
-                                          RayCounts* counts) const {
-  const auto fx = static_cast<float>(x);
-  const auto fy = static_cast<float>(y);
-  if (settings_.aa_mode == AntiAliasing::kAdaptive) {
-    const Sample corners[4] = {camera_sample(fx, fy, integrator, counts),
-                               camera_sample(fx + 1.0f, fy, integrator, counts),
-                               camera_sample(fx, fy + 1.0f, integrator, counts),
-                               camera_sample(fx + 1.0f, fy + 1.0f, integrator, counts)};
-    return subdivide(fx, fy, 1.0f, corners, 0, integrator, counts);
-  }
-  // An n x n grid over the pixel, averaged (box filter); jittered inside each cell.
+RenderJob::Sample RenderJob::render_pixel_grid(int x, int y, const WhittedIntegrator& integrator,
+                                               RayCounts* counts) const {
+  // The camera rays of one pixel are coherent: Embree finds their first hits together,
+  // up to a packet at a time, then each is shaded on its own. A packet never spans two
+  // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
+  // threads): where two coplanar faces tie, the winner can depend on the packet.
+  constexpr int kPacket = SceneAccel::kPacketSize;
   const int n = settings_.aa_samples;
-  const float cell = 1.0f / static_cast<float>(n);
+  const int samples = n * n;
+  std::array<Ray, kPacket> rays;
+  std::array<Hit, kPacket> hits;
   Sample sum{Color(0.0f), 0.0f};
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      float du = 0.5f;
-      float dv = 0.5f;
-      if (settings_.aa_mode == AntiAliasing::kJittered) {
-        const auto k = static_cast<uint32_t>(j * n + i);
-        du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k);
-        dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k + 1);
-      }
-      const Sample s = camera_sample(fx + (static_cast<float>(i) + du) * cell,
-                                     fy + (static_cast<float>(j) + dv) * cell, integrator, counts);
+  for (int first = 0; first < samples; first += kPacket) {
+    const int count = std::min(kPacket, samples - first);
+    for (int k = 0; k < count; ++k) {
+      float px = 0.0f;
+      float py = 0.0f;
+      grid_sample(x, y, (first + k) % n, (first + k) / n, &px, &py);
+      rays[static_cast<size_t>(k)] = camera_ray(px, py);
+    }
+    if (count > 1) integrator.intersect_packet(rays.data(), count, hits.data());
+    for (int k = 0; k < count; ++k) {
+      const Hit* hit = count > 1 ? &hits[static_cast<size_t>(k)] : nullptr;
+      const Sample s = shade_camera_ray(rays[static_cast<size_t>(k)], hit, integrator, counts);
       sum.radiance += s.radiance;
       sum.alpha += s.alpha;
     }
   }
-  const float w = cell * cell;
+  // The average of the samples (box filter).
+  const float w = 1.0f / static_cast<float>(samples);
   return {sum.radiance * w, sum.alpha * w};
+}
+
+bool RenderJob::recorded(int x, int y) const {
+  const uint64_t index =
+      static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
+  return index % record_stride_ == 0;
+}
+
+void RenderJob::grid_sample(int x, int y, int i, int j, float* px, float* py) const {
+  // An n x n grid over the pixel; jittered inside each cell.
+  const int n = settings_.aa_samples;
+  const float cell = 1.0f / static_cast<float>(n);
+  float du = 0.5f;
+  float dv = 0.5f;
+  if (settings_.aa_mode == AntiAliasing::kJittered) {
+    const auto k = static_cast<uint32_t>(j * n + i);
+    du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k);
+    dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k + 1);
+  }
+  *px = static_cast<float>(x) + (static_cast<float>(i) + du) * cell;
+  *py = static_cast<float>(y) + (static_cast<float>(j) + dv) * cell;
+}
+
+Ray RenderJob::camera_ray(float px, float py) const {
+  return scene_->camera.generate_ray(px / static_cast<float>(settings_.width),
+                                     py / static_cast<float>(settings_.height));
+}
+
+RenderJob::Sample RenderJob::render_pixel_adaptive(int x, int y,
+                                                   const WhittedIntegrator& integrator,
+                                                   RayCounts* counts) const {
+  const auto fx = static_cast<float>(x);
+  const auto fy = static_cast<float>(y);
+  const Sample corners[4] = {camera_sample(fx, fy, integrator, counts),
+                             camera_sample(fx + 1.0f, fy, integrator, counts),
+                             camera_sample(fx, fy + 1.0f, integrator, counts),
+                             camera_sample(fx + 1.0f, fy + 1.0f, integrator, counts)};
+  return subdivide(fx, fy, 1.0f, corners, 0, integrator, counts);
 }
 
 RenderJob::Sample RenderJob::camera_sample(float px, float py, const WhittedIntegrator& integrator,
                                            RayCounts* counts) const {
+  return shade_camera_ray(camera_ray(px, py), nullptr, integrator, counts);
+}
+
+RenderJob::Sample RenderJob::shade_camera_ray(const Ray& ray, const Hit* first,
+                                              const WhittedIntegrator& integrator,
+                                              RayCounts* counts) const {
   counts->camera += 1;
-  const Ray ray = scene_->camera.generate_ray(px / static_cast<float>(settings_.width),
-                                              py / static_cast<float>(settings_.height));
+  const PathState path{0, Color(1.0f), camera_media_};
   float alpha = 1.0f;
-  const Color c = integrator.trace(ray, PathState{0, Color(1.0f), camera_media_}, counts, &alpha);
+  const Color c = first != nullptr ? integrator.trace_from(ray, *first, path, counts, &alpha)
+                                   : integrator.trace(ray, path, counts, &alpha);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     return {Color(0.0f), 0.0f};
@@ -223,6 +278,36 @@ RenderStats RenderJob::stats() const {
   std::lock_guard lock(mutex_);
   RenderStats out = stats_;
   out.samples = out.rays.camera;
+  return out;
+}
+
+BareTrace RenderJob::trace_bare() const {
+  {
+    std::lock_guard lock(mutex_);
+    if (workers_.empty() || running_ > 0) {
+      throw std::logic_error("trace_bare needs a finished render");
+    }
+  }
+  if (logs_.empty()) throw std::logic_error("trace_bare needs a render made with recording");
+  std::vector<BareRays> batches;
+  batches.reserve(logs_.size());
+  for (const RayLog& log : logs_) batches.push_back(SceneAccel::prepare_bare(log.queries));
+  BareTrace out;
+  out.threads = static_cast<int>(batches.size());
+  std::vector<uint64_t> traced(batches.size(), 0);
+  std::latch ready(static_cast<std::ptrdiff_t>(batches.size()) + 1);
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < batches.size(); ++i) {
+    threads.emplace_back([&, i] {
+      ready.arrive_and_wait();
+      traced[i] = scene_->accel->trace_bare(&batches[i]);
+    });
+  }
+  ready.arrive_and_wait();
+  const double t0 = now_seconds();
+  for (std::thread& t : threads) t.join();
+  out.seconds = now_seconds() - t0;
+  for (uint64_t n : traced) out.rays += n;
   return out;
 }
 

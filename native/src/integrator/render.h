@@ -34,9 +34,18 @@ struct RenderStats {
   std::vector<std::string> effects;  // what the scene analysis simulated and skipped, why
 };
 
+// The bare-Embree baseline: the recorded rays traced again with no shading.
+struct BareTrace {
+  uint64_t rays = 0;
+  double seconds = 0.0;
+  int threads = 0;
+};
+
 class RenderJob {
  public:
-  RenderJob(const Scene& scene, const Settings& settings);
+  // With `record_stride` n > 0 the render records the queries of every n-th pixel for
+  // trace_bare (a benchmark baseline; recording costs time and memory).
+  RenderJob(const Scene& scene, const Settings& settings, uint32_t record_stride = 0);
   ~RenderJob();  // cancels and joins
   RenderJob(const RenderJob&) = delete;
   RenderJob& operator=(const RenderJob&) = delete;
@@ -53,16 +62,32 @@ class RenderJob {
   // Rays traced for each pixel (all kinds): where the time goes. Rows bottom to top.
   const std::vector<float>& cost() const { return cost_; }
   RenderStats stats() const;
+  // After a finished render with recording: the recorded rays traced again by a bare
+  // loop of single-ray Embree queries, each thread its own recording, all threads timed
+  // from a common start to the last one's end.
+  BareTrace trace_bare() const;
 
  private:
-  void work();
+  void work(RayLog* log);
   struct Sample {
     Color radiance;
     float alpha;
   };
   void render_tile(const Tile& tile, const WhittedIntegrator& integrator, RayCounts* counts);
-  // The pixel whose bottom-left corner is (x, y), by the settings' anti-aliasing.
-  Sample render_pixel(int x, int y, const WhittedIntegrator& integrator, RayCounts* counts) const;
+  // The pixel whose bottom-left corner is (x, y), by a regular or jittered n x n grid.
+  Sample render_pixel_grid(int x, int y, const WhittedIntegrator& integrator,
+                           RayCounts* counts) const;
+  // The camera-ray position of grid sample (i, j) of pixel (x, y), in pixels.
+  void grid_sample(int x, int y, int i, int j, float* px, float* py) const;
+  Ray camera_ray(float px, float py) const;
+  // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
+  Sample shade_camera_ray(const Ray& ray, const Hit* first, const WhittedIntegrator& integrator,
+                          RayCounts* counts) const;
+  // Whether the queries of pixel (x, y) are recorded.
+  bool recorded(int x, int y) const;
+  // The pixel whose bottom-left corner is (x, y), by adaptive anti-aliasing.
+  Sample render_pixel_adaptive(int x, int y, const WhittedIntegrator& integrator,
+                               RayCounts* counts) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
   Sample camera_sample(float px, float py, const WhittedIntegrator& integrator,
                        RayCounts* counts) const;
@@ -77,6 +102,8 @@ class RenderJob {
   std::vector<Tile> tiles_;
   std::vector<float> pixels_;
   std::vector<float> cost_;
+  uint32_t record_stride_;
+  std::vector<RayLog> logs_;  // one per worker when recording
   std::vector<std::thread> workers_;
   std::atomic<size_t> next_tile_{0};
   std::atomic<size_t> done_tiles_{0};

@@ -20,25 +20,45 @@ float ior_of(const CompiledScene& scene, int32_t medium) {
 template <uint32_t E>
 class Kernel {
  public:
-  explicit Kernel(const WhittedIntegrator& w) : scene_(w.scene()), settings_(w.settings()) {}
+  explicit Kernel(const WhittedIntegrator& w)
+      : scene_(w.scene()), settings_(w.settings()), log_(w.log()) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
-                   RayCounts* counts, float* alpha) {
-    return Kernel(w).trace(ray, path, counts, alpha);
+                   RayCounts* counts, float* alpha, const Hit* first) {
+    return Kernel(w).trace(ray, path, counts, alpha, first);
   }
 
  private:
   static constexpr bool has(uint32_t bit) { return (E & bit) != 0; }
 
+  // Every query of the kernel goes through these two (and into the log when recording).
+  bool intersect(const Ray& ray, Hit* hit) const {
+    if (log_ != nullptr && log_->active) log_->queries.push_back({ray, false});
+    return scene_.accel->intersect(ray, hit);
+  }
+  bool occluded(const Ray& ray) const {
+    if (log_ != nullptr && log_->active) log_->queries.push_back({ray, true});
+    return scene_.accel->occluded(ray);
+  }
+
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
-  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha) const {
+  // `first`, when given, is the ray's first hit, already found.
+  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha,
+              const Hit* first = nullptr) const {
     Color radiance(0.0f);
     float coverage = 0.0f;
     float behind = 1.0f;  // the share of the ray not yet covered by a surface
     Ray r = ray;
     for (int layer = 0; behind > 0.0f; ++layer) {
       Hit hit;
-      if (!scene_.accel->intersect(r, &hit)) {
+      bool found = false;
+      if (layer == 0 && first != nullptr) {
+        hit = *first;
+        found = hit.t < kInfinity;
+      } else {
+        found = intersect(r, &hit);
+      }
+      if (!found) {
         // A transparent film shows nothing where camera rays miss.
         if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
           radiance += behind * scene_.background;
@@ -225,12 +245,17 @@ class Kernel {
   Color shadow_transmittance(Ray ray, RayCounts* counts) const {
     counts->shadow += 1;
     if constexpr (!has(kTranslucencyEffect)) {
-      return scene_.accel->occluded(ray) ? Color(0.0f) : Color(1.0f);
+      return occluded(ray) ? Color(0.0f) : Color(1.0f);
     }
+    // Anything opaque in the way blocks all of it, whatever lies in front (ray.h).
+    ray.kind = kOpaqueShadowRay;
+    if (occluded(ray)) return Color(0.0f);
+    ray.kind = kTranslucentShadowRay;
+    counts->shadow += 1;
     Color transmittance(1.0f);
     for (int i = 0; i < kMaxTransparentLayers; ++i) {
       Hit hit;
-      if (!scene_.accel->intersect(ray, &hit)) return transmittance;
+      if (!intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
       const float a = scene_.surface(it).alpha;
       transmittance *= (1.0f - a) + a * it.material->transmissivity;
@@ -238,7 +263,7 @@ class Kernel {
       const float remaining = ray.t_max - glm::length(it.position - ray.origin);
       if (!(remaining > 0.0f)) return transmittance;
       ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
-                      kShadowRay, remaining);
+                      kTranslucentShadowRay, remaining);
       counts->shadow += 1;
     }
     return Color(0.0f);
@@ -246,6 +271,7 @@ class Kernel {
 
   const CompiledScene& scene_;
   const Settings& settings_;
+  RayLog* log_;
 };
 
 // One kernel per set of effects, indexed by its bits.
@@ -274,11 +300,20 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   return *this;
 }
 
-WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings)
+WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
+                                     RayLog* log)
     : scene_(scene),
       settings_(settings),
       effects_(analyse(scene, settings)),
-      trace_(kKernels[effects_.bits]) {}
+      trace_(kKernels[effects_.bits]),
+      log_(log) {}
+
+void WhittedIntegrator::intersect_packet(const Ray* rays, int count, Hit* hits) const {
+  if (log_ != nullptr && log_->active) {
+    for (int i = 0; i < count; ++i) log_->queries.push_back({rays[i], false});
+  }
+  scene_.accel->intersect_packet(rays, count, hits);
+}
 
 // Walks a ray from p through every surface: a transmissive surface the walk leaves
 // without having entered it encloses p. The first such surface is the innermost medium.

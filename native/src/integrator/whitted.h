@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "integrator/analysis.h"
 #include "integrator/medium.h"
@@ -30,6 +31,12 @@ struct RayCounts {
   uint64_t total() const { return camera + shadow + reflection + refraction + transparent; }
 };
 
+// The queries one thread made while `active`, for the bare-Embree benchmark (RenderJob).
+struct RayLog {
+  std::vector<RayQuery> queries;
+  bool active = false;
+};
+
 // Where a ray is in its ray tree: its recursion depth, its weight on the pixel (the
 // product of the sigma_r/sigma_t along the way), and the media it is inside.
 struct PathState {
@@ -42,15 +49,23 @@ struct PathState {
 // scene calls for (integrator/whitted.cpp), so a disabled effect costs nothing.
 class WhittedIntegrator {
  public:
-  WhittedIntegrator(const CompiledScene& scene, const Settings& settings);
+  // `log`, when given, receives the queries made while it is active.
+  WhittedIntegrator(const CompiledScene& scene, const Settings& settings, RayLog* log = nullptr);
 
   // Radiance arriving along `ray` (camera rays: a default PathState, or the media the
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
   // coverage (0..1).
   Color trace(const Ray& ray, const PathState& path, RayCounts* counts,
               float* alpha = nullptr) const {
-    return trace_(*this, ray, path, counts, alpha);
+    return trace_(*this, ray, path, counts, alpha, nullptr);
   }
+  // The same for a ray whose first hit is already known (from intersect_packet).
+  Color trace_from(const Ray& ray, const Hit& first, const PathState& path, RayCounts* counts,
+                   float* alpha) const {
+    return trace_(*this, ray, path, counts, alpha, &first);
+  }
+  // First hits of up to SceneAccel::kPacketSize coherent rays, traced as one packet.
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const;
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
@@ -58,15 +73,17 @@ class WhittedIntegrator {
   const Effects& effects() const { return effects_; }
   const CompiledScene& scene() const { return scene_; }
   const Settings& settings() const { return settings_; }
+  RayLog* log() const { return log_; }
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
-                            float*);
+                            float*, const Hit*);
 
  private:
   const CompiledScene& scene_;
   const Settings settings_;
   Effects effects_;
   TraceFn trace_;
+  RayLog* log_;
 };
 
 }  // namespace whitted

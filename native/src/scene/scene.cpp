@@ -149,7 +149,14 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
       compiled->degenerate_instances += 1;
       continue;
     }
-    accel_instances.push_back({&out.mesh->accel, out.to_world, instance.visibility});
+    // Shadow feelers meet opaque and translucent instances in separate queries (ray.h).
+    uint32_t mask = instance.visibility;
+    if ((mask & kShadowRay) != 0) {
+      bool translucent = false;
+      for (uint32_t index : out.materials) translucent |= compiled->materials[index].translucent();
+      mask |= translucent ? kTranslucentShadowRay : kOpaqueShadowRay;
+    }
+    accel_instances.push_back({&out.mesh->accel, out.to_world, mask});
     compiled->instances.push_back(std::move(out));
   }
   compiled->accel = std::make_unique<SceneAccel>(device_, accel_instances);
@@ -221,26 +228,40 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   out.material = &materials[index];
   out.material_index = index;
   out.holdout = instance.holdout;
-  TexturePoint& tp = out.texture_point;
-  tp.object = local;
-  tp.generated =
-      (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
-  if (!mesh.uvs.empty()) {
-    const float* uv = &mesh.uvs[6 * size_t{hit.primitive}];
-    tp.uv = w0 * glm::vec2(uv[0], uv[1]) + hit.u * glm::vec2(uv[2], uv[3]) +
-            hit.v * glm::vec2(uv[4], uv[5]);
-  }
+  out.instance = hit.instance;
+  out.primitive = hit.primitive;
+  out.local_position = local;
+  out.barycentric = glm::vec2(hit.u, hit.v);
   return out;
+}
+
+TexturePoint CompiledScene::texture_point(const Interaction& it) const {
+  const Mesh& mesh = instances[it.instance].mesh->mesh;
+  TexturePoint tp;
+  tp.object = it.local_position;
+  tp.generated = (it.local_position - mesh.texspace_location + mesh.texspace_size) /
+                 (2.0f * mesh.texspace_size);
+  if (!mesh.uvs.empty()) {
+    const float* uv = &mesh.uvs[6 * size_t{it.primitive}];
+    const float u = it.barycentric.x;
+    const float v = it.barycentric.y;
+    tp.uv = (1.0f - u - v) * glm::vec2(uv[0], uv[1]) + u * glm::vec2(uv[2], uv[3]) +
+            v * glm::vec2(uv[4], uv[5]);
+  }
+  return tp;
 }
 
 SurfaceParams CompiledScene::surface(const Interaction& it) const {
   const Material& m = *it.material;
   SurfaceParams out{m.diffuse, m.alpha};
-  if (m.diffuse_texture_index >= 0) {
-    out.diffuse *= Color(textures[m.diffuse_texture_index]->evaluate(it.texture_point));
-  }
-  if (m.alpha_texture_index >= 0) {
-    out.alpha *= textures[m.alpha_texture_index]->evaluate(it.texture_point).w;
+  if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
+    const TexturePoint tp = texture_point(it);
+    if (m.diffuse_texture_index >= 0) {
+      out.diffuse *= Color(textures[m.diffuse_texture_index]->evaluate(tp));
+    }
+    if (m.alpha_texture_index >= 0) {
+      out.alpha *= textures[m.alpha_texture_index]->evaluate(tp).w;
+    }
   }
   out.alpha = std::clamp(out.alpha, 0.0f, 1.0f);
   return out;

@@ -47,8 +47,12 @@ struct Interaction {
   Vec3 shadow_origin;
   const Material* material;
   uint32_t material_index;
-  TexturePoint texture_point;
   bool holdout;
+  // Where on the mesh, for texture coordinates (CompiledScene::texture_point).
+  uint32_t instance;
+  uint32_t primitive;
+  Vec3 local_position;    // object space
+  glm::vec2 barycentric;  // weights of the triangle's vertices 1 and 2
 };
 
 // A material's parameters at one point, textures applied.
@@ -79,6 +83,8 @@ struct CompiledScene {
 
   size_t triangle_count() const;
   Interaction interaction(const Ray& ray, const Hit& hit) const;
+  // Texture coordinates at a hit; computed only for textured materials.
+  TexturePoint texture_point(const Interaction& it) const;
   SurfaceParams surface(const Interaction& it) const;
 };
 

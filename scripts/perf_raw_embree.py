@@ -1,0 +1,109 @@
+"""Efficiency against raw Embree: our rays per second over those of a bare Embree loop
+tracing the very same rays.
+
+Runs inside Blender (3.4, or the bpy 5.0 module) on a saved scene with the Whitted
+add-on enabled:
+
+    blender -b SCENE.blend --python scripts/perf_raw_embree.py -- --json OUT.json \\
+        [--threads N] [--repeats 3] [--max-recorded 20000000]
+
+1. The scene is exported as the engine exports it and rendered `repeats` times
+   without recording: our rays per second are all rays traced (camera, shadow,
+   reflection, refraction, cut-out continuations) over the trace phase, which
+   includes shading, texture lookups and the recursion.
+2. It is rendered once more recording the queries of every n-th pixel (n chosen so
+   at most --max-recorded queries are kept), each worker thread its own list.
+3. Those queries are traced again by a loop of single-ray rtcIntersect1/rtcOccluded1
+   calls on as many threads, with no shading and nothing else in the loop
+   (SceneAccel::trace_bare), `repeats` times: Embree's rays per second.
+
+Efficiency = ours / Embree's, medians of the repeats. Above 1 would mean we trace
+faster than single-ray Embree (packets); below, the gap is our shading and overhead.
+"""
+
+import argparse
+import json
+import math
+import statistics
+import sys
+import time
+
+import bpy
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", required=True, help="write the results here")
+    parser.add_argument("--threads", type=int, default=0, help="0: Blender's setting")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--max-recorded", type=int, default=20_000_000)
+    return parser.parse_args(argv)
+
+
+def export(threads):
+    """The scene as the engine exports it, and its native render settings."""
+    from whitted.export.film import convert_film
+    from whitted.export.scene import convert_scene
+    from whitted.native import load_native
+    from whitted.settings import native_settings
+
+    scene = bpy.context.scene
+    if threads:
+        scene.render.threads_mode = "FIXED"
+        scene.render.threads = threads
+    native = load_native()
+    exported = convert_scene(bpy.context.evaluated_depsgraph_get(), native)
+    film = convert_film(scene.render, exported.width, exported.height)
+    settings = native_settings(native, scene, exported.width, exported.height, film)
+    return native, exported.scene, settings
+
+
+def render(native, scene, settings, record_stride=0):
+    job = native.RenderJob(scene, settings, record_stride=record_stride)
+    job.start()
+    while not job.wait(1.0):
+        pass
+    return job
+
+
+def main():
+    args = parse_args()
+    native, scene, settings = export(args.threads)
+    render(native, scene, settings)  # warm-up: page in the BVHs, start the threads once
+    ours = []
+    for _ in range(args.repeats):
+        stats = render(native, scene, settings).stats()
+        ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
+    rays_per_render = ours[0][0]
+    stride = max(1, math.ceil(rays_per_render / args.max_recorded))
+    started = time.perf_counter()
+    recorded = render(native, scene, settings, record_stride=stride)
+    record_seconds = time.perf_counter() - started
+    bare = [recorded.trace_bare() for _ in range(args.repeats)]
+
+    whitted_rps = statistics.median(rays / seconds for rays, seconds, _ in ours)
+    embree_rps = statistics.median(b["rays"] / b["seconds"] for b in bare)
+    result = {
+        "blender": bpy.app.version_string,
+        "threads": ours[0][2],
+        "width": settings.width,
+        "height": settings.height,
+        "rays_per_render": rays_per_render,
+        "whitted_trace_seconds": statistics.median(s for _, s, _ in ours),
+        "whitted_rays_per_second": whitted_rps,
+        "record_stride": stride,
+        "recorded_rays": bare[0]["rays"],
+        "record_render_seconds": record_seconds,
+        "embree_seconds": statistics.median(b["seconds"] for b in bare),
+        "embree_rays_per_second": embree_rps,
+        "efficiency": whitted_rps / embree_rps,
+        "repeats": args.repeats,
+    }
+    with open(args.json, "w", encoding="utf-8") as out:
+        json.dump(result, out, indent=2)
+    print(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()
