@@ -73,12 +73,16 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
     def _run(self, job, region, phases):
         started = time.perf_counter()
         job.start()
+        # Nobody watches a background (farm) render: its tiles are written once, at
+        # the end, which costs far less than many small writes (docs/PERFORMANCE.md).
+        progressive = not bpy.app.background
+        pending = []
         while True:
             finished = job.wait(POLL_SECONDS)
-            write_started = time.perf_counter()
-            for tile in _clip_tiles(job.take_finished_tiles(), region):
-                render_result.write_tile(self, job, tile, region)
-            phases.writeback += time.perf_counter() - write_started
+            pending += job.take_finished_tiles()
+            if progressive:
+                self._write(job, pending, region, phases)
+                pending = []
             self.update_progress(job.progress)
             seconds = time.perf_counter() - started
             self.update_stats("", render_stats.progress_line(job.stats(), seconds))
@@ -90,9 +94,40 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
                 job.cancel()
                 job.wait(1.0)
                 break
+        self._write(job, pending + job.take_finished_tiles(), region, phases)
         native_stats = job.stats()
         phases.scene_bvh = native_stats["compile_seconds"]
         phases.trace = native_stats["trace_seconds"]
+
+    def _write(self, job, tiles, region, phases):
+        write_started = time.perf_counter()
+        for tile in _clip_tiles(_merge_tiles(tiles), region):
+            render_result.write_tile(self, job, tile, region)
+        phases.writeback += time.perf_counter() - write_started
+
+
+def _merge_tiles(tiles):
+    """Finished tiles (x, y, w, h) merged into fewer rectangles: tiles side by side
+    in a row into one, then rows of the same span on top of each other into one
+    (a whole image becomes one rectangle).
+
+    Each write into Blender's render result has a fixed cost (begin_result and
+    end_result): at 1920x1080 one write per 32-pixel tile took about 100 ms in
+    all. Only tiles that touch are merged, so no pixel still being traced is read.
+    """
+    rows = []
+    for x, y, width, height in sorted(tiles, key=lambda t: (t[1], t[3], t[0])):
+        if rows and rows[-1][1::2] == (y, height) and rows[-1][0] + rows[-1][2] == x:
+            rows[-1] = (rows[-1][0], y, rows[-1][2] + width, height)
+        else:
+            rows.append((x, y, width, height))
+    merged = []
+    for x, y, width, height in rows:
+        if merged and merged[-1][0::2] == (x, width) and merged[-1][1] + merged[-1][3] == y:
+            merged[-1] = (x, merged[-1][1], width, merged[-1][3] + height)
+        else:
+            merged.append((x, y, width, height))
+    return merged
 
 
 def _clip_tiles(tiles, region):

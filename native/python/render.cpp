@@ -38,12 +38,17 @@ py::dict stats_dict(const RenderStats& s) {
   return out;
 }
 
-// Copies a rectangle of the per-pixel ray counts into a float32[h*w, 1] array.
-py::array_t<float> copy_cost(const RenderJob& job, int x, int y, int w, int h) {
+void check_rect(const RenderJob& job, int x, int y, int w, int h) {
   const Settings& s = job.settings();
   if (x < 0 || y < 0 || w < 0 || h < 0 || x + w > s.width || y + h > s.height) {
     throw std::invalid_argument("rectangle outside the image");
   }
+}
+
+// Copies a rectangle of the per-pixel ray counts into a float32[h*w, 1] array.
+py::array_t<float> copy_cost(const RenderJob& job, int x, int y, int w, int h) {
+  check_rect(job, x, y, w, h);
+  const Settings& s = job.settings();
   py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{1}});
   float* dst = out.mutable_data();
   for (int row = 0; row < h; ++row) {
@@ -53,13 +58,22 @@ py::array_t<float> copy_cost(const RenderJob& job, int x, int y, int w, int h) {
   return out;
 }
 
+// A rectangle of full rows of a job buffer (`channels` floats per pixel) as a read-only
+// float32[h*w, channels] view, without a copy: the rows are contiguous. `owner` (the
+// Python RenderJob) is kept alive by the view.
+py::array_t<float> view_rows(const py::object& owner, const std::vector<float>& buffer, int width,
+                             int y, int h, int channels) {
+  py::array_t<float> out({static_cast<py::ssize_t>(width) * h, py::ssize_t{channels}},
+                         buffer.data() + static_cast<size_t>(channels) * y * width, owner);
+  py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
 // Copies a rectangle of the image into a C-contiguous float32[h*w, 4] array, the shape
 // Blender's foreach_set takes for a render pass.
 py::array_t<float> copy_rect(const RenderJob& job, int x, int y, int w, int h) {
+  check_rect(job, x, y, w, h);
   const Settings& s = job.settings();
-  if (x < 0 || y < 0 || w < 0 || h < 0 || x + w > s.width || y + h > s.height) {
-    throw std::invalid_argument("rectangle outside the image");
-  }
   py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{4}});
   float* dst = out.mutable_data();
   const float* src = job.pixels().data();
@@ -157,9 +171,28 @@ void bind_render(py::module_& m) {
              }
              return out;
            })
-      .def("tile", &copy_rect, py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"))
-      .def("cost_tile", &copy_cost, py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
-           "Rays traced per pixel (all kinds), float32[h*w, 1].")
+      .def(
+          "tile",
+          [](const py::object& self, int x, int y, int w, int h) {
+            const auto& job = self.cast<const RenderJob&>();
+            check_rect(job, x, y, w, h);
+            return x == 0 && w == job.settings().width ? view_rows(self, job.pixels(), w, y, h, 4)
+                                                       : copy_rect(job, x, y, w, h);
+          },
+          py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
+          "RGBA of a finished rectangle, float32[h*w, 4]; whole rows come as a read-only "
+          "view of the job's buffer (no copy).")
+      .def(
+          "cost_tile",
+          [](const py::object& self, int x, int y, int w, int h) {
+            const auto& job = self.cast<const RenderJob&>();
+            check_rect(job, x, y, w, h);
+            return x == 0 && w == job.settings().width ? view_rows(self, job.cost(), w, y, h, 1)
+                                                       : copy_cost(job, x, y, w, h);
+          },
+          py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
+          "Rays traced per pixel (all kinds) of a finished rectangle, float32[h*w, 1]; whole "
+          "rows come as a read-only view.")
       .def("cost_image",
            [](const RenderJob& job) {
              const Settings& s = job.settings();

@@ -96,3 +96,14 @@ def test_tiles_are_clipped_to_the_render_region():
     region = (10, 20, 30, 25)  # xmin, ymin, xmax, ymax
     tiles = [(0, 0, 16, 16), (0, 16, 16, 16), (16, 16, 16, 16), (32, 16, 16, 16), (12, 21, 2, 2)]
     assert list(clip(tiles, region)) == [(10, 20, 6, 5), (16, 20, 14, 5), (12, 21, 2, 2)]
+
+
+def test_finished_tiles_are_merged_into_few_rectangles():
+    merge = whitted.engine._merge_tiles
+    # Out of order, two rows, a gap (a tile still being traced), a shorter last row.
+    tiles = [(32, 0, 32, 32), (0, 0, 32, 32), (96, 0, 32, 32), (0, 32, 32, 8), (32, 32, 32, 8)]
+    assert merge(tiles) == [(0, 0, 64, 32), (96, 0, 32, 32), (0, 32, 64, 8)]
+    # A whole image, 3 x 3 tiles in any order, is one rectangle.
+    whole = [(x, y, 32, 32) for y in (64, 0, 32) for x in (32, 0, 64)]
+    assert merge(whole) == [(0, 0, 96, 96)]
+    assert merge([]) == []
