@@ -56,7 +56,13 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         self._run(job, film.region, phases)
         phases.total = time.perf_counter() - started
         stats = render_stats.render_stats(
-            bpy.app.version_string, quality, settings, job.stats(), phases, exported.sanitised
+            bpy.app.version_string,
+            quality,
+            settings,
+            job.stats(),
+            phases,
+            exported.sanitised,
+            render_result.PASSES,
         )
         line = render_stats.summary_line(stats)
         effects = render_stats.effects_line(stats)

@@ -8,6 +8,8 @@ artist sees where the time goes.
 import bpy
 
 COST_PASS = "Whitted Rays"
+# Every pass each render writes.
+PASSES = ("Combined", COST_PASS)
 
 # `RenderPass.rect.foreach_set` takes a (w*h, channels) array up to Blender 4.0
 # (it counts the first dimension only; a flat array is refused) and a flat

@@ -29,13 +29,13 @@ def peak_memory_mib():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def render_stats(blender_version, quality, settings, native_stats, phases, sanitised):
+def render_stats(blender_version, quality, settings, native_stats, phases, sanitised, passes):
     """One render's statistics as plain data (what WHITTED_STATS files hold).
 
     `quality` is the properties.presets.Quality rendered, `settings` the native
     Settings (image size). `sanitised` counts the bad geometry the exporter
     dropped or repaired (export.mesh.Sanitised as a dict: triangles and corner
-    normals).
+    normals). `passes` names the render passes written back.
     """
     rays = dict(native_stats["rays"])
     trace = phases.trace
@@ -53,9 +53,10 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
             "mesh_bvh": phases.mesh_bvh,
             "scene_bvh": phases.scene_bvh,
             "trace": trace,
-            "writeback": phases.writeback,
+            "writeback": phases.writeback,  # all of `passes`
             "total": phases.total,
         },
+        "passes": list(passes),
         "rays": rays,
         "rays_per_second": rays["total"] / trace if trace > 0.0 else 0.0,
         "total_internal_reflections": native_stats["total_internal_reflections"],

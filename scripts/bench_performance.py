@@ -443,10 +443,14 @@ def export_per_million(measurement):
 
 
 def writeback_per_hd_pass(measurement):
-    """Write-back seconds scaled to one 1920x1080 pass (exact at that size)."""
+    """Write-back seconds per render pass written (the engine writes Combined and its
+    ray-count pass), scaled to 1920x1080 (exact at that size)."""
     writeback = measurement.whitted("phases", "writeback")
+    passes = measurement.runs[0].get("whitted", {}).get("passes") if measurement.runs else None
     pixels = measurement.median(lambda r: r["width"] * r["height"])
-    return None if writeback is None or not pixels else writeback * HD_PIXELS / pixels
+    if writeback is None or not pixels or not passes:
+        return None
+    return writeback / len(passes) * HD_PIXELS / pixels
 
 
 def speedup(scaling, name, getter):
@@ -1098,8 +1102,11 @@ def method_lines(plan):
         "- **Export per million triangles**: the export phase over the mesh triangles "
         "Whitted exports (each distinct mesh once, counted by perf_scenes.py from the "
         "evaluated meshes).",
-        "- **Write-back per 1920x1080 pass**: the writeback phase of a render, scaled by "
-        "1920x1080 / its pixel count (exact for the 1920x1080 renders).",
+        "- **Write-back per 1920x1080 pass**: the writeback phase of a render (every "
+        "write into Blender's render result: Blender's begin_result, the pixels handed over "
+        "with foreach_set, and end_result, which merges them into the image) over the "
+        "passes it writes (Combined and Whitted Rays), scaled by 1920x1080 / its pixel "
+        "count (exact for the 1920x1080 renders).",
         "- **Memory**: peak resident set size of the Blender process (getrusage "
         "ru_maxrss) after the render. **Blender's own** is the peak of the same Blender "
         "loading the same file at the same size and rendering it with a do-nothing "

@@ -38,6 +38,11 @@ def parse_args():
     parser.add_argument("--threads", type=int, default=0, help="0: Blender's setting")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-recorded", type=int, default=20_000_000)
+    parser.add_argument(
+        "--renders-only",
+        action="store_true",
+        help="only the renders of step 1 (to profile them: scripts/profile_trace.sh)",
+    )
     return parser.parse_args(argv)
 
 
@@ -76,6 +81,8 @@ def main():
         stats = render(native, scene, settings).stats()
         ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
     rays_per_render = ours[0][0]
+    if args.renders_only:
+        return
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
     started = time.perf_counter()
     recorded = render(native, scene, settings, record_stride=stride)
