@@ -10,7 +10,8 @@ add-on enabled:
 1. The scene is exported as the engine exports it and rendered `repeats` times
    without recording: our rays per second are all rays traced (camera, shadow,
    reflection, refraction, cut-out continuations) over the trace phase, which
-   includes shading, texture lookups and the recursion.
+   includes shading, texture lookups and the recursion. Then `repeats` times
+   more with camera-ray packets off, for what the packets buy.
 2. It is rendered once more recording the queries of every n-th pixel (n chosen so
    at most --max-recorded queries are kept), each worker thread its own list.
 3. Those queries are traced again by a loop of single-ray rtcIntersect1/rtcOccluded1
@@ -83,6 +84,13 @@ def main():
     rays_per_render = ours[0][0]
     if args.renders_only:
         return
+    # The same renders without camera-ray packets: what the packets buy.
+    settings.packets = False
+    single = []
+    for _ in range(args.repeats):
+        stats = render(native, scene, settings).stats()
+        single.append(stats["rays"]["total"] / stats["trace_seconds"])
+    settings.packets = True
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
     started = time.perf_counter()
     recorded = render(native, scene, settings, record_stride=stride)
@@ -99,6 +107,8 @@ def main():
         "rays_per_render": rays_per_render,
         "whitted_trace_seconds": statistics.median(s for _, s, _ in ours),
         "whitted_rays_per_second": whitted_rps,
+        # Without camera-ray packets (Settings.packets off), in the same run.
+        "whitted_single_ray_rays_per_second": statistics.median(single),
         "record_stride": stride,
         "recorded_rays": bare[0]["rays"],
         "record_render_seconds": record_seconds,

@@ -145,6 +145,9 @@ void bind_render(py::module_& m) {
       .def_readwrite("aa_mode", &Settings::aa_mode)
       .def_readwrite("aa_threshold", &Settings::aa_threshold)
       .def_readwrite("aa_depth", &Settings::aa_depth)
+      .def_readwrite("packets", &Settings::packets,
+                     "Trace each pixel's camera rays as one Embree packet; off: one query "
+                     "per ray (a benchmark baseline).")
       .def_readwrite("analysis", &Settings::analysis,
                      "Trace only the effects the scene calls for and skip rays that cannot "
                      "show; off forces every effect on (a benchmark baseline).");

@@ -178,6 +178,21 @@ TEST(Render, PacketHitsAreTheSingleRayHits) {
   }
 }
 
+// Camera-ray packets change how rays are traced, not the image.
+TEST(Render, PacketsDoNotChangeTheImage) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 40;
+  settings.height = 30;
+  for (int n : {2, 3}) {  // 4 rays: one part-filled packet; 9 rays: a full one and one
+    settings.aa_samples = n;
+    settings.packets = true;
+    const std::vector<float> packets = render(scene, settings);
+    settings.packets = false;
+    EXPECT_EQ(render(scene, settings), packets) << n << "x" << n << " samples";
+  }
+}
+
 // The bare-Embree baseline traces exactly the rays the render traced: all of them with a
 // stride of 1, fewer with a larger stride; it needs a finished render made with recording.
 TEST(Render, BareTraceRetracesTheRecordedRays) {

@@ -135,9 +135,10 @@ RenderJob::Sample RenderJob::render_pixel_grid(int x, int y, const WhittedIntegr
       grid_sample(x, y, (first + k) % n, (first + k) / n, &px, &py);
       rays[static_cast<size_t>(k)] = camera_ray(px, py);
     }
-    if (count > 1) integrator.intersect_packet(rays.data(), count, hits.data());
+    const bool packet = settings_.packets && count > 1;
+    if (packet) integrator.intersect_packet(rays.data(), count, hits.data());
     for (int k = 0; k < count; ++k) {
-      const Hit* hit = count > 1 ? &hits[static_cast<size_t>(k)] : nullptr;
+      const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
       const Sample s = shade_camera_ray(rays[static_cast<size_t>(k)], hit, integrator, counts);
       sum.radiance += s.radiance;
       sum.alpha += s.alpha;
