@@ -2,10 +2,18 @@
 
 Positions and normals stay in object space (Blender's units and axes, Z up);
 each instance carries its object-to-world matrix. Arrays are filled with
-foreach_get, never per vertex in Python.
+foreach_get into preallocated numpy arrays of the type Blender stores (float32,
+and uint32 for indices: a buffer of another type is copied item by item, several
+times slower), never per vertex in Python.
+
+A smooth mesh whose corners all take their vertex's normal exports one normal per
+vertex, a mesh with sharp edges or custom normals one per triangle corner, a flat
+one none: corner normals are 36 bytes a triangle, vertex normals about 6.
 
 Bad geometry is sanitised here, before it reaches the native module (which
-refuses non-finite arrays): see `_sanitise`.
+refuses non-finite arrays): see `_sanitise`. Its per-triangle arithmetic runs in
+blocks of `_BLOCK` triangles, so its temporaries stay a few megabytes however
+large the mesh.
 """
 
 from dataclasses import dataclass, field
@@ -26,15 +34,28 @@ DEFAULT_MATERIAL = ""
 # instance's own scale. No sane model needs more than 10,000 km from its origin.
 MAX_COORDINATE = 1.0e7
 
+# Triangles per block of `_sanitise`'s arithmetic: about 150 bytes of temporaries a
+# triangle, so 10 MB a block.
+_BLOCK = 1 << 16
+
 
 @dataclass(frozen=True)
 class MeshData:
     name: str
     positions: np.ndarray  # float32[N,3], object space
     triangles: np.ndarray  # uint32[M,3], vertex indices
-    normals: np.ndarray | None  # float32[M,3,3] corner normals; None: all faces flat
+    # Shading normals, object space, at most one of `normals` and `vertex_normals`
+    # (both None: every face flat); `corner_normals()` gives either per corner.
+    normals: np.ndarray | None  # float32[M,3,3] corner normals
     material_slots: np.ndarray | None  # int32[M]; None: every triangle uses slot 0
     uvs: np.ndarray | None = None  # float32[M,3,2] corner UVs; None: no texture needs them
+    vertex_normals: np.ndarray | None = None  # float32[N,3]: each corner takes its vertex's
+
+    def corner_normals(self):
+        """float32[M,3,3]: the shading normal at each triangle corner; None when flat."""
+        if self.vertex_normals is not None:
+            return self.vertex_normals[self.triangles]
+        return self.normals
 
 
 @dataclass(frozen=True)
@@ -86,12 +107,12 @@ class Sanitised:
 
 @dataclass(frozen=True)
 class MeshExport:
-    meshes: list[MeshData]
+    meshes: list  # MeshData, or what `convert_meshes`' `convert` made of each
     instances: list[InstanceData]
     sanitised: Sanitised = field(default_factory=Sanitised)  # totals over all meshes
 
 
-def convert_meshes(depsgraph, warnings, uv_maps=None):
+def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=None):
     """Every renderable mesh-like object of the evaluated depsgraph, each distinct
     geometry once, placed by one instance per object or instance.
 
@@ -102,7 +123,18 @@ def convert_meshes(depsgraph, warnings, uv_maps=None):
 
     `uv_maps` maps a material name to the UV map its textures read ("" for the
     active render map); a mesh exports corner UVs when one of its materials is there.
+
+    `convert`, when given, is called with each MeshData as soon as it is read, and
+    MeshExport.meshes holds what it returns instead: scene.py copies each mesh into
+    the native module there, so that the arrays of only one mesh are alive at a time.
+
+    `in_place` lets Blender < 4.1 meshes with auto smooth or custom normals be read
+    in place rather than copied by to_mesh() (see `_corner_normals_ready`); by
+    default only from a render depsgraph (F12): a viewport one may hold a mesh whose
+    GPU subdivision only to_mesh() applies.
     """
+    if in_place is None:
+        in_place = depsgraph.mode == "RENDER"
     uv_maps = uv_maps or {}
     meshes = []
     instances = []
@@ -128,13 +160,15 @@ def convert_meshes(depsgraph, warnings, uv_maps=None):
         if key not in mesh_names:
             name = _unique_name(f"{obj.original.name_full}/{obj.data.name_full}", taken_names)
             taken_names.add(name)
-            mesh, repaired = _convert_geometry(obj, name, _uv_map(obj, uv_maps), warnings)
+            converted, repaired = _export_geometry(
+                obj, name, _uv_map(obj, uv_maps), warnings, convert, in_place
+            )
             if repaired:
                 sanitised += repaired
                 warnings.append(f"Whitted: object '{obj.name}': {repaired.describe()}")
-            mesh_names[key] = None if mesh is None else mesh.name
-            if mesh is not None:
-                meshes.append(mesh)
+            mesh_names[key] = None if converted is None else name
+            if converted is not None:
+                meshes.append(converted)
         if mesh_names[key] is None:
             continue
         instances.append(
@@ -161,64 +195,164 @@ def _unique_name(name, taken):
     return unique
 
 
-def _convert_geometry(obj, name, uv_map, warnings):
+def _export_geometry(obj, name, uv_map, warnings, convert, in_place):
+    """(MeshData, or what `convert` made of it, or None when no triangle is left,
+    Sanitised). The MeshData lives only in this frame, so its arrays are freed on
+    return when `convert` keeps none of them."""
+    mesh, sanitised = _convert_geometry(obj, name, uv_map, warnings, in_place)
+    if mesh is None or convert is None:
+        return mesh, sanitised
+    return convert(mesh), sanitised
+
+
+def _convert_geometry(obj, name, uv_map, warnings, in_place):
     # `obj` comes from depsgraph.object_instances and is already evaluated (with
     # modifiers); a geometry-nodes instance is a temporary object that
     # evaluated_get() would not find, so it is converted directly.
-    try:
-        mesh = obj.to_mesh()
-    except RuntimeError as error:
-        warnings.append(f"Whitted: object '{obj.name}' could not be made a mesh ({error}); skipped")
+    if in_place and _corner_normals_ready(obj.data) and _normals_domain(obj.data) == "CORNER":
+        arrays = _read(obj.data, "CORNER", name, uv_map, warnings)
+    else:
+        try:
+            mesh = obj.to_mesh()
+        except RuntimeError as error:
+            warnings.append(
+                f"Whitted: object '{obj.name}' could not be made a mesh ({error}); skipped"
+            )
+            return None, Sanitised()
+        try:
+            domain = _normals_domain(mesh)
+            if domain == "CORNER" and hasattr(mesh, "calc_normals_split"):
+                mesh.calc_normals_split()  # Blender < 4.1 computes them only on request
+            arrays = _read(mesh, domain, name, uv_map, warnings)
+        finally:
+            # Blender's copy goes before the arrays are checked: it is the larger.
+            obj.to_mesh_clear()
+    if arrays is None:
         return None, Sanitised()
-    try:
-        return _triangulate(mesh, name, uv_map, warnings)
-    finally:
-        obj.to_mesh_clear()
+    return _finish(name, *arrays)
 
 
-def _triangulate(mesh, name, uv_map, warnings):
-    """(MeshData or None when no triangle is left, Sanitised)."""
+def _corner_normals_ready(mesh):
+    """Whether the evaluated `mesh` holds corner normals that Blender < 4.1's depsgraph
+    computed (for auto smooth and custom normals), so that it is read in place, as
+    Cycles does: to_mesh() would copy every array but drop them, and
+    calc_normals_split() take 0.3 s a million triangles to compute them again.
+
+    Not in edit mode: the geometry is in a BMesh that only to_mesh() turns into
+    arrays. Other meshes are copied: read in place, they would keep the caches the
+    export computes (loop triangles: 16 bytes a triangle) for the whole render, for
+    little gain; and from 4.1 to_mesh() shares the arrays and normals anyway.
+    Loop 0's normal is (0, 0, 0) when they are missing (a computed one has length 1).
+    """
+    return (
+        hasattr(mesh, "calc_normals_split")
+        and not mesh.is_editmode
+        and (mesh.use_auto_smooth or mesh.has_custom_normals)
+        and len(mesh.loops) > 0
+        and any(mesh.loops[0].normal)
+    )
+
+
+def _read(mesh, domain, name, uv_map, warnings):
+    """The mesh's arrays as Blender stores them: (positions, corners, corner normals,
+    vertex normals, material slots, uvs), or None when it has no triangles. `domain`
+    is `_normals_domain(mesh)`."""
     mesh.calc_loop_triangles()
     triangles = mesh.loop_triangles
     count = len(triangles)
     if count == 0:
-        return None, Sanitised()
+        return None
     positions = np.empty((len(mesh.vertices), 3), dtype=np.float32)
     mesh.vertices.foreach_get("co", positions.reshape(-1))
-    corners = np.empty((count, 3), dtype=np.int32)
+    corners = np.empty((count, 3), dtype=np.uint32)
     triangles.foreach_get("vertices", corners.reshape(-1))
-    slots = np.empty(count, dtype=np.int32)
-    triangles.foreach_get("material_index", slots)
-    # Blender renders an index past the last slot with the last slot.
-    np.clip(slots, 0, max(len(mesh.materials), 1) - 1, out=slots)
-    smooth = np.empty(count, dtype=bool)
-    triangles.foreach_get("use_smooth", smooth)
-    normals = None
-    if smooth.any() or mesh.has_custom_normals:
-        # Corner ("split") normals: smooth faces interpolate, flat faces and sharp
-        # edges keep the face normal. Blender < 4.1 computes them only on request.
-        if hasattr(mesh, "calc_normals_split"):
-            mesh.calc_normals_split()
+    normals = vertex_normals = None
+    if domain == "POINT":
+        vertex_normals = np.empty_like(positions)
+        if hasattr(mesh, "normals_domain"):  # Blender 4.1+: a plain array, a block copy
+            mesh.vertex_normals.foreach_get("vector", vertex_normals.reshape(-1))
+        else:
+            mesh.vertices.foreach_get("normal", vertex_normals.reshape(-1))
+    elif domain == "CORNER":
         normals = np.empty((count, 3, 3), dtype=np.float32)
         triangles.foreach_get("split_normals", normals.reshape(-1))
+    slots = _material_slots(mesh, count)
     uvs = None if uv_map is None else _corner_uvs(mesh, uv_map, name, warnings)
+    return positions, corners, normals, vertex_normals, slots, uvs
+
+
+def _normals_domain(mesh):
+    """Where the mesh's shading normals vary: "FACE" (every face flat), "POINT" (each
+    corner takes its vertex's normal) or "CORNER" (sharp edges, flat faces among
+    smooth ones, custom normals)."""
+    domain = getattr(mesh, "normals_domain", None)  # Blender 4.1+ says it
+    if domain is not None:
+        return domain
+    # Before 4.1: custom normals vary per corner; auto smooth makes edges sharp by
+    # angle (and honours edges marked sharp); otherwise smooth faces take the vertex
+    # normal and flat ones the face normal.
+    if mesh.has_custom_normals:
+        return "CORNER"
+    smooth = np.empty(len(mesh.polygons), dtype=bool)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    if not smooth.any():
+        return "FACE"
+    if smooth.all() and not mesh.use_auto_smooth:
+        return "POINT"
+    return "CORNER"
+
+
+def _material_slots(mesh, count):
+    """int32[M] material slot of each loop triangle, or None when all use slot 0."""
+    # Blender renders an index past the last slot with the last slot: with one slot
+    # (or none) every triangle uses slot 0.
+    last = len(mesh.materials) - 1
+    if last <= 0:
+        return None
+    # Blender 3.4+ keeps the indices in a built-in face attribute (int32), absent when
+    # all are 0. A block copy of it and of each triangle's face, then a gather, is
+    # several times faster than loop_triangles' material_index, read item by item.
+    attribute = mesh.attributes.get("material_index")
+    if attribute is None:
+        return None
+    face_slots = np.empty(len(mesh.polygons), dtype=np.int32)
+    attribute.data.foreach_get("value", face_slots)
+    faces = np.empty(count, dtype=np.uint32)
+    mesh.loop_triangles.foreach_get("polygon_index", faces)
+    slots = face_slots[faces]
+    np.clip(slots, 0, last, out=slots)
+    return slots if slots.any() else None
+
+
+def _finish(name, positions, corners, normals, vertex_normals, slots, uvs):
+    """(MeshData or None when no triangle is left, Sanitised): bad triangles dropped,
+    unused vertices with them, bad normals repaired."""
     keep, sanitised = _sanitise(positions, corners, normals)
     # A loose NaN vertex no triangle uses must go too: the native module refuses it.
     if not keep.all() or not np.isfinite(positions).all():
         if not keep.any():
             return None, sanitised
-        positions, corners = _compact(positions, corners[keep])
-        slots = slots[keep]
+        positions, corners, used = _compact(positions, corners[keep])
+        slots = None if slots is None else slots[keep]
         normals = None if normals is None else normals[keep]
         uvs = None if uvs is None else uvs[keep]
+        vertex_normals = None if vertex_normals is None else vertex_normals[used]
+    del keep
+    if vertex_normals is not None and not _usable(vertex_normals).all():
+        # Rare (a vertex of zero-area faces only): each corner of a bad vertex normal
+        # takes its face's normal, so the mesh needs corner normals.
+        normals = vertex_normals[corners]
+        vertex_normals = None
+        _, repaired = _sanitise(positions, corners, normals)
+        sanitised += Sanitised(normals=repaired.normals)
     mesh_data = MeshData(
         name=name,
         positions=positions,
-        # Indices are never negative: reinterpret the bits, no copy.
-        triangles=corners.view(np.uint32),
+        triangles=corners,
         normals=normals,
-        material_slots=slots if slots.any() else None,
+        material_slots=slots,
         uvs=uvs,
+        vertex_normals=vertex_normals,
     )
     return mesh_data, sanitised
 
@@ -232,42 +366,78 @@ def _sanitise(positions, corners, normals):
     of non-zero area are kept: the core's watertight intersection handles them.
     A corner normal of zero length or with NaN/Inf is replaced by the face normal.
     """
+    count = len(corners)
     nonfinite_vertex = ~np.isfinite(positions).all(axis=1)
     # NaN compares False, so a NaN vertex is only "non-finite", never "distant".
-    distant_vertex = (np.abs(positions) > MAX_COORDINATE).any(axis=1) & ~nonfinite_vertex
-    nonfinite = nonfinite_vertex[corners].any(axis=1)
-    distant = distant_vertex[corners].any(axis=1) & ~nonfinite
-    bad = nonfinite | distant
-    # Non-finite points would give NaN crosses (and overflow warnings): use 0.
-    points = np.where(bad[:, None, None], 0.0, positions[corners].astype(np.float64))
-    cross = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
-    length = np.linalg.norm(cross, axis=1)
-    zero_area = (length == 0.0) & ~bad
-    keep = ~(bad | zero_area)
-    repaired = 0
-    if normals is not None:
-        corner_length = np.linalg.norm(normals, axis=2)
-        broken = ~(np.isfinite(corner_length) & (corner_length > 0.0)) & keep[:, None]
-        repaired = int(broken.sum())
-        if repaired:
-            face = cross / np.where(length > 0.0, length, 1.0)[:, None]
-            rows, columns = np.nonzero(broken)
-            normals[rows, columns] = face[rows]
+    distant_vertex = (np.abs(positions) > MAX_COORDINATE).any(axis=1)
+    if nonfinite_vertex.any() or distant_vertex.any():  # rare: per triangle only then
+        nonfinite = nonfinite_vertex[corners].any(axis=1)
+        distant = distant_vertex[corners].any(axis=1) & ~nonfinite
+        keep = ~(nonfinite | distant)
+    else:
+        nonfinite = distant = np.zeros(0, dtype=bool)
+        keep = np.ones(count, dtype=bool)
+    del nonfinite_vertex, distant_vertex
+    zero_area = repaired = 0
+    # Triangles with a NaN/Inf vertex (already dropped) give NaN products: not zero.
+    with np.errstate(invalid="ignore", over="ignore"):
+        for start in range(0, count, _BLOCK):
+            block = slice(start, start + _BLOCK)
+            zero = _zero_area(positions, corners[block]) & keep[block]
+            zero_area += int(np.count_nonzero(zero))
+            keep[block] &= ~zero
+            if normals is not None:
+                repaired += _repair(normals[block], positions, corners[block], keep[block])
     sanitised = Sanitised(
-        nonfinite=int(nonfinite.sum()),
-        distant=int(distant.sum()),
-        zero_area=int(zero_area.sum()),
+        nonfinite=int(np.count_nonzero(nonfinite)),
+        distant=int(np.count_nonzero(distant)),
+        zero_area=zero_area,
         normals=repaired,
     )
     return keep, sanitised
 
 
+def _zero_area(positions, corners):
+    """bool[k]: whether the cross product of each triangle's edges (p1 - p0, p2 - p0),
+    in float64, is exactly 0."""
+    points = np.take(positions, corners, axis=0).astype(np.float64)  # [k,3,3]
+    edges = points[:, 1:] - points[:, :1]  # [k,2,3]
+    (ax, ay, az), (bx, by, bz) = edges[:, 0].T, edges[:, 1].T
+    # A component a_i b_j - a_j b_i is 0 exactly when its two products are equal.
+    return (ay * bz == az * by) & (az * bx == ax * bz) & (ax * by == ay * bx)
+
+
+def _usable(normals):
+    """bool[...]: which normals (last axis xyz) have a finite, non-zero float32 length."""
+    squared = np.einsum("...k,...k->...", normals, normals)
+    # NaN fails both comparisons; an infinite component (or overflow) the second.
+    return (squared > 0.0) & (squared < np.inf)
+
+
+def _repair(normals, positions, corners, keep):
+    """Set the unusable corner normals of kept triangles (which have non-zero area) to
+    their face normal; how many."""
+    rows, columns = np.nonzero(~_usable(normals) & keep[:, None])
+    if len(rows) == 0:
+        return 0
+    points = positions[corners[rows]].astype(np.float64)
+    face = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    normals[rows, columns] = face / np.linalg.norm(face, axis=1)[:, None]
+    return len(rows)
+
+
 def _compact(positions, corners):
-    """Only the vertices `corners` uses (so no NaN vertex stays), renumbered."""
+    """Only the vertices `corners` uses (so no NaN vertex stays), renumbered, and the
+    mask of the vertices kept."""
     used = np.zeros(len(positions), dtype=bool)
     used[corners] = True
-    renumber = np.cumsum(used, dtype=np.int32) - 1
-    return np.ascontiguousarray(positions[used]), np.ascontiguousarray(renumber[corners])
+    # Unused vertices get -1, never read: every corner's vertex is used.
+    renumber = np.cumsum(used, dtype=np.int64) - 1
+    return (
+        np.ascontiguousarray(positions[used]),
+        np.ascontiguousarray(renumber[corners], dtype=np.uint32),
+        used,
+    )
 
 
 def _uv_map(obj, uv_maps):
@@ -290,11 +460,14 @@ def _corner_uvs(mesh, uv_map, name, warnings):
             )
         layer = next((candidate for candidate in layers if candidate.active_render), layers[0])
     loop_uvs = np.empty((len(mesh.loops), 2), dtype=np.float32)
-    layer.data.foreach_get("uv", loop_uvs.reshape(-1))
+    if hasattr(layer, "uv"):  # Blender 3.5+: the plain float2 array, a block copy
+        layer.uv.foreach_get("vector", loop_uvs.reshape(-1))
+    else:
+        layer.data.foreach_get("uv", loop_uvs.reshape(-1))
     triangles = mesh.loop_triangles
-    loops = np.empty((len(triangles), 3), dtype=np.int32)
+    loops = np.empty((len(triangles), 3), dtype=np.uint32)  # Blender's type: a block copy
     triangles.foreach_get("loops", loops.reshape(-1))
-    return loop_uvs[loops]
+    return np.take(loop_uvs, loops, axis=0)
 
 
 def _slot_materials(obj):

@@ -61,16 +61,14 @@ def convert_scene(depsgraph, native):
     # Material name -> the UV map its textures read: the meshes that use it export it.
     uv_maps = {name: m.uv_map for name, m in materials.items() if m.uv_map is not None}
 
-    exported = convert_meshes(depsgraph, warnings, uv_maps)
-    for mesh in exported.meshes:
-        scene.set_mesh(
-            mesh.name,
-            mesh.positions,
-            mesh.triangles,
-            mesh.normals,
-            mesh.material_slots,
-            uvs=mesh.uvs,
-        )
+    # Each mesh is copied into a native Mesh as soon as it is read, so its numpy arrays
+    # are freed before the next is read and before any BVH is built (they would add to
+    # the peak of memory); set_mesh then moves it into the scene and builds its BVH.
+    exported = convert_meshes(
+        depsgraph, warnings, uv_maps, convert=lambda mesh: (mesh.name, _native_mesh(native, mesh))
+    )
+    for name, mesh in exported.meshes:
+        scene.set_mesh(name, mesh)
     for instance in exported.instances:
         scene.set_instance(
             instance.name,
@@ -107,6 +105,18 @@ def set_lights(scene, lights, native):
         fields["type"] = getattr(native.LightType, light.type)
         fields["shape"] = getattr(native.AreaShape, light.shape)
         scene.set_light(name, native.Light(**fields))
+
+
+def _native_mesh(native, mesh):
+    # export.mesh.MeshData as a native.Mesh (a copy of its arrays).
+    return native.Mesh(
+        mesh.positions,
+        mesh.triangles,
+        normals=mesh.normals,
+        material_slots=mesh.material_slots,
+        uvs=mesh.uvs,
+        vertex_normals=mesh.vertex_normals,
+    )
 
 
 def _native_visibility(native, visibility):

@@ -24,24 +24,35 @@ void require_shape(const py::array& a, const char* name, std::initializer_list<p
   }
 }
 
-void set_mesh(Scene& scene, const std::string& name, const FloatArray& positions,
-              const UintArray& triangles, const std::optional<FloatArray>& normals,
-              const std::optional<IntArray>& material_slots, const std::optional<FloatArray>& uvs) {
+// The arrays of a mesh, checked and copied into a native Mesh (the GIL released while
+// copying: the arrays stay alive in the caller's frame).
+Mesh mesh_from_arrays(const FloatArray& positions, const UintArray& triangles,
+                      const std::optional<FloatArray>& normals,
+                      const std::optional<IntArray>& material_slots,
+                      const std::optional<FloatArray>& uvs,
+                      const std::optional<FloatArray>& vertex_normals) {
   require_shape(positions, "positions", {-1, 3});
   require_shape(triangles, "triangles", {-1, 3});
+  const auto n = static_cast<py::ssize_t>(positions.shape(0));
   const auto m = static_cast<py::ssize_t>(triangles.shape(0));
   if (normals) require_shape(*normals, "normals", {m, 3, 3});
+  if (vertex_normals) require_shape(*vertex_normals, "vertex_normals", {n, 3});
   if (material_slots) require_shape(*material_slots, "material_slots", {m});
   if (uvs) require_shape(*uvs, "uvs", {m, 3, 2});
   const float* p = positions.data();
   const uint32_t* t = triangles.data();
-  const float* n = normals ? normals->data() : nullptr;
+  const float* cn = normals ? normals->data() : nullptr;
+  const float* vn = vertex_normals ? vertex_normals->data() : nullptr;
   const int32_t* s = material_slots ? material_slots->data() : nullptr;
   const float* uv = uvs ? uvs->data() : nullptr;
-  const auto vertex_count = static_cast<size_t>(positions.shape(0));
-  // The arrays stay alive in this frame; copying and the BVH build need no GIL.
   py::gil_scoped_release release;
-  scene.set_mesh(name, make_mesh(p, vertex_count, t, static_cast<size_t>(m), n, s, uv));
+  return make_mesh(p, static_cast<size_t>(n), t, static_cast<size_t>(m), cn, s, uv, vn);
+}
+
+// Moves `mesh` into the scene under `name` and builds its BVH, without the GIL.
+void set_native_mesh(Scene& scene, const std::string& name, Mesh mesh) {
+  py::gil_scoped_release release;
+  scene.set_mesh(name, std::move(mesh));
 }
 
 }  // namespace
@@ -55,16 +66,48 @@ void bind_scene(py::module_& m) {
       .value("REFRACTION", kRefractionRay)
       .value("ALL", kAllRayKinds);
 
+  py::class_<Mesh>(m, "Mesh",
+                   "A triangle mesh copied out of numpy arrays, ready for Scene.set_mesh. "
+                   "Making it first lets the caller free its arrays before the BVH is built.")
+      .def(py::init(&mesh_from_arrays), py::arg("positions"), py::arg("triangles"),
+           py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
+           py::arg("uvs") = py::none(), py::arg("vertex_normals") = py::none(),
+           "positions float32[N,3], triangles uint32[M,3]; shading normals, at most one of: "
+           "normals float32[M,3,3] corner normals, vertex_normals float32[N,3] (indexed like "
+           "positions); neither: flat. material_slots int32[M] or None (slot 0), uvs "
+           "float32[M,3,2] corner texture coordinates or None.")
+      .def_property_readonly("vertex_count", &Mesh::vertex_count)
+      .def_property_readonly("triangle_count", &Mesh::triangle_count);
+
   py::class_<Scene>(m, "Scene",
                     "Meshes, instances, materials and lights keyed by name; setting a name "
                     "again replaces only that item.")
       .def(py::init<>())
-      .def("set_mesh", &set_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
-           py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
-           py::arg("uvs") = py::none(),
-           "positions float32[N,3], triangles uint32[M,3], normals float32[M,3,3] corner "
-           "normals or None (flat), material_slots int32[M] or None (slot 0), uvs "
-           "float32[M,3,2] corner texture coordinates or None.")
+      .def(
+          "set_mesh",
+          [](Scene& scene, const std::string& name, Mesh& mesh) {
+            // A made Mesh always holds Embree's padding float; an empty one was moved.
+            if (mesh.positions.empty()) {
+              throw std::invalid_argument("the Mesh is empty: it was already set in a scene");
+            }
+            set_native_mesh(scene, name, std::move(mesh));
+          },
+          py::arg("name"), py::arg("mesh"),
+          "Moves a Mesh into the scene (the Mesh is left empty) and builds its BVH.")
+      .def(
+          "set_mesh",
+          [](Scene& scene, const std::string& name, const FloatArray& positions,
+             const UintArray& triangles, const std::optional<FloatArray>& normals,
+             const std::optional<IntArray>& material_slots, const std::optional<FloatArray>& uvs,
+             const std::optional<FloatArray>& vertex_normals) {
+            set_native_mesh(scene, name,
+                            mesh_from_arrays(positions, triangles, normals, material_slots, uvs,
+                                             vertex_normals));
+          },
+          py::arg("name"), py::arg("positions"), py::arg("triangles"),
+          py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
+          py::arg("uvs") = py::none(), py::arg("vertex_normals") = py::none(),
+          "The same as set_mesh(name, Mesh(positions, triangles, ...)).")
       .def(
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,

@@ -1,5 +1,7 @@
 """Mesh export: triangles, normals, per-face materials, shared meshes and instances."""
 
+import dataclasses
+
 import bpy
 
 # isort: split
@@ -8,7 +10,7 @@ import bmesh
 import node_trees
 import numpy as np
 import pytest
-from whitted.export.mesh import DEFAULT_MATERIAL, convert_meshes
+from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish, convert_meshes
 
 
 def bmesh_mesh(name, build, smooth=False):
@@ -77,19 +79,74 @@ def test_cube_triangles_and_per_face_materials(empty_scene, warnings):
     assert warnings == []
 
 
-def test_smooth_sphere_has_radial_corner_normals(empty_scene, warnings):
+def test_smooth_sphere_has_radial_vertex_normals(empty_scene, warnings):
     add_object(empty_scene.collection, "Sphere", sphere_mesh())
     (data,) = convert(warnings).meshes
-    assert data.normals.dtype == np.float32
-    assert data.normals.shape == (len(data.triangles), 3, 3)
-    # Smooth corners carry the vertex normals ...
+    # Every corner takes its vertex's normal: one normal per vertex, none per corner.
+    assert data.normals is None
+    assert data.vertex_normals.dtype == np.float32
+    assert data.vertex_normals.shape == data.positions.shape
+    assert data.vertex_normals.flags.c_contiguous
     mesh = bpy.data.objects["Sphere"].data
     vertex_normals = np.empty((len(mesh.vertices), 3), dtype=np.float32)
     mesh.vertices.foreach_get("normal", vertex_normals.reshape(-1))
-    np.testing.assert_allclose(data.normals, vertex_normals[data.triangles], atol=1e-5)
-    # ... which on a unit sphere point nearly along the position (within 2 degrees).
-    cosines = np.sum(data.normals * data.positions[data.triangles], axis=-1)
+    np.testing.assert_allclose(data.vertex_normals, vertex_normals, atol=1e-6)
+    corners = data.corner_normals()
+    assert corners.shape == (len(data.triangles), 3, 3)
+    # On a unit sphere they point nearly along the position (within 2 degrees).
+    cosines = np.sum(corners * data.positions[data.triangles], axis=-1)
     assert cosines.min() > np.cos(np.radians(2.0))
+
+
+def test_custom_normals_are_exported_per_corner(empty_scene, warnings):
+    mesh = sphere_mesh()
+    if hasattr(mesh, "use_auto_smooth"):  # Blender < 4.1 reads custom normals only so
+        mesh.use_auto_smooth = True
+    up = np.tile(np.array([0.0, 0.0, 1.0], dtype=np.float32), (len(mesh.vertices), 1))
+    mesh.normals_split_custom_set_from_vertices(up)
+    add_object(empty_scene.collection, "Sphere", mesh)
+    (data,) = convert(warnings).meshes
+    assert data.vertex_normals is None
+    assert data.normals.shape == (len(data.triangles), 3, 3)
+    np.testing.assert_allclose(data.normals, np.broadcast_to(up[0], data.normals.shape), atol=1e-3)
+    assert data.corner_normals() is data.normals
+
+
+def test_sharp_edges_are_exported_per_corner(empty_scene, warnings):
+    mesh = cube_mesh()
+    mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+    # The edges around the top face are sharp, the others smooth.
+    for edge in mesh.edges:
+        edge.use_edge_sharp = all(mesh.vertices[v].co.z > 0.0 for v in edge.vertices)
+    if hasattr(mesh, "use_auto_smooth"):  # Blender < 4.1 honours sharp edges only so
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = np.pi
+    add_object(empty_scene.collection, "Cube", mesh)
+    (data,) = convert(warnings).meshes
+    assert data.vertex_normals is None
+    assert data.normals.shape == (12, 3, 3)
+    # The top face's corners keep its normal; a side face's corners on top lean sideways
+    # (they share a normal with the neighbouring side only), those at the bottom down too.
+    top = (data.positions[data.triangles][..., 2] > 0.0).all(axis=1)
+    assert top.sum() == 2
+    np.testing.assert_allclose(data.normals[top], np.broadcast_to((0, 0, 1), (2, 3, 3)), atol=1e-6)
+    corner_z = data.positions[data.triangles][..., 2]
+    side_normals = data.normals[~top]
+    np.testing.assert_allclose(side_normals[corner_z[~top] > 0.0][:, 2], 0.0, atol=1e-6)
+    assert (side_normals[corner_z[~top] < 0.0][:, 2] < -0.5).all()
+
+
+def test_a_zero_vertex_normal_makes_corner_normals_with_the_face_normal():
+    # Vertex 3's normal is zero (Blender gives one to a vertex whose faces cancel out):
+    # its corners take their triangle's face normal, the others keep the vertex normal.
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=np.float32)
+    corners = np.array([[0, 1, 2], [1, 3, 2]], dtype=np.uint32)
+    vertex_normals = np.array([[0, 0.6, 0.8], [0, 0, 1], [0, 0, 1], [0, 0, 0]], np.float32)
+    data, sanitised = _finish("Mesh", positions, corners, None, vertex_normals, None, None)
+    assert sanitised == Sanitised(normals=1)
+    assert data.vertex_normals is None
+    expected = [[[0, 0.6, 0.8], [0, 0, 1], [0, 0, 1]], [[0, 0, 1], [0, 0, 1], [0, 0, 1]]]
+    np.testing.assert_array_equal(data.normals, np.array(expected, dtype=np.float32))
 
 
 def test_flat_sphere_has_no_normals(empty_scene, warnings):
@@ -112,6 +169,80 @@ def test_mixed_smooth_and_flat_faces(empty_scene, warnings):
         if polygon != 0:
             face_normal = np.array(mesh.polygons[polygon].normal)
             np.testing.assert_allclose(data.normals[triangle], [face_normal] * 3, atol=1e-6)
+
+
+def test_meshes_read_in_place_equal_their_copies(empty_scene, warnings):
+    # A render reads the depsgraph's meshes in place, the viewport copies them with
+    # to_mesh(): every kind of normals, modifiers, slots and UVs come out the same.
+    collection = empty_scene.collection
+    add_object(collection, "Smooth", sphere_mesh("Smooth"))
+    add_object(collection, "Flat", cube_mesh("Flat"), location=(3.0, 0.0, 0.0))
+    mixed = cube_mesh("Mixed")
+    mixed.polygons[0].use_smooth = True
+    add_object(collection, "Mixed", mixed)
+    sharp = sphere_mesh("Sharp")
+    if hasattr(sharp, "use_auto_smooth"):
+        sharp.use_auto_smooth = True
+        sharp.auto_smooth_angle = np.radians(20.0)
+    else:
+        sharp.set_sharp_from_angle(angle=np.radians(20.0))
+    sharp.materials.append(bpy.data.materials.new("A"))
+    sharp.materials.append(bpy.data.materials.new("B"))
+    sharp.polygons.foreach_set("material_index", np.arange(len(sharp.polygons)) % 2)
+    add_object(collection, "Sharp", sharp)
+    custom = sphere_mesh("Custom")
+    if hasattr(custom, "use_auto_smooth"):
+        custom.use_auto_smooth = True
+    custom.normals_split_custom_set_from_vertices([(0.0, 0.6, 0.8)] * len(custom.vertices))
+    add_object(collection, "Custom", custom)
+    modified = add_object(collection, "Modified", sphere_mesh("Modified"))
+    modified.modifiers.new("Subdivision", "SUBSURF").levels = 1
+    uv = sphere_mesh("UV")
+    uv.uv_layers.new(name="Map")
+    uv.materials.append(bpy.data.materials.new("Textured"))
+    add_object(collection, "UV", uv)
+
+    def convert_all(in_place):
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        exported = convert_meshes(depsgraph, warnings, {"Textured": "Map"}, in_place=in_place)
+        return {mesh.name: mesh for mesh in exported.meshes}
+
+    copies = convert_all(in_place=False)
+    in_place = convert_all(in_place=True)
+    assert sorted(in_place) == sorted(copies) and len(copies) == 7
+    for name, copy in copies.items():
+        for field in dataclasses.fields(copy):
+            a, b = getattr(copy, field.name), getattr(in_place[name], field.name)
+            if isinstance(a, np.ndarray):
+                np.testing.assert_array_equal(a, b, err_msg=f"{name}.{field.name}")
+            else:
+                assert a == b, f"{name}.{field.name}"
+    kinds = {
+        name.split("/")[0]: (data.normals is not None, data.vertex_normals is not None)
+        for name, data in copies.items()
+    }
+    assert kinds["Smooth"] == kinds["Modified"] == kinds["UV"] == (False, True)
+    assert kinds["Flat"] == (False, False)
+    assert kinds["Mixed"] == kinds["Sharp"] == kinds["Custom"] == (True, False)
+    assert copies["Sharp/Sharp"].material_slots is not None
+    assert copies["UV/UV"].uvs is not None
+    assert warnings == []
+
+
+def test_a_mesh_in_edit_mode_is_read_with_its_edits(empty_scene, warnings):
+    obj = add_object(empty_scene.collection, "Cube", cube_mesh())
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        edit = bmesh.from_edit_mesh(obj.data)
+        for vertex in edit.verts:
+            vertex.co.z += 10.0
+        bmesh.update_edit_mesh(obj.data)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        (data,) = convert_meshes(depsgraph, warnings, in_place=True).meshes
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+    assert data.positions[:, 2].min() == pytest.approx(9.0)
 
 
 def test_collection_instances_share_one_mesh(empty_scene, warnings):
@@ -251,6 +382,19 @@ def test_material_index_past_the_last_slot_uses_the_last_slot(empty_scene, warni
     add_object(empty_scene.collection, "Cube", mesh)
     (data,) = convert(warnings).meshes
     assert data.material_slots is None  # clamped to slot 0 everywhere
+
+
+def test_material_index_past_the_last_of_two_slots_uses_the_last(empty_scene, warnings):
+    mesh = cube_mesh()
+    mesh.materials.append(bpy.data.materials.new("First"))
+    mesh.materials.append(bpy.data.materials.new("Last"))
+    mesh.polygons.foreach_set("material_index", [0, 3, 1, 0, 7, 0])
+    add_object(empty_scene.collection, "Cube", mesh)
+    (data,) = convert(warnings).meshes
+    faces = np.empty(len(data.triangles), dtype=np.int32)
+    mesh.calc_loop_triangles()
+    mesh.loop_triangles.foreach_get("polygon_index", faces)
+    np.testing.assert_array_equal(data.material_slots, np.array([0, 1, 1, 0, 1, 0])[faces])
 
 
 def test_every_instance_material_is_in_the_depsgraph(empty_scene, warnings):

@@ -176,7 +176,7 @@ def test_bad_geometry_is_dropped_with_one_warning_per_object(empty_scene, warnin
     # 4 quads = 8 triangles, and the sliver; vertices no kept triangle uses are gone.
     assert broken.triangles.shape == (9, 3)
     assert broken.triangles.max() == len(broken.positions) - 1
-    assert broken.normals.shape == (9, 3, 3)
+    assert broken.corner_normals().shape == (9, 3, 3)
 
 
 def test_bad_geometry_renders_without_nan(empty_scene, render):

@@ -133,6 +133,75 @@ def test_bad_normals_and_slots_shapes_raise():
         scene.set_mesh("m", positions, triangles, material_slots=np.zeros(5, np.int32))
 
 
+def test_bad_vertex_normals_raise():
+    positions, triangles = quad(0, 1, 0, 1, 0)
+    with pytest.raises(ValueError, match="vertex_normals"):
+        wn.Mesh(positions, triangles, vertex_normals=np.zeros((2, 3), np.float32))
+    with pytest.raises(ValueError, match="not both"):
+        wn.Mesh(
+            positions,
+            triangles,
+            normals=np.ones((2, 3, 3), np.float32),
+            vertex_normals=np.ones((4, 3), np.float32),
+        )
+
+
+def smooth_dome():
+    """A coarse dome of shared vertices over the floor, and its (radial) vertex normals."""
+    rings, segments = 4, 8
+    theta = np.linspace(0.0, 0.5 * math.pi, rings + 1)[:, None]
+    phi = np.linspace(0.0, 2.0 * math.pi, segments, endpoint=False)[None, :]
+    unit = np.stack(
+        np.broadcast_arrays(
+            np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)
+        ),
+        axis=-1,
+    ).reshape(-1, 3)
+    r, k = np.meshgrid(np.arange(1, rings), np.arange(segments), indexing="ij")
+    a, b = r * segments + k, (r + 1) * segments + k
+    c, d = (r + 1) * segments + (k + 1) % segments, r * segments + (k + 1) % segments
+    cap = np.stack(
+        [
+            np.zeros(segments, int),
+            segments + np.arange(segments),
+            segments + (np.arange(segments) + 1) % segments,
+        ],
+        axis=-1,
+    )
+    triangles = np.concatenate(
+        [cap, np.stack([a, b, d], -1).reshape(-1, 3), np.stack([b, c, d], -1).reshape(-1, 3)]
+    ).astype(np.uint32)
+    return unit.astype(np.float32), triangles
+
+
+def test_a_mesh_moves_into_the_scene_and_vertex_normals_shade_as_corner_normals():
+    positions, triangles = smooth_dome()
+
+    def render(**mesh):
+        scene = lit_floor_scene()
+        scene.set_mesh("dome", positions, triangles, **mesh)
+        scene.set_instance("dome", "dome", np.eye(4), ["white"])
+        return finish(wn.RenderJob(scene, wn.Settings(width=24, height=24)))
+
+    by_corner = render(normals=positions[triangles])
+    by_vertex = render(vertex_normals=positions)
+    np.testing.assert_array_equal(by_vertex, by_corner)
+    assert not np.array_equal(render(), by_corner)  # flat: the normals do shade
+
+    # A Mesh made first (so the caller can free its arrays) renders the same; the scene
+    # takes its arrays, leaving it empty.
+    mesh = wn.Mesh(positions, triangles, vertex_normals=positions)
+    assert (mesh.vertex_count, mesh.triangle_count) == (len(positions), len(triangles))
+    scene = lit_floor_scene()
+    scene.set_mesh("dome", mesh)
+    assert (mesh.vertex_count, mesh.triangle_count) == (0, 0)
+    with pytest.raises(ValueError, match="already set"):
+        scene.set_mesh("again", mesh)
+    scene.set_instance("dome", "dome", np.eye(4), ["white"])
+    image = finish(wn.RenderJob(scene, wn.Settings(width=24, height=24)))
+    np.testing.assert_array_equal(image, by_vertex)
+
+
 def test_bad_values_raise_instead_of_crashing():
     scene = wn.Scene()
     with pytest.raises(ValueError):

@@ -6,12 +6,31 @@
 #include <string>
 
 namespace whitted {
+namespace {
+
+// A copy of `count` floats with NaN and infinities set to 0 (a zero normal stands for
+// the face normal; a zero UV is the texture's corner).
+std::vector<float> finite_copy(const float* values, size_t count) {
+  std::vector<float> out(values, values + count);
+  for (float& x : out) {
+    if (!std::isfinite(x)) x = 0.0f;
+  }
+  return out;
+}
+
+}  // namespace
 
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,
                size_t triangle_count, const float* normals, const int32_t* material_slots,
-               const float* uvs) {
+               const float* uvs, const float* vertex_normals) {
   if (vertex_count > UINT32_MAX) throw std::invalid_argument("mesh has too many vertices");
+  if (normals != nullptr && vertex_normals != nullptr) {
+    throw std::invalid_argument("a mesh takes corner normals or vertex normals, not both");
+  }
   Mesh mesh;
+  // Reserved with the padding float Embree reads (16 bytes at the last vertex), so the
+  // push_back below does not reallocate (and double) the array.
+  mesh.positions.reserve(3 * vertex_count + 1);
   mesh.positions.assign(positions, positions + 3 * vertex_count);
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     if (!std::isfinite(mesh.positions[i])) {
@@ -19,7 +38,7 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
                                   " has a coordinate that is NaN or infinite");
     }
   }
-  mesh.positions.push_back(0.0f);  // Embree reads 16 bytes at the last vertex
+  mesh.positions.push_back(0.0f);
   mesh.triangles.assign(triangles, triangles + 3 * triangle_count);
   for (size_t i = 0; i < mesh.triangles.size(); ++i) {
     if (mesh.triangles[i] >= vertex_count) {
@@ -28,22 +47,14 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
                                   std::to_string(vertex_count));
     }
   }
-  if (normals != nullptr) {
-    mesh.normals.assign(normals, normals + 9 * triangle_count);
-    for (float& n : mesh.normals) {
-      if (!std::isfinite(n)) n = 0.0f;  // a zero normal falls back to the face normal
-    }
-  }
+  if (normals != nullptr) mesh.normals = finite_copy(normals, 9 * triangle_count);
+  if (vertex_normals != nullptr)
+    mesh.vertex_normals = finite_copy(vertex_normals, 3 * vertex_count);
   if (material_slots != nullptr) {
     mesh.material_slots.assign(material_slots, material_slots + triangle_count);
     for (int32_t& s : mesh.material_slots) s = std::max(s, 0);
   }
-  if (uvs != nullptr) {
-    mesh.uvs.assign(uvs, uvs + 6 * triangle_count);
-    for (float& uv : mesh.uvs) {
-      if (!std::isfinite(uv)) uv = 0.0f;
-    }
-  }
+  if (uvs != nullptr) mesh.uvs = finite_copy(uvs, 6 * triangle_count);
   // The bounds of the vertices, as Blender's automatic texture space: a flat axis gets
   // size 1 and a tiny one 1e-5, so generated coordinates stay finite.
   if (vertex_count > 0) {

@@ -9,26 +9,57 @@
 namespace whitted {
 
 struct Mesh {
-  std::vector<float> positions;         // 3 per vertex, plus one float of padding Embree reads
-  std::vector<uint32_t> triangles;      // 3 vertex indices per triangle
-  std::vector<float> normals;           // 9 per triangle (corner normals), or empty for flat
+  std::vector<float> positions;     // 3 per vertex, plus one float of padding Embree reads
+  std::vector<uint32_t> triangles;  // 3 vertex indices per triangle
+  // Shading normals, at most one of the two (both empty: every face flat). Corner normals
+  // for meshes with sharp edges, flat faces among smooth ones or custom normals; vertex
+  // normals, indexed like positions, for smooth meshes whose corners take the vertex normal.
+  std::vector<float> normals;           // 9 per triangle (corner normals), or empty
+  std::vector<float> vertex_normals;    // 3 per vertex, or empty
   std::vector<int32_t> material_slots;  // 1 per triangle, or empty for slot 0
   std::vector<float> uvs;               // 6 per triangle (corner UVs), or empty
   // Blender's automatic texture space: generated = (p - location + size) / (2 size).
   Vec3 texspace_location{0.0f};
   Vec3 texspace_size{1.0f};
 
-  size_t vertex_count() const { return positions.size() / 3; }
+  size_t vertex_count() const { return positions.size() / 3; }  // the padding float rounds off
   size_t triangle_count() const { return triangles.size() / 3; }
   Vec3 vertex(uint32_t i) const {
     return {positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
   }
+  // Whether triangles carry shading normals (smooth shading) rather than their face normal.
+  bool has_normals() const { return !normals.empty() || !vertex_normals.empty(); }
+  // The shading normals at the three corners of triangle `primitive`, as stored (not
+  // renormalised; a zero one stands for the face normal); false, and nothing written, when
+  // the mesh is flat.
+  bool corner_normals(uint32_t primitive, Vec3* n0, Vec3* n1, Vec3* n2) const {
+    if (!normals.empty()) {
+      const float* n = &normals[9 * size_t{primitive}];
+      *n0 = Vec3(n[0], n[1], n[2]);
+      *n1 = Vec3(n[3], n[4], n[5]);
+      *n2 = Vec3(n[6], n[7], n[8]);
+      return true;
+    }
+    if (!vertex_normals.empty()) {
+      const uint32_t* tri = &triangles[3 * size_t{primitive}];
+      const auto at = [&](uint32_t v) {
+        return Vec3(vertex_normals[3 * size_t{v}], vertex_normals[3 * size_t{v} + 1],
+                    vertex_normals[3 * size_t{v} + 2]);
+      };
+      *n0 = at(tri[0]);
+      *n1 = at(tri[1]);
+      *n2 = at(tri[2]);
+      return true;
+    }
+    return false;
+  }
 };
 
 // Builds a mesh from flat arrays, checking every index and value; throws
-// std::invalid_argument naming the first problem.
+// std::invalid_argument naming the first problem. `normals` (9 per triangle) and
+// `vertex_normals` (3 per vertex) are alternatives: at most one may be given.
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,
                size_t triangle_count, const float* normals, const int32_t* material_slots,
-               const float* uvs = nullptr);
+               const float* uvs = nullptr, const float* vertex_normals = nullptr);
 
 }  // namespace whitted

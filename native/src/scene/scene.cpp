@@ -202,11 +202,8 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
       ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
   out.shading_normal = out.geometric_normal;
   out.shadow_origin = out.position;
-  if (!mesh.normals.empty()) {
-    const float* n = &mesh.normals[9 * size_t{hit.primitive}];
-    const Vec3 n0(n[0], n[1], n[2]);
-    const Vec3 n1(n[3], n[4], n[5]);
-    const Vec3 n2(n[6], n[7], n[8]);
+  Vec3 n0, n1, n2;
+  if (mesh.corner_normals(hit.primitive, &n0, &n1, &n2)) {
     const Vec3 world = instance.normal_to_world * (w0 * n0 + hit.u * n1 + hit.v * n2);
     const float length = glm::length(world);
     if (length > 0.0f && std::isfinite(length)) {
