@@ -773,8 +773,51 @@ def comparison_section(suite, scenes):
                 f"{cell(cycles, seconds_text(cycles_total) if cycles_total else None)} | "
                 f"{ratio_text(ratio(cycles_total, ours))} |"
             )
-    lines += ["", *embree_details(suite, scenes), *bpy_section(suite, scenes)]
+    lines += [
+        "",
+        *image_agreement(suite, scenes),
+        *embree_details(suite, scenes),
+        *bpy_section(suite, scenes),
+    ]
     return lines
+
+
+# Mean absolute difference (display values 0..1) above which two engines' pictures of
+# a scene are not the same picture: Cycles' soft light and noise stay well below it.
+SAME_PICTURE = 0.1
+
+
+def image_agreement(suite, scenes):
+    """Whether POV-Ray and Cycles drew the picture Whitted drew (small size): a time
+    ratio means something only for the same picture."""
+    lines = [
+        "Do the engines draw the same picture? Mean absolute difference of each engine's "
+        f"PNG from Whitted's at {size_label(suite.plan.small)} (display values 0..1); "
+        f"above {SAME_PICTURE} the pictures differ and that engine's ratios above do not "
+        "compare like with like.",
+        "",
+        "| scene | POV-Ray | Cycles |",
+        "|---|---:|---:|",
+    ]
+    for results in scenes:
+        ours = _scene_image(suite, results.name, "WHITTED", suite.plan.small)
+        cells = []
+        for engine in ("POVRAY", "CYCLES"):
+            theirs = _scene_image(suite, results.name, engine, suite.plan.small)
+            if ours is None or theirs is None or not (ours.exists() and theirs.exists()):
+                cells.append("no image")
+                continue
+            a = plt.imread(ours)[..., :3]
+            b = plt.imread(theirs)[..., :3]
+            difference = float(abs(a - b).mean()) if a.shape == b.shape else None
+            if difference is None:
+                cells.append("sizes differ")
+            elif difference > SAME_PICTURE:
+                cells.append(f"**{difference:.3f}: a different picture**")
+            else:
+                cells.append(f"{difference:.3f}")
+        lines.append(f"| {results.name} | {' | '.join(cells)} |")
+    return [*lines, ""]
 
 
 def embree_details(suite, scenes):
