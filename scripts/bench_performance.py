@@ -1287,6 +1287,10 @@ def main():
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text, encoding="utf-8")
     print(f"bench_performance: wrote {args.out.resolve()} in {time.perf_counter() - started:.0f} s")
+    # POV-Ray and Cycles may time out (the page says so); our own runs may not.
+    ours = [p for p in suite.problems if not p.startswith(("POVRAY", "CYCLES"))]
+    if ours:
+        sys.exit("bench_performance: Whitted's own measurements failed:\n" + "\n".join(ours))
 
 
 if __name__ == "__main__":

@@ -29,6 +29,8 @@ APT_PACKAGES=(
   # the .venv and the X11 client libraries the bpy wheel loads even headless
   python3-venv libxrender1 libsm6 libxi6 libxxf86vm1 libxfixes3 libgl1 libxkbcommon0
   libxt6 libxext6
+  # the performance suite's side-by-side comparison (scripts/perf_povray.py)
+  povray
 )
 
 # --- step bookkeeping: each step prints its duration, or how it failed ---------

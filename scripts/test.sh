@@ -76,6 +76,15 @@ step_blender_34() {
 
 step_bpy_50() { limited "$VENV/bin/python" tests/blender/run.py -q; }
 
+# The performance suite end to end on tiny scenes (docs/PERFORMANCE.md comes from the
+# full run): every script runs, and Whitted's own measurements succeed.
+step_bench_smoke() {
+  local out
+  out=$(mktemp -d /tmp/whitted-bench-smoke-XXXXXX)
+  limited "$VENV/bin/python" scripts/bench_performance.py --quick --out "$out/PERFORMANCE.md"
+  rm -rf "$out"
+}
+
 step_ruff_check() { "$VENV/bin/ruff" check .; }
 
 step_ruff_format() { "$VENV/bin/ruff" format --check .; }
@@ -96,6 +105,7 @@ run_step "native tests (ASan+UBSan)" step_ctest_sanitized
 run_step "bindings (pytest)" step_pytest_bindings
 run_step "add-on in Blender 3.4" step_blender_34
 run_step "add-on in bpy 5.0" step_bpy_50
+run_step "performance suite, quick" step_bench_smoke
 run_step "lint: ruff check" step_ruff_check
 run_step "lint: ruff format" step_ruff_format
 run_step "lint: clang-format" step_clang_format
