@@ -26,6 +26,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["effects"] = s.effects;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["compile_seconds"] = s.compile_seconds;
+  out["top_level_built"] = s.top_level_built;
   out["trace_seconds"] = s.trace_seconds;
   out["threads"] = s.threads;
   out["samples"] = s.samples;
@@ -155,11 +156,18 @@ void bind_render(py::module_& m) {
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "
                         "tiles, cancel() to stop. Rows run bottom to top.")
-      .def(py::init<const Scene&, const Settings&, uint32_t>(), py::arg("scene"),
-           py::arg("settings"), py::arg("record_stride") = 0,
-           py::call_guard<py::gil_scoped_release>(),
-           "record_stride n > 0 records the rays of every n-th pixel for trace_bare() "
-           "(a benchmark baseline).")
+      .def(py::init([](const Scene& scene, const Settings& settings, uint32_t record_stride,
+                       const std::optional<Camera>& camera) {
+             // The camera is copied with the GIL held: Python may assign scene.camera.
+             const Camera view = camera ? *camera : scene.camera;
+             py::gil_scoped_release release;
+             return std::make_unique<RenderJob>(scene, settings, view, record_stride);
+           }),
+           py::arg("scene"), py::arg("settings"), py::arg("record_stride") = 0,
+           py::arg("camera") = py::none(),
+           "Compiles the scene (or reuses its last snapshot) and prepares the render. "
+           "camera: the view to render, None for scene.camera. record_stride n > 0 records "
+           "the rays of every n-th pixel for trace_bare() (a benchmark baseline).")
       .def("start", &RenderJob::start)
       .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
            py::call_guard<py::gil_scoped_release>(),

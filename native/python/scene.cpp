@@ -129,25 +129,31 @@ void bind_scene(py::module_& m) {
       .def("remove_material", &Scene::remove_material, py::arg("name"))
       .def("remove_light", &Scene::remove_light, py::arg("name"))
       .def("remove_texture", &Scene::remove_texture, py::arg("name"))
-      .def_readwrite("camera", &Scene::camera)
+      .def_readwrite("camera", &Scene::camera,
+                     "The view a RenderJob takes by default; not part of the compiled scene, "
+                     "so changing it recompiles nothing.")
       .def_property(
-          "background", [](const Scene& s) { return s.background; },
+          "background", &Scene::background,
           [](Scene& s, Vec3 c) {
             require_finite(c, "background");
-            s.background = c;
+            s.set_background(c);
           },
           "Radiance of a ray that hits nothing.")
       .def_property(
-          "ambient", [](const Scene& s) { return s.ambient; },
+          "ambient", &Scene::ambient,
           [](Scene& s, Vec3 c) {
             require_finite(c, "ambient");
-            s.ambient = c;
+            s.set_ambient(c);
           },
           "Ambient light Ia; a material's ambient term is ka * Ia * kd.")
       .def_property_readonly("mesh_count", &Scene::mesh_count)
       .def_property_readonly("instance_count", &Scene::instance_count)
       .def_property_readonly("mesh_build_seconds", &Scene::mesh_build_seconds,
-                             "Seconds spent in set_mesh building mesh BVHs, summed.");
+                             "Seconds spent in set_mesh building mesh BVHs, summed.")
+      .def_property_readonly("top_level_builds", &Scene::top_level_builds,
+                             "How many times this scene has built a top-level BVH: a render "
+                             "after a camera, material, texture, light or world change reuses "
+                             "the last one; a mesh or instance change builds a new one.");
 }
 
 }  // namespace whitted::python

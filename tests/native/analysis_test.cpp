@@ -35,7 +35,7 @@ Scene diffuse_scene() {
   spot.position = Vec3(-3.0f, 0.0f, 3.0f);
   spot.spot_size = 0.4f;
   scene.set_light("spot", spot);
-  scene.ambient = Color(0.1f);
+  scene.set_ambient(Color(0.1f));
   scene.camera = looking_down(Vec3(0.0f, 0.0f, 8.0f), 0.6f);
   return scene;
 }
@@ -51,7 +51,7 @@ Result render(const Scene& scene, bool analysis, float cutoff = 1.0f / 255.0f) {
   settings.height = 48;
   settings.analysis = analysis;
   settings.cutoff = cutoff;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }

@@ -17,7 +17,7 @@ using testing::quad;
 Scene edge_scene() {
   Scene scene;
   add_object(&scene, "square", quad(-0.37f, 0.41f, -0.29f, 0.33f, 0.0f), emitter(Color(1.0f)));
-  scene.background = Color(0.0f);
+  scene.set_background(Color(0.0f));
   scene.camera = looking_down(Vec3(0.0f, 0.0f, 1.0f), 1.0f);
   return scene;
 }
@@ -31,7 +31,7 @@ struct Result {
 Result render(const Scene& scene, Settings settings) {
   settings.width = 40;
   settings.height = 40;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }

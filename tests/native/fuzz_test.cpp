@@ -138,8 +138,8 @@ TEST(Fuzz, RandomScenesNeverCrashOrProduceNonFinitePixels) {
       const Light light = random_light(f);
       if (finite_light(light)) scene.set_light("l" + std::to_string(k), light);
     }
-    scene.ambient = glm::abs(f.vec(0.0f, 0.5f));
-    scene.background = Color(0.2f);
+    scene.set_ambient(glm::abs(f.vec(0.0f, 0.5f)));
+    scene.set_background(Color(0.2f));
     scene.camera.to_world = glm::translate(glm::mat4(1.0f), Vec3(0.0f, 0.0f, 8.0f));
     scene.camera.projection = f.pick(2) ? Projection::kPerspective : Projection::kOrthographic;
     Settings settings;
@@ -149,7 +149,7 @@ TEST(Fuzz, RandomScenesNeverCrashOrProduceNonFinitePixels) {
     settings.fresnel = static_cast<Fresnel>(f.pick(3));
     settings.cutoff = f.pick(2) ? 0.0f : 1.0f / 255.0f;
     settings.threads = 1;
-    RenderJob job(scene, settings);
+    RenderJob job(scene, settings, scene.camera);
     job.start();
     while (!job.wait(1.0)) {
     }

@@ -129,7 +129,7 @@ std::vector<float> render_sphere(Mesh mesh) {
   Settings settings;
   settings.width = 48;
   settings.height = 48;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }

@@ -46,8 +46,8 @@ TEST(Ray, SpawnedRaysNeverReHitTheirOwnTriangle) {
       }
     }
     const Mesh mesh = make_mesh(p.data(), p.size() / 3, t.data(), kTriangles, nullptr, nullptr);
-    const MeshAccel blas(device, mesh);
-    const SceneAccel tlas(device, {{&blas, glm::mat4(1.0f), kAllRayKinds}});
+    const auto blas = std::make_shared<const MeshAccel>(device, mesh);
+    const SceneAccel tlas(device, {{blas, glm::mat4(1.0f), kAllRayKinds}});
     for (uint32_t i = 0; i < kTriangles; ++i) {
       const Vec3 a = mesh.vertex(3 * i), b = mesh.vertex(3 * i + 1), c = mesh.vertex(3 * i + 2);
       Vec3 ng = glm::cross(b - a, c - a);

@@ -39,13 +39,13 @@ Scene glass_and_mirror_scene() {
   area.size[0] = area.size[1] = 1.0f;
   area.samples = 3;
   scene.set_light("area", area);
-  scene.ambient = Color(0.05f);
+  scene.set_ambient(Color(0.05f));
   scene.camera = looking_down(Vec3(0.3f, 0.2f, 6.0f), 0.9f);
   return scene;
 }
 
 std::vector<float> render(const Scene& scene, Settings settings) {
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }
@@ -74,7 +74,7 @@ TEST(Render, EveryTileIsReportedOnceAndProgressReachesOne) {
   settings.width = 50;
   settings.height = 30;
   settings.tile_size = 16;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }
@@ -94,7 +94,7 @@ TEST(Render, CancelStopsPromptly) {
   settings.height = 4096;
   settings.aa_samples = 4;  // minutes of work
   settings.threads = 2;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   EXPECT_FALSE(job.wait(0.05));
   const auto t0 = std::chrono::steady_clock::now();
@@ -111,28 +111,28 @@ TEST(Render, BadSettingsAreRefusedWithAMessage) {
   const Scene scene = glass_and_mirror_scene();
   Settings settings;
   settings.width = 0;
-  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene, settings, scene.camera), std::invalid_argument);
   settings.width = 65536;
   settings.height = 65536;  // 64 GiB of pixels
-  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene, settings, scene.camera), std::invalid_argument);
   settings = Settings{};
   settings.max_depth = 100000;
-  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene, settings, scene.camera), std::invalid_argument);
 }
 
 TEST(Render, MissingMeshOrMaterialIsAClearError) {
   Scene scene;
   scene.set_instance("orphan", Instance{"nothing", glm::mat4(1.0f), {}});
-  EXPECT_THROW(RenderJob(scene, Settings{}), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene, Settings{}, scene.camera), std::invalid_argument);
   Scene scene2;
   scene2.set_mesh("m", quad(0, 1, 0, 1, 0));
   scene2.set_instance("i", Instance{"m", glm::mat4(1.0f), {"no such material"}});
-  EXPECT_THROW(RenderJob(scene2, Settings{}), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene2, Settings{}, scene2.camera), std::invalid_argument);
 }
 
 TEST(Render, AnEmptySceneRendersTheBackground) {
   Scene scene;
-  scene.background = Color(0.1f, 0.2f, 0.3f);
+  scene.set_background(Color(0.1f, 0.2f, 0.3f));
   Settings settings;
   settings.width = 8;
   settings.height = 8;
@@ -154,14 +154,15 @@ TEST(Render, BadMeshesAreRefusedWithAMessage) {
 
 // Camera rays traced as a packet find exactly the hits single-ray queries find.
 TEST(Render, PacketHitsAreTheSingleRayHits) {
-  const auto scene = glass_and_mirror_scene().compile();
+  const Scene source = glass_and_mirror_scene();
+  const auto scene = source.compile();
   constexpr int kPacket = SceneAccel::kPacketSize;
   for (int count = 1; count <= kPacket; ++count) {
     for (int row = 0; row < 16; ++row) {
       Ray rays[kPacket];
       Hit hits[kPacket];
       for (int i = 0; i < count; ++i) {
-        rays[i] = scene->camera.generate_ray((static_cast<float>(i) + 0.5f) / kPacket,
+        rays[i] = source.camera.generate_ray((static_cast<float>(i) + 0.5f) / kPacket,
                                              (static_cast<float>(row) + 0.5f) / 16.0f);
       }
       scene->accel->intersect_packet(rays, count, hits);
@@ -202,7 +203,7 @@ TEST(Render, BareTraceRetracesTheRecordedRays) {
   settings.height = 30;
   settings.aa_samples = 2;
   settings.threads = 2;
-  RenderJob all(scene, settings, 1);
+  RenderJob all(scene, settings, scene.camera, 1);
   EXPECT_THROW(all.trace_bare(), std::logic_error);  // not started
   all.start();
   while (!all.wait(1.0)) {
@@ -212,14 +213,14 @@ TEST(Render, BareTraceRetracesTheRecordedRays) {
   EXPECT_EQ(bare.threads, all.stats().threads);
   EXPECT_GT(bare.seconds, 0.0);
 
-  RenderJob some(scene, settings, 7);
+  RenderJob some(scene, settings, scene.camera, 7);
   some.start();
   while (!some.wait(1.0)) {
   }
   EXPECT_LT(some.trace_bare().rays, bare.rays / 4);
   EXPECT_EQ(render(scene, settings), some.pixels());  // recording does not change the image
 
-  RenderJob none(scene, settings);
+  RenderJob none(scene, settings, scene.camera);
   none.start();
   while (!none.wait(1.0)) {
   }

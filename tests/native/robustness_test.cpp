@@ -29,7 +29,7 @@ Mesh octahedron() {
 TEST(Robustness, RaysAtSharedEdgesAndVerticesNeverSlipThrough) {
   auto device = std::make_shared<AccelDevice>();
   const Mesh mesh = octahedron();
-  const MeshAccel blas(device, mesh);
+  const auto blas = std::make_shared<const MeshAccel>(device, mesh);
   std::vector<Vec3> targets;
   for (uint32_t v = 0; v < 6; ++v) targets.push_back(mesh.vertex(v));
   for (size_t i = 0; i < mesh.triangles.size(); i += 3) {
@@ -45,7 +45,7 @@ TEST(Robustness, RaysAtSharedEdgesAndVerticesNeverSlipThrough) {
     for (const glm::mat4& xf : {glm::scale(glm::mat4(1.0f), Vec3(scale)),
                                 glm::rotate(glm::scale(glm::mat4(1.0f), Vec3(scale)), 0.3f,
                                             glm::normalize(Vec3(1.0f, 2.0f, 3.0f)))}) {
-      const SceneAccel tlas(device, {{&blas, xf, kAllRayKinds}});
+      const SceneAccel tlas(device, {{blas, xf, kAllRayKinds}});
       for (const Vec3& local : targets) {
         const Vec3 target = Vec3(xf * glm::vec4(local, 1.0f));
         // From inside (the centre) outwards, and from outside inwards.
@@ -70,7 +70,7 @@ TEST(Robustness, GlassInAUniformSkyConservesEnergy) {
     for (float ior : {1.5f, 2.4f, 0.7f}) {
       Scene scene;
       add_object(&scene, "ball", octahedron(), clear(ior));
-      scene.background = Color(1.0f);
+      scene.set_background(Color(1.0f));
       const auto compiled = scene.compile();
       Settings settings;
       settings.fresnel = fresnel;
@@ -242,8 +242,8 @@ Scene lit_shapes(float s) {
   light.color = Color(40.0f * s * s);  // irradiance I / r^2 stays the same at every scale
   light.position = Vec3(2.0f, -1.0f, 5.0f) * s;
   scene.set_light("light", light);
-  scene.ambient = Color(0.2f);
-  scene.background = Color(0.3f, 0.4f, 0.5f);
+  scene.set_ambient(Color(0.2f));
+  scene.set_background(Color(0.3f, 0.4f, 0.5f));
   scene.camera = looking_down(Vec3(0.3f, -0.2f, 8.0f) * s, 0.45f);
   scene.camera.clip_start = 1e-3f * s;
   scene.camera.clip_end = 1e3f * s;
@@ -256,7 +256,7 @@ std::vector<float> render_image(const Scene& scene, int threads = 2, int tile = 
   settings.height = 64;
   settings.threads = threads;
   settings.tile_size = tile;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }
@@ -346,7 +346,7 @@ TEST(Robustness, LowPolySmoothSphereShowsNoShadowTerminatorSteps) {
   const int size = 120;
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
-      const Ray ray = compiled->camera.generate_ray((x + 0.5f) / size, (y + 0.5f) / size);
+      const Ray ray = scene.camera.generate_ray((x + 0.5f) / size, (y + 0.5f) / size);
       Hit hit;
       if (!compiled->accel->intersect(ray, &hit)) continue;
       const Interaction it = compiled->interaction(ray, hit);

@@ -84,7 +84,7 @@ TEST(Visibility, TransparentFilmAndBorder) {
   settings.border[1] = 2;
   settings.border[2] = 12;
   settings.border[3] = 7;
-  RenderJob job(scene, settings);
+  RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }
@@ -98,7 +98,7 @@ TEST(Visibility, TransparentFilmAndBorder) {
   }
   EXPECT_EQ(job.stats().rays.camera, 35u);
   settings.border[2] = 30;
-  EXPECT_THROW(RenderJob(scene, settings), std::invalid_argument);
+  EXPECT_THROW(RenderJob(scene, settings, scene.camera), std::invalid_argument);
 }
 
 }  // namespace

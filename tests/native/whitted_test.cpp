@@ -31,7 +31,7 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
   light.position = Vec3(1.5f, -0.5f, 3.0f);
   scene.set_light("light", light);
   scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 1.5f);
-  scene.background = Color(0.0f);
+  scene.set_background(Color(0.0f));
   const auto compiled = scene.compile();
   Settings settings;
   const WhittedIntegrator integrator(*compiled, settings);
@@ -40,7 +40,7 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
   int checked = 0;
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
-      const Ray ray = compiled->camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
+      const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
       const Color c = integrator.trace(ray, PathState{}, &counts);
       // Where the camera ray meets z = 0, in double precision.
       const double t = -double(ray.origin.z) / ray.direction.z;
@@ -95,7 +95,7 @@ TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
   // Marker 0.2 wide around x = 4 at height 1 (the ray from (0,0,1) towards (2,0,0)
   // reflects there).
   add_object(&scene, "marker", quad(3.9f, 4.1f, -0.1f, 0.1f, 1.0f), emitter(Color(2.0f)));
-  scene.background = Color(0.25f);
+  scene.set_background(Color(0.25f));
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
@@ -124,7 +124,7 @@ TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
   scene.set_instance("slab_bottom", Instance{"slab_bottom", glm::mat4(1.0f), {"slab_top"}});
   // A floor at z = -2, bright for x > 0 and black for x < 0.
   add_object(&scene, "bright", quad(0.0f, 50, -50, 50, -2.0f), emitter(Color(1.0f)));
-  scene.background = Color(0.0f);
+  scene.set_background(Color(0.0f));
   const auto compiled = scene.compile();
   Settings settings;
   settings.fresnel = Fresnel::kOff;
@@ -240,8 +240,8 @@ TEST(Whitted, AmbientAndBackground) {
   m.diffuse = Color(0.5f, 0.25f, 1.0f);
   m.ambient = 0.8f;
   add_object(&scene, "floor", quad(-1, 1, -1, 1, 0), m);
-  scene.ambient = Color(0.1f, 0.2f, 0.3f);
-  scene.background = Color(0.3f, 0.6f, 0.9f);
+  scene.set_ambient(Color(0.1f, 0.2f, 0.3f));
+  scene.set_background(Color(0.3f, 0.6f, 0.9f));
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
@@ -251,7 +251,7 @@ TEST(Whitted, AmbientAndBackground) {
       integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, PathState{}, &counts);
   EXPECT_NEAR(hit.x, 0.8f * 0.1f * 0.5f, 1e-6f);
   EXPECT_NEAR(hit.z, 0.8f * 0.3f * 1.0f, 1e-6f);
-  EXPECT_EQ(miss, scene.background);
+  EXPECT_EQ(miss, scene.background());
 }
 
 }  // namespace

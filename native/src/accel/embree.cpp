@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
+#include <mutex>
 #include <stdexcept>
 
 namespace whitted {
@@ -20,13 +21,13 @@ RTCScene as_scene(void* p) {
   return static_cast<RTCScene>(p);
 }
 
-// Embree reports errors through this callback; it records the first message per device.
+// Embree reports errors through this callback, in the thread whose call failed; the
+// latest message is kept for AccelDevice::check.
 void on_error(void* user, RTCError code, const char* message) {
-  auto* error = static_cast<std::string*>(user);
-  if (error->empty()) {
-    *error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
-             (message != nullptr ? message : "");
-  }
+  auto* error = static_cast<AccelDevice::ErrorMessage*>(user);
+  std::lock_guard lock(error->mutex);
+  error->text = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
+                (message != nullptr ? message : "");
 }
 
 // Embree asserts (and so aborts the whole process, Blender with it) on a ray whose
@@ -79,7 +80,20 @@ AccelDevice::~AccelDevice() {
 }
 
 void AccelDevice::check(const char* what) const {
-  if (!error_.empty()) throw std::runtime_error(std::string(what) + ": " + error_);
+  // Embree keeps an error code per thread and device; rtcGetDeviceError returns the first
+  // error since its last call and clears it (Embree 3 manual, rtcGetDeviceError), so a
+  // later check cannot report this error again, nor one another thread caused.
+  const RTCError code = rtcGetDeviceError(as_device(device_));
+  if (code == RTC_ERROR_NONE) return;
+  std::string message;
+  {
+    std::lock_guard lock(error_.mutex);
+    message.swap(error_.text);
+  }
+  // The message is the latest any thread reported: the code is exact, the text is only
+  // ours unless two threads failed at once.
+  if (message.empty()) message = "Embree error " + std::to_string(static_cast<int>(code));
+  throw std::runtime_error(std::string(what) + ": " + message);
 }
 
 MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
@@ -110,6 +124,8 @@ MeshAccel::~MeshAccel() {
 SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
                        const std::vector<AccelInstance>& instances)
     : device_(std::move(device)) {
+  meshes_.reserve(instances.size());
+  for (const AccelInstance& instance : instances) meshes_.push_back(instance.mesh);
   RTCDevice d = as_device(device_->handle());
   RTCScene scene = rtcNewScene(d);
   rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -30,12 +31,19 @@ class AccelDevice {
   AccelDevice(const AccelDevice&) = delete;
   AccelDevice& operator=(const AccelDevice&) = delete;
   void* handle() const { return device_; }
-  // Throws std::runtime_error with Embree's message if an error was recorded.
+  // Throws std::runtime_error with Embree's message if a call this thread made on this
+  // device failed since the last check; the error is cleared either way.
   void check(const char* what) const;
+
+  // What Embree's error callback writes, in whichever thread failed, for check() to read.
+  struct ErrorMessage {
+    std::mutex mutex;
+    std::string text;
+  };
 
  private:
   void* device_ = nullptr;
-  std::string error_;
+  mutable ErrorMessage error_;
 };
 
 // A BVH over one mesh, in object space. Shares the mesh's arrays (the mesh must outlive it).
@@ -70,12 +78,14 @@ struct BareRays {
 };
 
 struct AccelInstance {
-  const MeshAccel* mesh;
+  // Shared, so the top-level BVH keeps alive the mesh BVHs (and the arrays they read) it
+  // instances, however long a snapshot that shares it lives.
+  std::shared_ptr<const MeshAccel> mesh;
   glm::mat4 to_world;
   uint32_t visibility;  // RayKind bits of the rays that see it
 };
 
-// The top-level BVH. Queries are thread-safe.
+// The top-level BVH. Immutable once built; queries are thread-safe.
 class SceneAccel {
  public:
   SceneAccel(std::shared_ptr<AccelDevice> device, const std::vector<AccelInstance>& instances);
@@ -101,6 +111,7 @@ class SceneAccel {
 
  private:
   std::shared_ptr<AccelDevice> device_;
+  std::vector<std::shared_ptr<const MeshAccel>> meshes_;
   void* scene_ = nullptr;
 };
 

@@ -28,11 +28,12 @@ double now_seconds() {
 
 }  // namespace
 
-RenderJob::RenderJob(const Scene& scene, const Settings& settings, uint32_t record_stride)
-    : settings_(settings), record_stride_(record_stride) {
+RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
+                     uint32_t record_stride)
+    : settings_(settings), camera_(camera), record_stride_(record_stride) {
   settings_.validate();
   const double t0 = now_seconds();
-  scene_ = scene.compile();
+  scene_ = scene.compile(&stats_.top_level_built);
   stats_.compile_seconds = now_seconds() - t0;
   stats_.triangles = scene_->triangle_count();
   stats_.instances = scene_->instances.size();
@@ -41,7 +42,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, uint32_t reco
   pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
   cost_.assign(static_cast<size_t>(settings_.width) * settings_.height, 0.0f);
   const WhittedIntegrator integrator(*scene_, settings_);
-  camera_media_ = integrator.media_at(Vec3(scene_->camera.to_world[3]));
+  camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().reasons;
   const int ts = settings_.tile_size;
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
@@ -171,8 +172,8 @@ void RenderJob::grid_sample(int x, int y, int i, int j, float* px, float* py) co
 }
 
 Ray RenderJob::camera_ray(float px, float py) const {
-  return scene_->camera.generate_ray(px / static_cast<float>(settings_.width),
-                                     py / static_cast<float>(settings_.height));
+  return camera_.generate_ray(px / static_cast<float>(settings_.width),
+                              py / static_cast<float>(settings_.height));
 }
 
 RenderJob::Sample RenderJob::render_pixel_adaptive(int x, int y,

@@ -22,6 +22,7 @@ struct Tile {
 struct RenderStats {
   RayCounts rays;
   double compile_seconds = 0.0;  // name resolution and top-level BVH build
+  bool top_level_built = false;  // whether the compile built a top-level BVH (else reused)
   double trace_seconds = 0.0;
   int threads = 0;
   uint64_t samples = 0;  // camera samples taken
@@ -43,9 +44,12 @@ struct BareTrace {
 
 class RenderJob {
  public:
-  // With `record_stride` n > 0 the render records the queries of every n-th pixel for
-  // trace_bare (a benchmark baseline; recording costs time and memory).
-  RenderJob(const Scene& scene, const Settings& settings, uint32_t record_stride = 0);
+  // Renders `scene` as `camera` sees it (the camera is not part of the compiled scene, so
+  // a new view reuses the snapshot). With `record_stride` n > 0 the render records the
+  // queries of every n-th pixel for trace_bare (a benchmark baseline; recording costs time
+  // and memory).
+  RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
+            uint32_t record_stride = 0);
   ~RenderJob();  // cancels and joins
   RenderJob(const RenderJob&) = delete;
   RenderJob& operator=(const RenderJob&) = delete;
@@ -97,6 +101,7 @@ class RenderJob {
                    const WhittedIntegrator& integrator, RayCounts* counts) const;
 
   Settings settings_;
+  Camera camera_;
   std::shared_ptr<const CompiledScene> scene_;
   MediumStack camera_media_;  // the glass the camera is inside, if any
   std::vector<Tile> tiles_;

@@ -50,52 +50,125 @@ bool safely_invertible(const glm::mat4& m) {
 
 Scene::Scene() : device_(std::make_shared<AccelDevice>()) {}
 
+Scene::Scene(const Scene& other) : camera(other.camera), device_(other.device_) {
+  std::lock_guard lock(other.mutex_);
+  state_ = other.state_;
+}
+
+void Scene::changed(bool geometry) const {
+  state_.snapshot.reset();
+  if (geometry) {
+    state_.accel.reset();
+    state_.accel_masks.clear();
+  }
+}
+
 void Scene::set_mesh(const std::string& name, Mesh mesh) {
+  // The BVH is built outside the lock: it is the slow part, and touches no scene state.
   const auto t0 = std::chrono::steady_clock::now();
-  meshes_[name] = std::make_shared<const MeshEntry>(device_, std::move(mesh));
-  mesh_build_seconds_ +=
+  auto entry = std::make_shared<const MeshEntry>(device_, std::move(mesh));
+  const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::lock_guard lock(mutex_);
+  state_.meshes[name] = std::move(entry);
+  state_.mesh_build_seconds += seconds;
+  changed(true);
 }
 
 void Scene::set_instance(const std::string& name, Instance instance) {
   if (!is_finite(instance.to_world)) {
     throw std::invalid_argument("instance '" + name + "' has a NaN or infinite transform");
   }
-  instances_[name] = std::move(instance);
+  std::lock_guard lock(mutex_);
+  state_.instances[name] = std::move(instance);
+  changed(true);
 }
 
 void Scene::set_material(const std::string& name, const Material& material) {
-  materials_[name] = material;
+  std::lock_guard lock(mutex_);
+  state_.materials[name] = material;
+  changed(false);
 }
 void Scene::set_light(const std::string& name, const Light& light) {
-  lights_[name] = light;
-}
-void Scene::remove_mesh(const std::string& name) {
-  erase_or_throw(&meshes_, name, "mesh");
-}
-void Scene::remove_instance(const std::string& name) {
-  erase_or_throw(&instances_, name, "instance");
-}
-void Scene::remove_material(const std::string& name) {
-  erase_or_throw(&materials_, name, "material");
-}
-void Scene::remove_light(const std::string& name) {
-  erase_or_throw(&lights_, name, "light");
+  std::lock_guard lock(mutex_);
+  state_.lights[name] = light;
+  changed(false);
 }
 void Scene::set_texture(const std::string& name, Texture texture) {
-  textures_[name] = std::make_shared<const Texture>(std::move(texture));
+  auto shared = std::make_shared<const Texture>(std::move(texture));
+  std::lock_guard lock(mutex_);
+  state_.textures[name] = std::move(shared);
+  changed(false);
+}
+void Scene::remove_mesh(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  erase_or_throw(&state_.meshes, name, "mesh");
+  changed(true);
+}
+void Scene::remove_instance(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  erase_or_throw(&state_.instances, name, "instance");
+  changed(true);
+}
+void Scene::remove_material(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  erase_or_throw(&state_.materials, name, "material");
+  changed(false);
+}
+void Scene::remove_light(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  erase_or_throw(&state_.lights, name, "light");
+  changed(false);
 }
 void Scene::remove_texture(const std::string& name) {
-  erase_or_throw(&textures_, name, "texture");
+  std::lock_guard lock(mutex_);
+  erase_or_throw(&state_.textures, name, "texture");
+  changed(false);
+}
+void Scene::set_background(const Color& background) {
+  std::lock_guard lock(mutex_);
+  state_.background = background;
+  changed(false);
+}
+void Scene::set_ambient(const Color& ambient) {
+  std::lock_guard lock(mutex_);
+  state_.ambient = ambient;
+  changed(false);
+}
+Color Scene::background() const {
+  std::lock_guard lock(mutex_);
+  return state_.background;
+}
+Color Scene::ambient() const {
+  std::lock_guard lock(mutex_);
+  return state_.ambient;
+}
+size_t Scene::mesh_count() const {
+  std::lock_guard lock(mutex_);
+  return state_.meshes.size();
+}
+double Scene::mesh_build_seconds() const {
+  std::lock_guard lock(mutex_);
+  return state_.mesh_build_seconds;
+}
+size_t Scene::instance_count() const {
+  std::lock_guard lock(mutex_);
+  return state_.instances.size();
+}
+uint64_t Scene::top_level_builds() const {
+  std::lock_guard lock(mutex_);
+  return state_.top_level_builds;
 }
 
-std::shared_ptr<const CompiledScene> Scene::compile() const {
+std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const {
+  std::lock_guard lock(mutex_);
+  if (built_top_level != nullptr) *built_top_level = false;
+  if (state_.snapshot) return state_.snapshot;
   auto compiled = std::make_shared<CompiledScene>();
-  compiled->camera = camera;
-  compiled->background = background;
-  compiled->ambient = ambient;
+  compiled->background = state_.background;
+  compiled->ambient = state_.ambient;
   std::map<std::string, int32_t> texture_index;
-  for (const auto& [name, texture] : textures_) {
+  for (const auto& [name, texture] : state_.textures) {
     texture_index[name] = static_cast<int32_t>(compiled->textures.size());
     compiled->textures.push_back(texture);
   }
@@ -110,19 +183,22 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
   };
   std::map<std::string, uint32_t> material_index;
   compiled->materials.push_back(Material{});
-  for (const auto& [name, material] : materials_) {
+  for (const auto& [name, material] : state_.materials) {
     material_index[name] = static_cast<uint32_t>(compiled->materials.size());
     Material resolved = material;
     resolved.diffuse_texture_index = resolve_texture(name, material.diffuse_texture);
     resolved.alpha_texture_index = resolve_texture(name, material.alpha_texture);
     compiled->materials.push_back(std::move(resolved));
   }
-  for (const auto& [name, light] : lights_) compiled->lights.push_back(light);
+  for (const auto& [name, light] : state_.lights) compiled->lights.push_back(light);
 
+  // Instances are resolved anew each time (cheap); their order and the set left out
+  // depend only on meshes and instances, so an existing top-level BVH still matches.
   std::vector<AccelInstance> accel_instances;
-  for (const auto& [name, instance] : instances_) {
-    auto mesh = meshes_.find(instance.mesh);
-    if (mesh == meshes_.end()) {
+  std::vector<uint32_t> masks;
+  for (const auto& [name, instance] : state_.instances) {
+    auto mesh = state_.meshes.find(instance.mesh);
+    if (mesh == state_.meshes.end()) {
       throw std::invalid_argument("instance '" + name + "' uses missing mesh '" + instance.mesh +
                                   "'");
     }
@@ -156,10 +232,20 @@ std::shared_ptr<const CompiledScene> Scene::compile() const {
       for (uint32_t index : out.materials) translucent |= compiled->materials[index].translucent();
       mask |= translucent ? kTranslucentShadowRay : kOpaqueShadowRay;
     }
-    accel_instances.push_back({&out.mesh->accel, out.to_world, mask});
+    // Aliasing pointer: the mesh BVH, keeping its whole entry (the arrays) alive.
+    accel_instances.push_back(
+        {std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel), out.to_world, mask});
+    masks.push_back(mask);
     compiled->instances.push_back(std::move(out));
   }
-  compiled->accel = std::make_unique<SceneAccel>(device_, accel_instances);
+  if (!state_.accel || masks != state_.accel_masks) {
+    state_.accel = std::make_shared<const SceneAccel>(device_, accel_instances);
+    state_.accel_masks = std::move(masks);
+    state_.top_level_builds += 1;
+    if (built_top_level != nullptr) *built_top_level = true;
+  }
+  compiled->accel = state_.accel;
+  state_.snapshot = compiled;
   return compiled;
 }
 

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,8 @@ struct SurfaceParams {
   float alpha;
 };
 
-// What a render reads: resolved, immutable, safe to share between threads.
+// What a render reads: resolved, immutable, safe to share between threads. The camera is
+// not part of it (a render takes its own), so moving the camera recompiles nothing.
 struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
@@ -75,10 +77,10 @@ struct CompiledScene {
   std::vector<Material> materials;  // index 0 is the default material
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
-  Camera camera;
   Color background{0.0f};
   Color ambient{0.0f};
-  std::unique_ptr<SceneAccel> accel;
+  // Shared by successive snapshots while no mesh or instance changes.
+  std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
 
   size_t triangle_count() const;
@@ -88,10 +90,19 @@ struct CompiledScene {
   SurfaceParams surface(const Interaction& it) const;
 };
 
+// Every method may be called from any thread (Python calls some without the GIL): the
+// scene's state is guarded by one mutex. The camera is a plain value, read by whoever
+// starts a render, and no part of the compiled snapshot.
 class Scene {
  public:
   Scene();
+  // A copy shares the meshes (immutable) and starts from the same compile cache and count.
+  Scene(const Scene& other);
+  Scene& operator=(const Scene&) = delete;
 
+  // A mesh or instance change invalidates the top-level BVH; a material, texture, light,
+  // background or ambient change only the snapshot, which the next compile() resolves
+  // again around the existing top-level BVH.
   void set_mesh(const std::string& name, Mesh mesh);
   void set_instance(const std::string& name, Instance instance);
   void set_material(const std::string& name, const Material& material);
@@ -102,29 +113,53 @@ class Scene {
   void remove_material(const std::string& name);
   void remove_light(const std::string& name);
   void remove_texture(const std::string& name);
+  void set_background(const Color& background);
+  void set_ambient(const Color& ambient);
+  Color background() const;
+  Color ambient() const;
 
   Camera camera;
-  Color background{0.05f};
-  Color ambient{0.0f};
 
-  // Resolves names and builds the top-level BVH; mesh BVHs were built by set_mesh.
-  // Throws std::invalid_argument for an instance whose mesh or material is missing.
-  std::shared_ptr<const CompiledScene> compile() const;
+  // The snapshot a render reads: the last one again while nothing changed since, else
+  // names resolved anew, the top-level BVH rebuilt only when a mesh or instance changed
+  // or an instance's shadow mask did (a material turned translucent or opaque); mesh
+  // BVHs were built by set_mesh. `built_top_level`, when given, says whether this call
+  // built one. Throws std::invalid_argument for an instance whose mesh or material is
+  // missing (and keeps nothing of that attempt).
+  std::shared_ptr<const CompiledScene> compile(bool* built_top_level = nullptr) const;
 
-  size_t mesh_count() const { return meshes_.size(); }
+  size_t mesh_count() const;
   // Seconds spent copying meshes and building their BVHs in set_mesh, summed.
-  double mesh_build_seconds() const { return mesh_build_seconds_; }
-  size_t instance_count() const { return instances_.size(); }
+  double mesh_build_seconds() const;
+  size_t instance_count() const;
+  // How many times compile() has built a top-level BVH for this scene.
+  uint64_t top_level_builds() const;
 
  private:
+  // Marks the snapshot stale, and with `geometry` the top-level BVH too. Needs mutex_.
+  void changed(bool geometry) const;
+
   std::shared_ptr<AccelDevice> device_;
-  // Ordered maps: the compiled order, and so the image, does not depend on insertion order.
-  std::map<std::string, std::shared_ptr<const MeshEntry>> meshes_;
-  std::map<std::string, Instance> instances_;
-  std::map<std::string, Material> materials_;
-  std::map<std::string, Light> lights_;
-  std::map<std::string, std::shared_ptr<const Texture>> textures_;
-  double mesh_build_seconds_ = 0.0;
+  mutable std::mutex mutex_;  // guards state_
+  struct State {
+    // Ordered maps: the compiled order, and so the image, does not depend on insertion
+    // order.
+    std::map<std::string, std::shared_ptr<const MeshEntry>> meshes;
+    std::map<std::string, Instance> instances;
+    std::map<std::string, Material> materials;
+    std::map<std::string, Light> lights;
+    std::map<std::string, std::shared_ptr<const Texture>> textures;
+    Color background{0.05f};
+    Color ambient{0.0f};
+    double mesh_build_seconds = 0.0;
+    // The compile cache: the last snapshot (null once anything changed), and the
+    // top-level BVH with the instance masks it was built with (null once geometry changed).
+    std::shared_ptr<const CompiledScene> snapshot;
+    std::shared_ptr<const SceneAccel> accel;
+    std::vector<uint32_t> accel_masks;
+    uint64_t top_level_builds = 0;
+  };
+  mutable State state_;
 };
 
 }  // namespace whitted
