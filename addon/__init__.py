@@ -57,7 +57,8 @@ COMPAT_PANELS = (
     "DATA_PT_context_light",
     "DATA_PT_EEVEE_light",
     "DATA_PT_spot",
-    # Material slots and the surface node tree.
+    # Material slots, the preview (rendered by Whitted) and the surface node tree.
+    "MATERIAL_PT_preview",
     "EEVEE_MATERIAL_PT_context_material",
     "EEVEE_MATERIAL_PT_surface",
     # World.

@@ -1,18 +1,20 @@
-"""The Whitted RenderEngine: export, start the native render, poll it, write tiles."""
+"""The Whitted RenderEngine: F12 and material previews (render), the Rendered
+viewport (view_update, view_draw). Every kind of render goes through the one
+sync layer (addon/sync); this class only hands each call to its owner."""
 
 import os
 import time
+from dataclasses import asdict
 
 import bpy
 
 from . import result as render_result
 from . import stats as render_stats
 from .export import ExportError
-from .export.film import convert_film
-from .export.scene import convert_scene
 from .native import load_native
 from .properties.presets import quality_of
-from .settings import native_settings
+from .sync.frame import sync_frame
+from .viewport.session import ViewportSession
 
 # One poll of the render job waits this long. Esc (test_break) is checked after
 # every poll, so the render stops within this time plus the job's cancel latency.
@@ -22,13 +24,29 @@ POLL_SECONDS = 0.05
 class WhittedRenderEngine(bpy.types.RenderEngine):
     bl_idname = "WHITTED"
     bl_label = "Whitted"
-    bl_use_preview = False
+    # Material Properties' preview and material icons render with Whitted too.
+    bl_use_preview = True
     # Use the artists' Cycles/EEVEE shader nodes (Principled BSDF) rather than
     # hiding them behind nodes of our own.
     bl_use_shading_nodes_custom = False
 
+    # Blender 4.4+ requires this signature and the super() call; 3.4 accepts it.
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._viewport = None
+
+    def __del__(self):
+        # Blender frees the engine when the viewport leaves Rendered mode, its area
+        # closes or Blender quits: the session's job stops here. This may run on an
+        # instance whose __init__ never ran.
+        viewport = getattr(self, "_viewport", None)
+        if viewport is not None:
+            viewport.stop()
+
     def update_render_passes(self, scene=None, renderlayer=None):
         render_result.register_passes(self, scene, renderlayer)
+
+    # --- F12 and material previews ---------------------------------------------
 
     def render(self, depsgraph):
         phases = render_stats.PhaseTimes()
@@ -37,12 +55,10 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         quality = quality_of(scene.whitted)
         try:
             native = load_native()
-            exported = convert_scene(depsgraph, native)
-            phases.mesh_bvh = exported.scene.mesh_build_seconds
+            frame = sync_frame(depsgraph, native, quality)
+            phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
-            film = convert_film(scene.render, exported.width, exported.height)
-            settings = native_settings(native, scene, exported.width, exported.height, film)
-            job = native.RenderJob(exported.scene, settings)
+            job = frame.job(native)
         except (ImportError, ExportError) as error:
             self.report({"ERROR"}, str(error))
             return
@@ -50,20 +66,29 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             # The native module refused the data (bad arrays, a missing name, ...).
             self.report({"ERROR"}, f"Whitted: the renderer refused the scene: {error}")
             return
-        for warning in exported.warnings:
-            self.report({"WARNING"}, warning)
+        if not self.is_preview:
+            for warning in frame.warnings:
+                self.report({"WARNING"}, warning)
         render_result.add_passes(self)
-        self._run(job, film.region, phases)
+        try:
+            self._run(job, frame.film.region, phases)
+        except (MemoryError, RuntimeError) as error:
+            # A worker failed (out of memory, say): the job stopped all of them.
+            self.report({"ERROR"}, f"Whitted: the render failed: {error}")
+            return
+        if self.is_preview:
+            return  # Blender's preview scene: no statistics, nothing to keep
         phases.total = time.perf_counter() - started
         stats = render_stats.render_stats(
             bpy.app.version_string,
             quality,
-            settings,
+            frame.settings,
             job.stats(),
             phases,
-            exported.sanitised,
+            asdict(frame.sync.sanitised),
             render_result.PASSES,
         )
+        stats["sync"] = frame.report.as_dict()
         line = render_stats.summary_line(stats)
         effects = render_stats.effects_line(stats)
         self.update_stats("", line)
@@ -83,24 +108,28 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         # the end, which costs far less than many small writes (docs/PERFORMANCE.md).
         progressive = not bpy.app.background
         pending = []
-        while True:
-            finished = job.wait(POLL_SECONDS)
-            pending += job.take_finished_tiles()
-            if progressive:
-                self._write(job, pending, region, phases)
-                pending = []
-            self.update_progress(job.progress)
-            seconds = time.perf_counter() - started
-            self.update_stats("", render_stats.progress_line(job.stats(), seconds))
-            if finished:
-                break
-            if self.test_break():
-                # Workers stop after their current pixel row; wait for that so the
-                # statistics below are complete.
-                job.cancel()
-                job.wait(1.0)
-                break
-        self._write(job, pending + job.take_finished_tiles(), region, phases)
+        try:
+            while True:
+                # Raises what a worker raised, once all workers have stopped.
+                finished = job.wait(POLL_SECONDS)
+                pending += job.take_finished_tiles()
+                if progressive:
+                    self._write(job, pending, region, phases)
+                    pending = []
+                self.update_progress(job.progress)
+                seconds = time.perf_counter() - started
+                self.update_stats("", render_stats.progress_line(job.stats(), seconds))
+                if finished:
+                    break
+                if self.test_break():
+                    # Workers stop after their current pixel row; wait for that so
+                    # the statistics below are complete.
+                    job.cancel()
+                    job.wait(1.0)
+                    break
+        finally:
+            # What was finished is kept, even when the render failed.
+            self._write(job, pending + job.take_finished_tiles(), region, phases)
         native_stats = job.stats()
         phases.scene_bvh = native_stats["compile_seconds"]
         phases.trace = native_stats["trace_seconds"]
@@ -110,6 +139,21 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         for tile in _clip_tiles(_merge_tiles(tiles), region):
             render_result.write_tile(self, job, tile, region)
         phases.writeback += time.perf_counter() - write_started
+
+    # --- the Rendered viewport --------------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        if self._viewport is None:
+            try:
+                self._viewport = ViewportSession(self, load_native())
+            except ImportError as error:
+                self.update_stats("", str(error))
+                return
+        self._viewport.update(context, depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        if self._viewport is not None:
+            self._viewport.draw(context, depsgraph)
 
 
 def _merge_tiles(tiles):

@@ -16,11 +16,10 @@ docs/ACCURACY_COST.md gives the measured error of the prediction.
 import time
 from dataclasses import dataclass, replace
 
-from .export.film import convert_film
-from .export.light import convert_lights
-from .export.scene import convert_scene, set_lights
 from .properties.presets import PRESETS
 from .settings import native_settings
+from .sync import SyncParams
+from .sync.frame import sync_frame
 
 PROBE_DIVISOR = 8
 # A probe narrower than this is not one (the whole frame when it is smaller).
@@ -52,26 +51,27 @@ def probe_size(width, height):
 
 def estimate_presets(depsgraph, native):
     """((probe width, height), (full width, height), [Estimate per preset]) for the
-    evaluated depsgraph's scene. Raises what export.scene.convert_scene raises."""
+    evaluated depsgraph's scene. Raises what sync.frame.sync_frame raises."""
     scene = depsgraph.scene
     started = time.perf_counter()
-    exported = convert_scene(depsgraph, native)
+    frame = sync_frame(depsgraph, native)
     export_seconds = time.perf_counter() - started
-    film = convert_film(scene.render, exported.width, exported.height)
+    film = frame.film
     xmin, ymin, xmax, ymax = film.region
     pixels = (xmax - xmin) * (ymax - ymin)
-    width, height = probe_size(exported.width, exported.height)
+    width, height = probe_size(frame.width, frame.height)
     # The probe covers the whole (smaller) frame: no border.
     probe_film = replace(film, region=(0, 0, width, height))
     estimates = []
     for key, _, _, quality in PRESETS:
-        # Soft-shadow samples are part of the lights: re-set them for this preset.
-        set_lights(exported.scene, convert_lights(depsgraph, [], quality.light_samples), native)
+        # Soft-shadow samples and the texture filter are part of the scene: sync
+        # them for this preset.
+        frame.sync.sync(depsgraph, SyncParams.of(scene, quality))
         settings = native_settings(native, scene, width, height, probe_film, quality)
         settings.tile_size = PROBE_TILE_SIZE
-        stats, rays_per_second = _probe(native, exported.scene, settings)
+        stats, rays_per_second = _probe(native, frame, settings)
         rays_per_pixel = _full_resolution_rays_per_pixel(
-            native, settings, stats, width * height, width / exported.width
+            native, settings, stats, width * height, width / frame.width
         )
         compile_seconds = stats["compile_seconds"]
         trace = rays_per_pixel * pixels / rays_per_second if rays_per_second > 0 else 0.0
@@ -86,14 +86,14 @@ def estimate_presets(depsgraph, native):
     return (width, height), (xmax - xmin, ymax - ymin), estimates
 
 
-def _probe(native, scene, settings):
+def _probe(native, frame, settings):
     """(statistics, fastest rays per second) of the probe render, after a warm-up and
     over enough repeats to have traced for MIN_PROBE_SECONDS."""
-    _render(native.RenderJob(scene, settings))  # warm-up: threads, caches
+    _render(frame.job(native, settings))  # warm-up: threads, caches
     traced = 0.0
     rates = []
     for _ in range(MAX_PROBE_REPEATS):
-        stats = _render(native.RenderJob(scene, settings))
+        stats = _render(frame.job(native, settings))
         rays = stats["rays"]["total"]
         if stats["trace_seconds"] > 0.0:
             rates.append(rays / stats["trace_seconds"])

@@ -77,13 +77,13 @@ def build(demo, variant, width, height):
     return scene
 
 
-def render(native, exported, analysis, repeats):
+def render(native, frame, analysis, repeats):
     times = []
     for _ in range(repeats):
         settings = native.Settings(
-            width=exported.width, height=exported.height, aa_samples=2, analysis=analysis
+            width=frame.width, height=frame.height, aa_samples=2, analysis=analysis
         )
-        job = native.RenderJob(exported.scene, settings)
+        job = frame.job(native, settings)
         job.start()
         while not job.wait(1.0):
             pass
@@ -99,8 +99,8 @@ def main():
     parser.add_argument("--out", help="also write the table to this Markdown file")
     args = parser.parse_args(argv)
 
-    from whitted.export.scene import convert_scene
     from whitted.native import load_native
+    from whitted.sync.frame import sync_frame
 
     native = load_native()
     demo = load_demo_scene()
@@ -130,9 +130,9 @@ def main():
     ]
     for variant in VARIANTS:
         build(demo, variant, width, height)
-        exported = convert_scene(bpy.context.evaluated_depsgraph_get(), native)
-        on_image, on_stats, on_time = render(native, exported, True, args.repeats)
-        off_image, off_stats, off_time = render(native, exported, False, args.repeats)
+        frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
+        on_image, on_stats, on_time = render(native, frame, True, args.repeats)
+        off_image, off_stats, off_time = render(native, frame, False, args.repeats)
         for mode, stats, seconds in (
             ("analysis", on_stats, on_time),
             ("forced", off_stats, off_time),

@@ -48,25 +48,20 @@ def parse_args():
 
 
 def export(threads):
-    """The scene as the engine exports it, and its native render settings."""
-    from whitted.export.film import convert_film
-    from whitted.export.scene import convert_scene
+    """The scene as the engine syncs it (a Frame), and the native module."""
     from whitted.native import load_native
-    from whitted.settings import native_settings
+    from whitted.sync.frame import sync_frame
 
     scene = bpy.context.scene
     if threads:
         scene.render.threads_mode = "FIXED"
         scene.render.threads = threads
     native = load_native()
-    exported = convert_scene(bpy.context.evaluated_depsgraph_get(), native)
-    film = convert_film(scene.render, exported.width, exported.height)
-    settings = native_settings(native, scene, exported.width, exported.height, film)
-    return native, exported.scene, settings
+    return native, sync_frame(bpy.context.evaluated_depsgraph_get(), native)
 
 
-def render(native, scene, settings, record_stride=0):
-    job = native.RenderJob(scene, settings, record_stride=record_stride)
+def render(native, frame, settings, record_stride=0):
+    job = frame.job(native, settings, record_stride=record_stride)
     job.start()
     while not job.wait(1.0):
         pass
@@ -75,11 +70,12 @@ def render(native, scene, settings, record_stride=0):
 
 def main():
     args = parse_args()
-    native, scene, settings = export(args.threads)
-    render(native, scene, settings)  # warm-up: page in the BVHs, start the threads once
+    native, frame = export(args.threads)
+    settings = frame.settings
+    render(native, frame, settings)  # warm-up: page in the BVHs, start the threads once
     ours = []
     for _ in range(args.repeats):
-        stats = render(native, scene, settings).stats()
+        stats = render(native, frame, settings).stats()
         ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
     rays_per_render = ours[0][0]
     if args.renders_only:
@@ -88,12 +84,12 @@ def main():
     settings.packets = False
     single = []
     for _ in range(args.repeats):
-        stats = render(native, scene, settings).stats()
+        stats = render(native, frame, settings).stats()
         single.append(stats["rays"]["total"] / stats["trace_seconds"])
     settings.packets = True
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
     started = time.perf_counter()
-    recorded = render(native, scene, settings, record_stride=stride)
+    recorded = render(native, frame, settings, record_stride=stride)
     record_seconds = time.perf_counter() - started
     bare = [recorded.trace_bare() for _ in range(args.repeats)]
 

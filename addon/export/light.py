@@ -76,21 +76,32 @@ def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
         obj = object_instance.object
         if obj.type != "LIGHT" or obj.original.hide_render:
             continue
-        name = instance_name(object_instance)
-        matrix = np.array(object_instance.matrix_world, dtype=np.float64)
-        # The columns of the object-to-world matrix are the light's axes in world
-        # space; their lengths are the object's scale.
-        axes = matrix[:3, :3]
-        scale = np.linalg.norm(axes, axis=0)
-        if not np.all(scale > 0.0):
-            warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
-            continue
-        light = _convert_light(
-            name, obj.data, matrix[:3, 3], axes / scale, scale, default_samples, warnings
+        light = convert_light(
+            instance_name(object_instance),
+            obj.data,
+            object_instance.matrix_world,
+            warnings,
+            default_samples,
         )
         if light is not None:
             lights.append(light)
     return lights
+
+
+def convert_light(name, light, matrix_world, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
+    """One light placed by `matrix_world` (object to world) as LightData, or None
+    (with a warning) when Whitted cannot render it."""
+    matrix = np.array(matrix_world, dtype=np.float64)
+    # The columns of the object-to-world matrix are the light's axes in world
+    # space; their lengths are the object's scale.
+    axes = matrix[:3, :3]
+    scale = np.linalg.norm(axes, axis=0)
+    if not np.all(scale > 0.0):
+        warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
+        return None
+    return _convert_light(
+        name, light, matrix[:3, 3], axes / scale, scale, default_samples, warnings
+    )
 
 
 def shadow_switch(light):

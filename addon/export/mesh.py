@@ -116,17 +116,12 @@ def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=Non
     """Every renderable mesh-like object of the evaluated depsgraph, each distinct
     geometry once, placed by one instance per object or instance.
 
-    Curves, text, surfaces and metaballs need no case of their own: the
-    depsgraph evaluates them to a mesh, which it yields as a MESH instance of
-    the object (besides the object itself, whose to_mesh() is that same mesh
-    again). So only MESH objects and instances are exported, as Cycles does.
-
     `uv_maps` maps a material name to the UV map its textures read ("" for the
     active render map); a mesh exports corner UVs when one of its materials is there.
 
     `convert`, when given, is called with each MeshData as soon as it is read, and
-    MeshExport.meshes holds what it returns instead: scene.py copies each mesh into
-    the native module there, so that the arrays of only one mesh are alive at a time.
+    MeshExport.meshes holds what it returns instead, so that the arrays of only one
+    mesh are alive at a time.
 
     `in_place` lets Blender < 4.1 meshes with auto smooth or custom normals be read
     in place rather than copied by to_mesh() (see `_corner_normals_ready`); by
@@ -138,68 +133,123 @@ def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=Non
     uv_maps = uv_maps or {}
     meshes = []
     instances = []
-    # Evaluated mesh address -> the name of its mesh, or None when it has no triangles.
-    mesh_names = {}
-    taken_names = set()
+    exported = {}  # geometry key -> whether it has triangles
     sanitised = Sanitised()
     view_layer = depsgraph.view_layer_eval  # holdout is per view layer
-    for object_instance in depsgraph.object_instances:
+    for object_instance, key in mesh_instances(depsgraph):
         obj = object_instance.object
-        if (
-            obj.type != "MESH"
-            or obj.original.hide_render
-            # An instancer can hide its own geometry (particles' "Show Emitter").
-            or not object_instance.show_self
-        ):
-            continue
-        # The depsgraph hands every unmodified user of a mesh (collection instances
-        # too), and every geometry-nodes instance of one geometry, the same evaluated
-        # mesh; an object with modifiers owns its evaluated mesh. So the address of
-        # the evaluated mesh tells which instances can share one exported mesh.
-        key = obj.data.as_pointer()
-        if key not in mesh_names:
-            name = _unique_name(f"{obj.original.name_full}/{obj.data.name_full}", taken_names)
-            taken_names.add(name)
-            converted, repaired = _export_geometry(
-                obj, name, _uv_map(obj, uv_maps), warnings, convert, in_place
+        if key not in exported:
+            converted, repaired = export_geometry(
+                obj, key, object_uv_map(obj, uv_maps), warnings, convert, in_place
             )
-            if repaired:
-                sanitised += repaired
-                warnings.append(f"Whitted: object '{obj.name}': {repaired.describe()}")
-            mesh_names[key] = None if converted is None else name
+            sanitised += repaired
+            exported[key] = converted is not None
             if converted is not None:
                 meshes.append(converted)
-        if mesh_names[key] is None:
-            continue
-        instances.append(
-            InstanceData(
-                name=instance_name(object_instance),
-                mesh=mesh_names[key],
-                # Valid only while iterating: copy it now.
-                transform=np.array(object_instance.matrix_world, dtype=np.float64),
-                materials=_slot_materials(obj),
-                visibility=ray_visibility(object_instance),
-                holdout=is_holdout(object_instance, view_layer),
-            )
-        )
+        if exported[key]:
+            instances.append(instance_data(object_instance, key, view_layer))
     return MeshExport(meshes=meshes, instances=instances, sanitised=sanitised)
 
 
-def _unique_name(name, taken):
-    # Two geometries of one object (geometry nodes) can share a data name.
-    suffix = 1
-    unique = name
-    while unique in taken:
-        unique = f"{name}.{suffix}"
-        suffix += 1
-    return unique
+def mesh_instances(depsgraph):
+    """(object instance, geometry key) of every renderable mesh instance of the
+    evaluated depsgraph, in the depsgraph's order. Valid only while iterating."""
+    keys = GeometryKeys(depsgraph.mode == "RENDER")
+    for object_instance in depsgraph.object_instances:
+        if is_renderable_mesh(object_instance):
+            yield object_instance, keys.key(object_instance)
 
 
-def _export_geometry(obj, name, uv_map, warnings, convert, in_place):
-    """(MeshData, or what `convert` made of it, or None when no triangle is left,
-    Sanitised). The MeshData lives only in this frame, so its arrays are freed on
-    return when `convert` keeps none of them."""
+def is_renderable_mesh(object_instance):
+    """Whether a depsgraph object instance is a mesh that renders.
+
+    Curves, text, surfaces and metaballs need no case of their own: the
+    depsgraph evaluates them to a mesh, which it yields as a MESH instance of
+    the object (besides the object itself, whose to_mesh() is that same mesh
+    again). So only MESH objects and instances are exported, as Cycles does.
+    """
+    obj = object_instance.object
+    return (
+        obj.type == "MESH"
+        and not obj.original.hide_render
+        # An instancer can hide its own geometry (particles' "Show Emitter").
+        and object_instance.show_self
+    )
+
+
+class GeometryKeys:
+    """The geometry keys of one evaluation of a depsgraph (`geometry_key`): every
+    user of one evaluated mesh gets one key, and two different evaluated meshes
+    never share one (the second of them is numbered, in the depsgraph's order:
+    several geometries of one instancer, or a mesh whose users evaluate
+    differently)."""
+
+    def __init__(self, render):
+        self._render = render
+        self._by_address = {}  # evaluated mesh address -> key
+        self._taken = set()
+
+    def key(self, object_instance):
+        address = object_instance.object.data.as_pointer()
+        key = self._by_address.get(address)
+        if key is None:
+            base = key = geometry_key(object_instance, self._render)
+            count = 1
+            while key in self._taken:
+                key = f"{base}#{count}"
+                count += 1
+            self._by_address[address] = key
+            self._taken.add(key)
+        return key
+
+
+def geometry_key(object_instance, render):
+    """A name for the geometry of a mesh instance that survives re-evaluation, as
+    Cycles keys its geometry: the original mesh data-block when the object shows it
+    as it is (every user shares it), the original object where modifiers or
+    geometry nodes make the geometry its own, and the instancer for geometry an
+    instancer generates (geometry nodes, curves made into meshes)."""
+    original = object_instance.object.original
+    if object_instance.is_instance:
+        owner = object_instance.parent.original
+        # A generated geometry's temporary object reports its instancer as original.
+        if original == owner or original.type != "MESH":
+            return f"object:{owner.name_full}"
+    if original.type != "MESH" or _own_geometry(original, render):
+        return f"object:{original.name_full}"
+    return f"mesh:{original.data.name_full}"
+
+
+def _own_geometry(obj, render):
+    # Modifiers (geometry nodes among them) or edit mode make an object's evaluated
+    # mesh its own: no other user of the data-block shares it.
+    enabled = "show_render" if render else "show_viewport"
+    return obj.mode == "EDIT" or any(getattr(m, enabled) for m in obj.modifiers)
+
+
+def instance_data(object_instance, mesh, view_layer):
+    """InstanceData of a mesh instance placing geometry `mesh` (its key).
+
+    `view_layer` is the depsgraph's evaluated view layer (holdout is per layer)."""
+    return InstanceData(
+        name=instance_name(object_instance),
+        mesh=mesh,
+        # Valid only while iterating: copy it now.
+        transform=np.array(object_instance.matrix_world, dtype=np.float64),
+        materials=_slot_materials(object_instance.object),
+        visibility=ray_visibility(object_instance),
+        holdout=is_holdout(object_instance, view_layer),
+    )
+
+
+def export_geometry(obj, name, uv_map, warnings, convert=None, in_place=False):
+    """The geometry of evaluated mesh object `obj` as MeshData named `name` (or what
+    `convert` made of it), or None when no triangle is left; and its Sanitised,
+    which is also described in `warnings`. The MeshData lives only in this frame,
+    so its arrays are freed on return when `convert` keeps none of them."""
     mesh, sanitised = _convert_geometry(obj, name, uv_map, warnings, in_place)
+    if sanitised:
+        warnings.append(f"Whitted: object '{obj.name}': {sanitised.describe()}")
     if mesh is None or convert is None:
         return mesh, sanitised
     return convert(mesh), sanitised
@@ -210,7 +260,7 @@ def _convert_geometry(obj, name, uv_map, warnings, in_place):
     # modifiers); a geometry-nodes instance is a temporary object that
     # evaluated_get() would not find, so it is converted directly.
     if in_place and _corner_normals_ready(obj.data) and _normals_domain(obj.data) == "CORNER":
-        arrays = _read(obj.data, "CORNER", name, uv_map, warnings)
+        arrays = _read(obj.data, "CORNER", obj.name, uv_map, warnings)
     else:
         try:
             mesh = obj.to_mesh()
@@ -223,7 +273,7 @@ def _convert_geometry(obj, name, uv_map, warnings, in_place):
             domain = _normals_domain(mesh)
             if domain == "CORNER" and hasattr(mesh, "calc_normals_split"):
                 mesh.calc_normals_split()  # Blender < 4.1 computes them only on request
-            arrays = _read(mesh, domain, name, uv_map, warnings)
+            arrays = _read(mesh, domain, obj.name, uv_map, warnings)
         finally:
             # Blender's copy goes before the arrays are checked: it is the larger.
             obj.to_mesh_clear()
@@ -253,10 +303,10 @@ def _corner_normals_ready(mesh):
     )
 
 
-def _read(mesh, domain, name, uv_map, warnings):
+def _read(mesh, domain, owner, uv_map, warnings):
     """The mesh's arrays as Blender stores them: (positions, corners, corner normals,
     vertex normals, material slots, uvs), or None when it has no triangles. `domain`
-    is `_normals_domain(mesh)`."""
+    is `_normals_domain(mesh)`; `owner` names the object in warnings."""
     mesh.calc_loop_triangles()
     triangles = mesh.loop_triangles
     count = len(triangles)
@@ -272,13 +322,55 @@ def _read(mesh, domain, name, uv_map, warnings):
         if hasattr(mesh, "normals_domain"):  # Blender 4.1+: a plain array, a block copy
             mesh.vertex_normals.foreach_get("vector", vertex_normals.reshape(-1))
         else:
-            mesh.vertices.foreach_get("normal", vertex_normals.reshape(-1))
+            vertex_normals = _vertex_normals(mesh, positions)
     elif domain == "CORNER":
         normals = np.empty((count, 3, 3), dtype=np.float32)
         triangles.foreach_get("split_normals", normals.reshape(-1))
     slots = _material_slots(mesh, count)
-    uvs = None if uv_map is None else _corner_uvs(mesh, uv_map, name, warnings)
+    uvs = None if uv_map is None else _corner_uvs(mesh, uv_map, owner, warnings)
     return positions, corners, normals, vertex_normals, slots, uvs
+
+
+def _vertex_normals(mesh, positions):
+    """float32[N,3]: Blender's vertex normals (the face normals around each vertex
+    weighted by the face's corner angle there, normalised), computed here.
+
+    Blender before 4.1 sums them on several threads in no fixed order, so two reads
+    of one unchanged mesh can differ in the last bit, and a render would not be a
+    pure function of the scene. This sums in a fixed order (np.bincount), in float64.
+    """
+    loops = len(mesh.loops)
+    vertex = np.empty(loops, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", vertex)
+    starts = np.empty(len(mesh.polygons), dtype=np.int32)
+    sizes = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", starts)
+    mesh.polygons.foreach_get("loop_total", sizes)
+    face_normals = np.empty((len(mesh.polygons), 3), dtype=np.float32)
+    mesh.polygons.foreach_get("normal", face_normals.reshape(-1))  # one face each: exact
+    face = np.repeat(np.arange(len(sizes)), sizes)
+    # Each loop's neighbours inside its polygon, wrapping around.
+    offset = np.arange(loops) - starts[face]
+    previous = starts[face] + (offset - 1) % sizes[face]
+    following = starts[face] + (offset + 1) % sizes[face]
+    points = positions.astype(np.float64)
+    a = points[vertex[previous]] - points[vertex]
+    b = points[vertex[following]] - points[vertex]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cosine = np.einsum("ij,ij->i", a, b) / (
+            np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)
+        )
+    angle = np.arccos(np.clip(np.nan_to_num(cosine), -1.0, 1.0))
+    weighted = face_normals[face].astype(np.float64) * angle[:, None]
+    sums = np.stack(
+        [np.bincount(vertex, weights=weighted[:, k], minlength=len(positions)) for k in range(3)],
+        axis=1,
+    )
+    length = np.linalg.norm(sums, axis=1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # A vertex of no face (or of zero-area faces only) keeps a zero normal, which
+        # `_finish` repairs.
+        return np.where(length > 0.0, sums / length, 0.0).astype(np.float32)
 
 
 def _normals_domain(mesh):
@@ -440,23 +532,24 @@ def _compact(positions, corners):
     )
 
 
-def _uv_map(obj, uv_maps):
-    # The UV map the first textured material of the object asks for, or None.
+def object_uv_map(obj, uv_maps):
+    """The UV map the first textured material of evaluated `obj` asks for, or None;
+    `uv_maps` maps a material name to its UV map."""
     return next((uv_maps[m] for m in _slot_materials(obj) if m in uv_maps), None)
 
 
-def _corner_uvs(mesh, uv_map, name, warnings):
+def _corner_uvs(mesh, uv_map, owner, warnings):
     """float32[M,3,2]: the UV of each loop triangle's corners, from the UV map
     named `uv_map` or, for "" or a map the mesh lacks, the active render one."""
     layers = mesh.uv_layers
     if len(layers) == 0:
-        warnings.append(f"Whitted: mesh '{name}' has no UV map; its textures read UV (0, 0)")
+        warnings.append(f"Whitted: object '{owner}' has no UV map; its textures read UV (0, 0)")
         return None
     layer = layers.get(uv_map) if uv_map else None
     if layer is None:
         if uv_map:
             warnings.append(
-                f"Whitted: mesh '{name}' has no UV map '{uv_map}'; using the active render one"
+                f"Whitted: object '{owner}' has no UV map '{uv_map}'; using the active render one"
             )
         layer = next((candidate for candidate in layers if candidate.active_render), layers[0])
     loop_uvs = np.empty((len(mesh.loops), 2), dtype=np.float32)

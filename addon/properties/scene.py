@@ -15,6 +15,7 @@ from bpy.props import (
 )
 
 from ..export.light import DEFAULT_LIGHT_SAMPLES
+from .presets import PRESETS
 
 
 class WhittedEstimate(bpy.types.PropertyGroup):
@@ -124,6 +125,27 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         default=32,
         min=8,
         max=4096,
+    )
+    viewport_preset: EnumProperty(
+        name="Viewport Quality",
+        description="The quality preset the Rendered viewport refines up to (apart from "
+        "the final render's controls above)",
+        items=tuple((key, label, description) for key, label, description, _ in PRESETS),
+        default="PREVIEW",
+    )
+    viewport_display: EnumProperty(
+        name="Viewport Display",
+        description="What the Rendered viewport shows",
+        items=(
+            ("IMAGE", "Image", "The rendered image"),
+            (
+                "COST",
+                "Ray Cost",
+                "Rays traced per pixel as a heat map (the Whitted Rays pass, live): where "
+                "the time of a frame goes",
+            ),
+        ),
+        default="IMAGE",
     )
     last_stats: StringProperty(
         name="Last Render Statistics",

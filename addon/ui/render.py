@@ -46,6 +46,9 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         column.prop(settings, "texture_filter")
         column.prop(settings, "ambient_strength")
         column.prop(settings, "tile_size")
+        column.prop(settings, "viewport_preset")
+        column.prop(settings, "viewport_display")
+        column.prop(context.scene.render, "preview_pixel_size", text="Viewport Pixel Size")
         column.prop(context.scene.render, "threads_mode")
         row = column.row()
         row.enabled = context.scene.render.threads_mode == "FIXED"

@@ -25,7 +25,7 @@ def test_engine_reads_shader_nodes():
     engine = whitted.engine.WhittedRenderEngine
     assert engine.bl_label == "Whitted"
     assert engine.bl_use_shading_nodes_custom is False
-    assert engine.bl_use_preview is False
+    assert engine.bl_use_preview is True  # material previews render with Whitted
 
 
 def test_scene_settings_defaults(empty_scene):

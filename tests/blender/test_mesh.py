@@ -218,14 +218,14 @@ def test_meshes_read_in_place_equal_their_copies(empty_scene, warnings):
             else:
                 assert a == b, f"{name}.{field.name}"
     kinds = {
-        name.split("/")[0]: (data.normals is not None, data.vertex_normals is not None)
+        name.split(":", 1)[1]: (data.normals is not None, data.vertex_normals is not None)
         for name, data in copies.items()
     }
     assert kinds["Smooth"] == kinds["Modified"] == kinds["UV"] == (False, True)
     assert kinds["Flat"] == (False, False)
     assert kinds["Mixed"] == kinds["Sharp"] == kinds["Custom"] == (True, False)
-    assert copies["Sharp/Sharp"].material_slots is not None
-    assert copies["UV/UV"].uvs is not None
+    assert copies["mesh:Sharp"].material_slots is not None
+    assert copies["mesh:UV"].uvs is not None
     assert warnings == []
 
 

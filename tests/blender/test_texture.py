@@ -225,8 +225,7 @@ def test_named_uv_map_is_exported(lit_scene, warnings):
     np.testing.assert_allclose(by_map["Flipped"], 1.0 - by_map[""])
     np.testing.assert_array_equal(by_map["Missing"], by_map[""])
     assert warnings == [
-        f"Whitted: mesh '{plane.name}/{mesh.name}' has no UV map 'Missing'; "
-        "using the active render one"
+        f"Whitted: object '{plane.name}' has no UV map 'Missing'; using the active render one"
     ]
     # Without a textured material, no UVs are exported.
     assert convert_meshes(depsgraph, warnings).meshes[0].uvs is None

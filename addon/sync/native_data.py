@@ -1,0 +1,89 @@
+"""Plain exported data (export/*.py) as whitted_native objects.
+
+The only place besides the engine's job that builds native objects; the
+module is passed in (native.py loads it), so this imports without it.
+"""
+
+from dataclasses import asdict
+
+import numpy as np
+
+from ..export.texture import CheckerTextureSpec
+
+
+def native_camera(native, camera):
+    """export.camera.CameraData or viewport.camera.ViewCamera as a native.Camera."""
+    return native.Camera(
+        to_world=np.asarray(camera.to_world, dtype=np.float64),
+        projection=getattr(native.Projection, camera.projection),
+        window=camera.window,
+        clip_start=camera.clip_start,
+        clip_end=camera.clip_end,
+    )
+
+
+def native_material(native, material):
+    # export.material.MaterialExport as a native.Material.
+    return native.Material(**asdict(material.data))
+
+
+def native_light(native, light):
+    # export.light.LightData as a native.Light.
+    fields = asdict(light)
+    del fields["name"]
+    fields["type"] = getattr(native.LightType, light.type)
+    fields["shape"] = getattr(native.AreaShape, light.shape)
+    return native.Light(**fields)
+
+
+def native_mesh(native, mesh):
+    # export.mesh.MeshData as a native.Mesh (a copy of its arrays).
+    return native.Mesh(
+        mesh.positions,
+        mesh.triangles,
+        normals=mesh.normals,
+        material_slots=mesh.material_slots,
+        uvs=mesh.uvs,
+        vertex_normals=mesh.vertex_normals,
+    )
+
+
+def set_instance(native, scene, instance):
+    """Add or replace export.mesh.InstanceData `instance` in native `scene`."""
+    scene.set_instance(
+        instance.name,
+        instance.mesh,
+        instance.transform,
+        list(instance.materials),
+        visibility=_native_visibility(native, instance.visibility),
+        holdout=instance.holdout,
+    )
+
+
+def native_texture(native, texture):
+    # ImageTextureData or CheckerTextureSpec (export/texture.py) as a native texture.
+    coordinates = getattr(native.TexCoord, texture.coordinates)
+    if isinstance(texture, CheckerTextureSpec):
+        return native.CheckerTexture(
+            color1=texture.color1,
+            color2=texture.color2,
+            scale=texture.scale,
+            coordinates=coordinates,
+        )
+    return native.ImageTexture(
+        pixels=texture.pixels,
+        extension=getattr(native.Extension, texture.extension),
+        interpolation=getattr(native.Interpolation, texture.interpolation),
+        coordinates=coordinates,
+    )
+
+
+def _native_visibility(native, visibility):
+    # RayVisibility's fields as an int of whitted_native.Visibility flags.
+    flags = native.Visibility
+    return (
+        (flags.CAMERA if visibility.camera else 0)
+        | (flags.SHADOW if visibility.shadow else 0)
+        | (flags.REFLECTION if visibility.reflection else 0)
+        | (flags.REFRACTION if visibility.refraction else 0)
+    )

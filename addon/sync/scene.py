@@ -1,0 +1,438 @@
+"""The live native scene, brought up to date from the depsgraph (as Cycles' sync).
+
+A `SceneSync` keeps one `whitted_native.Scene` and what was exported into it.
+Its first `sync` exports everything; each later one reads `depsgraph.updates`
+(sync/changes.py) and changes only what changed:
+
+- an object moved: its instance's transform (no mesh export, no mesh BVH);
+- a geometry changed: that geometry, once for all its instances;
+- a material or node tree: that material, and its textures only when an image
+  or the texture filter changed (a material that starts reading UVs re-exports
+  the meshes that use it, which then carry UVs);
+- a light, the world, the sync's parameters: those alone;
+- objects added, removed or hidden, an instancer, anything else it cannot
+  place: every instance of the depsgraph is compared with what was exported
+  (removals are never listed in the updates), and only the differences change.
+
+Every key survives re-evaluation (export/mesh.py `geometry_key`,
+export/instance.py `instance_name`), and the native scene orders everything by
+name, so after any sequence of edits the synced scene renders the same pixels
+as a full export of the edited scene (tests/blender/test_sync.py).
+
+Only the main thread may call `sync`: it reads bpy data. A running job keeps
+its own compiled snapshot, so the native scene may change under it.
+"""
+
+import time
+from dataclasses import asdict, dataclass, fields
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+
+from ..export.instance import instance_name
+from ..export.light import convert_light
+from ..export.material import convert_material
+from ..export.mesh import (
+    GeometryKeys,
+    Sanitised,
+    export_geometry,
+    instance_data,
+    is_renderable_mesh,
+    object_uv_map,
+)
+from ..export.texture import convert_textures
+from ..export.world import convert_world
+from . import native_data
+from .changes import classify
+
+# What an original object contributes, as the last walk over the instances saw it.
+_MESH = "mesh"  # a mesh object shown as itself
+_LIGHT = "light"
+_INSTANCER = "instancer"  # its instances (or generated geometry) come from it
+_OTHER = "other"  # cameras, empties without instances, ...
+
+
+@dataclass(frozen=True)
+class SyncParams:
+    """The settings besides the depsgraph that change what is exported."""
+
+    light_samples: int  # feelers per axis of a sized light whose own setting is 0
+    texture_filter: str  # AUTHORED | CLOSEST
+    ambient_strength: float  # scales the world's ambient light
+
+    @classmethod
+    def of(cls, scene, quality):
+        """The parameters of Blender `scene` rendered at properties.presets.Quality."""
+        return cls(
+            light_samples=quality.light_samples,
+            texture_filter=quality.texture_filter,
+            ambient_strength=scene.whitted.ambient_strength,
+        )
+
+
+@dataclass
+class SyncReport:
+    """What one sync did: counts of what it (re-)exported, and its time."""
+
+    full: bool = False  # the first sync: everything exported
+    walked: bool = False  # every depsgraph instance compared with the exported ones
+    meshes: int = 0  # geometries exported (mesh BVHs built)
+    instances: int = 0  # instances added or changed
+    materials: int = 0
+    textures: int = 0
+    lights: int = 0
+    world: bool = False
+    removed: int = 0  # meshes, instances, materials, textures and lights removed
+    seconds: float = 0.0
+
+    def as_dict(self):
+        return asdict(self)
+
+    def describe(self):
+        """A short line for the status bar, e.g. 'sync 1.2 ms: 1 instance'."""
+        parts = [
+            f"{count} {name if count == 1 else name + 's'}"
+            for name, count in (
+                ("mesh", self.meshes),
+                ("instance", self.instances),
+                ("material", self.materials),
+                ("texture", self.textures),
+                ("light", self.lights),
+            )
+            if count
+        ]
+        if self.world:
+            parts.append("world")
+        if self.removed:
+            parts.append(f"{self.removed} removed")
+        what = ", ".join(parts) or "nothing changed"
+        return f"sync {1000.0 * self.seconds:.1f} ms: {what}"
+
+
+@dataclass(frozen=True)
+class _Geometry:
+    has_triangles: bool
+    uv_map: str | None  # the UV map it was exported with
+    sanitised: Sanitised
+
+
+class SceneSync:
+    """One native scene and the rules that keep it equal to the depsgraph's."""
+
+    def __init__(self, native):
+        self._native = native
+        self.scene = native.Scene()
+        self._params = None  # SyncParams of the last sync; None before the first
+        self._materials = {}  # name -> export.material.MaterialExport
+        self._uv_maps = {}  # material name -> the UV map its textures read
+        self._walked_uv_maps = {}  # the UV maps the meshes were last exported for
+        self._textures = {}  # name -> texture spec (export.texture)
+        self._geometry = {}  # geometry key -> _Geometry
+        self._instances = {}  # instance name -> export.mesh.InstanceData
+        self._lights = {}  # instance name -> export.light.LightData
+        self._roles = {}  # original object name -> _MESH | _LIGHT | _INSTANCER | _OTHER
+        self._instanced_light_data = set()  # light data-blocks shown by instances
+        self._world = None  # export.world.WorldData
+        self.warnings = []  # of the last sync: what could not be exported as authored
+
+    @property
+    def sanitised(self):
+        """Bad geometry dropped or repaired in the meshes exported now, totals."""
+        total = Sanitised()
+        for geometry in self._geometry.values():
+            total += geometry.sanitised
+        return total
+
+    def _shown_changed(self, depsgraph):
+        # Hiding or showing an object in the view layer updates only the Scene: the
+        # objects the depsgraph evaluates tell (instances come from these).
+        shown = {obj.original.name_full for obj in depsgraph.objects}
+        return shown != self._roles.keys()
+
+    @property
+    def light_count(self):
+        return len(self._lights)
+
+    def sync(self, depsgraph, params):
+        """Bring the native scene up to date with evaluated `depsgraph`; a SyncReport.
+
+        Raises the native module's ValueError when it refuses data."""
+        started = time.perf_counter()
+        first = self._params is None
+        changes = None if first else classify(depsgraph.updates)
+        report = SyncReport(full=first)
+        self.warnings = warnings = []
+        if self._materials_touched(changes, params):
+            self._sync_materials(depsgraph, changes, params, report, warnings)
+        if self._needs_walk(changes, params) or (changes.scene and self._shown_changed(depsgraph)):
+            self._walk(depsgraph, changes, params, report, warnings)
+        else:
+            self._update_objects(depsgraph, changes, params, report, warnings)
+        if first or changes.world or changes.scene or params != self._params:
+            self._sync_world(depsgraph.scene, params, report, warnings)
+        self._params = params
+        report.seconds = time.perf_counter() - started
+        return report
+
+    # --- materials and textures ------------------------------------------------
+
+    def _materials_touched(self, changes, params):
+        if changes is None or params.texture_filter != self._params.texture_filter:
+            return True
+        # Objects added or given other materials list their materials' updates too;
+        # a removed material can only go with a structural or geometry change.
+        return bool(
+            changes.materials
+            or changes.images
+            or changes.node_groups
+            or changes.structure
+            or changes.reshaped
+            or changes.meshes
+        )
+
+    def _sync_materials(self, depsgraph, changes, params, report, warnings):
+        # Every material the evaluated objects use is in the depsgraph.
+        current = {
+            block.original.name_full: block
+            for block in depsgraph.ids
+            if isinstance(block, bpy.types.Material)
+        }
+        redo = changes is None or changes.node_groups
+        for name, material in current.items():
+            if redo or name not in self._materials or name in changes.materials:
+                exported = convert_material(material, warnings)
+                if exported != self._materials.get(name):
+                    self.scene.set_material(
+                        name, native_data.native_material(self._native, exported)
+                    )
+                    self._materials[name] = exported
+                    report.materials += 1
+        for name in self._materials.keys() - current.keys():
+            # Left in the native scene until no instance names it (after the walk,
+            # which a removed material always comes with: see _materials_touched).
+            del self._materials[name]
+            self.scene.remove_material(name)
+            report.removed += 1
+        self._sync_textures(changes, params, report, warnings)
+        self._uv_maps = {n: m.uv_map for n, m in self._materials.items() if m.uv_map is not None}
+
+    def _sync_textures(self, changes, params, report, warnings):
+        wanted = {spec.name: spec for m in self._materials.values() for spec in m.textures}
+        refilter = changes is None or params.texture_filter != self._params.texture_filter
+        stale = {
+            name: spec
+            for name, spec in wanted.items()
+            if refilter
+            or name not in self._textures
+            # A checker's name holds all its values; an image's pixels can change.
+            or (hasattr(spec, "image") and spec.image.name_full in changes.images)
+        }
+        for name, texture in convert_textures(stale, warnings, params.texture_filter).items():
+            self.scene.set_texture(name, native_data.native_texture(self._native, texture))
+            report.textures += 1
+        for name in self._textures.keys() - wanted.keys():
+            self.scene.remove_texture(name)
+            report.removed += 1
+        self._textures = wanted
+
+    # --- instances ---------------------------------------------------------------
+
+    def _needs_walk(self, changes, params):
+        if changes is None or params.light_samples != self._params.light_samples:
+            return True
+        if changes.structure or changes.meshes:
+            return True
+        if self._uv_maps != self._walked_uv_maps:
+            return True  # meshes may have to carry other UVs
+        roles = {name: self._roles.get(name) for name in changes.objects}
+        if any(role in (None, _INSTANCER) for role in roles.values()):
+            return True  # an object new to the sync, or one with instances
+        if any(roles[name] == _MESH for name in changes.reshaped):
+            return True  # a geometry to export again
+        # A light data-block whose users may not all be listed (instances of it).
+        if changes.lights & self._instanced_light_data:
+            return True
+        return bool(changes.lights) and _LIGHT not in roles.values()
+
+    def _walk(self, depsgraph, changes, params, report, warnings):
+        """Compare every instance of the depsgraph with what was exported."""
+        report.walked = True
+        render = depsgraph.mode == "RENDER"
+        # Blender < 4.1 meshes with corner normals are read in place from a render
+        # depsgraph only (export/mesh.py convert_meshes).
+        in_place = render
+        view_layer = depsgraph.view_layer_eval
+        keys = GeometryKeys(render)
+        seen_geometry = set()
+        instances = {}
+        lights = {}
+        roles = {}
+        instanced_light_data = set()
+        for object_instance in depsgraph.object_instances:
+            obj = object_instance.object
+            if object_instance.is_instance:
+                roles[object_instance.parent.original.name_full] = _INSTANCER
+            if is_renderable_mesh(object_instance):
+                key = keys.key(object_instance)
+                if key not in seen_geometry:
+                    seen_geometry.add(key)
+                    self._sync_geometry(object_instance, key, changes, in_place, report, warnings)
+                if self._geometry[key].has_triangles:
+                    instance = instance_data(object_instance, key, view_layer)
+                    instances[instance.name] = instance
+                role = _MESH
+            elif obj.type == "LIGHT" and not obj.original.hide_render:
+                name = instance_name(object_instance)
+                light = convert_light(
+                    name, obj.data, object_instance.matrix_world, warnings, params.light_samples
+                )
+                if light is not None:
+                    lights[name] = light
+                if object_instance.is_instance:
+                    instanced_light_data.add(obj.data.original.name_full)
+                role = _LIGHT
+            else:
+                role = _OTHER
+            if not object_instance.is_instance:
+                roles.setdefault(obj.original.name_full, role)
+        self._set_instances(instances, report, replace_all=True)
+        for key in self._geometry.keys() - seen_geometry:
+            if self._geometry.pop(key).has_triangles:
+                self.scene.remove_mesh(key)
+                report.removed += 1
+        self._set_lights(lights, report, replace_all=True)
+        self._roles = roles
+        self._instanced_light_data = instanced_light_data
+        self._walked_uv_maps = dict(self._uv_maps)
+
+    def _sync_geometry(self, object_instance, key, changes, in_place, report, warnings):
+        obj = object_instance.object
+        uv_map = object_uv_map(obj, self._uv_maps)
+        known = self._geometry.get(key)
+        if (
+            known is not None
+            and known.uv_map == uv_map
+            and not _reshaped(object_instance, key, changes)
+        ):
+            return
+        mesh, sanitised = export_geometry(
+            obj,
+            key,
+            uv_map,
+            warnings,
+            convert=lambda data: native_data.native_mesh(self._native, data),
+            in_place=in_place,
+        )
+        if mesh is not None:
+            self.scene.set_mesh(key, mesh)
+            report.meshes += 1
+        elif known is not None and known.has_triangles:
+            self.scene.remove_mesh(key)
+            report.removed += 1
+        self._geometry[key] = _Geometry(mesh is not None, uv_map, sanitised)
+
+    def _update_objects(self, depsgraph, changes, params, report, warnings):
+        """The objects listed in the updates, when each is a mesh shown as itself
+        (its geometry unchanged), a light, or neither: no walk needed."""
+        view_layer = depsgraph.view_layer_eval
+        instances = {}
+        lights = {}
+        gone = set()
+        for obj in changes.evaluated_objects:
+            name = obj.original.name_full
+            role = self._roles[name]
+            alone = _alone(obj)
+            if role == _MESH:
+                known = self._instances.get(name)
+                if known is None or not is_renderable_mesh(alone):
+                    gone.add(name)  # hidden from renders (or never had triangles)
+                else:
+                    instances[name] = instance_data(alone, known.mesh, view_layer)
+            elif role == _LIGHT:
+                light = None
+                if not obj.original.hide_render:
+                    light = convert_light(
+                        name, obj.data, obj.matrix_world, warnings, params.light_samples
+                    )
+                if light is None:
+                    gone.add(name)
+                else:
+                    lights[name] = light
+        self._set_instances(instances, report, remove=gone & self._instances.keys())
+        self._set_lights(lights, report, remove=gone & self._lights.keys())
+
+    def _set_instances(self, instances, report, replace_all=False, remove=()):
+        """Set the instances that differ from the exported ones; remove those not in
+        `instances` (replace_all) or named in `remove`."""
+        for name, instance in instances.items():
+            if not _same_instance(instance, self._instances.get(name)):
+                native_data.set_instance(self._native, self.scene, instance)
+                self._instances[name] = instance
+                report.instances += 1
+        stale = (self._instances.keys() - instances.keys()) if replace_all else set(remove)
+        for name in stale:
+            del self._instances[name]
+            self.scene.remove_instance(name)
+            report.removed += 1
+
+    def _set_lights(self, lights, report, replace_all=False, remove=()):
+        for name, light in lights.items():
+            if light != self._lights.get(name):
+                self.scene.set_light(name, native_data.native_light(self._native, light))
+                self._lights[name] = light
+                report.lights += 1
+        stale = (self._lights.keys() - lights.keys()) if replace_all else set(remove)
+        for name in stale:
+            del self._lights[name]
+            self.scene.remove_light(name)
+            report.removed += 1
+
+    # --- world -------------------------------------------------------------------
+
+    def _sync_world(self, blender_scene, params, report, warnings):
+        world = convert_world(blender_scene.world, params.ambient_strength, warnings)
+        if world != self._world:
+            self.scene.background = world.background
+            self.scene.ambient = world.ambient
+            self._world = world
+            report.world = True
+
+
+def _reshaped(object_instance, key, changes):
+    """Whether the updates say the geometry `key` of this instance changed."""
+    if changes is None:
+        return True
+    original = object_instance.object.original
+    if object_instance.is_instance:
+        owner = object_instance.parent.original.name_full
+        # Geometry the instancer generates is keyed by it (export/mesh.py geometry_key).
+        if key.split("#")[0] == f"object:{owner}":
+            return owner in changes.reshaped
+    if original.name_full in changes.reshaped:
+        return True
+    data = original.data
+    return data is not None and data.name_full in changes.meshes
+
+
+def _alone(obj):
+    """A real (not instanced) evaluated object in the shape of a depsgraph object
+    instance, for the exporters that read one."""
+    return SimpleNamespace(
+        object=obj,
+        is_instance=False,
+        parent=None,
+        matrix_world=obj.matrix_world,
+        show_self=True,
+    )
+
+
+def _same_instance(a, b):
+    if b is None:
+        return False
+    return all(
+        np.array_equal(getattr(a, f.name), getattr(b, f.name))
+        if f.name == "transform"
+        else getattr(a, f.name) == getattr(b, f.name)
+        for f in fields(a)
+    )

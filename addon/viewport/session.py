@@ -1,0 +1,288 @@
+"""One Rendered viewport: sync on view_update, restart and draw on view_draw.
+
+Blender calls both on the main thread. `view_update` follows every change of
+the scene: the running job is cancelled and the sync (addon/sync) brings the
+native scene up to date. A change of view (orbit, pan, zoom, resize, camera
+view) reaches only `view_draw`, which compares the view with the one the job
+renders and restarts it without a sync. The job refines progressively (coarse
+blocks, then full resolution, then anti-aliasing samples up to the viewport's
+quality preset); a main-thread timer polls its frame counter and asks for a
+redraw only when a new pass exists, and stops once the last pass is shown, so
+a converged viewport costs no CPU. No bpy data is read off the main thread.
+"""
+
+import math
+import weakref
+from dataclasses import dataclass
+
+import bpy
+
+from ..export.film import FilmData
+from ..properties.presets import preset
+from ..settings import native_settings
+from ..sync import SceneSync, SyncParams
+from ..sync.native_data import native_camera
+from .camera import ViewCamera, border_pixels, camera_frame, view_camera
+from .display import Display
+from .log import ViewportLog
+
+# How often the timer polls the job for a new pass.
+POLL_SECONDS = 0.01
+# The first image of a new state should appear within one frame of a 30 Hz display.
+FIRST_PASS_SECONDS = 0.03
+# The coarsest first pass, in pixels a side (a power of two), and the one used
+# before any speed was measured.
+MAX_START_PIXEL_SIZE = 64
+DEFAULT_START_PIXEL_SIZE = 8
+
+
+@dataclass(frozen=True)
+class ViewSetup:
+    """What a viewport job renders: a change of any field restarts it."""
+
+    camera: ViewCamera
+    width: int  # render pixels: the region's size over the preview pixel size
+    height: int
+    region_width: int  # the region it is drawn over
+    region_height: int
+    border: tuple | None  # (xmin, ymin, xmax, ymax) render pixels, or None: all
+
+
+class ViewportSession:
+    def __init__(self, engine, native):
+        self._engine = weakref.ref(engine)
+        self._native = native
+        self._sync = SceneSync(native)
+        self._log = ViewportLog.from_environment()
+        self._display = Display()
+        self._job = None
+        self._setup = None  # ViewSetup of the job
+        self._scene_version = 0  # counts syncs
+        self._job_version = -1  # the sync the job renders
+        self._shown = 0  # the job's frame in the texture
+        self._converged = False
+        self._samples_per_second = None  # measured camera samples a second
+        self._last_sync = None
+        self._error = ""
+        self._poll = None  # the registered timer function
+
+    # --- view_update -------------------------------------------------------------
+
+    def update(self, context, depsgraph):
+        self._stop_job()
+        scene = depsgraph.scene
+        try:
+            report = self._sync.sync(depsgraph, SyncParams.of(scene, _quality(scene)))
+        except ValueError as error:
+            # The native module refused data; keep the last image and say why.
+            self._error = f"Whitted: the renderer refused the scene: {error}"
+            self._status()
+            return
+        self._error = ""
+        self._scene_version += 1
+        self._last_sync = report
+        self._log.write("sync", **report.as_dict())
+        engine = self._engine()
+        if engine is not None:
+            engine.tag_redraw()
+
+    # --- view_draw ---------------------------------------------------------------
+
+    def draw(self, context, depsgraph):
+        scene = depsgraph.scene
+        engine = self._engine()
+        if engine is None:
+            return
+        setup = _view_setup(context, scene, engine.get_preview_pixel_size(scene))
+        if self._scene_version == 0:
+            return  # not synced yet (view_update comes first)
+        if self._job is None or setup != self._setup or self._job_version != self._scene_version:
+            self._start(setup, scene)
+        if self._job is not None:
+            self._show_new_pass(scene)
+        if self._display.draw(0, 0, setup.region_width, setup.region_height):
+            self._log.write("draw", frame=self._shown)
+        self._status()
+
+    def _start(self, setup, scene):
+        self._stop_job()
+        self._setup = setup
+        self._job_version = self._scene_version
+        if self._error:
+            return
+        settings = native_settings(
+            self._native,
+            scene,
+            setup.width,
+            setup.height,
+            FilmData(
+                region=setup.border or (0, 0, setup.width, setup.height),
+                transparent_background=scene.render.film_transparent,
+            ),
+            _quality(scene),
+        )
+        settings.progressive = True
+        settings.start_pixel_size = self._start_pixel_size(setup)
+        self._job = self._native.RenderJob(
+            self._sync.scene, settings, camera=native_camera(self._native, setup.camera)
+        )
+        self._job.start()
+        self._shown = 0
+        self._converged = False
+        self._start_polling()
+
+    def _start_pixel_size(self, setup):
+        """The finest power-of-two block size whose pass takes at most
+        FIRST_PASS_SECONDS at the speed measured on earlier passes."""
+        if not self._samples_per_second:
+            return DEFAULT_START_PIXEL_SIZE
+        pixels = setup.width * setup.height
+        blocks_allowed = max(1.0, FIRST_PASS_SECONDS * self._samples_per_second)
+        size = 2 ** math.ceil(math.log2(max(1.0, math.sqrt(pixels / blocks_allowed))))
+        return min(MAX_START_PIXEL_SIZE, size)
+
+    def _show_new_pass(self, scene):
+        job = self._job
+        try:
+            finished = job.wait(0.0)  # raises what a worker raised
+        except (MemoryError, RuntimeError) as error:
+            self._error = f"Whitted: the viewport render failed: {error}"
+            self._stop_job()
+            return
+        frame = job.frame
+        if frame == self._shown:
+            return
+        kind = "cost" if scene.whitted.viewport_display == "COST" else "image"
+        self._display.upload(job.display(kind))
+        self._shown = frame
+        info = job.pass_info()
+        self._log.write("frame", frame=frame, **info)
+        stats = job.stats()
+        if stats["trace_seconds"] > 0.0 and stats["samples"] > 0:
+            self._samples_per_second = stats["samples"] / stats["trace_seconds"]
+        if finished and info["pass"] == info["passes"]:
+            self._converged = True
+            self._log.write("converged")
+
+    def _status(self):
+        engine = self._engine()
+        if engine is None:
+            return
+        if self._error:
+            engine.update_stats("", self._error)
+            return
+        parts = ["Whitted"]
+        if self._job is not None and self._shown:
+            info = self._job.pass_info()
+            stats = self._job.stats()
+            rate = stats["rays"]["total"] / stats["trace_seconds"] if stats["trace_seconds"] else 0
+            if info["pixel_size"] > 1:
+                parts.append(f"pass {info['pass']}/{info['passes']} ({info['pixel_size']} px)")
+            else:
+                parts.append(f"pass {info['pass']}/{info['passes']}, {info['samples']} spp")
+            parts.append(f"{rate / 1e6:.1f} M rays/s")
+            if self._converged:
+                parts.append("done")
+        if self._last_sync is not None:
+            parts.append(self._last_sync.describe())
+        engine.update_stats("", " | ".join(parts))
+
+    # --- polling and stopping ----------------------------------------------------
+
+    def _start_polling(self):
+        if self._poll is not None:
+            return
+        session = weakref.ref(self)
+
+        def poll():
+            # A timer holds only a weak reference: a freed session stops polling.
+            alive = session()
+            return None if alive is None else alive._on_timer()
+
+        self._poll = poll
+        bpy.app.timers.register(poll, first_interval=POLL_SECONDS)
+
+    def _on_timer(self):
+        """Ask for a redraw when the job has a new pass; stop once converged."""
+        if self._job is None or self._converged:
+            self._poll = None
+            return None
+        engine = self._engine()
+        if engine is None:
+            self._poll = None
+            return None
+        if self._job.frame != self._shown:
+            try:
+                engine.tag_redraw()
+            except ReferenceError:
+                # Blender freed the engine's data before its Python object.
+                self._poll = None
+                return None
+        return POLL_SECONDS
+
+    def _stop_job(self):
+        if self._job is None:
+            return
+        self._job.cancel()
+        # Dropping the job joins its workers, which stop after their current row.
+        self._job = None
+        self._log.write("stop")
+
+    def stop(self):
+        """End the session: the job stops, the timer with it."""
+        self._stop_job()
+        if self._poll is not None and bpy.app.timers.is_registered(self._poll):
+            bpy.app.timers.unregister(self._poll)
+        self._poll = None
+
+
+def _quality(scene):
+    # The viewport has its own preset, apart from F12's controls (as Cycles keeps
+    # viewport samples apart).
+    return preset(scene.whitted.viewport_preset)
+
+
+def _view_setup(context, scene, pixel_size):
+    region = context.region
+    view = context.region_data
+    space = context.space_data
+    # render.preview_pixel_size (1-8, or automatic by the display's DPI) divides the
+    # resolution; the texture is stretched back over the region.
+    width = max(1, region.width // pixel_size)
+    height = max(1, region.height // pixel_size)
+    camera = view_camera(view.view_matrix, view.window_matrix, view.is_perspective)
+    border = None
+    render = scene.render
+    fractions = None
+    frame = (0.0, 0.0, float(width), float(height))
+    if view.view_perspective == "CAMERA":
+        if render.use_border and scene.camera is not None:
+            corners = [
+                scene.camera.matrix_world @ corner
+                for corner in scene.camera.data.view_frame(scene=scene)
+            ]
+            frame = camera_frame(view.perspective_matrix, corners, width, height)
+            fractions = (
+                render.border_min_x,
+                render.border_min_y,
+                render.border_max_x,
+                render.border_max_y,
+            )
+    elif space.use_render_border:
+        fractions = (
+            space.render_border_min_x,
+            space.render_border_min_y,
+            space.render_border_max_x,
+            space.render_border_max_y,
+        )
+    if fractions is not None:
+        # Nothing of the border in view renders nothing: a one-pixel border.
+        border = border_pixels(frame, fractions, width, height) or (0, 0, 1, 1)
+    return ViewSetup(
+        camera=camera,
+        width=width,
+        height=height,
+        region_width=region.width,
+        region_height=region.height,
+        border=border,
+    )
