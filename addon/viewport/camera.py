@@ -96,10 +96,11 @@ def border_pixels(frame, border, width, height):
     None when nothing of it is inside."""
     fx0, fy0, fx1, fy1 = frame
     bx0, by0, bx1, by1 = border
-    xmin = max(0, int(fx0 + bx0 * (fx1 - fx0)))
-    ymin = max(0, int(fy0 + by0 * (fy1 - fy0)))
-    xmax = min(width, int(fx0 + bx1 * (fx1 - fx0)))
-    ymax = min(height, int(fy0 + by1 * (fy1 - fy0)))
+    # Rounded: the projected frame's corners carry rounding error either way.
+    xmin = max(0, round(fx0 + bx0 * (fx1 - fx0)))
+    ymin = max(0, round(fy0 + by0 * (fy1 - fy0)))
+    xmax = min(width, round(fx0 + bx1 * (fx1 - fx0)))
+    ymax = min(height, round(fy0 + by1 * (fy1 - fy0)))
     if xmin >= xmax or ymin >= ymax:
         return None
     return xmin, ymin, xmax, ymax
