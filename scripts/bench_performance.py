@@ -23,11 +23,8 @@ Markdown files (the profiling explanation of the misses) in the page's notes sec
 import argparse
 import json
 import os
-import platform
 import shlex
-import signal
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -38,6 +35,9 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from harness import machine_lines, run_process
 
 REPO = Path(__file__).resolve().parents[1]
 SCRIPTS = REPO / "scripts"
@@ -143,32 +143,6 @@ class Measurement:
             return value
 
         return self.median(get)
-
-
-def run_process(command, timeout):
-    """(stdout, None) or (None, why it failed). A process past its timeout is killed
-    with its process group (POV-Ray runs as Blender's child)."""
-    print(f"  $ {shlex.join(command)}", flush=True)
-    started = time.perf_counter()
-    with subprocess.Popen(
-        command,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        errors="replace",
-        start_new_session=True,
-    ) as process:
-        try:
-            output, _ = process.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.communicate()
-            return None, f"timed out after {timeout:.0f} s"
-    seconds = time.perf_counter() - started
-    if process.returncode != 0:
-        tail = " / ".join(line for line in output.splitlines()[-4:] if line.strip())
-        return None, f"failed (exit {process.returncode} after {seconds:.0f} s): {tail[-300:]}"
-    return output, None
 
 
 @dataclass
@@ -608,27 +582,6 @@ def plot_threads(scaling, path):
 
 
 # --- The page ----------------------------------------------------------------------
-
-
-def machine_lines():
-    """CPU model, cores and memory from /proc, the load when the page was written."""
-    cpuinfo = Path("/proc/cpuinfo").read_text().splitlines()
-
-    def field_of(name):
-        return next(
-            (line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith(name)), "?"
-        )
-
-    processors = sum(1 for line in cpuinfo if line.startswith("processor"))
-    meminfo = Path("/proc/meminfo").read_text().split()
-    memory_gib = int(meminfo[meminfo.index("MemTotal:") + 1]) / 1024 / 1024
-    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
-    return [
-        f"- CPU: {field_of('model name')}, {processors} logical processors "
-        f"({field_of('cpu cores')} cores per package, {field_of('siblings')} siblings); "
-        f"{memory_gib:.1f} GiB memory; {platform.system()} {platform.release()}",
-        f"- Load average when the page was written (1, 5, 15 min): {load}",
-    ]
 
 
 def scene_section(suite, results, image_rel):
