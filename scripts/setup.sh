@@ -31,6 +31,9 @@ APT_PACKAGES=(
   libxt6 libxext6
   # the performance suite's side-by-side comparison (scripts/perf_povray.py)
   povray
+  # tests/viewport: a real Blender 3.4 window on a virtual X server (xvfb-run needs
+  # xauth) drawn by Mesa's software OpenGL (llvmpipe, in libgl1-mesa-dri)
+  xvfb xauth libgl1-mesa-dri
 )
 
 # --- step bookkeeping: each step prints its duration, or how it failed ---------

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up (scripts/setup.sh), then run the whole test suite: the native gtest suite
 # (ctest, then again under ASan+UBSan), the bindings without Blender (pytest), the
-# add-on inside Blender 3.4 and inside the bpy 5.0 module, and the linters.
+# add-on inside Blender 3.4 and inside the bpy 5.0 module, the viewport in real
+# Blender 3.4 windows under Xvfb, and the linters.
 # Every step runs even when an earlier one failed; a summary line per step is
 # printed at the end, and the exit status is non-zero if any step failed.
 # Run from anywhere. .ci/run runs exactly this.
@@ -76,6 +77,10 @@ step_blender_34() {
 
 step_bpy_50() { limited "$VENV/bin/python" tests/blender/run.py -q; }
 
+# The Rendered viewport in real Blender 3.4 windows under Xvfb: pytest runs outside
+# Blender and each test starts `xvfb-run ... blender` with a scenario (tests/viewport).
+step_viewport_34() { limited "$VENV/bin/python" -m pytest tests/viewport -q -p no:cacheprovider; }
+
 # The performance suite end to end on tiny scenes (docs/PERFORMANCE.md comes from the
 # full run): every script runs, and Whitted's own measurements succeed.
 step_bench_smoke() {
@@ -105,6 +110,7 @@ run_step "native tests (ASan+UBSan)" step_ctest_sanitized
 run_step "bindings (pytest)" step_pytest_bindings
 run_step "add-on in Blender 3.4" step_blender_34
 run_step "add-on in bpy 5.0" step_bpy_50
+run_step "viewport in Blender 3.4 (Xvfb)" step_viewport_34
 run_step "performance suite, quick" step_bench_smoke
 run_step "lint: ruff check" step_ruff_check
 run_step "lint: ruff format" step_ruff_format

@@ -88,10 +88,11 @@ def require(tool):
     return path
 
 
-def run_in_window(out_root, script, blend, *args, timeout=240.0, env=None):
+def run_in_window(out_root, script, blend, *args, timeout=240.0, env=None, screen=SCREEN):
     """Run scenarios/SCRIPT on `blend` in a window; returns the finished BlenderRun.
 
     Fails the test (after killing the process group) when it runs past `timeout`.
+    `screen` is Xvfb's screen (WxHxDEPTH); Blender's window fills it.
     """
     require("xvfb-run")
     require("blender")
@@ -101,7 +102,7 @@ def run_in_window(out_root, script, blend, *args, timeout=240.0, env=None):
         "xvfb-run",
         "-a",
         "-s",
-        f"-screen 0 {SCREEN}",
+        f"-screen 0 {screen}",
         "blender",
         "--factory-startup",
         blend,

@@ -1,0 +1,128 @@
+"""The Whitted Rendered viewport in a real window: --mode compare | edits | stop.
+
+compare: the converged camera view, and an F12 render at the camera frame's size.
+edits:   converged screenshots before and after each of: move the cube, recolour it,
+         brighten the point light, delete the cylinder (rects of the objects recorded).
+stop:    leave Rendered mode once converged and once mid-render; times recorded.
+
+Waits use the events the viewport appends to WHITTED_VIEWPORT_LOG (see driver.py).
+"""
+
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import bpy
+import driver
+
+
+def add_arguments(parser):
+    parser.add_argument("--mode", choices=("compare", "edits", "stop"), required=True)
+
+
+def start(h):
+    """Maximised camera view, Whitted as engine, render size = camera frame size, Solid."""
+    scene = bpy.context.scene
+    scene.render.engine = "WHITTED"
+    yield h.maximise()
+    h.setup_view("SOLID")
+    yield 0.3
+    # The frame's aspect follows the render size: set it from the frame twice so the
+    # second frame (drawn at the new size) is within a pixel of the render size.
+    for _ in range(2):
+        left, top, right, bottom = h.camera_frame()
+        scene.render.resolution_x = round(right - left)
+        scene.render.resolution_y = round(bottom - top)
+        scene.render.resolution_percentage = 100
+        h.region.tag_redraw()
+        yield 0.3
+
+
+def enter_rendered(h):
+    mark = h.log.mark()
+    h.step("shading RENDERED")
+    h.set_shading("RENDERED")
+    yield h.until_converged(mark)
+
+
+def compare(h):
+    yield from start(h)
+    scene = bpy.context.scene
+    h.step("F12 render")
+    h.render_still("whitted_f12", scene.render.resolution_x, scene.render.resolution_y)
+    yield from enter_rendered(h)
+    yield from h.screenshot("whitted_rendered")
+
+
+def edit(h, name, change):
+    """Apply change(), wait until the viewport converged on it, screenshot as NAME."""
+    mark = h.log.mark()
+    h.step(f"edit: {name}")
+    h.record(f"t_{name}", time.perf_counter())
+    change()
+    yield h.until_converged(mark)
+    yield from h.screenshot(name)
+
+
+def edits(h):
+    yield from start(h)
+    objects = bpy.data.objects
+    cube, cylinder = objects["Cube"], objects["Cylinder"]
+    yield from enter_rendered(h)
+    h.record("cube_before", h.object_rect(cube))
+    h.record("cylinder", h.object_rect(cylinder))
+    yield from h.screenshot("base")
+
+    def move():
+        # Up by 1 m: the cube and its shadows move, the left of the picture does not.
+        cube.location.z += 1.0
+
+    yield from edit(h, "moved", move)
+    h.record("cube_after", h.object_rect(cube))
+
+    def recolour():
+        material = cube.active_material
+        red = (0.8, 0.05, 0.05, 1.0)
+        material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = red
+        material.diffuse_color = red
+
+    yield from edit(h, "recoloured", recolour)
+
+    def brighten():
+        objects["Point Light"].data.energy *= 4.0
+
+    yield from edit(h, "brighter", brighten)
+
+    def delete():
+        objects.remove(cylinder)
+
+    yield from edit(h, "deleted", delete)
+
+
+def stop(h):
+    yield from start(h)
+    yield from enter_rendered(h)
+    # 1. Leave Rendered mode after convergence.
+    h.record("t_solid_1", time.perf_counter())
+    h.set_shading("SOLID")
+    yield 3.0
+    # 2. Enter again and leave as soon as the first pass is on the GPU: the job is busy.
+    mark = h.log.mark()
+    h.record("t_rendered_2", time.perf_counter())
+    h.set_shading("RENDERED")
+    yield h.until(lambda: h.log.since(mark, "frame"), 60.0, "a first 'frame' event")
+    h.record("converged_before_solid_2", bool(h.log.since(mark, "converged")))
+    h.record("t_solid_2", time.perf_counter())
+    h.set_shading("SOLID")
+    yield 3.0
+    h.record("t_end", time.perf_counter())
+
+
+def scenario(h):
+    mode = h.args.mode
+    yield from {"compare": compare, "edits": edits, "stop": stop}[mode](h)
+
+
+driver.main(scenario, add_arguments)
