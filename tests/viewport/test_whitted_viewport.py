@@ -78,10 +78,10 @@ def test_converged_view_matches_an_f12_render(compare_run):
     )
     value = images.ssim(view, still)
     print(f"SSIM Whitted viewport vs F12: {value:.4f}")
-    # Not yet measured (the viewport did not exist when this was written): 0.90 leaves
-    # room for a viewport that uses fewer anti-aliasing samples than F12 and still
-    # fails a wrong camera, a missing object or a wrong colour transform.
-    assert value > 0.90, f"SSIM {value:.4f}"
+    # Measured 0.978 (llvmpipe, 1062x797 frame); Workbench and EEVEE reach 0.98-0.99 by
+    # the same method. A wrong camera, a missing object or a wrong colour transform
+    # falls far below 0.95.
+    assert value > 0.95, f"SSIM {value:.4f}"
 
 
 def test_moving_an_object_changes_only_its_neighbourhood(edits_run):
@@ -174,5 +174,6 @@ def test_material_preview_is_rendered_by_whitted(demo_blend, run_scenario):
         assert preview["size"][0] > 0 and preview["coverage"] > 0.1, preview
         r, g, b = preview["mean_rgb"]
         # Reddish, not grey; for "Override" the nodes say blue and only Whitted reads
-        # the red override (EEVEE's preview of it measured (0.25, 0.38, 0.80)).
+        # the red override. Whitted measured (0.56, 0.25, 0.25) for both; EEVEE's
+        # preview of "Override" measured (0.25, 0.38, 0.80).
         assert r > 1.5 * g and r > 1.5 * b, (name, preview["mean_rgb"])

@@ -179,6 +179,7 @@ def scenario(h):
         yield h.args.interval
     rss.append([h.args.edits, driver.rss_mb()])
     h.record("edit_seconds", time.perf_counter() - started)
+    h.record("t_edits", [started, time.perf_counter()])
     h.record("rss_mb", rss)
     h.record("counts", editor.counts)
     h.record("edits", h.args.edits)
