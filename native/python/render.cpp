@@ -36,6 +36,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["degenerate_instances"] = s.degenerate_instances;
   out["lights"] = s.lights;
   out["cancelled"] = s.cancelled;
+  out["error"] = s.error;
   return out;
 }
 
@@ -53,7 +54,7 @@ py::array_t<float> copy_cost(const RenderJob& job, int x, int y, int w, int h) {
   py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{1}});
   float* dst = out.mutable_data();
   for (int row = 0; row < h; ++row) {
-    const float* line = job.cost().data() + static_cast<size_t>(y + row) * s.width + x;
+    const float* line = job.film().cost().data() + static_cast<size_t>(y + row) * s.width + x;
     std::copy(line, line + w, dst + static_cast<size_t>(row) * w);
   }
   return out;
@@ -77,7 +78,7 @@ py::array_t<float> copy_rect(const RenderJob& job, int x, int y, int w, int h) {
   const Settings& s = job.settings();
   py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{4}});
   float* dst = out.mutable_data();
-  const float* src = job.pixels().data();
+  const float* src = job.film().pixels().data();
   for (int row = 0; row < h; ++row) {
     const float* line = src + 4 * (static_cast<size_t>(y + row) * s.width + x);
     std::copy(line, line + 4 * static_cast<size_t>(w), dst + 4 * static_cast<size_t>(row) * w);
@@ -102,7 +103,8 @@ void bind_render(py::module_& m) {
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
-                       float aa_threshold, int aa_depth, bool analysis) {
+                       float aa_threshold, int aa_depth, bool analysis, bool progressive,
+                       int start_pixel_size) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -118,6 +120,8 @@ void bind_render(py::module_& m) {
              s.aa_threshold = aa_threshold;
              s.aa_depth = aa_depth;
              s.analysis = analysis;
+             s.progressive = progressive;
+             s.start_pixel_size = start_pixel_size;
              s.validate();
              return s;
            }),
@@ -126,9 +130,12 @@ void bind_render(py::module_& m) {
            py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
            py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
            py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
-           py::arg("aa_depth") = 3, py::arg("analysis") = true,
+           py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("progressive") = false,
+           py::arg("start_pixel_size") = 8,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
-           "bottom; all zero for the whole image.")
+           "bottom; all zero for the whole image. progressive: coarse previews from blocks "
+           "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
+           "per anti-aliasing sample (for the viewport).")
       .def_readwrite("width", &Settings::width)
       .def_readwrite("height", &Settings::height)
       .def_readwrite("max_depth", &Settings::max_depth)
@@ -151,7 +158,12 @@ void bind_render(py::module_& m) {
                      "per ray (a benchmark baseline).")
       .def_readwrite("analysis", &Settings::analysis,
                      "Trace only the effects the scene calls for and skip rays that cannot "
-                     "show; off forces every effect on (a benchmark baseline).");
+                     "show; off forces every effect on (a benchmark baseline).")
+      .def_readwrite("progressive", &Settings::progressive)
+      .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
+      .def_readwrite("fault_tile", &Settings::fault_tile,
+                     "A test hook: the worker that takes this tile index throws "
+                     "std::bad_alloc (MemoryError from wait()) before tracing it; -1: off.");
 
   py::class_<RenderJob>(m, "RenderJob",
                         "A render on worker threads. Poll with wait(), collect finished "
@@ -172,8 +184,52 @@ void bind_render(py::module_& m) {
       .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
            py::call_guard<py::gil_scoped_release>(),
            "True once the render has finished or stopped after cancel().")
-      .def("cancel", &RenderJob::cancel)
+      .def("cancel", &RenderJob::cancel,
+           "Workers stop within a row of pixels; wait() then returns promptly.")
       .def_property_readonly("progress", &RenderJob::progress)
+      .def_property_readonly("frame", &RenderJob::frame,
+                             "Passes completed (0 before the first): display() shows "
+                             "something new each time it grows.")
+      .def(
+          "pass_info",
+          [](const RenderJob& job) {
+            const PassInfo info = job.pass_info();
+            py::dict out;
+            out["pass"] = info.pass;
+            out["passes"] = info.passes;
+            out["pixel_size"] = info.pixel_size;
+            out["samples"] = info.samples;
+            return out;
+          },
+          "{pass: passes completed, passes: in the schedule, pixel_size and samples (per "
+          "pixel, its own) of the last completed pass; 0 before the first}.")
+      .def(
+          "display",
+          [](const RenderJob& job, const std::string& kind) {
+            const Film& film = job.film();
+            void (Film::*fill)(float*) const = nullptr;
+            if (kind == "image") {
+              fill = &Film::display_image;
+            } else if (kind == "cost") {
+              fill = &Film::display_cost;
+            } else {
+              throw std::invalid_argument("display kind must be 'image' or 'cost', not '" + kind +
+                                          "'");
+            }
+            py::array_t<float> out(
+                {py::ssize_t{film.height()}, py::ssize_t{film.width()}, py::ssize_t{4}});
+            float* dst = out.mutable_data();
+            {
+              py::gil_scoped_release release;
+              (film.*fill)(dst);
+            }
+            return out;
+          },
+          py::arg("kind") = "image",
+          "A new float32[height, width, 4] copy of what the film shows now, for a half-float "
+          "texture (rows bottom to top). 'image': RGBA scene-linear, premultiplied, each "
+          "value clamped to [0, 65000], NaN as 0. 'cost': rays per pixel as a heat map "
+          "(cividis, dark blue to yellow, scaled by the largest so far), alpha 1.")
       .def("take_finished_tiles",
            [](RenderJob& job) {
              std::vector<py::tuple> out;
@@ -187,8 +243,9 @@ void bind_render(py::module_& m) {
           [](const py::object& self, int x, int y, int w, int h) {
             const auto& job = self.cast<const RenderJob&>();
             check_rect(job, x, y, w, h);
-            return x == 0 && w == job.settings().width ? view_rows(self, job.pixels(), w, y, h, 4)
-                                                       : copy_rect(job, x, y, w, h);
+            return x == 0 && w == job.settings().width
+                       ? view_rows(self, job.film().pixels(), w, y, h, 4)
+                       : copy_rect(job, x, y, w, h);
           },
           py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
           "RGBA of a finished rectangle, float32[h*w, 4]; whole rows come as a read-only "
@@ -198,8 +255,9 @@ void bind_render(py::module_& m) {
           [](const py::object& self, int x, int y, int w, int h) {
             const auto& job = self.cast<const RenderJob&>();
             check_rect(job, x, y, w, h);
-            return x == 0 && w == job.settings().width ? view_rows(self, job.cost(), w, y, h, 1)
-                                                       : copy_cost(job, x, y, w, h);
+            return x == 0 && w == job.settings().width
+                       ? view_rows(self, job.film().cost(), w, y, h, 1)
+                       : copy_cost(job, x, y, w, h);
           },
           py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
           "Rays traced per pixel (all kinds) of a finished rectangle, float32[h*w, 1]; whole "

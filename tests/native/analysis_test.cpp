@@ -55,7 +55,7 @@ Result render(const Scene& scene, bool analysis, float cutoff = 1.0f / 255.0f) {
   job.start();
   while (!job.wait(1.0)) {
   }
-  return {job.pixels(), job.stats()};
+  return {job.film().pixels(), job.stats()};
 }
 
 TEST(Analysis, DiffuseSceneTracesNoReflectionOrRefractionAndNamesWhy) {

@@ -35,7 +35,7 @@ Result render(const Scene& scene, Settings settings) {
   job.start();
   while (!job.wait(1.0)) {
   }
-  return {job.pixels(), job.cost(), job.stats()};
+  return {job.film().pixels(), job.film().cost(), job.stats()};
 }
 
 TEST(AntiAliasing, RegularGridTakesNSquaredSamplesPerPixel) {

@@ -153,7 +153,7 @@ TEST(Fuzz, RandomScenesNeverCrashOrProduceNonFinitePixels) {
     job.start();
     while (!job.wait(1.0)) {
     }
-    for (float v : job.pixels()) ASSERT_TRUE(std::isfinite(v)) << "iteration " << iteration;
+    for (float v : job.film().pixels()) ASSERT_TRUE(std::isfinite(v)) << "iteration " << iteration;
     ++rendered;
   }
   EXPECT_EQ(rendered, n);  // iterations first .. first + n - 1

@@ -133,7 +133,7 @@ std::vector<float> render_sphere(Mesh mesh) {
   job.start();
   while (!job.wait(1.0)) {
   }
-  return job.pixels();
+  return job.film().pixels();
 }
 
 // A smooth mesh stored with one normal per vertex renders bit for bit as the same mesh

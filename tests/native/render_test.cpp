@@ -11,45 +11,15 @@
 namespace whitted {
 namespace {
 
-using testing::add_object;
-using testing::looking_down;
+using testing::glass_and_mirror_scene;
 using testing::quad;
-
-Scene glass_and_mirror_scene() {
-  Scene scene;
-  Material floor;
-  floor.diffuse = Color(0.6f, 0.5f, 0.4f);
-  floor.specular = Color(0.2f);
-  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), floor);
-  Material glass;
-  glass.diffuse = Color(0.0f);
-  glass.transmissivity = Color(0.9f);
-  add_object(&scene, "glass", quad(-1, 1, -1, 1, 1), glass);
-  Material mirror;
-  mirror.reflectivity = Color(0.8f);
-  add_object(&scene, "mirror", quad(-3, -2, -3, 3, 0.5f), mirror);
-  Light light;
-  light.color = Color(30.0f);
-  light.position = Vec3(1.0f, 2.0f, 4.0f);
-  scene.set_light("light", light);
-  Light area;
-  area.type = LightType::kArea;
-  area.color = Color(5.0f);
-  area.position = Vec3(-2.0f, 0.0f, 3.0f);
-  area.size[0] = area.size[1] = 1.0f;
-  area.samples = 3;
-  scene.set_light("area", area);
-  scene.set_ambient(Color(0.05f));
-  scene.camera = looking_down(Vec3(0.3f, 0.2f, 6.0f), 0.9f);
-  return scene;
-}
 
 std::vector<float> render(const Scene& scene, Settings settings) {
   RenderJob job(scene, settings, scene.camera);
   job.start();
   while (!job.wait(1.0)) {
   }
-  return job.pixels();
+  return job.film().pixels();
 }
 
 TEST(Render, ImageIsBitIdenticalWhateverTheThreadCountAndTileSize) {
@@ -218,7 +188,7 @@ TEST(Render, BareTraceRetracesTheRecordedRays) {
   while (!some.wait(1.0)) {
   }
   EXPECT_LT(some.trace_bare().rays, bare.rays / 4);
-  EXPECT_EQ(render(scene, settings), some.pixels());  // recording does not change the image
+  EXPECT_EQ(render(scene, settings), some.film().pixels());  // recording does not change the image
 
   RenderJob none(scene, settings, scene.camera);
   none.start();

@@ -260,7 +260,7 @@ std::vector<float> render_image(const Scene& scene, int threads = 2, int tile = 
   job.start();
   while (!job.wait(1.0)) {
   }
-  return job.pixels();
+  return job.film().pixels();
 }
 
 // The same scene at scales 1e-4, 1 and 1e5 renders the same image: no scale-dependent

@@ -56,4 +56,35 @@ inline Camera looking_down(Vec3 position, float half) {
   return c;
 }
 
+// A floor, a glass pane and a mirror under a point light and an area light: every
+// effect, for tests of the render driver.
+inline Scene glass_and_mirror_scene() {
+  Scene scene;
+  Material floor;
+  floor.diffuse = Color(0.6f, 0.5f, 0.4f);
+  floor.specular = Color(0.2f);
+  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), floor);
+  Material glass;
+  glass.diffuse = Color(0.0f);
+  glass.transmissivity = Color(0.9f);
+  add_object(&scene, "glass", quad(-1, 1, -1, 1, 1), glass);
+  Material mirror;
+  mirror.reflectivity = Color(0.8f);
+  add_object(&scene, "mirror", quad(-3, -2, -3, 3, 0.5f), mirror);
+  Light light;
+  light.color = Color(30.0f);
+  light.position = Vec3(1.0f, 2.0f, 4.0f);
+  scene.set_light("light", light);
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(5.0f);
+  area.position = Vec3(-2.0f, 0.0f, 3.0f);
+  area.size[0] = area.size[1] = 1.0f;
+  area.samples = 3;
+  scene.set_light("area", area);
+  scene.set_ambient(Color(0.05f));
+  scene.camera = looking_down(Vec3(0.3f, 0.2f, 6.0f), 0.9f);
+  return scene;
+}
+
 }  // namespace whitted::testing

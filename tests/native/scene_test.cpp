@@ -37,7 +37,7 @@ std::vector<float> render(const Scene& scene) {
   job.start();
   while (!job.wait(1.0)) {
   }
-  return job.pixels();
+  return job.film().pixels();
 }
 
 TEST(Scene, AnUnchangedSceneCompilesOnce) {
@@ -161,7 +161,7 @@ TEST(Scene, EditsDuringARenderDoNotReachIt) {
   scene.compile();
   while (!job.wait(1.0)) {
   }
-  EXPECT_EQ(job.pixels(), reference);
+  EXPECT_EQ(job.film().pixels(), reference);
   EXPECT_NE(render(scene), reference);
 }
 

@@ -88,7 +88,7 @@ TEST(Visibility, TransparentFilmAndBorder) {
   job.start();
   while (!job.wait(1.0)) {
   }
-  const std::vector<float>& px = job.pixels();
+  const std::vector<float>& px = job.film().pixels();
   for (int y = 0; y < 10; ++y) {
     for (int x = 0; x < 20; ++x) {
       const bool inside = x >= 5 && x < 12 && y >= 2 && y < 7;

@@ -1,7 +1,10 @@
 """RenderJob for the live viewport: cached compile, camera override, progressive passes,
 the display buffer, live statistics, cancel and worker failures."""
 
+import time
+
 import numpy as np
+import pytest
 import whitted_native as wn
 from test_scene import finish, lit_floor_scene, looking_down, quad
 
@@ -54,3 +57,144 @@ def test_a_camera_passed_to_the_job_overrides_the_scene_camera():
     np.testing.assert_array_equal(overridden, expected)
     assert not np.array_equal(finish(wn.RenderJob(scene, settings)), expected)
     assert scene.top_level_builds == 1
+
+
+def glass_scene():
+    """A lit floor under a reflective, refractive pane: every kind of ray."""
+    scene = lit_floor_scene()
+    scene.set_mesh("pane", *quad(-0.5, 0.5, -0.5, 0.5, 1))
+    scene.set_material(
+        "glass",
+        wn.Material(diffuse=(0, 0, 0), reflectivity=(0.1,) * 3, transmissivity=(0.8,) * 3),
+    )
+    scene.set_instance("pane", "pane", np.eye(4), ["glass"])
+    return scene
+
+
+def progressive_settings(**overrides):
+    values = dict(width=41, height=29, aa_samples=2, tile_size=8, threads=2, progressive=True)
+    values.update(overrides)
+    return wn.Settings(**values)
+
+
+@pytest.mark.parametrize("aa_mode", [wn.AntiAliasing.REGULAR, wn.AntiAliasing.JITTERED])
+def test_progressive_ends_bit_identical_to_a_render_of_whole_pixels(aa_mode):
+    # Exact: the last sample pass sums each pixel's samples in the order, and with the
+    # weight, a whole pixel uses; packets off, since a packet may break a coplanar tie
+    # differently.
+    scene = glass_scene()
+    whole = wn.Settings(width=41, height=29, aa_samples=2, aa_mode=aa_mode)
+    whole.packets = False
+    expected = finish(wn.RenderJob(scene, whole))
+    job = wn.RenderJob(scene, progressive_settings(aa_mode=aa_mode, start_pixel_size=16))
+    np.testing.assert_array_equal(finish(job), expected)
+    np.testing.assert_array_equal(job.display(), expected)
+
+
+def test_frame_counts_passes_up_to_the_schedule():
+    job = wn.RenderJob(
+        glass_scene(), progressive_settings(width=300, height=200, start_pixel_size=8)
+    )
+    assert job.frame == 0
+    info = job.pass_info()
+    assert info == {"pass": 0, "passes": 3 + 4, "pixel_size": 0, "samples": 0}
+    job.start()
+    frames = []
+    while not job.wait(0.001):
+        frames.append(job.frame)
+    frames.append(job.frame)
+    assert frames == sorted(frames)
+    assert frames[-1] == info["passes"]
+    assert job.pass_info() == {"pass": 7, "passes": 7, "pixel_size": 1, "samples": 4}
+
+
+def test_display_is_a_new_clamped_float32_copy():
+    scene = lit_floor_scene()
+    scene.set_material("white", wn.Material(diffuse=(0, 0, 0), emission=(1e6, 2.0, 0.0)))
+    job = wn.RenderJob(scene, wn.Settings(width=10, height=6))
+    assert not job.display().any()  # nothing rendered yet
+    finish(job)
+    shown = job.display()
+    assert shown.shape == (6, 10, 4)
+    assert shown.dtype == np.float32
+    assert shown.flags["C_CONTIGUOUS"] and shown.flags["OWNDATA"]
+    np.testing.assert_array_equal(shown[..., 0], 65000.0)  # within half-float range
+    np.testing.assert_array_equal(shown[..., 1], 2.0)
+    assert job.image()[0, 0, 0] == 1e6  # the render itself is not clamped
+    shown[...] = -1.0
+    assert job.display()[0, 0, 1] == 2.0  # a copy, not a view
+    with pytest.raises(ValueError, match="kind"):
+        job.display("depth")
+
+
+def test_display_cost_is_a_heat_map_of_rays_per_pixel():
+    scene = glass_scene()  # the pane costs more rays than the bare floor
+    job = wn.RenderJob(scene, wn.Settings(width=24, height=24))
+    finish(job)
+    heat = job.display("cost")
+    assert heat.shape == (24, 24, 4)
+    assert heat.dtype == np.float32
+    np.testing.assert_array_equal(heat[..., 3], 1.0)
+    cost = job.cost_image()
+    luminance = heat[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+    assert luminance[cost == cost.max()].min() > luminance[cost == cost.min()].max()
+    hottest = heat[cost == cost.max()][0]
+    assert hottest[0] > 0.9 and hottest[2] < 0.1  # yellow
+    coolest = heat[cost == cost.min()][0]
+    assert coolest[2] > hottest[2]  # towards blue
+
+
+def test_settings_check_the_progressive_start_size():
+    assert wn.Settings(progressive=True, start_pixel_size=64).start_pixel_size == 64
+    with pytest.raises(ValueError, match="power of two"):
+        wn.Settings(progressive=True, start_pixel_size=12)
+    with pytest.raises(ValueError, match="start_pixel_size"):
+        wn.Settings(start_pixel_size=128)
+
+
+def test_a_failing_worker_raises_from_wait_and_leaves_the_scene_usable():
+    scene = glass_scene()
+    settings = wn.Settings(width=512, height=512, tile_size=8, threads=2)
+    settings.fault_tile = 100
+    job = wn.RenderJob(scene, settings)
+    job.start()
+    with pytest.raises(MemoryError):
+        while not job.wait(1.0):
+            pass
+    stats = job.stats()
+    assert stats["cancelled"]
+    assert stats["error"] == "std::bad_alloc"
+    del job
+    again = wn.RenderJob(scene, wn.Settings(width=16, height=16))
+    finish(again)
+    assert again.stats()["error"] == ""
+    assert not again.stats()["cancelled"]
+
+
+def test_stats_count_rays_while_the_render_runs():
+    job = wn.RenderJob(
+        glass_scene(), wn.Settings(width=2000, height=2000, aa_samples=3, tile_size=16, threads=2)
+    )
+    job.start()
+    deadline = time.perf_counter() + 10
+    while job.stats()["rays"]["camera"] == 0 and time.perf_counter() < deadline:
+        time.sleep(0.005)
+    assert not job.wait(0.0)  # still running
+    assert job.stats()["rays"]["camera"] > 0
+    job.cancel()
+    assert job.wait(5.0)
+
+
+@pytest.mark.parametrize("progressive", [False, True])
+def test_a_cancelled_render_stops_well_within_a_second(progressive):
+    settings = wn.Settings(
+        width=4000, height=4000, aa_samples=4, threads=2, progressive=progressive
+    )
+    job = wn.RenderJob(glass_scene(), settings)
+    job.start()
+    assert not job.wait(0.05)
+    t0 = time.perf_counter()
+    job.cancel()
+    assert job.wait(1.0)
+    assert time.perf_counter() - t0 < 0.5
+    assert job.stats()["cancelled"]

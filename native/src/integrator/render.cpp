@@ -1,37 +1,52 @@
 #include "integrator/render.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
-#include <latch>
+#include <new>
 #include <stdexcept>
 
 namespace whitted {
 namespace {
-
-// A hash of (x, y, i) to [0, 1) (a PCG-style integer mix): jitter that depends only on
-// the pixel and the sample, so images do not depend on tiles or threads.
-float hash01(uint32_t x, uint32_t y, uint32_t i) {
-  uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ i * 0xcb1ab31fu;
-  h ^= h >> 16;
-  h *= 0x7feb352du;
-  h ^= h >> 15;
-  h *= 0x846ca68bu;
-  h ^= h >> 16;
-  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
-}
 
 double now_seconds() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
 }
 
+// Settings checked before anything is sized by them.
+const Settings& validated(const Settings& settings) {
+  settings.validate();
+  return settings;
+}
+
+Tile border_area(const Settings& settings) {
+  int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+  settings.border_rect(&xmin, &ymin, &xmax, &ymax);
+  return {xmin, ymin, xmax - xmin, ymax - ymin};
+}
+
+// What an exception says, for the statistics.
+std::string describe(const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {  // not a std::exception: nothing to read, only to name
+    return "an exception that is not a std::exception";
+  }
+}
+
 }  // namespace
 
 RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
                      uint32_t record_stride)
-    : settings_(settings), camera_(camera), record_stride_(record_stride) {
-  settings_.validate();
+    : settings_(validated(settings)),
+      camera_(camera),
+      passes_(make_schedule(settings_)),
+      tiles_(make_tiles(settings_)),
+      area_(border_area(settings_)),
+      film_(settings_.width, settings_.height, settings_.progressive),
+      recorder_(record_stride) {
   const double t0 = now_seconds();
   scene_ = scene.compile(&stats_.top_level_built);
   stats_.compile_seconds = now_seconds() - t0;
@@ -39,19 +54,9 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
   stats_.instances = scene_->instances.size();
   stats_.degenerate_instances = scene_->degenerate_instances;
   stats_.lights = scene_->lights.size();
-  pixels_.assign(size_t{4} * settings_.width * settings_.height, 0.0f);
-  cost_.assign(static_cast<size_t>(settings_.width) * settings_.height, 0.0f);
   const WhittedIntegrator integrator(*scene_, settings_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().reasons;
-  const int ts = settings_.tile_size;
-  int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
-  settings_.border_rect(&xmin, &ymin, &xmax, &ymax);
-  for (int y = ymin; y < ymax; y += ts) {
-    for (int x = xmin; x < xmax; x += ts) {
-      tiles_.push_back({x, y, std::min(ts, xmax - x), std::min(ts, ymax - y)});
-    }
-  }
 }
 
 RenderJob::~RenderJob() {
@@ -68,205 +73,159 @@ void RenderJob::start() {
   stats_.threads = threads;
   running_ = threads;
   start_time_ = now_seconds();
-  if (record_stride_ > 0) logs_.resize(static_cast<size_t>(threads));
+  recorder_.prepare(threads);
   for (int i = 0; i < threads; ++i) {
-    RayLog* log = record_stride_ > 0 ? &logs_[static_cast<size_t>(i)] : nullptr;
-    workers_.emplace_back([this, log] { work(log); });
+    try {
+      workers_.emplace_back([this, i] { work(i); });
+    } catch (...) {
+      // No thread for the rest (std::system_error): the started ones stop, and wait()
+      // does not wait for workers that never ran.
+      running_ -= threads - i;
+      cancel_ = true;
+      changed_.notify_all();
+      throw;
+    }
   }
 }
 
-void RenderJob::work(RayLog* log) {
-  const WhittedIntegrator integrator(*scene_, settings_, log);
+void RenderJob::work(int worker) {
+  RayLog* log = recorder_.log(worker);
   RayCounts counts;
-  for (size_t i = next_tile_++; i < tiles_.size() && !cancel_; i = next_tile_++) {
-    render_tile(tiles_[i], integrator, &counts);
-    if (cancel_) break;  // a tile cut short is not reported as finished
-    done_tiles_ += 1;
-    std::lock_guard lock(mutex_);
-    finished_.push_back(tiles_[i]);
-    stats_.pixels += static_cast<uint64_t>(tiles_[i].width) * tiles_[i].height;
+  // The one catch-all of the engine: an exception must not leave a worker thread, where
+  // it would call std::terminate and take Blender down. It is kept for wait() instead.
+  try {
+    const WhittedIntegrator integrator(*scene_, settings_, log);
+    const CameraSampler sampler(integrator, camera_, camera_media_);
+    const size_t items = passes_.size() * tiles_.size();
+    for (size_t item = next_item_++; item < items; item = next_item_++) {
+      const size_t pass = item / tiles_.size();
+      if (!wait_for_pass(pass)) break;
+      const size_t tile = item % tiles_.size();
+      if (static_cast<int64_t>(tile) == settings_.fault_tile) throw std::bad_alloc();
+      trace(passes_[pass], tiles_[tile], sampler, log, &counts);
+      if (cancel_) break;  // a tile cut short is not reported as finished
+      finish_item(item, &counts);
+    }
+  } catch (...) {
+    fail(std::current_exception());
   }
   std::lock_guard lock(mutex_);
-  stats_.rays += counts;
+  stats_.rays += counts;  // what a tile cut short traced
   if (--running_ == 0) {
     stats_.trace_seconds = now_seconds() - start_time_;
     stats_.cancelled = cancel_;
-    finished_cv_.notify_all();
   }
+  changed_.notify_all();
 }
 
-void RenderJob::render_tile(const Tile& tile, const WhittedIntegrator& integrator,
-                            RayCounts* counts) {
-  const bool adaptive = settings_.aa_mode == AntiAliasing::kAdaptive;
+bool RenderJob::wait_for_pass(size_t pass) {
+  // A pixel's passes run in order: a tile of this pass waits until every tile of the
+  // passes before it is done. No worker waits holding an item of those passes (items
+  // are handed out in order), so this cannot deadlock; cancel() wakes it.
+  const size_t needed = pass * tiles_.size();
+  if (done_items_ < needed) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return cancel_ || done_items_ >= needed; });
+  }
+  return !cancel_;
+}
+
+void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
+                      RayCounts* counts) {
+  const int width = settings_.width;
+  if (pass.kind == Pass::Kind::kPreview) {
+    for_each_block(tile, pass.pixel_size, area_, [&](const Tile& block, const Tile& inside) {
+      if (cancel_) return false;
+      recorder_.select(log, block.x, block.y, width);
+      const uint64_t before = counts->total();
+      const Sample s = sampler.point(
+          static_cast<float>(block.x) + 0.5f * static_cast<float>(block.width),
+          static_cast<float>(block.y) + 0.5f * static_cast<float>(block.height), counts);
+      const auto cost = static_cast<float>(counts->total() - before);
+      for (int y = inside.y; y < inside.y + inside.height; ++y) {
+        for (int x = inside.x; x < inside.x + inside.width; ++x) film_.set(x, y, s, cost);
+      }
+      return true;
+    });
+    return;
+  }
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
-      if (integrator.log() != nullptr) integrator.log()->active = recorded(x, y);
-      const uint64_t rays_before = counts->total();
-      const Sample pixel = adaptive ? render_pixel_adaptive(x, y, integrator, counts)
-                                    : render_pixel_grid(x, y, integrator, counts);
-      const size_t index = static_cast<size_t>(y) * settings_.width + x;
-      float* out = &pixels_[4 * index];
-      out[0] = pixel.radiance.x;
-      out[1] = pixel.radiance.y;
-      out[2] = pixel.radiance.z;
-      out[3] = pixel.alpha;
-      cost_[index] = static_cast<float>(counts->total() - rays_before);
+      recorder_.select(log, x, y, width);
+      const uint64_t before = counts->total();
+      if (pass.kind == Pass::Kind::kPixels) {
+        const Sample s = sampler.pixel(x, y, counts);
+        film_.set(x, y, s, static_cast<float>(counts->total() - before));
+      } else {
+        const Sample s = sampler.grid_sample(x, y, pass.sample, counts);
+        film_.add(x, y, s, static_cast<float>(counts->total() - before));
+      }
     }
   }
 }
 
-RenderJob::Sample RenderJob::render_pixel_grid(int x, int y, const WhittedIntegrator& integrator,
-                                               RayCounts* counts) const {
-  // The camera rays of one pixel are coherent: Embree finds their first hits together,
-  // up to a packet at a time, then each is shaded on its own. A packet never spans two
-  // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
-  // threads): where two coplanar faces tie, the winner can depend on the packet.
-  constexpr int kPacket = SceneAccel::kPacketSize;
-  const int n = settings_.aa_samples;
-  const int samples = n * n;
-  std::array<Ray, kPacket> rays;
-  std::array<Hit, kPacket> hits;
-  Sample sum{Color(0.0f), 0.0f};
-  for (int first = 0; first < samples; first += kPacket) {
-    const int count = std::min(kPacket, samples - first);
-    for (int k = 0; k < count; ++k) {
-      float px = 0.0f;
-      float py = 0.0f;
-      grid_sample(x, y, (first + k) % n, (first + k) / n, &px, &py);
-      rays[static_cast<size_t>(k)] = camera_ray(px, py);
-    }
-    const bool packet = settings_.packets && count > 1;
-    if (packet) integrator.intersect_packet(rays.data(), count, hits.data());
-    for (int k = 0; k < count; ++k) {
-      const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
-      const Sample s = shade_camera_ray(rays[static_cast<size_t>(k)], hit, integrator, counts);
-      sum.radiance += s.radiance;
-      sum.alpha += s.alpha;
-    }
+void RenderJob::finish_item(size_t item, RayCounts* counts) {
+  const Tile& tile = tiles_[item % tiles_.size()];
+  std::lock_guard lock(mutex_);
+  // Merged after every tile, so the statistics show the rays traced so far.
+  stats_.rays += *counts;
+  *counts = RayCounts{};
+  if (item / tiles_.size() + 1 == passes_.size()) {
+    finished_.push_back(tile);
+    stats_.pixels += static_cast<uint64_t>(tile.width) * tile.height;
   }
-  // The average of the samples (box filter).
-  const float w = 1.0f / static_cast<float>(samples);
-  return {sum.radiance * w, sum.alpha * w};
+  if (++done_items_ % tiles_.size() == 0) changed_.notify_all();  // a pass is complete
 }
 
-bool RenderJob::recorded(int x, int y) const {
-  const uint64_t index =
-      static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
-  return index % record_stride_ == 0;
-}
-
-void RenderJob::grid_sample(int x, int y, int i, int j, float* px, float* py) const {
-  // An n x n grid over the pixel; jittered inside each cell.
-  const int n = settings_.aa_samples;
-  const float cell = 1.0f / static_cast<float>(n);
-  float du = 0.5f;
-  float dv = 0.5f;
-  if (settings_.aa_mode == AntiAliasing::kJittered) {
-    const auto k = static_cast<uint32_t>(j * n + i);
-    du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k);
-    dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * k + 1);
+void RenderJob::fail(std::exception_ptr error) {
+  std::lock_guard lock(mutex_);
+  if (!error_) {
+    error_ = error;
+    stats_.error = describe(error);
   }
-  *px = static_cast<float>(x) + (static_cast<float>(i) + du) * cell;
-  *py = static_cast<float>(y) + (static_cast<float>(j) + dv) * cell;
-}
-
-Ray RenderJob::camera_ray(float px, float py) const {
-  return camera_.generate_ray(px / static_cast<float>(settings_.width),
-                              py / static_cast<float>(settings_.height));
-}
-
-RenderJob::Sample RenderJob::render_pixel_adaptive(int x, int y,
-                                                   const WhittedIntegrator& integrator,
-                                                   RayCounts* counts) const {
-  const auto fx = static_cast<float>(x);
-  const auto fy = static_cast<float>(y);
-  const Sample corners[4] = {camera_sample(fx, fy, integrator, counts),
-                             camera_sample(fx + 1.0f, fy, integrator, counts),
-                             camera_sample(fx, fy + 1.0f, integrator, counts),
-                             camera_sample(fx + 1.0f, fy + 1.0f, integrator, counts)};
-  return subdivide(fx, fy, 1.0f, corners, 0, integrator, counts);
-}
-
-RenderJob::Sample RenderJob::camera_sample(float px, float py, const WhittedIntegrator& integrator,
-                                           RayCounts* counts) const {
-  return shade_camera_ray(camera_ray(px, py), nullptr, integrator, counts);
-}
-
-RenderJob::Sample RenderJob::shade_camera_ray(const Ray& ray, const Hit* first,
-                                              const WhittedIntegrator& integrator,
-                                              RayCounts* counts) const {
-  counts->camera += 1;
-  const PathState path{0, Color(1.0f), camera_media_};
-  float alpha = 1.0f;
-  const Color c = first != nullptr ? integrator.trace_from(ray, *first, path, counts, &alpha)
-                                   : integrator.trace(ray, path, counts, &alpha);
-  if (!is_finite(c)) {
-    counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
-    return {Color(0.0f), 0.0f};
-  }
-  return {c, alpha};
-}
-
-RenderJob::Sample RenderJob::subdivide(float x0, float y0, float size, const Sample corners[4],
-                                       int depth, const WhittedIntegrator& integrator,
-                                       RayCounts* counts) const {
-  // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
-  // summed over RGB.
-  Color lo(kInfinity);
-  Color hi(-kInfinity);
-  for (int i = 0; i < 4; ++i) {
-    const Color c = glm::min(corners[i].radiance, Color(1.0f));
-    lo = glm::min(lo, c);
-    hi = glm::max(hi, c);
-  }
-  const Color spread = hi - lo;
-  const bool split =
-      depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
-  if (!split) {
-    Sample mean{Color(0.0f), 0.0f};
-    for (int i = 0; i < 4; ++i) {
-      mean.radiance += 0.25f * corners[i].radiance;
-      mean.alpha += 0.25f * corners[i].alpha;
-    }
-    return mean;
-  }
-  const float h = 0.5f * size;
-  const Sample bottom = camera_sample(x0 + h, y0, integrator, counts);
-  const Sample left = camera_sample(x0, y0 + h, integrator, counts);
-  const Sample centre = camera_sample(x0 + h, y0 + h, integrator, counts);
-  const Sample right = camera_sample(x0 + size, y0 + h, integrator, counts);
-  const Sample top = camera_sample(x0 + h, y0 + size, integrator, counts);
-  const Sample quadrants[4][4] = {{corners[0], bottom, left, centre},
-                                  {bottom, corners[1], centre, right},
-                                  {left, centre, corners[2], top},
-                                  {centre, right, top, corners[3]}};
-  const float offsets[4][2] = {{0.0f, 0.0f}, {h, 0.0f}, {0.0f, h}, {h, h}};
-  Sample mean{Color(0.0f), 0.0f};
-  for (int q = 0; q < 4; ++q) {
-    const Sample s = subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q], depth + 1,
-                               integrator, counts);
-    mean.radiance += 0.25f * s.radiance;
-    mean.alpha += 0.25f * s.alpha;
-  }
-  return mean;
+  cancel_ = true;
+  changed_.notify_all();
 }
 
 bool RenderJob::wait(double seconds) {
   std::unique_lock lock(mutex_);
   if (workers_.empty()) return false;
-  return finished_cv_.wait_for(lock, std::chrono::duration<double>(seconds),
-                               [this] { return running_ == 0; });
+  if (!changed_.wait_for(lock, std::chrono::duration<double>(seconds),
+                         [this] { return running_ == 0; })) {
+    return false;
+  }
+  if (error_) std::rethrow_exception(error_);
+  return true;
 }
 
 void RenderJob::cancel() {
   cancel_ = true;
+  // Notified under the lock, so a worker between its wait's test and its sleep cannot
+  // miss it.
+  std::lock_guard lock(mutex_);
+  changed_.notify_all();
 }
 
 float RenderJob::progress() const {
-  return tiles_.empty()
-             ? 1.0f
-             : static_cast<float>(done_tiles_.load()) / static_cast<float>(tiles_.size());
+  return static_cast<float>(done_items_.load()) /
+         static_cast<float>(passes_.size() * tiles_.size());
+}
+
+int RenderJob::frame() const {
+  return static_cast<int>(done_items_.load() / tiles_.size());
+}
+
+PassInfo RenderJob::pass_info() const {
+  PassInfo info;
+  info.pass = frame();
+  info.passes = static_cast<int>(passes_.size());
+  if (info.pass > 0) {
+    const Pass& last = passes_[static_cast<size_t>(info.pass) - 1];
+    info.pixel_size = last.pixel_size;
+    info.samples = last.samples;
+  }
+  return info;
 }
 
 std::vector<Tile> RenderJob::take_finished_tiles() {
@@ -290,27 +249,7 @@ BareTrace RenderJob::trace_bare() const {
       throw std::logic_error("trace_bare needs a finished render");
     }
   }
-  if (logs_.empty()) throw std::logic_error("trace_bare needs a render made with recording");
-  std::vector<BareRays> batches;
-  batches.reserve(logs_.size());
-  for (const RayLog& log : logs_) batches.push_back(SceneAccel::prepare_bare(log.queries));
-  BareTrace out;
-  out.threads = static_cast<int>(batches.size());
-  std::vector<uint64_t> traced(batches.size(), 0);
-  std::latch ready(static_cast<std::ptrdiff_t>(batches.size()) + 1);
-  std::vector<std::thread> threads;
-  for (size_t i = 0; i < batches.size(); ++i) {
-    threads.emplace_back([&, i] {
-      ready.arrive_and_wait();
-      traced[i] = scene_->accel->trace_bare(&batches[i]);
-    });
-  }
-  ready.arrive_and_wait();
-  const double t0 = now_seconds();
-  for (std::thread& t : threads) t.join();
-  out.seconds = now_seconds() - t0;
-  for (uint64_t n : traced) out.rays += n;
-  return out;
+  return recorder_.trace_bare(*scene_->accel);
 }
 
 }  // namespace whitted

@@ -1,45 +1,49 @@
-// A render in progress: tiles traced on worker threads, polled and cancelled from Python.
+// A render in progress: the passes of its schedule traced tile by tile on worker threads,
+// polled, displayed and cancelled from Python.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "integrator/film.h"
+#include "integrator/recorder.h"
+#include "integrator/sampler.h"
+#include "integrator/schedule.h"
 #include "integrator/settings.h"
 #include "integrator/whitted.h"
 #include "scene/scene.h"
 
 namespace whitted {
 
-struct Tile {
-  int x, y, width, height;  // pixels; y counts from the bottom row
-};
-
 struct RenderStats {
-  RayCounts rays;
+  RayCounts rays;                // so far: merged after every tile
   double compile_seconds = 0.0;  // name resolution and top-level BVH build
   bool top_level_built = false;  // whether the compile built a top-level BVH (else reused)
   double trace_seconds = 0.0;
   int threads = 0;
   uint64_t samples = 0;  // camera samples taken
-  uint64_t pixels = 0;   // pixels rendered
+  uint64_t pixels = 0;   // pixels finished (their last pass done)
   size_t triangles = 0;
   size_t instances = 0;
   size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;
-  bool cancelled = false;
+  bool cancelled = false;            // stopped before the end: cancel(), or a worker failed
+  std::string error;                 // what the first failing worker threw; empty when none did
   std::vector<std::string> effects;  // what the scene analysis simulated and skipped, why
 };
 
-// The bare-Embree baseline: the recorded rays traced again with no shading.
-struct BareTrace {
-  uint64_t rays = 0;
-  double seconds = 0.0;
-  int threads = 0;
+// Where a render is in its schedule.
+struct PassInfo {
+  int pass = 0;        // passes completed
+  int passes = 0;      // passes in the schedule
+  int pixel_size = 0;  // of the last completed pass (0 before the first)
+  int samples = 0;     // camera samples of its own each pixel has after it (Pass::samples)
 };
 
 class RenderJob {
@@ -55,69 +59,58 @@ class RenderJob {
   RenderJob& operator=(const RenderJob&) = delete;
 
   void start();
-  // Waits up to `seconds`; true once every worker has finished (or stopped on cancel).
+  // Waits up to `seconds`; true once every worker has stopped (finished, cancelled or
+  // failed). Once they all have, rethrows what the first failing worker threw.
   bool wait(double seconds);
+  // Workers stop within a row of pixels (or one preview block) and leave what they were
+  // tracing unreported.
   void cancel();
   float progress() const;
+  // How many passes have completed: what the film shows moves on each time it grows.
+  int frame() const;
+  PassInfo pass_info() const;
+  // The tiles whose last pass finished since the last call: their pixels are final.
   std::vector<Tile> take_finished_tiles();
   const Settings& settings() const { return settings_; }
-  // RGBA float pixels, rows bottom to top. Read only finished tiles while running.
-  const std::vector<float>& pixels() const { return pixels_; }
-  // Rays traced for each pixel (all kinds): where the time goes. Rows bottom to top.
-  const std::vector<float>& cost() const { return cost_; }
+  const Film& film() const { return film_; }
   RenderStats stats() const;
   // After a finished render with recording: the recorded rays traced again by a bare
-  // loop of single-ray Embree queries, each thread its own recording, all threads timed
-  // from a common start to the last one's end.
+  // loop of single-ray Embree queries (RayRecorder::trace_bare).
   BareTrace trace_bare() const;
 
  private:
-  void work(RayLog* log);
-  struct Sample {
-    Color radiance;
-    float alpha;
-  };
-  void render_tile(const Tile& tile, const WhittedIntegrator& integrator, RayCounts* counts);
-  // The pixel whose bottom-left corner is (x, y), by a regular or jittered n x n grid.
-  Sample render_pixel_grid(int x, int y, const WhittedIntegrator& integrator,
-                           RayCounts* counts) const;
-  // The camera-ray position of grid sample (i, j) of pixel (x, y), in pixels.
-  void grid_sample(int x, int y, int i, int j, float* px, float* py) const;
-  Ray camera_ray(float px, float py) const;
-  // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
-  Sample shade_camera_ray(const Ray& ray, const Hit* first, const WhittedIntegrator& integrator,
-                          RayCounts* counts) const;
-  // Whether the queries of pixel (x, y) are recorded.
-  bool recorded(int x, int y) const;
-  // The pixel whose bottom-left corner is (x, y), by adaptive anti-aliasing.
-  Sample render_pixel_adaptive(int x, int y, const WhittedIntegrator& integrator,
-                               RayCounts* counts) const;
-  // One camera ray through image point (px, py), in pixels from the bottom-left corner.
-  Sample camera_sample(float px, float py, const WhittedIntegrator& integrator,
-                       RayCounts* counts) const;
-  // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner
-  // samples are `corners` (bottom-left, bottom-right, top-left, top-right).
-  Sample subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
-                   const WhittedIntegrator& integrator, RayCounts* counts) const;
+  // Passes and tiles are handed out as one sequence of items, pass by pass: item i is
+  // tile i % tiles of pass i / tiles.
+  void work(int worker);
+  // Blocks until every pass before `pass` is complete; false if the job was cancelled.
+  bool wait_for_pass(size_t pass);
+  void trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
+             RayCounts* counts);
+  void finish_item(size_t item, RayCounts* counts);
+  // Keeps the first error for wait() and stops the other workers.
+  void fail(std::exception_ptr error);
 
   Settings settings_;
   Camera camera_;
   std::shared_ptr<const CompiledScene> scene_;
   MediumStack camera_media_;  // the glass the camera is inside, if any
+  std::vector<Pass> passes_;
   std::vector<Tile> tiles_;
-  std::vector<float> pixels_;
-  std::vector<float> cost_;
-  uint32_t record_stride_;
-  std::vector<RayLog> logs_;  // one per worker when recording
+  Tile area_;  // the border rectangle
+  Film film_;
+  RayRecorder recorder_;
   std::vector<std::thread> workers_;
-  std::atomic<size_t> next_tile_{0};
-  std::atomic<size_t> done_tiles_{0};
+  std::atomic<size_t> next_item_{0};
+  // Items done: passes complete in order, so the first done / tiles passes are complete.
+  std::atomic<size_t> done_items_{0};
   std::atomic<bool> cancel_{false};
   mutable std::mutex mutex_;  // guards everything below
-  std::condition_variable finished_cv_;
+  // Notified when a pass completes, the job is cancelled or a worker stops.
+  std::condition_variable changed_;
   int running_ = 0;
   std::vector<Tile> finished_;
   RenderStats stats_;
+  std::exception_ptr error_;
   double start_time_ = 0.0;
 };
 

@@ -1,5 +1,6 @@
 #include "integrator/settings.h"
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +33,12 @@ void Settings::validate() const {
   if (!(cutoff >= 0.0f && cutoff <= 1.0f)) {
     throw std::invalid_argument("cutoff must be between 0 and 1");
   }
+  check_range("start_pixel_size", start_pixel_size, 1, 64);
+  if ((start_pixel_size & (start_pixel_size - 1)) != 0) {
+    throw std::invalid_argument("start_pixel_size is " + std::to_string(start_pixel_size) +
+                                "; it must be a power of two");
+  }
+  check_range("fault_tile", fault_tile, -1, INT32_MAX);
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   border_rect(&xmin, &ymin, &xmax, &ymax);
   check_range("border xmin", xmin, 0, width - 1);

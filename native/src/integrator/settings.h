@@ -37,6 +37,17 @@ struct Settings {
   // whole image. The rest of the image stays 0.
   int border[4] = {0, 0, 0, 0};
   bool transparent_background = false;  // camera rays that miss give alpha 0
+  // Progressive refinement, for the viewport: first coarse previews, one camera ray per
+  // block of start_pixel_size, then half that, ..., down to 2 pixels, each shown over its
+  // block; then one pass per sample of the aa_samples x aa_samples grid, each adding that
+  // sample to every pixel (adaptive anti-aliasing is sampled as jittered). Off: one pass
+  // that renders each pixel whole.
+  bool progressive = false;
+  int start_pixel_size = 8;  // a power of two, 1 to 64
+  // A test hook: the worker that takes this tile (an index into the tiles, bottom row
+  // first) throws std::bad_alloc before tracing it, to show a failing worker stops the
+  // job cleanly. -1: off.
+  int fault_tile = -1;
 
   // The border as a rectangle, the whole image when unset.
   void border_rect(int* xmin, int* ymin, int* xmax, int* ymax) const;

@@ -7,12 +7,13 @@
 
 #include "integrator/analysis.h"
 #include "integrator/medium.h"
+#include "integrator/recorder.h"
 #include "integrator/settings.h"
 #include "scene/scene.h"
 
 namespace whitted {
 
-// Rays traced by type, and rays not traced by reason, per thread, summed at the end.
+// Rays traced by type, and rays not traced by reason, per thread, summed after each tile.
 struct RayCounts {
   uint64_t camera = 0;
   uint64_t shadow = 0;
@@ -29,12 +30,6 @@ struct RayCounts {
 
   RayCounts& operator+=(const RayCounts& o);
   uint64_t total() const { return camera + shadow + reflection + refraction + transparent; }
-};
-
-// The queries one thread made while `active`, for the bare-Embree benchmark (RenderJob).
-struct RayLog {
-  std::vector<RayQuery> queries;
-  bool active = false;
 };
 
 // Where a ray is in its ray tree: its recursion depth, its weight on the pixel (the

@@ -1,0 +1,159 @@
+#include "integrator/sampler.h"
+
+#include <algorithm>
+#include <array>
+
+namespace whitted {
+namespace {
+
+// A hash of (x, y, i) to [0, 1) (a PCG-style integer mix): jitter that depends only on
+// the pixel and the sample, so images do not depend on tiles or threads.
+float hash01(uint32_t x, uint32_t y, uint32_t i) {
+  uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ i * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+}
+
+}  // namespace
+
+CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& camera,
+                             const MediumStack& camera_media)
+    : integrator_(integrator),
+      settings_(integrator.settings()),
+      camera_(camera),
+      camera_media_(camera_media) {}
+
+Sample CameraSampler::pixel(int x, int y, RayCounts* counts) const {
+  return settings_.aa_mode == AntiAliasing::kAdaptive ? pixel_adaptive(x, y, counts)
+                                                      : pixel_grid(x, y, counts);
+}
+
+Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts) const {
+  return shade(grid_ray(x, y, k), nullptr, counts);
+}
+
+Sample CameraSampler::point(float px, float py, RayCounts* counts) const {
+  return shade(camera_ray(px, py), nullptr, counts);
+}
+
+Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts) const {
+  // The camera rays of one pixel are coherent: Embree finds their first hits together,
+  // up to a packet at a time, then each is shaded on its own. A packet never spans two
+  // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
+  // threads): where two coplanar faces tie, the winner can depend on the packet.
+  constexpr int kPacket = SceneAccel::kPacketSize;
+  const int n = settings_.aa_samples;
+  const int samples = n * n;
+  std::array<Ray, kPacket> rays;
+  std::array<Hit, kPacket> hits;
+  // Summed in sample order, as Film::add sums a pixel built one sample at a time.
+  Sample sum{Color(0.0f), 0.0f};
+  for (int first = 0; first < samples; first += kPacket) {
+    const int count = std::min(kPacket, samples - first);
+    for (int k = 0; k < count; ++k) rays[static_cast<size_t>(k)] = grid_ray(x, y, first + k);
+    const bool packet = settings_.packets && count > 1;
+    if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
+    for (int k = 0; k < count; ++k) {
+      const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
+      const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts);
+      sum.radiance += s.radiance;
+      sum.alpha += s.alpha;
+    }
+  }
+  // The average of the samples (box filter).
+  const float w = 1.0f / static_cast<float>(samples);
+  return {sum.radiance * w, sum.alpha * w};
+}
+
+Ray CameraSampler::grid_ray(int x, int y, int k) const {
+  // An n x n grid over the pixel; jittered inside each cell (adaptive anti-aliasing,
+  // when sampled one grid sample at a time, is jittered too).
+  const int n = settings_.aa_samples;
+  const int i = k % n;
+  const int j = k / n;
+  const float cell = 1.0f / static_cast<float>(n);
+  float du = 0.5f;
+  float dv = 0.5f;
+  if (settings_.aa_mode != AntiAliasing::kRegular) {
+    const auto h = static_cast<uint32_t>(k);
+    du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h);
+    dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h + 1);
+  }
+  return camera_ray(static_cast<float>(x) + (static_cast<float>(i) + du) * cell,
+                    static_cast<float>(y) + (static_cast<float>(j) + dv) * cell);
+}
+
+Ray CameraSampler::camera_ray(float px, float py) const {
+  return camera_.generate_ray(px / static_cast<float>(settings_.width),
+                              py / static_cast<float>(settings_.height));
+}
+
+Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts) const {
+  const auto fx = static_cast<float>(x);
+  const auto fy = static_cast<float>(y);
+  const Sample corners[4] = {point(fx, fy, counts), point(fx + 1.0f, fy, counts),
+                             point(fx, fy + 1.0f, counts), point(fx + 1.0f, fy + 1.0f, counts)};
+  return subdivide(fx, fy, 1.0f, corners, 0, counts);
+}
+
+Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts) const {
+  counts->camera += 1;
+  const PathState path{0, Color(1.0f), camera_media_};
+  float alpha = 1.0f;
+  const Color c = first != nullptr ? integrator_.trace_from(ray, *first, path, counts, &alpha)
+                                   : integrator_.trace(ray, path, counts, &alpha);
+  if (!is_finite(c)) {
+    counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+    return {Color(0.0f), 0.0f};
+  }
+  return {c, alpha};
+}
+
+Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
+                                RayCounts* counts) const {
+  // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
+  // summed over RGB.
+  Color lo(kInfinity);
+  Color hi(-kInfinity);
+  for (int i = 0; i < 4; ++i) {
+    const Color c = glm::min(corners[i].radiance, Color(1.0f));
+    lo = glm::min(lo, c);
+    hi = glm::max(hi, c);
+  }
+  const Color spread = hi - lo;
+  const bool split =
+      depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
+  if (!split) {
+    Sample mean{Color(0.0f), 0.0f};
+    for (int i = 0; i < 4; ++i) {
+      mean.radiance += 0.25f * corners[i].radiance;
+      mean.alpha += 0.25f * corners[i].alpha;
+    }
+    return mean;
+  }
+  const float h = 0.5f * size;
+  const Sample bottom = point(x0 + h, y0, counts);
+  const Sample left = point(x0, y0 + h, counts);
+  const Sample centre = point(x0 + h, y0 + h, counts);
+  const Sample right = point(x0 + size, y0 + h, counts);
+  const Sample top = point(x0 + h, y0 + size, counts);
+  const Sample quadrants[4][4] = {{corners[0], bottom, left, centre},
+                                  {bottom, corners[1], centre, right},
+                                  {left, centre, corners[2], top},
+                                  {centre, right, top, corners[3]}};
+  const float offsets[4][2] = {{0.0f, 0.0f}, {h, 0.0f}, {0.0f, h}, {h, h}};
+  Sample mean{Color(0.0f), 0.0f};
+  for (int q = 0; q < 4; ++q) {
+    const Sample s =
+        subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q], depth + 1, counts);
+    mean.radiance += 0.25f * s.radiance;
+    mean.alpha += 0.25f * s.alpha;
+  }
+  return mean;
+}
+
+}  // namespace whitted

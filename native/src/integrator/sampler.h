@@ -1,0 +1,47 @@
+// Camera samples: where a pixel's camera rays go (grid, jitter, adaptive subdivision),
+// and what they bring back through the integrator.
+#pragma once
+
+#include "integrator/film.h"
+#include "integrator/whitted.h"
+#include "scene/camera.h"
+
+namespace whitted {
+
+// One per worker (it traces through that worker's integrator). Everything it returns
+// depends only on the pixel and the sample, never on tiles or threads.
+class CameraSampler {
+ public:
+  // `camera_media`: the glass the camera is inside, if any.
+  CameraSampler(const WhittedIntegrator& integrator, const Camera& camera,
+                const MediumStack& camera_media);
+
+  // The pixel whose bottom-left corner is (x, y), whole, by the anti-aliasing mode: the
+  // mean of its regular or jittered grid samples, or Whitted's adaptive subdivision.
+  Sample pixel(int x, int y, RayCounts* counts) const;
+  // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
+  // anti-aliasing, jittered otherwise. The same ray, and value, as in pixel().
+  Sample grid_sample(int x, int y, int k, RayCounts* counts) const;
+  // One camera ray through image point (px, py), in pixels from the bottom-left corner.
+  Sample point(float px, float py, RayCounts* counts) const;
+
+ private:
+  Sample pixel_grid(int x, int y, RayCounts* counts) const;
+  Sample pixel_adaptive(int x, int y, RayCounts* counts) const;
+  // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner
+  // samples are `corners` (bottom-left, bottom-right, top-left, top-right).
+  Sample subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
+                   RayCounts* counts) const;
+  // The camera ray of grid sample k of pixel (x, y).
+  Ray grid_ray(int x, int y, int k) const;
+  Ray camera_ray(float px, float py) const;
+  // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
+  Sample shade(const Ray& ray, const Hit* first, RayCounts* counts) const;
+
+  const WhittedIntegrator& integrator_;
+  const Settings& settings_;
+  const Camera& camera_;
+  const MediumStack& camera_media_;
+};
+
+}  // namespace whitted
