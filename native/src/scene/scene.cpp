@@ -55,7 +55,7 @@ Scene::Scene(const Scene& other) : camera(other.camera), device_(other.device_) 
   state_ = other.state_;
 }
 
-void Scene::changed(bool geometry) const {
+void Scene::changed(bool geometry) {
   state_.snapshot.reset();
   if (geometry) {
     state_.accel.reset();

@@ -137,7 +137,7 @@ class Scene {
 
  private:
   // Marks the snapshot stale, and with `geometry` the top-level BVH too. Needs mutex_.
-  void changed(bool geometry) const;
+  void changed(bool geometry);
 
   std::shared_ptr<AccelDevice> device_;
   mutable std::mutex mutex_;  // guards state_
@@ -159,7 +159,7 @@ class Scene {
     std::vector<uint32_t> accel_masks;
     uint64_t top_level_builds = 0;
   };
-  mutable State state_;
+  mutable State state_;  // mutable: compile(), const to its callers, fills the cache
 };
 
 }  // namespace whitted
