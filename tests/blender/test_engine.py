@@ -107,3 +107,34 @@ def test_finished_tiles_are_merged_into_few_rectangles():
     whole = [(x, y, 32, 32) for y in (64, 0, 32) for x in (32, 0, 64)]
     assert merge(whole) == [(0, 0, 96, 96)]
     assert merge([]) == []
+
+
+def test_a_failing_worker_becomes_a_blender_report_not_a_crash(
+    empty_scene, demo_scene_module, monkeypatch
+):
+    # The native test hook: the worker that takes tile 0 throws std::bad_alloc. The job
+    # stops every worker and wait() raises MemoryError, which the engine reports.
+    real_sync_frame = whitted.engine.sync_frame
+
+    def failing(*args, **kwargs):
+        frame = real_sync_frame(*args, **kwargs)
+        frame.settings.fault_tile = 0
+        return frame
+
+    monkeypatch.setattr(whitted.engine, "sync_frame", failing)
+    demo_scene_module.build_demo_scene(empty_scene)
+    empty_scene.render.engine = "WHITTED"
+    empty_scene.render.resolution_x, empty_scene.render.resolution_y = 96, 64
+    # The engine's error report is what the render operator raises.
+    with pytest.raises(RuntimeError, match="Whitted: the render failed: std::bad_alloc"):
+        bpy.ops.render.render()
+    # Blender is still here, and the next render works.
+    monkeypatch.setattr(whitted.engine, "sync_frame", real_sync_frame)
+    bpy.ops.render.render()
+    assert json_stats(empty_scene)["pixels"] == 96 * 64
+
+
+def json_stats(scene):
+    import json
+
+    return json.loads(scene.whitted.last_stats)
