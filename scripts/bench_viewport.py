@@ -225,7 +225,7 @@ def run_latency(args, workdir, demo_blend):
         "-a",
         "-s",
         # A screen whose maximised 3D view is about 1000x700 (the page states it).
-        "-screen 0 1000x780x24",
+        "-screen 0 1000x700x24",
         "env",
         f"WHITTED_VIEWPORT_LOG={env_log}",
         args.blender,

@@ -86,6 +86,12 @@ class SyncReport:
     removed: int = 0  # meshes, instances, materials, textures and lights removed
     seconds: float = 0.0
 
+    @property
+    def changed(self):
+        """Whether the native scene changed (and so the image may have)."""
+        counts = (self.meshes, self.instances, self.materials, self.textures, self.lights)
+        return any(counts) or self.world or bool(self.removed)
+
     def as_dict(self):
         return asdict(self)
 

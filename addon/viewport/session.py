@@ -12,6 +12,7 @@ a converged viewport costs no CPU. No bpy data is read off the main thread.
 """
 
 import math
+import time
 import weakref
 from dataclasses import dataclass
 
@@ -30,10 +31,14 @@ from .log import ViewportLog
 POLL_SECONDS = 0.01
 # The first image of a new state should appear within one frame of a 30 Hz display.
 FIRST_PASS_SECONDS = 0.03
+# How long a redraw right after a restart waits for that first pass.
+FIRST_PASS_WAIT = 0.05
 # The coarsest first pass, in pixels a side (a power of two), and the one used
 # before any speed was measured.
 MAX_START_PIXEL_SIZE = 64
 DEFAULT_START_PIXEL_SIZE = 8
+# The viewport's workers' niceness (0 normal .. 19 lowest).
+WORKER_NICE = 10
 
 
 @dataclass(frozen=True)
@@ -46,6 +51,9 @@ class ViewSetup:
     region_width: int  # the region it is drawn over
     region_height: int
     border: tuple | None  # (xmin, ymin, xmax, ymax) render pixels, or None: all
+    # Settings that change the image besides the scene: the viewport's quality
+    # preset, transparent film, render threads.
+    settings: tuple
 
 
 class ViewportSession:
@@ -61,25 +69,39 @@ class ViewportSession:
         self._job_version = -1  # the sync the job renders
         self._shown = 0  # the job's frame in the texture
         self._converged = False
+        self._kind = "image"  # what the texture shows: "image" or "cost" (the ray heat map)
         self._samples_per_second = None  # measured camera samples a second
         self._last_sync = None
         self._error = ""
         self._poll = None  # the registered timer function
+        self._started = 0.0  # time.perf_counter() when the job started
 
     # --- view_update -------------------------------------------------------------
 
     def update(self, context, depsgraph):
-        self._stop_job()
+        # The job renders its own snapshot of the native scene, so it may run on while
+        # the sync edits the scene: many updates (selection, a panel's setting that
+        # does not change the image) change nothing, and then the job goes on.
         scene = depsgraph.scene
         try:
             report = self._sync.sync(depsgraph, SyncParams.of(scene, _quality(scene)))
         except ValueError as error:
-            # The native module refused data; keep the last image and say why.
+            # The native module refused data; keep the last image, say why, and export
+            # everything again at the next update (this sync may be half done).
+            self._stop_job()
+            self._sync = SceneSync(self._native)
             self._error = f"Whitted: the renderer refused the scene: {error}"
             self._status()
             return
         self._error = ""
-        self._scene_version += 1
+        if report.changed or self._scene_version == 0:
+            self._scene_version += 1
+            if self._setup is not None:
+                # The view is the one of the last draw until view_draw says otherwise:
+                # start now rather than a redraw later.
+                self._start(self._setup, scene)
+            else:
+                self._stop_job()
         self._last_sync = report
         self._log.write("sync", **report.as_dict())
         engine = self._engine()
@@ -98,8 +120,13 @@ class ViewportSession:
             return  # not synced yet (view_update comes first)
         if self._job is None or setup != self._setup or self._job_version != self._scene_version:
             self._start(setup, scene)
+        kind = "cost" if scene.whitted.viewport_display == "COST" else "image"
+        if kind != self._kind:
+            self._kind = kind
+            self._shown = 0  # show the current pass again, as the other kind
         if self._job is not None:
-            self._show_new_pass(scene)
+            self._wait_for_first_pass()
+            self._show_new_pass()
         if self._display.draw(0, 0, setup.region_width, setup.region_height):
             self._log.write("draw", frame=self._shown)
         self._status()
@@ -123,13 +150,27 @@ class ViewportSession:
         )
         settings.progressive = True
         settings.start_pixel_size = self._start_pixel_size(setup)
+        # Below the interface's priority: Blender's own thread, which polls the job
+        # and uploads each pass, must not wait for a core behind the workers.
+        settings.worker_nice = WORKER_NICE
         self._job = self._native.RenderJob(
             self._sync.scene, settings, camera=native_camera(self._native, setup.camera)
         )
         self._job.start()
+        self._started = time.perf_counter()
         self._shown = 0
         self._converged = False
         self._start_polling()
+
+    def _wait_for_first_pass(self):
+        """Right after a restart, wait (at most FIRST_PASS_WAIT) for the first pass,
+        which is sized to take FIRST_PASS_SECONDS: this redraw then shows the new
+        state, rather than the old image and another redraw later (on a busy machine
+        a redraw of the window can take longer than the pass)."""
+        deadline = self._started + FIRST_PASS_WAIT
+        while self._job.frame == 0 and time.perf_counter() < deadline:
+            if self._job.wait(0.002):
+                break
 
     def _start_pixel_size(self, setup):
         """The finest power-of-two block size whose pass takes at most
@@ -141,7 +182,7 @@ class ViewportSession:
         size = 2 ** math.ceil(math.log2(max(1.0, math.sqrt(pixels / blocks_allowed))))
         return min(MAX_START_PIXEL_SIZE, size)
 
-    def _show_new_pass(self, scene):
+    def _show_new_pass(self):
         job = self._job
         try:
             finished = job.wait(0.0)  # raises what a worker raised
@@ -152,8 +193,7 @@ class ViewportSession:
         frame = job.frame
         if frame == self._shown:
             return
-        kind = "cost" if scene.whitted.viewport_display == "COST" else "image"
-        self._display.upload(job.display(kind))
+        self._display.upload(job.display(self._kind))
         self._shown = frame
         info = job.pass_info()
         self._log.write("frame", frame=frame, **info)
@@ -285,4 +325,5 @@ def _view_setup(context, scene, pixel_size):
         region_width=region.width,
         region_height=region.height,
         border=border,
+        settings=(_quality(scene), render.film_transparent, render.threads),
     )

@@ -161,6 +161,9 @@ void bind_render(py::module_& m) {
                      "show; off forces every effect on (a benchmark baseline).")
       .def_readwrite("progressive", &Settings::progressive)
       .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
+      .def_readwrite("worker_nice", &Settings::worker_nice,
+                     "The workers' niceness, 0 (normal) to 19 (lowest priority): the "
+                     "viewport renders below the interface's priority.")
       .def_readwrite("fault_tile", &Settings::fault_tile,
                      "A test hook: the worker that takes this tile index throws "
                      "std::bad_alloc (MemoryError from wait()) before tracing it; -1: off.");

@@ -1,6 +1,7 @@
 """RenderJob for the live viewport: cached compile, camera override, progressive passes,
 the display buffer, live statistics, cancel and worker failures."""
 
+import os
 import time
 
 import numpy as np
@@ -198,3 +199,34 @@ def test_a_cancelled_render_stops_well_within_a_second(progressive):
     assert job.wait(1.0)
     assert time.perf_counter() - t0 < 0.5
     assert job.stats()["cancelled"]
+
+
+def _thread_nice_values():
+    # Field 19 of /proc/<pid>/task/<tid>/stat is the thread's nice value (after the
+    # command name in parentheses, which may hold spaces).
+    values = []
+    for tid in os.listdir("/proc/self/task"):
+        with open(f"/proc/self/task/{tid}/stat", encoding="ascii") as stat:
+            fields = stat.read().rsplit(")", 1)[1].split()
+        values.append(int(fields[16]))
+    return values
+
+
+def test_workers_run_at_the_niceness_asked_and_render_the_same_pixels():
+    scene = glass_scene()
+    expected = finish(wn.RenderJob(scene, progressive_settings()))
+    settings = progressive_settings(width=401, height=301, aa_samples=4)
+    settings.worker_nice = 7
+    job = wn.RenderJob(scene, settings)
+    job.start()
+    seen = set()
+    while not job.wait(0.002):
+        seen.update(_thread_nice_values())
+    assert 7 in seen  # the workers, while they ran
+    assert os.getpriority(os.PRIO_PROCESS, 0) == 0  # this thread is untouched
+    small = progressive_settings()
+    small.worker_nice = 7
+    np.testing.assert_array_equal(finish(wn.RenderJob(scene, small)), expected)
+    small.worker_nice = 20
+    with pytest.raises(ValueError, match="worker_nice"):
+        wn.RenderJob(scene, small)

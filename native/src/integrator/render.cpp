@@ -5,8 +5,21 @@
 #include <new>
 #include <stdexcept>
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 namespace whitted {
 namespace {
+
+// Lower the calling thread's priority. On Linux each thread has its own nice value
+// (setpriority on a thread id affects that thread alone). A failure only leaves the
+// priority as it was, so it is not an error.
+void lower_thread_priority(int nice) {
+  if (nice <= 0) return;
+  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+  setpriority(PRIO_PROCESS, tid, nice);
+}
 
 double now_seconds() {
   using Clock = std::chrono::steady_clock;
@@ -89,6 +102,7 @@ void RenderJob::start() {
 }
 
 void RenderJob::work(int worker) {
+  lower_thread_priority(settings_.worker_nice);
   RayLog* log = recorder_.log(worker);
   RayCounts counts;
   // The one catch-all of the engine: an exception must not leave a worker thread, where

@@ -44,6 +44,10 @@ struct Settings {
   // that renders each pixel whole.
   bool progressive = false;
   int start_pixel_size = 8;  // a power of two, 1 to 64
+  // The workers' niceness (Linux: 0 is normal, 19 the lowest priority). The viewport
+  // renders at a lower priority than Blender's own thread, so that on a machine whose
+  // cores the workers fill the interface still draws each new pass at once.
+  int worker_nice = 0;
   // A test hook: the worker that takes this tile (an index into the tiles, bottom row
   // first) throws std::bad_alloc before tracing it, to show a failing worker stops the
   // job cleanly. -1: off.
