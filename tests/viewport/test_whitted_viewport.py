@@ -163,6 +163,10 @@ def test_leaving_rendered_mode_stops_the_job(demo_blend, run_scenario):
         assert not late, f"{what}: 'frame' events after 'stop': {late}"
     # Entering Rendered mode again starts over with a full sync.
     assert any(s["full"] and s["t"] > data["t_rendered_2"] for s in run.events("sync"))
+    # The run ended by quitting Blender with the job rendering (assert_clean above: exit
+    # 0, no traceback); the job was stopped on the way out.
+    print(f"quit while rendering: {data['quit_mid_render']}")
+    assert run.events()[-1]["event"] == "stop", run.events()[-3:]
 
 
 def test_material_preview_is_rendered_by_whitted(demo_blend, run_scenario):

@@ -3,7 +3,8 @@
 compare: the converged camera view, and an F12 render at the camera frame's size.
 edits:   converged screenshots before and after each of: move the cube, recolour it,
          brighten the point light, delete the cylinder (rects of the objects recorded).
-stop:    leave Rendered mode once converged and once mid-render; times recorded.
+stop:    leave Rendered mode once converged and once mid-render; times recorded; then
+         quit Blender mid-render.
 
 Waits use the events the viewport appends to WHITTED_VIEWPORT_LOG (see driver.py).
 """
@@ -118,6 +119,12 @@ def stop(h):
     h.set_shading("SOLID")
     yield 3.0
     h.record("t_end", time.perf_counter())
+    # 3. Enter again and quit Blender while the job renders (the run then ends): the
+    # engine is freed with its job running, and Blender must still exit cleanly.
+    mark = h.log.mark()
+    h.set_shading("RENDERED")
+    yield h.until(lambda: h.log.since(mark, "frame"), 60.0, "a first 'frame' event")
+    h.record("quit_mid_render", not h.log.since(mark, "converged"))
 
 
 def scenario(h):
