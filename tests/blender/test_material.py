@@ -123,16 +123,17 @@ def test_reroute_between_shader_and_output_is_followed(warnings):
     assert convert(material, warnings).diffuse == pytest.approx((0.1, 0.2, 0.3))
 
 
-def test_unsupported_shader_uses_viewport_colour_and_warns(warnings):
-    material = node_material("Toon")
+def test_unsupported_shader_is_a_diffuse_of_its_colour_and_warns(warnings):
+    # Not the viewport colour: the node's own colour input, as a Lambertian.
+    material = node_material("Hair")
     material.diffuse_color = (0.3, 0.2, 0.1, 1.0)
-    material.metallic = 0.0
-    shader = surface_shader(material, "ShaderNodeBsdfToon")
+    shader = surface_shader(material, "ShaderNodeBsdfHair", Color=(0.6, 0.5, 0.4, 1.0))
     data = convert(material, warnings)
-    assert data.diffuse == pytest.approx((0.3, 0.2, 0.1))
+    assert data.diffuse == pytest.approx((0.6, 0.5, 0.4))
+    assert data.specular == (0.0, 0.0, 0.0)
     assert warnings == [
-        f"Whitted: material 'Toon', node '{shader.name}': shader 'ShaderNodeBsdfToon' is not "
-        "supported; using the material's viewport display colour"
+        f"Whitted: material 'Hair', node '{shader.name}': shader 'ShaderNodeBsdfHair' is not "
+        "supported; approximated as a Diffuse BSDF of its 'Color'"
     ]
 
 
@@ -469,20 +470,20 @@ def test_mix_with_transparent_is_coverage_of_the_other_shader(warnings):
     assert_material(convert(material, warnings), alpha=0.25, diffuse=(0.2, 0.6, 0.1))
 
 
-def test_mix_with_linked_factor_warns_and_uses_half(warnings):
+def test_mix_with_unsupported_factor_warns_and_uses_its_unlinked_value(warnings):
     material = node_material("Noisy")
     mix, *_ = mix_shader(
         material,
-        0.0,
+        0.25,
         ("ShaderNodeBsdfDiffuse", {"Color": (1.0, 0.0, 0.0, 1.0)}),
         ("ShaderNodeBsdfDiffuse", {"Color": (0.0, 0.0, 1.0, 1.0)}),
     )
     noise = material.node_tree.nodes.new("ShaderNodeTexNoise")
     material.node_tree.links.new(noise.outputs[0], mix.inputs[0])
-    assert_material(convert(material, warnings), diffuse=(0.5, 0.0, 0.5))
+    assert_material(convert(material, warnings), diffuse=(0.75, 0.0, 0.25))
     assert warnings == [
-        f"Whitted: material 'Noisy', node '{mix.name}': Factor linked to '{noise.name}' is "
-        "not supported; using 0.5"
+        f"Whitted: material 'Noisy', node '{noise.name}': Noise Texture is not supported; "
+        f"input '{mix.inputs[0].name}' of '{mix.name}' uses its unlinked value"
     ]
 
 
@@ -503,13 +504,13 @@ def test_mix_factor_from_image_alpha_over_transparent_is_an_alpha_texture(warnin
 
 def test_unsupported_node_in_both_mix_inputs_warns_once(warnings):
     material = node_material("Twice")
-    mix, toon, _ = mix_shader(
-        material, 0.5, ("ShaderNodeBsdfToon", {}), ("ShaderNodeBsdfDiffuse", {})
+    mix, hair, _ = mix_shader(
+        material, 0.5, ("ShaderNodeBsdfHair", {}), ("ShaderNodeBsdfDiffuse", {})
     )
-    material.node_tree.links.new(toon.outputs[0], mix.inputs[2])
+    material.node_tree.links.new(hair.outputs[0], mix.inputs[2])
     convert(material, warnings)
     assert len(warnings) == 1
-    assert "ShaderNodeBsdfToon" in warnings[0]
+    assert "ShaderNodeBsdfHair" in warnings[0]
 
 
 def test_empty_mix_input_is_black(warnings):
@@ -585,13 +586,29 @@ def test_unsupported_texture_settings_warn(warnings):
     image = tree.nodes.new("ShaderNodeTexImage")
     image.image = bpy.data.images.new("smart", 4, 4)
     image.interpolation = "Cubic"
-    mapping = tree.nodes.new("ShaderNodeMapping")
-    tree.links.new(mapping.outputs[0], image.inputs["Vector"])
     tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
     (spec,) = convert_material(material, warnings).textures
     assert (spec.interpolation, spec.coordinates) == ("LINEAR", "UV")
     assert any("Cubic interpolation is not supported; Linear" in w for w in warnings)
-    assert any(f"coordinates from '{mapping.name}'" in w for w in warnings)
+
+
+def test_graph_needing_a_program_falls_back_without_one(warnings):
+    # A Mapping node needs the shader program; a native module without one gets the
+    # unlinked colour, and the material says why.
+    material = node_material("Smart", **{"Base Color": (0.1, 0.2, 0.3, 1.0)})
+    tree = material.node_tree
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("smart", 4, 4)
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    tree.links.new(mapping.outputs[0], image.inputs["Vector"])
+    tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    exported = convert_material(material, warnings, programs=False)
+    assert exported.program is None and exported.textures == ()
+    assert exported.data.diffuse == pytest.approx((0.1, 0.2, 0.3))
+    assert any("needs a shader program" in w for w in warnings)
+    with_program = convert_material(material, [], programs=True)
+    assert with_program.program is not None
+    assert [t.image for t in with_program.textures] == [image.image]
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,584 @@
+"""Shader trees as Whitted surfaces: each BSDF a `Closure` of Whitted fields (Exprs),
+Add Shader and Mix Shader combining them.
+
+A closure is what a surface does with the light reaching it: a share `coverage`
+of it is shaded with the fields, the rest passes straight through (Whitted's
+alpha; a Transparent BSDF is coverage 0). Cycles adds closures; so Mix Shader is
+the factor's blend of both closures and Add Shader their sum:
+
+- coverage: mix (1 - f) cA + f cB; add cA + cB - 1 (the light passed straight
+  through adds up: (1 - cA) + (1 - cB));
+- the linear fields (diffuse, specular, reflectivity, transmissivity, emission):
+  the coverage-weighted sum over the coverage, (wA FA + wB FB) / coverage;
+- the Phong exponent and the IOR, which are not linear, are means weighted by
+  the coverage of the closures that have one (a Diffuse or Emission closure has no
+  highlight and no IOR of its own, so it does not pull them towards its
+  defaults); without any, the defaults;
+- the shading normal: the first closure's that has one (a warning when two differ).
+
+For closures of coverage 1 and a constant factor this is exactly the previous
+mapping's blend of the Whitted parameters.
+"""
+
+from dataclasses import dataclass, replace
+
+from . import ops
+from .graph import socket_type, source
+from .ir import COLOR, FLOAT, VECTOR
+from .values import find_socket
+
+LINEAR_FIELDS = ("diffuse", "specular", "reflectivity", "transmissivity", "emission")
+WEIGHTED_FIELDS = ("shininess", "ior")
+DEFAULTS = {"shininess": 1.0, "ior": 1.45}
+
+# Phong exponents past this make highlights smaller than a pixel anyway.
+MAX_SHININESS = 10000.0
+
+# Principled BSDF inputs by name, newest name first (Blender 4.0 renamed some).
+PRINCIPLED_INPUTS = {
+    "base_color": ("Base Color",),
+    "metallic": ("Metallic",),
+    "roughness": ("Roughness",),
+    "specular": ("Specular IOR Level", "Specular"),
+    "specular_tint": ("Specular Tint",),
+    "transmission": ("Transmission Weight", "Transmission"),
+    "ior": ("IOR",),
+    "emission_color": ("Emission Color", "Emission"),
+    "emission_strength": ("Emission Strength",),
+    "alpha": ("Alpha",),
+    "normal": ("Normal",),
+}
+
+# Values for inputs a node lacks, Blender 3.4's defaults.
+PRINCIPLED_DEFAULTS = {
+    "base_color": (0.8, 0.8, 0.8, 1.0),
+    "metallic": 0.0,
+    "roughness": 0.5,
+    "specular": 0.5,
+    "specular_tint": 0.0,
+    "transmission": 0.0,
+    "ior": 1.45,
+    "emission_color": (0.0, 0.0, 0.0, 1.0),
+    "emission_strength": 1.0,
+    "alpha": 1.0,
+}
+
+# Principled lobes Whitted does not have: warned when their weight is above 0.
+PRINCIPLED_IGNORED_WEIGHTS = (
+    ("Subsurface Weight", "Subsurface"),
+    ("Coat Weight", "Clearcoat"),
+    ("Sheen Weight", "Sheen"),
+    ("Anisotropic",),
+    ("Thin Film Thickness",),
+)
+
+PRINCIPLED_READ = {name for names in PRINCIPLED_INPUTS.values() for name in names}
+
+# Rec. 709 luminance weights (Blender's default scene linear space).
+LUMINANCE = (0.2126, 0.7152, 0.0722)
+
+
+@dataclass(frozen=True)
+class Closure:
+    coverage: object  # Expr, float
+    fields: dict  # field -> Expr (colours; shininess and ior floats)
+    weights: dict  # "shininess" | "ior" -> Expr: the coverage that has an opinion
+    normal: object = None  # Expr (world vector) or None: the interpolated normal
+
+
+class ShaderLowering:
+    """Walks the shader tree of one material with a values.Lowering `c`.
+
+    `legacy`: lower for a native module without the shader program: only what the
+    fixed material can show varies (an Image or Checker texture on a diffuse colour,
+    an image's alpha as coverage); every other linked input uses its unlinked value.
+    """
+
+    def __init__(self, c, legacy=False):
+        self.c = c
+        self.b = c.b
+        self.legacy = legacy
+
+    def black(self):
+        zero = self.b.const((0.0, 0.0, 0.0), COLOR)
+        return Closure(
+            coverage=self.b.f(1.0),
+            fields={
+                **{name: zero for name in LINEAR_FIELDS},
+                **{name: self.b.f(v) for name, v in DEFAULTS.items()},
+            },
+            weights={name: self.b.f(0.0) for name in WEIGHTED_FIELDS},
+        )
+
+    def shader(self, socket, scope):
+        """The closure Blender feeds shader input `socket`; black when unlinked."""
+        output, _ = source(socket, scope)
+        if output is None:
+            return self.black()
+        node = output.node
+        entry = _SHADERS.get(node.bl_idname)
+        if entry is None:
+            return self._unsupported(output)
+        convert, read = entry
+        for input_socket in node.inputs:
+            if input_socket.name in read or socket_type(input_socket) == "SHADER":
+                continue
+            if source(input_socket, output.scope)[0] is not None:
+                self.c.warn(node, f"input '{input_socket.name}' is linked; Whitted ignores it")
+        return convert(self, output)
+
+    def _unsupported(self, output):
+        node = output.node
+        color_socket = find_socket(node.inputs, ("Color", "Base Color"))
+        if color_socket is None:
+            self.c.warn(node, f"shader '{node.bl_idname}' is not supported; it renders black")
+            return self.black()
+        self.c.warn(
+            node,
+            f"shader '{node.bl_idname}' is not supported; approximated as a Diffuse BSDF "
+            f"of its '{color_socket.name}'",
+        )
+        color = self.color(output, (color_socket.name,), (0.8, 0.8, 0.8))
+        return self.closure(diffuse=color)
+
+    # --- inputs ------------------------------------------------------------------
+
+    def _input(self, output, names, kind, default, role=None):
+        socket = find_socket(output.node.inputs, names)
+        if socket is None:
+            return self.b.const(default, kind) if kind != FLOAT else self.b.f(default)
+        expr = self.c.value(socket, output.scope, kind)
+        if self.legacy and not expr.is_const and not _legacy_ok(expr, role):
+            self.c.warn(
+                output.node,
+                f"input '{socket.name}' is linked; Whitted uses its unlinked value",
+            )
+            return self.c.default(socket, kind)
+        return expr
+
+    def scalar(self, output, names, default, role=None):
+        return self._input(output, names, FLOAT, default, role)
+
+    def color(self, output, names, default, textured=True):
+        return self._input(output, names, COLOR, default, "color" if textured else None)
+
+    def normal(self, output):
+        socket = find_socket(output.node.inputs, ("Normal",))
+        fed = None if socket is None else source(socket, output.scope)[0]
+        if fed is None:
+            return None
+        if self.legacy or fed.node.bl_idname != "ShaderNodeNormalMap":
+            # Only a Normal Map gives a normal (Bump and others are not supported).
+            self.c.warn(output.node, f"input '{socket.name}' is linked; Whitted ignores it")
+            return None
+        return self.c.value(socket, output.scope, VECTOR)
+
+    def closure(self, coverage=None, normal=None, highlight=False, refracts=False, **fields):
+        base = self.black()
+        coverage = coverage if coverage is not None else self.b.f(1.0)
+        values = dict(base.fields)
+        for name, value in fields.items():
+            values[name] = value if not isinstance(value, (int, float)) else self.b.f(value)
+        weights = {
+            "shininess": coverage if highlight else self.b.f(0.0),
+            "ior": coverage if refracts else self.b.f(0.0),
+        }
+        return Closure(coverage, values, weights, normal)
+
+    # --- combining -----------------------------------------------------------------
+
+    def mix(self, factor, a, b, node):
+        """(1 - factor) a + factor b."""
+        B = self.b
+        if factor.is_const and factor.value[0] <= 0.0:
+            return a
+        if factor.is_const and factor.value[0] >= 1.0:
+            return b
+        one_minus = B.sub(B.f(1.0), factor)
+        wa = B.mul(one_minus, a.coverage)
+        wb = B.mul(factor, b.coverage)
+        coverage = B.lerp(factor, a.coverage, b.coverage)
+        return self._combine(a, b, wa, wb, coverage, one_minus, factor, node, mix_factor=factor)
+
+    def add(self, a, b, node):
+        B = self.b
+        coverage = B.sub(B.add(a.coverage, b.coverage), B.f(1.0))
+        one = B.f(1.0)
+        return self._combine(a, b, a.coverage, b.coverage, coverage, one, one, node)
+
+    def _combine(self, a, b, wa, wb, coverage, share_a, share_b, node, mix_factor=None):
+        B = self.b
+        fields = {}
+        for name in LINEAR_FIELDS:
+            fa, fb = a.fields[name], b.fields[name]
+            if _zero(wa) or (_zero(fa) and _zero(fb)):
+                fields[name] = fb if _zero(wa) else fa
+            elif _zero(wb) or (fa is fb and mix_factor is not None):
+                fields[name] = fa
+            elif mix_factor is not None and _one(a.coverage) and _one(b.coverage):
+                fields[name] = B.vlerp(mix_factor, fa, fb)
+            else:
+                total = B.vadd(B.vmul(wa, fa), B.vmul(wb, fb))
+                fields[name] = total if _one(coverage) else B.vdiv(total, coverage)
+        weights = {}
+        for name in WEIGHTED_FIELDS:
+            oa = B.mul(share_a, a.weights[name])
+            ob = B.mul(share_b, b.weights[name])
+            weights[name] = B.add(oa, ob)
+            va, vb = a.fields[name], b.fields[name]
+            if _zero(ob) and _zero(oa):
+                # Neither has one: the coverage-weighted mean of the defaults.
+                fields[name] = (
+                    va if va is vb else B.div(B.add(B.mul(wa, va), B.mul(wb, vb)), B.add(wa, wb))
+                )
+            elif _zero(ob) or va is vb:
+                fields[name] = va
+            elif _zero(oa):
+                fields[name] = vb
+            else:
+                fields[name] = B.div(B.add(B.mul(oa, va), B.mul(ob, vb)), weights[name])
+        normal = a.normal if a.normal is not None else b.normal
+        if a.normal is not None and b.normal is not None and a.normal is not b.normal:
+            self.c.warn(node, "combines two different normals; the first one is used")
+        return Closure(coverage, fields, weights, normal)
+
+
+def _zero(expr):
+    return expr.is_const and all(v == 0.0 for v in expr.value[:3])
+
+
+def _one(expr):
+    return expr.is_const and expr.value[0] == 1.0
+
+
+def _legacy_ok(expr, role):
+    """Whether the fixed native material can show `expr` (see legacy_texture)."""
+    if role == "color":
+        return legacy_texture(expr) is not None
+    if role == "alpha":
+        return expr.op == ops.SWIZZLE and expr.mode == 3 and legacy_texture(expr.args[0])
+    return False
+
+
+def legacy_texture(expr):
+    """An IMAGE (flat) or CHECKER (constant colours and scale) op read at UV,
+    Generated or Object coordinates: what the native ImageTexture and CheckerTexture
+    compute by themselves. None otherwise."""
+    if (expr.op == ops.IMAGE and expr.mode == 0) or (
+        expr.op == ops.CHECKER and all(a.is_const for a in expr.args[1:])
+    ):
+        vector = expr.args[0]
+    else:
+        return None
+    if vector.op != ops.INPUT or not (
+        vector.mode in (ops.IN_GENERATED, ops.IN_OBJECT) or ops.IN_UV <= vector.mode < 128
+    ):
+        return None
+    return expr
+
+
+# --- the shaders ---------------------------------------------------------------------
+
+
+def _principled(s, out):
+    b = s.b
+    node = out.node
+    base = s.color(out, ("Base Color",), (0.8, 0.8, 0.8, 1.0))
+    metallic = b.clamp01(s.scalar(out, ("Metallic",), 0.0))
+    roughness = s.scalar(out, ("Roughness",), 0.5)
+    transmission = b.clamp01(s.scalar(out, PRINCIPLED_INPUTS["transmission"], 0.0))
+    ior = s.scalar(out, ("IOR",), 1.45)
+    specular = s.scalar(out, PRINCIPLED_INPUTS["specular"], 0.5)
+    alpha = b.clamp01(s.scalar(out, ("Alpha",), 1.0, role="alpha"))
+    base_other = base
+    if legacy_texture(base) is not None:
+        if s.legacy:
+            base_other = b.const((1.0, 1.0, 1.0), COLOR)
+        if s.legacy and not (_zero(metallic) and _zero(transmission)):
+            s.c.warn(
+                node,
+                "a textured Base Color tints only the diffuse term; the metallic and "
+                "transmissive parts use white",
+            )
+    # Dielectric reflectance at normal incidence, F0 (the highlight's weight).
+    specular_socket = find_socket(node.inputs, PRINCIPLED_INPUTS["specular"])
+    level = b.maximum(b.f(0.0), specular)
+    if specular_socket is not None and specular_socket.name == "Specular IOR Level":
+        # 4.x: F0 follows the IOR, ((n-1)/(n+1))^2, scaled by 2 * level (0.5 = as is).
+        f0 = b.mul(b.mul(fresnel_f0(b, ior), b.f(2.0)), level)
+    else:
+        # 3.x: F0 = 0.08 * Specular, whatever the IOR (0.5 -> 0.04, as for IOR 1.5).
+        f0 = b.mul(b.f(0.08), level)
+    tint_socket = find_socket(node.inputs, ("Specular Tint",))
+    if tint_socket is None or socket_type(tint_socket) in ("VALUE", "FLOAT"):
+        # 3.x: Specular Tint blends white towards the base colour's hue (the base
+        # colour over its luminance; white for black).
+        tint = s.scalar(out, ("Specular Tint",), 0.0)
+        white = b.const((1.0, 1.0, 1.0), COLOR)
+        if base_other.is_const:
+            r, g, bb = base_other.value[:3]
+            luminance = LUMINANCE[0] * r + LUMINANCE[1] * g + LUMINANCE[2] * bb
+            hue = white
+            if luminance > 0.0:
+                hue = b.const((r / luminance, g / luminance, bb / luminance))
+        else:
+            hue = b.vdiv(base_other, b.maximum(b.luminance(base_other), b.f(1e-8)))
+        tint = b.vlerp(tint, white, hue)
+    else:
+        # 4.x: a colour that multiplies the dielectric reflection.
+        tint = s.color(out, ("Specular Tint",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    _warn_ignored_principled_inputs(s, out)
+    strength = s.scalar(out, ("Emission Strength",), 1.0)
+    emission_color = s.color(
+        out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0), textured=False
+    )
+    fields = whitted_fields(
+        b,
+        base_diffuse=base,
+        base=base_other,
+        metallic=metallic,
+        roughness=roughness,
+        f0=b.vmul(f0, tint),
+        transmission=transmission,
+    )
+    # The Principled BSDF emits Emission Color * Emission Strength as radiance.
+    fields["emission"] = b.vmul(emission_color, strength)
+    fields["ior"] = ior
+    return s.closure(coverage=alpha, normal=s.normal(out), highlight=True, refracts=True, **fields)
+
+
+def _warn_ignored_principled_inputs(s, out):
+    for names in PRINCIPLED_IGNORED_WEIGHTS:
+        socket = find_socket(out.node.inputs, names)
+        if socket is None or source(socket, out.scope)[0] is not None:
+            continue
+        if socket.default_value > 0.0:
+            s.c.warn(out.node, f"'{socket.name}' has no Whitted equivalent; it is ignored")
+
+
+def fresnel_f0(b, ior):
+    """((n - 1) / (n + 1))^2, 0 for a non-positive IOR."""
+    if ior.is_const:
+        n = ior.value[0]
+        return b.f(((n - 1.0) / (n + 1.0)) ** 2 if n > 0.0 else 0.0)
+    ratio = b.div(b.sub(ior, b.f(1.0)), b.add(ior, b.f(1.0)))
+    positive = b.math("GREATER_THAN", ior, b.f(0.0))
+    return b.mul(b.mul(ratio, ratio), positive)
+
+
+def shininess_of(b, roughness):
+    """Phong exponent of about the same lobe as a microfacet roughness: alpha =
+    roughness^2 and n = 2/alpha^2 - 2 (Walter et al. 2007), in [1, MAX_SHININESS]."""
+    if roughness.is_const:
+        alpha = roughness.value[0] ** 2
+        n = MAX_SHININESS if alpha == 0.0 else 2.0 / (alpha * alpha) - 2.0
+        return b.f(min(max(n, 1.0), MAX_SHININESS))
+    alpha = b.mul(roughness, roughness)
+    # alpha^2 floored where 2/alpha^2 - 2 reaches the maximum: the same clamp.
+    floor = 2.0 / (MAX_SHININESS + 2.0)
+    alpha2 = b.maximum(b.mul(alpha, alpha), b.f(floor))
+    return b.clamp(b.sub(b.div(b.f(2.0), alpha2), b.f(2.0)), 1.0, MAX_SHININESS)
+
+
+def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=None):
+    """Principled-style parameters -> Whitted fields (Exprs); `f0` the dielectric
+    reflectance at normal incidence (RGB, tint included). The formulas of the
+    constant mapping, emitted as ops where the inputs vary."""
+    base_diffuse = base if base_diffuse is None else base_diffuse
+    metallic = b.clamp01(metallic)
+    roughness = b.clamp01(roughness)
+    transmission = b.clamp01(transmission)
+    one = b.f(1.0)
+    # A Whitted tracer cannot blur a reflection, so a metal's mirror fades out as
+    # roughness goes from 0 to 0.25, and the Phong highlight takes its place.
+    sharp = b.maximum(b.f(0.0), b.sub(one, b.mul(b.f(4.0), roughness)))
+    dielectric = b.sub(one, metallic)
+    # Only what is neither metal nor glass scatters diffusely.
+    diffuse_weight = b.mul(dielectric, b.sub(one, transmission))
+    zero3 = b.const((0.0, 0.0, 0.0), COLOR)
+    return {
+        "diffuse": b.vmul(diffuse_weight, base_diffuse),
+        # Highlight weight: the dielectric part reflects F0; a metal reflects its
+        # base colour, of which the sharp part already went to the mirror.
+        "specular": b.vadd(
+            b.vmul(dielectric, b.vmath("MAXIMUM", f0, zero3, kind=COLOR)),
+            b.vmul(b.mul(metallic, b.sub(one, sharp)), base),
+        ),
+        "shininess": shininess_of(b, roughness),
+        "reflectivity": b.vmul(b.mul(metallic, sharp), base),
+        "transmissivity": b.vmul(b.mul(transmission, dielectric), base),
+    }
+
+
+def _diffuse(s, out):
+    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
+    roughness = s.scalar(out, ("Roughness",), 0.0)
+    if not roughness.is_const or roughness.value[0] > 0.0:
+        s.c.warn(out.node, "Oren-Nayar roughness is not supported; the surface is Lambertian")
+    # A Lambertian reflector of albedo `color` is exactly Whitted's diffuse term.
+    return s.closure(diffuse=color, normal=s.normal(out))
+
+
+def _glossy(s, out):
+    b = s.b
+    node = out.node
+    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0), textured=False)
+    # Blender 3.x's Sharp distribution is a perfect mirror whatever the roughness.
+    roughness = b.f(0.0) if node.distribution == "SHARP" else s.scalar(out, ("Roughness",), 0.5)
+    anisotropy = find_socket(node.inputs, ("Anisotropy",))
+    if anisotropy is not None and (
+        source(anisotropy, out.scope)[0] is not None or anisotropy.default_value != 0.0
+    ):
+        s.c.warn(node, "anisotropy is not supported; the highlight is round")
+    # A glossy reflector of colour C is a metal of base colour C.
+    fields = whitted_fields(
+        b,
+        base=color,
+        metallic=b.f(1.0),
+        roughness=roughness,
+        f0=b.const((0.0, 0.0, 0.0), COLOR),
+        transmission=b.f(0.0),
+    )
+    return s.closure(normal=s.normal(out), highlight=True, **fields)
+
+
+def _glass(s, out):
+    b = s.b
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    roughness = s.scalar(out, ("Roughness",), 0.0)
+    ior = s.scalar(out, ("IOR",), 1.45)
+    # A Principled BSDF of full transmission with a highlight of the IOR's F0.
+    f0 = fresnel_f0(b, ior)
+    fields = whitted_fields(
+        b,
+        base=color,
+        metallic=b.f(0.0),
+        roughness=roughness,
+        f0=b.vmul(f0, b.const((1.0, 1.0, 1.0), COLOR)),
+        transmission=b.f(1.0),
+    )
+    return s.closure(normal=s.normal(out), highlight=True, refracts=True, ior=ior, **fields)
+
+
+def _refraction(s, out):
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    ior = s.scalar(out, ("IOR",), 1.45)
+    # Refraction only: no highlight.
+    return s.closure(normal=s.normal(out), refracts=True, transmissivity=color, ior=ior)
+
+
+def _transparent(s, out):
+    b = s.b
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    # Transparent BSDF = coverage: light passes straight through, unbent, with
+    # weight `color`. Whitted's alpha does that exactly for a grey colour.
+    if color.is_const:
+        r, g, bb = color.value[:3]
+        if max(r, g, bb) - min(r, g, bb) > 1e-6:
+            s.c.warn(out.node, "a coloured Transparent BSDF is approximated by its mean grey")
+    grey = b.clamp01(b.average(color))
+    return s.closure(coverage=b.sub(b.f(1.0), grey))
+
+
+def _emission(s, out):
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    strength = s.scalar(out, ("Strength",), 1.0)
+    # Emission emits Color * Strength as radiance and reflects nothing.
+    return s.closure(emission=s.b.vmul(color, strength))
+
+
+def _holdout(s, out):
+    s.c.warn(out.node, "a Holdout shader is approximated as black (use the object's Holdout)")
+    return s.black()
+
+
+def _lambert_of_color(description):
+    def convert(s, out):
+        s.c.warn(out.node, f"{description} is approximated as a Lambertian diffuse of its colour")
+        color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
+        return s.closure(diffuse=color, normal=s.normal(out))
+
+    return convert
+
+
+def _toon(s, out):
+    node = out.node
+    if node.component == "DIFFUSE":
+        return _lambert_of_color("a diffuse Toon BSDF")(s, out)
+    s.c.warn(node, "a glossy Toon BSDF is approximated as a Glossy BSDF of roughness Size")
+    b = s.b
+    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0), textured=False)
+    roughness = s.scalar(out, ("Size",), 0.5)
+    fields = whitted_fields(
+        b,
+        base=color,
+        metallic=b.f(1.0),
+        roughness=roughness,
+        f0=b.const((0.0, 0.0, 0.0), COLOR),
+        transmission=b.f(0.0),
+    )
+    return s.closure(normal=s.normal(out), highlight=True, **fields)
+
+
+def _mix_shader(s, out):
+    node = out.node
+    shaders = [x for x in node.inputs if socket_type(x) == "SHADER"]
+    first = s.shader(shaders[0], out.scope)
+    second = s.shader(shaders[1], out.scope)
+    factor = s.b.clamp01(s.scalar(out, ("Fac", "Factor"), 0.5, role="alpha"))
+    return s.mix(factor, first, second, node)
+
+
+def _add_shader(s, out):
+    shaders = [x for x in out.node.inputs if socket_type(x) == "SHADER"]
+    first = s.shader(shaders[0], out.scope)
+    second = s.shader(shaders[1], out.scope)
+    return s.add(first, second, out.node)
+
+
+_GLOSSY = (_glossy, {"Color", "Roughness", "Anisotropy", "Normal", "Weight"})
+_SHADERS = {
+    "ShaderNodeBsdfPrincipled": (_principled, PRINCIPLED_READ | {"Weight"}),
+    "ShaderNodeBsdfDiffuse": (_diffuse, {"Color", "Roughness", "Normal", "Weight"}),
+    "ShaderNodeBsdfGlossy": _GLOSSY,
+    # Blender 4.0 merged Glossy into Anisotropic: the Glossy BSDF has this id there.
+    "ShaderNodeBsdfAnisotropic": _GLOSSY,
+    "ShaderNodeBsdfGlass": (_glass, {"Color", "Roughness", "IOR", "Normal", "Weight"}),
+    "ShaderNodeBsdfRefraction": (_refraction, {"Color", "IOR", "Normal", "Weight"}),
+    "ShaderNodeBsdfTransparent": (_transparent, {"Color", "Weight"}),
+    "ShaderNodeBsdfTranslucent": (
+        _lambert_of_color("a Translucent BSDF"),
+        {"Color", "Normal", "Weight"},
+    ),
+    "ShaderNodeBsdfVelvet": (
+        _lambert_of_color("a Velvet BSDF"),
+        {"Color", "Sigma", "Normal", "Weight"},
+    ),
+    "ShaderNodeBsdfSheen": (
+        _lambert_of_color("a Sheen BSDF"),
+        {"Color", "Roughness", "Normal", "Weight"},
+    ),
+    "ShaderNodeBsdfToon": (_toon, {"Color", "Size", "Smooth", "Normal", "Weight"}),
+    "ShaderNodeEmission": (_emission, {"Color", "Strength", "Weight"}),
+    "ShaderNodeHoldout": (_holdout, {"Weight"}),
+    "ShaderNodeMixShader": (_mix_shader, {"Fac", "Factor", "Shader"}),
+    "ShaderNodeAddShader": (_add_shader, {"Shader"}),
+}
+
+SUPPORTED_SHADERS = frozenset(_SHADERS)
+
+
+def surface(c, output_node, legacy=False):
+    """The closure of a material's active output (its Surface input)."""
+    lowering = ShaderLowering(c, legacy)
+    socket = output_node.inputs["Surface"]
+    return lowering.shader(socket, ())
+
+
+def finish(c, closure):
+    """The Whitted fields of a closure: {field: Expr}, alpha the clamped coverage."""
+    fields = dict(closure.fields)
+    fields["alpha"] = c.b.clamp01(closure.coverage)
+    if closure.normal is not None:
+        fields["normal"] = closure.normal
+    return replace(closure, fields=fields).fields
