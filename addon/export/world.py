@@ -27,9 +27,20 @@ def convert_world(world, ambient_strength, warnings):
         background = tuple(world.color)
     # A uniform sky of radiance L lights an open surface with irradiance pi*L, of
     # which the diffuse term kd/pi * E keeps kd*L: the ambient term with Ia = L,
-    # which the scene's ambient strength scales.
+    # which the scene's ambient strength scales. A world set not to light diffuse
+    # surfaces (Cycles' ray visibility) gives no ambient light.
+    if world is not None and not lights_diffuse(world):
+        ambient_strength = 0.0
     ambient = tuple(c * ambient_strength for c in background)
     return WorldData(background=background, ambient=ambient)
+
+
+def lights_diffuse(world):
+    """Whether the world lights diffuse surfaces: World > Settings > Ray Visibility >
+    Diffuse, `world.cycles_visibility.diffuse` (Cycles' property group, in Blender 3.x
+    and 4.x/5.x alike; absent only without the Cycles add-on: then it does)."""
+    visibility = getattr(world, "cycles_visibility", None)
+    return True if visibility is None else bool(visibility.diffuse)
 
 
 def _background_node_radiance(world, warnings):

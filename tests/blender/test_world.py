@@ -47,6 +47,17 @@ def test_world_without_nodes_uses_its_colour(warnings):
     assert convert_world(world, 1.0, warnings).background == pytest.approx((0.1, 0.2, 0.3))
 
 
+def test_world_not_lighting_diffuse_surfaces_gives_no_ambient(warnings):
+    world = node_world((0.2, 0.4, 0.8), 2.0)
+    world.cycles_visibility.diffuse = False
+    exported = convert_world(world, 1.0, warnings)
+    assert exported.background == pytest.approx((0.4, 0.8, 1.6))
+    assert exported.ambient == (0.0, 0.0, 0.0)
+    world.cycles_visibility.diffuse = True
+    world.cycles_visibility.glossy = False  # only diffuse visibility matters
+    assert convert_world(world, 1.0, warnings).ambient == pytest.approx((0.4, 0.8, 1.6))
+
+
 @pytest.mark.parametrize("ambient_strength", [0.5, 0.0])
 def test_ambient_strength_scales_the_ambient_light_only(warnings, ambient_strength):
     world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), ambient_strength, warnings)
