@@ -3,6 +3,7 @@ viewport (view_update, view_draw). Every kind of render goes through the one
 sync layer (addon/sync); this class only hands each call to its owner."""
 
 import os
+import sys
 import time
 from dataclasses import asdict
 
@@ -19,6 +20,11 @@ from .viewport.session import ViewportSession
 # One poll of the render job waits this long. Esc (test_break) is checked after
 # every poll, so the render stops within this time plus the job's cancel latency.
 POLL_SECONDS = 0.05
+
+# A failed frame's log line starts with this (farms grep for it), and the exit code
+# of a background render with WHITTED_EXIT_ON_ERROR=1 (see WhittedRenderEngine._fail).
+FAILURE_PREFIX = "Whitted: RENDER FAILED:"
+FAILURE_EXIT_CODE = 3
 
 
 class WhittedRenderEngine(bpy.types.RenderEngine):
@@ -60,11 +66,11 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             phases.export = time.perf_counter() - started - phases.mesh_bvh
             job = frame.job(native)
         except (ImportError, ExportError) as error:
-            self.report({"ERROR"}, str(error))
+            self._fail(scene, str(error))
             return
         except (ValueError, RuntimeError) as error:
             # The native module refused the data (bad arrays, a missing name, ...).
-            self.report({"ERROR"}, f"Whitted: the renderer refused the scene: {error}")
+            self._fail(scene, f"Whitted: the renderer refused the scene: {error}")
             return
         if not self.is_preview:
             for warning in frame.warnings:
@@ -74,7 +80,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             self._run(job, frame.film.region, phases)
         except (MemoryError, RuntimeError) as error:
             # A worker failed (out of memory, say): the job stopped all of them.
-            self.report({"ERROR"}, f"Whitted: the render failed: {error}")
+            self._fail(scene, f"Whitted: the render failed: {error}")
             return
         if self.is_preview:
             return  # Blender's preview scene: no statistics, nothing to keep
@@ -89,6 +95,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             render_result.PASSES,
         )
         stats["sync"] = frame.report.as_dict()
+        stats["status"] = "ok"  # a failed frame's WHITTED_STATS says "failed" (_fail)
         line = render_stats.summary_line(stats)
         effects = render_stats.effects_line(stats)
         self.update_stats("", line)
@@ -100,6 +107,33 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         path = os.environ.get("WHITTED_STATS")
         if path:
             render_stats.write_json(path, stats)
+
+    def _fail(self, scene, message):
+        """A failed frame, made visible to farms: Blender itself writes the (empty)
+        image and exits 0 after an engine error, so Whitted says so three ways:
+        the error report, one log line that starts with FAILURE_PREFIX, and, when
+        WHITTED_STATS is set, a JSON {"status": "failed", "error": ...} in place of
+        the statistics. With WHITTED_EXIT_ON_ERROR=1 a background render
+        (`blender -b ... -f N`) then ends the process at once with exit code
+        FAILURE_EXIT_CODE, before Blender saves an image for the frame."""
+        self.report({"ERROR"}, message)
+        if self.is_preview:
+            return
+        frame = scene.frame_current
+        line = f"{FAILURE_PREFIX} frame {frame}: {message.removeprefix('Whitted: ')}"
+        print(line, file=sys.stderr, flush=True)
+        path = os.environ.get("WHITTED_STATS")
+        if path:
+            failure = {
+                "status": "failed",
+                "error": message,
+                "frame": frame,
+                "blender": bpy.app.version_string,
+            }
+            render_stats.write_json(path, failure)
+        if bpy.app.background and os.environ.get("WHITTED_EXIT_ON_ERROR") == "1":
+            sys.stdout.flush()
+            os._exit(FAILURE_EXIT_CODE)
 
     def _run(self, job, region, phases):
         started = time.perf_counter()

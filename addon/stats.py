@@ -7,6 +7,7 @@ also kept in `scene.whitted.last_stats`.
 """
 
 import json
+import os
 import resource
 from dataclasses import asdict, dataclass
 
@@ -144,5 +145,8 @@ def to_json(stats):
 
 
 def write_json(path, stats):
-    with open(path, "w", encoding="utf-8") as out:
+    # Atomically: a reader (a farm) never sees a half-written file.
+    partial = f"{path}.{os.getpid()}.partial"
+    with open(partial, "w", encoding="utf-8") as out:
         out.write(to_json(stats))
+    os.replace(partial, path)

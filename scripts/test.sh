@@ -2,8 +2,8 @@
 # Set up (scripts/setup.sh), then run the whole test suite: the native gtest suite
 # (ctest, then again under ASan+UBSan), the bindings without Blender (pytest), the
 # add-on inside Blender 3.4 and inside the bpy 5.0 module, the viewport in real
-# Blender 3.4 windows under Xvfb, the installable package (tests/package), and the
-# linters.
+# Blender 3.4 windows under Xvfb, the installable package (tests/package), the farm
+# on a real Dask cluster (tests/farm), and the linters.
 # Every step runs even when an earlier one failed; a summary line per step is
 # printed at the end, and the exit status is non-zero if any step failed.
 # Run from anywhere. .ci/run runs exactly this.
@@ -84,6 +84,11 @@ step_bpy_50() { limited "$VENV/bin/python" tests/blender/run.py -q; }
 # bit for bit as the development install.
 step_package() { limited "$VENV/bin/python" -m pytest tests/package -q -p no:cacheprovider; }
 
+# The farm (tests/farm): scripts/farm.py on a real Dask cluster (a scheduler and two
+# worker processes on 127.0.0.1), a worker killed mid-frame, tiles, a failing scene,
+# and the exit code Whitted gives farms it does not drive.
+step_farm() { limited "$VENV/bin/python" -m pytest tests/farm -q -p no:cacheprovider; }
+
 # The Rendered viewport in real Blender 3.4 windows under Xvfb: pytest runs outside
 # Blender and each test starts `xvfb-run ... blender` with a scenario (tests/viewport).
 step_viewport_34() { limited "$VENV/bin/python" -m pytest tests/viewport -q -p no:cacheprovider; }
@@ -119,6 +124,7 @@ run_step "add-on in Blender 3.4" step_blender_34
 run_step "add-on in bpy 5.0" step_bpy_50
 run_step "viewport in Blender 3.4 (Xvfb)" step_viewport_34
 run_step "package: build, libraries, install" step_package
+run_step "farm on a local Dask cluster" step_farm
 run_step "performance suite, quick" step_bench_smoke
 run_step "lint: ruff check" step_ruff_check
 run_step "lint: ruff format" step_ruff_format

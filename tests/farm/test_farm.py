@@ -1,0 +1,311 @@
+"""scripts/farm.py on a real Dask cluster of separate processes (a `dask scheduler` and
+two `dask worker` processes over TCP on 127.0.0.1), and the failure signal Whitted
+gives farms it does not drive.
+
+    .venv/bin/python -m pytest tests/farm -q
+
+Renders with Blender 3.4 and the development install (scripts/setup.sh links it).
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import OpenEXR
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+VENV_BIN = REPO_ROOT / ".venv" / "bin"
+FARM = [str(VENV_BIN / "python"), str(REPO_ROOT / "scripts" / "farm.py")]
+FRAMES = range(1, 7)
+
+sys.path.insert(0, str(REPO_ROOT / "scripts"))
+from farm import blender_args  # noqa: E402
+
+
+def run(command, env=None, timeout=300, ok=True):
+    result = subprocess.run(
+        command, env=env, capture_output=True, text=True, timeout=timeout, check=False
+    )
+    if ok:
+        assert result.returncode == 0, (
+            f"{command[:4]} exited {result.returncode}\n{result.stdout[-3000:]}\n"
+            f"{result.stderr[-3000:]}"
+        )
+    return result
+
+
+def pixels(path):
+    with OpenEXR.File(str(path)) as exr:
+        return exr.channels()["RGBA"].pixels.copy()
+
+
+def identical(a, b):
+    return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+
+@pytest.fixture(scope="module")
+def scenes(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("scenes")
+    maker = str(Path(__file__).with_name("make_scene.py"))
+    for name, extra in (("anim", []), ("broken", ["--fail"])):
+        run(
+            [
+                "blender",
+                "-b",
+                "--factory-startup",
+                "--python-exit-code",
+                "1",
+                "--python",
+                maker,
+                "--",
+                str(folder / f"{name}.blend"),
+                *extra,
+            ]
+        )
+    # The single-machine reference: all six frames in one Blender, no farm.
+    reference = folder / "reference"
+    reference.mkdir()
+    run(blender_args(str(folder / "anim.blend"), str(reference / "####"), "1..6"))
+    return folder
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    """A scheduler and two workers, each its own process (no nanny: killing a
+    worker's process kills the worker)."""
+    folder = tmp_path_factory.mktemp("cluster")
+    scheduler_file = folder / "scheduler.json"
+    processes = [
+        subprocess.Popen(
+            [
+                str(VENV_BIN / "dask"),
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(scheduler_file),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=open(folder / "scheduler.log", "w"),  # noqa: SIM115
+        )
+    ]
+    deadline = time.time() + 60
+    while not scheduler_file.exists() and time.time() < deadline:
+        time.sleep(0.1)
+    address = json.loads(scheduler_file.read_text())["address"]
+    workers = []
+    for index in range(2):
+        worker = subprocess.Popen(
+            [
+                str(VENV_BIN / "dask"),
+                "worker",
+                address,
+                "--nthreads",
+                "1",
+                "--no-nanny",
+                "--no-dashboard",
+                "--host",
+                "127.0.0.1",
+                "--name",
+                f"w{index}",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=open(folder / f"worker{index}.log", "w"),  # noqa: SIM115
+        )
+        workers.append(worker)
+    processes += workers
+    yield {"address": address, "workers": workers}
+    for process in processes:
+        if process.poll() is None:
+            process.terminate()
+    for process in processes:
+        try:
+            process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+def children(pid):
+    """Pids of the direct children of `pid` (from /proc)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                found.append(int(entry.name))
+    return found
+
+
+def report(folder):
+    return json.loads((folder / "farm_report.json").read_text())
+
+
+def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, cluster, tmp_path):
+    out = tmp_path / "frames"
+    command = [
+        *FARM,
+        str(scenes / "anim.blend"),
+        "--frames",
+        "1-6",
+        "--scheduler",
+        cluster["address"],
+        "--workers",
+        "2",
+        "--output",
+        str(out),
+    ]
+    farm = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    victim = cluster["workers"][0]
+    # Kill worker 0 with SIGKILL while it is rendering a frame (its Blender is running).
+    killed_mid_frame = False
+    deadline = time.time() + 120
+    while farm.poll() is None and time.time() < deadline:
+        if children(victim.pid):
+            time.sleep(0.3)  # well into the frame: Blender takes seconds to start
+            if children(victim.pid):
+                victim.send_signal(signal.SIGKILL)
+                killed_mid_frame = True
+                break
+        time.sleep(0.02)
+    output, _ = farm.communicate(timeout=300)
+    print(output)
+    assert killed_mid_frame, "worker 0 never ran a Blender while the farm ran"
+    assert victim.wait(timeout=10) == -signal.SIGKILL
+    assert farm.returncode == 0, output
+    for frame in FRAMES:
+        got = pixels(out / f"{frame:04d}.exr")
+        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr")), frame
+    assert not list(out.glob("*.partial"))
+    first = report(out)
+    assert first["status"] == "done" and first["rendered"] == 6
+    assert "dashboard http://" in output
+
+    # The same command again: everything is there, nothing is rendered.
+    mtimes = {p.name: p.stat().st_mtime_ns for p in out.glob("*.exr")}
+    again = run(command)
+    assert "6 frames, 0 to render" in again.stdout, again.stdout
+    assert {p.name: p.stat().st_mtime_ns for p in out.glob("*.exr")} == mtimes
+    assert report(out)["rendered"] == 0 and report(out)["skipped"] == 6
+
+
+def test_tiles_stitch_into_the_single_machine_frame(scenes, cluster, tmp_path):
+    out = tmp_path / "tiles"
+    run(
+        [
+            *FARM,
+            str(scenes / "anim.blend"),
+            "--frames",
+            "1-1",
+            "--tiles",
+            "2x2",
+            "--scheduler",
+            cluster["address"],
+            "--output",
+            str(out),
+        ]
+    )
+    assert identical(pixels(out / "0001.exr"), pixels(scenes / "reference" / "0001.exr"))
+    # Each tile rendered only its share of the frame's camera rays (4 per pixel).
+    entry = report(out)["frames"]["0001"]
+    assert entry["status"] == "done"
+
+
+def test_a_failing_scene_is_retried_then_reported_failed(scenes, cluster, tmp_path):
+    out = tmp_path / "broken"
+    result = run(
+        [
+            *FARM,
+            str(scenes / "broken.blend"),
+            "--frames",
+            "1-1",
+            "--retries",
+            "1",
+            "--scheduler",
+            cluster["address"],
+            "--output",
+            str(out),
+        ],
+        ok=False,
+    )
+    print(result.stdout, result.stderr[-2000:])
+    assert result.returncode != 0
+    entry = report(out)["frames"]["0001"]
+    assert entry["status"] == "failed" and entry["attempts"] == 2, entry
+    assert all("zero scale" in reason for reason in entry["reasons"]), entry
+    assert "exited 3" in entry["reasons"][0]
+    assert not (out / "0001.exr").exists()
+    assert "FAILED frame 1" in result.stdout
+
+
+def test_local_cluster_by_default(scenes, tmp_path):
+    out = tmp_path / "local"
+    run(
+        [
+            *FARM,
+            str(scenes / "anim.blend"),
+            "--frames",
+            "2-3",
+            "--workers",
+            "2",
+            "--output",
+            str(out),
+        ]
+    )
+    for frame in (2, 3):
+        got = pixels(out / f"{frame:04d}.exr")
+        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr"))
+
+
+def test_farms_we_do_not_drive_see_a_failed_frame(scenes, tmp_path):
+    """`blender -b FILE -E WHITTED -f N`: with WHITTED_EXIT_ON_ERROR=1 a failed frame
+    exits 3 with one clear log line and no image; WHITTED_STATS says why either way."""
+    stats = tmp_path / "stats.json"
+    command = [
+        "blender",
+        "-b",
+        str(scenes / "broken.blend"),
+        "-E",
+        "WHITTED",
+        "-o",
+        str(tmp_path / "frame_####"),
+        "-f",
+        "1",
+    ]
+    env = dict(os.environ, WHITTED_STATS=str(stats))
+    # Blender's own exit code after an engine error is no signal: 0 when the engine
+    # had begun a result (the guide's probe), 1 here where it had not.
+    run(command, env=env, ok=False)
+    assert json.loads(stats.read_text())["status"] == "failed"
+    stats.unlink()
+    strict = run(command, env={**env, "WHITTED_EXIT_ON_ERROR": "1"}, ok=False)
+    assert strict.returncode == 3, strict.stdout
+    assert "Whitted: RENDER FAILED: frame 1: camera 'Camera' has a zero scale" in strict.stderr
+    failure = json.loads(stats.read_text())
+    assert failure == {**failure, "status": "failed", "frame": 1}
+    assert not list(tmp_path.glob("frame_*"))
+    # A good frame: exit 0 and status ok.
+    good = [
+        "blender",
+        "-b",
+        str(scenes / "anim.blend"),
+        "-E",
+        "WHITTED",
+        "-o",
+        str(tmp_path / "good_####"),
+        "-f",
+        "1",
+    ]
+    assert run(good, env={**env, "WHITTED_EXIT_ON_ERROR": "1"}).returncode == 0
+    assert json.loads(stats.read_text())["status"] == "ok"
