@@ -9,6 +9,7 @@ from dataclasses import asdict
 
 import bpy
 
+from . import memory
 from . import result as render_result
 from . import stats as render_stats
 from .export import ExportError
@@ -95,6 +96,8 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             render_result.PASSES,
         )
         stats["sync"] = frame.report.as_dict()
+        # What the memory guard expected this render to need (docs/MEMORY.md).
+        stats["memory_estimate_mib"] = frame.memory.bytes / memory.MIB
         stats["status"] = "ok"  # a failed frame's WHITTED_STATS says "failed" (_fail)
         line = render_stats.summary_line(stats)
         effects = render_stats.effects_line(stats)

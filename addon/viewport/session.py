@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import bpy
 
+from .. import memory
+from ..export import ExportError
 from ..export.film import FilmData
 from ..properties.presets import preset
 from ..settings import native_settings
@@ -83,6 +85,16 @@ class ViewportSession:
         # the sync edits the scene: many updates (selection, a panel's setting that
         # does not change the image) change nothing, and then the job goes on.
         scene = depsgraph.scene
+        if self._scene_version == 0:
+            # The first sync exports everything: refuse a scene that would not fit.
+            region = context.region
+            pixels = region.width * region.height if region is not None else 0
+            try:
+                memory.check(depsgraph, pixels)
+            except ExportError as error:
+                self._error = str(error)
+                self._status()
+                return
         try:
             report = self._sync.sync(depsgraph, SyncParams.of(scene, _quality(scene)))
         except ValueError as error:

@@ -1,0 +1,125 @@
+"""The memory guard: a render that would not fit is refused before it allocates.
+
+A scene that does not fit (a huge subdivision, a giant resolution, millions of
+unique meshes) would otherwise run until the operating system kills Blender,
+and the artist's unsaved work with it. Before anything large is allocated, the
+memory a render needs is estimated from counts Blender already has (triangles
+of each distinct evaluated mesh, instances, texels of the images the materials
+use, pixels) and compared with the memory available (MemAvailable) or the budget
+set in the environment variable WHITTED_MEMORY_BUDGET (MiB, for farms that
+share machines).
+
+The costs are what Whitted adds beyond Blender's own memory, measured by
+scripts/bench_memory.py on the performance scenes (docs/MEMORY.md states how
+close the estimate comes).
+"""
+
+import os
+from dataclasses import dataclass
+
+import bpy
+
+from .export import ExportError
+
+MIB = 1024 * 1024
+# The native module, its threads and Embree's device.
+BASE_BYTES = 6 * MIB
+# A triangle's share of the mesh arrays, its BVH and the export's temporaries
+# (docs/PERFORMANCE.md: 105-121 B beyond Blender's own).
+TRIANGLE_BYTES = 120
+# An instance: its native record, its Embree instance and the exporter's data.
+INSTANCE_BYTES = 1400
+# A pixel: the film (RGBA, the ray cost, sums and counts) and the render result's
+# passes that Blender allocates for Whitted.
+PIXEL_BYTES = 40
+# A texel: float RGBA read from Blender, then the native texture's copy.
+TEXEL_BYTES = 32
+
+
+@dataclass(frozen=True)
+class MemoryEstimate:
+    triangles: int  # of the distinct meshes exported (an instanced mesh once)
+    instances: int
+    texels: int
+    pixels: int
+
+    @property
+    def parts(self):
+        """(what, bytes) of the estimate, largest first."""
+        parts = [
+            (f"{self.triangles:,} triangles", self.triangles * TRIANGLE_BYTES),
+            (f"{self.instances:,} instances", self.instances * INSTANCE_BYTES),
+            (f"{self.texels:,} texels of textures", self.texels * TEXEL_BYTES),
+            (f"{self.pixels:,} pixels", self.pixels * PIXEL_BYTES),
+        ]
+        return sorted(parts, key=lambda part: -part[1])
+
+    @property
+    def bytes(self):
+        return BASE_BYTES + sum(size for _, size in self.parts)
+
+
+def estimate(depsgraph, pixels):
+    """The MemoryEstimate of rendering evaluated `depsgraph` at `pixels` pixels.
+
+    Reads only counts: the triangles of a polygon mesh are its loops less twice
+    its faces (an n-gon makes n - 2 triangles); nothing is triangulated or copied.
+    """
+    triangles = 0
+    instances = 0
+    seen = set()
+    for object_instance in depsgraph.object_instances:
+        obj = object_instance.object
+        if obj.type != "MESH" or not object_instance.show_self:
+            continue
+        instances += 1
+        mesh = obj.data
+        address = mesh.as_pointer()
+        if address not in seen:
+            seen.add(address)
+            triangles += max(0, len(mesh.loops) - 2 * len(mesh.polygons))
+    texels = sum(
+        block.size[0] * block.size[1]
+        for block in depsgraph.ids
+        if isinstance(block, bpy.types.Image)
+    )
+    return MemoryEstimate(triangles, instances, texels, pixels)
+
+
+def budget():
+    """(bytes, where the figure comes from): WHITTED_MEMORY_BUDGET (MiB) when set,
+    else the memory the system says is available now; (None, ...) when neither is
+    known (no /proc/meminfo)."""
+    setting = os.environ.get("WHITTED_MEMORY_BUDGET")
+    if setting:
+        try:
+            return int(float(setting) * MIB), f"the budget WHITTED_MEMORY_BUDGET={setting} MiB"
+        except ValueError:
+            raise ExportError(
+                f"Whitted: WHITTED_MEMORY_BUDGET={setting!r} is not a number of MiB"
+            ) from None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024, "the memory available"
+    except OSError:
+        pass  # not Linux: no guard rather than a wrong one
+    return None, "unknown"
+
+
+def check(depsgraph, pixels):
+    """Raise ExportError, saying what is too big and by how much, when the render
+    of `depsgraph` at `pixels` pixels would need more than the budget; else return
+    its MemoryEstimate."""
+    needed = estimate(depsgraph, pixels)
+    limit, source = budget()
+    if limit is not None and needed.bytes > limit:
+        parts = ", ".join(f"{what} {size / MIB:,.0f} MiB" for what, size in needed.parts)
+        raise ExportError(
+            f"Whitted: this render needs about {needed.bytes / MIB:,.0f} MiB, "
+            f"{(needed.bytes - limit) / MIB:,.0f} MiB more than {source} "
+            f"({limit / MIB:,.0f} MiB): {parts}. Nothing was rendered; lower the "
+            "resolution or the geometry (subdivision levels, instance counts)."
+        )
+    return needed
