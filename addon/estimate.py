@@ -50,8 +50,9 @@ def probe_size(width, height):
 
 
 def estimate_presets(depsgraph, native):
-    """((probe width, height), (full width, height), [Estimate per preset]) for the
-    evaluated depsgraph's scene. Raises what sync.frame.sync_frame raises."""
+    """((probe width, height), (full width, height), [Estimate per preset], the
+    memory.MemoryEstimate of the full render) for the evaluated depsgraph's scene.
+    Raises what sync.frame.sync_frame raises."""
     scene = depsgraph.scene
     started = time.perf_counter()
     frame = sync_frame(depsgraph, native)
@@ -83,7 +84,7 @@ def estimate_presets(depsgraph, native):
                 rays_per_second=rays_per_second,
             )
         )
-    return (width, height), (xmax - xmin, ymax - ymin), estimates
+    return (width, height), (xmax - xmin, ymax - ymin), estimates, frame.memory
 
 
 def _probe(native, frame, settings):

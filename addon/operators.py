@@ -5,6 +5,7 @@ from bpy.props import EnumProperty
 
 from .estimate import estimate_presets
 from .export import ExportError
+from .memory import MIB
 from .native import load_native
 from .properties.presets import PRESETS, apply_quality, preset
 
@@ -36,7 +37,9 @@ class WHITTED_OT_estimate(bpy.types.Operator):
     def execute(self, context):
         try:
             native = load_native()
-            probe, full, estimates = estimate_presets(context.evaluated_depsgraph_get(), native)
+            probe, full, estimates, needed = estimate_presets(
+                context.evaluated_depsgraph_get(), native
+            )
         except (ImportError, ExportError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -51,4 +54,5 @@ class WHITTED_OT_estimate(bpy.types.Operator):
             item.seconds = estimate.seconds
             item.rays_per_pixel = estimate.rays_per_pixel
         whitted.estimate_probe = f"{probe[0]}x{probe[1]} probe, extrapolated to {full[0]}x{full[1]}"
+        whitted.estimate_memory_mib = needed.bytes / MIB
         return {"FINISHED"}

@@ -158,6 +158,12 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Estimates",
         description="Predicted full-resolution render time of each preset (Estimate button)",
     )
+    estimate_memory_mib: FloatProperty(
+        name="Estimated Memory",
+        description="Memory the full render is estimated to need beyond Blender's own, MiB "
+        "(the memory guard's estimate)",
+        default=0.0,
+    )
     estimate_probe: StringProperty(
         name="Estimate Probe",
         description="The probe the estimates were extrapolated from",

@@ -66,6 +66,7 @@ class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
         if not settings.estimates:
             return
         layout.label(text=settings.estimate_probe)
+        layout.label(text=f"Memory: about {settings.estimate_memory_mib:,.0f} MiB")
         for estimate in settings.estimates:
             row = layout.row()
             row.label(text=preset_label(estimate.preset))

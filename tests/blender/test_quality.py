@@ -153,3 +153,5 @@ def test_estimate_fills_a_finite_time_per_preset(demo):
     rays = [e.rays_per_pixel for e in estimates]
     assert rays == sorted(rays)  # each preset traces more than the one before
     assert demo.whitted.estimate_probe == "80x60 probe, extrapolated to 320x240"
+    # Memory beside time: the guard's estimate of the full render.
+    assert 0.0 < demo.whitted.estimate_memory_mib < 100.0
