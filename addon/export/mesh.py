@@ -50,12 +50,31 @@ class MeshData:
     material_slots: np.ndarray | None  # int32[M]; None: every triangle uses slot 0
     uvs: np.ndarray | None = None  # float32[M,3,2] corner UVs; None: no texture needs them
     vertex_normals: np.ndarray | None = None  # float32[N,3]: each corner takes its vertex's
+    # What shader programs read (MeshNeeds), by set index; empty when none does.
+    uv_sets: tuple = ()  # float32[M,3,2] per UV set
+    attributes: tuple = ()  # float32[M,3,4] per corner attribute (floats in all of rgb)
+    tangents: tuple = ()  # float32[M,3,4] per UV set: object-space tangent, bitangent sign
 
     def corner_normals(self):
         """float32[M,3,3]: the shading normal at each triangle corner; None when flat."""
         if self.vertex_normals is not None:
             return self.vertex_normals[self.triangles]
         return self.normals
+
+
+@dataclass(frozen=True)
+class MeshNeeds:
+    """What the shader programs of a mesh's materials read from it."""
+
+    uv_sets: tuple = ()  # UV map names by set index ("" = the active render map)
+    attributes: tuple = ()  # ("COLOR" | "ATTRIBUTE", name) by attribute index
+    tangents: bool = False  # tangents of every UV set (normal maps)
+
+    def __bool__(self):
+        return bool(self.uv_sets or self.attributes or self.tangents)
+
+
+NO_NEEDS = MeshNeeds()
 
 
 @dataclass(frozen=True)
@@ -66,6 +85,9 @@ class InstanceData:
     materials: tuple[str, ...]  # material name per slot, DEFAULT_MATERIAL if empty
     visibility: RayVisibility  # which rays see it
     holdout: bool  # camera rays that hit it give colour 0 and alpha 0
+    # (location xyz, random, pass index, colour rgba) for Object Info; None when no
+    # material of the instance reads it.
+    info: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -112,7 +134,9 @@ class MeshExport:
     sanitised: Sanitised = field(default_factory=Sanitised)  # totals over all meshes
 
 
-def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=None):
+def convert_meshes(
+    depsgraph, warnings, uv_maps=None, convert=None, in_place=None, needs=None, info=()
+):
     """Every renderable mesh-like object of the evaluated depsgraph, each distinct
     geometry once, placed by one instance per object or instance.
 
@@ -122,6 +146,9 @@ def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=Non
     `convert`, when given, is called with each MeshData as soon as it is read, and
     MeshExport.meshes holds what it returns instead, so that the arrays of only one
     mesh are alive at a time.
+
+    `needs` maps a material name to its MeshNeeds (what its shader program reads);
+    `info` names the materials that read Object Info (instances using one carry it).
 
     `in_place` lets Blender < 4.1 meshes with auto smooth or custom normals be read
     in place rather than copied by to_mesh() (see `_corner_normals_ready`); by
@@ -140,14 +167,20 @@ def convert_meshes(depsgraph, warnings, uv_maps=None, convert=None, in_place=Non
         obj = object_instance.object
         if key not in exported:
             converted, repaired = export_geometry(
-                obj, key, object_uv_map(obj, uv_maps), warnings, convert, in_place
+                obj,
+                key,
+                object_uv_map(obj, uv_maps),
+                warnings,
+                convert,
+                in_place,
+                object_needs(obj, needs or {}, warnings),
             )
             sanitised += repaired
             exported[key] = converted is not None
             if converted is not None:
                 meshes.append(converted)
         if exported[key]:
-            instances.append(instance_data(object_instance, key, view_layer))
+            instances.append(instance_data(object_instance, key, view_layer, info))
     return MeshExport(meshes=meshes, instances=instances, sanitised=sanitised)
 
 
@@ -227,27 +260,82 @@ def _own_geometry(obj, render):
     return obj.mode == "EDIT" or any(getattr(m, enabled) for m in obj.modifiers)
 
 
-def instance_data(object_instance, mesh, view_layer):
+def instance_data(object_instance, mesh, view_layer, info=()):
     """InstanceData of a mesh instance placing geometry `mesh` (its key).
 
-    `view_layer` is the depsgraph's evaluated view layer (holdout is per layer)."""
+    `view_layer` is the depsgraph's evaluated view layer (holdout is per layer);
+    `info` the names of the materials that read Object Info."""
+    materials = _slot_materials(object_instance.object)
     return InstanceData(
         name=instance_name(object_instance),
         mesh=mesh,
         # Valid only while iterating: copy it now.
         transform=np.array(object_instance.matrix_world, dtype=np.float64),
-        materials=_slot_materials(object_instance.object),
+        materials=materials,
         visibility=ray_visibility(object_instance),
         holdout=is_holdout(object_instance, view_layer),
+        info=object_info(object_instance) if any(m in info for m in materials) else None,
     )
 
 
-def export_geometry(obj, name, uv_map, warnings, convert=None, in_place=False):
+def object_info(object_instance):
+    """(location xyz, random, pass index, colour rgba): what Object Info gives, as
+    Cycles computes it: the instance's world location; its random id (an unsigned
+    32-bit hash) times 1 / 0xFFFFFFFF in float32, in [0, 1]; the object's pass index
+    and its colour (Object Properties > Viewport Display).
+
+    The depsgraph gives instances their `random_id` and real objects 0; Cycles then
+    hashes the object's name (hash_uint2(hash_string(name), 0), util/hash.h)."""
+    obj = object_instance.object
+    location = tuple(float(x) for x in object_instance.matrix_world.translation)
+    random_id = getattr(object_instance, "random_id", 0) & 0xFFFFFFFF
+    if random_id == 0:
+        random_id = _hash_uint2(_hash_string(obj.name), 0)
+    random = float(np.float32(np.float32(random_id) * np.float32(1.0 / 0xFFFFFFFF)))
+    return (*location, random, float(obj.pass_index), *(float(c) for c in obj.color))
+
+
+def _hash_string(text):
+    # Cycles' hash_string: i = i * 37 + c over the bytes, in uint32.
+    value = 0
+    for byte in text.encode():
+        value = (value * 37 + byte) & 0xFFFFFFFF
+    return value
+
+
+def _rot(x, k):
+    return ((x << k) | (x >> (32 - k))) & 0xFFFFFFFF
+
+
+def _hash_uint2(kx, ky):
+    # Bob Jenkins' lookup3 final mix of two words (Cycles' hash_uint2).
+    a = b = c = (0xDEADBEEF + (2 << 2) + 13) & 0xFFFFFFFF
+    b = (b + ky) & 0xFFFFFFFF
+    a = (a + kx) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 14)) & 0xFFFFFFFF
+    a ^= c
+    a = (a - _rot(c, 11)) & 0xFFFFFFFF
+    b ^= a
+    b = (b - _rot(a, 25)) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 16)) & 0xFFFFFFFF
+    a ^= c
+    a = (a - _rot(c, 4)) & 0xFFFFFFFF
+    b ^= a
+    b = (b - _rot(a, 14)) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 24)) & 0xFFFFFFFF
+    return c
+
+
+def export_geometry(obj, name, uv_map, warnings, convert=None, in_place=False, needs=NO_NEEDS):
     """The geometry of evaluated mesh object `obj` as MeshData named `name` (or what
     `convert` made of it), or None when no triangle is left; and its Sanitised,
     which is also described in `warnings`. The MeshData lives only in this frame,
-    so its arrays are freed on return when `convert` keeps none of them."""
-    mesh, sanitised = _convert_geometry(obj, name, uv_map, warnings, in_place)
+    so its arrays are freed on return when `convert` keeps none of them. `needs`:
+    the UV sets, corner attributes and tangents its materials' programs read."""
+    mesh, sanitised = _convert_geometry(obj, name, uv_map, warnings, in_place, needs)
     if sanitised:
         warnings.append(f"Whitted: object '{obj.name}': {sanitised.describe()}")
     if mesh is None or convert is None:
@@ -255,12 +343,18 @@ def export_geometry(obj, name, uv_map, warnings, convert=None, in_place=False):
     return convert(mesh), sanitised
 
 
-def _convert_geometry(obj, name, uv_map, warnings, in_place):
+def _convert_geometry(obj, name, uv_map, warnings, in_place, needs):
     # `obj` comes from depsgraph.object_instances and is already evaluated (with
     # modifiers); a geometry-nodes instance is a temporary object that
     # evaluated_get() would not find, so it is converted directly.
-    if in_place and _corner_normals_ready(obj.data) and _normals_domain(obj.data) == "CORNER":
-        arrays = _read(obj.data, "CORNER", obj.name, uv_map, warnings)
+    # Tangents are computed into the mesh: never into the depsgraph's own.
+    if (
+        in_place
+        and not needs.tangents
+        and _corner_normals_ready(obj.data)
+        and _normals_domain(obj.data) == "CORNER"
+    ):
+        arrays = _read(obj.data, "CORNER", obj.name, uv_map, warnings, needs)
     else:
         try:
             mesh = obj.to_mesh()
@@ -273,13 +367,14 @@ def _convert_geometry(obj, name, uv_map, warnings, in_place):
             domain = _normals_domain(mesh)
             if domain == "CORNER" and hasattr(mesh, "calc_normals_split"):
                 mesh.calc_normals_split()  # Blender < 4.1 computes them only on request
-            arrays = _read(mesh, domain, obj.name, uv_map, warnings)
+            arrays = _read(mesh, domain, obj.name, uv_map, warnings, needs)
         finally:
             # Blender's copy goes before the arrays are checked: it is the larger.
             obj.to_mesh_clear()
     if arrays is None:
         return None, Sanitised()
-    return _finish(name, *arrays)
+    *arrays, extra = arrays
+    return _finish(name, *arrays, extra)
 
 
 def _corner_normals_ready(mesh):
@@ -303,10 +398,11 @@ def _corner_normals_ready(mesh):
     )
 
 
-def _read(mesh, domain, owner, uv_map, warnings):
+def _read(mesh, domain, owner, uv_map, warnings, needs=NO_NEEDS):
     """The mesh's arrays as Blender stores them: (positions, corners, corner normals,
-    vertex normals, material slots, uvs), or None when it has no triangles. `domain`
-    is `_normals_domain(mesh)`; `owner` names the object in warnings."""
+    vertex normals, material slots, uvs, {uv_sets, attributes, tangents}), or None
+    when it has no triangles. `domain` is `_normals_domain(mesh)`; `owner` names
+    the object in warnings."""
     mesh.calc_loop_triangles()
     triangles = mesh.loop_triangles
     count = len(triangles)
@@ -328,7 +424,8 @@ def _read(mesh, domain, owner, uv_map, warnings):
         triangles.foreach_get("split_normals", normals.reshape(-1))
     slots = _material_slots(mesh, count)
     uvs = None if uv_map is None else _corner_uvs(mesh, uv_map, owner, warnings)
-    return positions, corners, normals, vertex_normals, slots, uvs
+    extra = _program_arrays(mesh, needs, owner, warnings) if needs else {}
+    return positions, corners, normals, vertex_normals, slots, uvs, extra
 
 
 def _vertex_normals(mesh, positions):
@@ -416,9 +513,11 @@ def _material_slots(mesh, count):
     return slots if slots.any() else None
 
 
-def _finish(name, positions, corners, normals, vertex_normals, slots, uvs):
+def _finish(name, positions, corners, normals, vertex_normals, slots, uvs, extra=None):
     """(MeshData or None when no triangle is left, Sanitised): bad triangles dropped,
-    unused vertices with them, bad normals repaired."""
+    unused vertices with them, bad normals repaired. `extra`: the per-corner arrays
+    programs read ({"uv_sets" | "attributes" | "tangents": tuple of [M,3,k]})."""
+    extra = dict(extra or {})
     keep, sanitised = _sanitise(positions, corners, normals)
     # A loose NaN vertex no triangle uses must go too: the native module refuses it.
     if not keep.all() or not np.isfinite(positions).all():
@@ -428,6 +527,7 @@ def _finish(name, positions, corners, normals, vertex_normals, slots, uvs):
         slots = None if slots is None else slots[keep]
         normals = None if normals is None else normals[keep]
         uvs = None if uvs is None else uvs[keep]
+        extra = {key: tuple(a[keep] for a in arrays) for key, arrays in extra.items()}
         vertex_normals = None if vertex_normals is None else vertex_normals[used]
     del keep
     if vertex_normals is not None and not _usable(vertex_normals).all():
@@ -445,6 +545,9 @@ def _finish(name, positions, corners, normals, vertex_normals, slots, uvs):
         material_slots=slots,
         uvs=uvs,
         vertex_normals=vertex_normals,
+        uv_sets=extra.get("uv_sets", ()),
+        attributes=extra.get("attributes", ()),
+        tangents=extra.get("tangents", ()),
     )
     return mesh_data, sanitised
 
@@ -538,20 +641,30 @@ def object_uv_map(obj, uv_maps):
     return next((uv_maps[m] for m in _slot_materials(obj) if m in uv_maps), None)
 
 
-def _corner_uvs(mesh, uv_map, owner, warnings):
-    """float32[M,3,2]: the UV of each loop triangle's corners, from the UV map
-    named `uv_map` or, for "" or a map the mesh lacks, the active render one."""
+def _uv_layer(mesh, uv_map, owner, warnings):
+    """The UV layer named `uv_map` or, for "" or a map the mesh lacks, the active
+    render one; None (with a warning) when the mesh has none."""
     layers = mesh.uv_layers
     if len(layers) == 0:
-        warnings.append(f"Whitted: object '{owner}' has no UV map; its textures read UV (0, 0)")
+        warn(warnings, f"Whitted: object '{owner}' has no UV map; its textures read UV (0, 0)")
         return None
     layer = layers.get(uv_map) if uv_map else None
     if layer is None:
         if uv_map:
-            warnings.append(
-                f"Whitted: object '{owner}' has no UV map '{uv_map}'; using the active render one"
+            warn(
+                warnings,
+                f"Whitted: object '{owner}' has no UV map '{uv_map}'; using the active render one",
             )
         layer = next((candidate for candidate in layers if candidate.active_render), layers[0])
+    return layer
+
+
+def _corner_uvs(mesh, uv_map, owner, warnings):
+    """float32[M,3,2]: the UV of each loop triangle's corners, from the UV map
+    named `uv_map` or, for "" or a map the mesh lacks, the active render one."""
+    layer = _uv_layer(mesh, uv_map, owner, warnings)
+    if layer is None:
+        return None
     loop_uvs = np.empty((len(mesh.loops), 2), dtype=np.float32)
     if hasattr(layer, "uv"):  # Blender 3.5+: the plain float2 array, a block copy
         layer.uv.foreach_get("vector", loop_uvs.reshape(-1))
@@ -561,6 +674,161 @@ def _corner_uvs(mesh, uv_map, owner, warnings):
     loops = np.empty((len(triangles), 3), dtype=np.uint32)  # Blender's type: a block copy
     triangles.foreach_get("loops", loops.reshape(-1))
     return np.take(loop_uvs, loops, axis=0)
+
+
+def object_needs(obj, needs_by_material, warnings):
+    """The MeshNeeds of evaluated `obj`: its materials' needs merged in slot order.
+
+    A set index means the same UV map (or attribute) for every material of the mesh;
+    when two materials disagree, the first one's wins and the other is warned about."""
+    uv_sets, attributes, tangents = [], [], False
+    for material in _slot_materials(obj):
+        needs = needs_by_material.get(material)
+        if needs is None:
+            continue
+        for merged, wanted, what in (
+            (uv_sets, needs.uv_sets, "UV maps"),
+            (attributes, needs.attributes, "attributes"),
+        ):
+            for index, item in enumerate(wanted):
+                if index == len(merged):
+                    merged.append(item)
+                elif merged[index] != item:
+                    warn(
+                        warnings,
+                        f"Whitted: object '{obj.name}': material '{material}' reads its {what} "
+                        "in another order than the object's first material; it reads theirs",
+                    )
+        tangents = tangents or needs.tangents
+    return MeshNeeds(tuple(uv_sets), tuple(attributes), tangents)
+
+
+def warn(warnings, message):
+    if message not in warnings:
+        warnings.append(message)
+
+
+def _program_arrays(mesh, needs, owner, warnings):
+    """The per-corner arrays of `needs` for a mesh whose loop triangles exist."""
+    triangles = mesh.loop_triangles
+    count = len(triangles)
+    loops = np.empty((count, 3), dtype=np.uint32)
+    triangles.foreach_get("loops", loops.reshape(-1))
+    uv_sets = []
+    layer_names = []
+    for uv_map in needs.uv_sets:
+        layer = _uv_layer(mesh, uv_map, owner, warnings)
+        layer_names.append(None if layer is None else layer.name)
+        uvs = _corner_uvs(mesh, uv_map, owner, []) if layer is not None else None
+        uv_sets.append(np.zeros((count, 3, 2), np.float32) if uvs is None else uvs)
+    attributes = [_corner_attribute(mesh, key, loops, owner, warnings) for key in needs.attributes]
+    tangents = []
+    if needs.tangents:
+        for name in layer_names:
+            tangents.append(_corner_tangents(mesh, name, loops, owner, warnings))
+    return {
+        "uv_sets": tuple(uv_sets),
+        "attributes": tuple(attributes),
+        "tangents": tuple(tangents),
+    }
+
+
+def _corner_tangents(mesh, uv_layer, loops, owner, warnings):
+    """float32[M,3,4]: Blender's own tangent space (`calc_tangents`, MikkTSpace) of UV
+    layer `uv_layer`: object-space tangent and bitangent sign per triangle corner;
+    zeros (no normal mapping) when Blender cannot compute it."""
+    count = len(loops)
+    if uv_layer is None:
+        return np.zeros((count, 3, 4), np.float32)
+    try:
+        mesh.calc_tangents(uvmap=uv_layer)
+    except RuntimeError as error:
+        warn(warnings, f"Whitted: object '{owner}': no tangents ({error}); normal maps ignored")
+        return np.zeros((count, 3, 4), np.float32)
+    loop_count = len(mesh.loops)
+    tangent = np.empty((loop_count, 4), dtype=np.float32)
+    flat = np.empty(loop_count * 3, dtype=np.float32)
+    mesh.loops.foreach_get("tangent", flat)
+    tangent[:, :3] = flat.reshape(-1, 3)
+    sign = np.empty(loop_count, dtype=np.float32)
+    mesh.loops.foreach_get("bitangent_sign", sign)
+    tangent[:, 3] = sign
+    if hasattr(mesh, "free_tangents"):
+        mesh.free_tangents()
+    return np.take(tangent, loops, axis=0)
+
+
+_ATTRIBUTE_VALUES = {
+    "FLOAT_COLOR": ("color", 4),
+    "BYTE_COLOR": ("color", 4),  # `color` is scene linear for byte colours too
+    "FLOAT_VECTOR": ("vector", 3),
+    "FLOAT2": ("vector", 2),
+    "FLOAT": ("value", 1),
+    "INT": ("value", 1),
+    "INT8": ("value", 1),
+    "BOOLEAN": ("value", 1),
+}
+
+
+def _corner_attribute(mesh, key, loops, owner, warnings):
+    """float32[M,3,4]: attribute `key` ("COLOR" or "ATTRIBUTE", name) at each corner;
+    a float in all of rgb, alpha 1 but for colours; zeros (with a warning) when the
+    mesh lacks it, as Cycles renders a missing attribute black."""
+    kind, name = key
+    count = len(loops)
+    attribute = None
+    if kind == "COLOR":
+        colors = getattr(mesh, "color_attributes", None)
+        if colors is not None and len(colors):
+            if name:
+                attribute = colors.get(name)
+            else:
+                index = getattr(colors, "render_color_index", -1)
+                attribute = colors[index] if 0 <= index < len(colors) else colors.active_color
+    if attribute is None and name:
+        attribute = mesh.attributes.get(name)
+    if attribute is None:
+        what = f"colour attribute '{name}'" if name else "colour attribute"
+        if kind == "ATTRIBUTE":
+            what = f"attribute '{name}'"
+        warn(warnings, f"Whitted: object '{owner}' has no {what}; it reads 0")
+        return np.zeros((count, 3, 4), np.float32)
+    entry = _ATTRIBUTE_VALUES.get(attribute.data_type)
+    if entry is None or attribute.domain not in ("POINT", "CORNER", "FACE"):
+        warn(
+            warnings,
+            f"Whitted: object '{owner}': attribute '{attribute.name}' "
+            f"({attribute.data_type} on {attribute.domain}) is not supported; it reads 0",
+        )
+        return np.zeros((count, 3, 4), np.float32)
+    field, width = entry
+    size = len(attribute.data)
+    flat = np.empty(size * width, dtype=np.float32)
+    if attribute.data_type in ("INT", "INT8", "BOOLEAN"):
+        raw = np.empty(size, dtype=np.int32 if attribute.data_type != "BOOLEAN" else bool)
+        attribute.data.foreach_get(field, raw)
+        flat[:] = raw
+    else:
+        attribute.data.foreach_get(field, flat)
+    values = np.ones((size, 4), dtype=np.float32)
+    stored = flat.reshape(size, width)
+    if width == 1:
+        values[:, :3] = stored
+    else:
+        values[:, : min(width, 4)] = stored[:, :4]
+        if width == 2:
+            values[:, 2] = 0.0
+    if attribute.domain == "CORNER":
+        index = loops
+    elif attribute.domain == "POINT":
+        vertex = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", vertex)
+        index = vertex[loops]
+    else:
+        faces = np.empty(count, dtype=np.uint32)
+        mesh.loop_triangles.foreach_get("polygon_index", faces)
+        index = np.repeat(faces[:, None], 3, axis=1)
+    return np.take(values, index, axis=0)
 
 
 def _slot_materials(obj):

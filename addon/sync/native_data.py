@@ -23,8 +23,19 @@ def native_camera(native, camera):
 
 
 def native_material(native, material):
-    # export.material.MaterialExport as a native.Material.
-    return native.Material(**asdict(material.data))
+    # export.material.MaterialExport as a native.Material, with its shader program.
+    fields = asdict(material.data)
+    if material.program is not None:
+        fields["program"] = native_program(native, material.program)
+        fields["outputs"] = dict(material.outputs)
+    return native.Material(**fields)
+
+
+def native_program(native, program):
+    # export.nodes.program.ProgramData as a native.Program.
+    return native.Program(
+        program.code, program.registers, program.constants, list(program.textures)
+    )
 
 
 def native_light(native, light):
@@ -38,6 +49,12 @@ def native_light(native, light):
 
 def native_mesh(native, mesh):
     # export.mesh.MeshData as a native.Mesh (a copy of its arrays).
+    # The arrays shader programs read go only when some program reads them.
+    extra = {
+        name: list(getattr(mesh, name))
+        for name in ("uv_sets", "attributes", "tangents")
+        if getattr(mesh, name)
+    }
     return native.Mesh(
         mesh.positions,
         mesh.triangles,
@@ -45,11 +62,13 @@ def native_mesh(native, mesh):
         material_slots=mesh.material_slots,
         uvs=mesh.uvs,
         vertex_normals=mesh.vertex_normals,
+        **extra,
     )
 
 
 def set_instance(native, scene, instance):
     """Add or replace export.mesh.InstanceData `instance` in native `scene`."""
+    extra = {} if instance.info is None else {"info": _native_info(instance.info)}
     scene.set_instance(
         instance.name,
         instance.mesh,
@@ -57,7 +76,13 @@ def set_instance(native, scene, instance):
         list(instance.materials),
         visibility=_native_visibility(native, instance.visibility),
         holdout=instance.holdout,
+        **extra,
     )
+
+
+def _native_info(info):
+    # (x, y, z, random, pass index, r, g, b, a) as the binding's nested tuple.
+    return (tuple(info[0:3]), info[3], info[4], tuple(info[5:9]))
 
 
 def native_texture(native, texture):

@@ -34,11 +34,14 @@ from ..export.instance import instance_name
 from ..export.light import convert_light
 from ..export.material import convert_material
 from ..export.mesh import (
+    NO_NEEDS,
     GeometryKeys,
+    MeshNeeds,
     Sanitised,
     export_geometry,
     instance_data,
     is_renderable_mesh,
+    object_needs,
     object_uv_map,
 )
 from ..export.texture import convert_textures
@@ -121,6 +124,7 @@ class _Geometry:
     has_triangles: bool
     uv_map: str | None  # the UV map it was exported with
     sanitised: Sanitised
+    needs: MeshNeeds = NO_NEEDS  # the UV sets, attributes and tangents it carries
 
 
 class SceneSync:
@@ -133,6 +137,11 @@ class SceneSync:
         self._materials = {}  # name -> export.material.MaterialExport
         self._uv_maps = {}  # material name -> the UV map its textures read
         self._walked_uv_maps = {}  # the UV maps the meshes were last exported for
+        # Whether the native module runs shader programs (docs/notes/shader_program.md).
+        self._programs = hasattr(native, "Program")
+        self._needs = {}  # material name -> MeshNeeds its program reads
+        self._info = frozenset()  # materials that read Object Info
+        self._walked_needs = ({}, frozenset())  # (needs, info) of the last walk
         self._textures = {}  # name -> texture spec (export.texture)
         self._geometry = {}  # geometry key -> _Geometry
         self._instances = {}  # instance name -> export.mesh.InstanceData
@@ -207,7 +216,7 @@ class SceneSync:
         redo = changes is None or changes.node_groups
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
-                exported = convert_material(material, warnings)
+                exported = convert_material(material, warnings, programs=self._programs)
                 if exported != self._materials.get(name):
                     self.scene.set_material(
                         name, native_data.native_material(self._native, exported)
@@ -222,9 +231,17 @@ class SceneSync:
             report.removed += 1
         self._sync_textures(changes, params, report, warnings)
         self._uv_maps = {n: m.uv_map for n, m in self._materials.items() if m.uv_map is not None}
+        needs = {
+            name: MeshNeeds(m.uv_maps, m.attributes, bool(m.tangents))
+            for name, m in self._materials.items()
+        }
+        self._needs = {name: n for name, n in needs.items() if n}
+        self._info = frozenset(n for n, m in self._materials.items() if m.object_info)
 
     def _sync_textures(self, changes, params, report, warnings):
         wanted = {spec.name: spec for m in self._materials.values() for spec in m.textures}
+        if self._world is not None:
+            wanted.update({spec.name: spec for spec in self._world.textures})
         refilter = changes is None or params.texture_filter != self._params.texture_filter
         stale = {
             name: spec
@@ -251,6 +268,8 @@ class SceneSync:
             return True
         if self._uv_maps != self._walked_uv_maps:
             return True  # meshes may have to carry other UVs
+        if (self._needs, self._info) != self._walked_needs:
+            return True  # other program inputs: UV sets, attributes, tangents, object info
         roles = {name: self._roles.get(name) for name in changes.objects}
         if any(role in (None, _INSTANCER) for role in roles.values()):
             return True  # an object new to the sync, or one with instances
@@ -285,7 +304,7 @@ class SceneSync:
                     seen_geometry.add(key)
                     self._sync_geometry(object_instance, key, changes, in_place, report, warnings)
                 if self._geometry[key].has_triangles:
-                    instance = instance_data(object_instance, key, view_layer)
+                    instance = instance_data(object_instance, key, view_layer, self._info)
                     instances[instance.name] = instance
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
@@ -311,14 +330,17 @@ class SceneSync:
         self._roles = roles
         self._instanced_light_data = instanced_light_data
         self._walked_uv_maps = dict(self._uv_maps)
+        self._walked_needs = (dict(self._needs), self._info)
 
     def _sync_geometry(self, object_instance, key, changes, in_place, report, warnings):
         obj = object_instance.object
         uv_map = object_uv_map(obj, self._uv_maps)
+        needs = object_needs(obj, self._needs, warnings)
         known = self._geometry.get(key)
         if (
             known is not None
             and known.uv_map == uv_map
+            and known.needs == needs
             and not _reshaped(object_instance, key, changes)
         ):
             return
@@ -329,6 +351,7 @@ class SceneSync:
             warnings,
             convert=lambda data: native_data.native_mesh(self._native, data),
             in_place=in_place,
+            needs=needs,
         )
         if mesh is not None:
             self.scene.set_mesh(key, mesh)
@@ -336,7 +359,7 @@ class SceneSync:
         elif known is not None and known.has_triangles:
             self.scene.remove_mesh(key)
             report.removed += 1
-        self._geometry[key] = _Geometry(mesh is not None, uv_map, sanitised)
+        self._geometry[key] = _Geometry(mesh is not None, uv_map, sanitised, needs)
 
     def _update_objects(self, depsgraph, changes, params, report, warnings):
         """The objects listed in the updates, when each is a mesh shown as itself
@@ -354,7 +377,7 @@ class SceneSync:
                 if known is None or not is_renderable_mesh(alone):
                     gone.add(name)  # hidden from renders (or never had triangles)
                 else:
-                    instances[name] = instance_data(alone, known.mesh, view_layer)
+                    instances[name] = instance_data(alone, known.mesh, view_layer, self._info)
             elif role == _LIGHT:
                 light = None
                 if not obj.original.hide_render:
@@ -397,10 +420,25 @@ class SceneSync:
     # --- world -------------------------------------------------------------------
 
     def _sync_world(self, blender_scene, params, report, warnings):
-        world = convert_world(blender_scene.world, params.ambient_strength, warnings)
+        world = convert_world(
+            blender_scene.world, params.ambient_strength, warnings, programs=self._programs
+        )
         if world != self._world:
+            # The textures its program samples, before the program names them.
+            new = {s.name: s for s in world.textures if s.name not in self._textures}
+            for name, texture in convert_textures(new, warnings, params.texture_filter).items():
+                self.scene.set_texture(name, native_data.native_texture(self._native, texture))
+                self._textures[name] = new[name]
+                report.textures += 1
             self.scene.background = world.background
             self.scene.ambient = world.ambient
+            if self._programs and (world.program is not None or self._world is not None):
+                program = (
+                    None
+                    if world.program is None
+                    else native_data.native_program(self._native, world.program)
+                )
+                self.scene.set_world(program, world.output)
             self._world = world
             report.world = True
 

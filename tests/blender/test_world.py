@@ -89,3 +89,29 @@ def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     assert pixels[0, 0, :3] == pytest.approx(sky, rel=1e-5)
     surface = tuple(0.8 * ambient_strength * c for c in sky)
     assert pixels[4, 4, :3] == pytest.approx(surface, rel=1e-5, abs=1e-7)
+
+
+def test_environment_texture_becomes_a_world_program(warnings):
+    import numpy as np
+    from whitted.export.nodes import ops
+
+    world = node_world((1.0, 1.0, 1.0), 2.0)
+    tree = world.node_tree
+    environment = tree.nodes.new("ShaderNodeTexEnvironment")
+    # Top half bright, bottom half dark (rows bottom to top): mean over the sphere 0.5.
+    image = bpy.data.images.new("sky", 4, 2, float_buffer=True)
+    pixels = np.array([[0.0] * 4] * 4 + [[1.0] * 4] * 4, dtype=np.float32)
+    image.pixels.foreach_set(pixels.reshape(-1))
+    environment.image = image
+    tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    exported = convert_world(world, 1.0, warnings, programs=True)
+    program = exported.program
+    assert [int(r[0]) for r in program.code] == [ops.INPUT, ops.ENVIRONMENT, ops.VECTOR_MATH]
+    assert int(program.code[0][1]) == ops.IN_POSITION  # the ray's direction
+    assert exported.textures[0].image == image
+    assert exported.output == int(program.code[-1][2])
+    # Mean radiance over the sphere: half the solid angle at 2 (strength), half at 0.
+    assert exported.background == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
+    assert exported.ambient == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
+    # Without programs: the Background node's unlinked colour, as before.
+    assert convert_world(world, 1.0, [], programs=False).program is None

@@ -761,10 +761,12 @@ def _fold_color_ramp(mode, values, e):
     return ramp_value(mode, e, values[0][0])
 
 
-def curve_lookup(table, column, x):
+def curve_lookup(table, column, x, extrapolate=True):
     """Linear lookup of column `column` of a CURVE table (4 x 256 over [0, 1]),
-    extended linearly beyond it as Cycles' rgb_ramp_lookup does."""
+    beyond it extended along the end slopes (Cycles' `extrapolate`) or held."""
     size = ops.CURVE_TABLE_SIZE
+    if not extrapolate:
+        x = min(max(x, 0.0), 1.0)
     samples = table[column * size : (column + 1) * size]
     position = x * (size - 1)
     if position < 0.0:
@@ -779,10 +781,15 @@ def curve_lookup(table, column, x):
 def _fold_curve(mode, values, e):
     fac, value = values
     f = fac[0]
-    if mode == 1:
-        return splat((1.0 - f) * value[0] + f * curve_lookup(e, 0, value[0]))
-    if mode == 0:
-        out = tuple(curve_lookup(e, 1 + k, curve_lookup(e, 0, value[k])) for k in range(3))
+    extrapolate = bool(mode & ops.CLAMP_BIT)  # the bit means "extrapolate" here
+    kind = mode & 0xFF
+    if kind == 1:
+        return splat((1.0 - f) * value[0] + f * curve_lookup(e, 0, value[0], extrapolate))
+    if kind == 0:
+        out = tuple(
+            curve_lookup(e, 1 + k, curve_lookup(e, 0, value[k], extrapolate), extrapolate)
+            for k in range(3)
+        )
         return (*((1.0 - f) * v + f * o for v, o in zip(value, out, strict=False)), value[3])
     raise ValueError("not folded")
 

@@ -531,14 +531,20 @@ def _rgb_curves(c, out):
     factor = c.input(out, ("Fac", "Factor"), FLOAT)
     color = c.input(out, ("Color",), COLOR)
     table = curve_table(node.mapping, (3, 0, 1, 2))
-    return c.b.op(ops.CURVE, 0, (factor, color), e=table, kind=COLOR)
+    return c.b.op(ops.CURVE, _curve_mode(node, 0), (factor, color), e=table, kind=COLOR)
+
+
+def _curve_mode(node, kind):
+    # CURVE's bit 8: extend the curves along their end slopes (Extend: Extrapolated).
+    extrapolated = getattr(node.mapping, "extend", "HORIZONTAL") == "EXTRAPOLATED"
+    return kind | (ops.CLAMP_BIT if extrapolated else 0)
 
 
 def _float_curve(c, out):
     factor = c.input(out, ("Factor", "Fac"), FLOAT)
     value = c.input(out, ("Value",), FLOAT)
     table = curve_table(out.node.mapping, (0, None, None, None))
-    return c.b.op(ops.CURVE, 1, (factor, value), e=table, kind=FLOAT)
+    return c.b.op(ops.CURVE, _curve_mode(out.node, 1), (factor, value), e=table, kind=FLOAT)
 
 
 def _invert(c, out):
