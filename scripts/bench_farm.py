@@ -61,6 +61,7 @@ def main():
     parser.add_argument("--frames", type=int, default=8)
     parser.add_argument("--size", nargs=2, type=int, default=(320, 240))
     args = parser.parse_args()
+    load_before = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="whitted-bench-farm-") as folder:
         blend = os.path.join(folder, "anim.blend")
         maker = os.path.join(REPO_ROOT, "tests", "farm", "make_scene.py")
@@ -86,11 +87,16 @@ def main():
         blend_bytes = os.path.getsize(blend)
         frame_bytes = os.path.getsize(os.path.join(folder, "out1", "0001.exr"))
     batch, round_trip, broadcast = scheduler_overhead()
-    write_page(args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes)
+    load = (load_before, os.getloadavg()[0])
+    write_page(
+        args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
+    )
     print(args.out)
 
 
-def write_page(args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes):
+def write_page(
+    args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
+):
     width, height = args.size
     lines = [
         "# The farm: measured here, and at 100 machines on paper",
@@ -98,7 +104,9 @@ def write_page(args, rows, one_blender, batch, round_trip, broadcast, blend_byte
         "Made by `.venv/bin/python scripts/bench_farm.py` (how to use the farm: README,",
         '"Rendering on many machines"). Machine: '
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-        f"Python {platform.python_version()}.",
+        f"Python {platform.python_version()}. Load average (1 min) before and after the run:",
+        f"{load[0]:.1f} and {load[1]:.1f}; above the core count, other processes shared the",
+        "cores and every number below is slower than on an idle machine.",
         "",
         f"## Frames per minute ({args.frames} frames of the demo animation, "
         f"{width} x {height}, Blender 3.4)",
