@@ -22,13 +22,15 @@ import bpy
 from .export import ExportError
 
 MIB = 1024 * 1024
-# The native module, its threads and Embree's device.
-BASE_BYTES = 6 * MIB
+# The native module and the libraries it loads (Embree, TBB), its threads and
+# Embree's device (docs/MEMORY.md: the demo at 480x270 takes 18 MiB in all).
+BASE_BYTES = 12 * MIB
 # A triangle's share of the mesh arrays, its BVH and the export's temporaries
 # (docs/PERFORMANCE.md: 105-121 B beyond Blender's own).
 TRIANGLE_BYTES = 120
-# An instance: its native record, its Embree instance and the exporter's data.
-INSTANCE_BYTES = 1400
+# An instance: its native record, its Embree instance and the exporter's data
+# (docs/MEMORY.md: about 750 B on the 10,000-instance scene).
+INSTANCE_BYTES = 800
 # A pixel: the film (RGBA, the ray cost, sums and counts) and the render result's
 # passes that Blender allocates for Whitted.
 PIXEL_BYTES = 40
