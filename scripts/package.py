@@ -213,6 +213,10 @@ def stage(staging, build_dir, info):
     renamed = bundle_libraries(module_path, libs_dir)
     with open(os.path.join(package_dir, "blender_manifest.toml"), "w", encoding="utf-8") as out:
         out.write(manifest_text(info))
+    # The licence the manifest names travels with the add-on.
+    shutil.copy2(
+        os.path.join(ADDON_DIR, os.pardir, "LICENSE"), os.path.join(package_dir, "LICENSE")
+    )
     return package_dir, renamed
 
 

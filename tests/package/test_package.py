@@ -81,7 +81,7 @@ def dynamic_section(path):
 def test_zip_layout(package_zip):
     names = zipfile.ZipFile(package_zip).namelist()
     assert {name.split("/")[0] for name in names} == {"whitted"}
-    for required in ("whitted/__init__.py", "whitted/blender_manifest.toml"):
+    for required in ("whitted/__init__.py", "whitted/blender_manifest.toml", "whitted/LICENSE"):
         assert required in names
     assert any(re.fullmatch(r"whitted/whitted_native.*\.so", name) for name in names)
     assert not [name for name in names if "__pycache__" in name or name.endswith(".pyc")]
