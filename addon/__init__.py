@@ -7,7 +7,7 @@ add-on and its exporters import even before the module is built.
 
 import bpy
 
-from . import engine, operators
+from . import engine, operators, preferences
 from .properties import light as light_properties
 from .properties import material as material_properties
 from .properties import scene as scene_properties
@@ -27,6 +27,7 @@ bl_info = {
 
 # Registered in this order, unregistered in reverse.
 classes = (
+    preferences.WhittedPreferences,
     scene_properties.WhittedEstimate,
     scene_properties.WhittedSceneProperties,
     light_properties.WhittedLightProperties,

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import bpy
 
 from .export import ExportError
+from .preferences import memory_budget_mib
 
 MIB = 1024 * 1024
 # The native module and the libraries it loads (Embree, TBB), its threads and
@@ -90,8 +91,8 @@ def estimate(depsgraph, pixels):
 
 def budget():
     """(bytes, where the figure comes from): WHITTED_MEMORY_BUDGET (MiB) when set,
-    else the memory the system says is available now; (None, ...) when neither is
-    known (no /proc/meminfo)."""
+    else the add-on preference's budget when set, else the memory the system says
+    is available now; (None, ...) when none is known (no /proc/meminfo)."""
     setting = os.environ.get("WHITTED_MEMORY_BUDGET")
     if setting:
         try:
@@ -100,6 +101,9 @@ def budget():
             raise ExportError(
                 f"Whitted: WHITTED_MEMORY_BUDGET={setting!r} is not a number of MiB"
             ) from None
+    preference = memory_budget_mib()
+    if preference > 0:
+        return preference * MIB, "the memory budget in the add-on's preferences"
     try:
         with open("/proc/meminfo", encoding="ascii") as meminfo:
             for line in meminfo:

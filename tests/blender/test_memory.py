@@ -54,3 +54,14 @@ def test_a_budget_that_is_not_a_number_is_reported(demo, monkeypatch):
     monkeypatch.setenv("WHITTED_MEMORY_BUDGET", "lots")
     with pytest.raises(RuntimeError, match="WHITTED_MEMORY_BUDGET='lots' is not a number"):
         bpy.ops.render.render()
+
+
+def test_the_preference_budget_refuses_too(demo):
+    preferences = bpy.context.preferences.addons["whitted"].preferences
+    preferences.memory_budget_mib = 2
+    try:
+        with pytest.raises(RuntimeError, match="the memory budget in the add-on's preferences"):
+            bpy.ops.render.render()
+    finally:
+        preferences.memory_budget_mib = 0
+    bpy.ops.render.render()  # unset again: the memory available
