@@ -37,6 +37,7 @@ namespace whitted::python {
 void bind_camera(py::module_& m);
 void bind_light(py::module_& m);
 void bind_material(py::module_& m);
+void bind_program(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_texture(py::module_& m);
 void bind_render(py::module_& m);

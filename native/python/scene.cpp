@@ -24,13 +24,28 @@ void require_shape(const py::array& a, const char* name, std::initializer_list<p
   }
 }
 
+// A list of corner layers, each float32[M, 3, width], as pointers for make_mesh (the
+// arrays stay alive in `layers`).
+std::vector<const float*> corner_layers(const std::vector<FloatArray>& layers, const char* name,
+                                        py::ssize_t m, py::ssize_t width) {
+  std::vector<const float*> out;
+  for (const FloatArray& layer : layers) {
+    require_shape(layer, name, {m, 3, width});
+    out.push_back(layer.data());
+  }
+  return out;
+}
+
 // The arrays of a mesh, checked and copied into a native Mesh (the GIL released while
 // copying: the arrays stay alive in the caller's frame).
 Mesh mesh_from_arrays(const FloatArray& positions, const UintArray& triangles,
                       const std::optional<FloatArray>& normals,
                       const std::optional<IntArray>& material_slots,
                       const std::optional<FloatArray>& uvs,
-                      const std::optional<FloatArray>& vertex_normals) {
+                      const std::optional<FloatArray>& vertex_normals,
+                      const std::vector<FloatArray>& uv_sets,
+                      const std::vector<FloatArray>& attributes,
+                      const std::vector<FloatArray>& tangents) {
   require_shape(positions, "positions", {-1, 3});
   require_shape(triangles, "triangles", {-1, 3});
   const auto n = static_cast<py::ssize_t>(positions.shape(0));
@@ -45,8 +60,11 @@ Mesh mesh_from_arrays(const FloatArray& positions, const UintArray& triangles,
   const float* vn = vertex_normals ? vertex_normals->data() : nullptr;
   const int32_t* s = material_slots ? material_slots->data() : nullptr;
   const float* uv = uvs ? uvs->data() : nullptr;
+  const CornerLayers layers{corner_layers(uv_sets, "each of uv_sets", m, 2),
+                            corner_layers(attributes, "each of attributes", m, 4),
+                            corner_layers(tangents, "each of tangents", m, 4)};
   py::gil_scoped_release release;
-  return make_mesh(p, static_cast<size_t>(n), t, static_cast<size_t>(m), cn, s, uv, vn);
+  return make_mesh(p, static_cast<size_t>(n), t, static_cast<size_t>(m), cn, s, uv, vn, layers);
 }
 
 // Moves `mesh` into the scene under `name` and builds its BVH, without the GIL.
@@ -72,10 +90,16 @@ void bind_scene(py::module_& m) {
       .def(py::init(&mesh_from_arrays), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
            py::arg("uvs") = py::none(), py::arg("vertex_normals") = py::none(),
+           py::arg("uv_sets") = std::vector<FloatArray>{},
+           py::arg("attributes") = std::vector<FloatArray>{},
+           py::arg("tangents") = std::vector<FloatArray>{},
            "positions float32[N,3], triangles uint32[M,3]; shading normals, at most one of: "
            "normals float32[M,3,3] corner normals, vertex_normals float32[N,3] (indexed like "
            "positions); neither: flat. material_slots int32[M] or None (slot 0), uvs "
-           "float32[M,3,2] corner texture coordinates or None.")
+           "float32[M,3,2] corner texture coordinates or None (UV set 0; or give uv_sets, a "
+           "list of float32[M,3,2]); attributes: list of float32[M,3,4] corner RGBA; "
+           "tangents: list of float32[M,3,4], one per UV set (object-space xyz tangent, w "
+           "the bitangent sign).")
       .def_property_readonly("vertex_count", &Mesh::vertex_count)
       .def_property_readonly("triangle_count", &Mesh::triangle_count);
 
@@ -99,28 +123,56 @@ void bind_scene(py::module_& m) {
           [](Scene& scene, const std::string& name, const FloatArray& positions,
              const UintArray& triangles, const std::optional<FloatArray>& normals,
              const std::optional<IntArray>& material_slots, const std::optional<FloatArray>& uvs,
-             const std::optional<FloatArray>& vertex_normals) {
+             const std::optional<FloatArray>& vertex_normals,
+             const std::vector<FloatArray>& uv_sets, const std::vector<FloatArray>& attributes,
+             const std::vector<FloatArray>& tangents) {
             set_native_mesh(scene, name,
                             mesh_from_arrays(positions, triangles, normals, material_slots, uvs,
-                                             vertex_normals));
+                                             vertex_normals, uv_sets, attributes, tangents));
           },
           py::arg("name"), py::arg("positions"), py::arg("triangles"),
           py::arg("normals") = py::none(), py::arg("material_slots") = py::none(),
           py::arg("uvs") = py::none(), py::arg("vertex_normals") = py::none(),
+          py::arg("uv_sets") = std::vector<FloatArray>{},
+          py::arg("attributes") = std::vector<FloatArray>{},
+          py::arg("tangents") = std::vector<FloatArray>{},
           "The same as set_mesh(name, Mesh(positions, triangles, ...)).")
       .def(
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
-             std::vector<std::string> materials, uint32_t visibility, bool holdout) {
-            s.set_instance(name, Instance{mesh, matrix_from_numpy(to_world), std::move(materials),
-                                          visibility & kAllRayKinds, holdout});
+             std::vector<std::string> materials, uint32_t visibility, bool holdout,
+             const std::optional<std::array<float, 9>>& info) {
+            Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
+                              visibility & kAllRayKinds, holdout};
+            if (info) {
+              const std::array<float, 9>& i = *info;
+              for (float v : i) {
+                if (!std::isfinite(v)) throw std::invalid_argument("instance info must be finite");
+              }
+              instance.info = {Vec3(i[0], i[1], i[2]), i[3], i[4],
+                               glm::vec4(i[5], i[6], i[7], i[8])};
+            } else {
+              instance.info.location = Vec3(instance.to_world[3]);
+            }
+            s.set_instance(name, std::move(instance));
           },
           py::arg("name"), py::arg("mesh"), py::arg("transform"),
           py::arg("materials") = std::vector<std::string>{},
           py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
+          py::arg("info") = py::none(),
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: Visibility flags of the rays that see "
-          "it; holdout: camera rays that meet it give colour 0 and alpha 0.")
+          "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
+          "Object Info node reads, (x, y, z location, random, pass index, r, g, b, a colour) "
+          "(None: the transform's location, random 0, index 0, white).")
+      .def(
+          "set_world",
+          [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output) {
+            s.set_world(program, output);
+          },
+          py::arg("program"), py::arg("output") = 0,
+          "The world: rays that hit nothing see the program's register `output` (.xyz), "
+          "evaluated by their direction; None: the constant background.")
       .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"))
       .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"))
       .def("set_texture", &Scene::set_texture, py::arg("name"), py::arg("texture"))

@@ -108,7 +108,7 @@ void RenderJob::work(int worker) {
   // The one catch-all of the engine: an exception must not leave a worker thread, where
   // it would call std::terminate and take Blender down. It is kept for wait() instead.
   try {
-    const WhittedIntegrator integrator(*scene_, settings_, log);
+    const WhittedIntegrator integrator(*scene_, settings_, camera_, log);
     const CameraSampler sampler(integrator, camera_, camera_media_);
     const size_t items = passes_.size() * tiles_.size();
     for (size_t item = next_item_++; item < items; item = next_item_++) {

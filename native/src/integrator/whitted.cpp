@@ -10,7 +10,8 @@ namespace {
 // Beyond this many cut-out layers a surface counts as opaque: a bound on the walk.
 constexpr int kMaxTransparentLayers = 64;
 
-// IOR of a medium (-1 is the surrounding air).
+// IOR of a medium (-1 is the surrounding air): its material's constant ior, since a
+// program's ior belongs to a hit, not to the volume behind it.
 float ior_of(const CompiledScene& scene, int32_t medium) {
   return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
 }
@@ -21,7 +22,7 @@ template <uint32_t E>
 class Kernel {
  public:
   explicit Kernel(const WhittedIntegrator& w)
-      : scene_(w.scene()), settings_(w.settings()), log_(w.log()) {}
+      : scene_(w.scene()), settings_(w.settings()), camera_(w.camera()), log_(w.log()) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
                    RayCounts* counts, float* alpha, const Hit* first) {
@@ -61,14 +62,14 @@ class Kernel {
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
         if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
-          radiance += behind * scene_.background;
+          radiance += behind * scene_.world_radiance(r, context(path));
           coverage += behind;
         }
         break;
       }
       const Interaction it = scene_.interaction(r, hit);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
-      const SurfaceParams surface = scene_.surface(it);
+      const SurfaceParams surface = scene_.surface(it, r, context(path));
       float a = 1.0f;
       if constexpr (has(kTranslucencyEffect)) {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
@@ -104,14 +105,14 @@ class Kernel {
       if (entering) {
         false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
         media.enter(it.material_index, m.priority);
-        eta = ior_of(scene_, from) / m.ior;
+        eta = ior_of(scene_, from) / surface.ior;
       } else if (media.leave(it.material_index)) {
         false_interface = from != static_cast<int32_t>(it.material_index);
-        eta = m.ior / ior_of(scene_, media.current());
+        eta = surface.ior / ior_of(scene_, media.current());
       } else {
         // Leaving a medium it never entered (flipped normals, an open mesh): out into the
         // current medium, as a renderer without media lists would.
-        eta = m.ior / ior_of(scene_, from);
+        eta = surface.ior / ior_of(scene_, from);
       }
       if (false_interface) {
         counts->transparent += 1;
@@ -121,14 +122,14 @@ class Kernel {
       }
     }
     const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
-    Vec3 ns = entering ? it.shading_normal : -it.shading_normal;
+    Vec3 ns = entering ? surface.normal : -surface.normal;
     if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
     const Vec3 wo = -ray.direction;
-    Color radiance = m.emission + local(it, surface, wo, ng, ns, path.weight, counts);
+    Color radiance = surface.emission + local(it, surface, wo, ng, ns, path, counts);
     if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
 
-    Color kr = has(kReflectionEffect) ? m.reflectivity : Color(0.0f);
-    Color kt = has(kRefractionEffect) ? m.transmissivity : Color(0.0f);
+    Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
+    Color kt = has(kRefractionEffect) ? surface.transmissivity : Color(0.0f);
     if (has(kPruningEffect) && is_black(kr) && is_black(kt)) return radiance;
     Vec3 t_dir(0.0f);
     const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
@@ -188,10 +189,9 @@ class Kernel {
 
   // I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
   Color local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo, const Vec3& ng,
-              const Vec3& n, const Color& weight, RayCounts* counts) const {
-    const Material& m = *it.material;
-    Color radiance = m.ambient * scene_.ambient * surface.diffuse;
-    const float phong_norm = (m.shininess + 2.0f) * (0.5f * kInvPi);
+              const Vec3& n, const PathState& path, RayCounts* counts) const {
+    Color radiance = it.material->ambient * scene_.ambient * surface.diffuse;
+    const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
     for (const Light& light : scene_.lights) {
       for (int s = 0; s < light.sample_count(); ++s) {
         const LightSample ls = sample_light(light, it.position, s);
@@ -210,8 +210,8 @@ class Kernel {
           }
         }
         const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
-        const Color brdf =
-            surface.diffuse * kInvPi + m.specular * (phong_norm * std::pow(v_dot_r, m.shininess));
+        const Color brdf = surface.diffuse * kInvPi +
+                           surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess));
         const Color contribution = brdf * ls.irradiance * std::max(0.0f, cos_l);
         if (!has(kShadowEffect) || !light.cast_shadows) {
           radiance += contribution;
@@ -222,7 +222,7 @@ class Kernel {
           // whole light is judged, not this feeler's share of it: otherwise more samples
           // would each fall below the cutoff and soft shadows would fade.
           const float whole_light = static_cast<float>(light.sample_count());
-          if (max_component(weight * contribution) * whole_light < settings_.cutoff) {
+          if (max_component(path.weight * contribution) * whole_light < settings_.cutoff) {
             counts->shadow_cutoff += 1;
             radiance += contribution;
             continue;
@@ -233,7 +233,7 @@ class Kernel {
         radiance +=
             contribution * shadow_transmittance(spawn_ray(it.shadow_origin, it.position_error, ng,
                                                           ls.wi, kShadowRay, t_max),
-                                                counts);
+                                                path, counts);
       }
     }
     return radiance;
@@ -242,7 +242,7 @@ class Kernel {
   // Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
   // through a surface of coverage a and transmissivity T, (1 - a) + a*T passes (cut-outs,
   // and coloured shadows behind glass).
-  Color shadow_transmittance(Ray ray, RayCounts* counts) const {
+  Color shadow_transmittance(Ray ray, const PathState& path, RayCounts* counts) const {
     counts->shadow += 1;
     if constexpr (!has(kTranslucencyEffect)) {
       return occluded(ray) ? Color(0.0f) : Color(1.0f);
@@ -257,8 +257,9 @@ class Kernel {
       Hit hit;
       if (!intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
-      const float a = scene_.surface(it).alpha;
-      transmittance *= (1.0f - a) + a * it.material->transmissivity;
+      const SurfaceParams surface = scene_.surface(it, ray, context(path));
+      const float a = surface.alpha;
+      transmittance *= (1.0f - a) + a * surface.transmissivity;
       if (is_black(transmittance)) return transmittance;
       const float remaining = ray.t_max - glm::length(it.position - ray.origin);
       if (!(remaining > 0.0f)) return transmittance;
@@ -269,8 +270,12 @@ class Kernel {
     return Color(0.0f);
   }
 
+  // What a shader program may ask of a ray on `path` besides the ray.
+  RayContext context(const PathState& path) const { return {&camera_, path.depth}; }
+
   const CompiledScene& scene_;
   const Settings& settings_;
+  const Camera& camera_;
   RayLog* log_;
 };
 
@@ -301,9 +306,10 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
 }
 
 WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
-                                     RayLog* log)
+                                     const Camera& camera, RayLog* log)
     : scene_(scene),
       settings_(settings),
+      camera_(camera),
       effects_(analyse(scene, settings)),
       trace_(kKernels[effects_.bits]),
       log_(log) {}

@@ -44,8 +44,10 @@ struct PathState {
 // scene calls for (integrator/whitted.cpp), so a disabled effect costs nothing.
 class WhittedIntegrator {
  public:
+  // `camera` is the render's view, for the camera and window inputs of shader programs;
   // `log`, when given, receives the queries made while it is active.
-  WhittedIntegrator(const CompiledScene& scene, const Settings& settings, RayLog* log = nullptr);
+  WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
+                    const Camera& camera = Camera{}, RayLog* log = nullptr);
 
   // Radiance arriving along `ray` (camera rays: a default PathState, or the media the
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
@@ -68,6 +70,7 @@ class WhittedIntegrator {
   const Effects& effects() const { return effects_; }
   const CompiledScene& scene() const { return scene_; }
   const Settings& settings() const { return settings_; }
+  const Camera& camera() const { return camera_; }
   RayLog* log() const { return log_; }
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
@@ -76,6 +79,7 @@ class WhittedIntegrator {
  private:
   const CompiledScene& scene_;
   const Settings settings_;
+  const Camera camera_;
   Effects effects_;
   TraceFn trace_;
   RayLog* log_;

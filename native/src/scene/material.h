@@ -1,12 +1,34 @@
 // Whitted material parameters: Phong local term plus reflection and transmission weights.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "core/math.h"
+#include "texture/program.h"
 
 namespace whitted {
+
+// The Whitted fields of a hit a material's program may drive (its `outputs`).
+enum Field : uint32_t {
+  kDiffuseField,
+  kSpecularField,
+  kShininessField,
+  kReflectivityField,
+  kTransmissivityField,
+  kIorField,
+  kEmissionField,
+  kAlphaField,
+  kNormalField,
+  kFieldCount,
+};
+inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
+    "diffuse", "specular", "shininess", "reflectivity", "transmissivity",
+    "ior",     "emission", "alpha",     "normal"};
 
 struct Material {
   Color diffuse{0.8f};          // albedo kd: the diffuse term is kd/pi * E
@@ -24,12 +46,21 @@ struct Material {
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).
   int32_t diffuse_texture_index = -1;
   int32_t alpha_texture_index = -1;
+  // Fields a program computes per hit: the register holding each after the program, -1
+  // for the constant above. The program's texture slots are resolved by Scene::compile.
+  std::shared_ptr<const Program> program;
+  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+  std::vector<const ImageTexture*> program_images;
 
-  bool reflective() const { return !is_black(reflectivity); }
-  bool transmissive() const { return !is_black(transmissivity); }
+  bool driven(Field field) const { return outputs[field] >= 0; }
+  // Whether a hit may reflect or transmit: a program-driven weight may be non-zero.
+  bool reflective() const { return !is_black(reflectivity) || driven(kReflectivityField); }
+  bool transmissive() const { return !is_black(transmissivity) || driven(kTransmissivityField); }
   // Lets some light through: transmission, or coverage below 1 (after compile, which
   // resolves the alpha texture).
-  bool translucent() const { return transmissive() || alpha < 1.0f || alpha_texture_index >= 0; }
+  bool translucent() const {
+    return transmissive() || alpha < 1.0f || alpha_texture_index >= 0 || driven(kAlphaField);
+  }
 };
 
 }  // namespace whitted

@@ -22,7 +22,7 @@ std::vector<float> finite_copy(const float* values, size_t count) {
 
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,
                size_t triangle_count, const float* normals, const int32_t* material_slots,
-               const float* uvs, const float* vertex_normals) {
+               const float* uvs, const float* vertex_normals, const CornerLayers& layers) {
   if (vertex_count > UINT32_MAX) throw std::invalid_argument("mesh has too many vertices");
   if (normals != nullptr && vertex_normals != nullptr) {
     throw std::invalid_argument("a mesh takes corner normals or vertex normals, not both");
@@ -54,7 +54,17 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
     mesh.material_slots.assign(material_slots, material_slots + triangle_count);
     for (int32_t& s : mesh.material_slots) s = std::max(s, 0);
   }
+  if (layers.tangents.size() > std::max<size_t>(layers.uv_sets.size(), uvs != nullptr ? 1 : 0)) {
+    throw std::invalid_argument("a mesh takes at most one tangent set per UV set");
+  }
   if (uvs != nullptr) mesh.uvs = finite_copy(uvs, 6 * triangle_count);
+  for (const float* uv : layers.uv_sets)
+    mesh.uv_sets.push_back(finite_copy(uv, 6 * triangle_count));
+  for (const float* a : layers.attributes) {
+    mesh.attributes.push_back(finite_copy(a, 12 * triangle_count));
+  }
+  for (const float* t : layers.tangents)
+    mesh.tangents.push_back(finite_copy(t, 12 * triangle_count));
   // The bounds of the vertices, as Blender's automatic texture space: a flat axis gets
   // size 1 and a tiny one 1e-5, so generated coordinates stay finite.
   if (vertex_count > 0) {

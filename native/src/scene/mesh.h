@@ -18,6 +18,12 @@ struct Mesh {
   std::vector<float> vertex_normals;    // 3 per vertex, or empty
   std::vector<int32_t> material_slots;  // 1 per triangle, or empty for slot 0
   std::vector<float> uvs;               // 6 per triangle (corner UVs), or empty
+  // Corner layers for shader programs, each indexed by triangle then corner: UV sets (2
+  // floats a corner; none given: `uvs` is set 0), attributes (RGBA, 4 a corner) and
+  // tangents (tangent set k belongs to UV set k: object-space xyz, bitangent sign w).
+  std::vector<std::vector<float>> uv_sets;
+  std::vector<std::vector<float>> attributes;
+  std::vector<std::vector<float>> tangents;
   // Blender's automatic texture space: generated = (p - location + size) / (2 size).
   Vec3 texspace_location{0.0f};
   Vec3 texspace_size{1.0f};
@@ -55,11 +61,20 @@ struct Mesh {
   }
 };
 
+// Corner layers handed to make_mesh, each `triangle_count` x 3 corners.
+struct CornerLayers {
+  std::vector<const float*> uv_sets;     // 2 floats a corner
+  std::vector<const float*> attributes;  // 4 floats a corner
+  std::vector<const float*> tangents;    // 4 floats a corner, at most one per UV set
+};
+
 // Builds a mesh from flat arrays, checking every index and value; throws
 // std::invalid_argument naming the first problem. `normals` (9 per triangle) and
-// `vertex_normals` (3 per vertex) are alternatives: at most one may be given.
+// `vertex_normals` (3 per vertex) are alternatives: at most one may be given. `uvs` (6 per
+// triangle) are what image textures read, and UV set 0 of a mesh whose `layers` give none.
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,
                size_t triangle_count, const float* normals, const int32_t* material_slots,
-               const float* uvs = nullptr, const float* vertex_normals = nullptr);
+               const float* uvs = nullptr, const float* vertex_normals = nullptr,
+               const CornerLayers& layers = {});
 
 }  // namespace whitted

@@ -1,8 +1,10 @@
 #include "scene/scene.h"
 
+#include <array>
 #include <chrono>
 #include <glm/matrix.hpp>
 #include <stdexcept>
+#include <variant>
 
 namespace whitted {
 namespace {
@@ -44,6 +46,63 @@ bool safely_invertible(const glm::mat4& m) {
     if (!(std::fabs(m[3][c]) <= kTranslationLimit)) return false;
   }
   return std::fabs(glm::determinant(linear)) > 0.0f;
+}
+
+// The barycentric blend of a corner layer (`width` floats a corner) at a point of triangle
+// `primitive`; barycentric holds the weights of corners 1 and 2.
+glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uint32_t primitive,
+                              glm::vec2 barycentric) {
+  const float* c = &layer[3 * width * size_t{primitive}];
+  const float w0 = 1.0f - barycentric.x - barycentric.y;
+  glm::vec4 out(0.0f);
+  for (size_t k = 0; k < width; ++k) {
+    out[static_cast<int>(k)] =
+        w0 * c[k] + barycentric.x * c[width + k] + barycentric.y * c[2 * width + k];
+  }
+  return out;
+}
+
+// The Light Path inputs of a program (and 0 for any other mode).
+glm::vec4 light_path_input(uint32_t mode, const Ray& ray, const RayContext& context) {
+  const auto flag = [](bool on) { return glm::vec4(on ? 1.0f : 0.0f); };
+  switch (mode) {
+    case kInputIsCameraRay:
+      return flag(ray.kind == kCameraRay);
+    case kInputIsShadowRay:
+      return flag((ray.kind & (kShadowRay | kOpaqueShadowRay | kTranslucentShadowRay)) != 0);
+    case kInputIsReflectionRay:
+      return flag(ray.kind == kReflectionRay);
+    case kInputIsTransmissionRay:
+      return flag(ray.kind == kRefractionRay);
+    case kInputRayDepth:
+      return glm::vec4(static_cast<float>(context.depth));
+    case kInputIsSingularRay:
+      return flag(ray.kind != kCameraRay);  // every Whitted bounce is a perfect mirror or lens
+    default:                                // is diffuse ray: Whitted traces none
+      return glm::vec4(0.0f);
+  }
+}
+
+// The texture slots of a program resolved to scene textures (null for one that is not an
+// image, which only a slot not sampled as an image may be).
+std::vector<const ImageTexture*> resolve_images(
+    const Program& program, const std::map<std::string, std::shared_ptr<const Texture>>& textures,
+    const std::string& owner) {
+  std::vector<const ImageTexture*> images;
+  for (size_t slot = 0; slot < program.textures().size(); ++slot) {
+    const std::string& name = program.textures()[slot];
+    auto found = textures.find(name);
+    if (found == textures.end()) {
+      throw std::invalid_argument(owner + " uses missing texture '" + name + "'");
+    }
+    const auto* image = std::get_if<ImageTexture>(&found->second->source);
+    if (image == nullptr && program.samples_image(slot)) {
+      throw std::invalid_argument(owner + " samples texture '" + name +
+                                  "' as an image, but it is a checker");
+    }
+    images.push_back(image);
+  }
+  return images;
 }
 
 }  // namespace
@@ -135,6 +194,17 @@ void Scene::set_ambient(const Color& ambient) {
   state_.ambient = ambient;
   changed(false);
 }
+void Scene::set_world(std::shared_ptr<const Program> program, uint32_t output) {
+  if (program && output >= program->register_count()) {
+    throw std::invalid_argument("world output register " + std::to_string(output) +
+                                " out of range (" + std::to_string(program->register_count()) +
+                                " registers)");
+  }
+  std::lock_guard lock(mutex_);
+  state_.world = std::move(program);
+  state_.world_output = output;
+  changed(false);
+}
 Color Scene::background() const {
   std::lock_guard lock(mutex_);
   return state_.background;
@@ -167,6 +237,11 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
   auto compiled = std::make_shared<CompiledScene>();
   compiled->background = state_.background;
   compiled->ambient = state_.ambient;
+  if (state_.world) {
+    compiled->world = state_.world;
+    compiled->world_output = state_.world_output;
+    compiled->world_images = resolve_images(*state_.world, state_.textures, "the world");
+  }
   std::map<std::string, int32_t> texture_index;
   for (const auto& [name, texture] : state_.textures) {
     texture_index[name] = static_cast<int32_t>(compiled->textures.size());
@@ -188,6 +263,10 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     Material resolved = material;
     resolved.diffuse_texture_index = resolve_texture(name, material.diffuse_texture);
     resolved.alpha_texture_index = resolve_texture(name, material.alpha_texture);
+    if (material.program) {
+      resolved.program_images =
+          resolve_images(*material.program, state_.textures, "material '" + name + "'");
+    }
     compiled->materials.push_back(std::move(resolved));
   }
   for (const auto& [name, light] : state_.lights) compiled->lights.push_back(light);
@@ -208,6 +287,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
     out.holdout = instance.holdout;
     out.visibility = instance.visibility;
+    out.info = instance.info;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);
@@ -325,18 +405,123 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
   tp.generated = (it.local_position - mesh.texspace_location + mesh.texspace_size) /
                  (2.0f * mesh.texspace_size);
   if (!mesh.uvs.empty()) {
-    const float* uv = &mesh.uvs[6 * size_t{it.primitive}];
-    const float u = it.barycentric.x;
-    const float v = it.barycentric.y;
-    tp.uv = (1.0f - u - v) * glm::vec2(uv[0], uv[1]) + u * glm::vec2(uv[2], uv[3]) +
-            v * glm::vec2(uv[4], uv[5]);
+    tp.uv = glm::vec2(interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric));
   }
   return tp;
 }
 
-SurfaceParams CompiledScene::surface(const Interaction& it) const {
+namespace {
+
+// Where a program reads a surface hit: the inputs it asks for, computed on demand.
+struct SurfaceHit {
+  const CompiledScene& scene;
+  const Interaction& it;
+  const Ray& ray;
+  const RayContext& context;
+  const ProgramHit& hit;
+
+  glm::vec4 input(uint32_t mode) const {
+    const CompiledScene::Instance& instance = scene.instances[it.instance];
+    const Mesh& mesh = instance.mesh->mesh;
+    const auto vec = [](const Vec3& v) { return glm::vec4(v, 0.0f); };
+    const auto layer = [&](const std::vector<std::vector<float>>& layers, size_t k, size_t width) {
+      return k < layers.size() ? interpolate_corners(layers[k], width, it.primitive, it.barycentric)
+                               : glm::vec4(0.0f);
+    };
+    if (mode >= kInputTangent && mode < kInputObjectNormal) {
+      return layer(mesh.tangents, mode - kInputTangent, 4);
+    }
+    if (mode >= kInputAttribute && mode < kInputPublicEnd) {
+      return layer(mesh.attributes, mode - kInputAttribute, 4);
+    }
+    if (mode >= kInputUvSet && mode < kInputAttribute) {
+      if (mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
+        return interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric);
+      }
+      return layer(mesh.uv_sets, mode - kInputUvSet, 2);
+    }
+    switch (mode) {
+      case kInputPosition:
+        return vec(it.position);
+      case kInputNormal:
+        return vec(hit.normal);
+      case kInputTrueNormal:
+        return vec(hit.backfacing ? -it.geometric_normal : it.geometric_normal);
+      case kInputIncoming:
+        return vec(hit.incoming);
+      case kInputGenerated:
+        return vec((it.local_position - mesh.texspace_location + mesh.texspace_size) /
+                   (2.0f * mesh.texspace_size));
+      case kInputObject:
+        return vec(it.local_position);
+      case kInputCamera:
+        return vec(camera_space());
+      case kInputWindow:
+        return vec(window());
+      case kInputReflection:
+        return vec(2.0f * glm::dot(hit.normal, hit.incoming) * hit.normal - hit.incoming);
+      case kInputBackfacing:
+        return glm::vec4(hit.backfacing ? 1.0f : 0.0f);
+      case kInputObjectLocation:
+        return vec(instance.info.location);
+      case kInputObjectRandom:
+        return glm::vec4(instance.info.random);
+      case kInputObjectIndex:
+        return glm::vec4(instance.info.pass_index);
+      case kInputObjectColor:
+        return instance.info.color;
+      case kInputObjectNormal:
+        return vec(object_normal(mesh));
+      default:
+        return light_path_input(mode, ray, context);
+    }
+  }
+
+  // The hit in the camera's frame (Blender ignores the camera's scale): looking down -Z.
+  Vec3 camera_space() const {
+    const glm::mat4& m = context.camera->to_world;
+    const Vec3 d = it.position - Vec3(m[3]);
+    return {glm::dot(d, glm::normalize(Vec3(m[0]))), glm::dot(d, glm::normalize(Vec3(m[1]))),
+            glm::dot(d, glm::normalize(Vec3(m[2])))};
+  }
+  // Where the hit lands in the camera's image, [0,1]^2 from its bottom-left corner.
+  Vec3 window() const {
+    const Camera& camera = *context.camera;
+    Vec3 p = camera_space();
+    if (camera.projection == Projection::kPerspective) {
+      const float depth = -p.z;
+      p = depth != 0.0f ? p / depth : Vec3(0.0f);
+    }
+    return {(p.x - camera.window[0]) / (camera.window[1] - camera.window[0]),
+            (p.y - camera.window[2]) / (camera.window[3] - camera.window[2]), 0.0f};
+  }
+  // The object-space normal a tangent-space normal map bends: the interpolated corner
+  // normals, not normalised, or the face's normal on a flat mesh.
+  Vec3 object_normal(const Mesh& mesh) const {
+    Vec3 n0, n1, n2;
+    const float u = it.barycentric.x, v = it.barycentric.y;
+    if (mesh.corner_normals(it.primitive, &n0, &n1, &n2))
+      return (1.0f - u - v) * n0 + u * n1 + v * n2;
+    const uint32_t* tri = &mesh.triangles[3 * size_t{it.primitive}];
+    const Vec3 p0 = mesh.vertex(tri[0]);
+    const Vec3 n = glm::cross(mesh.vertex(tri[1]) - p0, mesh.vertex(tri[2]) - p0);
+    const float length = glm::length(n);
+    return length > 0.0f ? n / length : n;
+  }
+};
+
+// The register file of one evaluation lives here, on the stack, and is gone before the
+// integrator recurses.
+using Registers = std::array<glm::vec4, Program::kMaxRegisters + 1>;
+using Inputs = std::array<glm::vec4, Program::kMaxInputs>;
+
+}  // namespace
+
+SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
+                                     const RayContext& context) const {
   const Material& m = *it.material;
-  SurfaceParams out{m.diffuse, m.alpha};
+  SurfaceParams out{m.diffuse, m.specular, m.shininess, m.reflectivity,   m.transmissivity,
+                    m.ior,     m.emission, m.alpha,     it.shading_normal};
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
     const TexturePoint tp = texture_point(it);
     if (m.diffuse_texture_index >= 0) {
@@ -346,8 +531,69 @@ SurfaceParams CompiledScene::surface(const Interaction& it) const {
       out.alpha *= textures[m.alpha_texture_index]->evaluate(tp).w;
     }
   }
-  out.alpha = std::clamp(out.alpha, 0.0f, 1.0f);
+  if (m.program) {
+    const CompiledScene::Instance& instance = instances[it.instance];
+    ProgramHit hit;
+    hit.incoming = -ray.direction;
+    hit.backfacing = glm::dot(ray.direction, it.geometric_normal) > 0.0f;
+    hit.normal = hit.backfacing ? -it.shading_normal : it.shading_normal;
+    hit.to_world = glm::mat3(instance.to_world);
+    hit.normal_to_world = instance.normal_to_world;
+    hit.images = m.program_images.data();
+    const SurfaceHit source{*this, it, ray, context, hit};
+    Inputs inputs;
+    for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+      inputs[i] = source.input(m.program->inputs()[i]);
+    }
+    hit.inputs = inputs.data();
+    Registers r;
+    m.program->run(hit, r.data());
+    const auto field = [&](Field f) { return r[static_cast<size_t>(m.outputs[f])]; };
+    if (m.driven(kDiffuseField)) out.diffuse = Color(field(kDiffuseField));
+    if (m.driven(kSpecularField)) out.specular = Color(field(kSpecularField));
+    if (m.driven(kShininessField)) out.shininess = std::fmax(field(kShininessField).x, 0.0f);
+    if (m.driven(kReflectivityField)) out.reflectivity = Color(field(kReflectivityField));
+    if (m.driven(kTransmissivityField)) out.transmissivity = Color(field(kTransmissivityField));
+    if (m.driven(kIorField)) {
+      // An index that is not positive and finite keeps the material's own.
+      const float ior = field(kIorField).x;
+      if (ior > 0.0f && std::isfinite(ior)) out.ior = ior;
+    }
+    if (m.driven(kEmissionField)) out.emission = Color(field(kEmissionField));
+    if (m.driven(kAlphaField)) out.alpha = field(kAlphaField).x;
+    if (m.driven(kNormalField)) {
+      // On the geometric normal's side, as the interpolated normal is: the integrator
+      // turns it towards the ray.
+      const Vec3 n(field(kNormalField));
+      const float length = glm::length(n);
+      if (length > 0.0f && std::isfinite(length)) {
+        out.normal = glm::dot(n, it.geometric_normal) < 0.0f ? -n / length : n / length;
+      }
+    }
+  }
+  out.alpha = std::isnan(out.alpha) ? 1.0f : std::clamp(out.alpha, 0.0f, 1.0f);
   return out;
+}
+
+Color CompiledScene::world_radiance(const Ray& ray, const RayContext& context) const {
+  if (!world) return background;
+  ProgramHit hit;
+  hit.incoming = -ray.direction;
+  hit.normal = -ray.direction;
+  hit.images = world_images.data();
+  Inputs inputs;
+  for (size_t i = 0; i < world->inputs().size(); ++i) {
+    const uint32_t mode = world->inputs()[i];
+    const bool direction = mode == kInputPosition || mode == kInputNormal ||
+                           mode == kInputGenerated || mode == kInputObject;
+    inputs[i] = direction                ? glm::vec4(ray.direction, 0.0f)
+                : mode == kInputIncoming ? glm::vec4(hit.incoming, 0.0f)
+                                         : light_path_input(mode, ray, context);
+  }
+  hit.inputs = inputs.data();
+  Registers r;
+  world->run(hit, r.data());
+  return Color(r[world_output]);
 }
 
 }  // namespace whitted

@@ -28,12 +28,21 @@ struct MeshEntry {
   MeshAccel accel;
 };
 
+// What Blender's Object Info node reports of an instance.
+struct InstanceInfo {
+  Vec3 location{0.0f};
+  float random = 0.0f;
+  float pass_index = 0.0f;
+  glm::vec4 color{1.0f};
+};
+
 struct Instance {
   std::string mesh;
   glm::mat4 to_world{1.0f};
   std::vector<std::string> materials;  // by slot; "" is the default material
   uint32_t visibility = kAllRayKinds;  // RayKind bits of the rays that see it
   bool holdout = false;                // camera rays that meet it give colour 0, alpha 0
+  InstanceInfo info;
 };
 
 // Where a ray met a surface, in world space.
@@ -56,10 +65,25 @@ struct Interaction {
   glm::vec2 barycentric;  // weights of the triangle's vertices 1 and 2
 };
 
-// A material's parameters at one point, textures applied.
+// Every Whitted field of a material at one hit, textures and program applied: what the
+// integrator shades with.
 struct SurfaceParams {
   Color diffuse;
-  float alpha;
+  Color specular;
+  float shininess;
+  Color reflectivity;
+  Color transmissivity;
+  float ior;
+  Color emission;
+  float alpha;  // clamped to [0, 1]
+  Vec3 normal;  // unit shading normal, on the geometric normal's side (Interaction)
+};
+
+// What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
+// the render's camera (camera and window coordinates) and the ray's depth in its tree.
+struct RayContext {
+  const Camera* camera;
+  int depth;
 };
 
 // What a render reads: resolved, immutable, safe to share between threads. The camera is
@@ -72,13 +96,19 @@ struct CompiledScene {
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
     uint32_t visibility;  // RayKind bits
+    InstanceInfo info;
   };
   std::vector<Instance> instances;
   std::vector<Material> materials;  // index 0 is the default material
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
-  Color background{0.0f};
+  Color background{0.0f};  // where there is no world program
   Color ambient{0.0f};
+  // The world: a program whose register `world_output` is the radiance of a ray that
+  // misses, by direction (null: `background`); its images resolved like a material's.
+  std::shared_ptr<const Program> world;
+  uint32_t world_output = 0;
+  std::vector<const ImageTexture*> world_images;
   // Shared by successive snapshots while no mesh or instance changes.
   std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
@@ -87,7 +117,11 @@ struct CompiledScene {
   Interaction interaction(const Ray& ray, const Hit& hit) const;
   // Texture coordinates at a hit; computed only for textured materials.
   TexturePoint texture_point(const Interaction& it) const;
-  SurfaceParams surface(const Interaction& it) const;
+  // The material's fields at a hit of `ray`: its constants, unless textures or a program
+  // drive them (then evaluated here, once).
+  SurfaceParams surface(const Interaction& it, const Ray& ray, const RayContext& context) const;
+  // Radiance arriving along a ray that hits nothing.
+  Color world_radiance(const Ray& ray, const RayContext& context) const;
 };
 
 // Every method may be called from any thread (Python calls some without the GIL): the
@@ -101,7 +135,7 @@ class Scene {
   Scene& operator=(const Scene&) = delete;
 
   // A mesh or instance change invalidates the top-level BVH; a material, texture, light,
-  // background or ambient change only the snapshot, which the next compile() resolves
+  // background, world or ambient change only the snapshot, which the next compile() resolves
   // again around the existing top-level BVH.
   void set_mesh(const std::string& name, Mesh mesh);
   void set_instance(const std::string& name, Instance instance);
@@ -114,6 +148,9 @@ class Scene {
   void remove_light(const std::string& name);
   void remove_texture(const std::string& name);
   void set_background(const Color& background);
+  // The world program and the register holding its radiance (null: the background);
+  // throws std::invalid_argument for a register out of range.
+  void set_world(std::shared_ptr<const Program> program, uint32_t output);
   void set_ambient(const Color& ambient);
   Color background() const;
   Color ambient() const;
@@ -151,6 +188,8 @@ class Scene {
     std::map<std::string, std::shared_ptr<const Texture>> textures;
     Color background{0.05f};
     Color ambient{0.0f};
+    std::shared_ptr<const Program> world;
+    uint32_t world_output = 0;
     double mesh_build_seconds = 0.0;
     // The compile cache: the last snapshot (null once anything changed), and the
     // top-level BVH with the instance masks it was built with (null once geometry changed).

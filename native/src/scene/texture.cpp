@@ -28,12 +28,13 @@ glm::vec4 texel(const ImageTexture& image, int x, int y) {
   return {p[0], p[1], p[2], p[3]};
 }
 
-glm::vec4 lookup(const ImageTexture& image, glm::vec2 uv) {
+}  // namespace
+
+glm::vec4 sample_image(const ImageTexture& image, glm::vec2 uv) {
   if (image.extension == Extension::kClip &&
       (uv.x < 0.0f || uv.x > 1.0f || uv.y < 0.0f || uv.y > 1.0f)) {
     return glm::vec4(0.0f);
   }
-  // Texel centres sit at (i + 0.5) / size, as in Blender.
   const float x = uv.x * static_cast<float>(image.width);
   const float y = uv.y * static_cast<float>(image.height);
   if (!std::isfinite(x) || !std::isfinite(y) || std::fabs(x) > 1e8f || std::fabs(y) > 1e8f) {
@@ -52,7 +53,6 @@ glm::vec4 lookup(const ImageTexture& image, glm::vec2 uv) {
          ty * ((1.0f - tx) * texel(image, x0, y0 + 1) + tx * texel(image, x0 + 1, y0 + 1));
 }
 
-// Blender's checker (Cycles svm_checker): which of the two colours covers point p.
 bool checker_first(Vec3 p) {
   p = (p + 0.000001f) * 0.999999f;  // avoids flicker on whole-number coordinates
   const auto parity = [](float v) {
@@ -61,14 +61,12 @@ bool checker_first(Vec3 p) {
   return (parity(p.x) == parity(p.y)) == (parity(p.z) == 1);
 }
 
-}  // namespace
-
 glm::vec4 Texture::evaluate(const TexturePoint& point) const {
   const Vec3 coord = coordinates == TexCoord::kUV          ? Vec3(point.uv, 0.0f)
                      : coordinates == TexCoord::kGenerated ? point.generated
                                                            : point.object;
   if (const auto* image = std::get_if<ImageTexture>(&source)) {
-    return lookup(*image, glm::vec2(coord));
+    return sample_image(*image, glm::vec2(coord));
   }
   const auto& checker = std::get<CheckerTexture>(source);
   return glm::vec4(checker_first(coord * checker.scale) ? checker.color1 : checker.color2, 1.0f);

@@ -43,6 +43,14 @@ struct Texture {
   glm::vec4 evaluate(const TexturePoint& point) const;
 };
 
+// The image at texture coordinates uv, by its extension and interpolation (texel centres
+// at (i + 0.5) / size, as in Blender).
+glm::vec4 sample_image(const ImageTexture& image, glm::vec2 uv);
+
+// Blender's checker (Cycles svm_checker): whether point p lies in a cell of the first
+// colour.
+bool checker_first(Vec3 p);
+
 // Builds an image texture from RGBA pixels; throws std::invalid_argument on bad sizes.
 ImageTexture make_image_texture(const float* rgba, int width, int height, Extension extension,
                                 Interpolation interpolation);

@@ -1,0 +1,201 @@
+// The vocabulary of a shader program (docs/notes/shader_program.md): its op codes, its
+// input modes, and Blender's operation enums of the Math, Vector Math and Mix nodes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+namespace whitted {
+
+// An instruction's op (column 0 of a program's code).
+enum class Op : uint32_t {
+  kInput = 1,
+  kMath = 2,
+  kVectorMath = 3,
+  kMix = 4,
+  kMixValue = 5,
+  kSeparate = 6,
+  kSwizzle = 7,
+  kCombine = 8,
+  kHueSat = 9,
+  kGamma = 10,
+  kBrightContrast = 11,
+  kInvert = 12,
+  kClamp = 13,
+  kMapRange = 14,
+  kColorRamp = 15,
+  kCurve = 16,
+  kMapping = 17,
+  kImage = 18,
+  kEnvironment = 19,
+  kChecker = 20,
+  kGradient = 21,
+  kNoise = 22,  // 22..26: reserved for the procedural textures, not supported yet
+  kVoronoi = 23,
+  kWave = 24,
+  kMagic = 25,
+  kBrick = 26,
+  kFresnel = 27,
+  kLayerWeight = 28,
+  kNormalMap = 29,
+  kPack = 30,
+  kRgbToBw = 31,
+};
+
+// The modes of op INPUT: what a hit offers a program.
+enum Input : uint32_t {
+  kInputPosition = 0,
+  kInputNormal = 1,
+  kInputTrueNormal = 2,
+  kInputIncoming = 3,
+  kInputGenerated = 4,
+  kInputObject = 5,
+  kInputCamera = 6,
+  kInputWindow = 7,
+  kInputReflection = 8,
+  kInputBackfacing = 9,
+  kInputIsCameraRay = 16,
+  kInputIsShadowRay = 17,
+  kInputIsReflectionRay = 18,
+  kInputIsTransmissionRay = 19,
+  kInputRayDepth = 20,
+  kInputIsDiffuseRay = 21,
+  kInputIsSingularRay = 22,
+  kInputObjectLocation = 32,
+  kInputObjectRandom = 33,
+  kInputObjectIndex = 34,
+  kInputObjectColor = 35,
+  kInputUvSet = 64,       // + k, k < 64
+  kInputAttribute = 128,  // + k, k < 128
+  kInputPublicEnd = 256,
+  // Not selectable by INPUT: what NORMAL_MAP reads in tangent space, asked of the hit
+  // through the same table (Program::inputs).
+  kInputTangent = 1u << 16,       // + k: tangent set k, object space xyz, bitangent sign w
+  kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
+};
+
+// ShaderNodeMath.operation, in Blender 5.0's order (3.4 lacks FLOORED_MODULO).
+enum class MathOp : uint32_t {
+  kAdd,
+  kSubtract,
+  kMultiply,
+  kDivide,
+  kMultiplyAdd,
+  kPower,
+  kLogarithm,
+  kSqrt,
+  kInverseSqrt,
+  kAbsolute,
+  kExponent,
+  kMinimum,
+  kMaximum,
+  kLessThan,
+  kGreaterThan,
+  kSign,
+  kCompare,
+  kSmoothMin,
+  kSmoothMax,
+  kRound,
+  kFloor,
+  kCeil,
+  kTrunc,
+  kFract,
+  kModulo,
+  kFlooredModulo,
+  kWrap,
+  kSnap,
+  kPingpong,
+  kSine,
+  kCosine,
+  kTangent,
+  kArcsine,
+  kArccosine,
+  kArctangent,
+  kArctan2,
+  kSinh,
+  kCosh,
+  kTanh,
+  kRadians,
+  kDegrees,
+};
+inline constexpr std::array<std::string_view, 41> kMathOpNames = {
+    "ADD",        "SUBTRACT",       "MULTIPLY",     "DIVIDE",    "MULTIPLY_ADD", "POWER",
+    "LOGARITHM",  "SQRT",           "INVERSE_SQRT", "ABSOLUTE",  "EXPONENT",     "MINIMUM",
+    "MAXIMUM",    "LESS_THAN",      "GREATER_THAN", "SIGN",      "COMPARE",      "SMOOTH_MIN",
+    "SMOOTH_MAX", "ROUND",          "FLOOR",        "CEIL",      "TRUNC",        "FRACT",
+    "MODULO",     "FLOORED_MODULO", "WRAP",         "SNAP",      "PINGPONG",     "SINE",
+    "COSINE",     "TANGENT",        "ARCSINE",      "ARCCOSINE", "ARCTANGENT",   "ARCTAN2",
+    "SINH",       "COSH",           "TANH",         "RADIANS",   "DEGREES"};
+static_assert(kMathOpNames.size() == static_cast<size_t>(MathOp::kDegrees) + 1);
+
+// ShaderNodeVectorMath.operation, in Blender 5.0's order (3.4 lacks POWER and SIGN).
+enum class VectorMathOp : uint32_t {
+  kAdd,
+  kSubtract,
+  kMultiply,
+  kDivide,
+  kMultiplyAdd,
+  kCrossProduct,
+  kProject,
+  kReflect,
+  kRefract,
+  kFaceforward,
+  kDotProduct,
+  kDistance,
+  kLength,
+  kScale,
+  kNormalize,
+  kAbsolute,
+  kPower,
+  kSign,
+  kMinimum,
+  kMaximum,
+  kFloor,
+  kCeil,
+  kFraction,
+  kModulo,
+  kWrap,
+  kSnap,
+  kSine,
+  kCosine,
+  kTangent,
+};
+inline constexpr std::array<std::string_view, 29> kVectorMathOpNames = {
+    "ADD",     "SUBTRACT", "MULTIPLY",  "DIVIDE",      "MULTIPLY_ADD", "CROSS_PRODUCT",
+    "PROJECT", "REFLECT",  "REFRACT",   "FACEFORWARD", "DOT_PRODUCT",  "DISTANCE",
+    "LENGTH",  "SCALE",    "NORMALIZE", "ABSOLUTE",    "POWER",        "SIGN",
+    "MINIMUM", "MAXIMUM",  "FLOOR",     "CEIL",        "FRACTION",     "MODULO",
+    "WRAP",    "SNAP",     "SINE",      "COSINE",      "TANGENT"};
+static_assert(kVectorMathOpNames.size() == static_cast<size_t>(VectorMathOp::kTangent) + 1);
+
+// ShaderNodeMixRGB.blend_type (and ShaderNodeMix's), in Blender 5.0's order (3.4 lacks
+// EXCLUSION).
+enum class MixBlend : uint32_t {
+  kMix,
+  kDarken,
+  kMultiply,
+  kBurn,
+  kLighten,
+  kScreen,
+  kDodge,
+  kAdd,
+  kOverlay,
+  kSoftLight,
+  kLinearLight,
+  kDifference,
+  kExclusion,
+  kSubtract,
+  kDivide,
+  kHue,
+  kSaturation,
+  kColor,
+  kValue,
+};
+inline constexpr std::array<std::string_view, 19> kMixBlendNames = {
+    "MIX",    "DARKEN",  "MULTIPLY",   "BURN",         "LIGHTEN",    "SCREEN",    "DODGE",
+    "ADD",    "OVERLAY", "SOFT_LIGHT", "LINEAR_LIGHT", "DIFFERENCE", "EXCLUSION", "SUBTRACT",
+    "DIVIDE", "HUE",     "SATURATION", "COLOR",        "VALUE"};
+static_assert(kMixBlendNames.size() == static_cast<size_t>(MixBlend::kValue) + 1);
+
+}  // namespace whitted

@@ -1,0 +1,74 @@
+// A shader program: a node graph lowered by the add-on into a flat list of instructions
+// over a small file of float4 registers (the contract: docs/notes/shader_program.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/math.h"
+#include "scene/texture.h"
+#include "texture/ops.h"
+
+namespace whitted {
+
+// What a program reads at one hit besides its registers.
+struct ProgramHit {
+  // The value of each of Program::inputs(), in that order.
+  const glm::vec4* inputs = nullptr;
+  Vec3 incoming{0.0f, 0.0f, 1.0f};  // unit, from the hit towards the ray's origin
+  Vec3 normal{0.0f, 0.0f, 1.0f};    // unit shading normal on the incoming side (Blender's N)
+  bool backfacing = false;          // the ray meets the back of the geometric normal
+  glm::mat3 to_world{1.0f};         // linear part of the object's transform
+  glm::mat3 normal_to_world{1.0f};  // its inverse transpose
+  const ImageTexture* const* images = nullptr;  // one per texture slot (null: not an image)
+};
+
+class Program {
+ public:
+  static constexpr uint32_t kUnused = 0xFFFFFFFFu;
+  // A register file this big lives on the stack of one evaluation.
+  static constexpr size_t kMaxRegisters = 1024;
+  static constexpr size_t kMaxInputs = 64;  // distinct INPUT modes (and tangent frames)
+  static constexpr size_t kColumns = 8;     // op, mode, out, a, b, c, d, e
+
+  // Checks everything an evaluation relies on and throws std::invalid_argument naming the
+  // first instruction that is wrong: `code` is `rows` x 8, `registers` `register_count` x 4.
+  Program(const uint32_t* code, size_t rows, const float* registers, size_t register_count,
+          std::vector<float> constants, std::vector<std::string> textures);
+
+  size_t register_count() const { return initial_.size(); }
+  size_t instruction_count() const { return steps_.size(); }
+  const std::vector<std::string>& textures() const { return textures_; }
+  // The input modes the program reads (Input), each once: ProgramHit::inputs follows them.
+  const std::vector<uint32_t>& inputs() const { return inputs_; }
+  // Whether a texture slot is sampled as an image (IMAGE, ENVIRONMENT).
+  bool samples_image(size_t slot) const { return image_slots_[slot]; }
+
+  // Runs the instructions; `registers` has room for kMaxRegisters + 1 values and holds
+  // the register file afterwards.
+  void run(const ProgramHit& hit, glm::vec4* registers) const;
+
+ private:
+  // An instruction as the interpreter reads it: unused register operands point at the
+  // always-zero register past the file; INPUT's `e`, and tangent NORMAL_MAP's `e` (the
+  // tangent) and `d` (the object normal), are slots of inputs_.
+  struct Step {
+    Op op;
+    uint32_t mode, out, a, b, c, d, e;
+    bool b_given;  // FRESNEL, LAYER_WEIGHT: a normal was given (else the shading normal)
+  };
+  uint32_t input_slot(uint32_t mode);
+
+  std::vector<Step> steps_;
+  std::vector<glm::vec4> initial_;
+  std::vector<float> constants_;
+  std::vector<std::string> textures_;
+  std::vector<bool> image_slots_;
+  std::vector<uint32_t> inputs_;
+};
+
+}  // namespace whitted

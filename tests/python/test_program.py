@@ -1,0 +1,266 @@
+"""Shader programs through the bindings: validation, fields, hit inputs and the world."""
+
+import numpy as np
+import pytest
+import whitted_native as wn
+from test_scene import finish, looking_down, point_light, quad
+
+U = 0xFFFFFFFF
+INPUT, MATH, VECTOR_MATH, IMAGE, ENVIRONMENT, NOISE = 1, 2, 3, 18, 19, 22
+UV = 64
+ATTRIBUTE = 128
+GLOW = dict(diffuse=(0, 0, 0), ambient=0.0)
+
+
+def program(rows, registers, constants=(), textures=()):
+    code = np.array([list(r) + [U] * (8 - len(r)) for r in rows], np.uint32).reshape(-1, 8)
+    return wn.Program(
+        code,
+        np.asarray(registers, np.float32).reshape(-1, 4),
+        np.asarray(constants, np.float32),
+        list(textures),
+    )
+
+
+def plane_scene(material, **mesh):
+    scene = wn.Scene()
+    positions, triangles = quad(-1, 1, -1, 1, 0)
+    if "uvs" not in mesh:  # the textures' UVs; beside uv_sets, not UV set 0
+        corner_uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 0], [1, 1], [0, 1]], np.float32)
+        mesh["uvs"] = corner_uvs.reshape(2, 3, 2)
+    scene.set_mesh("plane", positions, triangles, **mesh)
+    scene.set_material("m", material)
+    scene.set_instance("plane", "plane", np.eye(4), ["m"])
+    scene.camera = looking_down(5.0, 0.2)  # the window spans the plane, +-1
+    return scene
+
+
+def test_uvs_alone_are_uv_set_0():
+    material = wn.Material(
+        **GLOW, program=program([(INPUT, UV, 0)], [0] * 4), outputs={"emission": 0}
+    )
+    scene = plane_scene(material, uvs=np.full((2, 3, 2), 0.5, np.float32))
+    image = finish(wn.RenderJob(scene, wn.Settings(width=2, height=2)))
+    np.testing.assert_array_equal(image[..., :3], [[[0.5, 0.5, 0]] * 2] * 2)
+
+
+def test_operation_lists_agree_with_the_python_compiler():
+    # addon/export/nodes/ops.py is plain Python: load it without the add-on (and bpy).
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "addon" / "export" / "nodes" / "ops.py"
+    spec = importlib.util.spec_from_file_location("whitted_ops", path)
+    ops = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ops)
+    assert list(ops.MATH_OPS) == wn.MATH_OPS
+    assert list(ops.VECTOR_MATH_OPS) == wn.VECTOR_MATH_OPS
+    assert list(ops.MIX_BLEND) == wn.MIX_BLEND
+
+
+def test_operation_lists_follow_blenders_enums():
+    # Blender 5.0's identifiers; 3.4 has the same ones in the same order, minus the new.
+    assert wn.MATH_OPS[:5] == ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD"]
+    assert wn.MATH_OPS.index("FLOORED_MODULO") == wn.MATH_OPS.index("MODULO") + 1
+    assert wn.MATH_OPS[-1] == "DEGREES" and len(wn.MATH_OPS) == 41
+    assert wn.VECTOR_MATH_OPS.index("POWER") == 16 and wn.VECTOR_MATH_OPS[-1] == "TANGENT"
+    assert wn.MIX_BLEND.index("EXCLUSION") == 12 and len(wn.MIX_BLEND) == 19
+    blender_34_math = [op for op in wn.MATH_OPS if op != "FLOORED_MODULO"]
+    assert blender_34_math[24:26] == ["MODULO", "WRAP"]
+
+
+def test_program_validation_errors_are_value_errors():
+    with pytest.raises(ValueError, match=r"shape \(K, 8\)"):
+        wn.Program(
+            np.zeros((1, 7), np.uint32), np.zeros((1, 4), np.float32), np.zeros(0, np.float32), []
+        )
+    with pytest.raises(ValueError, match=r"shape \(R, 4\)"):
+        wn.Program(
+            np.zeros((0, 8), np.uint32), np.zeros((1, 3), np.float32), np.zeros(0, np.float32), []
+        )
+    with pytest.raises(ValueError, match="unknown op 0"):
+        program([(0, 0, 0)], [0, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"instruction 1 \(NOISE\): not supported yet"):
+        program([(MATH, 0, 0), (NOISE, 0, 0)], [0, 0, 0, 0])
+    with pytest.raises(ValueError, match="operand b register 3 out of range"):
+        program([(MATH, 0, 0, 0, 3)], [0, 0, 0, 0])
+    with pytest.raises(ValueError, match="mode 41"):
+        program([(MATH, 41, 0)], [0, 0, 0, 0])
+    with pytest.raises(ValueError, match="texture slot 0 out of range"):
+        program([(IMAGE, 0, 0, U, U, U, U, 0)], [0, 0, 0, 0])
+    p = program([(MATH, 0, 0)], [0, 0, 0, 0])
+    assert (p.register_count, p.instruction_count) == (1, 1)
+    with pytest.raises(ValueError, match="not a material field"):
+        wn.Material(program=p, outputs={"colour": 0})
+    with pytest.raises(ValueError, match="register 1 out of range"):
+        wn.Material(program=p, outputs={"diffuse": 1})
+    with pytest.raises(ValueError, match="need a program"):
+        wn.Material(outputs={"diffuse": 0})
+    with pytest.raises(ValueError, match="world output register 2"):
+        wn.Scene().set_world(p, 2)
+    m = wn.Material(program=p, outputs={"alpha": 0})
+    assert m.outputs == {"alpha": 0} and m.program.register_count == 1
+
+
+def test_program_textures_are_resolved_at_compile():
+    uses = program([(INPUT, UV, 0), (IMAGE, 0, 0, 0, U, U, U, 0)], [0] * 4, textures=["img"])
+    scene = plane_scene(wn.Material(program=uses, outputs={"diffuse": 0}))
+    with pytest.raises(ValueError, match="missing texture 'img'"):
+        wn.RenderJob(scene, wn.Settings(width=2, height=2))
+    scene.set_texture("img", wn.CheckerTexture())
+    with pytest.raises(ValueError, match="as an image, but it is a checker"):
+        wn.RenderJob(scene, wn.Settings(width=2, height=2))
+
+
+def test_image_through_a_program_equals_the_diffuse_texture_bit_for_bit():
+    rng = np.random.default_rng(1)
+    pixels = rng.random((5, 7, 4), dtype=np.float32)
+    diffuse = (0.7, 0.5, 0.3)
+
+    def render(material):
+        scene = plane_scene(material)
+        scene.set_texture("img", wn.ImageTexture(pixels))
+        scene.set_light("key", point_light(30))
+        scene.ambient = (0.1, 0.1, 0.1)
+        return finish(wn.RenderJob(scene, wn.Settings(width=24, height=24, aa_samples=2)))
+
+    old = render(wn.Material(diffuse=diffuse, diffuse_texture="img"))
+    # r0 = UV set 0, r1 = the image there, r2 = the constant diffuse, r1 = r1 * r2.
+    textured = program(
+        [
+            (INPUT, UV, 0),
+            (IMAGE, 0, 1, 0, U, U, U, 0),
+            (VECTOR_MATH, wn.VECTOR_MATH_OPS.index("MULTIPLY"), 1, 1, 2),
+        ],
+        [[0] * 4, [0] * 4, [*diffuse, 0]],
+        textures=["img"],
+    )
+    new = render(wn.Material(diffuse=(0.1, 0.1, 0.1), program=textured, outputs={"diffuse": 1}))
+    assert np.array_equal(old, new)
+    assert len(np.unique(old[..., 0])) > 10  # the texture shows
+
+
+def constant_program(value):
+    return program([], [list(value) + [0] * (4 - len(value))])
+
+
+@pytest.mark.parametrize(
+    "field, value, constant",
+    [
+        ("diffuse", (0.2, 0.6, 0.4), dict(diffuse=(0.2, 0.6, 0.4))),
+        ("specular", (0.5, 0.5, 0.1), dict(specular=(0.5, 0.5, 0.1))),
+        ("shininess", (7.0,), dict(specular=(0.5, 0.5, 0.5), shininess=7.0)),
+        ("reflectivity", (0.5, 0.25, 0.1), dict(reflectivity=(0.5, 0.25, 0.1))),
+        ("transmissivity", (0.6, 0.6, 0.6), dict(transmissivity=(0.6, 0.6, 0.6))),
+        ("ior", (1.33,), dict(transmissivity=(0.6, 0.6, 0.6), ior=1.33)),
+        ("emission", (0.3, 0.2, 0.1), dict(emission=(0.3, 0.2, 0.1))),
+        ("alpha", (0.4,), dict(alpha=0.4)),
+        ("normal", (0.0, 0.0, -3.0), {}),  # any length, either side: the geometric normal
+    ],
+)
+def test_every_field_can_come_from_a_program(field, value, constant):
+    # Base constants the program's value replaces; the rest shared by both materials.
+    shared = dict(specular=(0.5, 0.5, 0.5)) if field == "shininess" else {}
+    if field == "ior":
+        shared = dict(transmissivity=(0.6, 0.6, 0.6))
+    base = {"diffuse": (0.9, 0.1, 0.1), "alpha": 1.0, **shared}
+    expected_material = wn.Material(**{**base, **constant})
+    driven = wn.Material(**base, program=constant_program(value), outputs={field: 0})
+
+    def render(material):
+        scene = plane_scene(material)
+        scene.set_mesh("wall", *quad(-3, 3, -3, 3, -1))
+        scene.set_material("wall", wn.Material(diffuse=(0.2, 0.3, 0.9)))
+        scene.set_instance("wall", "wall", np.eye(4), ["wall"])
+        scene.set_light("key", wn.Light(color=(40, 40, 40), position=(0.3, 0.2, 2)))
+        scene.background = (0.1, 0.4, 0.1)
+        scene.camera = looking_down(3.0, 0.5)
+        job = wn.RenderJob(scene, wn.Settings(width=12, height=12))
+        return finish(job), job.stats()
+
+    expected, expected_stats = render(expected_material)
+    got, stats = render(driven)
+    assert np.array_equal(expected, got)
+    if field == "reflectivity":
+        assert stats["rays"]["reflection"] > 0
+    if field in ("transmissivity", "ior"):
+        assert stats["rays"]["refraction"] == expected_stats["rays"]["refraction"] > 0
+
+
+def test_program_driven_reflectivity_turns_reflection_on():
+    # Reflectivity = the U coordinate: reflective on the right half only.
+    p = program(
+        [(INPUT, UV, 0), (VECTOR_MATH, wn.VECTOR_MATH_OPS.index("MULTIPLY"), 1, 0, 2)],
+        [[0] * 4, [0] * 4, [1, 1, 1, 0]],
+    )
+    scene = plane_scene(wn.Material(program=p, outputs={"reflectivity": 1}))
+    scene.set_light("key", point_light(10))
+    job = wn.RenderJob(scene, wn.Settings(width=8, height=8))
+    finish(job)
+    assert any(line.startswith("reflection: on") for line in job.stats()["effects"])
+    # Rays leave where u > 0 (every column but the u = 0 edge): the same count as pixels with
+    # a non-zero weight would send, at most one per pixel.
+    assert 0 < job.stats()["rays"]["reflection"] <= 64
+
+
+def test_world_program_gives_the_background_by_direction():
+    # |direction|: a camera looking straight down sees (0, 0, 1) in the middle.
+    absolute = wn.VECTOR_MATH_OPS.index("ABSOLUTE")
+    scene = wn.Scene()
+    scene.background = (0.5, 0.5, 0.5)
+    scene.camera = looking_down(5.0, 1.0)
+    scene.set_world(program([(INPUT, 0, 0), (VECTOR_MATH, absolute, 0, 0)], [0] * 4), 0)
+    image = finish(wn.RenderJob(scene, wn.Settings(width=3, height=3)))
+    np.testing.assert_allclose(image[1, 1, :3], [0, 0, 1], atol=1e-6)
+    corner = np.abs(np.array([-2 / 3, -2 / 3, -1.0]))
+    np.testing.assert_allclose(image[0, 0, :3], corner / np.linalg.norm(corner), rtol=1e-5)
+    # An environment image: straight down is its bottom row (v = 0), red; up its top, green.
+    pixels = np.array([[[1, 0, 0, 1]] * 2, [[0, 1, 0, 1]] * 2], np.float32)
+    scene.set_texture("sky", wn.ImageTexture(pixels, interpolation=wn.Interpolation.CLOSEST))
+    scene.set_world(
+        program([(INPUT, 0, 0), (ENVIRONMENT, 0, 0, 0, U, U, U, 0)], [0] * 4, textures=["sky"]), 0
+    )
+    image = finish(wn.RenderJob(scene, wn.Settings(width=3, height=3)))
+    np.testing.assert_array_equal(image[1, 1, :3], [1, 0, 0])
+    scene.set_world(None, 0)  # back to the constant
+    image = finish(wn.RenderJob(scene, wn.Settings(width=3, height=3)))
+    np.testing.assert_array_equal(image[..., :3], 0.5)
+
+
+def test_uv_sets_attributes_and_instance_info_reach_input():
+    m = 2
+    uv0 = np.zeros((m, 3, 2), np.float32)
+    uv1 = np.full((m, 3, 2), 0.25, np.float32)
+    colour = np.tile(np.array([0.1, 0.2, 0.3, 0.4], np.float32), (m, 3, 1))
+    weight = np.zeros((m, 3, 4), np.float32)
+    weight[..., 0] = 0.7
+    tangents = np.zeros((m, 3, 4), np.float32)
+
+    def emission_of(mode):
+        material = wn.Material(
+            **GLOW, program=program([(INPUT, mode, 0)], [0] * 4), outputs={"emission": 0}
+        )
+        scene = plane_scene(
+            material, uv_sets=[uv0, uv1], attributes=[colour, weight], tangents=[tangents]
+        )
+        scene.set_instance(
+            "plane", "plane", np.eye(4), ["m"], info=(1, 2, 3, 0.625, 7, 0.5, 0.25, 0.125, 1)
+        )
+        return finish(wn.RenderJob(scene, wn.Settings(width=2, height=2)))[0, 0, :3]
+
+    np.testing.assert_array_equal(emission_of(UV + 1), [0.25, 0.25, 0])
+    np.testing.assert_array_equal(emission_of(UV), [0, 0, 0])  # uv_sets[0], not `uvs`
+    np.testing.assert_array_equal(emission_of(UV + 2), [0, 0, 0])  # no such set: zero
+    np.testing.assert_allclose(emission_of(ATTRIBUTE), [0.1, 0.2, 0.3], rtol=1e-6)
+    np.testing.assert_allclose(emission_of(ATTRIBUTE + 1), [0.7, 0, 0], rtol=1e-6)
+    np.testing.assert_array_equal(emission_of(32), [1, 2, 3])  # location
+    np.testing.assert_array_equal(emission_of(33), [0.625] * 3)  # random
+    np.testing.assert_array_equal(emission_of(34), [7] * 3)  # pass index
+    np.testing.assert_array_equal(emission_of(35), [0.5, 0.25, 0.125])  # colour
+    np.testing.assert_array_equal(emission_of(16), [1, 1, 1])  # is camera ray
+    np.testing.assert_array_equal(emission_of(20), [0, 0, 0])  # ray depth
+    np.testing.assert_array_equal(emission_of(9), [0, 0, 0])  # front face
+    with pytest.raises(ValueError, match="one tangent set per UV set"):
+        wn.Mesh(*quad(-1, 1, -1, 1, 0), tangents=[tangents])
+    with pytest.raises(ValueError, match="each of attributes"):
+        wn.Mesh(*quad(-1, 1, -1, 1, 0), attributes=[np.zeros((m, 3, 3), np.float32)])
