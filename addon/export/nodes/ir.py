@@ -850,7 +850,77 @@ def _fold_rgb_to_bw(mode, values, e):
     return splat(0.2126 * r + 0.7152 * g + 0.0722 * b)
 
 
+def checker_value(point, scale):
+    """svm_checker of `point` times `scale`: 1 for colour 1, 0 for colour 2."""
+    cells = [abs(math.floor((c * scale + 0.000001) * 0.999999)) for c in point[:3]]
+    return 1.0 if (cells[0] % 2 == cells[1] % 2) == (cells[2] % 2 == 1) else 0.0
+
+
+def _fold_checker(mode, values, e):
+    vector, color1, color2, scale = values
+    first = checker_value(vector, scale[0]) == 1.0
+    return (*(color1 if first else color2)[:3], 1.0 if first else 0.0)
+
+
+def gradient_value(kind, point):
+    """svm_gradient, saturated as svm_node_tex_gradient does."""
+    x, y, z = point[:3]
+    if kind == "LINEAR":
+        f = x
+    elif kind == "QUADRATIC":
+        f = max(x, 0.0) ** 2
+    elif kind == "EASING":
+        r = min(max(x, 0.0), 1.0)
+        t = r * r
+        f = 3.0 * t - 2.0 * t * r
+    elif kind == "DIAGONAL":
+        f = (x + y) * 0.5
+    elif kind == "RADIAL":
+        f = math.atan2(y, x) / (2.0 * math.pi) + 0.5
+    else:
+        r = max(0.999999 - math.sqrt(x * x + y * y + z * z), 0.0)
+        f = r * r if kind == "QUADRATIC_SPHERE" else r
+    return min(max(f, 0.0), 1.0)
+
+
+def _fold_gradient(mode, values, e):
+    return splat(gradient_value(ops.GRADIENT_TYPES[mode], values[0]))
+
+
+def fresnel_dielectric_cos(cosi, eta):
+    """Cycles' fresnel_dielectric_cos."""
+    c = abs(cosi)
+    g = eta * eta - 1.0 + c * c
+    if g > 0.0:
+        g = math.sqrt(g)
+        a = (g - c) / (g + c)
+        b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+        return 0.5 * a * a * (1.0 + b * b)
+    return 1.0
+
+
+def fresnel_value(ior, cosi, backfacing):
+    """The Fresnel node (svm_node_fresnel)."""
+    eta = max(ior, 1e-5)
+    return fresnel_dielectric_cos(cosi, 1.0 / eta if backfacing else eta)
+
+
+def layer_weight_value(kind, blend, cosi, backfacing):
+    """The Layer Weight node (svm_node_layer_weight): kind 0 Fresnel, 1 Facing."""
+    if kind == 0:
+        eta = max(1.0 - blend, 1e-5)
+        return fresnel_dielectric_cos(cosi, eta if backfacing else 1.0 / eta)
+    f = abs(cosi)
+    if blend != 0.5:
+        blend = min(max(blend, 0.0), 1.0 - 1e-5)
+        blend = 2.0 * blend if blend < 0.5 else 0.5 / (1.0 - blend)
+        f = f**blend
+    return 1.0 - f
+
+
 _FOLD = {
+    ops.CHECKER: _fold_checker,
+    ops.GRADIENT: _fold_gradient,
     ops.MATH: _fold_math,
     ops.VECTOR_MATH: _fold_vector_math,
     ops.MIX: _fold_mix,

@@ -127,6 +127,10 @@ ARITY = {
     ops.MAPPING: 4,
     ops.PACK: 4,
     ops.RGB_TO_BW: 1,
+    ops.CHECKER: 4,
+    ops.GRADIENT: 1,
+    ops.FRESNEL: 2,
+    ops.LAYER_WEIGHT: 2,
 }
 
 
@@ -134,7 +138,7 @@ def run(program, inputs, textures=None):
     """Execute `program` in Python on one hit: `inputs` maps an INPUT mode to its four
     floats; `textures` a texture name to a function(vector, mode) -> rgba. A
     reference for tests; ops without a Python definition raise."""
-    from .ir import _FOLD
+    from .ir import _FOLD, fresnel_value, layer_weight_value, splat
 
     registers = [tuple(float(x) for x in r) for r in program.registers]
     for row in program.code:
@@ -145,6 +149,14 @@ def run(program, inputs, textures=None):
             value = tuple(inputs[mode])
         elif op in (ops.IMAGE, ops.ENVIRONMENT):
             value = tuple(textures[program.textures[e]](operands[0], mode))
+        elif op in (ops.FRESNEL, ops.LAYER_WEIGHT):
+            incoming, normal = inputs[ops.IN_INCOMING], inputs[ops.IN_NORMAL]
+            cosi = sum(i * n for i, n in zip(incoming[:3], normal[:3], strict=True))
+            backfacing = inputs.get(ops.IN_BACKFACING, (0.0,))[0] != 0.0
+            if op == ops.FRESNEL:
+                value = splat(fresnel_value(operands[0][0], cosi, backfacing))
+            else:
+                value = splat(layer_weight_value(mode, operands[0][0], cosi, backfacing))
         elif op in (ops.COLOR_RAMP, ops.CURVE):
             payload = _payload(program.constants, op, e)
             value = _FOLD[op](mode, operands[: 1 if op == ops.COLOR_RAMP else 2], payload)

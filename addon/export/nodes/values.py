@@ -159,11 +159,13 @@ class Lowering:
         return spec.name
 
 
-def find_socket(sockets, names):
-    """The first socket whose identifier or name is one of `names`, in order."""
+def find_socket(sockets, names, enabled_only=True):
+    """The first socket whose identifier or name is one of `names`, in order (only
+    enabled ones unless `enabled_only` is False: Blender hides the operands an
+    operation does not use)."""
     for name in names:
         for socket in sockets:
-            if getattr(socket, "enabled", True) and (
+            if (not enabled_only or getattr(socket, "enabled", True)) and (
                 socket_id(socket) == name or socket.name == name
             ):
                 return socket
@@ -399,7 +401,9 @@ def _vector_math(c, out):
     a = c.value(sockets[0], out.scope, VECTOR)
     b = c.value(sockets[1], out.scope, VECTOR)
     third = c.value(sockets[2], out.scope, VECTOR)
-    scale = c.value(find_socket(node.inputs, ("Scale",)), out.scope, FLOAT)
+    scale_socket = find_socket(node.inputs, ("Scale",), enabled_only=False)
+    # Blender 5.0 leaves unused operands out of `inputs`.
+    scale = c.b.f(1.0) if scale_socket is None else c.value(scale_socket, out.scope, FLOAT)
     if name == "SCALE":
         args = (a, scale, None)
     elif name == "REFRACT":

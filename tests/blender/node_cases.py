@@ -1,0 +1,516 @@
+"""One case per node and mode: an emission-only plane whose colour is that node's
+output, driven by the UV coordinates, so that a render of it (one sample at each
+pixel centre, nothing lit) is the node's value over a range of inputs.
+
+Shared by tests/blender/test_nodes_vs_cycles.py and scripts. The plane is 2 x 2 at
+the origin, seen from above by an orthographic camera that fits it: pixel (row,
+column) of a SIZE x SIZE render shows UV ((column + 0.5) / SIZE, (row + 0.5) / SIZE).
+"""
+
+import math
+import os
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+SIZE = 16
+
+
+@dataclass(frozen=True)
+class NodeCase:
+    name: str
+    build: object  # function(tree, uv output socket) -> colour output socket
+    family: str  # the docs' name for the node
+    image: bool = False  # reads an image (bound 1e-3)
+
+
+def _node(tree, kind, **settings):
+    node = tree.nodes.new(kind)
+    for key, value in settings.items():
+        setattr(node, key, value)
+    return node
+
+
+def _x(tree, uv):
+    separate = _node(tree, "ShaderNodeSeparateXYZ")
+    tree.links.new(uv, separate.inputs[0])
+    return separate.outputs["X"], separate.outputs["Y"]
+
+
+def _combine(tree, r, g=None, b=None):
+    combine = _node(tree, "ShaderNodeCombineXYZ")
+    for socket, value in zip(combine.inputs, (r, g, b), strict=True):
+        if value is None:
+            continue
+        if isinstance(value, float):
+            socket.default_value = value
+        else:
+            tree.links.new(value, socket)
+    return combine.outputs[0]
+
+
+def _spread(tree, value, scale, offset):
+    node = _node(tree, "ShaderNodeMath", operation="MULTIPLY_ADD")
+    node.inputs[1].default_value = scale
+    node.inputs[2].default_value = offset
+    tree.links.new(value, node.inputs[0])
+    return node.outputs[0]
+
+
+def math_case(operation, c=0.25, scale=3.871, offset=-1.9317):
+    """Math on a in [offset, offset + scale) (from U) and b in (0.05, 0.96) (from V):
+    off the pixel grid, so no pixel centre sits on a discontinuity."""
+
+    def build(tree, uv):
+        x, y = _x(tree, uv)
+        node = _node(tree, "ShaderNodeMath", operation=operation)
+        tree.links.new(_spread(tree, x, scale, offset), node.inputs[0])
+        tree.links.new(_spread(tree, y, 0.913, 0.0437), node.inputs[1])
+        node.inputs[2].default_value = c
+        return _combine(tree, node.outputs[0], 0.0, 0.0)
+
+    return NodeCase(f"math_{operation.lower()}", build, "Math")
+
+
+def vector_math_case(operation):
+    def build(tree, uv):
+        mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+        mapping.inputs["Location"].default_value = (-0.5, -0.3, 0.2)
+        mapping.inputs["Scale"].default_value = (2.0, 3.0, 1.0)
+        tree.links.new(uv, mapping.inputs["Vector"])
+        node = _node(tree, "ShaderNodeVectorMath", operation=operation)
+        tree.links.new(mapping.outputs[0], node.inputs[0])
+        node.inputs[1].default_value = (0.3, -0.7, 0.5)
+        node.inputs[2].default_value = (0.2, 0.4, -0.1)
+        if "Scale" in node.inputs:  # Blender 5.0 lists only the operands used
+            node.inputs["Scale"].default_value = 1.3
+        value = node.outputs["Value"] if operation in VALUE_OPS else None
+        return _combine(tree, value) if value is not None else node.outputs["Vector"]
+
+    return NodeCase(f"vector_math_{operation.lower()}", build, "Vector Math")
+
+
+VALUE_OPS = {"DOT_PRODUCT", "DISTANCE", "LENGTH"}
+
+
+def mix_rgb_case(blend, clamp=False):
+    def build(tree, uv):
+        mix = _node(tree, "ShaderNodeMixRGB", blend_type=blend, use_clamp=clamp)
+        x, _ = _x(tree, uv)
+        tree.links.new(x, mix.inputs[0])
+        tree.links.new(uv, mix.inputs[1])
+        mix.inputs[2].default_value = (0.9, 0.2, 0.6, 1.0)
+        return mix.outputs[0]
+
+    return NodeCase(f"mix_{blend.lower()}{'_clamp' if clamp else ''}", build, "MixRGB")
+
+
+def ramp_case(interpolation):
+    def build(tree, uv):
+        x, _ = _x(tree, uv)
+        ramp = _node(tree, "ShaderNodeValToRGB")
+        ramp.color_ramp.interpolation = interpolation
+        ramp.color_ramp.elements[0].color = (1.0, 0.1, 0.0, 1.0)
+        ramp.color_ramp.elements.new(0.4).color = (0.0, 0.8, 0.2, 1.0)
+        ramp.color_ramp.elements[-1].position = 0.9
+        ramp.color_ramp.elements[-1].color = (0.2, 0.3, 1.0, 1.0)
+        tree.links.new(x, ramp.inputs[0])
+        return ramp.outputs["Color"]
+
+    return NodeCase(f"color_ramp_{interpolation.lower()}", build, "Color Ramp")
+
+
+def _rgb_curves(tree, uv):
+    curves = _node(tree, "ShaderNodeRGBCurve")
+    points = curves.mapping.curves[3].points
+    points.new(0.3, 0.6)
+    red = curves.mapping.curves[0].points
+    red.new(0.5, 0.2)
+    curves.mapping.update()
+    tree.links.new(uv, curves.inputs["Color"])
+    return curves.outputs[0]
+
+
+def _float_curve(tree, uv):
+    x, _ = _x(tree, uv)
+    curve = _node(tree, "ShaderNodeFloatCurve")
+    curve.mapping.curves[0].points.new(0.4, 0.8)
+    curve.mapping.update()
+    tree.links.new(x, curve.inputs["Value"])
+    return _combine(tree, curve.outputs[0])
+
+
+def _separate_hsv(tree, uv):
+    separate = _node(tree, "ShaderNodeSeparateColor", mode="HSV")
+    tree.links.new(uv, separate.inputs[0])
+    return _combine(tree, separate.outputs[0], separate.outputs[1], separate.outputs[2])
+
+
+def _combine_hsl(tree, uv):
+    x, y = _x(tree, uv)
+    combine = _node(tree, "ShaderNodeCombineColor", mode="HSL")
+    tree.links.new(x, combine.inputs[0])
+    tree.links.new(y, combine.inputs[1])
+    combine.inputs[2].default_value = 0.4
+    return combine.outputs[0]
+
+
+def _combine_hsv(tree, uv):
+    x, y = _x(tree, uv)
+    combine = _node(tree, "ShaderNodeCombineColor", mode="HSV")
+    tree.links.new(x, combine.inputs[0])
+    tree.links.new(y, combine.inputs[1])
+    combine.inputs[2].default_value = 0.8
+    return combine.outputs[0]
+
+
+def _hue_saturation(tree, uv):
+    node = _node(tree, "ShaderNodeHueSaturation")
+    node.inputs["Hue"].default_value = 0.3
+    node.inputs["Saturation"].default_value = 1.5
+    node.inputs["Value"].default_value = 0.8
+    tree.links.new(uv, node.inputs["Color"])
+    return node.outputs[0]
+
+
+def _gamma(tree, uv):
+    node = _node(tree, "ShaderNodeGamma")
+    node.inputs[1].default_value = 2.2
+    tree.links.new(uv, node.inputs[0])
+    return node.outputs[0]
+
+
+def _bright_contrast(tree, uv):
+    node = _node(tree, "ShaderNodeBrightContrast")
+    node.inputs[1].default_value = 0.1
+    node.inputs[2].default_value = 0.5
+    tree.links.new(uv, node.inputs[0])
+    return node.outputs[0]
+
+
+def _invert(tree, uv):
+    node = _node(tree, "ShaderNodeInvert")
+    node.inputs[0].default_value = 0.75
+    tree.links.new(uv, node.inputs["Color"])
+    return node.outputs[0]
+
+
+def map_range_case(kind, clamp=True):
+    def build(tree, uv):
+        x, _ = _x(tree, uv)
+        node = _node(tree, "ShaderNodeMapRange", interpolation_type=kind, clamp=clamp)
+        node.inputs["From Min"].default_value = 0.2
+        node.inputs["From Max"].default_value = 0.7
+        node.inputs["To Min"].default_value = -0.5
+        node.inputs["To Max"].default_value = 1.5
+        if "Steps" in node.inputs:
+            node.inputs["Steps"].default_value = 3.0
+        tree.links.new(x, node.inputs["Value"])
+        return _combine(tree, node.outputs[0])
+
+    return NodeCase(f"map_range_{kind.lower()}", build, "Map Range")
+
+
+def _clamp_range(tree, uv):
+    x, _ = _x(tree, uv)
+    node = _node(tree, "ShaderNodeClamp", clamp_type="RANGE")
+    node.inputs["Min"].default_value = 0.8
+    node.inputs["Max"].default_value = 0.3
+    tree.links.new(x, node.inputs["Value"])
+    return _combine(tree, node.outputs[0])
+
+
+def mapping_case(kind):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeMapping", vector_type=kind)
+        if "Location" in node.inputs and node.inputs["Location"].enabled:
+            node.inputs["Location"].default_value = (0.1, -0.2, 0.3)
+        node.inputs["Rotation"].default_value = (0.3, -0.5, 0.9)
+        node.inputs["Scale"].default_value = (1.5, 0.5, 2.0)
+        tree.links.new(uv, node.inputs["Vector"])
+        return node.outputs[0]
+
+    return NodeCase(f"mapping_{kind.lower()}", build, "Mapping")
+
+
+def _rgb_to_bw(tree, uv):
+    node = _node(tree, "ShaderNodeRGBToBW")
+    tree.links.new(uv, node.inputs[0])
+    return _combine(tree, node.outputs[0])
+
+
+def mix_float_case():
+    def build(tree, uv):
+        x, y = _x(tree, uv)
+        node = _node(tree, "ShaderNodeMix", data_type="FLOAT")
+        tree.links.new(x, node.inputs["Factor"])
+        tree.links.new(y, node.inputs[2])
+        node.inputs[3].default_value = 0.9
+        return _combine(tree, node.outputs[0])
+
+    return NodeCase("mix_float", build, "Mix")
+
+
+def mix_vector_case():
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeMix", data_type="VECTOR", factor_mode="NON_UNIFORM")
+        tree.links.new(uv, node.inputs[1])  # Factor_Vector
+        node.inputs[4].default_value = (0.1, 0.9, 0.4)
+        node.inputs[5].default_value = (0.8, 0.2, 0.6)
+        return node.outputs[1]
+
+    return NodeCase("mix_vector_non_uniform", build, "Mix")
+
+
+def checker_case(scale=3.0):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexChecker")
+        node.inputs["Color1"].default_value = (0.9, 0.3, 0.1, 1.0)
+        node.inputs["Color2"].default_value = (0.1, 0.2, 0.7, 1.0)
+        node.inputs["Scale"].default_value = scale
+        tree.links.new(uv, node.inputs["Vector"])
+        return node.outputs["Color"]
+
+    return NodeCase("checker", build, "Checker Texture")
+
+
+def gradient_case(kind):
+    def build(tree, uv):
+        mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+        mapping.inputs["Location"].default_value = (-0.5, -0.5, 0.0)
+        mapping.inputs["Scale"].default_value = (2.0, 2.0, 2.0)
+        tree.links.new(uv, mapping.inputs["Vector"])
+        node = _node(tree, "ShaderNodeTexGradient", gradient_type=kind)
+        tree.links.new(mapping.outputs[0], node.inputs["Vector"])
+        return node.outputs["Color"]
+
+    return NodeCase(f"gradient_{kind.lower()}", build, "Gradient Texture")
+
+
+def tex_coord_case(output):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexCoord")
+        return node.outputs[output]
+
+    return NodeCase(f"texture_coordinate_{output.lower()}", build, "Texture Coordinate")
+
+
+def light_path_case(output):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeLightPath")
+        return _combine(tree, node.outputs[output])
+
+    return NodeCase(f"light_path_{output.lower().replace(' ', '_')}", build, "Light Path")
+
+
+def object_info_case(output):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeObjectInfo")
+        socket = node.outputs[output]
+        if socket.type == "VALUE":
+            return _combine(tree, socket)
+        return socket
+
+    return NodeCase(f"object_info_{output.lower().replace(' ', '_')}", build, "Object Info")
+
+
+def _color_attribute(tree, uv):
+    node = _node(tree, "ShaderNodeVertexColor", layer_name="Paint")
+    return node.outputs["Color"]
+
+
+def _attribute(tree, uv):
+    node = _node(tree, "ShaderNodeAttribute", attribute_name="height")
+    return _combine(tree, node.outputs[2])
+
+
+def _fresnel(tree, uv):
+    node = _node(tree, "ShaderNodeFresnel")
+    node.inputs["IOR"].default_value = 1.5
+    return _combine(tree, node.outputs[0])
+
+
+def _layer_weight(output):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeLayerWeight")
+        node.inputs["Blend"].default_value = 0.3
+        return _combine(tree, node.outputs[output])
+
+    return build
+
+
+def image_case(projection="FLAT", interpolation="Closest", extension="REPEAT", scale=1.0):
+    def build(tree, uv):
+        node = _node(
+            tree,
+            "ShaderNodeTexImage",
+            projection=projection,
+            interpolation=interpolation,
+            extension=extension,
+        )
+        node.image = test_image()
+        if projection != "FLAT" or scale != 1.0:
+            mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+            mapping.inputs["Scale"].default_value = (scale, scale, scale)
+            if projection != "FLAT":
+                coords = _node(tree, "ShaderNodeTexCoord")
+                tree.links.new(coords.outputs["Object"], mapping.inputs["Vector"])
+            else:
+                tree.links.new(uv, mapping.inputs["Vector"])
+            tree.links.new(mapping.outputs[0], node.inputs["Vector"])
+        return node.outputs["Color"]
+
+    name = f"image_{projection.lower()}_{interpolation.lower()}_{extension.lower()}"
+    return NodeCase(name, build, "Image Texture", image=True)
+
+
+def test_image():
+    """A 4 x 4 float image of distinct colours (linear, no colour conversion)."""
+    image = bpy.data.images.get("node case texels")
+    if image is not None:
+        return image
+    image = bpy.data.images.new("node case texels", 4, 4, float_buffer=True)
+    rng = np.random.default_rng(7)
+    texels = rng.uniform(0.05, 0.95, size=(4, 4, 4)).astype(np.float32)
+    texels[..., 3] = 1.0
+    image.pixels.foreach_set(texels.reshape(-1))
+    image.pack()
+    return image
+
+
+MATH_OPERATIONS = [
+    op
+    for op in bpy.types.ShaderNodeMath.bl_rna.properties["operation"].enum_items.keys()  # noqa: SIM118
+]
+VECTOR_OPERATIONS = [
+    op
+    for op in bpy.types.ShaderNodeVectorMath.bl_rna.properties["operation"].enum_items.keys()  # noqa: SIM118
+]
+BLENDS = list(bpy.types.ShaderNodeMixRGB.bl_rna.properties["blend_type"].enum_items.keys())
+
+CASES = [
+    *(math_case(op) for op in MATH_OPERATIONS),
+    *(vector_math_case(op) for op in VECTOR_OPERATIONS),
+    *(mix_rgb_case(blend) for blend in BLENDS),
+    mix_rgb_case("LINEAR_LIGHT", clamp=True),
+    mix_float_case(),
+    mix_vector_case(),
+    *(ramp_case(kind) for kind in ("CONSTANT", "LINEAR", "EASE", "CARDINAL", "B_SPLINE")),
+    NodeCase("rgb_curves", _rgb_curves, "RGB Curves"),
+    NodeCase("float_curve", _float_curve, "Float Curve"),
+    NodeCase("separate_hsv", _separate_hsv, "Separate Color"),
+    NodeCase("combine_hsv", _combine_hsv, "Combine Color"),
+    NodeCase("combine_hsl", _combine_hsl, "Combine Color"),
+    NodeCase("hue_saturation", _hue_saturation, "Hue/Saturation/Value"),
+    NodeCase("gamma", _gamma, "Gamma"),
+    NodeCase("bright_contrast", _bright_contrast, "Bright/Contrast"),
+    NodeCase("invert", _invert, "Invert"),
+    NodeCase("rgb_to_bw", _rgb_to_bw, "RGB to BW"),
+    *(map_range_case(kind) for kind in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")),
+    NodeCase("clamp_range", _clamp_range, "Clamp"),
+    *(mapping_case(kind) for kind in ("POINT", "TEXTURE", "VECTOR", "NORMAL")),
+    checker_case(),
+    *(
+        gradient_case(kind)
+        for kind in (
+            "LINEAR",
+            "QUADRATIC",
+            "EASING",
+            "DIAGONAL",
+            "SPHERICAL",
+            "QUADRATIC_SPHERE",
+            "RADIAL",
+        )
+    ),
+    *(tex_coord_case(o) for o in ("UV", "Generated", "Object", "Normal", "Camera", "Window")),
+    *(light_path_case(o) for o in ("Is Camera Ray", "Is Shadow Ray", "Ray Depth")),
+    *(object_info_case(o) for o in ("Location", "Color", "Random", "Object Index")),
+    NodeCase("color_attribute", _color_attribute, "Color Attribute"),
+    NodeCase("attribute_float", _attribute, "Attribute"),
+    NodeCase("fresnel", _fresnel, "Fresnel"),
+    NodeCase("layer_weight_fresnel", _layer_weight("Fresnel"), "Layer Weight"),
+    NodeCase("layer_weight_facing", _layer_weight("Facing"), "Layer Weight"),
+    image_case(),
+    image_case(interpolation="Linear"),
+    image_case(interpolation="Linear", extension="EXTEND", scale=1.5),
+    image_case(interpolation="Closest", extension="CLIP", scale=1.5),
+    image_case(projection="BOX", interpolation="Closest"),
+    image_case(projection="SPHERE", interpolation="Closest"),
+    image_case(projection="TUBE", interpolation="Closest"),
+]
+
+
+def build_scene(scene, case):
+    """The case's plane (with a colour attribute 'Paint' and a float 'height'),
+    the orthographic camera, no world, no lights."""
+    scene.world = None
+    render = scene.render
+    render.resolution_x = render.resolution_y = SIZE
+    render.resolution_percentage = 100
+    render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 2.0
+    camera.location = (0.0, 0.0, 5.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    mesh = bpy.data.meshes.new("Plane")
+    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    uv.data.foreach_set("uv", [0, 0, 1, 0, 1, 1, 0, 1])
+    paint = mesh.color_attributes.new("Paint", "FLOAT_COLOR", "POINT")
+    paint.data.foreach_set(
+        "color", [0.9, 0.1, 0.1, 1, 0.1, 0.9, 0.1, 1, 0.1, 0.1, 0.9, 1, 1, 1, 1, 1]
+    )
+    height = mesh.attributes.new("height", "FLOAT", "POINT")
+    height.data.foreach_set("value", [0.0, 0.25, 0.5, 1.0])
+    plane = bpy.data.objects.new("Plane", mesh)
+    plane.location = (0.0, 0.0, 0.0)
+    plane.pass_index = 3
+    plane.color = (0.2, 0.5, 0.7, 1.0)
+    scene.collection.objects.link(plane)
+    material = bpy.data.materials.new(case.name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.clear()
+    emission = tree.nodes.new("ShaderNodeEmission")
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    coords = tree.nodes.new("ShaderNodeTexCoord")
+    tree.links.new(case.build(tree, coords.outputs["UV"]), emission.inputs["Color"])
+    tree.links.new(emission.outputs[0], out.inputs["Surface"])
+    mesh.materials.append(material)
+    return material
+
+
+def set_cycles(scene):
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = 1
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = 0
+    cycles.max_bounces = 0
+    cycles.filter_width = 0.01
+    cycles.pixel_filter_type = "BOX"
+
+
+def render(scene, engine, directory, name):
+    from cycles_scenes import render_exr
+
+    scene.whitted.aa_samples = 1
+    return render_exr(scene, engine, os.path.join(directory, f"{name}_{engine.lower()}.exr"))
+
+
+def uv_grid():
+    """float64[SIZE, SIZE, 2]: the UV each pixel shows (rows bottom to top)."""
+    centres = (np.arange(SIZE) + 0.5) / SIZE
+    u, v = np.meshgrid(centres, centres)
+    return np.stack([u, v], axis=-1)
+
+
+def radians(x):
+    return math.radians(x)
