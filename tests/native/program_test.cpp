@@ -26,7 +26,8 @@ Program make(const std::vector<Row>& rows, const std::vector<vec4>& registers,
   for (const Row& r : rows) {
     code.insert(code.end(), {static_cast<uint32_t>(r.op), r.mode, r.out, r.a, r.b, r.c, r.d, r.e});
   }
-  return Program(code.data(), rows.size(), &registers[0].x, registers.size(), std::move(constants),
+  const float* values = registers.empty() ? nullptr : &registers[0].x;
+  return Program(code.data(), rows.size(), values, registers.size(), std::move(constants),
                  std::move(textures));
 }
 
