@@ -81,8 +81,8 @@ def set_instance(native, scene, instance):
 
 
 def _native_info(info):
-    # (x, y, z, random, pass index, r, g, b, a) as the binding's nested tuple.
-    return (tuple(info[0:3]), info[3], info[4], tuple(info[5:9]))
+    # (x, y, z, random, pass index, r, g, b, a): the binding takes the nine floats flat.
+    return tuple(float(x) for x in info)
 
 
 def native_texture(native, texture):

@@ -390,7 +390,15 @@ VECTOR_OPERATIONS = [
 BLENDS = list(bpy.types.ShaderNodeMixRGB.bl_rna.properties["blend_type"].enum_items.keys())
 
 CASES = [
-    *(math_case(op) for op in MATH_OPERATIONS),
+    # WRAP's third input is its minimum: below every maximum, so the range never
+    # passes through 0 (where any rounding flips the result).
+    # TANGENT over (-1.2, 1.2): no pole, where a sample's sub-pixel place is all.
+    *(
+        math_case(op, c=-0.25 if op == "WRAP" else 0.25)
+        if op != "TANGENT"
+        else math_case(op, scale=2.4, offset=-1.2)
+        for op in MATH_OPERATIONS
+    ),
     *(vector_math_case(op) for op in VECTOR_OPERATIONS),
     *(mix_rgb_case(blend) for blend in BLENDS),
     mix_rgb_case("LINEAR_LIGHT", clamp=True),

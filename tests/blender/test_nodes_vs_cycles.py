@@ -43,7 +43,7 @@ def pixel_inputs(u, v, info):
         ops.IN_INCOMING: (0.0, 0.0, 1.0, 0.0),
         ops.IN_GENERATED: (u, v, 0.5, 0.0),
         ops.IN_OBJECT: (x, y, 0.0, 0.0),
-        ops.IN_CAMERA: (x, y, 5.0, 0.0),
+        ops.IN_CAMERA: (x, y, -5.0, 0.0),  # Blender's camera space, looking down -Z
         ops.IN_WINDOW: (u, v, 0.0, 0.0),
         ops.IN_REFLECTION: (0.0, 0.0, 1.0, 0.0),
         ops.IN_BACKFACING: (0.0,) * 4,
@@ -155,3 +155,72 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
         f"{case.name}: at pixel {worst[:2]} channel {worst[2]}: reference "
         f"{low[worst]!r}..{high[worst]!r}, Cycles {cycles[worst]!r}"
     )
+
+
+# Whitted's renders against Cycles' (the native program). Bounds: images 1e-3 (the
+# issue's); every other node 2e-4 plus what the value changes within Cycles' filter
+# (the same bracket as above), except the entries here, measured and stated in
+# docs/SUPPORT.md.
+WHITTED_BOUNDS = {}
+IMAGE_BOUND = 1e-3
+VALUE_BOUND = 2e-4
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_whitted_matches_cycles(case, empty_scene, tmp_path, native):
+    if not hasattr(native, "Program"):
+        pytest.fail("whitted_native has no Program: rebuild it (cmake --build build)")
+    build_scene(empty_scene, case)
+    set_cycles(empty_scene)
+    cycles = render(empty_scene, "CYCLES", str(tmp_path), case.name)
+    whitted = render(empty_scene, "WHITTED", str(tmp_path), case.name)
+    error = np.abs(whitted - cycles)
+    # Where the value changes fast (or jumps) within a pixel, Cycles' sample may sit
+    # off the centre: compare against the neighbourhood of Cycles' own image too.
+    slope = np.maximum(*(np.abs(g) for g in np.gradient(cycles, axis=(0, 1))))
+    bound = WHITTED_BOUNDS.get(case.name, IMAGE_BOUND if case.image else VALUE_BOUND)
+    # float32 on both sides: the bound is relative where values are large (tangent).
+    excess = error - (bound * np.maximum(1.0, np.abs(cycles)) + 0.02 * slope)
+    # Pixels on a discontinuity of the node (a step far above the image's typical
+    # one) are where one sample of either renderer may fall on either side.
+    typical = np.median(slope, axis=(0, 1)) + 1e-6
+    smooth = ~((slope > 20.0 * typical) & (slope > 1e-2))
+    measured = float(error[smooth].max()) if smooth.any() else 0.0
+    print(f"\n{case.name}: max |Whitted - Cycles| = {measured:.2e} (all pixels {error.max():.2e})")
+    RESULTS[case.name] = measured
+    bad = (np.where(smooth, excess, -1.0) > 0.0).any(axis=-1)
+    if case.name in DISCONTINUOUS:
+        # Functions with jumps (or poles) where the jump falls inside a pixel: a few
+        # pixels where Cycles' sample, off the centre, lands on the other side.
+        assert bad.sum() <= 3, f"{case.name}: {bad.sum()} pixels differ"
+        smooth &= ~bad[..., None]
+    worst = np.unravel_index(np.argmax(np.where(smooth, excess, -1.0)), excess.shape)
+    assert (excess[smooth] <= 0.0).all(), (
+        f"{case.name}: pixel {worst[:2]}: Whitted {whitted[worst[:2]]}, Cycles {cycles[worst[:2]]}"
+    )
+
+
+RESULTS = {}  # case name -> measured max error (smooth pixels), for the report
+
+# Nodes with jumps or poles inside the tested range (Whitted samples the pixel centre
+# exactly: test_compiler_reference_matches_cycles checks Cycles there).
+DISCONTINUOUS = {
+    f"math_{name}"
+    for name in (
+        "modulo",
+        "floored_modulo",
+        "wrap",
+        "snap",
+        "pingpong",
+        "tangent",
+        "floor",
+        "ceil",
+        "round",
+        "trunc",
+        "fract",
+        "compare",
+        "less_than",
+        "greater_than",
+        "sign",
+    )
+}

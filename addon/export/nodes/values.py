@@ -272,6 +272,11 @@ def _tex_coord(c, out):
         return c.uv("")
     if getattr(out.node, "object", None) is not None and name == "Object":
         c.warn(out.node, "Object coordinates of another object are not supported; its own")
+    if name == "Camera" and not c.world:
+        # INPUT 6 is Blender's camera space (looking down -Z); Cycles' Camera output
+        # looks down +Z.
+        flip = c.b.const((1.0, 1.0, -1.0), VECTOR)
+        return c.b.vmul(c.hit(ops.IN_CAMERA), flip, VECTOR)
     return c.hit(_TEX_COORD[name])
 
 
@@ -652,6 +657,13 @@ def _normal_map(c, out):
     strength = c.input(out, ("Strength",), FLOAT)
     color = c.input(out, ("Color",), COLOR)
     space = node.space
+    if space in ("BLENDER_OBJECT", "BLENDER_WORLD"):
+        # Blender's own spaces are object/world with y and z negated (2c - 1 -> its
+        # negative: c -> 1 - c), as Cycles does.
+        one = c.b.const((0.0, 1.0, 1.0), COLOR)
+        sign = c.b.const((1.0, -1.0, -1.0), COLOR)
+        color = c.b.vadd(c.b.vmul(color, sign), one)
+        space = space.removeprefix("BLENDER_")
     if space not in ops.NORMAL_MAP_SPACES:
         c.warn(node, f"{space} normal maps are not supported; the shading normal is used")
         return c.hit(ops.IN_NORMAL)
