@@ -115,3 +115,53 @@ def test_environment_texture_becomes_a_world_program(warnings):
     assert exported.ambient == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
     # Without programs: the Background node's unlinked colour, as before.
     assert convert_world(world, 1.0, [], programs=False).program is None
+
+
+def test_environment_background_matches_cycles_by_direction(empty_scene, tmp_path, native):
+    # Rays that miss see the HDRI through the world's program, as Cycles shows it.
+    import math
+
+    import numpy as np
+    from cycles_scenes import render_exr
+
+    if not hasattr(native, "Program"):
+        pytest.fail("whitted_native has no Program: rebuild it")
+    scene = empty_scene
+    world = node_world((1.0, 1.0, 1.0), 1.5)
+    tree = world.node_tree
+    environment = tree.nodes.new("ShaderNodeTexEnvironment")
+    environment.interpolation = "Closest"
+    image = bpy.data.images.new("sky", 16, 8, float_buffer=True)
+    rng = np.random.default_rng(3)
+    texels = rng.uniform(0.05, 1.0, size=(8, 16, 4)).astype(np.float32)
+    texels[..., 3] = 1.0
+    image.pixels.foreach_set(texels.reshape(-1))
+    image.pack()
+    environment.image = image
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, 0.7)
+    coords = tree.nodes.new("ShaderNodeTexCoord")
+    tree.links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+    tree.links.new(mapping.outputs[0], environment.inputs["Vector"])
+    tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    scene.world = world
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.rotation_euler = (math.radians(80.0), 0.0, math.radians(30.0))
+    camera.data.lens = 20.0
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    render = scene.render
+    render.resolution_x, render.resolution_y = 32, 24
+    render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    scene.cycles.samples = 1
+    scene.cycles.filter_width = 0.01
+    scene.cycles.use_denoising = False
+    scene.whitted.aa_samples = 1
+    cycles = render_exr(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_exr(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    # Closest texels: a pixel whose direction sits on a texel edge may take either.
+    differs = (np.abs(whitted - cycles) > 1e-3).any(axis=-1)
+    print(f"\nenvironment: {differs.sum()} of {differs.size} pixels differ by > 1e-3")
+    assert differs.mean() <= 0.01, f"{differs.sum()} of {differs.size} pixels differ"
+    assert np.median(np.abs(whitted - cycles)) < 1e-5
