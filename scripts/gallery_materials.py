@@ -379,24 +379,6 @@ def set_engines(scene):
     whitted.max_depth = 8
 
 
-def render_rgba(scene, engine, path):
-    scene.render.engine = engine
-    settings = scene.render.image_settings
-    settings.file_format = "OPEN_EXR"
-    settings.color_depth = "32"
-    settings.color_mode = "RGBA"
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(path)
-    try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)
-
-
 def srgb(linear):
     x = np.clip(linear, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1.0 / 2.4) - 0.055)
@@ -470,14 +452,14 @@ def render_scene(name, build, image_dir):
         scene = fresh_scene()
         build(scene, work)
         set_engines(scene)
-        whitted = render_rgba(scene, "WHITTED", os.path.join(work, "whitted.exr"))
-        cycles = render_rgba(scene, "CYCLES", os.path.join(work, "cycles.exr"))
+        whitted = cycles_scenes.render_rgba(scene, "WHITTED", os.path.join(work, "whitted.exr"))
+        cycles = cycles_scenes.render_rgba(scene, "CYCLES", os.path.join(work, "cycles.exr"))
         # The subject's pixels: the floor hidden, what still covers the film.
         floor = scene.objects.get("Floor")
         subject = None
         if floor is not None:
             floor.hide_render = True
-            alone = render_rgba(scene, "WHITTED", os.path.join(work, "subject.exr"))
+            alone = cycles_scenes.render_rgba(scene, "WHITTED", os.path.join(work, "subject.exr"))
             floor.hide_render = False
             subject = alone[..., 3] > 0.99
         ssim, ratio = measure(whitted, cycles, subject)

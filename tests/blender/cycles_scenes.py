@@ -290,6 +290,11 @@ def set_whitted_direct_light(scene):
 def render_exr(scene, engine, path):
     """Render `scene` with `engine` to a 32-bit float OpenEXR at `path`; returns its
     linear RGB pixels, float32[height, width, 3], rows bottom to top."""
+    return render_rgba(scene, engine, path)[..., :3]
+
+
+def render_rgba(scene, engine, path):
+    """As render_exr, with alpha: float32[height, width, 4]."""
     scene.render.engine = engine
     settings = scene.render.image_settings
     settings.file_format = "OPEN_EXR"
@@ -304,7 +309,7 @@ def render_exr(scene, engine, path):
         image.pixels.foreach_get(pixels)
     finally:
         bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[..., :3]
+    return pixels.reshape(height, width, 4)
 
 
 def render_both(scene, case, directory):
