@@ -208,19 +208,7 @@ def _fixed(fields, lowering, approximate=False):
                 textures.append(spec)
                 diffuse_texture = spec.name
         values[name] = evaluate(expr, _stand_in)
-    data = MaterialData(
-        diffuse=tuple(values["diffuse"][:3]),
-        specular=tuple(values["specular"][:3]),
-        shininess=values["shininess"][0],
-        ambient=1.0,
-        reflectivity=tuple(values["reflectivity"][:3]),
-        transmissivity=tuple(values["transmissivity"][:3]),
-        ior=values["ior"][0],
-        emission=tuple(values["emission"][:3]),
-        alpha=values["alpha"][0],
-        diffuse_texture=diffuse_texture,
-        alpha_texture=alpha_texture,
-    )
+    data = _material_data(values, diffuse_texture=diffuse_texture, alpha_texture=alpha_texture)
     unique = tuple({spec.name: spec for spec in textures}.values())
     return MaterialExport(data, unique)
 
@@ -228,17 +216,7 @@ def _fixed(fields, lowering, approximate=False):
 def _programmed(fields, lowering):
     program, outputs = emit(fields)
     values = {name: evaluate(fields[name], _stand_in) for name in PROGRAM_FIELDS}
-    data = MaterialData(
-        diffuse=tuple(values["diffuse"][:3]),
-        specular=tuple(values["specular"][:3]),
-        shininess=values["shininess"][0],
-        ambient=1.0,
-        reflectivity=tuple(values["reflectivity"][:3]),
-        transmissivity=tuple(values["transmissivity"][:3]),
-        ior=values["ior"][0],
-        emission=tuple(values["emission"][:3]),
-        alpha=values["alpha"][0],
-    )
+    data = _material_data(values)
     textures = tuple(lowering.textures[name] for name in program.textures)
     needs = lowering.needs
     return MaterialExport(
@@ -250,6 +228,23 @@ def _programmed(fields, lowering):
         attributes=tuple(needs.attributes),
         tangents=tuple(sorted(needs.tangents)),
         object_info=needs.object_info,
+    )
+
+
+def _material_data(values, **textures):
+    """MaterialData from the evaluated fields (float4 values by PROGRAM_FIELDS name:
+    colours take .xyz, scalars .x) and the legacy texture names, if any."""
+    return MaterialData(
+        diffuse=tuple(values["diffuse"][:3]),
+        specular=tuple(values["specular"][:3]),
+        shininess=values["shininess"][0],
+        ambient=1.0,
+        reflectivity=tuple(values["reflectivity"][:3]),
+        transmissivity=tuple(values["transmissivity"][:3]),
+        ior=values["ior"][0],
+        emission=tuple(values["emission"][:3]),
+        alpha=values["alpha"][0],
+        **textures,
     )
 
 
