@@ -338,6 +338,35 @@ def scene_hdri_mirror_glass(scene, work):
     add_camera(scene, (0.0, -4.8, 1.6), (0.0, 0.0, 0.8))
 
 
+def grey_world(scene, grey=0.4):
+    """A uniform grey sky that mirrors show but that lights no diffuse surface."""
+    world = bpy.data.worlds.new("Grey")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (grey, grey, grey, 1)
+    world.cycles_visibility.diffuse = False
+    scene.world = world
+
+
+def scene_coat(scene, work):
+    """A clear coat (3.x: Clearcoat) over a red diffuse base: the coat's highlight and
+    its Fresnel-weighted reflection of the sky and the floor on top."""
+    material = shader_graphs.new_material("Coated")
+    bsdf = shader_graphs.principled(material)
+    bsdf.inputs["Base Color"].default_value = (0.6, 0.05, 0.03, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.6
+    # No specular layer of the base's own: the coat is the only gloss.
+    shader_graphs.first_input(bsdf, ("Specular IOR Level", "Specular")).default_value = 0.0
+    shader_graphs.first_input(bsdf, ("Coat Weight", "Clearcoat")).default_value = 1.0
+    roughness = shader_graphs.first_input(bsdf, ("Coat Roughness", "Clearcoat Roughness"))
+    roughness.default_value = 0.03  # Blender 4.0+'s default
+    smooth_sphere("Ball", (0.0, 0.0, 0.8), material=material)
+    add_floor(scene, color=(0.8, 0.8, 0.8, 1.0))
+    add_sun(scene, rotation=(50.0, 0.0, 30.0))
+    add_camera(scene, (0.0, -4.0, 1.8), (0.0, 0.0, 0.7))
+    grey_world(scene)
+
+
 SCENES = {
     "gltf_round_trip": scene_gltf_round_trip,
     "groups_three_deep": scene_groups_three_deep,
@@ -345,6 +374,7 @@ SCENES = {
     "vertex_colours": scene_vertex_colours,
     "alpha_cards": scene_alpha_cards,
     "hdri_mirror_glass": scene_hdri_mirror_glass,
+    "coat": scene_coat,
 }
 
 
@@ -545,15 +575,22 @@ def main():
     version = ".".join(str(v) for v in bpy.app.version[:2])
     image_dir = os.path.join(args.out, "images", "materials", f"blender-{version}")
     os.makedirs(image_dir, exist_ok=True)
+    results_path = os.path.join(image_dir, "results.json")
+    # With --only, the other scenes keep this Blender's earlier results.
+    earlier = {}
+    if args.only and os.path.isfile(results_path):
+        with open(results_path, encoding="utf-8") as file:
+            earlier = {r["scene"]: r for r in json.load(file)}
     results = []
     for name, build in SCENES.items():
         if args.only and name not in args.only:
+            if name in earlier:
+                results.append(earlier[name])
             continue
         results.append(render_scene(name, build, image_dir))
-    if not args.only:
-        with open(os.path.join(image_dir, "results.json"), "w", encoding="utf-8") as file:
-            json.dump(results, file, indent=2)
-        write_markdown(args.out)
+    with open(results_path, "w", encoding="utf-8") as file:
+        json.dump(results, file, indent=2)
+    write_markdown(args.out)
 
 
 if __name__ == "__main__":

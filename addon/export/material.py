@@ -42,7 +42,7 @@ Color = tuple[float, float, float]
 BLACK = (0.0, 0.0, 0.0)
 WHITE = (1.0, 1.0, 1.0)
 
-# Material fields a program may drive (MaterialData's own names) besides `normal`.
+# Material fields a program may drive (MaterialData's own names) besides the normals.
 PROGRAM_FIELDS = (
     "diffuse",
     "specular",
@@ -52,6 +52,10 @@ PROGRAM_FIELDS = (
     "ior",
     "emission",
     "alpha",
+    "coat_specular",
+    "coat_reflectivity",
+    "coat_shininess",
+    "coat_ior",
 )
 
 
@@ -70,6 +74,11 @@ class MaterialData:
     alpha: float = 1.0  # coverage: 1 - alpha of the light passes straight through
     diffuse_texture: str = ""  # texture name whose RGB multiplies `diffuse`
     alpha_texture: str = ""  # texture name whose A multiplies `alpha`
+    # A clear coat on top: highlight and mirror weights (times its Fresnel factor per hit).
+    coat_specular: float = 0.0
+    coat_reflectivity: float = 0.0
+    coat_shininess: float = 1000.0
+    coat_ior: float = 1.5
 
 
 @dataclass(frozen=True)
@@ -173,7 +182,7 @@ def _fixed(fields, lowering, approximate=False):
     a texture on the diffuse colour, an image's alpha); None when it cannot. With
     `approximate`, textures elsewhere count as white and other varying values as
     their stand-ins, so there is always a result."""
-    if "normal" in fields and not approximate:
+    if ("normal" in fields or "coat_normal" in fields) and not approximate:
         return None
     textures = []
     values = {}
@@ -244,6 +253,10 @@ def _material_data(values, **textures):
         ior=values["ior"][0],
         emission=tuple(values["emission"][:3]),
         alpha=values["alpha"][0],
+        coat_specular=values["coat_specular"][0],
+        coat_reflectivity=values["coat_reflectivity"][0],
+        coat_shininess=values["coat_shininess"][0],
+        coat_ior=values["coat_ior"][0],
         **textures,
     )
 

@@ -39,9 +39,18 @@ void bind_material(py::module_& m) {
                       Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission, float alpha,
                       std::string diffuse_texture, std::string alpha_texture,
                       std::shared_ptr<Program> program,
-                      const std::map<std::string, int64_t>& outputs) {
+                      const std::map<std::string, int64_t>& outputs, float coat_specular,
+                      float coat_reflectivity, float coat_shininess, float coat_ior) {
             Material out{diffuse,      specular,       shininess, ambient,
                          reflectivity, transmissivity, ior,       emission};
+            for (const float v : {coat_specular, coat_reflectivity, coat_shininess, coat_ior}) {
+              if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
+            }
+            if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
+            out.coat_specular = coat_specular;
+            out.coat_reflectivity = coat_reflectivity;
+            out.coat_shininess = coat_shininess;
+            out.coat_ior = coat_ior;
             if (!std::isfinite(alpha)) throw std::invalid_argument("alpha must be finite");
             out.alpha = std::clamp(alpha, 0.0f, 1.0f);
             out.diffuse_texture = std::move(diffuse_texture);
@@ -63,10 +72,14 @@ void bind_material(py::module_& m) {
           py::arg("ior") = 1.5f, py::arg("emission") = Vec3(0.0f), py::arg("alpha") = 1.0f,
           py::arg("diffuse_texture") = "", py::arg("alpha_texture") = "",
           py::arg("program") = py::none(), py::arg("outputs") = std::map<std::string, int64_t>{},
+          py::arg("coat_specular") = 0.0f, py::arg("coat_reflectivity") = 0.0f,
+          py::arg("coat_shininess") = 1000.0f, py::arg("coat_ior") = 1.5f,
           "program: a Program computing some fields per hit; outputs: field name -> register "
           "holding it after the program (diffuse, specular, shininess, reflectivity, "
-          "transmissivity, ior, emission, alpha, normal); the other fields keep the constants "
-          "given here.")
+          "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
+          "coat_shininess, coat_ior, coat_normal); the other fields keep the constants given "
+          "here. coat_*: a clear layer on top whose highlight and mirror weights are scaled by "
+          "the dielectric Fresnel factor of coat_ior per hit; the rest lights the base.")
       .def_readwrite("diffuse", &Material::diffuse)
       .def_readwrite("specular", &Material::specular)
       .def_readwrite("shininess", &Material::shininess)
@@ -76,6 +89,10 @@ void bind_material(py::module_& m) {
       .def_readwrite("ior", &Material::ior)
       .def_readwrite("emission", &Material::emission)
       .def_readwrite("alpha", &Material::alpha)
+      .def_readwrite("coat_specular", &Material::coat_specular)
+      .def_readwrite("coat_reflectivity", &Material::coat_reflectivity)
+      .def_readwrite("coat_shininess", &Material::coat_shininess)
+      .def_readwrite("coat_ior", &Material::coat_ior)
       .def_readwrite("priority", &Material::priority,
                      "Nested dielectrics: where two transmissive objects overlap, the higher "
                      "priority owns the overlap (ties: the one entered last).")

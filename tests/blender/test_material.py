@@ -306,14 +306,43 @@ def test_principled_specular_tint(version, inputs, tint, warnings):
     assert_material(data, specular=tuple(F0[version] * t for t in tint))
 
 
-@pytest.mark.parametrize("name", ["Clearcoat", "Coat Weight"])
-def test_principled_lobe_without_equivalent_warns(name, warnings):
-    inputs = BLENDER_3_INPUTS if name == "Clearcoat" else BLENDER_4_INPUTS
-    convert(fake_principled_material({**inputs, name: 0.5}), warnings)
+def test_principled_coat(warnings):
+    # 3.x: Cycles' clearcoat lobe is a quarter of Clearcoat, IOR 1.5; roughness 0.03
+    # (the default when absent) -> sharp 0.88 of it a mirror, the rest a highlight.
+    data = convert(fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), warnings)
+    plain = convert(fake_principled_material(BLENDER_3_INPUTS), [])
+    assert_material(
+        data,
+        coat_reflectivity=0.125 * 0.88,
+        coat_specular=0.125 * 0.12,
+        coat_shininess=10000.0,
+        coat_ior=1.5,
+        diffuse=plain.diffuse,
+    )
+    assert plain.coat_specular == plain.coat_reflectivity == 0.0
     assert warnings == [
-        f"Whitted: material 'Fake', node 'Principled BSDF': '{name}' has no Whitted "
-        "equivalent; it is ignored"
+        "Whitted: material 'Fake', node 'Principled BSDF': 'Clearcoat' is approximated: a "
+        "Phong highlight and a mirror of the coat's roughness, weighted by its Fresnel "
+        "factor (docs/SUPPORT.md)"
     ]
+    # 4.x: Coat Weight, IOR and Tint; what lies beneath is seen through the tint.
+    inputs = {
+        **BLENDER_4_INPUTS,
+        "Coat Weight": 0.5,
+        "Coat Roughness": 0.1,
+        "Coat IOR": 1.3,
+        "Coat Tint": (0.5, 1.0, 1.0, 1.0),
+    }
+    data = convert(fake_principled_material(inputs), [])
+    plain = convert(fake_principled_material(BLENDER_4_INPUTS), [])
+    assert_material(
+        data,
+        coat_reflectivity=0.5 * 0.6,
+        coat_specular=0.5 * 0.4,
+        coat_shininess=10000.0,
+        coat_ior=1.3,
+        diffuse=(0.75 * plain.diffuse[0], plain.diffuse[1], plain.diffuse[2]),
+    )
 
 
 def surface_shader(material, bl_idname, **inputs):

@@ -21,6 +21,11 @@ FIELD_ORDER = (
     "transmissivity",
     "ior",
     "emission",
+    "coat_specular",
+    "coat_reflectivity",
+    "coat_shininess",
+    "coat_ior",
+    "coat_normal",
 )
 
 

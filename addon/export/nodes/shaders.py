@@ -27,9 +27,17 @@ from .graph import socket_type, source
 from .ir import COLOR, FLOAT, VECTOR
 from .values import find_socket
 
-LINEAR_FIELDS = ("diffuse", "specular", "reflectivity", "transmissivity", "emission")
-WEIGHTED_FIELDS = ("shininess", "ior")
-DEFAULTS = {"shininess": 1.0, "ior": 1.45}
+LINEAR_FIELDS = (
+    "diffuse",
+    "specular",
+    "reflectivity",
+    "transmissivity",
+    "emission",
+    "coat_specular",
+    "coat_reflectivity",
+)
+WEIGHTED_FIELDS = ("shininess", "ior", "coat_shininess", "coat_ior")
+DEFAULTS = {"shininess": 1.0, "ior": 1.45, "coat_shininess": 1.0, "coat_ior": 1.5}
 
 # Phong exponents past this make highlights smaller than a pixel anyway.
 MAX_SHININESS = 10000.0
@@ -66,13 +74,26 @@ PRINCIPLED_DEFAULTS = {
 # Principled lobes Whitted does not have: warned when their weight is above 0.
 PRINCIPLED_IGNORED_WEIGHTS = (
     ("Subsurface Weight", "Subsurface"),
-    ("Coat Weight", "Clearcoat"),
-    ("Sheen Weight", "Sheen"),
     ("Anisotropic",),
     ("Thin Film Thickness",),
 )
 
-PRINCIPLED_READ = {name for names in PRINCIPLED_INPUTS.values() for name in names}
+# The coat (Blender 4.0+; 3.x's Clearcoat) and sheen inputs, newest name first.
+COAT_INPUTS = {
+    "weight": ("Coat Weight", "Clearcoat"),
+    "roughness": ("Coat Roughness", "Clearcoat Roughness"),
+    "ior": ("Coat IOR",),
+    "tint": ("Coat Tint",),
+    "normal": ("Coat Normal", "Clearcoat Normal"),
+}
+SHEEN_INPUTS = {"weight": ("Sheen Weight", "Sheen"), "tint": ("Sheen Tint",)}
+
+PRINCIPLED_READ = {
+    name
+    for table in (PRINCIPLED_INPUTS, COAT_INPUTS, SHEEN_INPUTS)
+    for names in table.values()
+    for name in names
+}
 
 # Rec. 709 luminance weights (Blender's default scene linear space).
 LUMINANCE = (0.2126, 0.7152, 0.0722)
@@ -84,6 +105,7 @@ class Closure:
     fields: dict  # field -> Expr (colours; shininess and ior floats)
     weights: dict  # "shininess" | "ior" -> Expr: the coverage that has an opinion
     normal: object = None  # Expr (world vector) or None: the interpolated normal
+    coat_normal: object = None  # the coat's, likewise
 
 
 class ShaderLowering:
@@ -162,8 +184,8 @@ class ShaderLowering:
     def color(self, output, names, default, textured=True):
         return self._input(output, names, COLOR, default, "color" if textured else None)
 
-    def normal(self, output):
-        socket = find_socket(output.node.inputs, ("Normal",))
+    def normal(self, output, names=("Normal",)):
+        socket = find_socket(output.node.inputs, names)
         fed = None if socket is None else source(socket, output.scope)[0]
         if fed is None:
             return None
@@ -173,7 +195,16 @@ class ShaderLowering:
             return None
         return self.c.value(socket, output.scope, VECTOR)
 
-    def closure(self, coverage=None, normal=None, highlight=False, refracts=False, **fields):
+    def closure(
+        self,
+        coverage=None,
+        normal=None,
+        highlight=False,
+        refracts=False,
+        coat=False,
+        coat_normal=None,
+        **fields,
+    ):
         base = self.black()
         coverage = coverage if coverage is not None else self.b.f(1.0)
         values = dict(base.fields)
@@ -182,8 +213,10 @@ class ShaderLowering:
         weights = {
             "shininess": coverage if highlight else self.b.f(0.0),
             "ior": coverage if refracts else self.b.f(0.0),
+            "coat_shininess": coverage if coat else self.b.f(0.0),
+            "coat_ior": coverage if coat else self.b.f(0.0),
         }
-        return Closure(coverage, values, weights, normal)
+        return Closure(coverage, values, weights, normal, coat_normal)
 
     # --- combining -----------------------------------------------------------------
 
@@ -240,7 +273,8 @@ class ShaderLowering:
         normal = a.normal if a.normal is not None else b.normal
         if a.normal is not None and b.normal is not None and a.normal is not b.normal:
             self.c.warn(node, "combines two different normals; the first one is used")
-        return Closure(coverage, fields, weights, normal)
+        coat_normal = a.coat_normal if a.coat_normal is not None else b.coat_normal
+        return Closure(coverage, fields, weights, normal, coat_normal)
 
 
 def _zero(expr):
@@ -328,6 +362,7 @@ def _principled(s, out):
         # 4.x: a colour that multiplies the dielectric reflection.
         tint = s.color(out, ("Specular Tint",), (1.0, 1.0, 1.0, 1.0), textured=False)
     _warn_ignored_principled_inputs(s, out)
+    coat = _coat(s, out)
     strength = s.scalar(out, ("Emission Strength",), 1.0)
     emission_color = s.color(
         out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0), textured=False
@@ -341,10 +376,101 @@ def _principled(s, out):
         f0=b.vmul(f0, tint),
         transmission=transmission,
     )
+    sheen = _sheen(s, out, base_other)
+    if sheen is not None:
+        fields["diffuse"] = b.vadd(fields["diffuse"], sheen)
+    coat_normal = None
+    if coat is not None:
+        coat_fields, beneath, coat_normal = coat
+        # What lies beneath the coat is seen through its tint (at normal incidence).
+        for name in ("diffuse", "specular", "reflectivity", "transmissivity"):
+            fields[name] = b.vmul(fields[name], beneath)
+        fields.update(coat_fields)
     # The Principled BSDF emits Emission Color * Emission Strength as radiance.
     fields["emission"] = b.vmul(emission_color, strength)
     fields["ior"] = ior
-    return s.closure(coverage=alpha, normal=s.normal(out), highlight=True, refracts=True, **fields)
+    return s.closure(
+        coverage=alpha,
+        normal=s.normal(out),
+        highlight=True,
+        refracts=True,
+        coat=coat is not None,
+        coat_normal=coat_normal,
+        **fields,
+    )
+
+
+def _coat(s, out):
+    """The Principled coat as Whitted coat fields: (fields, the tint beneath, the coat's
+    normal or None), or None without a coat. Cycles' coat is a dielectric microfacet
+    layer of its own roughness and IOR (3.x's Clearcoat: a quarter of its weight, IOR
+    1.5); here it is a Phong highlight and a mirror split by roughness as a metal's are,
+    both weighted per hit by the exact Fresnel factor of the IOR (native)."""
+    b = s.b
+    node = out.node
+    weight_socket = find_socket(node.inputs, COAT_INPUTS["weight"])
+    if weight_socket is None:
+        return None
+    weight = b.clamp01(s.scalar(out, COAT_INPUTS["weight"], 0.0))
+    if _zero(weight):
+        return None
+    roughness = b.clamp01(s.scalar(out, COAT_INPUTS["roughness"], 0.03))
+    if weight_socket.name == "Clearcoat":
+        # 3.x: Cycles scales the clearcoat lobe by a quarter and fixes its IOR at 1.5.
+        weight = b.mul(b.f(0.25), weight)
+        ior = b.f(1.5)
+        beneath = b.const((1.0, 1.0, 1.0), COLOR)
+    else:
+        ior = s.scalar(out, COAT_INPUTS["ior"], 1.5)
+        tint = s.color(out, COAT_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0), textured=False)
+        beneath = b.vlerp(weight, b.const((1.0, 1.0, 1.0), COLOR), tint)
+    s.c.warn(
+        node,
+        f"'{weight_socket.name}' is approximated: a Phong highlight and a mirror of the "
+        "coat's roughness, weighted by its Fresnel factor (docs/SUPPORT.md)",
+    )
+    sharp = b.maximum(b.f(0.0), b.sub(b.f(1.0), b.mul(b.f(4.0), roughness)))
+    fields = {
+        "coat_specular": b.mul(weight, b.sub(b.f(1.0), sharp)),
+        "coat_reflectivity": b.mul(weight, sharp),
+        "coat_shininess": shininess_of(b, roughness),
+        "coat_ior": ior,
+    }
+    return fields, beneath, s.normal(out, COAT_INPUTS["normal"])
+
+
+def _sheen(s, out, base):
+    """The Principled sheen as a grazing-angle brightening of the diffuse colour:
+    weight * tint * (1 - |n.v|)^5 (Disney's sheen shape in the view angle alone), or
+    None without one. It needs the shader program (the view angle varies per hit)."""
+    b = s.b
+    node = out.node
+    weight_socket = find_socket(node.inputs, SHEEN_INPUTS["weight"])
+    if weight_socket is None:
+        return None
+    weight = b.maximum(b.f(0.0), s.scalar(out, SHEEN_INPUTS["weight"], 0.0))
+    if _zero(weight):
+        return None
+    if s.legacy:
+        s.c.warn(node, f"'{weight_socket.name}' needs a shader program; it is ignored")
+        return None
+    white = b.const((1.0, 1.0, 1.0), COLOR)
+    tint_socket = find_socket(node.inputs, SHEEN_INPUTS["tint"])
+    if tint_socket is not None and socket_type(tint_socket) in ("VALUE", "FLOAT"):
+        # 3.x: Sheen Tint blends white towards the base colour's hue.
+        hue = b.vdiv(base, b.maximum(b.luminance(base), b.f(1e-8)))
+        color = b.vlerp(s.scalar(out, SHEEN_INPUTS["tint"], 0.5), white, hue)
+    else:
+        color = s.color(out, SHEEN_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0), textured=False)
+    s.c.warn(
+        node,
+        f"'{weight_socket.name}' is approximated: the diffuse colour brightened towards "
+        "grazing views by weight * tint * (1 - |n.v|)^5 (docs/SUPPORT.md)",
+    )
+    # Layer Weight's Facing at blend 0.5 is 1 - |n.v|.
+    facing = b.op(ops.LAYER_WEIGHT, 1, (b.f(0.5),), kind=FLOAT)
+    grazing = b.math("POWER", facing, b.f(5.0))
+    return b.vmul(b.mul(weight, grazing), color)
 
 
 def _warn_ignored_principled_inputs(s, out):
@@ -581,4 +707,6 @@ def finish(c, closure):
     fields["alpha"] = c.b.clamp01(closure.coverage)
     if closure.normal is not None:
         fields["normal"] = closure.normal
+    if closure.coat_normal is not None:
+        fields["coat_normal"] = closure.coat_normal
     return replace(closure, fields=fields).fields

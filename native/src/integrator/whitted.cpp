@@ -16,6 +16,43 @@ float ior_of(const CompiledScene& scene, int32_t medium) {
   return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
 }
 
+// The coat of a hit as the ray sees it: a clear layer over the base whose reflectance is
+// its weights times the exact dielectric Fresnel factor of its IOR at its own normal; the
+// base beneath receives the rest, 1 - cover, of the light.
+struct Coat {
+  float highlight = 0.0f;  // weight of its Phong highlight
+  float mirror = 0.0f;     // weight of its mirror reflection
+  float cover = 0.0f;      // highlight + mirror: the share it takes from the base
+  float shininess = 1.0f;
+  Vec3 normal{0.0f, 0.0f, 1.0f};  // facing the ray
+};
+
+Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering) {
+  Coat coat;
+  const float weight = surface.coat_specular + surface.coat_reflectivity;
+  if (!(weight > 0.0f)) return coat;
+  coat.normal = entering ? surface.coat_normal : -surface.coat_normal;
+  if (glm::dot(coat.normal, ng) <= 0.0f) coat.normal = ng;  // as the base's normal
+  const float f = fresnel_exact(glm::dot(wo, coat.normal), 1.0f / surface.coat_ior);
+  const float scale = f / std::max(weight, 1.0f);  // weights beyond 1 cover all
+  coat.highlight = std::max(surface.coat_specular, 0.0f) * scale;
+  coat.mirror = std::max(surface.coat_reflectivity, 0.0f) * scale;
+  coat.cover = coat.highlight + coat.mirror;
+  coat.shininess = surface.coat_shininess;
+  return coat;
+}
+
+// The coat's highlight for light arriving from wi, per unit irradiance: the normalised
+// Phong lobe ks*(f+2)/(2pi)*(v.r)^f*(l.n) about the coat's normal.
+float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
+  if (coat.highlight <= 0.0f) return 0.0f;
+  const float cos_l = glm::dot(coat.normal, wi);
+  if (cos_l <= 0.0f) return 0.0f;
+  const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-wi, coat.normal)));
+  return coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
+         std::pow(v_dot_r, coat.shininess) * cos_l;
+}
+
 // The Whitted recursion for one set of effects E (EffectBits); what E leaves out is not
 // compiled in.
 template <uint32_t E>
@@ -125,12 +162,15 @@ class Kernel {
     Vec3 ns = entering ? surface.normal : -surface.normal;
     if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
     const Vec3 wo = -ray.direction;
-    Color radiance = surface.emission + local(it, surface, wo, ng, ns, path, counts);
+    const Coat coat = coat_of(surface, wo, ng, entering);
+    Color radiance = surface.emission + local(it, surface, coat, wo, ng, ns, path, counts);
     if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
 
     Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
     Color kt = has(kRefractionEffect) ? surface.transmissivity : Color(0.0f);
-    if (has(kPruningEffect) && is_black(kr) && is_black(kt)) return radiance;
+    if (has(kPruningEffect) && is_black(kr) && is_black(kt) && coat.mirror <= 0.0f) {
+      return radiance;
+    }
     Vec3 t_dir(0.0f);
     const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
                           glm::dot(t_dir, ng) < 0.0f;
@@ -146,6 +186,11 @@ class Kernel {
       kt *= 1.0f - f;
       if (!refracts) counts->total_internal_reflection += 1;
     }
+    // The coat's mirror on top; beneath it, the base's rays get what the coat lets through.
+    // One mirror ray: about the coat's normal where the coat gives most of its weight.
+    const bool coat_ray = coat.mirror > (1.0f - coat.cover) * max_component(kr);
+    kr = (1.0f - coat.cover) * kr + Color(coat.mirror);
+    kt *= 1.0f - coat.cover;
     // A surface returns at most what arrives: sigma_r + sigma_t <= 1 keeps the ray tree
     // from growing without bound (two facing mirror-glass panes at depth 256).
     const float sum = max_component(kr + kt);
@@ -154,7 +199,7 @@ class Kernel {
       kt /= sum;
     }
     if (has(kReflectionEffect) && (!has(kPruningEffect) || !is_black(kr))) {
-      Vec3 r = reflect(ray.direction, ns);
+      Vec3 r = reflect(ray.direction, coat_ray ? coat.normal : ns);
       if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
       radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
                                         kReflectionRay),
@@ -187,10 +232,12 @@ class Kernel {
     return trace(ray, next, counts, nullptr);
   }
 
-  // I = Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)
-  Color local(const Interaction& it, const SurfaceParams& surface, const Vec3& wo, const Vec3& ng,
-              const Vec3& n, const PathState& path, RayCounts* counts) const {
-    Color radiance = it.material->ambient * scene_.ambient * surface.diffuse;
+  // I = (1 - coat) * [Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)]
+  //     + sum_i delta_i * coat_highlight_i * E_i
+  Color local(const Interaction& it, const SurfaceParams& surface, const Coat& coat, const Vec3& wo,
+              const Vec3& ng, const Vec3& n, const PathState& path, RayCounts* counts) const {
+    const float base = 1.0f - coat.cover;
+    Color radiance = base * it.material->ambient * scene_.ambient * surface.diffuse;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
     for (const Light& light : scene_.lights) {
       for (int s = 0; s < light.sample_count(); ++s) {
@@ -212,7 +259,9 @@ class Kernel {
         const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
         const Color brdf = surface.diffuse * kInvPi +
                            surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess));
-        const Color contribution = brdf * ls.irradiance * std::max(0.0f, cos_l);
+        const Color contribution =
+            (base * std::max(0.0f, cos_l) * brdf + Color(coat_highlight(coat, wo, ls.wi))) *
+            ls.irradiance;
         if (!has(kShadowEffect) || !light.cast_shadows) {
           radiance += contribution;
           continue;

@@ -24,37 +24,54 @@ enum Field : uint32_t {
   kEmissionField,
   kAlphaField,
   kNormalField,
+  kCoatSpecularField,
+  kCoatReflectivityField,
+  kCoatShininessField,
+  kCoatIorField,
+  kCoatNormalField,
   kFieldCount,
 };
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
-    "diffuse", "specular", "shininess", "reflectivity", "transmissivity",
-    "ior",     "emission", "alpha",     "normal"};
+    "diffuse",  "specular",   "shininess", "reflectivity",  "transmissivity",    "ior",
+    "emission", "alpha",      "normal",    "coat_specular", "coat_reflectivity", "coat_shininess",
+    "coat_ior", "coat_normal"};
 
 struct Material {
-  Color diffuse{0.8f};          // albedo kd: the diffuse term is kd/pi * E
-  Color specular{0.0f};         // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
-  float shininess = 50.0f;      // Phong exponent f
-  float ambient = 1.0f;         // ka: the ambient term is ka * Ia * kd
-  Color reflectivity{0.0f};     // sigma_r: weight of the mirror-reflected ray
-  Color transmissivity{0.0f};   // sigma_t: weight of the refracted ray
-  float ior = 1.5f;             // index of refraction inside the surface (outside: 1)
-  Color emission{0.0f};         // radiance added as is
-  float alpha = 1.0f;           // coverage: 1 opaque, 0 invisible (cut-outs)
-  int32_t priority = 0;         // nested dielectrics: the higher owns overlaps (medium.h)
-  std::string diffuse_texture;  // multiplies `diffuse` by its RGB ("" for none)
-  std::string alpha_texture;    // multiplies `alpha` by its A ("" for none)
+  Color diffuse{0.8f};         // albedo kd: the diffuse term is kd/pi * E
+  Color specular{0.0f};        // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
+  float shininess = 50.0f;     // Phong exponent f
+  float ambient = 1.0f;        // ka: the ambient term is ka * Ia * kd
+  Color reflectivity{0.0f};    // sigma_r: weight of the mirror-reflected ray
+  Color transmissivity{0.0f};  // sigma_t: weight of the refracted ray
+  float ior = 1.5f;            // index of refraction inside the surface (outside: 1)
+  Color emission{0.0f};        // radiance added as is
+  float alpha = 1.0f;          // coverage: 1 opaque, 0 invisible (cut-outs)
+  int32_t priority = 0;        // nested dielectrics: the higher owns overlaps (medium.h)
+  // The coat: a clear dielectric layer over everything above. At a hit it reflects its
+  // weights times the dielectric Fresnel factor of coat_ior at its own normal, and what
+  // lies beneath receives the rest (whitted.cpp, Coat).
+  float coat_specular = 0.0f;      // weight of its normalised Phong highlight
+  float coat_reflectivity = 0.0f;  // weight of its mirror reflection
+  float coat_shininess = 1000.0f;  // Phong exponent of its highlight
+  float coat_ior = 1.5f;           // index of refraction of the coat (outside: 1)
+  std::string diffuse_texture;     // multiplies `diffuse` by its RGB ("" for none)
+  std::string alpha_texture;       // multiplies `alpha` by its A ("" for none)
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).
   int32_t diffuse_texture_index = -1;
   int32_t alpha_texture_index = -1;
   // Fields a program computes per hit: the register holding each after the program, -1
   // for the constant above. The program's texture slots are resolved by Scene::compile.
   std::shared_ptr<const Program> program;
-  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1,
+                                              -1, -1, -1, -1, -1, -1, -1};
   std::vector<const ImageTexture*> program_images;
 
   bool driven(Field field) const { return outputs[field] >= 0; }
   // Whether a hit may reflect or transmit: a program-driven weight may be non-zero.
-  bool reflective() const { return !is_black(reflectivity) || driven(kReflectivityField); }
+  bool reflective() const {
+    return !is_black(reflectivity) || driven(kReflectivityField) || coat_reflectivity > 0.0f ||
+           driven(kCoatReflectivityField);
+  }
   bool transmissive() const { return !is_black(transmissivity) || driven(kTransmissivityField); }
   // Lets some light through: transmission, or coverage below 1 (after compile, which
   // resolves the alpha texture).

@@ -520,8 +520,13 @@ using Inputs = std::array<glm::vec4, Program::kMaxInputs>;
 SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
                                      const RayContext& context) const {
   const Material& m = *it.material;
-  SurfaceParams out{m.diffuse, m.specular, m.shininess, m.reflectivity,   m.transmissivity,
-                    m.ior,     m.emission, m.alpha,     it.shading_normal};
+  SurfaceParams out{m.diffuse,           m.specular,
+                    m.shininess,         m.reflectivity,
+                    m.transmissivity,    m.ior,
+                    m.emission,          m.alpha,
+                    it.shading_normal,   m.coat_specular,
+                    m.coat_reflectivity, m.coat_shininess,
+                    m.coat_ior,          it.shading_normal};
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
     const TexturePoint tp = texture_point(it);
     if (m.diffuse_texture_index >= 0) {
@@ -561,14 +566,26 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     }
     if (m.driven(kEmissionField)) out.emission = Color(field(kEmissionField));
     if (m.driven(kAlphaField)) out.alpha = field(kAlphaField).x;
-    if (m.driven(kNormalField)) {
-      // On the geometric normal's side, as the interpolated normal is: the integrator
-      // turns it towards the ray.
-      const Vec3 n(field(kNormalField));
-      const float length = glm::length(n);
+    // A normal on the geometric normal's side, as the interpolated normal is: the
+    // integrator turns it towards the ray. A zero or non-finite one keeps `n`.
+    const auto normal = [&](Field f, Vec3* n) {
+      if (!m.driven(f)) return;
+      const Vec3 v(field(f));
+      const float length = glm::length(v);
       if (length > 0.0f && std::isfinite(length)) {
-        out.normal = glm::dot(n, it.geometric_normal) < 0.0f ? -n / length : n / length;
+        *n = glm::dot(v, it.geometric_normal) < 0.0f ? -v / length : v / length;
       }
+    };
+    normal(kNormalField, &out.normal);
+    normal(kCoatNormalField, &out.coat_normal);
+    if (m.driven(kCoatSpecularField)) out.coat_specular = field(kCoatSpecularField).x;
+    if (m.driven(kCoatReflectivityField)) out.coat_reflectivity = field(kCoatReflectivityField).x;
+    if (m.driven(kCoatShininessField)) {
+      out.coat_shininess = std::fmax(field(kCoatShininessField).x, 0.0f);
+    }
+    if (m.driven(kCoatIorField)) {
+      const float ior = field(kCoatIorField).x;
+      if (ior > 0.0f && std::isfinite(ior)) out.coat_ior = ior;
     }
   }
   out.alpha = std::isnan(out.alpha) ? 1.0f : std::clamp(out.alpha, 0.0f, 1.0f);

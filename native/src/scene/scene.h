@@ -77,6 +77,11 @@ struct SurfaceParams {
   Color emission;
   float alpha;  // clamped to [0, 1]
   Vec3 normal;  // unit shading normal, on the geometric normal's side (Interaction)
+  float coat_specular;
+  float coat_reflectivity;
+  float coat_shininess;
+  float coat_ior;
+  Vec3 coat_normal;  // as `normal`: the interpolated normal unless a program drives it
 };
 
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
