@@ -23,6 +23,9 @@ class NodeCase:
     build: object  # function(tree, uv output socket) -> colour output socket
     family: str  # the docs' name for the node
     image: bool = False  # reads an image (bound 1e-3)
+    # A procedural texture read at pixel centres (_pixel_centres): compared value for
+    # value (bound 2e-5); the compiler's Python reference does not model it.
+    procedural: bool = False
 
 
 def _node(tree, kind, **settings):
@@ -139,6 +142,23 @@ def _float_curve(tree, uv):
     curve.mapping.update()
     tree.links.new(x, curve.inputs["Value"])
     return _combine(tree, curve.outputs[0])
+
+
+def _vector_curves(tree, uv):
+    """X bent through a new point, Y extrapolated past its ends, on a Mapping that
+    takes UV to [-1.2, 1.2] (beyond the curves' [-1, 1])."""
+    mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+    mapping.inputs["Location"].default_value = (-1.2, -1.2, 0.3)
+    mapping.inputs["Scale"].default_value = (2.4, 2.4, 1.0)
+    tree.links.new(uv, mapping.inputs["Vector"])
+    curves = _node(tree, "ShaderNodeVectorCurve")
+    curves.mapping.curves[0].points.new(0.2, 0.7)
+    curves.mapping.curves[1].points.new(-0.4, -0.1)
+    curves.mapping.extend = "EXTRAPOLATED"
+    curves.mapping.update()
+    curves.inputs[0].default_value = 0.8
+    tree.links.new(mapping.outputs[0], curves.inputs["Vector"])
+    return curves.outputs[0]
 
 
 def _separate_hsv(tree, uv):
@@ -288,6 +308,139 @@ def gradient_case(kind):
     return NodeCase(f"gradient_{kind.lower()}", build, "Gradient Texture")
 
 
+def _pixel_centres(tree, uv):
+    """UV snapped to the centre of the pixel it shows: constant over each pixel, so
+    Cycles' sample, a little off the centre, reads the point Whitted reads (a texture
+    of hashed cells compares value for value, not within a pixel's change)."""
+    snap = _node(tree, "ShaderNodeVectorMath", operation="SNAP")
+    tree.links.new(uv, snap.inputs[0])
+    snap.inputs[1].default_value = (1.0 / SIZE, 1.0 / SIZE, 1.0)
+    centre = _node(tree, "ShaderNodeVectorMath", operation="ADD")
+    tree.links.new(snap.outputs[0], centre.inputs[0])
+    centre.inputs[1].default_value = (0.5 / SIZE, 0.5 / SIZE, 0.0)
+    return centre.outputs[0]
+
+
+def _texture_input(tree, uv, node, location=(0.13, -0.27, 0.41), scale=(1.0, 1.0, 1.0)):
+    """UV at pixel centres, moved off the lattice (and z off 0), into the texture's
+    Vector; the UV at pixel centres."""
+    uv = _pixel_centres(tree, uv)
+    mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+    mapping.inputs["Location"].default_value = location
+    mapping.inputs["Scale"].default_value = scale
+    tree.links.new(uv, mapping.inputs["Vector"])
+    vector = node.inputs.get("Vector")
+    if vector is not None and vector.enabled:
+        tree.links.new(mapping.outputs[0], vector)
+    return uv
+
+
+def _set_inputs(node, values):
+    for name, value in values.items():
+        node.inputs[name].default_value = value
+
+
+NOISE_TYPES = "noise_type" in bpy.types.ShaderNodeTexNoise.bl_rna.properties
+
+
+def noise_case(dimensions, output="Color", name=None, noise_type=None, normalize=True, **inputs):
+    """A Noise Texture over UV; 1D and 4D read W from U (+ 0.37)."""
+
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexNoise", noise_dimensions=dimensions)
+        if noise_type is not None:
+            node.noise_type = noise_type
+            node.normalize = normalize
+        uv = _texture_input(tree, uv, node)
+        if dimensions in ("1D", "4D"):
+            x, _ = _x(tree, uv)
+            tree.links.new(_spread(tree, x, 1.3, 0.37), node.inputs["W"])
+        _set_inputs(node, inputs)
+        socket = node.outputs[output]
+        return socket if output == "Color" else _combine(tree, socket)
+
+    return NodeCase(
+        name or f"noise_{dimensions.lower()}_{output.lower()}", build, "Noise Texture",
+        procedural=True,
+    )  # fmt: skip
+
+
+def wave_case(name, wave_type, direction, profile, output="Fac", **inputs):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexWave", wave_type=wave_type, wave_profile=profile)
+        if wave_type == "BANDS":
+            node.bands_direction = direction
+        else:
+            node.rings_direction = direction
+        _texture_input(tree, uv, node, location=(-0.5, -0.45, 0.1))
+        _set_inputs(node, inputs)
+        socket = node.outputs[output]
+        return socket if output == "Color" else _combine(tree, socket)
+
+    return NodeCase(f"wave_{name}", build, "Wave Texture", procedural=True)
+
+
+def magic_case(depth, output="Color", **inputs):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexMagic", turbulence_depth=depth)
+        _texture_input(tree, uv, node)
+        _set_inputs(node, inputs)
+        socket = node.outputs[output]
+        return socket if output == "Color" else _combine(tree, socket)
+
+    return NodeCase(
+        f"magic_depth_{depth}_{output.lower()}", build, "Magic Texture", procedural=True
+    )
+
+
+def brick_case(name, output="Color", settings=None, **inputs):
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexBrick", **(settings or {}))
+        node.inputs["Color1"].default_value = (0.9, 0.3, 0.1, 1.0)
+        node.inputs["Color2"].default_value = (0.1, 0.6, 0.8, 1.0)
+        node.inputs["Mortar"].default_value = (0.2, 0.2, 0.25, 1.0)
+        _texture_input(tree, uv, node, location=(0.013, 0.021, 0.0))
+        _set_inputs(node, inputs)
+        socket = node.outputs[output]
+        return socket if output == "Color" else _combine(tree, socket)
+
+    return NodeCase(f"brick_{name}", build, "Brick Texture", procedural=True)
+
+
+PROCEDURAL_CASES = [
+    noise_case("3D", Detail=2.5, Distortion=0.4),
+    noise_case("1D", "Fac", Detail=3.0, Roughness=0.7),
+    noise_case("2D", "Color", Scale=3.0, Detail=0.0),
+    noise_case("4D", "Color", Scale=2.0, Detail=1.3, Distortion=0.8),
+    *(
+        (
+            noise_case("3D", "Fac", "noise_fbm_raw", "FBM", False, Detail=4.2, Lacunarity=2.5),
+            noise_case("3D", "Fac", "noise_multifractal", "MULTIFRACTAL", Detail=3.5),
+            noise_case("2D", "Fac", "noise_ridged", "RIDGED_MULTIFRACTAL", Detail=3.0, Offset=1.0,
+                       Gain=2.0),
+            noise_case("3D", "Fac", "noise_hybrid", "HYBRID_MULTIFRACTAL", Detail=2.6, Offset=0.8,
+                       Gain=1.5),
+            noise_case("4D", "Fac", "noise_hetero", "HETERO_TERRAIN", Detail=2.4, Offset=0.6),
+        )
+        if NOISE_TYPES
+        else ()
+    ),
+    wave_case("bands_x_sin", "BANDS", "X", "SIN", Scale=1.3, Distortion=2.0, Detail=2.5),
+    wave_case("bands_diagonal_tri", "BANDS", "DIAGONAL", "TRI", "Color", Scale=0.9),
+    wave_case("rings_spherical_saw", "RINGS", "SPHERICAL", "SAW", Scale=0.7,
+              **{"Phase Offset": 1.0}),
+    wave_case("rings_z_sin", "RINGS", "Z", "SIN", Scale=1.1, Distortion=1.5,
+              **{"Detail Scale": 2.0, "Detail Roughness": 0.8}),
+    magic_case(0, Scale=1.5),
+    magic_case(2, "Fac", Scale=1.2, Distortion=1.7),
+    magic_case(10, Scale=0.8, Distortion=1.3),
+    brick_case("color", Scale=2.0, Bias=0.2, **{"Mortar Smooth": 0.5, "Mortar Size": 0.05}),
+    brick_case("squash_fac", "Fac", {"offset": 0.3, "offset_frequency": 3, "squash": 0.6,
+                                      "squash_frequency": 2}, Scale=2.5,
+               **{"Mortar Smooth": 0.3, "Mortar Size": 0.04}),
+]  # fmt: skip
+
+
 def tex_coord_case(output):
     def build(tree, uv):
         node = _node(tree, "ShaderNodeTexCoord")
@@ -407,6 +560,7 @@ CASES = [
     *(ramp_case(kind) for kind in ("CONSTANT", "LINEAR", "EASE", "CARDINAL", "B_SPLINE")),
     NodeCase("rgb_curves", _rgb_curves, "RGB Curves"),
     NodeCase("float_curve", _float_curve, "Float Curve"),
+    NodeCase("vector_curves", _vector_curves, "Vector Curves"),
     NodeCase("separate_hsv", _separate_hsv, "Separate Color"),
     NodeCase("combine_hsv", _combine_hsv, "Combine Color"),
     NodeCase("combine_hsl", _combine_hsl, "Combine Color"),
@@ -431,6 +585,7 @@ CASES = [
             "RADIAL",
         )
     ),
+    *PROCEDURAL_CASES,
     *(tex_coord_case(o) for o in ("UV", "Generated", "Object", "Normal", "Camera", "Window")),
     *(light_path_case(o) for o in ("Is Camera Ray", "Is Shadow Ray", "Ray Depth")),
     *(object_info_case(o) for o in ("Location", "Color", "Random", "Object Index")),

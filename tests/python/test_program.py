@@ -80,8 +80,8 @@ def test_program_validation_errors_are_value_errors():
         )
     with pytest.raises(ValueError, match="unknown op 0"):
         program([(0, 0, 0)], [0, 0, 0, 0])
-    with pytest.raises(ValueError, match=r"instruction 1 \(NOISE\): not supported yet"):
-        program([(MATH, 0, 0), (NOISE, 0, 0)], [0, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"instruction 1 \(NOISE\): mode 20 is not one of"):
+        program([(MATH, 0, 0), (NOISE, 5 << 2, 0)], [0, 0, 0, 0])  # no fractal 5
     with pytest.raises(ValueError, match="operand b register 3 out of range"):
         program([(MATH, 0, 0, 0, 3)], [0, 0, 0, 0])
     with pytest.raises(ValueError, match="mode 41"):

@@ -791,6 +791,9 @@ def _fold_curve(mode, values, e):
             for k in range(3)
         )
         return (*((1.0 - f) * v + f * o for v, o in zip(value, out, strict=False)), value[3])
+    if kind == 2:
+        out = tuple(curve_lookup(e, k, value[k], extrapolate) for k in range(3))
+        return (*((1.0 - f) * v + f * o for v, o in zip(value, out, strict=False)), 0.0)
     raise ValueError("not folded")
 
 

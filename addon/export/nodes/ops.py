@@ -31,11 +31,11 @@ IMAGE = 18
 ENVIRONMENT = 19
 CHECKER = 20
 GRADIENT = 21
-NOISE = 22  # reserved
+NOISE = 22
 VORONOI = 23  # reserved
-WAVE = 24  # reserved
-MAGIC = 25  # reserved
-BRICK = 26  # reserved
+WAVE = 24
+MAGIC = 25
+BRICK = 26
 FRESNEL = 27
 LAYER_WEIGHT = 28
 NORMAL_MAP = 29
@@ -193,6 +193,24 @@ GRADIENT_TYPES = (
     "RADIAL",
 )
 NORMAL_MAP_SPACES = ("TANGENT", "OBJECT", "WORLD")
+
+# NOISE's mode: dimensions - 1 in bits 0-1, the fractal (NOISE_TYPES) in bits 2-4,
+# NOISE_NORMALIZE and NOISE_COLOR.
+NOISE_TYPES = (
+    "FBM",
+    "MULTIFRACTAL",
+    "HYBRID_MULTIFRACTAL",
+    "RIDGED_MULTIFRACTAL",
+    "HETERO_TERRAIN",
+)
+NOISE_NORMALIZE = 1 << 8
+NOISE_COLOR = 1 << 9
+DIMENSIONS = ("1D", "2D", "3D", "4D")
+# WAVE's mode: type in bit 0, direction in bits 1-2, profile in bits 3-4.
+WAVE_TYPES = ("BANDS", "RINGS")
+WAVE_BANDS_DIRECTIONS = ("X", "Y", "Z", "DIAGONAL")
+WAVE_RINGS_DIRECTIONS = ("X", "Y", "Z", "SPHERICAL")
+WAVE_PROFILES = ("SIN", "SAW", "TRI")
 
 # The CURVE table: rows over [0, 1].
 CURVE_TABLE_SIZE = 256

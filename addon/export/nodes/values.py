@@ -8,6 +8,8 @@ feeds takes its own unlinked value, as if the link were not there.
 
 from dataclasses import dataclass, field
 
+import bpy
+
 from ..texture import INTERPOLATIONS, ImageTextureSpec, image_texture_spec
 from . import ops
 from . import warn as _warn
@@ -16,13 +18,9 @@ from .ir import COLOR, FLOAT, VECTOR, Builder
 
 _KINDS = {"VALUE": FLOAT, "INT": FLOAT, "BOOLEAN": FLOAT, "RGBA": COLOR, "VECTOR": VECTOR}
 
-# Procedural textures the program does not compute yet (ops 22..26 are reserved).
+# Procedural textures the program does not compute (named in their warning).
 PROCEDURALS = {
-    "ShaderNodeTexNoise": "Noise Texture",
     "ShaderNodeTexVoronoi": "Voronoi Texture",
-    "ShaderNodeTexWave": "Wave Texture",
-    "ShaderNodeTexMagic": "Magic Texture",
-    "ShaderNodeTexBrick": "Brick Texture",
     "ShaderNodeTexMusgrave": "Musgrave Texture",
     "ShaderNodeTexWhiteNoise": "White Noise Texture",
     "ShaderNodeTexSky": "Sky Texture",
@@ -250,6 +248,111 @@ def _gradient(c, out):
     vector = _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
     mode = ops.GRADIENT_TYPES.index(out.node.gradient_type)
     return c.b.op(ops.GRADIENT, mode, (vector,), kind=FLOAT)
+
+
+def _texture_vector(c, out):
+    """A texture's Vector: its link, else the Generated coordinates (as Cycles)."""
+    return _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
+
+
+# Blender before 4.0 has one fractal of its own for the Noise Texture and the Wave's
+# detail: fBM of lacunarity 2, normalised, its roughness clamped to [0, 1]. Its Noise
+# node has no Lacunarity socket; the Wave node has nothing to tell, hence the version.
+_LEGACY_FRACTAL = bpy.app.version < (4, 0, 0)
+
+
+def _float_inputs(c, out, defaults):
+    """The node's FLOAT inputs by name; a disabled or missing one is its default."""
+    values = []
+    for name, default in defaults:
+        value = c.input(out, (name,), FLOAT)
+        values.append(c.b.f(default) if value is None else value)
+    return values
+
+
+def _noise(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    w, scale, detail, roughness, offset, gain, distortion = _float_inputs(
+        c,
+        out,
+        (("W", 0.0), ("Scale", 5.0), ("Detail", 2.0), ("Roughness", 0.5), ("Offset", 0.0),
+         ("Gain", 1.0), ("Distortion", 0.0)),
+    )  # fmt: skip
+    lacunarity = c.input(out, ("Lacunarity",), FLOAT)
+    if lacunarity is None:  # Blender 3.x: the legacy fractal
+        lacunarity = c.b.f(2.0)
+        roughness = c.b.clamp01(roughness)
+    mode = ops.DIMENSIONS.index(node.noise_dimensions)
+    mode |= ops.NOISE_TYPES.index(getattr(node, "noise_type", "FBM")) << 2
+    mode |= ops.NOISE_NORMALIZE if getattr(node, "normalize", True) else 0
+    color = _output_name(out) == "Color"
+    mode |= ops.NOISE_COLOR if color else 0
+    first = c.b.pack(w, scale, detail, roughness)
+    second = c.b.pack(lacunarity, offset, gain, distortion)
+    noise = c.b.op(ops.NOISE, mode, (vector, first, second), kind=COLOR)
+    return noise if color else c.b.swizzle(noise, 3)
+
+
+def _wave(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    scale, distortion, detail, detail_scale, roughness, phase = _float_inputs(
+        c,
+        out,
+        (("Scale", 5.0), ("Distortion", 0.0), ("Detail", 2.0), ("Detail Scale", 1.0),
+         ("Detail Roughness", 0.5), ("Phase Offset", 0.0)),
+    )  # fmt: skip
+    if _LEGACY_FRACTAL:
+        roughness = c.b.clamp01(roughness)
+    kind = ops.WAVE_TYPES.index(node.wave_type)
+    if kind == 0:
+        direction = ops.WAVE_BANDS_DIRECTIONS.index(node.bands_direction)
+    else:
+        direction = ops.WAVE_RINGS_DIRECTIONS.index(node.rings_direction)
+    mode = kind | direction << 1 | ops.WAVE_PROFILES.index(node.wave_profile) << 3
+    first = c.b.pack(scale, distortion, detail, detail_scale)
+    second = c.b.pack(roughness, phase, c.b.f(0.0))
+    wave = c.b.op(ops.WAVE, mode, (vector, first, second), kind=FLOAT)
+    if _output_name(out) == "Color":
+        return c.b.pack(wave, wave, wave, c.b.f(1.0), kind=COLOR)
+    return wave
+
+
+def _magic(c, out):
+    vector = _texture_vector(c, out)
+    scale, distortion = _float_inputs(c, out, (("Scale", 5.0), ("Distortion", 1.0)))
+    depth = min(max(int(out.node.turbulence_depth), 0), 10)
+    magic = c.b.op(ops.MAGIC, depth, (vector, scale, distortion), kind=COLOR)
+    if _output_name(out) == "Color":
+        return magic
+    return c.b.swizzle(magic, 3)
+
+
+def _brick(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    color1 = c.input(out, ("Color1",), COLOR)
+    color2 = c.input(out, ("Color2",), COLOR)
+    mortar_color = c.input(out, ("Mortar",), COLOR)
+    scale, size, smooth, bias, width, height = _float_inputs(
+        c,
+        out,
+        (("Scale", 5.0), ("Mortar Size", 0.02), ("Mortar Smooth", 0.1), ("Bias", 0.0),
+         ("Brick Width", 0.5), ("Row Height", 0.25)),
+    )  # fmt: skip
+    frequencies = (
+        min(max(node.offset_frequency, 0), 255) | min(max(node.squash_frequency, 0), 255) << 8
+    )
+    first = c.b.pack(scale, size, smooth, bias)
+    second = c.b.pack(width, height, c.b.f(node.offset), c.b.f(node.squash))
+    brick = c.b.op(ops.BRICK, frequencies, (vector, first, second), kind=VECTOR)
+    mortar = c.b.swizzle(brick, 1)
+    if _output_name(out) != "Color":
+        return mortar
+    # Color1 to Color2 by the brick's tint, then to the mortar colour by the mortar.
+    bricks = c.b.vlerp(c.b.swizzle(brick, 0), color1, color2)
+    return c.b.vlerp(mortar, bricks, mortar_color)
 
 
 def _uv_map(c, out):
@@ -513,9 +616,9 @@ def _ramp(c, out):
     return color
 
 
-def curve_table(mapping, columns):
-    """A CURVE constants block: for each of the 4 columns, 256 samples over [0, 1] of
-    `mapping.curves[columns[k]]` (None: zeros), with the curve's own `evaluate`."""
+def curve_table(mapping, columns, low=0.0, high=1.0):
+    """A CURVE constants block: for each of the 4 columns, 256 samples over [low, high]
+    of `mapping.curves[columns[k]]` (None: zeros), with the curve's own `evaluate`."""
     if hasattr(mapping, "initialize"):
         mapping.initialize()
     size = ops.CURVE_TABLE_SIZE
@@ -525,8 +628,28 @@ def curve_table(mapping, columns):
             table += [0.0] * size
             continue
         curve = mapping.curves[index]
-        table += [float(mapping.evaluate(curve, i / (size - 1))) for i in range(size)]
+        table += [
+            float(mapping.evaluate(curve, low + (high - low) * i / (size - 1))) for i in range(size)
+        ]
     return tuple(table)
+
+
+def _vector_curves(c, out):
+    node = out.node
+    mapping = node.mapping
+    factor = c.input(out, ("Fac", "Factor"), FLOAT)
+    vector = c.input(out, ("Vector",), VECTOR)
+    # Cycles tabulates the three curves over the span of their points (the first
+    # point's x to the last's) and looks each axis up at its place in that span.
+    low = min(curve.points[0].location[0] for curve in mapping.curves[:3])
+    high = max(curve.points[-1].location[0] for curve in mapping.curves[:3])
+    if not high > low:
+        low, high = 0.0, 1.0
+    table = curve_table(mapping, (0, 1, 2, None), low, high)
+    span = c.b.const((high - low,) * 3, VECTOR)
+    place = c.b.vmath("DIVIDE", c.b.vmath("SUBTRACT", vector, c.b.const((low,) * 3, VECTOR)), span)
+    mapped = c.b.op(ops.CURVE, _curve_mode(node, 2), (c.b.f(1.0), place), e=table, kind=VECTOR)
+    return c.b.vlerp(factor, vector, mapped, kind=VECTOR)
 
 
 def _rgb_curves(c, out):
@@ -697,6 +820,10 @@ _NODES = {
     "ShaderNodeTexEnvironment": _environment,
     "ShaderNodeTexChecker": _checker,
     "ShaderNodeTexGradient": _gradient,
+    "ShaderNodeTexNoise": _noise,
+    "ShaderNodeTexWave": _wave,
+    "ShaderNodeTexMagic": _magic,
+    "ShaderNodeTexBrick": _brick,
     "ShaderNodeUVMap": _uv_map,
     "ShaderNodeTexCoord": _tex_coord,
     "ShaderNodeNewGeometry": _geometry,
@@ -719,6 +846,7 @@ _NODES = {
     "ShaderNodeValToRGB": _ramp,
     "ShaderNodeRGBCurve": _rgb_curves,
     "ShaderNodeFloatCurve": _float_curve,
+    "ShaderNodeVectorCurve": _vector_curves,
     "ShaderNodeInvert": _invert,
     "ShaderNodeHueSaturation": _hue_sat,
     "ShaderNodeGamma": _gamma,

@@ -10,6 +10,8 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "texture/procedural.h"
+
 namespace whitted {
 namespace {
 
@@ -880,7 +882,15 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       case Op::kRgbToBw:
         s.a = reg(3);
         break;
-      default:  // NOISE .. BRICK, reserved
+      case Op::kNoise:
+      case Op::kWave:
+      case Op::kMagic:
+      case Op::kBrick:
+        if (!procedural::valid_mode(op, mode))
+          fail("mode " + std::to_string(mode) + " is not one of its modes");
+        s.a = reg(3), s.b = reg(4), s.c = reg(5);
+        break;
+      default:  // VORONOI, reserved
         fail("not supported yet");
     }
     steps_.push_back(s);
@@ -1046,6 +1056,18 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
       }
       case Op::kGradient:
         out = scalar(saturate(gradient(s.mode, Vec3(a))));
+        break;
+      case Op::kNoise:
+        out = procedural::noise_op(s.mode, a, b, c);
+        break;
+      case Op::kWave:
+        out = procedural::wave_op(s.mode, a, b, c);
+        break;
+      case Op::kMagic:
+        out = procedural::magic_op(s.mode, a, b, c);
+        break;
+      case Op::kBrick:
+        out = procedural::brick_op(s.mode, a, b, c);
         break;
       case Op::kFresnel: {
         const Vec3 n = s.b_given ? Vec3(b) : hit.normal;

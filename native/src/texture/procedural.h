@@ -1,0 +1,83 @@
+// The procedural textures of a shader program (ops NOISE, VORONOI, WAVE, MAGIC, BRICK):
+// Blender's definitions (Cycles' SVM kernels), written for one point at a time. Pure
+// functions of their arguments: no state, safe from any thread.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/math.h"
+#include "texture/ops.h"
+
+namespace whitted::procedural {
+
+// Bob Jenkins' lookup3 hash of 1..4 words, as Cycles hashes lattice points and seeds.
+uint32_t hash(uint32_t kx);
+uint32_t hash(uint32_t kx, uint32_t ky);
+uint32_t hash(uint32_t kx, uint32_t ky, uint32_t kz);
+uint32_t hash(uint32_t kx, uint32_t ky, uint32_t kz, uint32_t kw);
+
+// Signed Perlin noise of 1..4 dimensions, about [-1, 1] (Cycles' snoise_*d).
+float signed_noise(float p);
+float signed_noise(glm::vec2 p);
+float signed_noise(Vec3 p);
+float signed_noise(glm::vec4 p);
+
+// The Noise Texture's fractal kinds (ShaderNodeTexNoise.noise_type), in ops.py's order.
+enum class NoiseType : uint32_t {
+  kFbm,
+  kMultifractal,
+  kHybridMultifractal,
+  kRidgedMultifractal,
+  kHeteroTerrain
+};
+
+struct NoiseSettings {
+  int dimensions = 3;  // 1..4
+  NoiseType type = NoiseType::kFbm;
+  bool normalize = true;
+  bool color = false;  // compute the Color output (two more fractals)
+  float scale = 5.0f, detail = 2.0f, roughness = 0.5f, lacunarity = 2.0f;
+  float offset = 0.0f, gain = 1.0f, distortion = 0.0f;
+};
+// The Noise Texture at `p` (and `w`, for 1D and 4D): (Color, Fac); without `color` the
+// Color is Fac in all three.
+glm::vec4 noise_texture(const NoiseSettings& s, Vec3 p, float w);
+
+struct WaveSettings {
+  uint32_t type = 0;       // 0 bands, 1 rings
+  uint32_t direction = 0;  // bands: X, Y, Z, diagonal; rings: X, Y, Z, spherical
+  uint32_t profile = 0;    // 0 sine, 1 saw, 2 triangle
+  float scale = 5.0f, distortion = 0.0f, detail = 2.0f, detail_scale = 1.0f;
+  float detail_roughness = 0.5f, phase = 0.0f;
+};
+float wave_texture(const WaveSettings& s, Vec3 p);
+
+// The Magic Texture's colour; its Fac is the colour's average.
+Vec3 magic_texture(Vec3 p, float scale, int depth, float distortion);
+
+struct BrickSettings {
+  float scale = 5.0f, mortar_size = 0.02f, mortar_smooth = 0.1f, bias = 0.0f;
+  float brick_width = 0.5f, row_height = 0.25f;
+  float offset = 0.5f, squash = 1.0f;  // the node's offset and squash amounts
+  int offset_frequency = 2, squash_frequency = 2;
+};
+// The Brick Texture's (tint, mortar): tint mixes Color1 to Color2, mortar the result
+// to the Mortar colour (the node's Fac).
+glm::vec2 brick_texture(const BrickSettings& s, Vec3 p);
+
+}  // namespace whitted::procedural
+
+namespace whitted::procedural {
+
+// The program's ops over their registers (docs/notes/shader_program.md gives the modes
+// and operands); `mode` has been checked by valid_mode.
+bool valid_mode(uint32_t op, uint32_t mode);
+glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
+glm::vec4 wave_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
+glm::vec4 magic_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
+glm::vec4 brick_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
+
+}  // namespace whitted::procedural
