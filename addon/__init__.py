@@ -11,8 +11,10 @@ from . import engine, operators, preferences
 from .properties import light as light_properties
 from .properties import material as material_properties
 from .properties import scene as scene_properties
+from .properties import view_layer as view_layer_properties
 from .ui import light as light_ui
 from .ui import material as material_ui
+from .ui import passes as passes_ui
 from .ui import render as render_ui
 
 bl_info = {
@@ -30,6 +32,7 @@ classes = (
     preferences.WhittedPreferences,
     scene_properties.WhittedEstimate,
     scene_properties.WhittedSceneProperties,
+    view_layer_properties.WhittedViewLayerProperties,
     light_properties.WhittedLightProperties,
     material_properties.WhittedMaterialProperties,
     engine.WhittedRenderEngine,
@@ -40,6 +43,7 @@ classes = (
     render_ui.WHITTED_RENDER_PT_last_render,
     light_ui.WHITTED_LIGHT_PT_settings,
     material_ui.WHITTED_MATERIAL_PT_settings,
+    passes_ui.WHITTED_VIEWLAYER_PT_passes_whitted,
 )
 
 # Blender's own panels that also make sense for Whitted. Names differ between
@@ -65,6 +69,11 @@ COMPAT_PANELS = (
     # World.
     "WORLD_PT_context_world",
     "EEVEE_WORLD_PT_surface",
+    # View layer: its name and use, and the Passes panel that Whitted's own pass
+    # sub-panels (ui/passes.py) go under, as Cycles' do.
+    "VIEWLAYER_PT_context_layer",
+    "VIEWLAYER_PT_layer",
+    "VIEWLAYER_PT_layer_passes",
 )
 
 

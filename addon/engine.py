@@ -76,9 +76,10 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         if not self.is_preview:
             for warning in frame.warnings:
                 self.report({"WARNING"}, warning)
-        render_result.add_passes(self)
+        passes = render_result.enabled_passes(depsgraph.view_layer)
+        render_result.add_passes(self, passes)
         try:
-            self._run(job, frame.film.region, phases)
+            self._run(job, frame.film.region, phases, passes)
         except (MemoryError, RuntimeError) as error:
             # A worker failed (out of memory, say): the job stopped all of them.
             self._fail(scene, f"Whitted: the render failed: {error}")
@@ -93,7 +94,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             job.stats(),
             phases,
             asdict(frame.sync.sanitised),
-            render_result.PASSES,
+            [spec.name for spec in passes],
         )
         stats["sync"] = frame.report.as_dict()
         # What the memory guard expected this render to need (docs/MEMORY.md).
@@ -138,7 +139,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             sys.stdout.flush()
             os._exit(FAILURE_EXIT_CODE)
 
-    def _run(self, job, region, phases):
+    def _run(self, job, region, phases, passes):
         started = time.perf_counter()
         job.start()
         # Nobody watches a background (farm) render: its tiles are written once, at
@@ -151,7 +152,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
                 finished = job.wait(POLL_SECONDS)
                 pending += job.take_finished_tiles()
                 if progressive:
-                    self._write(job, pending, region, phases)
+                    self._write(job, pending, region, phases, passes)
                     pending = []
                 self.update_progress(job.progress)
                 seconds = time.perf_counter() - started
@@ -166,15 +167,15 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
                     break
         finally:
             # What was finished is kept, even when the render failed.
-            self._write(job, pending + job.take_finished_tiles(), region, phases)
+            self._write(job, pending + job.take_finished_tiles(), region, phases, passes)
         native_stats = job.stats()
         phases.scene_bvh = native_stats["compile_seconds"]
         phases.trace = native_stats["trace_seconds"]
 
-    def _write(self, job, tiles, region, phases):
+    def _write(self, job, tiles, region, phases, passes):
         write_started = time.perf_counter()
         for tile in _clip_tiles(_merge_tiles(tiles), region):
-            render_result.write_tile(self, job, tile, region)
+            render_result.write_tile(self, job, tile, region, passes)
         phases.writeback += time.perf_counter() - write_started
 
     # --- the Rendered viewport --------------------------------------------------

@@ -1,15 +1,57 @@
-"""Whitted's render passes and how finished tiles reach Blender's render result.
+"""Whitted's render passes, and how finished tiles reach Blender's render result.
 
-Besides Combined, every render has the pass "Whitted Rays": the rays traced for
-each pixel (camera, shadow, reflection, refraction and transparent), so an
-artist sees where the time goes.
+One table, PASSES, says which passes Whitted can write: each pass's Blender
+name and channels, the property that enables it and the film buffer its pixels
+come from. Everything else is read from it: the passes registered for the
+compositor (update_render_passes), those added to a render's result, the
+view-layer pass panels (ui/passes.py) and what each finished tile writes.
+docs/PASSES.md defines every pass.
+
+Combined is always written, and so is "Whitted Rays" unless its switch is off:
+the rays traced for each pixel (camera, shadow, reflection, refraction and
+transparent), so an artist sees where the time goes.
 """
+
+from dataclasses import dataclass
 
 import bpy
 
+
+@dataclass(frozen=True)
+class PassSpec:
+    """One render pass Whitted can write."""
+
+    name: str  # Blender's pass name: render result, compositor socket, EXR layer
+    channels: str  # Blender's channel ids, one letter per channel ("RGBA", "XYZ", "Z")
+    kind: str  # register_pass's type: 'COLOR', 'VECTOR' or 'VALUE'
+    # What enables it: a ViewLayer property ("use_pass_z"), one of view_layer.whitted
+    # ("whitted.use_pass_rays"), or "" for a pass that is always written.
+    toggle: str
+    # The job buffer it is read from: "combined" (RenderJob.tile), "rays"
+    # (RenderJob.cost_tile), or a native film pass (RenderJob.pass_tile).
+    source: str
+    first: int = 0  # its first channel within `source` (several passes share one)
+    panel: str = ""  # the view-layer sub-panel its switch is drawn in (ui/passes.py)
+    heading: str = ""  # the heading of its group of switches there
+    label: str = ""  # the switch's label ("" for the property's own name)
+
+    def enabled(self, view_layer):
+        if not self.toggle:
+            return True
+        owner, _, prop = self.toggle.rpartition(".")
+        return bool(getattr(view_layer.whitted if owner else view_layer, prop))
+
+
+COMBINED = PassSpec("Combined", "RGBA", "COLOR", "", "combined")
 COST_PASS = "Whitted Rays"
-# Every pass each render writes.
-PASSES = ("Combined", COST_PASS)
+
+
+# Every pass Whitted can write. The names and channels are Blender's, so the
+# compositor's Render Layers node and EXR readers see what they expect.
+PASSES = (
+    COMBINED,
+    PassSpec(COST_PASS, "X", "VALUE", "whitted.use_pass_rays", "rays", panel="WHITTED"),
+)
 
 # `RenderPass.rect.foreach_set` takes a (w*h, channels) array up to Blender 4.0
 # (it counts the first dimension only; a flat array is refused) and a flat
@@ -18,18 +60,27 @@ PASSES = ("Combined", COST_PASS)
 FLAT_RECT = bpy.app.version >= (4, 1, 0)
 
 
+def enabled_passes(view_layer):
+    """The passes a render of `view_layer` writes, Combined first."""
+    return tuple(spec for spec in PASSES if spec.enabled(view_layer))
+
+
 def register_passes(engine, scene, view_layer):
     """For RenderEngine.update_render_passes: the passes the compositor can read."""
-    engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", "COLOR")
-    engine.register_pass(scene, view_layer, COST_PASS, 1, "X", "VALUE")
+    for spec in enabled_passes(view_layer):
+        engine.register_pass(
+            scene, view_layer, spec.name, len(spec.channels), spec.channels, spec.kind
+        )
 
 
-def add_passes(engine):
+def add_passes(engine, passes):
     """Before the first begin_result of a render: the passes beyond Combined."""
-    engine.add_pass(COST_PASS, 1, "X")
+    for spec in passes:
+        if spec is not COMBINED:
+            engine.add_pass(spec.name, len(spec.channels), spec.channels)
 
 
-def write_tile(engine, job, tile, region):
+def write_tile(engine, job, tile, region, passes):
     """Copy finished tile (x, y, w, h) of `job` into the render result.
 
     The render result covers only the region (the render border), so its pixel
@@ -37,10 +88,22 @@ def write_tile(engine, job, tile, region):
     """
     x, y, width, height = tile
     result = engine.begin_result(x - region[0], y - region[1], width, height)
-    passes = result.layers[0].passes
-    _set_pass(passes["Combined"], job.tile(x, y, width, height))
-    _set_pass(passes[COST_PASS], job.cost_tile(x, y, width, height))
+    layer = result.layers[0].passes
+    for spec in passes:
+        _set_pass(layer[spec.name], _pixels(job, spec, x, y, width, height))
     engine.end_result(result)
+
+
+def _pixels(job, spec, x, y, width, height):
+    if spec.source == "combined":
+        return job.tile(x, y, width, height)
+    if spec.source == "rays":
+        return job.cost_tile(x, y, width, height)
+    pixels = job.pass_tile(spec.source, x, y, width, height)
+    if spec.first == 0 and pixels.shape[1] == len(spec.channels):
+        return pixels
+    # One of several passes sharing the buffer: a contiguous copy of its columns.
+    return pixels[:, spec.first : spec.first + len(spec.channels)].copy()
 
 
 def _set_pass(render_pass, pixels):
