@@ -240,6 +240,44 @@ def scene_normal_mapped(scene, work):
     black_world(scene)
 
 
+def scene_bump_mapped(scene, work):
+    """Dimples from a Bump node on a diffuse plane: the height sin(kx) sin(ky) of the
+    Object coordinates built from Math nodes, under a sun at 45 degrees."""
+    material = shader_graphs.new_material("Dimpled")
+    tree = material.node_tree
+    bsdf = shader_graphs.principled(material)
+    bsdf.inputs["Base Color"].default_value = (0.6, 0.65, 0.7, 1.0)
+    # Diffuse only, so that the figures measure the bent normals (a Phong highlight is
+    # not Cycles' GGX one at roughness 0.5: see gltf_round_trip).
+    shader_graphs.first_input(bsdf, ("Specular IOR Level", "Specular")).default_value = 0.0
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coordinates.outputs["Object"], separate.inputs[0])
+    waves = []
+    for axis in ("X", "Y"):
+        scaled = tree.nodes.new("ShaderNodeMath")
+        scaled.operation = "MULTIPLY"
+        scaled.inputs[1].default_value = 2.0 * math.pi * 1.5
+        tree.links.new(separate.outputs[axis], scaled.inputs[0])
+        wave = tree.nodes.new("ShaderNodeMath")
+        wave.operation = "SINE"
+        tree.links.new(scaled.outputs[0], wave.inputs[0])
+        waves.append(wave)
+    height = tree.nodes.new("ShaderNodeMath")
+    height.operation = "MULTIPLY"
+    tree.links.new(waves[0].outputs[0], height.inputs[0])
+    tree.links.new(waves[1].outputs[0], height.inputs[1])
+    bump = tree.nodes.new("ShaderNodeBump")
+    bump.inputs["Distance"].default_value = 0.08
+    tree.links.new(height.outputs[0], bump.inputs["Height"])
+    tree.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+    bpy.ops.mesh.primitive_plane_add(size=3.0)
+    bpy.context.active_object.data.materials.append(material)
+    add_sun(scene, rotation=(45.0, 0.0, 60.0))
+    add_camera(scene, (0.0, -3.2, 3.2), (0.0, 0.0, 0.0))
+    black_world(scene)
+
+
 def scene_vertex_colours(scene, work):
     """A Color Attribute on a subdivided grid into Base Color."""
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8, size=3.0)
@@ -371,6 +409,7 @@ SCENES = {
     "gltf_round_trip": scene_gltf_round_trip,
     "groups_three_deep": scene_groups_three_deep,
     "normal_mapped": scene_normal_mapped,
+    "bump_mapped": scene_bump_mapped,
     "vertex_colours": scene_vertex_colours,
     "alpha_cards": scene_alpha_cards,
     "hdri_mirror_glass": scene_hdri_mirror_glass,

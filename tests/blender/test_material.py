@@ -701,8 +701,8 @@ def test_override_starts_from_the_mapping_and_wins(warnings):
 def test_linked_input_the_mapping_ignores_warns(warnings):
     material = node_material("Bumpy")
     diffuse = surface_shader(material, "ShaderNodeBsdfDiffuse")
-    bump = material.node_tree.nodes.new("ShaderNodeBump")
-    material.node_tree.links.new(bump.outputs[0], diffuse.inputs["Normal"])
+    geometry = material.node_tree.nodes.new("ShaderNodeNewGeometry")
+    material.node_tree.links.new(geometry.outputs["Incoming"], diffuse.inputs["Normal"])
     convert(material, warnings)
     assert warnings == [
         f"Whitted: material 'Bumpy', node '{diffuse.name}': input 'Normal' is linked; "

@@ -91,7 +91,7 @@ TEST(Program, ValidationNamesTheFirstProblem) {
   expect_invalid({{Op::kMath, 0, 0}, {Op::kMath, 41, 0}}, "instruction 1 (MATH): mode 41");
   expect_invalid({{Op::kVectorMath, 29, 0}}, "mode 29");
   expect_invalid({{Op::kMix, 19, 0}}, "mode 19");
-  expect_invalid({{Op::kInput, 10, 0}}, "mode 10 is not an input");
+  expect_invalid({{Op::kInput, 11, 0}}, "mode 11 is not an input");
   expect_invalid({{Op::kImage, 0, 0, kU, kU, kU, kU, 1}}, "texture slot 1 out of range", 2, {},
                  {"t"});
   expect_invalid({{Op::kColorRamp, 1, 0, kU, kU, kU, kU, 0}}, "do not hold a ramp", 2, {2, 0, 1});

@@ -41,6 +41,7 @@ LAYER_WEIGHT = 28
 NORMAL_MAP = 29
 PACK = 30
 RGB_TO_BW = 31
+BUMP = 32
 
 OP_NAMES = {
     value: name
@@ -63,6 +64,7 @@ IN_CAMERA = 6
 IN_WINDOW = 7
 IN_REFLECTION = 8
 IN_BACKFACING = 9
+IN_OBJECT_NORMAL = 10
 IN_IS_CAMERA_RAY = 16
 IN_IS_SHADOW_RAY = 17
 IN_IS_REFLECTION_RAY = 18
@@ -76,6 +78,10 @@ IN_OBJECT_INDEX = 34
 IN_OBJECT_COLOR = 35
 IN_UV = 64  # + UV set index
 IN_ATTRIBUTE = 128  # + corner attribute index
+# Either bit on a mode: that input at the hit moved by the first or second bump offset
+# (the heights a BUMP differentiates).
+IN_BUMP_X = 1 << 8
+IN_BUMP_Y = 1 << 9
 
 MATH_OPS = (
     "ADD",

@@ -95,6 +95,9 @@ PRINCIPLED_READ = {
     for name in names
 }
 
+# Nodes whose output a shader's Normal input reads.
+NORMAL_NODES = ("ShaderNodeNormalMap", "ShaderNodeBump")
+
 # Rec. 709 luminance weights (Blender's default scene linear space).
 LUMINANCE = (0.2126, 0.7152, 0.0722)
 
@@ -189,11 +192,14 @@ class ShaderLowering:
         fed = None if socket is None else source(socket, output.scope)[0]
         if fed is None:
             return None
-        if self.legacy or fed.node.bl_idname != "ShaderNodeNormalMap":
-            # Only a Normal Map gives a normal (Bump and others are not supported).
+        if self.legacy or fed.node.bl_idname not in NORMAL_NODES:
+            # Only a Normal Map or a Bump gives a normal.
             self.c.warn(output.node, f"input '{socket.name}' is linked; Whitted ignores it")
             return None
-        return self.c.value(socket, output.scope, VECTOR)
+        normal = self.c.value(socket, output.scope, VECTOR)
+        if normal.op == ops.INPUT and normal.mode == ops.IN_NORMAL:
+            return None  # the interpolated normal, as without the link
+        return normal
 
     def closure(
         self,

@@ -15,6 +15,7 @@ from . import ops
 from . import warn as _warn
 from .graph import socket_id, socket_type, source
 from .ir import COLOR, FLOAT, VECTOR, Builder
+from .normals import bump as _bump
 
 _KINDS = {"VALUE": FLOAT, "INT": FLOAT, "BOOLEAN": FLOAT, "RGBA": COLOR, "VECTOR": VECTOR}
 
@@ -375,6 +376,9 @@ def _tex_coord(c, out):
         return c.uv("")
     if getattr(out.node, "object", None) is not None and name == "Object":
         c.warn(out.node, "Object coordinates of another object are not supported; its own")
+    if name == "Normal" and not c.world:
+        # Cycles' Normal output is the shading normal in object space.
+        return c.hit(ops.IN_OBJECT_NORMAL)
     if name == "Camera" and not c.world:
         # INPUT 6 is Blender's camera space (looking down -Z); Cycles' Camera output
         # looks down +Z.
@@ -858,6 +862,7 @@ _NODES = {
     "ShaderNodeFresnel": _fresnel,
     "ShaderNodeLayerWeight": _layer_weight,
     "ShaderNodeNormalMap": _normal_map,
+    "ShaderNodeBump": _bump,
 }
 
 SUPPORTED_NODES = frozenset(_NODES)

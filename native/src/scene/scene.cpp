@@ -462,6 +462,12 @@ struct SurfaceHit {
         return vec(2.0f * glm::dot(hit.normal, hit.incoming) * hit.normal - hit.incoming);
       case kInputBackfacing:
         return glm::vec4(hit.backfacing ? 1.0f : 0.0f);
+      case kInputObjectSpaceNormal: {
+        // Normals go back to object space by the transpose of the linear part.
+        const Vec3 n = glm::transpose(glm::mat3(instance.to_world)) * hit.normal;
+        const float length = glm::length(n);
+        return vec(length > 0.0f ? n / length : n);
+      }
       case kInputObjectLocation:
         return vec(instance.info.location);
       case kInputObjectRandom:
@@ -510,6 +516,51 @@ struct SurfaceHit {
   }
 };
 
+// How far the height of a Bump node is read from the hit: this fraction of the hit's
+// distance from the camera, about the footprint of one pixel of a 1000-pixel-wide image
+// at a 53-degree field of view (Cycles steps by the ray differentials, which Whitted does
+// not carry; the Bump's result does not depend on the step to first order).
+constexpr float kBumpStep = 1e-3f;
+
+// Two offsets along the surface (perpendicular to the geometric normal, a right-handed
+// frame with it) for the Bump node's differences.
+void bump_offsets(const Interaction& it, const RayContext& context, ProgramHit* hit) {
+  const Vec3& n = it.geometric_normal;
+  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  const Vec3 t(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  const Vec3 bitangent(b, sign + n.y * n.y * a, -n.y);
+  const float distance = glm::length(it.position - Vec3(context.camera->to_world[3]));
+  const float step = kBumpStep * std::fmax(distance, 1e-3f);
+  hit->bump_dx = step * t;
+  hit->bump_dy = step * bitangent;
+}
+
+// The hit moved by `offset` (world, along its triangle's plane): position, object-space
+// point and barycentrics (outside the triangle they extrapolate its interpolation).
+Interaction moved(const CompiledScene& scene, const Interaction& it, const Vec3& offset) {
+  const CompiledScene::Instance& instance = scene.instances[it.instance];
+  const Mesh& mesh = instance.mesh->mesh;
+  const uint32_t* tri = &mesh.triangles[3 * size_t{it.primitive}];
+  const Vec3 p0 = mesh.vertex(tri[0]);
+  const Vec3 e1 = mesh.vertex(tri[1]) - p0;
+  const Vec3 e2 = mesh.vertex(tri[2]) - p0;
+  // The inverse of the linear part is the transpose of its inverse transpose.
+  const Vec3 local = glm::transpose(instance.normal_to_world) * offset;
+  const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+  const float b1 = glm::dot(local, e1), b2 = glm::dot(local, e2);
+  const float det = d11 * d22 - d12 * d12;
+  Interaction out = it;
+  out.position += offset;
+  out.local_position += local;
+  if (det > 0.0f && std::isfinite(det)) {
+    out.barycentric += glm::vec2(d22 * b1 - d12 * b2, d11 * b2 - d12 * b1) / det;
+  }
+  return out;
+}
+
 // The register file of one evaluation lives here, on the stack, and is gone before the
 // integrator recurses.
 using Registers = std::array<glm::vec4, Program::kMaxRegisters + 1>;
@@ -547,8 +598,23 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     hit.images = m.program_images.data();
     const SurfaceHit source{*this, it, ray, context, hit};
     Inputs inputs;
-    for (size_t i = 0; i < m.program->inputs().size(); ++i) {
-      inputs[i] = source.input(m.program->inputs()[i]);
+    if (m.program->bumps()) {
+      bump_offsets(it, context, &hit);
+      const Interaction at_x = moved(*this, it, hit.bump_dx);
+      const Interaction at_y = moved(*this, it, hit.bump_dy);
+      const SurfaceHit source_x{*this, at_x, ray, context, hit};
+      const SurfaceHit source_y{*this, at_y, ray, context, hit};
+      for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+        const uint32_t mode = m.program->inputs()[i];
+        const uint32_t base = mode & ~(kInputBumpX | kInputBumpY);
+        inputs[i] = base == mode                ? source.input(mode)
+                    : (mode & kInputBumpX) != 0 ? source_x.input(base)
+                                                : source_y.input(base);
+      }
+    } else {
+      for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+        inputs[i] = source.input(m.program->inputs()[i]);
+      }
     }
     hit.inputs = inputs.data();
     Registers r;

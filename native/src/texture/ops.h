@@ -41,6 +41,7 @@ enum class Op : uint32_t {
   kNormalMap = 29,
   kPack = 30,
   kRgbToBw = 31,
+  kBump = 32,
 };
 
 // The modes of op INPUT: what a hit offers a program.
@@ -55,6 +56,7 @@ enum Input : uint32_t {
   kInputWindow = 7,
   kInputReflection = 8,
   kInputBackfacing = 9,
+  kInputObjectSpaceNormal = 10,  // the shading normal in object space (unit, incoming side)
   kInputIsCameraRay = 16,
   kInputIsShadowRay = 17,
   kInputIsReflectionRay = 18,
@@ -69,6 +71,10 @@ enum Input : uint32_t {
   kInputUvSet = 64,       // + k, k < 64
   kInputAttribute = 128,  // + k, k < 128
   kInputPublicEnd = 256,
+  // Either bit on a public mode: that input at the hit moved by the first or the second
+  // bump offset (ProgramHit::bump_dx, bump_dy), for the height a Bump node differentiates.
+  kInputBumpX = 1u << 8,
+  kInputBumpY = 1u << 9,
   // Not selectable by INPUT: what NORMAL_MAP reads in tangent space, asked of the hit
   // through the same table (Program::inputs).
   kInputTangent = 1u << 16,       // + k: tangent set k, object space xyz, bitangent sign w

@@ -687,6 +687,23 @@ Vec3 normal_map(uint32_t mode, float strength, Vec3 color, const glm::vec4& tang
   return n == Vec3(0.0f) ? hit.normal : n;
 }
 
+// Blender's Bump node (Cycles svm_node_set_bump): the normal of the surface displaced by
+// `distance` x height, from the height at the hit and at the two offsets dx, dy along it;
+// on the incoming side, as `n` is. The offsets' length cancels out to first order.
+Vec3 bump(const ProgramHit& hit, float strength, float distance, bool invert, const Vec3& n,
+          float h, float h_x, float h_y) {
+  const Vec3 r_x = glm::cross(hit.bump_dy, n);
+  const Vec3 r_y = glm::cross(n, hit.bump_dx);
+  const float det = glm::dot(hit.bump_dx, r_x);
+  const Vec3 gradient = (h_x - h) * r_x + (h_y - h) * r_y;
+  if (invert) distance = -distance;
+  const float sign = det < 0.0f ? -1.0f : 1.0f;
+  const Vec3 bumped = safe_normalize(std::fabs(det) * n - distance * sign * gradient);
+  if (bumped == Vec3(0.0f)) return n;
+  strength = std::fmax(strength, 0.0f);
+  return safe_normalize(strength * bumped + (1.0f - strength) * n);
+}
+
 // ---------------------------------------------------------------------------------------
 // Validation.
 
@@ -697,12 +714,15 @@ const char* op_name(uint32_t op) {
       "INVERT",   "CLAMP",       "MAP_RANGE", "COLOR_RAMP",  "CURVE",        "MAPPING",
       "IMAGE",    "ENVIRONMENT", "CHECKER",   "GRADIENT",    "NOISE",        "VORONOI",
       "WAVE",     "MAGIC",       "BRICK",     "FRESNEL",     "LAYER_WEIGHT", "NORMAL_MAP",
-      "PACK",     "RGB_TO_BW"};
+      "PACK",     "RGB_TO_BW",   "BUMP"};
   return op < std::size(kNames) ? kNames[op] : "?";
 }
 
 bool public_input(uint32_t mode) {
-  return mode <= kInputBackfacing || (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
+  if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
+  if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
+  return mode <= kInputObjectSpaceNormal ||
+         (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
          (mode >= kInputObjectLocation && mode <= kInputObjectColor) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
@@ -743,7 +763,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       throw std::invalid_argument("instruction " + std::to_string(row) + " (" + op_name(op) +
                                   "): " + what);
     };
-    if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kRgbToBw)) {
+    if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kBump)) {
       throw std::invalid_argument("instruction " + std::to_string(row) + ": unknown op " +
                                   std::to_string(op));
     }
@@ -775,6 +795,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       case Op::kInput:
         if (!public_input(mode)) fail("mode " + std::to_string(mode) + " is not an input");
         s.e = input_slot(mode);
+        bumps_ |= (mode & (kInputBumpX | kInputBumpY)) != 0;
         break;
       case Op::kMath:
         modes(static_cast<uint32_t>(kMathOpNames.size()), kClampBit);
@@ -889,6 +910,12 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         if (!procedural::valid_mode(op, mode))
           fail("mode " + std::to_string(mode) + " is not one of its modes");
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
+        break;
+      case Op::kBump:
+        modes(2);
+        s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6), s.e = reg(7);
+        s.b_given = c[4] != kUnused;
+        bumps_ = true;
         break;
       default:  // VORONOI, reserved
         fail("not supported yet");
@@ -1090,6 +1117,10 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       case Op::kRgbToBw:
         out = scalar(0.2126f * a.x + 0.7152f * a.y + 0.0722f * a.z);
+        break;
+      case Op::kBump:
+        out = vector(bump(hit, a.x, a.y, s.mode == 1, s.b_given ? Vec3(b) : hit.normal, c.x,
+                          r[s.d].x, r[s.e].x));
         break;
       default:  // rejected at construction
         break;

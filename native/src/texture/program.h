@@ -25,6 +25,10 @@ struct ProgramHit {
   glm::mat3 to_world{1.0f};         // linear part of the object's transform
   glm::mat3 normal_to_world{1.0f};  // its inverse transpose
   const ImageTexture* const* images = nullptr;  // one per texture slot (null: not an image)
+  // The two offsets of the hit along the surface (world) at which inputs with the
+  // kInputBumpX / kInputBumpY bit are read, and which BUMP differentiates along.
+  Vec3 bump_dx{0.0f};
+  Vec3 bump_dy{0.0f};
 };
 
 class Program {
@@ -47,6 +51,8 @@ class Program {
   const std::vector<uint32_t>& inputs() const { return inputs_; }
   // Whether a texture slot is sampled as an image (IMAGE, ENVIRONMENT).
   bool samples_image(size_t slot) const { return image_slots_[slot]; }
+  // Whether it reads inputs at the bump offsets (then ProgramHit needs them).
+  bool bumps() const { return bumps_; }
 
   // Runs the instructions; `registers` has room for kMaxRegisters + 1 values and holds
   // the register file afterwards.
@@ -69,6 +75,7 @@ class Program {
   std::vector<std::string> textures_;
   std::vector<bool> image_slots_;
   std::vector<uint32_t> inputs_;
+  bool bumps_ = false;
 };
 
 }  // namespace whitted
