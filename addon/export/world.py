@@ -3,7 +3,8 @@
 The Background node's Color and Strength may be driven by a graph (an
 Environment Texture of an HDRI, with its Mapping, say): then, when the native
 module runs shader programs, the world gets one (export/nodes), evaluated by
-direction for every ray that misses; `background` is its mean.
+direction for every ray that misses; `background` is its mean over the sphere and
+the ambient light its cosine-weighted mean over the upper hemisphere (below).
 """
 
 from dataclasses import dataclass
@@ -14,7 +15,7 @@ from .nodes import input_value, ops, surface_node, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT, evaluate
-from .nodes.program import emit
+from .nodes.program import emit, run
 from .nodes.values import Lowering
 
 Color = tuple[float, float, float]
@@ -37,6 +38,7 @@ def convert_world(world, ambient_strength, warnings, programs=False):
     module runs shader programs (for a graph-driven background).
     """
     program, output, textures = None, 0, ()
+    sky = None  # the ambient's radiance when it differs from the background's
     if world is None:
         background = (0.0, 0.0, 0.0)
     elif uses_nodes(world):
@@ -44,19 +46,20 @@ def convert_world(world, ambient_strength, warnings, programs=False):
         if programs:
             found = _programmed(world, warnings)
             if found is not None:
-                background, program, output, textures = found
+                background, sky, program, output, textures = found
         if background is None:
             background = _background_node_radiance(world, warnings)
     else:
         background = tuple(world.color)
     # A uniform sky of radiance L lights an open surface with irradiance pi*L, of
     # which the diffuse term kd/pi * E keeps kd*L: the ambient term with Ia = L,
-    # which the scene's ambient strength scales (for a sky that varies, L is its
-    # mean over all directions). A world set not to light diffuse surfaces
-    # (Cycles' ray visibility) gives no ambient light.
+    # which the scene's ambient strength scales. For a sky that varies, L is what a
+    # surface facing up (+Z) receives: E/pi, the sky's cosine-weighted mean over the
+    # upper hemisphere. A world set not to light diffuse surfaces (Cycles' ray
+    # visibility) gives no ambient light.
     if world is not None and not lights_diffuse(world):
         ambient_strength = 0.0
-    ambient = tuple(c * ambient_strength for c in background)
+    ambient = tuple(c * ambient_strength for c in (background if sky is None else sky))
     return WorldData(background, ambient, program, output, textures)
 
 
@@ -86,7 +89,8 @@ def _background_node_radiance(world, warnings):
 
 
 def _programmed(world, warnings):
-    """(mean radiance, ProgramData, output register, textures) of a Background node
+    """(mean radiance, up-facing ambient radiance, ProgramData, output register,
+    textures) of a Background node
     whose inputs vary by direction; None when they are constant or it is not a
     Background node (then the constant path reads it)."""
     output_node = world.node_tree.get_output_node("CYCLES")
@@ -117,7 +121,93 @@ def _programmed(world, warnings):
         return (0.0, 0.0, 0.0, 0.0)
 
     mean = evaluate(radiance, stand_in)
-    return tuple(mean[:3]), program, outputs["emission"], textures
+    sky = _cosine_mean(program, outputs["emission"], textures, warnings)
+    return tuple(mean[:3]), sky, program, outputs["emission"], textures
+
+
+# The ambient's quadrature: this many by this many cells of the unit square, mapped to
+# directions over the upper hemisphere with density cos(theta)/pi (Malley's method),
+# one direction at each cell's centre.
+AMBIENT_CELLS = 24
+
+
+def _cosine_mean(program, output, textures, warnings):
+    """The world's radiance averaged over the upper hemisphere with weight
+    cos(theta)/pi, theta from +Z: E/pi for a surface facing up. The program runs in
+    Python (program.run) at AMBIENT_CELLS^2 directions, the images read at their
+    nearest texel; None (then the sphere mean is used) for an Image Texture or an op
+    without a Python definition."""
+    if any(int(row[0]) == ops.IMAGE for row in program.code):
+        return None  # an Image Texture by direction: its projections are not modelled here
+    lookups = {spec.name: _texture_lookup(spec, warnings) for spec in textures}
+    centres = (np.arange(AMBIENT_CELLS) + 0.5) / AMBIENT_CELLS
+    total = np.zeros(3)
+    for u1 in centres:
+        radius, z = np.sqrt(u1), np.sqrt(1.0 - u1)
+        for u2 in centres:
+            phi = 2.0 * np.pi * u2
+            direction = (radius * np.cos(phi), radius * np.sin(phi), z, 0.0)
+            try:
+                registers = run(program, _world_inputs(direction), lookups)
+            except KeyError:
+                return None  # an op the Python reference does not define
+            total += registers[output][:3]
+    return tuple(float(x) for x in total / AMBIENT_CELLS**2)
+
+
+def _world_inputs(direction):
+    # What the world program reads for a ray leaving in `direction` (the contract's
+    # world inputs), as a diffuse ray one bounce deep.
+    x, y, z, _ = direction
+    inputs = {
+        mode: direction
+        for mode in (ops.IN_POSITION, ops.IN_NORMAL, ops.IN_GENERATED, ops.IN_OBJECT)
+    }
+    inputs[ops.IN_INCOMING] = (-x, -y, -z, 0.0)
+    for mode in range(ops.IN_IS_CAMERA_RAY, ops.IN_IS_SINGULAR_RAY + 1):
+        inputs[mode] = (0.0,) * 4
+    inputs[ops.IN_IS_DIFFUSE_RAY] = (1.0,) * 4
+    inputs[ops.IN_RAY_DEPTH] = (1.0,) * 4
+    return _ZeroDefault(inputs)
+
+
+class _ZeroDefault(dict):
+    # Inputs a world does not have read 0, as the native world program's do.
+    def __missing__(self, key):
+        return (0.0,) * 4
+
+
+def _texture_lookup(spec, warnings):
+    """function(vector, mode) -> rgba of an ENVIRONMENT image (equirectangular or
+    mirror ball, the native program's mappings), nearest texel."""
+    from .texture import image_pixels
+
+    pixels = image_pixels(spec.image, warnings).astype(np.float64)
+    height, width = pixels.shape[:2]
+
+    def texel(u, v):
+        x = int(np.floor(u * width)) % width
+        y = min(max(int(np.floor(v * height)), 0), height - 1)
+        return tuple(pixels[y, x])
+
+    def lookup(vector, mode):
+        x, y, z = vector[:3]
+        length = float(np.sqrt(x * x + y * y + z * z))
+        if length == 0.0:
+            return texel(0.0, 0.0)
+        x, y, z = x / length, y / length, z / length
+        if mode == 0:  # equirectangular
+            u = (np.arctan2(y, x) - np.pi) / (-2.0 * np.pi)
+            v = (np.arccos(min(max(z, -1.0), 1.0)) - np.pi) / -np.pi
+            return texel(u, v)
+        # Mirror ball, seen from -Y.
+        y -= 1.0
+        div = 2.0 * np.sqrt(max(-0.5 * y, 0.0))
+        if div > 0.0:
+            x, z = x / div, z / div
+        return texel(0.5 * (x + 1.0), 0.5 * (z + 1.0))
+
+    return lookup
 
 
 def _mean_radiance(spec, warnings):

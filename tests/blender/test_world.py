@@ -112,9 +112,32 @@ def test_environment_texture_becomes_a_world_program(warnings):
     assert exported.output == int(program.code[-1][2])
     # Mean radiance over the sphere: half the solid angle at 2 (strength), half at 0.
     assert exported.background == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
-    assert exported.ambient == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
+    # The ambient: what a surface facing up receives, the bright upper half only.
+    assert exported.ambient == pytest.approx((2.0, 2.0, 2.0), rel=1e-6)
     # Without programs: the Background node's unlinked colour, as before.
     assert convert_world(world, 1.0, [], programs=False).program is None
+
+
+def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(warnings):
+    # L = a + b z (z of the ray's direction, from Generated coordinates): over the
+    # sphere its mean is a; weighted by cos(theta)/pi over z > 0, a + 2b/3.
+    a, b = 0.3, 0.6
+    world = node_world((1.0, 1.0, 1.0), 1.0)
+    tree = world.node_tree
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    line = tree.nodes.new("ShaderNodeMath")
+    line.operation = "MULTIPLY_ADD"
+    line.inputs[1].default_value = b
+    line.inputs[2].default_value = a
+    tree.links.new(coordinates.outputs["Generated"], separate.inputs[0])
+    tree.links.new(separate.outputs["Z"], line.inputs[0])
+    tree.links.new(line.outputs[0], tree.nodes["Background"].inputs["Strength"])
+    exported = convert_world(world, 0.5, warnings, programs=True)
+    assert exported.program is not None
+    # 24 x 24 cells, one direction at each centre: the quadrature's error is ~1e-4.
+    assert exported.ambient == pytest.approx((0.5 * (a + 2.0 * b / 3.0),) * 3, rel=1e-3)
+    assert warnings == []
 
 
 def test_environment_background_matches_cycles_by_direction(empty_scene, tmp_path, native):
