@@ -12,9 +12,12 @@ from .properties import light as light_properties
 from .properties import material as material_properties
 from .properties import scene as scene_properties
 from .properties import view_layer as view_layer_properties
+from .ray_tree import draw as ray_tree_draw
+from .ray_tree import operators as ray_tree_operators
 from .ui import light as light_ui
 from .ui import material as material_ui
 from .ui import passes as passes_ui
+from .ui import ray_tree as ray_tree_ui
 from .ui import render as render_ui
 
 bl_info = {
@@ -44,6 +47,13 @@ classes = (
     light_ui.WHITTED_LIGHT_PT_settings,
     material_ui.WHITTED_MATERIAL_PT_settings,
     passes_ui.WHITTED_VIEWLAYER_PT_passes_whitted,
+    ray_tree_operators.WHITTED_OT_inspect_ray_tree,
+    ray_tree_operators.WHITTED_OT_clear_ray_tree,
+    ray_tree_operators.WHITTED_OT_ray_tree_to_curve,
+    ray_tree_draw.WHITTED_GT_ray_tree,
+    ray_tree_draw.WHITTED_GGT_ray_tree,
+    ray_tree_ui.WHITTED_VIEW3D_PT_ray_tree,
+    ray_tree_ui.WHITTED_IMAGE_PT_ray_tree,
 )
 
 # Blender's own panels that also make sense for Whitted. Names differ between

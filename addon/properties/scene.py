@@ -153,6 +153,12 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         "(the same as the WHITTED_STATS file)",
         default="",
     )
+    last_ray_tree: StringProperty(
+        name="Last Ray Tree",
+        description="JSON ray tree of the last inspected pixel (Inspect Ray Tree): every "
+        "ray with its kind, depth, ends, object, weight and contribution",
+        default="",
+    )
     estimates: CollectionProperty(
         type=WhittedEstimate,
         name="Estimates",

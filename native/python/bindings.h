@@ -32,6 +32,11 @@ struct type_caster<glm::vec3> {
 };
 }  // namespace pybind11::detail
 
+namespace whitted {
+struct CompiledScene;
+struct RayTree;
+}  // namespace whitted
+
 namespace whitted::python {
 
 void bind_camera(py::module_& m);
@@ -41,6 +46,9 @@ void bind_program(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_texture(py::module_& m);
 void bind_render(py::module_& m);
+
+// The inspector's tree as {"pixel", "alpha", "rays": [...]} (native/python/ray_tree.cpp).
+py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene);
 
 // 4x4 row-major numpy matrices <-> glm (column-major) matrices.
 glm::mat4 matrix_from_numpy(const py::handle& h);

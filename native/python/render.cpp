@@ -183,6 +183,23 @@ void bind_render(py::module_& m) {
            "Compiles the scene (or reuses its last snapshot) and prepares the render. "
            "camera: the view to render, None for scene.camera. record_stride n > 0 records "
            "the rays of every n-th pixel for trace_bare() (a benchmark baseline).")
+      .def(
+          "inspect",
+          [](const RenderJob& job, int x, int y, int sample) {
+            RayTree tree;
+            {
+              py::gil_scoped_release release;
+              tree = job.inspect(x, y, sample);
+            }
+            return ray_tree_dict(tree, job.scene());
+          },
+          py::arg("x"), py::arg("y"), py::arg("sample") = -1,
+          "The ray tree of pixel (x, y), counted from the bottom-left, traced again apart "
+          "from the render with its scene, settings and camera: {'pixel': [r, g, b], "
+          "'alpha', 'rays': [...]}, one dict per ray (kind, depth, parent, origin, end, "
+          "object, material, light, weight, contribution, cut, blocked, ...); the "
+          "contributions sum to 'pixel'. sample k >= 0: that grid sample alone. Raises "
+          "IndexError outside the image.")
       .def("start", &RenderJob::start)
       .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
            py::call_guard<py::gil_scoped_release>(),

@@ -256,6 +256,10 @@ RenderStats RenderJob::stats() const {
   return out;
 }
 
+RayTree RenderJob::inspect(int x, int y, int sample) const {
+  return inspect_pixel(*scene_, settings_, camera_, camera_media_, x, y, sample);
+}
+
 BareTrace RenderJob::trace_bare() const {
   {
     std::lock_guard lock(mutex_);

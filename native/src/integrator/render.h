@@ -74,6 +74,11 @@ class RenderJob {
   const Settings& settings() const { return settings_; }
   const Film& film() const { return film_; }
   RenderStats stats() const;
+  // The ray tree of pixel (x, y), traced again apart from the render (inspect_pixel), with
+  // its scene, settings and camera; the film is not touched. Callable before, during or
+  // after the render.
+  RayTree inspect(int x, int y, int sample = -1) const;
+  const CompiledScene& scene() const { return *scene_; }
   // After a finished render with recording: the recorded rays traced again by a bare
   // loop of single-ray Embree queries (RayRecorder::trace_bare).
   BareTrace trace_bare() const;

@@ -27,9 +27,9 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       camera_(camera),
       camera_media_(camera_media) {}
 
-Sample CameraSampler::pixel(int x, int y, RayCounts* counts) const {
-  return settings_.aa_mode == AntiAliasing::kAdaptive ? pixel_adaptive(x, y, counts)
-                                                      : pixel_grid(x, y, counts);
+Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights) const {
+  return settings_.aa_mode == AntiAliasing::kAdaptive ? pixel_adaptive(x, y, counts, weights)
+                                                      : pixel_grid(x, y, counts, weights);
 }
 
 Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts) const {
@@ -40,7 +40,8 @@ Sample CameraSampler::point(float px, float py, RayCounts* counts) const {
   return shade(camera_ray(px, py), nullptr, counts);
 }
 
-Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts) const {
+Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts,
+                                 std::vector<float>* weights) const {
   // The camera rays of one pixel are coherent: Embree finds their first hits together,
   // up to a packet at a time, then each is shaded on its own. A packet never spans two
   // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
@@ -66,6 +67,7 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts) const {
   }
   // The average of the samples (box filter).
   const float w = 1.0f / static_cast<float>(samples);
+  if (weights != nullptr) weights->assign(static_cast<size_t>(samples), w);
   return {sum.radiance * w, sum.alpha * w};
 }
 
@@ -92,12 +94,24 @@ Ray CameraSampler::camera_ray(float px, float py) const {
                               py / static_cast<float>(settings_.height));
 }
 
-Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts) const {
+Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts,
+                                     std::vector<float>* weights) const {
   const auto fx = static_cast<float>(x);
   const auto fy = static_cast<float>(y);
-  const Sample corners[4] = {point(fx, fy, counts), point(fx + 1.0f, fy, counts),
-                             point(fx, fy + 1.0f, counts), point(fx + 1.0f, fy + 1.0f, counts)};
-  return subdivide(fx, fy, 1.0f, corners, 0, counts);
+  size_t ids[4];
+  Sample corners[4];
+  const float at[4][2] = {{0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}, {1.0f, 1.0f}};
+  for (int i = 0; i < 4; ++i) {
+    ids[i] = new_weight(weights);
+    corners[i] = point(fx + at[i][0], fy + at[i][1], counts);
+  }
+  return subdivide(fx, fy, 1.0f, corners, ids, 0, counts, weights);
+}
+
+size_t CameraSampler::new_weight(std::vector<float>* weights) {
+  if (weights == nullptr) return 0;
+  weights->push_back(0.0f);
+  return weights->size() - 1;
 }
 
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts) const {
@@ -113,8 +127,9 @@ Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts)
   return {c, alpha};
 }
 
-Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
-                                RayCounts* counts) const {
+Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4],
+                                const size_t ids[4], int depth, RayCounts* counts,
+                                std::vector<float>* weights) const {
   // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
   // summed over RGB.
   Color lo(kInfinity);
@@ -132,24 +147,33 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
     for (int i = 0; i < 4; ++i) {
       mean.radiance += 0.25f * corners[i].radiance;
       mean.alpha += 0.25f * corners[i].alpha;
+      // A corner's share of the pixel: a quarter of this square's area.
+      if (weights != nullptr) (*weights)[ids[i]] += 0.25f * size * size;
     }
     return mean;
   }
   const float h = 0.5f * size;
-  const Sample bottom = point(x0 + h, y0, counts);
-  const Sample left = point(x0, y0 + h, counts);
-  const Sample centre = point(x0 + h, y0 + h, counts);
-  const Sample right = point(x0 + size, y0 + h, counts);
-  const Sample top = point(x0 + h, y0 + size, counts);
-  const Sample quadrants[4][4] = {{corners[0], bottom, left, centre},
-                                  {bottom, corners[1], centre, right},
-                                  {left, centre, corners[2], top},
-                                  {centre, right, top, corners[3]}};
+  // Bottom, left, centre, right and top midpoints, in this order.
+  const float at[5][2] = {{h, 0.0f}, {0.0f, h}, {h, h}, {size, h}, {h, size}};
+  Sample mid[5];
+  size_t mid_ids[5];
+  for (int i = 0; i < 5; ++i) {
+    mid_ids[i] = new_weight(weights);
+    mid[i] = point(x0 + at[i][0], y0 + at[i][1], counts);
+  }
+  const Sample quadrants[4][4] = {{corners[0], mid[0], mid[1], mid[2]},
+                                  {mid[0], corners[1], mid[2], mid[3]},
+                                  {mid[1], mid[2], corners[2], mid[4]},
+                                  {mid[2], mid[3], mid[4], corners[3]}};
+  const size_t quadrant_ids[4][4] = {{ids[0], mid_ids[0], mid_ids[1], mid_ids[2]},
+                                     {mid_ids[0], ids[1], mid_ids[2], mid_ids[3]},
+                                     {mid_ids[1], mid_ids[2], ids[2], mid_ids[4]},
+                                     {mid_ids[2], mid_ids[3], mid_ids[4], ids[3]}};
   const float offsets[4][2] = {{0.0f, 0.0f}, {h, 0.0f}, {0.0f, h}, {h, h}};
   Sample mean{Color(0.0f), 0.0f};
   for (int q = 0; q < 4; ++q) {
-    const Sample s =
-        subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q], depth + 1, counts);
+    const Sample s = subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q],
+                               quadrant_ids[q], depth + 1, counts, weights);
     mean.radiance += 0.25f * s.radiance;
     mean.alpha += 0.25f * s.alpha;
   }

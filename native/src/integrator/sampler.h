@@ -2,6 +2,8 @@
 // and what they bring back through the integrator.
 #pragma once
 
+#include <vector>
+
 #include "integrator/film.h"
 #include "integrator/whitted.h"
 #include "scene/camera.h"
@@ -18,7 +20,9 @@ class CameraSampler {
 
   // The pixel whose bottom-left corner is (x, y), whole, by the anti-aliasing mode: the
   // mean of its regular or jittered grid samples, or Whitted's adaptive subdivision.
-  Sample pixel(int x, int y, RayCounts* counts) const;
+  // `weights`, when given, receives each camera sample's weight in the pixel, in the
+  // order they were traced (the inspector's).
+  Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr) const;
   // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
   // anti-aliasing, jittered otherwise. The same ray, and value, as in pixel().
   Sample grid_sample(int x, int y, int k, RayCounts* counts) const;
@@ -26,12 +30,15 @@ class CameraSampler {
   Sample point(float px, float py, RayCounts* counts) const;
 
  private:
-  Sample pixel_grid(int x, int y, RayCounts* counts) const;
-  Sample pixel_adaptive(int x, int y, RayCounts* counts) const;
+  Sample pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights) const;
+  Sample pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights) const;
   // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner
-  // samples are `corners` (bottom-left, bottom-right, top-left, top-right).
-  Sample subdivide(float x0, float y0, float size, const Sample corners[4], int depth,
-                   RayCounts* counts) const;
+  // samples are `corners` (bottom-left, bottom-right, top-left, top-right); with `weights`,
+  // `ids` are the corners' indices into it.
+  Sample subdivide(float x0, float y0, float size, const Sample corners[4], const size_t ids[4],
+                   int depth, RayCounts* counts, std::vector<float>* weights) const;
+  // The next point sample's index into `weights` (0 without weights).
+  static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
   Ray grid_ray(int x, int y, int k) const;
   Ray camera_ray(float px, float py) const;

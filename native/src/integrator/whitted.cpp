@@ -54,12 +54,17 @@ float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
 }
 
 // The Whitted recursion for one set of effects E (EffectBits); what E leaves out is not
-// compiled in.
-template <uint32_t E>
+// compiled in. With kRecord (the inspector only) every ray and term also goes into the
+// integrator's RayTree; renders run the kernels without it.
+template <uint32_t E, bool kRecord>
 class Kernel {
  public:
   explicit Kernel(const WhittedIntegrator& w)
-      : scene_(w.scene()), settings_(w.settings()), camera_(w.camera()), log_(w.log()) {}
+      : scene_(w.scene()),
+        settings_(w.settings()),
+        camera_(w.camera()),
+        log_(w.log()),
+        tree_(w.tree()) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
                    RayCounts* counts, float* alpha, const Hit* first) {
@@ -87,6 +92,7 @@ class Kernel {
     float coverage = 0.0f;
     float behind = 1.0f;  // the share of the ray not yet covered by a surface
     Ray r = ray;
+    [[maybe_unused]] int previous = -1;  // recording: the layer in front of this one
     for (int layer = 0; behind > 0.0f; ++layer) {
       Hit hit;
       bool found = false;
@@ -96,15 +102,23 @@ class Kernel {
       } else {
         found = intersect(r, &hit);
       }
+      [[maybe_unused]] int node = -1;  // recording: this layer's node
+      if constexpr (kRecord) {
+        node = record_ray(r, path, layer == 0 ? tree_->next_kind : TreeRayKind::kTransparent,
+                          layer == 0 ? tree_->current : previous, behind);
+      }
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
         if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
-          radiance += behind * scene_.world_radiance(r, context(path));
+          const Color background = scene_.world_radiance(r, context(path));
+          radiance += behind * background;
           coverage += behind;
+          if constexpr (kRecord) record_background(node, background);
         }
         break;
       }
       const Interaction it = scene_.interaction(r, hit);
+      if constexpr (kRecord) record_end(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
       const SurfaceParams surface = scene_.surface(it, r, context(path));
       float a = 1.0f;
@@ -112,9 +126,15 @@ class Kernel {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
       }
       if (a > 0.0f) {
-        radiance += (behind * a) * shade(r, it, surface, path, counts);
+        if constexpr (kRecord) {
+          const RayTree::Scope scope(tree_, node, tree_->nodes[node].weight * a);
+          radiance += (behind * a) * shade(r, it, surface, path, counts);
+        } else {
+          radiance += (behind * a) * shade(r, it, surface, path, counts);
+        }
         coverage += behind * a;
       }
+      if constexpr (kRecord) previous = node;
       behind *= 1.0f - a;
       if (behind <= 0.0f) break;
       // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
@@ -155,7 +175,8 @@ class Kernel {
         counts->transparent += 1;
         return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
                                 RayKind(ray.kind)),
-                      path, Color(1.0f), media, /*bounce=*/false, counts);
+                      path, Color(1.0f), media, /*bounce=*/false, TreeRayKind::kTransparent,
+                      counts);
       }
     }
     const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
@@ -163,6 +184,7 @@ class Kernel {
     if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
     const Vec3 wo = -ray.direction;
     const Coat coat = coat_of(surface, wo, ng, entering);
+    if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * surface.emission;
     Color radiance = surface.emission + local(it, surface, coat, wo, ng, ns, path, counts);
     if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
 
@@ -172,6 +194,7 @@ class Kernel {
       return radiance;
     }
     Vec3 t_dir(0.0f);
+    bool total_internal_reflection = false;
     const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
                           glm::dot(t_dir, ng) < 0.0f;
     if (!is_black(kt)) {
@@ -184,6 +207,7 @@ class Kernel {
       // reflection.
       kr += kt * f;
       kt *= 1.0f - f;
+      total_internal_reflection = !refracts;
       if (!refracts) counts->total_internal_reflection += 1;
     }
     // The coat's mirror on top; beneath it, the base's rays get what the coat lets through.
@@ -203,32 +227,41 @@ class Kernel {
       if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
       radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
                                         kReflectionRay),
-                              path, kr, path.media, /*bounce=*/true, counts);
+                              path, kr, path.media, /*bounce=*/true,
+                              total_internal_reflection ? TreeRayKind::kTotalInternalReflection
+                                                        : TreeRayKind::kReflection,
+                              counts);
     }
     if (refracts && (!has(kPruningEffect) || !is_black(kt))) {
       radiance += kt * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir,
                                         kRefractionRay),
-                              path, kt, media, /*bounce=*/true, counts);
+                              path, kt, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
     }
     return radiance;
   }
 
   // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
-  // the cutoff stops it; `bounce` is false for a ray that only continues straight on. The
-  // one place the ray tree branches.
+  // the cutoff stops it; `bounce` is false for a ray that only continues straight on
+  // (`kind` names it for the inspector). The one place the ray tree branches.
   Color branch(const Ray& ray, const PathState& path, const Color& weight, const MediumStack& media,
-               bool bounce, RayCounts* counts) const {
+               bool bounce, [[maybe_unused]] TreeRayKind kind, RayCounts* counts) const {
     const PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
+      if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kDepth);
       return Color(0.0f);
     }
     if (has(kPruningEffect) && max_component(next.weight) < settings_.cutoff) {
       counts->cutoff += 1;  // its contribution could no longer show
+      if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kCutoff);
       return Color(0.0f);
     }
     if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+    if constexpr (kRecord) {
+      const RayTree::Scope scope(tree_, tree_->current, tree_->scale * weight, kind);
+      return trace(ray, next, counts, nullptr);
+    }
     return trace(ray, next, counts, nullptr);
   }
 
@@ -238,21 +271,26 @@ class Kernel {
               const Vec3& ng, const Vec3& n, const PathState& path, RayCounts* counts) const {
     const float base = 1.0f - coat.cover;
     Color radiance = base * it.material->ambient * scene_.ambient * surface.diffuse;
+    if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * radiance;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
     for (const Light& light : scene_.lights) {
       for (int s = 0; s < light.sample_count(); ++s) {
         const LightSample ls = sample_light(light, it.position, s);
         const float cos_l = glm::dot(n, ls.wi);
+        [[maybe_unused]] int feeler = -1;  // recording: this feeler's node
+        if constexpr (kRecord) feeler = record_feeler(it, ls, light, path);
         // The shading normal decides whether a light is behind the (smooth) surface, not
         // the flat facet: gating on the facet draws stair-steps along the terminator of a
         // coarse smooth mesh.
         if constexpr (has(kPruningEffect)) {
           if (cos_l <= 0.0f) {
             counts->shadow_backfacing += 1;
+            if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kBackfacing;
             continue;
           }
           if (is_black(ls.irradiance)) {
             counts->shadow_unlit += 1;  // outside a spot's cone, behind an area light
+            if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kUnlit;
             continue;
           }
         }
@@ -262,6 +300,17 @@ class Kernel {
         const Color contribution =
             (base * std::max(0.0f, cos_l) * brdf + Color(coat_highlight(coat, wo, ls.wi))) *
             ls.irradiance;
+        if constexpr (kRecord) {
+          // The coat's highlight counts as specular.
+          const Color arriving = tree_->scale * ls.irradiance;
+          const float lit = base * std::max(0.0f, cos_l);
+          tree_->nodes[feeler].diffuse = arriving * (lit * kInvPi) * surface.diffuse;
+          tree_->nodes[feeler].specular =
+              arriving *
+              (lit * phong_norm * std::pow(v_dot_r, surface.shininess) * surface.specular +
+               Color(coat_highlight(coat, wo, ls.wi)));
+          tree_->nodes[feeler].cut = TreeCut::kUnshadowed;  // until a feeler is sent
+        }
         if (!has(kShadowEffect) || !light.cast_shadows) {
           radiance += contribution;
           continue;
@@ -279,10 +328,11 @@ class Kernel {
         }
         // Stop the feeler just short of the light sample.
         const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
-        radiance +=
-            contribution * shadow_transmittance(spawn_ray(it.shadow_origin, it.position_error, ng,
-                                                          ls.wi, kShadowRay, t_max),
-                                                path, counts);
+        const Ray shadow_ray =
+            spawn_ray(it.shadow_origin, it.position_error, ng, ls.wi, kShadowRay, t_max);
+        const Color transmittance = shadow_transmittance(shadow_ray, path, counts);
+        if constexpr (kRecord) record_shadow(feeler, shadow_ray, transmittance);
+        radiance += contribution * transmittance;
       }
     }
     return radiance;
@@ -322,19 +372,83 @@ class Kernel {
   // What a shader program may ask of a ray on `path` besides the ray.
   RayContext context(const PathState& path) const { return {&camera_, path.depth}; }
 
+  // The inspector's records (kRecord only): a ray of the tree, `behind` the share of it
+  // not yet covered by cut-outs in front.
+  int record_ray(const Ray& ray, const PathState& path, TreeRayKind kind, int parent,
+                 float behind) const {
+    RayTreeNode node;
+    node.kind = kind;
+    node.depth = path.depth;
+    node.origin = ray.origin;
+    node.direction = ray.direction;
+    node.weight = tree_->scale * behind;
+    return tree_->add(node, parent);
+  }
+  void record_end(int node, const Interaction& it) const {
+    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
+    n.hit = true;
+    n.end = it.position;
+    n.instance = static_cast<int32_t>(it.instance);
+    n.material = static_cast<int32_t>(it.material_index);
+  }
+  void record_background(int node, const Color& background) const {
+    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
+    n.background = n.weight * background;
+  }
+  // A secondary ray of `weight` (relative to the surface being shaded) that was not traced.
+  void record_cut(const Ray& ray, const PathState& next, TreeRayKind kind, const Color& weight,
+                  TreeCut cut) const {
+    RayTreeNode node;
+    node.kind = kind;
+    node.depth = next.depth;
+    node.origin = ray.origin;
+    node.direction = ray.direction;
+    node.weight = tree_->scale * weight;
+    node.cut = cut;
+    tree_->add(node, tree_->current);
+  }
+  int record_feeler(const Interaction& it, const LightSample& ls, const Light& light,
+                    const PathState& path) const {
+    RayTreeNode node;
+    node.kind = TreeRayKind::kShadow;
+    node.depth = path.depth;
+    node.origin = it.shadow_origin;
+    node.direction = ls.wi;
+    node.light = static_cast<int32_t>(&light - scene_.lights.data());
+    node.weight = tree_->scale;
+    if (!std::isinf(ls.distance)) node.end = it.shadow_origin + ls.wi * ls.distance;
+    return tree_->add(node, tree_->current);
+  }
+  // A feeler that was sent: what got through, and the first surface in its way, if any.
+  void record_shadow(int feeler, const Ray& ray, const Color& transmittance) const {
+    RayTreeNode& node = tree_->nodes[static_cast<size_t>(feeler)];
+    node.cut = TreeCut::kNone;
+    node.transmittance = transmittance;
+    Hit hit;
+    if (transmittance != Color(1.0f) && scene_.accel->intersect(ray, &hit)) {
+      const Interaction it = scene_.interaction(ray, hit);
+      node.hit = true;
+      node.end = it.position;
+      node.instance = static_cast<int32_t>(it.instance);
+      node.material = static_cast<int32_t>(it.material_index);
+    }
+  }
+
   const CompiledScene& scene_;
   const Settings& settings_;
   const Camera& camera_;
   RayLog* log_;
+  RayTree* tree_;
 };
 
-// One kernel per set of effects, indexed by its bits.
-template <size_t... I>
+// One kernel per set of effects, indexed by its bits; the recording ones for the inspector.
+template <bool kRecord, size_t... I>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(I)> kernels(
     std::index_sequence<I...> /*bits*/) {
-  return {&Kernel<static_cast<uint32_t>(I)>::run...};
+  return {&Kernel<static_cast<uint32_t>(I), kRecord>::run...};
 }
-constexpr auto kKernels = kernels(std::make_index_sequence<kAllEffects + 1>{});
+constexpr auto kKernels = kernels<false>(std::make_index_sequence<kAllEffects + 1>{});
+constexpr auto kRecordingKernels = kernels<true>(std::make_index_sequence<kAllEffects + 1>{});
 
 }  // namespace
 
@@ -355,13 +469,14 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
 }
 
 WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
-                                     const Camera& camera, RayLog* log)
+                                     const Camera& camera, RayLog* log, RayTree* tree)
     : scene_(scene),
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings)),
-      trace_(kKernels[effects_.bits]),
-      log_(log) {}
+      trace_(tree != nullptr ? kRecordingKernels[effects_.bits] : kKernels[effects_.bits]),
+      log_(log),
+      tree_(tree) {}
 
 void WhittedIntegrator::intersect_packet(const Ray* rays, int count, Hit* hits) const {
   if (log_ != nullptr && log_->active) {

@@ -7,6 +7,7 @@
 
 #include "integrator/analysis.h"
 #include "integrator/medium.h"
+#include "integrator/ray_tree.h"
 #include "integrator/recorder.h"
 #include "integrator/settings.h"
 #include "scene/scene.h"
@@ -45,9 +46,11 @@ struct PathState {
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
-  // `log`, when given, receives the queries made while it is active.
+  // `log`, when given, receives the queries made while it is active; `tree`, when given,
+  // every ray and term of what is traced (the inspector: slower, never for renders).
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
-                    const Camera& camera = Camera{}, RayLog* log = nullptr);
+                    const Camera& camera = Camera{}, RayLog* log = nullptr,
+                    RayTree* tree = nullptr);
 
   // Radiance arriving along `ray` (camera rays: a default PathState, or the media the
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
@@ -72,6 +75,7 @@ class WhittedIntegrator {
   const Settings& settings() const { return settings_; }
   const Camera& camera() const { return camera_; }
   RayLog* log() const { return log_; }
+  RayTree* tree() const { return tree_; }
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
                             float*, const Hit*);
@@ -83,6 +87,7 @@ class WhittedIntegrator {
   Effects effects_;
   TraceFn trace_;
   RayLog* log_;
+  RayTree* tree_;
 };
 
 }  // namespace whitted

@@ -258,6 +258,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
   };
   std::map<std::string, uint32_t> material_index;
   compiled->materials.push_back(Material{});
+  compiled->material_names.emplace_back();
   for (const auto& [name, material] : state_.materials) {
     material_index[name] = static_cast<uint32_t>(compiled->materials.size());
     Material resolved = material;
@@ -268,8 +269,12 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
           resolve_images(*material.program, state_.textures, "material '" + name + "'");
     }
     compiled->materials.push_back(std::move(resolved));
+    compiled->material_names.push_back(name);
   }
-  for (const auto& [name, light] : state_.lights) compiled->lights.push_back(light);
+  for (const auto& [name, light] : state_.lights) {
+    compiled->lights.push_back(light);
+    compiled->light_names.push_back(name);
+  }
 
   // Instances are resolved anew each time (cheap); their order and the set left out
   // depend only on meshes and instances, so an existing top-level BVH still matches.
@@ -288,6 +293,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     out.holdout = instance.holdout;
     out.visibility = instance.visibility;
     out.info = instance.info;
+    out.name = name;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);

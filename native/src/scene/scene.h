@@ -102,9 +102,12 @@ struct CompiledScene {
     bool holdout;
     uint32_t visibility;  // RayKind bits
     InstanceInfo info;
+    std::string name;  // the Scene's key, for what reports name it (the inspector)
   };
   std::vector<Instance> instances;
-  std::vector<Material> materials;  // index 0 is the default material
+  std::vector<Material> materials;          // index 0 is the default material
+  std::vector<std::string> material_names;  // by index; "" for the default material
+  std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
   Color background{0.0f};  // where there is no world program

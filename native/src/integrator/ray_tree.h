@@ -1,0 +1,134 @@
+// The ray tree of one pixel, as the inspector records it (issue 17): every ray the
+// Whitted recursion traced, or would have traced but cut, with what each one adds to the
+// pixel on its own. The contributions of all nodes sum to the pixel's value.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/ray.h"
+#include "integrator/medium.h"
+#include "integrator/settings.h"
+#include "scene/camera.h"
+
+namespace whitted {
+
+struct CompiledScene;
+
+enum class TreeRayKind {
+  kCamera,
+  kShadow,                   // a feeler towards one light sample
+  kReflection,               // the mirror ray, sigma_r
+  kRefraction,               // the refracted ray, sigma_t
+  kTotalInternalReflection,  // the mirror ray of a transmissive surface that could not refract
+  kTransparent,              // straight on: behind a cut-out, or through a false interface
+};
+
+// Why a ray of the tree was not traced (or, for a feeler, not tested).
+enum class TreeCut {
+  kNone,
+  kDepth,       // the maximum depth
+  kCutoff,      // its weight on the pixel fell below the cutoff
+  kBackfacing,  // feeler: the light is behind the surface
+  kUnlit,       // feeler: no light arrives (outside a spot's cone, behind an area light)
+  kUnshadowed,  // feeler: not sent, the light counted as visible (no shadows, or its whole
+                // contribution is below the cutoff)
+};
+
+struct RayTreeNode {
+  TreeRayKind kind = TreeRayKind::kCamera;
+  int depth = 0;    // bounces from the camera (continuations keep their ray's depth)
+  int parent = -1;  // the node whose surface spawned it; -1 for a camera ray
+  int sample = 0;   // the camera sample it belongs to
+  Vec3 origin{0.0f};
+  Vec3 direction{0.0f};
+  bool hit = false;       // the ray ended on a surface (for a feeler: on a blocker)
+  Vec3 end{0.0f};         // where it ended, when `hit`
+  int32_t instance = -1;  // CompiledScene::instances index of what it hit or was blocked by
+  int32_t material = -1;  // CompiledScene::materials index of that surface
+  int32_t light = -1;     // feelers: CompiledScene::lights index
+  // Its share of the pixel: a ray's radiance times `weight` is what it brings to the pixel
+  // (the product of the anti-aliasing weight, the coverage of cut-outs in front and the
+  // sigma_r / sigma_t of every surface on the way).
+  Color weight{0.0f};
+  TreeCut cut = TreeCut::kNone;
+  // What this node adds to the pixel itself; its children add theirs. A ray that hits a
+  // surface adds the surface's emission and ambient term; a ray that misses adds the
+  // background; a feeler adds its light's diffuse and specular terms times what gets
+  // through (`transmittance`).
+  Color emission{0.0f};
+  Color ambient{0.0f};
+  Color background{0.0f};
+  Color diffuse{0.0f};   // feelers: the Phong diffuse term of the light, unshadowed
+  Color specular{0.0f};  // feelers: the Phong specular term, unshadowed
+  Color transmittance{1.0f};
+  Color contribution() const {
+    return emission + ambient + background + (diffuse + specular) * transmittance;
+  }
+};
+
+// What the kernel writes while it records (one pixel, one thread: no locking).
+struct RayTree {
+  std::vector<RayTreeNode> nodes;
+  // The pixel (or the one sample) traced: its value, as the render computes it, and its
+  // coverage. The nodes' contributions sum to `pixel`.
+  Color pixel{0.0f};
+  float alpha = 0.0f;
+  // The recursion's position: the node whose surface is being shaded, the weight a
+  // surface term gets on the pixel there, and the kind of the next ray it traces.
+  int current = -1;
+  Color scale{1.0f};
+  TreeRayKind next_kind = TreeRayKind::kCamera;
+
+  int roots = 0;  // camera rays so far: each starts a camera sample
+
+  // Appends `node` under `parent` (-1: a camera ray, the root of a new sample).
+  int add(RayTreeNode node, int parent) {
+    node.parent = parent;
+    node.sample = parent >= 0 ? nodes[static_cast<size_t>(parent)].sample : roots++;
+    nodes.push_back(node);
+    return static_cast<int>(nodes.size()) - 1;
+  }
+
+  // The recursion's position set for a while (shading a surface, tracing a child ray) and
+  // put back when the scope ends.
+  class Scope {
+   public:
+    Scope(RayTree* tree, int current, const Color& scale,
+          TreeRayKind next_kind = TreeRayKind::kCamera)
+        : tree_(tree), current_(tree->current), scale_(tree->scale), next_kind_(tree->next_kind) {
+      tree->current = current;
+      tree->scale = scale;
+      tree->next_kind = next_kind;
+    }
+    ~Scope() {
+      tree_->current = current_;
+      tree_->scale = scale_;
+      tree_->next_kind = next_kind_;
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    RayTree* tree_;
+    int current_;
+    Color scale_;
+    TreeRayKind next_kind_;
+  };
+  Color total() const {
+    Color sum(0.0f);
+    for (const RayTreeNode& node : nodes) sum += node.contribution();
+    return sum;
+  }
+};
+
+// Pixel (x, y) (from the bottom-left) traced again, alone, as a render with these scene,
+// settings and camera would, recording its ray tree: every camera sample weighted as in
+// the pixel, or with `sample` >= 0 that grid sample alone (weight 1). Reads only immutable
+// data, so it may run beside a render of the same scene. Throws std::out_of_range for a
+// pixel or sample outside the image, std::invalid_argument for a single sample of
+// adaptive anti-aliasing (its samples are not a grid).
+RayTree inspect_pixel(const CompiledScene& scene, const Settings& settings, const Camera& camera,
+                      const MediumStack& camera_media, int x, int y, int sample = -1);
+
+}  // namespace whitted

@@ -1,0 +1,107 @@
+"""The ray-tree inspector in Blender: bpy.ops.whitted.inspect_ray_tree on the demo
+scene traces a pixel again, and the stored tree has the rays Whitted's recursion must
+trace there, contributions that sum to the rendered pixel, and feelers that name what
+blocks them."""
+
+import json
+
+import bpy
+import numpy as np
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+
+WIDTH, HEIGHT = 96, 72
+
+
+@pytest.fixture
+def demo(empty_scene, demo_scene_module):
+    scene = demo_scene_module.build_demo_scene(empty_scene)
+    scene.render.engine = "WHITTED"
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+    bpy.ops.whitted.apply_preset(preset="PREVIEW")
+    return scene
+
+
+def _pixel_of(scene, point):
+    """The pixel (x, y from the bottom-left) whose centre sees `point`."""
+    u, v, _ = world_to_camera_view(scene, scene.camera, Vector(point))
+    return int(u * WIDTH), int(v * HEIGHT)
+
+
+def _inspect(x, y):
+    assert bpy.ops.whitted.inspect_ray_tree(x=x, y=y) == {"FINISHED"}
+    return json.loads(bpy.context.scene.whitted.last_ray_tree)
+
+
+def test_glass_sphere_pixel_has_camera_refraction_and_feeler_rays_summing_to_the_render(
+    demo, demo_scene_module, render_pixels
+):
+    pixels = render_pixels(demo)
+    x, y = _pixel_of(demo, demo_scene_module.GLASS_CENTER)
+    tree = _inspect(x, y)
+    rays = tree["rays"]
+    camera = [r for r in rays if r["kind"] == "camera"]
+    # One camera ray per anti-aliasing sample (the Preview preset subdivides adaptively).
+    assert len(camera) > 1 and len(camera) == len({r["sample"] for r in rays})
+    assert all(r["object"] == "Glass Sphere" and r["depth"] == 0 for r in camera)
+    refraction_depths = {r["depth"] for r in rays if r["kind"] == "refraction"}
+    assert {1, 2} <= refraction_depths  # into the sphere and out again
+    assert any(r["kind"] == "shadow" and r["cut"] is None for r in rays)
+    total = np.sum([r["contribution"] for r in rays], axis=0)
+    rendered = pixels[y, x, :3]
+    np.testing.assert_allclose(tree["pixel"], rendered, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(total, rendered, rtol=1e-5, atol=1e-6)
+    # The summary's depths add up to the pixel too.
+    np.testing.assert_allclose(np.sum(tree["summary"]["depths"], axis=0), rendered, rtol=1e-5)
+
+
+def test_floor_pixel_in_the_cube_shadow_has_a_blocked_feeler_naming_the_cube(
+    demo, demo_scene_module
+):
+    from whitted.native import load_native
+    from whitted.sync.frame import sync_frame
+
+    # The cube's shadow from the sun: behind the cube along the sun's direction, on z = 0.
+    centre = Vector(demo_scene_module.CUBE_CENTER)
+    direction = Vector(demo_scene_module.SUN_DIRECTION).normalized()
+    on_floor = centre - direction * (centre.z / direction.z)
+    native = load_native()
+    job = sync_frame(bpy.context.evaluated_depsgraph_get(), native).job(native)
+    cx, cy = _pixel_of(demo, on_floor)
+    candidates = [(cx + dx, cy + dy) for dy in range(-3, 4) for dx in range(-3, 4)]
+
+    def sun_blocked(tree):
+        return any(
+            r["kind"] == "shadow" and r["light"] == "Sun" and r["blocked"] and r["depth"] == 0
+            for r in tree["rays"]
+        )
+
+    shadowed = next(p for p in candidates if sun_blocked(job.inspect(*p)))
+    tree = _inspect(*shadowed)
+    assert tree["rays"][0]["object"] == "Floor"
+    blocked = [r for r in tree["rays"] if r["kind"] == "shadow" and r["blocked"]]
+    assert blocked and all(r["object"] == "Cube" for r in blocked if r["light"] == "Sun")
+    assert all(r["contribution"] == [0.0, 0.0, 0.0] for r in blocked)
+    assert "depth 0" in tree["summary"]["text"]
+
+
+def test_tree_becomes_a_curve_object_and_clears(demo, demo_scene_module):
+    x, y = _pixel_of(demo, demo_scene_module.MIRROR_CENTER)
+    tree = _inspect(x, y)
+    assert any(r["kind"] == "reflection" and r["depth"] == 1 for r in tree["rays"])
+    assert bpy.ops.whitted.ray_tree_to_curve() == {"FINISHED"}
+    curve = bpy.data.objects["Whitted Ray Tree"]
+    drawn = [r for r in tree["rays"] if r["cut"] is None]
+    assert len(curve.data.splines) == len(drawn)
+    first = curve.data.splines[0].points
+    assert tuple(first[0].co)[:3] == pytest.approx(tree["rays"][0]["origin"], abs=1e-5)
+    assert bpy.ops.whitted.clear_ray_tree() == {"FINISHED"}
+    assert demo.whitted.last_ray_tree == ""
+
+
+def test_pixels_outside_the_image_are_refused_with_a_report(demo):
+    with pytest.raises(RuntimeError, match="outside"):
+        bpy.ops.whitted.inspect_ray_tree(x=WIDTH, y=0)
+    assert demo.whitted.last_ray_tree == ""
