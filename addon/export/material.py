@@ -26,6 +26,8 @@ tracer does; see export/nodes/shaders.py for how shaders combine.
 
 from dataclasses import dataclass, replace
 
+import bpy
+
 from .nodes import ops, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
@@ -79,6 +81,8 @@ class MaterialData:
     coat_reflectivity: float = 0.0
     coat_shininess: float = 1000.0
     coat_ior: float = 1.5
+    # Cycles 3.x turns a mapped normal so the view's mirror stays above the surface.
+    valid_reflection: bool = False
 
 
 @dataclass(frozen=True)
@@ -225,7 +229,10 @@ def _fixed(fields, lowering, approximate=False):
 def _programmed(fields, lowering):
     program, outputs = emit(fields)
     values = {name: evaluate(fields[name], _stand_in) for name in PROGRAM_FIELDS}
-    data = _material_data(values)
+    # Cycles 3.x lifts every BSDF's normal that way (ensure_valid_reflection); 4.x+ only
+    # its specular lobes' (not modelled).
+    lifted = "normal" in outputs and bpy.app.version < (4, 0, 0)
+    data = replace(_material_data(values), valid_reflection=lifted)
     textures = tuple(lowering.textures[name] for name in program.textures)
     needs = lowering.needs
     return MaterialExport(

@@ -40,7 +40,8 @@ void bind_material(py::module_& m) {
                       std::string diffuse_texture, std::string alpha_texture,
                       std::shared_ptr<Program> program,
                       const std::map<std::string, int64_t>& outputs, float coat_specular,
-                      float coat_reflectivity, float coat_shininess, float coat_ior) {
+                      float coat_reflectivity, float coat_shininess, float coat_ior,
+                      bool valid_reflection) {
             Material out{diffuse,      specular,       shininess, ambient,
                          reflectivity, transmissivity, ior,       emission};
             for (const float v : {coat_specular, coat_reflectivity, coat_shininess, coat_ior}) {
@@ -51,6 +52,7 @@ void bind_material(py::module_& m) {
             out.coat_reflectivity = coat_reflectivity;
             out.coat_shininess = coat_shininess;
             out.coat_ior = coat_ior;
+            out.valid_reflection = valid_reflection;
             if (!std::isfinite(alpha)) throw std::invalid_argument("alpha must be finite");
             out.alpha = std::clamp(alpha, 0.0f, 1.0f);
             out.diffuse_texture = std::move(diffuse_texture);
@@ -74,6 +76,7 @@ void bind_material(py::module_& m) {
           py::arg("program") = py::none(), py::arg("outputs") = std::map<std::string, int64_t>{},
           py::arg("coat_specular") = 0.0f, py::arg("coat_reflectivity") = 0.0f,
           py::arg("coat_shininess") = 1000.0f, py::arg("coat_ior") = 1.5f,
+          py::arg("valid_reflection") = false,
           "program: a Program computing some fields per hit; outputs: field name -> register "
           "holding it after the program (diffuse, specular, shininess, reflectivity, "
           "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
@@ -93,6 +96,9 @@ void bind_material(py::module_& m) {
       .def_readwrite("coat_reflectivity", &Material::coat_reflectivity)
       .def_readwrite("coat_shininess", &Material::coat_shininess)
       .def_readwrite("coat_ior", &Material::coat_ior)
+      .def_readwrite("valid_reflection", &Material::valid_reflection,
+                     "Cycles 3.x: turn a program's normal so the view's mirror stays above "
+                     "the surface.")
       .def_readwrite("priority", &Material::priority,
                      "Nested dielectrics: where two transmissive objects overlap, the higher "
                      "priority owns the overlap (ties: the one entered last).")

@@ -1,7 +1,8 @@
-"""Surface layers of the integrator without Blender: the coat."""
+"""Surface layers of the integrator without Blender: the coat, the lifted normal."""
 
 import math
 
+import numpy as np
 import pytest
 import whitted_native as wn
 from test_scene import finish, lit_floor_scene
@@ -38,3 +39,31 @@ def test_coat_highlight_is_a_normalised_phong_lobe_of_its_own():
     base = 0.5 / math.pi * 10.0
     expected = (1.0 - F0) * base + F0 * 3.0 / (2.0 * math.pi) * 10.0
     assert centre(material) == pytest.approx([expected] * 3, rel=1e-4)
+
+
+def tilted_normal_material(valid_reflection):
+    # A program whose normal is the world-space Normal Map of a constant colour: 60
+    # degrees from +Z towards +X, so the straight-down view mirrors below the floor.
+    unused = 0xFFFFFFFF
+    s, c = math.sin(math.radians(60.0)), math.cos(math.radians(60.0))
+    code = np.array([[29, 2, 2, 0, 1, unused, unused, unused]], dtype=np.uint32)
+    registers = np.array(
+        [[1.0] * 4, [0.5 + 0.5 * s, 0.5, 0.5 + 0.5 * c, 1.0], [0.0] * 4], dtype=np.float32
+    )
+    program = wn.Program(code, registers, np.zeros(0, np.float32), [])
+    return wn.Material(
+        diffuse=(0.5,) * 3,
+        ambient=0.0,
+        program=program,
+        outputs={"normal": 2},
+        valid_reflection=valid_reflection,
+    )
+
+
+def test_valid_reflection_lifts_a_mapped_normal_as_cycles_3():
+    base = 0.5 / math.pi * 10.0  # the diffuse term for a normal along the light
+    # Unlifted: cos 60 to the light overhead.
+    assert centre(tilted_normal_material(False)) == pytest.approx([0.5 * base] * 3, rel=1e-4)
+    # Lifted until the view's mirror leaves at height 0.01: 2 z^2 - 1 = 0.01.
+    z = math.sqrt(0.505)
+    assert centre(tilted_normal_material(True)) == pytest.approx([z * base] * 3, rel=1e-4)

@@ -54,8 +54,13 @@ struct Material {
   float coat_reflectivity = 0.0f;  // weight of its mirror reflection
   float coat_shininess = 1000.0f;  // Phong exponent of its highlight
   float coat_ior = 1.5f;           // index of refraction of the coat (outside: 1)
-  std::string diffuse_texture;     // multiplies `diffuse` by its RGB ("" for none)
-  std::string alpha_texture;       // multiplies `alpha` by its A ("" for none)
+  // Cycles 3.x: a program's normal (a normal map, a bump) is turned towards the
+  // geometric normal just enough that the view's mirror direction stays above the
+  // surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for specular
+  // lobes only, and Whitted then not at all).
+  bool valid_reflection = false;
+  std::string diffuse_texture;  // multiplies `diffuse` by its RGB ("" for none)
+  std::string alpha_texture;    // multiplies `alpha` by its A ("" for none)
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).
   int32_t diffuse_texture_index = -1;
   int32_t alpha_texture_index = -1;

@@ -522,6 +522,42 @@ struct SurfaceHit {
   }
 };
 
+// `n` turned towards the geometric normal `ng` in their common plane just enough that
+// the mirror image of the unit view vector `wo` about it leaves the surface at least as
+// steeply as min(0.9 ng.wo, 0.01) (Cycles 3.x ensure_valid_reflection). With n' =
+// x X + z ng, x = sqrt(1 - z^2), the condition 2 (n'.wo) z - wo.z = t is a quadratic in
+// z^2; of its roots in (0, 1] the one whose reflection rises least (but rises) is taken.
+Vec3 valid_reflection(const Vec3& ng, const Vec3& wo, const Vec3& n) {
+  const float threshold = std::fmin(0.9f * glm::dot(ng, wo), 0.01f);
+  if (glm::dot(ng, 2.0f * glm::dot(n, wo) * n - wo) >= threshold) return n;
+  const Vec3 along = n - glm::dot(n, ng) * ng;
+  const float along_length = glm::length(along);
+  if (!(along_length > 0.0f)) return ng;
+  const Vec3 x_axis = along / along_length;
+  const float wx = glm::dot(wo, x_axis), wz = glm::dot(wo, ng);
+  const float a = wx * wx + wz * wz;
+  const float b = std::sqrt(std::fmax(wx * wx * (a - threshold * threshold), 0.0f));
+  const float c = wz * threshold + a;
+  const float z2[2] = {0.5f * (c + b) / a, 0.5f * (c - b) / a};
+  const auto usable = [](float v) { return v > 1e-5f && v <= 1.0f + 1e-5f; };
+  // The root's normal (x, z) and the height of its reflection.
+  const auto root = [&](float v) {
+    const float z = std::sqrt(std::fmax(v, 0.0f)), x = std::sqrt(std::fmax(1.0f - v, 0.0f));
+    return std::array<float, 3>{x, z, 2.0f * (x * wx + z * wz) * z - wz};
+  };
+  std::array<float, 3> chosen;
+  if (usable(z2[0]) && usable(z2[1])) {
+    const auto r1 = root(z2[0]), r2 = root(z2[1]);
+    const bool rises1 = r1[2] >= 1e-5f, rises2 = r2[2] >= 1e-5f;
+    chosen = rises1 && rises2 ? (r1[2] < r2[2] ? r1 : r2) : (r1[2] > r2[2] ? r1 : r2);
+  } else if (usable(z2[0]) || usable(z2[1])) {
+    chosen = root(usable(z2[0]) ? z2[0] : z2[1]);
+  } else {
+    return ng;
+  }
+  return chosen[0] * x_axis + chosen[1] * ng;
+}
+
 // How far the height of a Bump node is read from the hit: this fraction of the hit's
 // distance from the camera, about the footprint of one pixel of a 1000-pixel-wide image
 // at a 53-degree field of view (Cycles steps by the ray differentials, which Whitted does
@@ -649,6 +685,12 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
       }
     };
     normal(kNormalField, &out.normal);
+    if (m.valid_reflection && m.driven(kNormalField)) {
+      // On the side the ray comes from, as Cycles' shading frame is.
+      const float side = hit.backfacing ? -1.0f : 1.0f;
+      out.normal =
+          side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.normal);
+    }
     normal(kCoatNormalField, &out.coat_normal);
     if (m.driven(kCoatSpecularField)) out.coat_specular = field(kCoatSpecularField).x;
     if (m.driven(kCoatReflectivityField)) out.coat_reflectivity = field(kCoatReflectivityField).x;
