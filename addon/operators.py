@@ -1,4 +1,5 @@
-"""Operators of the Render Properties panel: apply a preset, estimate render times."""
+"""Operators of the Render Properties panel: apply a preset, estimate each preset's
+render time and error."""
 
 import bpy
 from bpy.props import EnumProperty
@@ -30,16 +31,14 @@ class WHITTED_OT_estimate(bpy.types.Operator):
     bl_idname = "whitted.estimate"
     bl_label = "Estimate"
     bl_description = (
-        "Render a low-resolution probe of the scene with each preset and predict the "
-        "full-resolution render time of each"
+        "Render a sample of the frame's pixels with each preset and predict the render "
+        "time of each and its error against Reference"
     )
 
     def execute(self, context):
         try:
             native = load_native()
-            probe, full, estimates, needed = estimate_presets(
-                context.evaluated_depsgraph_get(), native
-            )
+            probe, estimates, needed = estimate_presets(context.evaluated_depsgraph_get(), native)
         except (ImportError, ExportError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -52,7 +51,8 @@ class WHITTED_OT_estimate(bpy.types.Operator):
             item = whitted.estimates.add()
             item.preset = estimate.preset
             item.seconds = estimate.seconds
+            item.error = estimate.error
             item.rays_per_pixel = estimate.rays_per_pixel
-        whitted.estimate_probe = f"{probe[0]}x{probe[1]} probe, extrapolated to {full[0]}x{full[1]}"
+        whitted.estimate_probe = probe.describe()
         whitted.estimate_memory_mib = needed.bytes / MIB
         return {"FINISHED"}

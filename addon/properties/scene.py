@@ -19,10 +19,16 @@ from .presets import PRESETS
 
 
 class WhittedEstimate(bpy.types.PropertyGroup):
-    """One preset's predicted full-resolution render time (the Estimate button)."""
+    """One preset's predicted render time and error against Reference (the Estimate
+    button)."""
 
     preset: StringProperty(name="Preset", description="Key of the preset")
     seconds: FloatProperty(name="Seconds", description="Predicted render time", unit="TIME")
+    error: FloatProperty(
+        name="Error",
+        description="Predicted RMSE of the render against the Reference preset's, as "
+        "an 8-bit display shows them (sRGB, in levels of 255)",
+    )
     rays_per_pixel: FloatProperty(name="Rays per Pixel", description="Measured on the probe")
 
 
@@ -162,7 +168,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     estimates: CollectionProperty(
         type=WhittedEstimate,
         name="Estimates",
-        description="Predicted full-resolution render time of each preset (Estimate button)",
+        description="Predicted render time and error of each preset (Estimate button)",
     )
     estimate_memory_mib: FloatProperty(
         name="Estimated Memory",
@@ -172,7 +178,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     )
     estimate_probe: StringProperty(
         name="Estimate Probe",
-        description="The probe the estimates were extrapolated from",
+        description="The probe the estimates were made from",
         default="",
     )
 

@@ -1,5 +1,5 @@
 """The Whitted panels in Render Properties: quality (presets and controls), the
-render-time estimate of each preset, and the last render's statistics."""
+estimate of each preset's render time and error, and the last render's statistics."""
 
 import json
 
@@ -56,7 +56,7 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
 
 
 class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
-    bl_label = "Render Time Estimate"
+    bl_label = "Time and Error Estimate"
     bl_parent_id = "WHITTED_RENDER_PT_settings"
 
     def draw(self, context):
@@ -67,11 +67,16 @@ class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
             return
         layout.label(text=settings.estimate_probe)
         layout.label(text=f"Memory: about {settings.estimate_memory_mib:,.0f} MiB")
+        # preset | time | display RMSE against Reference in 8-bit levels
+        # (addon/estimate_model.py) | rays per pixel
+        table = layout.grid_flow(row_major=True, columns=4, even_columns=True, align=True)
+        for heading in ("Preset", "Time", "Error (/255)", "Rays/px"):
+            table.label(text=heading)
         for estimate in settings.estimates:
-            row = layout.row()
-            row.label(text=preset_label(estimate.preset))
-            row.label(text=f"{estimate.seconds:.2f} s")
-            row.label(text=f"{estimate.rays_per_pixel:.0f} rays/px")
+            table.label(text=preset_label(estimate.preset))
+            table.label(text=f"{estimate.seconds:.2f} s")
+            table.label(text=f"{estimate.error:.2f}")
+            table.label(text=f"{estimate.rays_per_pixel:.0f}")
 
 
 class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):

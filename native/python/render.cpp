@@ -142,6 +142,9 @@ void bind_render(py::module_& m) {
       .def_readwrite("aa_samples", &Settings::aa_samples)
       .def_readwrite("threads", &Settings::threads)
       .def_readwrite("tile_size", &Settings::tile_size)
+      .def_readwrite("probe_stride", &Settings::probe_stride,
+                     "An estimate probe: trace one tile in every probe_stride^2, spread over "
+                     "the border, each pixel as the full render traces it; 1: every tile.")
       .def_readwrite("fresnel", &Settings::fresnel)
       .def_property_readonly(
           "border",

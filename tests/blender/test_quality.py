@@ -1,9 +1,9 @@
 """Quality controls (issue 5): presets, their plumbing into the native settings,
-the soft-shadow default, the texture filter override and the Estimate operator."""
+the soft-shadow default and the texture filter override
+(the Estimate operator: test_estimate.py)."""
 
 import itertools
 import json
-import math
 
 import bpy
 import pytest
@@ -139,19 +139,3 @@ def test_closest_texture_filter_overrides_the_nodes(empty_scene, warnings):
     (closest,) = convert_textures({"t": spec}, warnings, "CLOSEST").values()
     assert authored.interpolation == "LINEAR"
     assert closest.interpolation == "CLOSEST"
-
-
-def test_estimate_fills_a_finite_time_per_preset(demo):
-    demo.render.engine = "WHITTED"
-    demo.render.resolution_x, demo.render.resolution_y = 320, 240
-    assert bpy.ops.whitted.estimate() == {"FINISHED"}
-    estimates = list(demo.whitted.estimates)
-    assert [e.preset for e in estimates] == [key for key, _, _, _ in PRESETS]
-    for estimate in estimates:
-        assert math.isfinite(estimate.seconds) and estimate.seconds > 0.0
-        assert math.isfinite(estimate.rays_per_pixel) and estimate.rays_per_pixel >= 1.0
-    rays = [e.rays_per_pixel for e in estimates]
-    assert rays == sorted(rays)  # each preset traces more than the one before
-    assert demo.whitted.estimate_probe == "80x60 probe, extrapolated to 320x240"
-    # Memory beside time: the guard's estimate of the full render.
-    assert 0.0 < demo.whitted.estimate_memory_mib < 100.0

@@ -77,6 +77,37 @@ TEST(Schedule, TilesCoverTheBorderOnce) {
   }
 }
 
+// A probe keeps one tile in n^2, the first among them, and visits every row and every
+// column of tiles (not a grid aligned with the frame's axes).
+TEST(Schedule, AProbeKeepsOneTileInStrideSquaredSpreadOverRowsAndColumns) {
+  Settings settings;
+  settings.width = 320;
+  settings.height = 240;
+  settings.tile_size = 8;  // 40 x 30 tiles
+  settings.probe_stride = 4;
+  EXPECT_NO_THROW(settings.validate());
+  const std::vector<Tile> tiles = make_tiles(settings);
+  EXPECT_NEAR(static_cast<double>(tiles.size()), 40.0 * 30.0 / 16.0, 2.0);
+  EXPECT_EQ(tiles.front().x, 0);
+  EXPECT_EQ(tiles.front().y, 0);
+  std::map<int, int> columns, rows;
+  for (const Tile& t : tiles) {
+    columns[t.x / 8] += 1;
+    rows[t.y / 8] += 1;
+  }
+  EXPECT_EQ(columns.size(), 40u);
+  EXPECT_EQ(rows.size(), 30u);
+  settings.probe_stride = 0;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  // A border smaller than the lattice still has its first tile.
+  settings.probe_stride = 8;
+  settings.border[0] = 100;
+  settings.border[1] = 100;
+  settings.border[2] = 104;
+  settings.border[3] = 104;
+  ASSERT_EQ(make_tiles(settings).size(), 1u);
+}
+
 // Whatever the tiling, every pixel of the border is covered once per preview pass, by
 // the same block (clipped to the border), so previews do not depend on tiles.
 TEST(Schedule, PreviewBlocksDoNotDependOnTheTiling) {

@@ -30,6 +30,7 @@ void Settings::validate() const {
   }
   check_range("threads", threads, 0, 1024);
   check_range("tile_size", tile_size, 1, 4096);
+  check_range("probe_stride", probe_stride, 1, 256);
   if (!(cutoff >= 0.0f && cutoff <= 1.0f)) {
     throw std::invalid_argument("cutoff must be between 0 and 1");
   }

@@ -23,6 +23,11 @@ struct Settings {
   int aa_depth = 3;           // adaptive: how many times a square may be split
   int threads = 0;            // 0: all hardware threads
   int tile_size = 32;
+  // An estimate probe (addon/estimate.py): trace one tile in every probe_stride^2, spread
+  // evenly over the border. Each traced pixel is the full render's (a pixel never depends
+  // on its neighbours), so the probe's rays and values per pixel are the full render's.
+  // 1 traces every tile.
+  int probe_stride = 1;
   Fresnel fresnel = Fresnel::kExact;
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
   // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.

@@ -1,0 +1,76 @@
+"""The Estimate button (issue 13): each preset's predicted time and error against
+Reference, from a probe that traces a sample of the frame's tiles at full resolution."""
+
+import math
+import re
+
+import bpy
+import numpy as np
+import pytest
+from whitted.estimate import REFERENCE, _render
+from whitted.properties.presets import PRESETS, preset
+from whitted.settings import native_settings
+from whitted.sync import SyncParams
+from whitted.sync.frame import sync_frame
+
+WIDTH, HEIGHT = 160, 120
+
+
+@pytest.fixture
+def demo(empty_scene, demo_scene_module):
+    scene = demo_scene_module.build_demo_scene(empty_scene)
+    scene.render.engine = "WHITTED"
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+    return scene
+
+
+def test_estimate_fills_time_and_error_of_every_preset(demo):
+    assert bpy.ops.whitted.estimate() == {"FINISHED"}
+    estimates = list(demo.whitted.estimates)
+    assert [e.preset for e in estimates] == [key for key, _, _, _ in PRESETS]
+    for estimate in estimates:
+        assert math.isfinite(estimate.seconds) and estimate.seconds > 0.0
+        assert math.isfinite(estimate.rays_per_pixel) and estimate.rays_per_pixel >= 1.0
+        if estimate.preset == REFERENCE:
+            assert estimate.error == 0.0
+        else:
+            assert math.isfinite(estimate.error) and estimate.error > 0.0
+    rays = [e.rays_per_pixel for e in estimates]
+    assert rays == sorted(rays)  # each preset traces more than the one before
+    # On the demo each preset is closer to Reference than the one before.
+    errors = [e.error for e in estimates]
+    assert errors == sorted(errors, reverse=True)
+    # 160 x 120 is 19,200 pixels: one tile in 4 gives about 4,800.
+    probe = re.fullmatch(
+        r"([\d,]+)-pixel probe \(1 tile in 4\) of 160x120", demo.whitted.estimate_probe
+    )
+    assert probe, demo.whitted.estimate_probe
+    assert 4000 <= int(probe[1].replace(",", "")) <= 5600
+    # Memory beside time: the guard's estimate of the full render.
+    assert 0.0 < demo.whitted.estimate_memory_mib < 100.0
+
+
+def test_a_probe_traces_the_full_renders_pixels(demo, native):
+    # The premise of the estimate: a pixel of the probe is the full render's pixel, so
+    # no resolution model is needed.
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    frame = sync_frame(depsgraph, native)
+    quality = preset("PREVIEW")  # adaptive: splits depend on the pixel's own corners only
+    frame.sync.sync(depsgraph, SyncParams.of(demo, quality))
+    settings = native_settings(native, demo, WIDTH, HEIGHT, frame.film, quality)
+    full = frame.job(native, settings)
+    _render(full)
+    settings.tile_size = 8
+    settings.probe_stride = 4
+    probe = frame.job(native, settings)
+    stats = _render(probe)
+    traced = probe.cost_image() > 0.0
+    assert stats["pixels"] == traced.sum()
+    assert WIDTH * HEIGHT / 16 * 0.8 < traced.sum() < WIDTH * HEIGHT / 16 * 1.2
+    # Spread over the whole frame: every row of tiles has some (and every column, given
+    # n^2 rows of tiles: tests/native/schedule_test.cpp).
+    assert traced.any(axis=1).reshape(-1, 8).any(axis=1).all()
+    np.testing.assert_array_equal(probe.image()[traced], full.image()[traced])
+    np.testing.assert_array_equal(probe.cost_image()[traced], full.cost_image()[traced])
+    assert not probe.image()[~traced].any()
