@@ -4,9 +4,11 @@ The scene is exported once; each preset then traces the probe: one tile in n^2 o
 the frame at full resolution (estimate_model.py says why, and the formulas). From
 the same probe renders come the time (rays scaled by the pixel count, at the
 probe's ray rate) and the error (RMSE of each preset's probe pixels, as displayed,
-against the Reference preset's). A probe lasts milliseconds: one warm-up render runs
-first (caches, and the scene compile, which is measured there), then the probe repeats
-until it has traced for MIN_PROBE_SECONDS, its rate taken over all repeats.
+against the Reference preset's). The first probe job of each preset warms the caches
+(the first of all measures the scene compile) and gives the pixels of the error; the
+time comes from jobs of at least MIN_JOB_SECONDS (a cheap preset's probe takes denser
+tiles), repeated until they have traced for MIN_PROBE_SECONDS, the rate taken over
+all of them.
 docs/notes/estimate_accuracy.md gives the measured accuracy of both predictions.
 """
 
@@ -22,8 +24,10 @@ from .sync.frame import sync_frame
 REFERENCE = "REFERENCE"  # the preset the errors are measured against
 # How long one poll of a probe job waits.
 POLL_SECONDS = 0.1
-# Trace time a probe gathers (over repeats) before its ray rate is trusted.
-MIN_PROBE_SECONDS = 0.2
+# Trace time a probe gathers (over repeats) before its ray rate is trusted ...
+MIN_PROBE_SECONDS = 0.3
+# ... in jobs of at least this long (else its tiles are made denser).
+MIN_JOB_SECONDS = 0.1
 # Repeats of one probe at most, however fast it is.
 MAX_PROBE_REPEATS = 10
 # The start-up job: this many one-pixel tiles (enough to start every worker thread) of
@@ -43,7 +47,7 @@ class Estimate:
 
 @dataclass(frozen=True)
 class Probe:
-    pixels: int  # traced by the probe
+    pixels: int  # the errors' probe (a cheap preset's time comes from more)
     stride: int  # one tile in stride^2
     width: int  # the full render's region (the border, or the whole frame)
     height: int
@@ -67,8 +71,8 @@ def estimate_presets(depsgraph, native):
     xmin, ymin, xmax, ymax = frame.film.region
     pixels = (xmax - xmin) * (ymax - ymin)
     stride = model.probe_stride(pixels)
-    startup = _startup_seconds(native, frame)
-    compile_seconds = None
+    # The first job compiles the scene, as a full render's does; later ones reuse it.
+    startup, compile_seconds = _startup_seconds(native, frame)
     probes = {}  # preset key -> (stats, rays per second, probe pixels' RGB)
     for key, _, _, quality in PRESETS:
         # Soft-shadow samples and the texture filter are part of the scene: sync
@@ -77,10 +81,6 @@ def estimate_presets(depsgraph, native):
         settings = native_settings(native, scene, frame.width, frame.height, frame.film, quality)
         settings.tile_size = model.PROBE_TILE_SIZE
         settings.probe_stride = stride
-        warm_up = _render(frame.job(native, settings))
-        if compile_seconds is None:
-            # The first job compiles the scene as a full render's does; later ones reuse it.
-            compile_seconds = warm_up["compile_seconds"]
         probes[key] = _probe(native, frame, settings, startup)
     fixed = export_seconds + compile_seconds
     reference = probes[REFERENCE][2]
@@ -98,7 +98,7 @@ def estimate_presets(depsgraph, native):
             )
         )
     probe = Probe(
-        pixels=probes[REFERENCE][0]["pixels"],
+        pixels=len(reference),
         stride=stride,
         width=xmax - xmin,
         height=ymax - ymin,
@@ -109,8 +109,9 @@ def estimate_presets(depsgraph, native):
 
 
 def _startup_seconds(native, frame):
-    """Seconds a job takes to start its worker threads: the fastest of a few jobs that
-    trace STARTUP_PIXELS camera rays, one pixel a tile."""
+    """(seconds a job takes to start its worker threads: the fastest of a few jobs that
+    trace STARTUP_PIXELS camera rays, one pixel a tile; seconds the first of them took
+    to compile the scene)."""
     xmin, ymin, xmax, _ = frame.film.region
     width = min(STARTUP_PIXELS, xmax - xmin)
     settings = native.Settings(
@@ -121,23 +122,35 @@ def _startup_seconds(native, frame):
         tile_size=1,
         threads=frame.settings.threads,
     )
-    runs = (_render(frame.job(native, settings)) for _ in range(STARTUP_REPEATS))
-    return min(stats["trace_seconds"] for stats in runs)
+    runs = [_render(frame.job(native, settings)) for _ in range(STARTUP_REPEATS)]
+    return min(stats["trace_seconds"] for stats in runs), runs[0]["compile_seconds"]
 
 
 def _probe(native, frame, settings, startup):
-    """(statistics, rays per second, float64[probe pixels, 3] linear RGB) of the probe
-    render, over enough repeats to have traced for MIN_PROBE_SECONDS."""
-    rays, traced = [], []
-    for _ in range(MAX_PROBE_REPEATS):
-        job = frame.job(native, settings)
-        stats = _render(job)
-        rays.append(stats["rays"]["total"])
-        traced.append(stats["trace_seconds"])
-        if sum(traced) >= MIN_PROBE_SECONDS:
-            break
+    """(statistics of the timed probe, its rays per second, float64[probe pixels, 3]
+    linear RGB of the probe at `settings`).
+
+    The first job, at `settings`, gives the pixels the errors are measured on, and
+    warms the caches. A job of a few milliseconds times mostly the machine (a thread
+    that waits for a core on a busy machine waits as long as the job): while a job
+    traces for less than MIN_JOB_SECONDS, the timed probe takes four times the tiles
+    (half the stride), then repeats until it has traced for MIN_PROBE_SECONDS."""
+    job = frame.job(native, settings)
+    stats = _render(job)
     # Every traced pixel took at least its camera ray; the others were not traced.
     values = job.image()[job.cost_image() > 0.0][:, :3]
+    if stats["trace_seconds"] >= MIN_PROBE_SECONDS:
+        rate = model.rays_per_second([stats["rays"]["total"]], [stats["trace_seconds"]], startup)
+        return stats, rate, values
+    rays, traced = [], []
+    while len(traced) < MAX_PROBE_REPEATS and sum(traced) < MIN_PROBE_SECONDS:
+        stats = _render(frame.job(native, settings))
+        if stats["trace_seconds"] < MIN_JOB_SECONDS and settings.probe_stride > 1:
+            settings.probe_stride //= 2
+            rays, traced = [], []  # a denser probe: start the timing again
+            continue
+        rays.append(stats["rays"]["total"])
+        traced.append(stats["trace_seconds"])
     return stats, model.rays_per_second(rays, traced, startup), values
 
 

@@ -12,7 +12,17 @@ display_error, on the whole frame) with the predictions:
         [--out docs/notes/estimate_accuracy.md]
 
 Writes a Markdown fragment (a table, the time and error figures) for
-scripts/accuracy_cost.py --notes, and prints it.
+scripts/accuracy_cost.py --notes, and prints it. docs/notes/estimate_accuracy.md was
+made at 240x180 from six scenes built by the scene builders (S=/tmp/crypto-scenes):
+
+    blender -b --factory-startup --python scripts/perf_scenes.py -- --scene demo \
+        --resolution 320 240 --save $S/demo.blend
+    blender -b --factory-startup --python scripts/cost_scenes.py -- --scene glass \
+        --save $S/glass.blend                      (and --scene diffuse)
+    blender -b --factory-startup --python scripts/perf_scenes.py -- --scene glass8 \
+        --resolution 320 240 --save $S/glass8.blend
+    ... --scene instances --instances 1000 --ico-subdivisions 3 (instances.blend)
+    ... --scene triangles --triangles 300000 (triangles.blend)
 """
 
 import argparse
