@@ -585,6 +585,7 @@ def write_markdown(out_dir):
         "  (see gltf_round_trip), and a rough coat does not blur what it reflects.",
         "",
     ]
+    lines += _cost_lines(base)
     for blender, results in runs:
         worst_ssim = min(r["ssim"] for r in results)
         ratios = [r["ratio"] for r in results]
@@ -612,6 +613,48 @@ def write_markdown(out_dir):
             ]
     with open(os.path.join(out_dir, "MATERIALS.md"), "w", encoding="utf-8") as file:
         file.write("\n".join(lines))
+
+
+def _cost_lines(base):
+    """The Cost section from scripts/bench_materials.py's results, if it ran."""
+    runs = []
+    for name in sorted(os.listdir(base)):
+        if name.startswith("cost-") and name.endswith(".json"):
+            with open(os.path.join(base, name), encoding="utf-8") as file:
+                runs.append(json.load(file))
+    if not runs:
+        return []
+    first = runs[0]
+    lines = [
+        "## Cost",
+        "",
+        f"From `scripts/bench_materials.py`: {first['spheres']} smooth spheres on a floor, "
+        f"{first['resolution'][0]}x{first['resolution'][1]}, {first['aa_samples']} samples "
+        "per pixel, one sun; the spheres' material is in turn a constant Principled BSDF "
+        "(no program), the same values computed per hit by a program (Base Color through "
+        "an op that does not fold), and texture-heavy (images on Base Color and Roughness, "
+        "a tangent-space normal map, a Noise texture mixed into the colour); "
+        f"{first['repeats']} interleaved renders of each, best trace time. The textured "
+        "share is (textured - constant) / textured: what the program and its texture "
+        "reads add to the trace.",
+        "",
+        "Regenerate (the machine is shared: figures are of one run):",
+        "",
+        *(f"    {command}" for command in first["commands"]),
+        "",
+        "| Blender | constant (s) | program (s) | textured (s) | program / constant | "
+        "textured share of trace |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for run in runs:
+        best = run["best"]
+        share = (best["textured"] - best["constant"]) / best["textured"]
+        lines.append(
+            f"| {run['blender']} | {best['constant']:.3f} | {best['program']:.3f} | "
+            f"{best['textured']:.3f} | {run['program_over_constant']:.3f} | {share:.0%} |"
+        )
+    lines.append("")
+    return lines
 
 
 def main():
