@@ -708,3 +708,30 @@ def test_linked_input_the_mapping_ignores_warns(warnings):
         f"Whitted: material 'Bumpy', node '{diffuse.name}': input 'Normal' is linked; "
         "Whitted ignores it"
     ]
+
+
+def test_sheen_and_a_bumped_coat_need_a_program(warnings):
+    from whitted.export.nodes import ops
+
+    material = node_material("Velvety")
+    tree = material.node_tree
+    bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    sheen = next(s for s in bsdf.inputs if s.name in ("Sheen Weight", "Sheen"))
+    sheen.default_value = 0.5
+    coat = next(s for s in bsdf.inputs if s.name in ("Coat Weight", "Clearcoat"))
+    coat.default_value = 1.0
+    bump = tree.nodes.new("ShaderNodeBump")
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coordinates.outputs["Object"], separate.inputs[0])
+    tree.links.new(separate.outputs["X"], bump.inputs["Height"])
+    coat_normal = next(s for s in bsdf.inputs if s.name in ("Coat Normal", "Clearcoat Normal"))
+    tree.links.new(bump.outputs["Normal"], coat_normal)
+    exported = convert_material(material, warnings, programs=True)
+    outputs = dict(exported.outputs)
+    # Sheen brightens the diffuse colour by the view angle; the coat's normal is bumped.
+    assert set(outputs) == {"diffuse", "coat_normal"}
+    codes = [int(row[0]) for row in exported.program.code]
+    assert ops.LAYER_WEIGHT in codes and ops.BUMP in codes
+    assert any(f"'{sheen.name}' is approximated" in w for w in warnings)
+    assert exported.data.coat_reflectivity > 0.0
