@@ -407,6 +407,30 @@ def brick_case(name, output="Color", settings=None, **inputs):
     return NodeCase(f"brick_{name}", build, "Brick Texture", procedural=True)
 
 
+VORONOI_FRACTAL = "normalize" in bpy.types.ShaderNodeTexVoronoi.bl_rna.properties
+
+
+def voronoi_case(name, dimensions, feature, metric, output, normalize=False, **inputs):
+    """A Voronoi Texture over UV; 1D and 4D read W from U (+ 0.37)."""
+
+    def build(tree, uv):
+        node = _node(
+            tree, "ShaderNodeTexVoronoi", voronoi_dimensions=dimensions, feature=feature,
+            distance=metric,
+        )  # fmt: skip
+        if normalize:
+            node.normalize = True
+        uv = _texture_input(tree, uv, node)
+        if dimensions in ("1D", "4D"):
+            x, _ = _x(tree, uv)
+            tree.links.new(_spread(tree, x, 1.3, 0.37), node.inputs["W"])
+        _set_inputs(node, inputs)
+        socket = node.outputs[output]
+        return _combine(tree, socket) if socket.type == "VALUE" else socket
+
+    return NodeCase(f"voronoi_{name}", build, "Voronoi Texture", procedural=True)
+
+
 PROCEDURAL_CASES = [
     noise_case("3D", Detail=2.5, Distortion=0.4),
     noise_case("1D", "Fac", Detail=3.0, Roughness=0.7),
@@ -423,6 +447,29 @@ PROCEDURAL_CASES = [
             noise_case("4D", "Fac", "noise_hetero", "HETERO_TERRAIN", Detail=2.4, Offset=0.6),
         )
         if NOISE_TYPES
+        else ()
+    ),
+    voronoi_case("3d_f1_color", "3D", "F1", "EUCLIDEAN", "Color", Scale=3.0),
+    voronoi_case("3d_f1_position", "3D", "F1", "EUCLIDEAN", "Position", Scale=3.0,
+                 Randomness=0.8),
+    voronoi_case("2d_f2_manhattan", "2D", "F2", "MANHATTAN", "Distance", Scale=4.0),
+    voronoi_case("3d_smooth_chebychev", "3D", "SMOOTH_F1", "CHEBYCHEV", "Color", Scale=3.0,
+                 Smoothness=0.7),
+    voronoi_case("4d_f1_minkowski", "4D", "F1", "MINKOWSKI", "Distance", Scale=2.5,
+                 Exponent=1.5),
+    voronoi_case("1d_f2_w", "1D", "F2", "EUCLIDEAN", "W", Scale=4.0),
+    voronoi_case("2d_edge", "2D", "DISTANCE_TO_EDGE", "EUCLIDEAN", "Distance", Scale=4.0),
+    voronoi_case("3d_n_sphere", "3D", "N_SPHERE_RADIUS", "EUCLIDEAN", "Radius", Scale=3.0),
+    *(
+        (
+            voronoi_case("3d_fractal", "3D", "F1", "EUCLIDEAN", "Distance", True, Scale=2.0,
+                         Detail=2.5, Roughness=0.6, Lacunarity=2.2),
+            voronoi_case("2d_fractal_color", "2D", "SMOOTH_F1", "EUCLIDEAN", "Color", True,
+                         Scale=2.0, Detail=1.5, Smoothness=0.5),
+            voronoi_case("2d_fractal_edge", "2D", "DISTANCE_TO_EDGE", "EUCLIDEAN", "Distance",
+                         True, Scale=2.0, Detail=1.7, Roughness=0.7),
+        )
+        if VORONOI_FRACTAL
         else ()
     ),
     wave_case("bands_x_sin", "BANDS", "X", "SIN", Scale=1.3, Distortion=2.0, Detail=2.5),

@@ -69,6 +69,31 @@ TEST(Procedural, WaveMagicAndBrickMatchCycles) {
   EXPECT_NEAR(tm.x, 0.10856156051158905f, kCycles);
 }
 
+TEST(Procedural, VoronoiMatchesCycles) {
+  procedural::VoronoiSettings s;
+  s.scale = 1.0f;
+  s.integer_hash = true;  // Blender 5.0's
+  const procedural::VoronoiResult f1 = procedural::voronoi_texture(s, kPoint, 0.0f);
+  EXPECT_NEAR(f1.distance, 0.9261961579322815f, kCycles);
+  EXPECT_NEAR(f1.color.x, 0.8034278154373169f, kCycles);
+  EXPECT_NEAR(f1.color.y, 0.16936178505420685f, kCycles);
+  EXPECT_NEAR(f1.color.z, 0.6681750416755676f, kCycles);
+  EXPECT_NEAR(f1.position.z, 1.6681749820709229f, kCycles);
+  s.dimensions = 2;
+  const procedural::VoronoiResult f2d = procedural::voronoi_texture(s, kPoint, 0.0f);
+  EXPECT_NEAR(f2d.distance, 0.3696289360523224f, kCycles);
+  EXPECT_NEAR(f2d.position.x, 0.6572009921073914f, kCycles);
+  EXPECT_NEAR(f2d.position.y, 0.7950422167778015f, kCycles);
+  // Blender 3.4 hashes the cells' float bits.
+  s.integer_hash = false;
+  EXPECT_NEAR(procedural::voronoi_texture(s, kPoint, 0.0f).distance, 0.4766191244125366f, kCycles);
+  s.dimensions = 3;
+  const procedural::VoronoiResult old = procedural::voronoi_texture(s, kPoint, 0.0f);
+  EXPECT_NEAR(old.distance, 0.46928590536117554f, kCycles);
+  EXPECT_NEAR(old.color.x, 0.15225376188755035f, kCycles);
+  EXPECT_NEAR(old.position.y, 1.0559954643249512f, kCycles);
+}
+
 TEST(Procedural, OpsReadTheirModesAndOperands) {
   // NOISE 3D fBM, normalised, with colour: the same as noise_texture.
   const uint32_t mode = 2u | (1u << 8) | (1u << 9);

@@ -84,7 +84,7 @@ void expect_invalid(const std::vector<Row>& rows, const char* message, size_t re
 
 TEST(Program, ValidationNamesTheFirstProblem) {
   expect_invalid({{Op(99), 0, 0}}, "instruction 0: unknown op 99");
-  expect_invalid({{Op::kVoronoi, 0, 0}}, "(VORONOI): not supported yet");
+  expect_invalid({{Op::kVoronoi, 3u << 9, 0}}, "(VORONOI): mode 1536 is not one of its modes");
   expect_invalid({{Op::kMagic, 11, 0}}, "(MAGIC): mode 11 is not one of its modes");
   expect_invalid({{Op::kMath, 0, 2}}, "out register 2 out of range");
   expect_invalid({{Op::kMath, 0, 0, 5}}, "operand a register 5 out of range");

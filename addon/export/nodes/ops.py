@@ -32,7 +32,7 @@ ENVIRONMENT = 19
 CHECKER = 20
 GRADIENT = 21
 NOISE = 22
-VORONOI = 23  # reserved
+VORONOI = 23
 WAVE = 24
 MAGIC = 25
 BRICK = 26
@@ -212,6 +212,13 @@ NOISE_TYPES = (
 NOISE_NORMALIZE = 1 << 8
 NOISE_COLOR = 1 << 9
 DIMENSIONS = ("1D", "2D", "3D", "4D")
+# VORONOI's mode: dimensions - 1 in bits 0-1, feature in bits 2-4, metric in bits
+# 5-6, VORONOI_INTEGER_HASH, NOISE_NORMALIZE, and the output (VORONOI_OUTPUTS) in bits
+# 9-10.
+VORONOI_INTEGER_HASH = 1 << 7  # 2D-4D cells hashed by their integers (Blender 5.0)
+VORONOI_FEATURES = ("F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS")
+VORONOI_METRICS = ("EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI")
+VORONOI_OUTPUTS = ("DISTANCE", "COLOR", "POSITION")  # DISTANCE: also Radius
 # WAVE's mode: type in bit 0, direction in bits 1-2, profile in bits 3-4.
 WAVE_TYPES = ("BANDS", "RINGS")
 WAVE_BANDS_DIRECTIONS = ("X", "Y", "Z", "DIAGONAL")

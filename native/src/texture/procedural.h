@@ -46,6 +46,27 @@ struct NoiseSettings {
 // Color is Fac in all three.
 glm::vec4 noise_texture(const NoiseSettings& s, Vec3 p, float w);
 
+// The Voronoi Texture's features and metrics (ShaderNodeTexVoronoi.feature, .distance),
+// in ops.py's order.
+enum class VoronoiFeature : uint32_t { kF1, kF2, kSmoothF1, kDistanceToEdge, kNSphereRadius };
+enum class VoronoiMetric : uint32_t { kEuclidean, kManhattan, kChebychev, kMinkowski };
+
+struct VoronoiSettings {
+  int dimensions = 3;  // 1..4
+  VoronoiFeature feature = VoronoiFeature::kF1;
+  VoronoiMetric metric = VoronoiMetric::kEuclidean;
+  bool normalize = false;
+  bool integer_hash = false;  // 2D-4D cells hashed by their integers (Blender 5.0)
+  float scale = 5.0f, detail = 0.0f, roughness = 0.5f, lacunarity = 2.0f;
+  float smoothness = 1.0f, exponent = 0.5f, randomness = 1.0f;
+};
+struct VoronoiResult {
+  float distance = 0.0f;  // Distance (F1, F2, Smooth F1, Distance to Edge) or Radius
+  Vec3 color{0.0f};
+  glm::vec4 position{0.0f};  // Position in xyz, W in w
+};
+VoronoiResult voronoi_texture(const VoronoiSettings& s, Vec3 p, float w);
+
 struct WaveSettings {
   uint32_t type = 0;       // 0 bands, 1 rings
   uint32_t direction = 0;  // bands: X, Y, Z, diagonal; rings: X, Y, Z, spherical
@@ -75,6 +96,8 @@ namespace whitted::procedural {
 // The program's ops over their registers (docs/notes/shader_program.md gives the modes
 // and operands); `mode` has been checked by valid_mode.
 bool valid_mode(uint32_t op, uint32_t mode);
+glm::vec4 voronoi_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b,
+                     const glm::vec4& c);
 glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
 glm::vec4 wave_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
 glm::vec4 magic_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);

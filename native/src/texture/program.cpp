@@ -904,6 +904,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3);
         break;
       case Op::kNoise:
+      case Op::kVoronoi:
       case Op::kWave:
       case Op::kMagic:
       case Op::kBrick:
@@ -917,8 +918,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.b_given = c[4] != kUnused;
         bumps_ = true;
         break;
-      default:  // VORONOI, reserved
-        fail("not supported yet");
     }
     steps_.push_back(s);
   }
@@ -1086,6 +1085,9 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       case Op::kNoise:
         out = procedural::noise_op(s.mode, a, b, c);
+        break;
+      case Op::kVoronoi:
+        out = procedural::voronoi_op(s.mode, a, b, c);
         break;
       case Op::kWave:
         out = procedural::wave_op(s.mode, a, b, c);
