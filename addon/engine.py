@@ -13,6 +13,7 @@ from . import memory
 from . import result as render_result
 from . import stats as render_stats
 from .export import ExportError
+from .export.instance import cryptomatte_names, writes_cryptomatte
 from .native import load_native
 from .properties.presets import quality_of
 from .sync.frame import sync_frame
@@ -65,6 +66,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             frame = sync_frame(depsgraph, native, quality)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
+            render_result.cryptomatte_settings(frame.settings, depsgraph.view_layer)
             job = frame.job(native)
         except (ImportError, ExportError) as error:
             self._fail(scene, str(error))
@@ -86,6 +88,9 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             return
         if self.is_preview:
             return  # Blender's preview scene: no statistics, nothing to keep
+        if writes_cryptomatte(depsgraph.view_layer):
+            names = cryptomatte_names(depsgraph)
+            render_result.add_cryptomatte_metadata(self, depsgraph.view_layer, names)
         phases.total = time.perf_counter() - started
         stats = render_stats.render_stats(
             bpy.app.version_string,

@@ -15,6 +15,9 @@ transparent), so an artist sees where the time goes.
 from dataclasses import dataclass
 
 import bpy
+import numpy as np
+
+from . import cryptomatte
 
 
 @dataclass(frozen=True)
@@ -60,9 +63,50 @@ PASSES = (
 FLAT_RECT = bpy.app.version >= (4, 1, 0)
 
 
+# Cryptomatte: (kind, the ViewLayer property that enables it, the job's name of the kind).
+# Its passes are as many as the view layer's depth asks for (cryptomatte_passes).
+CRYPTOMATTE = (
+    ("CryptoObject", "use_pass_cryptomatte_object", "object"),
+    ("CryptoMaterial", "use_pass_cryptomatte_material", "material"),
+    ("CryptoAsset", "use_pass_cryptomatte_asset", "asset"),
+)
+CRYPTOMATTE_SOURCE = "cryptomatte:"
+
+
+def cryptomatte_passes(view_layer):
+    """The Cryptomatte passes of `view_layer`: per enabled kind, one RGBA pass per two
+    ranks of pass_cryptomatte_depth, named as Blender names them (CryptoObject00, ...)."""
+    depth = view_layer.pass_cryptomatte_depth
+    return tuple(
+        PassSpec(name, "RGBA", "COLOR", toggle, CRYPTOMATTE_SOURCE + source, first=4 * i)
+        for kind, toggle, source in CRYPTOMATTE
+        if getattr(view_layer, toggle)
+        for i, name in enumerate(cryptomatte.pass_names(kind, depth))
+    )
+
+
+def cryptomatte_settings(settings, view_layer):
+    """Set native `settings` to keep the Cryptomatte kinds `view_layer` enables."""
+    kinds = [getattr(view_layer, toggle) for _, toggle, _ in CRYPTOMATTE]
+    settings.cryptomatte_kinds = sum(1 << k for k, on in enumerate(kinds) if on)
+    settings.cryptomatte_depth = view_layer.pass_cryptomatte_depth if any(kinds) else 0
+
+
+def add_cryptomatte_metadata(engine, view_layer, names):
+    """The header fields of each enabled Cryptomatte layer (cryptomatte.metadata), on
+    the render's result: Blender's Cryptomatte node, Nuke and Natron read them.
+    `names`: {kind: the names of its ids} (export.instance.cryptomatte_names)."""
+    result = engine.get_result()
+    for kind, toggle, _ in CRYPTOMATTE:
+        if getattr(view_layer, toggle):
+            for field, value in cryptomatte.metadata(view_layer.name, kind, names[kind]).items():
+                result.stamp_data_add_field(field, value)
+
+
 def enabled_passes(view_layer):
     """The passes a render of `view_layer` writes, Combined first."""
-    return tuple(spec for spec in PASSES if spec.enabled(view_layer))
+    static = tuple(spec for spec in PASSES if spec.enabled(view_layer))
+    return static + cryptomatte_passes(view_layer)
 
 
 def register_passes(engine, scene, view_layer):
@@ -99,6 +143,13 @@ def _pixels(job, spec, x, y, width, height):
         return job.tile(x, y, width, height)
     if spec.source == "rays":
         return job.cost_tile(x, y, width, height)
+    if spec.source.startswith(CRYPTOMATTE_SOURCE):
+        # Two ranks (id, coverage, id, coverage) a pass; an odd depth's last pass has one.
+        ranks = job.cryptomatte_tile(spec.source[len(CRYPTOMATTE_SOURCE) :], x, y, width, height)
+        out = np.zeros((width * height, 4), dtype=np.float32)
+        columns = ranks[:, spec.first : spec.first + 4]
+        out[:, : columns.shape[1]] = columns
+        return out
     pixels = job.pass_tile(spec.source, x, y, width, height)
     if spec.first == 0 and pixels.shape[1] == len(spec.channels):
         return pixels

@@ -1,6 +1,9 @@
-"""Names, ray visibility and holdout of the objects that the evaluated depsgraph yields."""
+"""Names, ray visibility, holdout and Cryptomatte ids of the objects that the evaluated
+depsgraph yields."""
 
 from dataclasses import dataclass
+
+from .. import cryptomatte
 
 # Blender pads unused levels of DepsgraphObjectInstance.persistent_id with INT_MAX.
 _UNUSED_ID = 2**31 - 1
@@ -54,6 +57,51 @@ def is_holdout(object_instance, view_layer):
     """
     owner = object_instance.parent if object_instance.is_instance else object_instance.object
     return owner.holdout_get(view_layer=view_layer)
+
+
+def writes_cryptomatte(view_layer):
+    """Whether the view layer asks for any Cryptomatte layer."""
+    return (
+        view_layer.use_pass_cryptomatte_object
+        or view_layer.use_pass_cryptomatte_material
+        or view_layer.use_pass_cryptomatte_asset
+    )
+
+
+def cryptomatte_ids(obj):
+    """(object id, asset id, (material id per slot)) of evaluated object `obj`, as
+    Blender hashes them: the names of the object, of its topmost parent (the asset) and
+    of each slot's material (an empty slot: no id, 0)."""
+    original = obj.original
+    materials = tuple(
+        cryptomatte.id_float(slot.material.original.name) if slot.material is not None else 0.0
+        for slot in obj.material_slots
+    )
+    object_id = cryptomatte.id_float(original.name)
+    return object_id, cryptomatte.id_float(_asset(original).name), materials or (0.0,)
+
+
+def cryptomatte_names(depsgraph):
+    """{kind: the names its ids come from} of the mesh instances of the depsgraph, for
+    the manifests (cryptomatte.metadata)."""
+    names = {kind: set() for kind in cryptomatte.KINDS}
+    for object_instance in depsgraph.object_instances:
+        obj = object_instance.object
+        if obj.type != "MESH":
+            continue
+        names["CryptoObject"].add(obj.original.name)
+        names["CryptoAsset"].add(_asset(obj.original).name)
+        names["CryptoMaterial"].update(
+            slot.material.original.name for slot in obj.material_slots if slot.material is not None
+        )
+    return names
+
+
+def _asset(obj):
+    # An object's asset is its topmost parent (itself without one), as in Blender.
+    while obj.parent is not None:
+        obj = obj.parent
+    return obj
 
 
 def _object_visibility(obj):

@@ -20,7 +20,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .instance import RayVisibility, instance_name, is_holdout, ray_visibility
+from .instance import (
+    RayVisibility,
+    cryptomatte_ids,
+    instance_name,
+    is_holdout,
+    ray_visibility,
+    writes_cryptomatte,
+)
 
 # The tracer's default material: what an empty material slot renders with.
 # Blender names are never empty, so it cannot clash with a material's name.
@@ -88,6 +95,9 @@ class InstanceData:
     # (location xyz, random, pass index, colour rgba) for Object Info; None when no
     # material of the instance reads it.
     info: tuple | None = None
+    # (object id, asset id, (material id per slot)): its Cryptomatte ids (cryptomatte.py);
+    # None when the view layer writes no Cryptomatte.
+    cryptomatte: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -275,6 +285,9 @@ def instance_data(object_instance, mesh, view_layer, info=()):
         visibility=ray_visibility(object_instance),
         holdout=is_holdout(object_instance, view_layer),
         info=object_info(object_instance) if any(m in info for m in materials) else None,
+        cryptomatte=cryptomatte_ids(object_instance.object)
+        if writes_cryptomatte(view_layer)
+        else None,
     )
 
 

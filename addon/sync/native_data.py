@@ -69,6 +69,9 @@ def native_mesh(native, mesh):
 def set_instance(native, scene, instance):
     """Add or replace export.mesh.InstanceData `instance` in native `scene`."""
     extra = {} if instance.info is None else {"info": _native_info(instance.info)}
+    if instance.cryptomatte is not None:
+        object_id, asset_id, materials = instance.cryptomatte
+        extra["cryptomatte"] = (object_id, asset_id, list(materials))
     scene.set_instance(
         instance.name,
         instance.mesh,

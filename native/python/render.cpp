@@ -142,6 +142,10 @@ void bind_render(py::module_& m) {
       .def_readwrite("aa_samples", &Settings::aa_samples)
       .def_readwrite("threads", &Settings::threads)
       .def_readwrite("tile_size", &Settings::tile_size)
+      .def_readwrite("cryptomatte_kinds", &Settings::cryptomatte_kinds,
+                     "Cryptomatte kinds kept: bits 1 object, 2 material, 4 asset; 0: none.")
+      .def_readwrite("cryptomatte_depth", &Settings::cryptomatte_depth,
+                     "Cryptomatte ranks kept per pixel and kind (0 to 16).")
       .def_readwrite("probe_stride", &Settings::probe_stride,
                      "An estimate probe: trace one tile in every probe_stride^2, spread over "
                      "the border, each pixel as the full render traces it; 1: every tile.")
@@ -285,6 +289,36 @@ void bind_render(py::module_& m) {
           py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
           "Rays traced per pixel (all kinds) of a finished rectangle, float32[h*w, 1]; whole "
           "rows come as a read-only view.")
+      .def(
+          "cryptomatte_tile",
+          [](const RenderJob& job, const std::string& kind, int x, int y, int w, int h) {
+            check_rect(job, x, y, w, h);
+            const CryptomatteFilm& film = job.cryptomatte();
+            const auto found =
+                std::find(kCryptomatteKindNames.begin(), kCryptomatteKindNames.end(), kind);
+            if (found == kCryptomatteKindNames.end()) {
+              throw std::invalid_argument(
+                  "cryptomatte kind must be 'object', 'material' or 'asset', not '" + kind + "'");
+            }
+            const auto k = static_cast<CryptomatteKind>(found - kCryptomatteKindNames.begin());
+            if (!film.enabled() || !film.has(k)) {
+              throw std::invalid_argument("the render keeps no cryptomatte '" + kind + "'");
+            }
+            const int c = film.channels();
+            const int width = job.settings().width;
+            py::array_t<float> out({static_cast<py::ssize_t>(w) * h, static_cast<py::ssize_t>(c)});
+            float* dst = out.mutable_data();
+            const float* src = film.ranks(k).data();
+            for (int row = 0; row < h; ++row) {
+              const float* line = src + (static_cast<size_t>(y + row) * width + x) * c;
+              std::copy(line, line + static_cast<size_t>(w) * c,
+                        dst + static_cast<size_t>(row) * w * c);
+            }
+            return out;
+          },
+          py::arg("kind"), py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
+          "The ranked Cryptomatte ids of a finished rectangle, float32[h*w, 2 * depth]: (id, "
+          "coverage) by rank, the largest coverage first; kind: 'object', 'material' or 'asset'.")
       .def("cost_image",
            [](const RenderJob& job) {
              const Settings& s = job.settings();

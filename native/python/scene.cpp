@@ -141,7 +141,8 @@ void bind_scene(py::module_& m) {
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
              std::vector<std::string> materials, uint32_t visibility, bool holdout,
-             const std::optional<std::array<float, 9>>& info) {
+             const std::optional<std::array<float, 9>>& info,
+             const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
             if (info) {
@@ -154,17 +155,22 @@ void bind_scene(py::module_& m) {
             } else {
               instance.info.location = Vec3(instance.to_world[3]);
             }
+            if (cryptomatte) {
+              const auto& [object, asset, materials_ids] = *cryptomatte;
+              instance.cryptomatte = {object, asset, materials_ids};
+            }
             s.set_instance(name, std::move(instance));
           },
           py::arg("name"), py::arg("mesh"), py::arg("transform"),
           py::arg("materials") = std::vector<std::string>{},
           py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
-          py::arg("info") = py::none(),
+          py::arg("info") = py::none(), py::arg("cryptomatte") = py::none(),
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: Visibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
           "Object Info node reads, (x, y, z location, random, pass index, r, g, b, a colour) "
-          "(None: the transform's location, random 0, index 0, white).")
+          "(None: the transform's location, random 0, index 0, white); cryptomatte: its "
+          "Cryptomatte ids (object, asset, [material per slot]), floats (None: none).")
       .def(
           "set_world",
           [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output) {

@@ -59,6 +59,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
       tiles_(make_tiles(settings_)),
       area_(border_area(settings_)),
       film_(settings_.width, settings_.height, settings_.progressive),
+      cryptomatte_(settings_),
       recorder_(record_stride) {
   const double t0 = now_seconds();
   scene_ = scene.compile(&stats_.top_level_built);
@@ -171,6 +172,7 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
       if (pass.kind == Pass::Kind::kPixels) {
         const Sample s = sampler.pixel(x, y, counts);
         film_.set(x, y, s, static_cast<float>(counts->total() - before));
+        if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
       } else {
         const Sample s = sampler.grid_sample(x, y, pass.sample, counts);
         film_.add(x, y, s, static_cast<float>(counts->total() - before));

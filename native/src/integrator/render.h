@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "integrator/cryptomatte.h"
 #include "integrator/film.h"
 #include "integrator/recorder.h"
 #include "integrator/sampler.h"
@@ -73,6 +74,7 @@ class RenderJob {
   std::vector<Tile> take_finished_tiles();
   const Settings& settings() const { return settings_; }
   const Film& film() const { return film_; }
+  const CryptomatteFilm& cryptomatte() const { return cryptomatte_; }
   RenderStats stats() const;
   // The ray tree of pixel (x, y), traced again apart from the render (inspect_pixel), with
   // its scene, settings and camera; the film is not touched. Callable before, during or
@@ -103,6 +105,7 @@ class RenderJob {
   std::vector<Tile> tiles_;
   Tile area_;  // the border rectangle
   Film film_;
+  CryptomatteFilm cryptomatte_;
   RayRecorder recorder_;
   std::vector<std::thread> workers_;
   std::atomic<size_t> next_item_{0};

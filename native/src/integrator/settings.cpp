@@ -31,6 +31,8 @@ void Settings::validate() const {
   check_range("threads", threads, 0, 1024);
   check_range("tile_size", tile_size, 1, 4096);
   check_range("probe_stride", probe_stride, 1, 256);
+  check_range("cryptomatte_kinds", cryptomatte_kinds, 0, 7);
+  check_range("cryptomatte_depth", cryptomatte_depth, 0, 16);
   if (!(cutoff >= 0.0f && cutoff <= 1.0f)) {
     throw std::invalid_argument("cutoff must be between 0 and 1");
   }

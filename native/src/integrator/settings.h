@@ -28,6 +28,10 @@ struct Settings {
   // on its neighbours), so the probe's rays and values per pixel are the full render's.
   // 1 traces every tile.
   int probe_stride = 1;
+  // Cryptomatte (integrator/cryptomatte.h): bit k keeps CryptomatteKind k (1 object,
+  // 2 material, 4 asset), each with cryptomatte_depth ranks per pixel; 0: none.
+  uint32_t cryptomatte_kinds = 0;
+  int cryptomatte_depth = 0;
   Fresnel fresnel = Fresnel::kExact;
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
   // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.

@@ -294,6 +294,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     out.visibility = instance.visibility;
     out.info = instance.info;
     out.name = name;
+    out.cryptomatte = instance.cryptomatte;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);

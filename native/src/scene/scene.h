@@ -36,6 +36,15 @@ struct InstanceInfo {
   glm::vec4 color{1.0f};
 };
 
+// The Cryptomatte ids of an instance (float32 hashes of Blender's names, made by
+// addon/cryptomatte.py): its object's, its asset's (the object's topmost parent) and
+// its materials', by slot. 0 is no id.
+struct CryptomatteIds {
+  float object = 0.0f;
+  float asset = 0.0f;
+  std::vector<float> materials;
+};
+
 struct Instance {
   std::string mesh;
   glm::mat4 to_world{1.0f};
@@ -43,6 +52,7 @@ struct Instance {
   uint32_t visibility = kAllRayKinds;  // RayKind bits of the rays that see it
   bool holdout = false;                // camera rays that meet it give colour 0, alpha 0
   InstanceInfo info;
+  CryptomatteIds cryptomatte;
 };
 
 // Where a ray met a surface, in world space.
@@ -103,6 +113,7 @@ struct CompiledScene {
     uint32_t visibility;  // RayKind bits
     InstanceInfo info;
     std::string name;  // the Scene's key, for what reports name it (the inspector)
+    CryptomatteIds cryptomatte;
   };
   std::vector<Instance> instances;
   std::vector<Material> materials;          // index 0 is the default material
