@@ -32,14 +32,12 @@ import tempfile
 from dataclasses import asdict, replace
 from pathlib import Path
 
-import matplotlib
 import numpy as np
 import OpenEXR
-
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt
-
-REPO = Path(__file__).resolve().parents[1]
+from whitted_tools import REPO, SCRIPTS
+from whitted_tools.blender import blender_command
+from whitted_tools.metrics import error_figures
+from whitted_tools.plots import plt, save
 
 
 def _load_presets():
@@ -140,23 +138,13 @@ def render_all(blender, blend, qualities, resolution, repeats, workdir):
     runs_file.write_text(
         json.dumps([{"name": name, "quality": asdict(q)} for name, q in unique.items()])
     )
-    command = [
-        blender,
-        "-b",
-        "--factory-startup",
-        str(blend),
-        "--python",
-        str(REPO / "scripts" / "cost_render.py"),
-        "--",
-        "--runs",
-        str(runs_file),
-        "--out",
-        str(workdir),
-        "--resolution",
-        *map(str, resolution),
-        "--repeats",
-        str(repeats),
-    ]
+    command = blender_command(
+        SCRIPTS / "cost_render.py",
+        *("--runs", runs_file, "--out", workdir, "--resolution", *resolution),
+        *("--repeats", repeats),
+        blend=blend,
+        blender=blender,
+    )
     result = subprocess.run(command, capture_output=True, text=True, check=False)
     if result.returncode != 0 or not all((workdir / f"{n}.json").exists() for n in unique):
         sys.exit(
@@ -181,16 +169,6 @@ def read_exr(path):
     return rgb, channel("Whitted Rays.X")
 
 
-def metrics(image, reference):
-    difference = image - reference
-    mse = float(np.mean(difference**2))
-    return {
-        "rmse": math.sqrt(mse),
-        "psnr": 10.0 * math.log10(1.0 / mse) if mse > 0.0 else math.inf,
-        "relmse": float(np.mean(difference**2 / (reference**2 + 0.01))),
-    }
-
-
 def measure(rendered, reference_name, runs):
     """One row per run: its numbers against the reference."""
     reference_image, _ = read_exr(rendered[reference_name][1])
@@ -210,7 +188,7 @@ def measure(rendered, reference_name, runs):
                 "samples_per_pixel": last["samples_per_pixel"],
                 "is_baseline": quality == preset(BASELINE),
                 "is_reference": quality_key(quality) == reference_name,
-                **metrics(image, reference_image),
+                **error_figures(image, reference_image),
             }
         )
     return rows
@@ -254,9 +232,7 @@ def plot_sweeps(rows, path, title):
     for axis in axes[count:]:
         axis.axis("off")
     figure.suptitle(f"{title}: error against time, one control at a time (others at Final)")
-    figure.tight_layout()
-    figure.savefig(path, dpi=90)
-    plt.close(figure)
+    save(figure, path)
 
 
 def plot_pareto(rows, path, title):
@@ -288,9 +264,7 @@ def plot_pareto(rows, path, title):
     axis.set_ylabel("relMSE against the reference")
     axis.set_title(f"{title}: every run, and the Pareto front")
     axis.legend(fontsize=7)
-    figure.tight_layout()
-    figure.savefig(path, dpi=90)
-    plt.close(figure)
+    save(figure, path)
 
 
 def plot_cost(rays, path, title):
@@ -300,9 +274,7 @@ def plot_cost(rays, path, title):
     figure.colorbar(image, ax=axis, label="rays per pixel")
     axis.set_title(f"{title}: rays per pixel, Reference preset")
     axis.axis("off")
-    figure.tight_layout()
-    figure.savefig(path, dpi=90)
-    plt.close(figure)
+    save(figure, path)
 
 
 def _number(value, digits):

@@ -17,7 +17,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+from whitted_tools import SCRIPTS
+from whitted_tools.blender import blender_command
+
 PHASES = ("export", "mesh_bvh", "scene_bvh", "trace", "writeback", "total")
 RAY_TYPES = ("camera", "shadow", "reflection", "refraction", "total")
 
@@ -52,20 +54,11 @@ def main():
         blend = workdir / "demo.blend"
         width, height = args.resolution
         run(
-            [
-                args.blender,
-                "-b",
-                "--factory-startup",
-                "--python",
-                str(REPO / "scripts/demo_scene.py"),
-                "--",
-                "--save",
-                str(blend),
-                "--resolution",
-                str(width),
-                str(height),
-                "--no-render",
-            ]
+            blender_command(
+                SCRIPTS / "demo_scene.py",
+                *("--save", blend, "--resolution", width, height, "--no-render"),
+                blender=args.blender,
+            )
         )
         runs = [
             render_once(args.blender, blend, args.threads, workdir, i) for i in range(args.repeats)

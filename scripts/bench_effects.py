@@ -11,24 +11,16 @@ difference between the two images, as a Markdown page (docs/EFFECTS.md is made s
 """
 
 import argparse
-import importlib.util
 import statistics
-import sys
 from pathlib import Path
 
-import addon_utils
 import bpy
 import numpy as np
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
+from whitted_tools.demo_scene import build_demo_scene
 
-REPO = Path(__file__).resolve().parents[1]
 RAY_KINDS = ("camera", "shadow", "reflection", "refraction", "transparent", "total")
-
-
-def load_demo_scene():
-    spec = importlib.util.spec_from_file_location("demo_scene", REPO / "scripts/demo_scene.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def set_input(material, names, value):
@@ -66,10 +58,8 @@ VARIANTS = {
 }
 
 
-def build(demo, variant, width, height):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("whitted", default_set=True)
-    scene = demo.build_demo_scene()
+def build(variant, width, height):
+    scene = build_demo_scene(factory_scene())
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
     for name, change in VARIANTS[variant].items():
@@ -92,18 +82,16 @@ def render(native, frame, analysis, repeats):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--resolution", type=int, nargs=2, default=(320, 240))
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--out", help="also write the table to this Markdown file")
-    args = parser.parse_args(argv)
+    args = parser.parse_args(script_args())
 
     from whitted.native import load_native
     from whitted.sync.frame import sync_frame
 
     native = load_native()
-    demo = load_demo_scene()
     width, height = args.resolution
     lines = [
         "# Simulate only the effects a scene calls for: what it saves",
@@ -129,7 +117,7 @@ def main():
         "|---|---:|---:|---:|---|---:|",
     ]
     for variant in VARIANTS:
-        build(demo, variant, width, height)
+        build(variant, width, height)
         frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
         on_image, on_stats, on_time = render(native, frame, True, args.repeats)
         off_image, off_stats, off_time = render(native, frame, False, args.repeats)

@@ -16,8 +16,10 @@ import sys
 import tempfile
 import time
 
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO_ROOT, "scripts"))
+from whitted_tools import REPO
+from whitted_tools.blender import blender_command
+
+REPO_ROOT = str(REPO)
 
 
 def farm_run(blend, frames, workers, out):
@@ -66,10 +68,8 @@ def main():
         blend = os.path.join(folder, "anim.blend")
         maker = os.path.join(REPO_ROOT, "tests", "farm", "make_scene.py")
         subprocess.run(
-            ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python", maker,
-             "--", blend, "--size", *map(str, args.size)],
-            check=True, capture_output=True,
-        )  # fmt: skip
+            blender_command(maker, blend, "--size", *args.size), check=True, capture_output=True
+        )
         os.environ.pop("WHITTED_STATS", None)
         # Once to warm the file cache, then timed.
         for _ in range(2):

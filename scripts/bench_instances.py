@@ -12,16 +12,17 @@ mesh per instance would cost about 1 MB per instance.
 
 import argparse
 import json
-import math
 import os
-import resource
 import subprocess
 import sys
 import tempfile
 
+from whitted_tools.blender import blender_command, bpy_command
+from whitted_tools.cli import script_args
+from whitted_tools.timing import peak_rss_mib
+
 SCRIPT = os.path.abspath(__file__)
 RESULT_PREFIX = "bench_instances:"
-ICO_SUBDIVISIONS = 6  # 20 * 4^(6 - 1) = 20,480 triangles (subdivision 1 is the icosahedron)
 
 
 def main():
@@ -33,8 +34,7 @@ def main():
         "--bpy", action="store_true", help="use the bpy module in this Python instead"
     )
     parser.add_argument("--child", type=int, metavar="N", help=argparse.SUPPRESS)
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
-    args = parser.parse_args(argv)
+    args = parser.parse_args(script_args())
     if args.child is not None:
         child(args.child, args.resolution)
         return
@@ -48,36 +48,27 @@ def main():
 
 
 def child_command(args, count):
-    options = ["--child", str(count), "--resolution", str(args.resolution)]
+    options = ["--child", count, "--resolution", args.resolution]
     if args.bpy:
-        return [sys.executable, SCRIPT, *options]
-    return [
-        *(args.blender, "-b", "--factory-startup", "--addons", "whitted"),
-        *("--python-exit-code", "1", "--python", SCRIPT, "--", *options),
-    ]
+        return bpy_command(SCRIPT, *options, python=sys.executable)
+    return blender_command(SCRIPT, *options, addons=("whitted",), blender=args.blender)
 
 
 def child(count, resolution):
     """Inside Blender: build the scene, render it, print the peak memory."""
     import bpy
+    from whitted_tools.bench_scenes import build_instance_grid
+    from whitted_tools.blender import factory_scene
 
-    # isort: split
-    # Blender as a Python module makes addon_utils importable only after bpy.
-    import addon_utils
-
-    addon_utils.enable("whitted", default_set=True)
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("whitted", default_set=True)
-    scene = bpy.context.scene
-    build_scene(scene, count, resolution)
+    scene = factory_scene()
+    build_instance_grid(scene, count, resolution)
     with tempfile.TemporaryDirectory() as directory:
         stats_path = os.path.join(directory, "stats.json")
         os.environ["WHITTED_STATS"] = stats_path
         bpy.ops.render.render()
         with open(stats_path) as file:
             stats = json.load(file)
-    # ru_maxrss is in KiB on Linux.
-    peak_mib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    peak_mib = peak_rss_mib()
     from whitted.export.mesh import convert_meshes
 
     exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), [])
@@ -89,44 +80,6 @@ def child(count, resolution):
         f"render={stats['phases']['total']:.2f}s peak_rss={peak_mib:.0f} MiB",
         flush=True,
     )
-
-
-def build_scene(scene, count, resolution):
-    import bpy
-    import numpy as np
-
-    # The geometry-nodes tree the tests use too (as scripts/gallery.py shares scenes).
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "tests", "blender"))
-    import node_trees
-
-    side = math.ceil(math.sqrt(count))
-    spacing = 1.0
-    u = (np.arange(side) - (side - 1) / 2.0) * spacing
-    x, y = np.meshgrid(u, u)
-    points = np.stack([x.ravel(), y.ravel(), np.zeros(side * side)], axis=-1)[:count]
-
-    mesh = bpy.data.meshes.new("Points")
-    mesh.vertices.add(count)
-    mesh.vertices.foreach_set("co", points.astype(np.float32).reshape(-1))
-    scatter = bpy.data.objects.new("Scatter", mesh)
-    scene.collection.objects.link(scatter)
-    tree = node_trees.ico_sphere_on_points("Scatter", radius=0.4, subdivisions=ICO_SUBDIVISIONS)
-    scatter.modifiers.new("Scatter", "NODES").node_group = tree
-
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = side * spacing + 1.0
-    camera.location = (0.0, 0.0, 10.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    sun.rotation_euler = (0.5, 0.3, 0.0)
-    scene.collection.objects.link(sun)
-
-    scene.render.engine = "WHITTED"
-    scene.render.resolution_x = scene.render.resolution_y = resolution
-    scene.render.resolution_percentage = 100
-    scene.whitted.aa_samples = 1
 
 
 if __name__ == "__main__":

@@ -18,8 +18,11 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness import REPO, SCRIPTS, build_scene, machine_lines, run_process, script_args
+from whitted_tools import REPO, SCRIPTS
+from whitted_tools.blender import blender_command, run_process
+from whitted_tools.cli import script_args
+from whitted_tools.pages import machine_lines
+from whitted_tools.perf.measure import build_scene
 
 SCENES = ("demo", "million", "instances")
 SIZES = ((480, 270), (1920, 1080))
@@ -27,25 +30,12 @@ TOLERANCE = 0.2
 
 
 def render(blend, engine, size, out):
-    command = [
-        "blender",
-        "-b",
-        "--factory-startup",
-        "--addons",
-        "whitted",
-        blend,
-        "--python-exit-code",
-        "1",
-        "--python",
-        str(SCRIPTS / "perf_render.py"),
-        "--",
-        "--engine",
-        engine,
-        "--json",
-        out,
-        "--resolution",
-        *map(str, size),
-    ]
+    command = blender_command(
+        SCRIPTS / "perf_render.py",
+        *("--engine", engine, "--json", out, "--resolution", *size),
+        blend=blend,
+        addons=("whitted",),
+    )
     _, problem = run_process(command, 900)
     if problem:
         sys.exit(f"{engine} on {blend}: {problem}")

@@ -26,8 +26,11 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from harness import REPO, build_scene, machine_lines, run_process, script_args
+from whitted_tools import REPO
+from whitted_tools.blender import blender_command, enable_addon, run_process
+from whitted_tools.cli import script_args
+from whitted_tools.pages import machine_lines
+from whitted_tools.perf.measure import build_scene
 
 SCENES = ("demo", "million", "instances")
 # The object each edit touches, by scene: a plain mesh object (no modifiers).
@@ -41,10 +44,9 @@ LATENCY_TARGET_MS = 50.0
 
 
 def child_sync(args):
-    import addon_utils
     import bpy
 
-    addon_utils.enable("whitted", default_set=True)
+    enable_addon()
     from whitted.native import load_native
     from whitted.properties.presets import preset
     from whitted.sync import SceneSync, SyncParams
@@ -216,8 +218,6 @@ def latency_section(latency):
 def run_latency(args, workdir, demo_blend):
     """The window measurement (tests/viewport/scenarios/latency.py), or None."""
     scenario = REPO / "tests" / "viewport" / "scenarios" / "latency.py"
-    if not scenario.exists():
-        return None
     result = os.path.join(workdir, "latency.json")
     env_log = os.path.join(workdir, "latency.jsonl")
     command = [
@@ -277,24 +277,12 @@ def main():
             if problem:
                 sys.exit(f"building {name}: {problem}")
             out = os.path.join(workdir, f"{name}.json")
-            command = [
-                args.blender,
-                "-b",
-                "--factory-startup",
-                path,
-                "--python-exit-code",
-                "1",
-                "--python",
+            command = blender_command(
                 __file__,
-                "--",
-                "--child-sync",
-                "--edited",
-                EDITED[name],
-                "--json",
-                out,
-                "--repeats",
-                str(repeats),
-            ]
+                *("--child-sync", "--edited", EDITED[name], "--json", out, "--repeats", repeats),
+                blend=path,
+                blender=args.blender,
+            )
             _, problem = run_process(command, 900)
             if problem:
                 sys.exit(f"sync on {name}: {problem}")

@@ -14,20 +14,19 @@ the statistics of every repeat (scene.whitted.last_stats), in the order run.
 import argparse
 import json
 import os
-import sys
 
-import addon_utils
 import bpy
+from whitted_tools.blender import enable_addon
+from whitted_tools.cli import script_args
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("--resolution", nargs=2, type=int, required=True, metavar=("W", "H"))
     parser.add_argument("--repeats", type=int, default=3)
-    return parser.parse_args(argv)
+    return parser.parse_args(script_args())
 
 
 def configure_output(scene, width, height):
@@ -46,8 +45,7 @@ def configure_output(scene, width, height):
 
 def main():
     args = parse_args()
-    if addon_utils.enable("whitted", default_set=True) is None:
-        sys.exit("cost_render: the add-on 'whitted' is not installed; run scripts/setup.sh")
+    enable_addon()
     from whitted.properties.presets import Quality, apply_quality
 
     scene = bpy.context.scene

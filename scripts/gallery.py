@@ -19,16 +19,16 @@ import sys
 import tempfile
 
 import bpy
-
-# isort: split
-# Blender as a Python module makes addon_utils importable only after bpy.
-import addon_utils
 import numpy as np
+from whitted_tools import REPO
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
 
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
-
-import cycles_scenes  # noqa: E402  (needs the path above)
+# tests/blender/cycles_scenes.py is still a test module (another change is moving the
+# Cycles comparison scenes); it is found through this one path until it is in the
+# tool package.
+sys.path.insert(0, str(REPO / "tests" / "blender"))
+import cycles_scenes
 
 GAP = 4  # white pixels between the two renders of a pair
 # Each pair is exposed so that Cycles' 99th-percentile pixel shows at this value.
@@ -40,20 +40,12 @@ COMMANDS = (
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", required=True, help="the docs directory to write into")
     parser.add_argument(
         "--scale", type=int, default=4, help="image size as a multiple of the tests' 64 x 48"
     )
-    return parser.parse_args(argv)
-
-
-def fresh_scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if addon_utils.enable("whitted", default_set=True) is None:
-        sys.exit("gallery: cannot enable the add-on 'whitted'; run scripts/setup.sh first")
-    return bpy.context.scene
+    return parser.parse_args(script_args())
 
 
 def save_pair(scene, whitted, cycles, path):
@@ -79,7 +71,7 @@ def save_pair(scene, whitted, cycles, path):
 
 
 def render_case(case, scale, image_dir, work_dir):
-    scene = fresh_scene()
+    scene = factory_scene()
     cycles_scenes.build_scene(scene, case)
     scene.render.resolution_x = cycles_scenes.WIDTH * scale
     scene.render.resolution_y = cycles_scenes.HEIGHT * scale
@@ -168,7 +160,7 @@ def main():
     results = []
     with tempfile.TemporaryDirectory() as work_dir:
         for case in cycles_scenes.CASES:
-            fresh_scene()
+            factory_scene()
             if cycles_scenes.supported(case):
                 result = render_case(case, args.scale, image_dir, work_dir)
                 results.append(result)

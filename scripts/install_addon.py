@@ -3,8 +3,11 @@
 Links ADDON_DIR as `whitted` into that Blender's user add-on folder
 (~/.config/blender/<version>/scripts/addons/ unless BLENDER_USER_SCRIPTS or
 BLENDER_USER_CONFIG say otherwise), enables it and saves the user preferences,
-keeping whatever else the user had enabled. Run by scripts/setup.sh in both
-Blenders:
+keeping whatever else the user had enabled. Links this checkout's tool package
+(tools/whitted_tools) into the add-on modules folder beside it
+(scripts/addons/modules/, always on Blender's sys.path), so the scripts and tests
+Blender 3.4 runs import it (the bpy module's Python has it through the .pth that
+scripts/setup.sh writes). Run by scripts/setup.sh in both Blenders:
 
     blender -b --python scripts/install_addon.py -- ADDON_DIR      (Blender 3.4)
     .venv/bin/python scripts/install_addon.py ADDON_DIR            (bpy 5.0 module)
@@ -19,6 +22,10 @@ import bpy
 
 ADDON_MODULE = "whitted"
 ENGINE_ID = "WHITTED"
+TOOLS_PACKAGE = "whitted_tools"
+TOOLS_DIR = os.path.join(
+    os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools", TOOLS_PACKAGE
+)
 
 
 def fail(message: str) -> None:
@@ -28,6 +35,7 @@ def fail(message: str) -> None:
 
 def script_args() -> list[str]:
     # Inside the blender binary our arguments follow "--"; as a module, sys.argv is ours.
+    # (whitted_tools.cli has the same; this script is what makes that package importable.)
     if "--" in sys.argv:
         return sys.argv[sys.argv.index("--") + 1 :]
     return sys.argv[1:]
@@ -38,18 +46,18 @@ def running_as_module() -> bool:
     return not bpy.app.binary_path
 
 
-def link_addon(addon_dir: str) -> str:
-    addons_root = bpy.utils.user_resource("SCRIPTS", path="addons", create=True)
-    link = os.path.join(addons_root, ADDON_MODULE)
-    if os.path.islink(link):
-        if os.path.realpath(link) == os.path.realpath(addon_dir):
-            return link
-        print(f"install_addon: re-pointing {link} (was -> {os.readlink(link)})")
-        os.remove(link)
-    elif os.path.exists(link):
-        fail(f"{link} exists and is not a symlink; move it away and run set-up again")
-    os.symlink(addon_dir, link)
-    return link
+def link(target: str, folder: str, name: str) -> str:
+    """A symlink folder/name -> target (re-pointed if it pointed elsewhere)."""
+    path = os.path.join(bpy.utils.user_resource("SCRIPTS", path=folder, create=True), name)
+    if os.path.islink(path):
+        if os.path.realpath(path) == os.path.realpath(target):
+            return path
+        print(f"install_addon: re-pointing {path} (was -> {os.readlink(path)})")
+        os.remove(path)
+    elif os.path.exists(path):
+        fail(f"{path} exists and is not a symlink; move it away and run set-up again")
+    os.symlink(target, path)
+    return path
 
 
 def engine_registered() -> bool:
@@ -73,7 +81,9 @@ def main() -> None:
 
     import addon_utils  # Blender's own module; importable only once bpy is loaded.
 
-    link = link_addon(addon_dir)
+    addon_link = link(addon_dir, "addons", ADDON_MODULE)
+    if not running_as_module():  # the .venv's Python has it through setup.sh's .pth
+        link(TOOLS_DIR, os.path.join("addons", "modules"), TOOLS_PACKAGE)
     # A user add-on folder made just now is not yet on sys.path: add it.
     bpy.utils.refresh_script_paths()
     addon_utils.modules_refresh()
@@ -84,7 +94,7 @@ def main() -> None:
         fail(f"'{ADDON_MODULE}' is enabled but no RenderEngine '{ENGINE_ID}' is registered")
     bpy.ops.wm.save_userpref()
     print(
-        f"install_addon: Blender {bpy.app.version_string}: {link} -> {addon_dir} enabled, "
+        f"install_addon: Blender {bpy.app.version_string}: {addon_link} -> {addon_dir} enabled, "
         f"preferences saved in {bpy.utils.user_resource('CONFIG')}",
         flush=True,
     )

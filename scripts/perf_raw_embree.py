@@ -26,14 +26,13 @@ import argparse
 import json
 import math
 import statistics
-import sys
 import time
 
 import bpy
+from whitted_tools.cli import script_args
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", required=True, help="write the results here")
     parser.add_argument("--threads", type=int, default=0, help="0: Blender's setting")
@@ -44,7 +43,7 @@ def parse_args():
         action="store_true",
         help="only the renders of step 1 (to profile them: scripts/profile_trace.sh)",
     )
-    return parser.parse_args(argv)
+    return parser.parse_args(script_args())
 
 
 def export(threads):

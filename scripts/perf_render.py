@@ -7,7 +7,7 @@ scripts/bench_performance.py).
     .venv/bin/python scripts/perf_render.py --blend FILE.blend --engine ...  (bpy module)
 
 The JSON holds the wall seconds of the render call (bpy.ops.render.render; for POVRAY
-the render_seconds perf_povray.render reports, the same call: end to end inside
+the render_seconds whitted_tools.povray.render reports, the same call: end to end inside
 Blender, without Blender's start-up, the file's load and writing the image), this
 process's peak resident set size (getrusage ru_maxrss, read after the render), the
 Blender version, the image size and threads, the scene's "perf_scene" and
@@ -15,9 +15,8 @@ Blender version, the image size and threads, the scene's "perf_scene" and
 
     WHITTED  "whitted": the engine's statistics (scene.whitted.last_stats: phases,
              rays by type, rays_per_second, peak_memory_mib, ...)
-    POVRAY   "povray": what perf_povray.render returned (render_seconds,
-             povray_seconds, ...); {"available": false, "reason": ...} when
-             scripts/perf_povray.py is missing
+    POVRAY   "povray": what whitted_tools.povray.render returned (render_seconds,
+             povray_seconds, ...)
     CYCLES   nothing more: the scene's own Cycles settings (64 samples, CPU)
     NULL     a do-nothing engine registered here: Blender evaluates the scene and
              allocates the render result as for any engine, the engine touches every
@@ -33,14 +32,15 @@ configured (POV-Ray's configure may read it); --resolution overrides the saved s
 import argparse
 import json
 import os
-import resource
 import sys
 import tempfile
 import time
 
 import bpy
+from whitted_tools.blender import enable_addon
+from whitted_tools.cli import script_args
+from whitted_tools.timing import peak_rss_mib
 
-SCRIPTS = os.path.dirname(os.path.abspath(__file__))
 ENGINES = ("WHITTED", "CYCLES", "POVRAY", "NULL")
 NULL_ENGINE = "PERF_NULL"
 
@@ -64,7 +64,6 @@ class NullEngine(bpy.types.RenderEngine):
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--engine", choices=ENGINES, required=True)
     parser.add_argument("--json", required=True, help="the JSON file to write")
@@ -73,12 +72,7 @@ def parse_args():
     parser.add_argument("--resolution", nargs=2, type=int, metavar=("W", "H"))
     parser.add_argument("--image", help="also write the image here (PNG)")
     parser.add_argument("--blend", help="open this .blend first (the bpy module)")
-    return parser.parse_args(argv)
-
-
-def peak_rss_mib():
-    """Peak resident memory of this process so far, MiB (ru_maxrss is KiB on Linux)."""
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return parser.parse_args(script_args())
 
 
 def apply_overrides(scene, args):
@@ -93,40 +87,21 @@ def apply_overrides(scene, args):
         scene.whitted.max_depth = args.depth
 
 
-def _enable(module):
-    # Blender as a Python module makes addon_utils importable only after bpy.
-    import addon_utils
-
-    if addon_utils.enable(module, default_set=True) is None:
-        sys.exit(f"perf_render: the add-on '{module}' could not be enabled")
-
-
-def _load_povray():
-    """scripts/perf_povray.py as a module, or None while it does not exist."""
-    if not os.path.exists(os.path.join(SCRIPTS, "perf_povray.py")):
-        return None
-    sys.path.insert(0, SCRIPTS)
-    import perf_povray
-
-    return perf_povray
-
-
 def render(scene, args, image_path):
     """Render one frame with args.engine; (wall seconds, extra JSON fields)."""
     render_settings = scene.render
     render_settings.filepath = image_path
     render_settings.image_settings.file_format = "PNG"
     if args.engine == "POVRAY":
-        povray = _load_povray()
-        if povray is None:
-            return None, {"povray": {"available": False, "reason": "no scripts/perf_povray.py"}}
+        from whitted_tools import povray  # Blender 3.4's POV-Ray add-on only
+
         povray.configure(scene)
         started = time.perf_counter()
         figures = povray.render(scene, image_path)
         wall = time.perf_counter() - started
         # Its render_seconds time the render call alone, as below for the other engines.
         seconds = figures.get("render_seconds", wall)
-        return seconds, {"povray": {"available": True, "wall_seconds": wall, **figures}}
+        return seconds, {"povray": {"wall_seconds": wall, **figures}}
     if args.engine == "WHITTED":
         render_settings.engine = "WHITTED"
         scene.whitted.last_stats = ""
@@ -153,9 +128,9 @@ def main():
         bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
     # Every engine runs with the add-on's settings registered (its native module loads
     # only when a Whitted render starts), so the NULL baseline holds its Python too.
-    _enable("whitted")
+    enable_addon()
     if args.engine == "CYCLES":
-        _enable("cycles")
+        enable_addon("cycles")
     elif args.engine == "NULL":
         bpy.utils.register_class(NullEngine)
     scene = bpy.context.scene

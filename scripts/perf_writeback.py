@@ -12,11 +12,11 @@ result into Blender's image). Medians of --repeats frames:
 import argparse
 import json
 import statistics
-import sys
 import time
 
 import bpy
 import numpy as np
+from whitted_tools.cli import script_args
 
 WIDTH, HEIGHT = 1920, 1080
 EXTRA_PASS = "Extra"
@@ -50,10 +50,9 @@ class WritebackProbe(bpy.types.RenderEngine):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args(argv)
+    args = parser.parse_args(script_args())
     bpy.utils.register_class(WritebackProbe)
     scene = bpy.context.scene
     scene.render.engine = WritebackProbe.bl_idname

@@ -3,29 +3,26 @@
     .venv/bin/python scripts/robustness_images.py [--size W H] [--output DIR]
     blender -b --factory-startup --python scripts/robustness_images.py -- [ARGS]
 
-The scenes are tests/blender/hard_cases.py's. Each is rendered with Whitted
-(anti-aliasing 2 x 2) to DIR/<case>.png (docs/images/robustness by default);
-one line per image gives what the tests check: non-finite pixels and samples,
-total internal reflections, sanitised triangles, trace time, and for the floor
-scenes the acne share of the flat lit floor; then the relative RMSE of the scaled acne scenes.
+The scenes are whitted_tools.hard_cases' (tools/whitted_tools/hard_cases.py). Each
+is rendered with Whitted (anti-aliasing 2 x 2) to DIR/<case>.png (docs/images/robustness
+by default); one line per image gives what the tests check: non-finite pixels and
+samples, total internal reflections, sanitised triangles, trace time, and for the floor
+scenes the acne share of the flat lit floor; then the relative RMSE of the scaled acne
+scenes.
 """
 
 import argparse
 import json
 import os
-import sys
 import tempfile
 
 import bpy
-
-# isort: split
-# Blender as a Python module makes addon_utils importable only after bpy.
-import addon_utils
 import numpy as np
-
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO, "tests", "blender"))
-import hard_cases  # noqa: E402  (a module of the test directory, found through sys.path)
+from whitted_tools import REPO, hard_cases
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
+from whitted_tools.metrics import relative_rmse
+from whitted_tools.render import render_exr
 
 CASES = {
     "acne_scale_1e-4": lambda scene: hard_cases.acne(scene, 1e-4),
@@ -44,18 +41,10 @@ CASES = {
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--size", type=int, nargs=2, default=(320, 240), metavar=("W", "H"))
-    parser.add_argument("--output", default=os.path.join(REPO, "docs", "images", "robustness"))
-    return parser.parse_args(argv)
-
-
-def fresh_scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if addon_utils.enable("whitted", default_set=True) is None:
-        sys.exit("cannot enable the add-on 'whitted': run scripts/setup.sh")
-    return bpy.context.scene
+    parser.add_argument("--output", default=str(REPO / "docs" / "images" / "robustness"))
+    return parser.parse_args(script_args())
 
 
 def render(scene, size, workdir, png_path):
@@ -65,22 +54,10 @@ def render(scene, size, workdir, png_path):
     scene.render.resolution_percentage = 100
     scene.whitted.aa_samples = 2
     scene.view_settings.view_transform = "Standard"
-    settings = scene.render.image_settings
-    settings.file_format, settings.color_depth, settings.color_mode = "OPEN_EXR", "32", "RGBA"
-    scene.render.filepath = os.path.join(workdir, "render.exr")
     os.environ["WHITTED_STATS"] = os.path.join(workdir, "stats.json")
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(scene.render.filepath)
-    try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-        settings.file_format, settings.color_depth, settings.color_mode = "PNG", "8", "RGB"
-        image.save_render(png_path, scene=scene)
-    finally:
-        bpy.data.images.remove(image)
+    pixels = render_exr(scene, os.path.join(workdir, "render.exr"), png=png_path)
     with open(os.environ["WHITTED_STATS"], encoding="utf-8") as stats:
-        return pixels.reshape(height, width, 4), json.load(stats)
+        return pixels, json.load(stats)
 
 
 def main():
@@ -91,7 +68,7 @@ def main():
     with tempfile.TemporaryDirectory() as workdir:
         for name, build in CASES.items():
             path = os.path.join(args.output, f"{name}.png")
-            pixels, stats = render(build(fresh_scene()), args.size, workdir, path)
+            pixels, stats = render(build(factory_scene()), args.size, workdir, path)
             images[name] = pixels
             line = (
                 f"{name:28s} non-finite pixels {int((~np.isfinite(pixels)).sum())}, "
@@ -104,10 +81,10 @@ def main():
                 line += f"; acne {acne:.4%} of {region} px"
             print(line)
     for scale in ("1e-4", "1e5"):
-        error = hard_cases.relative_rmse(images[f"acne_scale_{scale}"], images["acne_scale_1"])
+        error = relative_rmse(images[f"acne_scale_{scale}"], images["acne_scale_1"])
         print(f"acne scene at scale {scale} vs 1: relative RMSE {error:.2e}")
     merged = images["overlapping_spheres_merged"]
-    error = hard_cases.relative_rmse(images["overlapping_spheres"], merged)
+    error = relative_rmse(images["overlapping_spheres"], merged)
     print(f"overlapping spheres vs their union: relative RMSE {error:.4f}")
     print(f"images in {args.output}")
 

@@ -6,7 +6,8 @@
 #   2. .venv: CPython 3.11 + requirements-dev.txt (bpy 5.0, numpy, pytest, ruff, pybind11)
 #   3. the native module: CMake Release build in build/ (copied into addon/ by the build)
 #   4. the add-on, linked as `whitted` into the user add-on folders of Blender 3.4
-#      and of the bpy 5.0 module, enabled, user preferences saved
+#      and of the bpy 5.0 module, enabled, user preferences saved; the tool package
+#      tools/whitted_tools linked for Blender 3.4 (the .venv has it through a .pth)
 #   5. a check in fresh processes that both Blenders list the WHITTED engine
 #
 # Run from anywhere; scripts/demo.sh and scripts/test.sh run it first.
@@ -137,6 +138,13 @@ make_venv() {
     "$VENV/bin/python" -m pip install --disable-pip-version-check --progress-bar off -r requirements-dev.txt
     echo "$want" >"$stamp"
   fi
+  # The tool package (tools/whitted_tools) for the .venv's Python: a .pth whose one line
+  # is relative to site-packages, so each checkout's .venv path finds its own tools/.
+  local site
+  site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_path("purelib"))')
+  echo "../../../../tools" >"$site/whitted_tools.pth"
+  "$VENV/bin/python" -c 'import whitted_tools' ||
+    die "the .venv cannot import tools/whitted_tools through $site/whitted_tools.pth"
   "$VENV/bin/python" - <<'EOF'
 from importlib.metadata import version
 

@@ -69,8 +69,9 @@ step_ctest_sanitized() {
   limited ctest --test-dir build-asan --output-on-failure --no-tests=error --parallel "$JOBS"
 }
 
-# pytest exits 5 when it collected nothing: that counts as a failure here.
-step_pytest_bindings() { limited "$VENV/bin/python" -m pytest tests/python -q; }
+# pytest exits 5 when it collected nothing: that counts as a failure here. tests/tools:
+# the tool package's metrics, pages and target checks, also without Blender (a second).
+step_pytest_bindings() { limited "$VENV/bin/python" -m pytest tests/python tests/tools -q; }
 
 step_blender_34() {
   limited blender -b --factory-startup --python-exit-code 1 --python tests/blender/run.py -- -q
@@ -119,7 +120,7 @@ echo "[test] $(nproc) cores, CI=${CI:-false}, repo $REPO_ROOT"
 run_step "setup" step_setup
 run_step "native tests (ctest)" step_ctest
 run_step "native tests (ASan+UBSan)" step_ctest_sanitized
-run_step "bindings (pytest)" step_pytest_bindings
+run_step "bindings and tools (pytest)" step_pytest_bindings
 run_step "add-on in Blender 3.4" step_blender_34
 run_step "add-on in bpy 5.0" step_bpy_50
 run_step "viewport in Blender 3.4 (Xvfb)" step_viewport_34

@@ -1,26 +1,16 @@
 """pytest inside Blender: the add-on enabled and an empty scene before each test."""
 
-import importlib.util
-import os
-
-import addon_utils
 import bpy
-import numpy as np
 import pytest
-
-ADDON = "whitted"
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-DEMO_SCENE_SCRIPT = os.path.join(REPO_ROOT, "scripts", "demo_scene.py")
+from whitted_tools import demo_scene
+from whitted_tools.blender import ADDON, addon_problem
+from whitted_tools.render import render_exr
 
 
 def _enable_addon():
-    if addon_utils.enable(ADDON, default_set=True) is None:
-        pytest.exit(
-            f"Blender {bpy.app.version_string} cannot enable the add-on '{ADDON}'. Install it "
-            "with scripts/setup.sh (it links addon/ as ~/.config/blender/<version>/scripts/"
-            f"addons/{ADDON}); addon_utils looked in: {addon_utils.paths()}",
-            returncode=4,
-        )
+    problem = addon_problem()
+    if problem:
+        pytest.exit(f"Blender {bpy.app.version_string}: {problem}", returncode=4)
 
 
 def pytest_configure(config):
@@ -48,11 +38,8 @@ def warnings():
 
 @pytest.fixture(scope="session")
 def demo_scene_module():
-    """scripts/demo_scene.py as a module (it is a script, not in a package)."""
-    spec = importlib.util.spec_from_file_location("demo_scene", DEMO_SCENE_SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    """whitted_tools.demo_scene: build_demo_scene() and the figures tests read back."""
+    return demo_scene
 
 
 @pytest.fixture
@@ -76,20 +63,6 @@ def render_pixels(tmp_path, native):
     """
 
     def render(scene):
-        scene.render.engine = "WHITTED"
-        image_settings = scene.render.image_settings
-        image_settings.file_format = "OPEN_EXR"
-        image_settings.color_depth = "32"
-        image_settings.color_mode = "RGBA"
-        scene.render.filepath = str(tmp_path / "render.exr")
-        bpy.ops.render.render(write_still=True)
-        image = bpy.data.images.load(scene.render.filepath)
-        try:
-            width, height = image.size
-            pixels = np.empty(width * height * 4, dtype=np.float32)
-            image.pixels.foreach_get(pixels)
-        finally:
-            bpy.data.images.remove(image)
-        return pixels.reshape(height, width, 4)
+        return render_exr(scene, tmp_path / "render.exr", engine="WHITTED")
 
     return render

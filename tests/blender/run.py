@@ -10,13 +10,13 @@ import os
 import sys
 
 import bpy
+from whitted_tools.cli import script_args
 
 TESTS_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
 def pytest_args():
-    # Inside the blender binary our arguments follow "--"; as a module, sys.argv is ours.
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
+    argv = script_args()
     # All of tests/blender unless test files or ids were named.
     named = any(os.path.exists(arg.split("::")[0]) for arg in argv if not arg.startswith("-"))
     # No cache directory in the repository; tests/blender's conftest.py is the root one.

@@ -7,41 +7,15 @@ import bpy
 # isort: split
 # Blender as a Python module makes bmesh importable only after bpy.
 import bmesh
-import node_trees
 import numpy as np
 import pytest
 from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish, convert_meshes
-
-
-def bmesh_mesh(name, build, smooth=False):
-    bm = bmesh.new()
-    try:
-        build(bm)
-        mesh = bpy.data.meshes.new(name)
-        bm.to_mesh(mesh)
-    finally:
-        bm.free()
-    mesh.polygons.foreach_set("use_smooth", [smooth] * len(mesh.polygons))
-    return mesh
+from whitted_tools import scenes
+from whitted_tools.scenes import add_object, bmesh_mesh, ico_sphere_on_points, sphere_mesh
 
 
 def cube_mesh(name="Cube"):
-    return bmesh_mesh(name, lambda bm: bmesh.ops.create_cube(bm, size=2.0))
-
-
-def sphere_mesh(name="Sphere", smooth=True):
-    return bmesh_mesh(
-        name,
-        lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=16, v_segments=8, radius=1.0),
-        smooth=smooth,
-    )
-
-
-def add_object(collection, name, data, location=(0.0, 0.0, 0.0)):
-    obj = bpy.data.objects.new(name, data)
-    obj.location = location
-    collection.objects.link(obj)
-    return obj
+    return scenes.cube_mesh(name, size=2.0)
 
 
 def convert(warnings):
@@ -307,7 +281,7 @@ def test_geometry_nodes_instances_share_one_mesh(empty_scene, warnings):
         "Grid", lambda bm: bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=2.0)
     )
     obj = add_object(empty_scene.collection, "Scatter", grid)
-    tree = node_trees.ico_sphere_on_points("Scatter")
+    tree = ico_sphere_on_points("Scatter")
     obj.modifiers.new("Scatter", "NODES").node_group = tree
 
     exported = convert(warnings)

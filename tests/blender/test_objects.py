@@ -8,6 +8,7 @@ without materials (the tracer's default: diffuse, albedo 0.8). Pixels are
 linear radiance, rows bottom to top.
 """
 
+import functools
 import math
 import os
 import subprocess
@@ -16,13 +17,13 @@ import bpy
 
 # isort: split
 # Blender as a Python module makes bmesh importable only after bpy.
-import bmesh
-import node_trees
 import numpy as np
 import pytest
 from whitted.export.film import FilmData, convert_film
 from whitted.export.instance import RayVisibility
 from whitted.export.mesh import convert_meshes
+from whitted_tools import scenes
+from whitted_tools.scenes import add_object, cube_mesh, ico_sphere_on_points
 
 SIZE = 32  # image width and height, pixels
 VIEW = 4.0  # the camera's orthographic scale: the image spans x and z in [-2, 2]
@@ -35,34 +36,11 @@ def pixel(x, z):
 
 
 def link(scene, name, data, location=(0.0, 0.0, 0.0), collection=None):
-    obj = bpy.data.objects.new(name, data)
-    obj.location = location
-    (collection or scene.collection).objects.link(obj)
-    return obj
+    return add_object(collection or scene, name, data, location)
 
 
-def bmesh_mesh(name, build, smooth):
-    bm = bmesh.new()
-    try:
-        build(bm)
-        mesh = bpy.data.meshes.new(name)
-        bm.to_mesh(mesh)
-    finally:
-        bm.free()
-    mesh.polygons.foreach_set("use_smooth", [smooth] * len(mesh.polygons))
-    return mesh
-
-
-def sphere_mesh(name="Sphere", segments=12, rings=6, smooth=True, scale=(1.0, 1.0, 1.0)):
-    def build(bm):
-        bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=1.0)
-        bmesh.ops.scale(bm, vec=scale, verts=bm.verts)
-
-    return bmesh_mesh(name, build, smooth)
-
-
-def cube_mesh(name="Cube", size=1.0, smooth=False):
-    return bmesh_mesh(name, lambda bm: bmesh.ops.create_cube(bm, size=size), smooth)
+# Coarser than the package's default sphere: the images are 32 pixels across.
+sphere_mesh = functools.partial(scenes.sphere_mesh, segments=12, rings=6)
 
 
 def quad_mesh(name, half_size):
@@ -298,7 +276,7 @@ def scatter(scene, points, name="Scatter"):
     mesh.vertices.add(len(points))
     mesh.vertices.foreach_set("co", np.asarray(points, dtype=np.float32).reshape(-1))
     obj = link(scene, name, mesh)
-    tree = node_trees.ico_sphere_on_points(name, radius=0.015)
+    tree = ico_sphere_on_points(name, radius=0.015)
     obj.modifiers.new(name, "NODES").node_group = tree
     return obj
 

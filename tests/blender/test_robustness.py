@@ -8,12 +8,13 @@ numbers; the measured value is in a comment next to each bound), with margin.
 
 import json
 
-import addon_utils
 import bpy
-import hard_cases
 import numpy as np
 import pytest
 from whitted.export.mesh import MAX_COORDINATE, Sanitised, _sanitise, convert_meshes
+from whitted_tools import hard_cases
+from whitted_tools.blender import factory_scene
+from whitted_tools.metrics import relative_rmse
 
 WIDTH, HEIGHT = 80, 60
 
@@ -35,9 +36,7 @@ def render(render_pixels, tmp_path, monkeypatch):
 
 def fresh():
     """Another empty scene, for a second render in one test (the add-on stays on)."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("whitted", default_set=True)
-    return bpy.context.scene
+    return factory_scene()
 
 
 def changed_pixels(image, reference, tolerance=0.05):
@@ -69,7 +68,7 @@ def test_same_image_and_no_acne_at_scales_1e_minus_4_1_and_1e5(empty_scene, rend
         assert share <= ACNE_BOUND, f"scale {scale}: {share:.2%} acne pixels"
         images[scale] = pixels
     for scale in (1e-4, 1e5):
-        error = hard_cases.relative_rmse(images[scale], images[1.0])
+        error = relative_rmse(images[scale], images[1.0])
         assert error <= SCALE_RMSE_BOUND, f"scale {scale}: relative RMSE {error:.2e}"
 
 
@@ -126,7 +125,7 @@ def test_overlapping_spheres_of_one_glass_show_no_inner_interface(empty_scene, r
     assert_finite(overlapping, stats)
     merged, stats = render(hard_cases.overlapping_spheres(fresh(), merged=True))
     assert_finite(merged, stats)
-    assert hard_cases.relative_rmse(overlapping, merged) <= OVERLAP_RMSE_BOUND
+    assert relative_rmse(overlapping, merged) <= OVERLAP_RMSE_BOUND
     assert changed_pixels(overlapping, merged) <= OVERLAP_SHARE_BOUND * WIDTH * HEIGHT
 
 
@@ -139,11 +138,11 @@ def test_camera_inside_glass_starts_in_the_glass(empty_scene, render):
     # IOR 1.5 seen from its centre: every ray leaves along the normal, unbent.
     centre, stats = render(hard_cases.camera_inside_glass(fresh()))
     assert_finite(centre, stats)
-    assert hard_cases.relative_rmse(centre, without) < 1e-3  # measured: 0
+    assert relative_rmse(centre, without) < 1e-3  # measured: 0
     # Off centre the sphere is a lens: a different, finite, non-black image.
     off, stats = render(hard_cases.camera_inside_glass(fresh(), offset=1.5))
     assert_finite(off, stats)
-    assert hard_cases.relative_rmse(off, without) > 0.1  # measured: 0.45
+    assert relative_rmse(off, without) > 0.1  # measured: 0.45
     assert off[..., :3].mean() > 0.5 * without[..., :3].mean()
     # A marble of the same glass inside the globe is invisible only to a ray that
     # starts in that glass; in air it shows. Measured: 1 pixel (its silhouette) off by
@@ -151,10 +150,10 @@ def test_camera_inside_glass_starts_in_the_glass(empty_scene, render):
     marble, stats = render(hard_cases.camera_inside_glass(fresh(), inner_ball=True))
     assert_finite(marble, stats)
     assert changed_pixels(marble, centre) <= 10
-    assert hard_cases.relative_rmse(marble, centre) < 0.05
+    assert relative_rmse(marble, centre) < 0.05
     in_air, _ = render(hard_cases.camera_inside_glass(fresh(), sphere=False, inner_ball=True))
     assert changed_pixels(in_air, without) >= 200
-    assert hard_cases.relative_rmse(in_air, without) > 0.15
+    assert relative_rmse(in_air, without) > 0.15
 
 
 # --- 6. bad geometry -----------------------------------------------------------------

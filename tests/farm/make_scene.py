@@ -7,28 +7,28 @@ differs), Whitted as the engine. --fail gives the camera a zero scale, which
 Whitted refuses (an engine error after which Blender itself would exit 0).
 """
 
+import argparse
 import os
-import sys
 
-import addon_utils
 import bpy
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
+from whitted_tools.demo_scene import build_demo_scene
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "scripts"))
-from demo_scene import build_demo_scene
-
-args = sys.argv[sys.argv.index("--") + 1 :]
-bpy.ops.wm.read_factory_settings(use_empty=True)
-assert addon_utils.enable("whitted", default_set=True) is not None
-scene = build_demo_scene()
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("out")
+parser.add_argument("--fail", action="store_true")
+parser.add_argument("--size", nargs=2, type=int, default=(96, 72), metavar=("W", "H"))
+args = parser.parse_args(script_args())
+scene = build_demo_scene(factory_scene())
 scene.render.engine = "WHITTED"
-size = args[args.index("--size") + 1 :][:2] if "--size" in args else (96, 72)
-scene.render.resolution_x, scene.render.resolution_y = (int(v) for v in size)
+scene.render.resolution_x, scene.render.resolution_y = args.size
 scene.render.resolution_percentage = 100
 scene.frame_start, scene.frame_end = 1, 6
 camera = scene.camera
 for frame in (1, 6):
     camera.location.x = -1.5 if frame == 1 else 1.5
     camera.keyframe_insert("location", index=0, frame=frame)
-if "--fail" in args:
+if args.fail:
     camera.scale = (0.0, 0.0, 0.0)
-bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args[0]))
+bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.out))

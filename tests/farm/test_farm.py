@@ -11,21 +11,21 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import OpenEXR
 import pytest
+from whitted_tools.blender import blender_command
+from whitted_tools.cli import load_script
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 VENV_BIN = REPO_ROOT / ".venv" / "bin"
 FARM = [str(VENV_BIN / "python"), str(REPO_ROOT / "scripts" / "farm.py")]
 FRAMES = range(1, 7)
 
-sys.path.insert(0, str(REPO_ROOT / "scripts"))
-from farm import blender_args  # noqa: E402
+blender_args = load_script("farm").blender_args
 
 
 def run(command, env=None, timeout=300, ok=True):
@@ -54,20 +54,7 @@ def scenes(tmp_path_factory):
     folder = tmp_path_factory.mktemp("scenes")
     maker = str(Path(__file__).with_name("make_scene.py"))
     for name, extra in (("anim", []), ("broken", ["--fail"])):
-        run(
-            [
-                "blender",
-                "-b",
-                "--factory-startup",
-                "--python-exit-code",
-                "1",
-                "--python",
-                maker,
-                "--",
-                str(folder / f"{name}.blend"),
-                *extra,
-            ]
-        )
+        run(blender_command(maker, folder / f"{name}.blend", *extra))
     # The single-machine reference: all six frames in one Blender, no farm.
     reference = folder / "reference"
     reference.mkdir()

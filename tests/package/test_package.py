@@ -14,7 +14,6 @@ import json
 import os
 import re
 import subprocess
-import sys
 import textwrap
 import zipfile
 from pathlib import Path
@@ -22,6 +21,8 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 import pytest
+from whitted_tools.blender import blender_command, bpy_command
+from whitted_tools.cli import load_script
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 VENV_PYTHON = REPO_ROOT / ".venv" / "bin" / "python"
@@ -29,8 +30,7 @@ RENDER_DEMO = Path(__file__).with_name("render_demo.py")
 RESOLUTION = ("160", "120")
 SYSTEM_PYTHON = "/usr/bin/python3"
 
-sys.path.insert(0, str(REPO_ROOT / "scripts"))
-from package import BASE_SYSTEM_LIBRARIES  # noqa: E402
+BASE_SYSTEM_LIBRARIES = load_script("package").BASE_SYSTEM_LIBRARIES
 
 
 def run(command, env=None, timeout=600):
@@ -208,41 +208,20 @@ def _render(command, env, blend, output, report):
     return pixels, json.loads(report.read_text())
 
 
-BLENDER_34 = [
-    "blender",
-    "-b",
-    "--factory-startup",
-    "--python-exit-code",
-    "1",
-    "--python",
-    str(RENDER_DEMO),
-    "--",
-]
-BPY_50 = [str(VENV_PYTHON), str(RENDER_DEMO)]
+BLENDER_34 = blender_command(RENDER_DEMO)
+BPY_50 = bpy_command(RENDER_DEMO)
 
 
 @pytest.mark.parametrize("target", ["blender-3.4", "bpy-5.0"])
 def test_installed_package_renders_like_the_development_install(target, package_zip, tmp_path):
     command = BLENDER_34 if target == "blender-3.4" else BPY_50
     blend = tmp_path / "demo.blend"
-    demo = str(REPO_ROOT / "scripts" / "demo_scene.py")
-    demo_args = ["--save", str(blend), "--no-render"]
+    demo = REPO_ROOT / "scripts" / "demo_scene.py"
+    demo_args = ["--save", blend, "--no-render"]
     if target == "blender-3.4":
-        run(
-            [
-                "blender",
-                "-b",
-                "--factory-startup",
-                "--python-exit-code",
-                "1",
-                "--python",
-                demo,
-                "--",
-                *demo_args,
-            ]
-        )
+        run(blender_command(demo, *demo_args))
     else:
-        run([str(VENV_PYTHON), demo, *demo_args])
+        run(bpy_command(demo, *demo_args))
     reference, dev = _render(
         command, dict(os.environ), blend, tmp_path / "dev.exr", tmp_path / "dev.json"
     )

@@ -12,6 +12,7 @@ import os
 import subprocess
 
 import pytest
+from whitted_tools.blender import blender_command
 from windowrun import OUTPUT_TAIL, REPO_ROOT, require, run_in_window
 
 
@@ -21,22 +22,12 @@ def demo_blend(tmp_path_factory):
     require("blender")
     folder = tmp_path_factory.mktemp("demo")
     path = folder / "demo.blend"
-    command = [
-        "blender",
-        "-b",
-        "--factory-startup",
-        "--python-exit-code",
-        "1",
-        "--python",
+    command = blender_command(
         os.path.join(REPO_ROOT, "scripts", "demo_scene.py"),
-        "--",
-        "--no-render",
-        "--save",
-        str(path),
+        *("--no-render", "--save", path),
         # demo_scene.py makes the output's folder even with --no-render: keep it here.
-        "--output",
-        str(folder / "unused.png"),
-    ]
+        *("--output", folder / "unused.png"),
+    )
     done = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0 and path.exists(), (
         f"demo_scene.py failed ({done.returncode}):\n{done.stdout[-OUTPUT_TAIL:]}\n"

@@ -24,10 +24,11 @@ import sys
 import time
 import traceback
 
-import addon_utils
 import bpy
 from bpy_extras.view3d_utils import location_3d_to_region_2d
 from mathutils import Vector
+from whitted_tools.blender import addon_problem
+from whitted_tools.cli import script_args
 
 # How often a pending wait condition is polled.
 POLL_SECONDS = 0.05
@@ -322,14 +323,13 @@ def rss_mb():
 
 
 def parse_args(add_arguments=None):
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description="A tests/viewport scenario.")
     parser.add_argument("--result", required=True, help="JSON file to write")
     parser.add_argument("--out", required=True, help="directory for screenshots and renders")
     parser.add_argument("--timeout", type=float, default=300.0, help="whole-scenario limit, s")
     if add_arguments:
         add_arguments(parser)
-    return parser.parse_args(argv)
+    return parser.parse_args(script_args())
 
 
 def main(scenario, add_arguments=None):
@@ -341,11 +341,9 @@ def main(scenario, add_arguments=None):
     harness.result["gpu"] = gpu.platform.renderer_get()
     # --factory-startup ignores the user preferences, so enable the add-on here; the
     # link in the user add-on folder is made by scripts/setup.sh.
-    if addon_utils.enable("whitted", default_set=True) is None:
-        harness.result["error"] = (
-            "cannot enable the add-on 'whitted' (scripts/setup.sh links it into "
-            f"{addon_utils.paths()})"
-        )
+    problem = addon_problem()
+    if problem:
+        harness.result["error"] = problem
         _finish(harness, ok=False)
         return
     steps = scenario(harness)

@@ -1,4 +1,5 @@
-"""Image helpers for the pytest side of tests/viewport (numpy and Pillow, outside Blender)."""
+"""Image helpers for the pytest side of tests/viewport (numpy and Pillow, outside Blender);
+the SSIM they compare with is whitted_tools.metrics.ssim."""
 
 import numpy as np
 from PIL import Image
@@ -50,41 +51,6 @@ def camera_view(screenshot, frame, render):
     bottom = top + round(inner.shape[0] * sy)
     cut = render[top:bottom, left:right]
     return inner, resize(cut, inner.shape[1], inner.shape[0])
-
-
-def _box_mean(image, size):
-    # Mean over every size x size window ("valid" positions), via a summed-area table.
-    table = np.pad(image, ((1, 0), (1, 0)), mode="constant").cumsum(0).cumsum(1)
-    total = (
-        table[size:, size:] - table[:-size, size:] - table[size:, :-size] + table[:-size, :-size]
-    )
-    return total / (size * size)
-
-
-def ssim(a, b, window=7, data_range=255.0):
-    """Mean structural similarity of two same-sized images, averaged over channels.
-
-    The formulation of Wang et al. (2004) with a uniform 7x7 window and the sample
-    covariance, as scikit-image's structural_similarity does by default, so its
-    values are comparable with published numbers.
-    """
-    if a.shape != b.shape:
-        raise ValueError(f"ssim of different shapes {a.shape} and {b.shape}")
-    c1, c2 = (0.01 * data_range) ** 2, (0.03 * data_range) ** 2
-    n = window * window
-    unbias = n / (n - 1.0)
-    values = []
-    channels = a.shape[2] if a.ndim == 3 else 1
-    for channel in range(channels):
-        x = a[..., channel] if a.ndim == 3 else a
-        y = b[..., channel] if b.ndim == 3 else b
-        mx, my = _box_mean(x, window), _box_mean(y, window)
-        vx = (_box_mean(x * x, window) - mx * mx) * unbias
-        vy = (_box_mean(y * y, window) - my * my) * unbias
-        cxy = (_box_mean(x * y, window) - mx * my) * unbias
-        s = ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2))
-        values.append(s.mean())
-    return float(np.mean(values))
 
 
 def region(image, rect, pad=0):

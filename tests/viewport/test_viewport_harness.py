@@ -7,6 +7,7 @@ camera view, screenshots or the camera-frame alignment are broken, not Whitted.
 import images
 import numpy as np
 import pytest
+from whitted_tools.metrics import ssim
 from windowrun import run_in_window
 
 # Linear sky colour of scripts/demo_scene.py (0.25, 0.45, 0.8), as the screen shows it
@@ -84,7 +85,7 @@ def test_camera_frame_in_the_screenshot_matches_an_f12_render(
     frame = shot["camera_frame"]
     assert render["size"] == [round(frame[2] - frame[0]), round(frame[3] - frame[1])]
     view, still = images.camera_view(images.load(shot["path"]), frame, images.load(render["path"]))
-    value = images.ssim(view, still)
+    value = ssim(view, still)
     print(f"SSIM {shot_name} vs {render_name}: {value:.4f}")
     assert value > threshold, f"SSIM {value:.4f} <= {threshold}"
     # A frame off by a few pixels would still look much alike to SSIM: the same
@@ -95,6 +96,6 @@ def test_camera_frame_in_the_screenshot_matches_an_f12_render(
         images.FRAME_INSET,
     )
     height, width = min(shifted.shape[0], view.shape[0]), min(shifted.shape[1], view.shape[1])
-    worse = images.ssim(shifted[:height, :width], still[:height, :width])
+    worse = ssim(shifted[:height, :width], still[:height, :width])
     print(f"SSIM with the frame 6 px off: {worse:.4f}")
     assert worse < value - 0.02

@@ -15,6 +15,7 @@ with t = time.perf_counter() in Blender's process (the scenarios' clock too).
 import images
 import numpy as np
 import pytest
+from whitted_tools.metrics import ssim
 from windowrun import run_in_window
 
 # The demo scene (scripts/demo_scene.py): 5 meshes (floor, 2 spheres, cube,
@@ -76,7 +77,7 @@ def test_converged_view_matches_an_f12_render(compare_run):
     view, still = images.camera_view(
         images.load(shot["path"]), shot["camera_frame"], images.load(render["path"])
     )
-    value = images.ssim(view, still)
+    value = ssim(view, still)
     print(f"SSIM Whitted viewport vs F12: {value:.4f}")
     # Measured 0.978 (llvmpipe, 1062x797 frame); Workbench and EEVEE reach 0.98-0.99 by
     # the same method. A wrong camera, a missing object or a wrong colour transform

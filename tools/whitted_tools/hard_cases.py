@@ -17,6 +17,8 @@ import bmesh
 import numpy as np
 from mathutils import Vector
 
+from whitted_tools.scenes import add_object, bmesh_mesh, cube_mesh, sphere_mesh
+
 FLOOR_COLOR = (0.1, 0.6, 0.1)  # green: the floor is told apart by its hue
 SKY = (0.02, 0.03, 0.05)  # background radiance, and the ambient light Ia
 SUN_STRENGTH = 3.0  # W/m^2
@@ -26,37 +28,6 @@ WATER_IOR = 1.33
 
 
 # --- building blocks --------------------------------------------------------------
-
-
-def link(scene, name, data, location=(0.0, 0.0, 0.0), scale=1.0):
-    obj = bpy.data.objects.new(name, data)
-    obj.location = location
-    obj.scale = (scale, scale, scale) if np.isscalar(scale) else scale
-    scene.collection.objects.link(obj)
-    return obj
-
-
-def bmesh_mesh(name, build, smooth=False):
-    bm = bmesh.new()
-    try:
-        build(bm)
-        mesh = bpy.data.meshes.new(name)
-        bm.to_mesh(mesh)
-    finally:
-        bm.free()
-    mesh.polygons.foreach_set("use_smooth", [smooth] * len(mesh.polygons))
-    return mesh
-
-
-def sphere_mesh(name, segments=16, rings=8, radius=1.0, smooth=True):
-    def build(bm):
-        bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius)
-
-    return bmesh_mesh(name, build, smooth)
-
-
-def cube_mesh(name, size=1.0):
-    return bmesh_mesh(name, lambda bm: bmesh.ops.create_cube(bm, size=size))
 
 
 def cylinder_mesh(name, segments, radius, depth, smooth=False):
@@ -123,7 +94,7 @@ def camera(scene, location, target, lens=35.0, clip=(0.1, 100.0)):
     data = bpy.data.cameras.new("Camera")
     data.lens = lens
     data.clip_start, data.clip_end = clip
-    obj = link(scene, "Camera", data, location=location)
+    obj = add_object(scene, "Camera", data, location=location)
     direction = Vector(target) - Vector(location)
     obj.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
     scene.camera = obj
@@ -135,7 +106,7 @@ def sun(scene, elevation_degrees, azimuth_degrees=30.0, strength=SUN_STRENGTH):
     data = bpy.data.lights.new("Sun", "SUN")
     data.energy = strength
     data.angle = 0.0
-    obj = link(scene, "Sun", data)
+    obj = add_object(scene, "Sun", data)
     # A sun shines along its local -Z: tilt it from straight down towards the horizon.
     obj.rotation_euler = (
         math.radians(90.0 - elevation_degrees),
@@ -149,7 +120,7 @@ def point_light(scene, location, power):
     data = bpy.data.lights.new("Point", "POINT")
     data.energy = power
     data.shadow_soft_size = 0.0
-    return link(scene, "Point", data, location=location)
+    return add_object(scene, "Point", data, location=location)
 
 
 def world(scene, color=SKY):
@@ -169,7 +140,7 @@ def settings(scene, max_depth=8, aa_samples=1, fresnel="EXACT", tile_size=32):
 
 
 def floor(scene, half_size, scale=1.0):
-    obj = link(scene, "Floor", quad_mesh("Floor", half_size), scale=scale)
+    obj = add_object(scene, "Floor", quad_mesh("Floor", half_size), scale=scale)
     return assign(obj, material("FloorMaterial", diffuse=FLOOR_COLOR))
 
 
@@ -189,11 +160,13 @@ def acne(scene, scale=1.0):
     def at(x, y, z):
         return (x * scale, y * scale, z * scale)
 
-    ball = link(scene, "Ball", sphere_mesh("Ball", 12, 6), at(0.0, 0.0, 1.0), scale)
+    ball = add_object(scene, "Ball", sphere_mesh("Ball", 12, 6), at(0.0, 0.0, 1.0), scale)
     assign(ball, red)
-    faceted = link(scene, "Faceted", sphere_mesh("Faceted", smooth=False), at(-2.5, 1, 1), scale)
+    faceted = add_object(
+        scene, "Faceted", sphere_mesh("Faceted", smooth=False), at(-2.5, 1, 1), scale
+    )
     assign(faceted, blue)
-    cube = link(scene, "Cube", cube_mesh("Cube", 1.5), at(2.5, 1.0, 0.75), scale)
+    cube = add_object(scene, "Cube", cube_mesh("Cube", 1.5), at(2.5, 1.0, 0.75), scale)
     cube.rotation_euler = (0.0, 0.0, 0.5)
     assign(cube, blue)
     sun(scene, 50.0)
@@ -209,7 +182,7 @@ def grazing(scene):
     behind the camera: the block's long shadow falls out of sight behind it."""
     world(scene)
     floor(scene, 500.0)
-    block = link(scene, "Block", cube_mesh("Block", 2.0), (0.0, 60.0, 1.0))
+    block = add_object(scene, "Block", cube_mesh("Block", 2.0), (0.0, 60.0, 1.0))
     assign(block, material("Red", diffuse=(0.7, 0.1, 0.1)))
     sun(scene, 3.0, azimuth_degrees=10.0, strength=20.0)
     elevation = math.radians(3.0)
@@ -228,7 +201,7 @@ def _checker_wall(scene, y):
             [(3, 2, 1, 0)],
         )
         color = ((0.8, 0.2, 0.1), (0.9, 0.9, 0.2))[i % 2]
-        assign(link(scene, f"Stripe{i}", stripe), material(f"Stripe{i}", diffuse=color))
+        assign(add_object(scene, f"Stripe{i}", stripe), material(f"Stripe{i}", diffuse=color))
 
 
 def total_internal_reflection(scene):
@@ -237,7 +210,7 @@ def total_internal_reflection(scene):
     world(scene)
     floor(scene, 10.0)
     _checker_wall(scene, 3.0)
-    prism = link(scene, "Prism", cylinder_mesh("Prism", 3, 1.0, 2.5), (0.0, 0.0, 1.0))
+    prism = add_object(scene, "Prism", cylinder_mesh("Prism", 3, 1.0, 2.5), (0.0, 0.0, 1.0))
     prism.rotation_euler = (math.radians(90.0), 0.0, math.radians(20.0))
     assign(prism, glass())
     sun(scene, 60.0, azimuth_degrees=20.0)
@@ -252,9 +225,11 @@ def water_in_glass(scene):
     world(scene)
     floor(scene, 10.0)
     _checker_wall(scene, 3.0)
-    cup = link(scene, "Glass", cylinder_mesh("Glass", 32, 1.0, 2.0, smooth=True), (0, 0, 1.0))
+    cup = add_object(scene, "Glass", cylinder_mesh("Glass", 32, 1.0, 2.0, smooth=True), (0, 0, 1.0))
     assign(cup, glass("GlassMaterial"))
-    water = link(scene, "Water", cylinder_mesh("Water", 32, 0.8, 2.0, smooth=True), (0, 0, 1.4))
+    water = add_object(
+        scene, "Water", cylinder_mesh("Water", 32, 0.8, 2.0, smooth=True), (0, 0, 1.4)
+    )
     assign(water, glass("WaterMaterial", ior=WATER_IOR))
     sun(scene, 60.0, azimuth_degrees=20.0)
     camera(scene, (0.0, -7.0, 3.0), (0.0, 0.0, 1.0))
@@ -269,8 +244,8 @@ def overlapping_spheres(scene, merged=False):
     floor(scene, 10.0)
     _checker_wall(scene, 3.0)
     mat = glass()
-    left = link(scene, "Left", sphere_mesh("Left", 32, 16), (-0.6, 0.0, 1.2))
-    right = link(scene, "Right", sphere_mesh("Right", 32, 16), (0.6, 0.0, 1.2))
+    left = add_object(scene, "Left", sphere_mesh("Left", 32, 16), (-0.6, 0.0, 1.2))
+    right = add_object(scene, "Right", sphere_mesh("Right", 32, 16), (0.6, 0.0, 1.2))
     assign(left, mat)
     assign(right, mat)
     if merged:
@@ -295,11 +270,13 @@ def camera_inside_glass(scene, ior=GLASS_IOR, sphere=True, inner_ball=False, off
     eye = Vector((0.0, -2.0, 2.0))
     mat = glass(ior=ior)
     if sphere:
-        big = link(scene, "Globe", sphere_mesh("Globe", 96, 48, radius=4.0), eye)
+        big = add_object(scene, "Globe", sphere_mesh("Globe", 96, 48, radius=4.0), eye)
         assign(big, mat)
         big.location.x -= offset
     if inner_ball:
-        assign(link(scene, "Marble", sphere_mesh("Marble", 32, 16, 0.6), (0.3, 0.5, 2.0)), mat)
+        assign(
+            add_object(scene, "Marble", sphere_mesh("Marble", 32, 16, 0.6), (0.3, 0.5, 2.0)), mat
+        )
     sun(scene, 60.0, azimuth_degrees=20.0)
     camera(scene, tuple(eye), (0.0, 6.0, 1.0), lens=24.0)
     return settings(scene, max_depth=12, fresnel="OFF")
@@ -312,21 +289,21 @@ def degenerate_geometry(scene):
     world(scene)
     floor(scene, 10.0)
     grey = material("Grey", diffuse=(0.6, 0.6, 0.6), specular=0.2)
-    assign(link(scene, "Broken", broken_mesh("Broken")), grey)
+    assign(add_object(scene, "Broken", broken_mesh("Broken")), grey)
 
     def flipped(bm):
         bmesh.ops.create_uvsphere(bm, u_segments=12, v_segments=6, radius=0.7)
         bmesh.ops.reverse_faces(bm, faces=bm.faces)
 
-    assign(link(scene, "Flipped", bmesh_mesh("Flipped", flipped, True), (-2.2, 0, 0.8)), grey)
+    assign(add_object(scene, "Flipped", bmesh_mesh("Flipped", flipped, True), (-2.2, 0, 0.8)), grey)
     fan = bpy.data.meshes.new("NonManifold")
     fan.from_pydata(
         [(0, 0, 0), (0, 0, 1.5), (1, 0, 0.7), (-0.7, 0.7, 0.7), (-0.7, -0.7, 0.7)],
         [],
         [(0, 1, 2), (0, 1, 3), (0, 1, 4)],
     )
-    assign(link(scene, "NonManifold", fan, (2.2, 0.0, 0.0)), grey)
-    mirrored = link(scene, "Mirrored", sphere_mesh("Mirrored", 12, 6), (0.0, 1.8, 0.8), 0.6)
+    assign(add_object(scene, "NonManifold", fan, (2.2, 0.0, 0.0)), grey)
+    mirrored = add_object(scene, "Mirrored", sphere_mesh("Mirrored", 12, 6), (0.0, 1.8, 0.8), 0.6)
     mirrored.scale.x = -0.6
     assign(mirrored, material("GlassMirrored", transmissivity=(0.9, 0.9, 0.9)))
     sun(scene, 50.0)
@@ -383,10 +360,10 @@ def facing_mirrors(scene, reflectivity=0.9):
     floor(scene, 10.0)
     mirror = material("Mirror", diffuse=(0.02, 0.02, 0.02), reflectivity=(reflectivity,) * 3)
     for name, x, rotation in (("MirrorL", -2.0, 90.0), ("MirrorR", 2.0, -90.0)):
-        plane = link(scene, name, quad_mesh(name, 3.0), (x, 0.0, 1.5))
+        plane = add_object(scene, name, quad_mesh(name, 3.0), (x, 0.0, 1.5))
         plane.rotation_euler = (0.0, math.radians(rotation), 0.0)
         assign(plane, mirror)
-    ball = link(scene, "Ball", sphere_mesh("Ball", 24, 12, 0.5), (0.0, 1.0, 0.8))
+    ball = add_object(scene, "Ball", sphere_mesh("Ball", 24, 12, 0.5), (0.0, 1.0, 0.8))
     assign(ball, material("Red", diffuse=(0.8, 0.1, 0.1), specular=0.3))
     sun(scene, 60.0)
     camera(scene, (0.6, -4.0, 1.6), (-1.5, 1.5, 1.0), lens=28.0)
@@ -397,8 +374,8 @@ def coplanar_quads(scene):
     """Two overlapping coplanar quads, red and blue, in one plane: which one a
     ray hits is a tie that only the tracer's rule decides."""
     world(scene)
-    red = link(scene, "RedQuad", quad_mesh("RedQuad", 1.0), (-0.4, 0.0, 0.0))
-    blue = link(scene, "BlueQuad", quad_mesh("BlueQuad", 1.0), (0.4, 0.0, 0.0))
+    red = add_object(scene, "RedQuad", quad_mesh("RedQuad", 1.0), (-0.4, 0.0, 0.0))
+    blue = add_object(scene, "BlueQuad", quad_mesh("BlueQuad", 1.0), (0.4, 0.0, 0.0))
     assign(red, material("Red", diffuse=(0.8, 0.1, 0.1)))
     assign(blue, material("Blue", diffuse=(0.1, 0.1, 0.8)))
     sun(scene, 70.0)
@@ -452,9 +429,3 @@ def acne_share(pixels, threshold=0.1):
     green = pixels[1:-1, 1:-1, 1]
     far = np.abs(green - median) > threshold * median
     return float((far & region).sum()) / max(int(region.sum()), 1), int(region.sum())
-
-
-def relative_rmse(image, reference):
-    """RMS of the difference of the RGB channels over the RMS of the reference."""
-    a, b = image[..., :3].astype(np.float64), reference[..., :3].astype(np.float64)
-    return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b**2)))

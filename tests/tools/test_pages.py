@@ -1,0 +1,86 @@
+"""whitted_tools.pages and cli without Blender: tables, headers, number formats, the
+arguments a script is given."""
+
+import pytest
+from whitted_tools import REPO
+from whitted_tools.blender import blender_command, bpy_command
+from whitted_tools.cli import script_args
+from whitted_tools.pages import (
+    command_line,
+    num,
+    ratio,
+    ratio_text,
+    seconds_text,
+    table,
+    write_page,
+)
+
+
+def test_table_aligns_the_first_column_left_and_numbers_right():
+    assert table(["scene", "s"], [["demo", 1.5], ["glass", "—"]]) == [
+        "| scene | s |",
+        "|---|---:|",
+        "| demo | 1.5 |",
+        "| glass | — |",
+    ]
+    assert table(["a", "b"], [], align="ll")[1] == "|---|---|"
+
+
+def test_table_refuses_a_row_of_the_wrong_width():
+    with pytest.raises(ValueError, match="one entry per column"):
+        table(["a", "b"], [["only one"]])
+
+
+def test_command_line_names_the_checkouts_python_relative_to_it():
+    venv_python = str(REPO / ".venv" / "bin" / "python")
+    assert command_line(["scripts/x.py", "--out", "a b"], python=venv_python) == (
+        ".venv/bin/python scripts/x.py --out 'a b'"
+    )
+    assert command_line(["scripts/x.py"], python="/usr/bin/python3") == (
+        "/usr/bin/python3 scripts/x.py"
+    )
+
+
+def test_number_formats():
+    assert num(None) == "—"
+    assert num(1.23456, 2, " s") == "1.23 s"
+    assert seconds_text(1.23456) == "1.235"
+    assert seconds_text(12.345) == "12.3"
+    assert ratio_text(None) == "—"
+    assert ratio_text(2.0) == "2.00x"
+    assert ratio(1.0, 0.0) is None
+    assert ratio(None, 2.0) is None
+    assert ratio(3.0, 2.0) == 1.5
+
+
+def test_write_page_ends_with_one_newline(tmp_path):
+    path = write_page(tmp_path / "docs" / "PAGE.md", ["# Title", "", "text"])
+    assert path.read_text(encoding="utf-8") == "# Title\n\ntext\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["blender", "-b", "--python", "s.py", "--", "--out", "x"], ["--out", "x"]),
+        (["/usr/bin/blender", "-b", "--python", "s.py"], []),  # Blender's own, none ours
+        (["scripts/s.py", "--out", "x"], ["--out", "x"]),  # a Python running the script
+        (["scripts/s.py", "--", "--out"], ["--out"]),
+    ],
+)
+def test_script_args(argv, expected):
+    assert script_args(argv) == expected
+
+
+def test_blender_commands():
+    assert blender_command("s.py", "--size", 4) == [
+        *("blender", "-b", "--factory-startup", "--python-exit-code", "1"),
+        *("--python", "s.py", "--", "--size", "4"),
+    ]
+    command = blender_command("s.py", blend="f.blend", addons=("whitted",))
+    assert command[3:6] == ["--addons", "whitted", "f.blend"]
+    assert bpy_command("s.py", "--blend", "f.blend", python="py") == [
+        "py",
+        "s.py",
+        "--blend",
+        "f.blend",
+    ]

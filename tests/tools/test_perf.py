@@ -1,0 +1,81 @@
+"""The performance suite's derived figures and target checks, on hand-made runs (the
+JSON perf_render.py writes), without Blender."""
+
+import pytest
+from whitted_tools.perf.figures import (
+    MIB,
+    Target,
+    bytes_per_triangle,
+    export_per_million,
+    speedup,
+    verdict,
+    worst,
+    writeback_per_hd_pass,
+)
+from whitted_tools.perf.measure import Measurement
+
+
+def whitted_run(rss, export=0.5, writeback=0.004, width=960, height=540, triangles=2_000_000):
+    return {
+        "peak_rss_mib": rss,
+        "mesh_triangles": triangles,
+        "width": width,
+        "height": height,
+        "whitted": {
+            "phases": {"export": export, "writeback": writeback, "trace": 1.0},
+            "passes": ["Combined", "Whitted Rays"],
+        },
+    }
+
+
+def test_medians_skip_runs_without_the_value():
+    measurement = Measurement(runs=[{"seconds": 3.0}, {"seconds": 1.0}, {}, {"seconds": 2.0}])
+    assert measurement.median(lambda r: r.get("seconds")) == 2.0
+    assert Measurement(missing="timed out").median(lambda r: r["seconds"]) is None
+    assert Measurement(runs=[whitted_run(100)]).whitted("phases", "export") == 0.5
+    assert Measurement(runs=[whitted_run(100)]).whitted("no", "such") is None
+
+
+def test_memory_and_export_figures():
+    whitted = Measurement(runs=[whitted_run(300.0), whitted_run(310.0)])
+    null = Measurement(runs=[{"peak_rss_mib": 105.0}])
+    # (305 - 105) MiB over 2M triangles.
+    assert bytes_per_triangle(whitted, null, 2_000_000) == pytest.approx(200.0 * MIB / 2e6)
+    assert bytes_per_triangle(whitted, Measurement(missing="failed"), 10) is None
+    assert export_per_million(whitted) == pytest.approx(0.25)
+
+
+def test_writeback_is_per_pass_and_scaled_to_1920x1080():
+    # 4 ms for 2 passes at a quarter of 1920x1080: 2 ms per pass there, 8 ms at full size.
+    measurement = Measurement(runs=[whitted_run(1.0)])
+    assert writeback_per_hd_pass(measurement) == pytest.approx(0.008)
+
+
+def test_thread_speedup():
+    def trace(seconds):
+        return Measurement(runs=[{"whitted": {"phases": {"trace": seconds}}}])
+
+    scaling = {"threads": {"demo": {1: trace(3.0), 2: trace(1.5)}}}
+    assert speedup(scaling, "demo", lambda m: m.whitted("phases", "trace")) == 2.0
+
+
+@pytest.mark.parametrize(
+    ("measured", "at_least", "result", "margin"),
+    [
+        (0.95, True, "pass", "0.05 (6% of the target) to spare"),
+        (0.72, True, "**miss**", "missed by 0.18 (20% of the target)"),
+        (0.5, False, "**miss**", "missed by 0.4 (400% of the target)"),
+        (None, True, "not measured", "—"),
+    ],
+)
+def test_verdict_says_pass_or_miss_and_by_how_much(measured, at_least, result, margin):
+    threshold = 0.9 if at_least else 0.1
+    target = Target("t", threshold, at_least, "", measured, "somewhere")
+    assert verdict(target) == (result, margin)
+
+
+def test_worst_is_the_minimum_of_at_least_targets_and_the_maximum_of_others():
+    pairs = [(2.0, "a"), (None, "b"), (1.0, "c")]
+    assert worst(pairs, at_least=True) == (1.0, "c")
+    assert worst(pairs, at_least=False) == (2.0, "a")
+    assert worst([(None, "b")], at_least=True) == (None, "not measured")

@@ -1,0 +1,104 @@
+"""Starting Blender 3.4 and the bpy 5.0 module, and what a script inside them needs first.
+
+The command lists are plain data (tested without Blender); enable_addon imports
+Blender's addon_utils when called, so this module imports anywhere.
+"""
+
+import os
+import shlex
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from whitted_tools import REPO
+
+VENV_PYTHON = REPO / ".venv" / "bin" / "python"
+ADDON = "whitted"
+
+
+def blender_command(script, *args, blend=None, addons=(), blender="blender"):
+    """`blender -b --factory-startup [--addons A,B] [BLEND] --python-exit-code 1
+    --python SCRIPT -- ARGS`: Blender 3.4 in the background, without the user's
+    preferences, ending with exit code 1 if the script raises."""
+    command = [blender, "-b", "--factory-startup"]
+    if addons:
+        command += ["--addons", ",".join(addons)]
+    if blend is not None:
+        command.append(str(blend))
+    command += ["--python-exit-code", "1", "--python", str(script), "--"]
+    return [*command, *map(str, args)]
+
+
+def bpy_command(script, *args, python=None):
+    """The same script run by the .venv's Python, where Blender 5.0 is the bpy module
+    (the script opens any .blend itself)."""
+    return [str(python or VENV_PYTHON), str(script), *map(str, args)]
+
+
+def run_process(command, timeout):
+    """(output, None) or (None, why it failed): stdout and stderr together. A process
+    past its timeout is killed with its process group (POV-Ray runs as Blender's
+    child)."""
+    print(f"  $ {shlex.join(map(str, command))}", flush=True)
+    started = time.perf_counter()
+    with subprocess.Popen(
+        list(map(str, command)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        errors="replace",
+        start_new_session=True,
+    ) as process:
+        try:
+            output, _ = process.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.communicate()
+            return None, f"timed out after {timeout:.0f} s"
+    seconds = time.perf_counter() - started
+    if process.returncode != 0:
+        return None, failure(process.returncode, seconds, output)
+    return output, None
+
+
+def failure(returncode, seconds, output):
+    """Why a process failed, in one line: its exit code, time and last lines."""
+    tail = " / ".join(line for line in output.splitlines()[-4:] if line.strip())
+    return f"failed (exit {returncode} after {seconds:.0f} s): {tail[-300:]}"
+
+
+def addon_problem(module=ADDON):
+    """Enables the add-on `module` (and keeps it enabled after a factory reset's
+    re-enable); None, or why it cannot be."""
+    # Blender's own module; as the bpy module, importable only once bpy is loaded.
+    import addon_utils
+
+    if addon_utils.enable(module, default_set=True) is not None:
+        return None
+    if module == ADDON:
+        return (
+            f"cannot enable the add-on '{ADDON}': run scripts/setup.sh, which links addon/ "
+            "into Blender's user add-on folder (addon_utils looked in: "
+            f"{', '.join(addon_utils.paths())})"
+        )
+    return f"cannot enable Blender's add-on '{module}'"
+
+
+def enable_addon(*modules):
+    """Enables each add-on (default: Whitted) or ends the script saying why not."""
+    for module in modules or (ADDON,):
+        problem = addon_problem(module)
+        if problem:
+            sys.exit(f"{Path(sys.argv[0]).name}: {problem}")
+
+
+def factory_scene(*modules):
+    """An empty factory scene with the add-ons enabled (default: Whitted): the start
+    of every scene a script builds (a factory reset also disables add-ons)."""
+    import bpy
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    enable_addon(*modules)
+    return bpy.context.scene

@@ -1,0 +1,37 @@
+"""The command-line arguments of a script, wherever it runs."""
+
+import importlib.util
+import os
+import sys
+
+
+def script_args(argv=None):
+    """The arguments meant for the script.
+
+    Inside the Blender binary (`blender -b --python S -- ARGS`) they follow "--", and
+    without one there are none (what precedes is Blender's own); run by a Python
+    (the bpy module's, or a plain one) they are all of argv after the script's name.
+    """
+    argv = sys.argv if argv is None else argv
+    if "--" in argv:
+        return argv[argv.index("--") + 1 :]
+    return [] if inside_blender_binary(argv) else argv[1:]
+
+
+def inside_blender_binary(argv=None):
+    """Whether this process is the Blender program (not Python importing bpy): its
+    argv[0] is the Blender executable."""
+    argv = sys.argv if argv is None else argv
+    return bool(argv) and os.path.basename(argv[0]).startswith("blender")
+
+
+def load_script(name):
+    """scripts/<name>.py as a module, for the test of that script (scripts import the
+    package, never each other). scripts/farm.py stays one self-contained file because
+    its tasks travel to Dask workers by value, package.py because it is the packager."""
+    from whitted_tools import SCRIPTS
+
+    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

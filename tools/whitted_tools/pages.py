@@ -1,0 +1,103 @@
+"""Writing the results pages of docs/: the command a page was made by, the machine it
+ran on, Markdown tables and the number formats the tables share."""
+
+import os
+import platform
+import shlex
+import sys
+from pathlib import Path
+
+from whitted_tools import REPO
+
+
+def command_line(argv=None, python=None):
+    """The command that is making the page, as typed from the repository root: this
+    Python (relative when it is the checkout's .venv) and its arguments."""
+    python = python or sys.executable
+    if Path(python).is_relative_to(REPO):
+        python = os.path.relpath(python, REPO)
+    return shlex.join([python, *(sys.argv if argv is None else argv)])
+
+
+def machine_lines():
+    """CPU model, cores and memory from /proc, the load when the page was written."""
+    cpuinfo = Path("/proc/cpuinfo").read_text().splitlines()
+
+    def field_of(name):
+        return next(
+            (line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith(name)), "?"
+        )
+
+    processors = sum(1 for line in cpuinfo if line.startswith("processor"))
+    meminfo = Path("/proc/meminfo").read_text().split()
+    memory_gib = int(meminfo[meminfo.index("MemTotal:") + 1]) / 1024 / 1024
+    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
+    return [
+        f"- CPU: {field_of('model name')}, {processors} logical processors "
+        f"({field_of('cpu cores')} cores per package, {field_of('siblings')} siblings); "
+        f"{memory_gib:.1f} GiB memory; {platform.system()} {platform.release()}",
+        f"- Load average when the page was written (1, 5, 15 min): {load}",
+    ]
+
+
+def table(header, rows, align=None):
+    """A Markdown table's lines: header cells, rows of cells (str() of each), and per
+    column "l" or "r" (default: the first column left, the others right)."""
+    align = align or "l" + "r" * (len(header) - 1)
+    if len(align) != len(header) or any(len(row) != len(header) for row in rows):
+        raise ValueError("every row and the alignment need one entry per column")
+    rule = "|" + "".join("---|" if a == "l" else "---:|" for a in align)
+    return [
+        "| " + " | ".join(header) + " |",
+        rule,
+        *("| " + " | ".join(str(cell) for cell in row) + " |" for row in rows),
+    ]
+
+
+def write_page(path, lines):
+    """Write the page's lines (one newline at the end) and say where."""
+    path = Path(path).resolve()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    print(f"wrote {path}", flush=True)
+    return path
+
+
+def relative_link(path, page_dir):
+    """A page's link to `path` (an image), relative to the page's folder."""
+    return Path(os.path.relpath(path, page_dir)).as_posix()
+
+
+# --- numbers in tables ("—" where there is none) -------------------------------------
+
+
+def num(value, digits=3, suffix=""):
+    """A number with `digits` decimals, '—' when missing."""
+    if value is None:
+        return "—"
+    return f"{value:.{digits}f}{suffix}"
+
+
+def seconds_text(value):
+    """Seconds: 3 decimals below 10 s, else 1."""
+    if value is None:
+        return "—"
+    return f"{value:.3f}" if value < 10 else f"{value:.1f}"
+
+
+def ratio_text(value):
+    return "—" if value is None else f"{value:.2f}x"
+
+
+def size_label(size):
+    return f"{size[0]}x{size[1]}"
+
+
+def scale(value, factor):
+    """value * factor, None stays None."""
+    return None if value is None else value * factor
+
+
+def ratio(numerator, denominator):
+    """numerator / denominator; None when either is missing or the denominator is 0."""
+    return None if numerator is None or not denominator else numerator / denominator

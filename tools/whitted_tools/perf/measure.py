@@ -1,0 +1,279 @@
+"""Running the performance suite's measurements: every render a fresh Blender process
+(scripts/perf_render.py, scripts/perf_raw_embree.py), scene files and results cached
+by configuration, figures the medians of the repeats."""
+
+import json
+import statistics
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from whitted_tools import SCRIPTS
+from whitted_tools.blender import blender_command, bpy_command, run_process
+from whitted_tools.pages import size_label
+from whitted_tools.perf.plan import MAIN_SCENES, Plan
+from whitted_tools.timing import progress
+
+
+def build_scene(name, path, resolution, timeout, blender="blender", extra=()):
+    """Save the suite's scene `name` (scripts/perf_scenes.py) at `resolution` to `path`;
+    None, or why it failed."""
+    command = blender_command(
+        SCRIPTS / "perf_scenes.py",
+        *("--scene", name, "--resolution", *resolution, "--save", path, *extra),
+        blender=blender,
+    )
+    _, problem = run_process(command, timeout)
+    return problem
+
+
+@dataclass
+class Measurement:
+    """The JSON of each successful repeat, or why there is none."""
+
+    runs: list = field(default_factory=list)
+    missing: str | None = None
+
+    def median(self, getter):
+        """Median over the repeats of getter(run); None when no run has the value."""
+        values = []
+        for run in self.runs:
+            value = getter(run)
+            if value is not None:
+                values.append(value)
+        return statistics.median(values) if values else None
+
+    def whitted(self, *keys):
+        """Median of run["whitted"][keys[0]][keys[1]]..."""
+
+        def get(run):
+            value = run.get("whitted")
+            for key in keys:
+                value = None if value is None else value.get(key)
+            return value
+
+        return self.median(get)
+
+
+@dataclass
+class Suite:
+    """Runs the measurements, each once: scene files and results are cached by key."""
+
+    plan: Plan
+    blender: str
+    python: str
+    workdir: Path
+    image_dir: Path
+    deadline: float  # time.monotonic() after which slow engines and raw Embree are skipped
+    files: dict = field(default_factory=dict)
+    results: dict = field(default_factory=dict)
+    problems: list = field(default_factory=list)
+
+    def past_budget(self):
+        return time.monotonic() > self.deadline
+
+    def is_large(self, resolution):
+        """Whether resolution is the plan's large size (and that differs from the small)."""
+        return tuple(resolution) == tuple(self.plan.large) != tuple(self.plan.small)
+
+    def scene_options(self, name, triangles=None):
+        options = []
+        if name == "million":
+            options += ["--triangles", str(self.plan.million)]
+        if name == "triangles":
+            options += ["--triangles", str(triangles)]
+        if name == "instances":
+            options += ["--instances", str(self.plan.instances)]
+            if self.plan.ico_subdivisions:
+                options += ["--ico-subdivisions", str(self.plan.ico_subdivisions)]
+        return options
+
+    def scene_file(self, scene, resolution):
+        """The .blend of scene ((name, triangles)) saved at resolution, or None."""
+        key = (scene, tuple(resolution))
+        if key not in self.files:
+            name, triangles = scene
+            path = self.workdir / f"{name}-{triangles or 0}-{resolution[0]}x{resolution[1]}.blend"
+            problem = build_scene(
+                name,
+                path,
+                resolution,
+                self.plan.timeouts["build"],
+                self.blender,
+                self.scene_options(name, triangles),
+            )
+            if problem:
+                self.problems.append(f"building {name} at {size_label(resolution)}: {problem}")
+            self.files[key] = None if problem else path
+        return self.files[key]
+
+    def render(self, scene, engine, resolution, *, threads=None, depth=None, image=None, bpy=False):
+        """perf_render.py's JSON for each repeat of one configuration (a Measurement)."""
+        key = (scene, engine, tuple(resolution), threads, depth, bpy)
+        if key in self.results:
+            return self.results[key]
+        blend = self.scene_file(scene, self.plan.small)
+        large = self.is_large(resolution)
+        slow = engine in ("CYCLES", "POVRAY")
+        repeats = 1 if engine == "NULL" else self.plan.repeats
+        if slow and large:
+            repeats = self.plan.large_slow_repeats
+        timeout = self.plan.timeouts.get(f"{engine}_large" if large else engine)
+        timeout = timeout or self.plan.timeouts[engine]
+        measurement = Measurement()
+        if blend is None:
+            measurement.missing = "the scene could not be built"
+        elif slow and self.past_budget():
+            measurement.missing = "not run: past the time budget (--budget-minutes)"
+            blend = None
+        for index in range(repeats if blend else 0):
+            out = self.workdir / f"run-{len(self.results)}-{index}.json"
+            options = ["--engine", engine, "--json", str(out)]
+            options += ["--resolution", *map(str, resolution)]
+            if threads:
+                options += ["--threads", str(threads)]
+            if depth is not None:
+                options += ["--depth", str(depth)]
+            if image and index == 0:
+                options += ["--image", str(image)]
+            script = SCRIPTS / "perf_render.py"
+            if bpy:
+                command = bpy_command(script, "--blend", blend, *options, python=self.python)
+            else:
+                command = self.in_blender(script, blend, *options)
+            _, problem = run_process(command, timeout)
+            if problem:
+                measurement.missing = problem
+                where = f"{scene[0]} at {size_label(resolution)}"
+                self.problems.append(f"{engine} on {where}: {problem}")
+                break
+            measurement.runs.append(json.loads(out.read_text()))
+        self.results[key] = measurement
+        return measurement
+
+    def in_blender(self, script, blend, *args):
+        """Blender 3.4 with the add-on enabled running script on the saved scene."""
+        return blender_command(
+            script, *args, blend=blend, addons=("whitted",), blender=self.blender
+        )
+
+    def raw_embree(self, scene, resolution):
+        """scripts/perf_raw_embree.py's JSON for the scene at resolution (a Measurement)."""
+        key = (scene, "EMBREE", tuple(resolution))
+        if key in self.results:
+            return self.results[key]
+        measurement = Measurement()
+        over = self.past_budget()
+        blend = None if over else self.scene_file(scene, resolution)
+        if over:
+            measurement.missing = "not run: past the time budget (--budget-minutes)"
+        elif blend is None:
+            measurement.missing = "the scene could not be built"
+        else:
+            out = self.workdir / f"embree-{len(self.results)}.json"
+            # Its own repeats: as Whitted's at the small size, fewer at the large.
+            large = self.is_large(resolution)
+            repeats = self.plan.large_slow_repeats if large else self.plan.repeats
+            command = self.in_blender(
+                SCRIPTS / "perf_raw_embree.py", blend, "--json", out, "--repeats", repeats
+            )
+            _, problem = run_process(command, self.plan.timeouts["EMBREE"])
+            if problem:
+                measurement.missing = problem
+                where = f"{scene[0]} at {size_label(resolution)}"
+                self.problems.append(f"raw Embree on {where}: {problem}")
+            else:
+                measurement.runs.append(json.loads(out.read_text()))
+        self.results[key] = measurement
+        return measurement
+
+
+@dataclass
+class SceneResults:
+    """Everything measured on one main scene, by size label."""
+
+    name: str
+    whitted: dict = field(default_factory=dict)
+    null: dict = field(default_factory=dict)
+    cycles: dict = field(default_factory=dict)
+    povray: dict = field(default_factory=dict)
+    embree: dict = field(default_factory=dict)
+    bpy: dict = field(default_factory=dict)
+
+
+def scene_image(suite, name, engine, size):
+    """Where the small-size render of a main scene by engine is kept for the page."""
+    if tuple(size) != tuple(suite.plan.small):
+        return None
+    return suite.image_dir / f"perf_scene_{name}_{engine.lower()}.png"
+
+
+def measure_whitted(suite, name):
+    """Whitted (Blender 3.4 and, on the demo, the bpy module), Blender's own memory and
+    raw Embree on a main scene at each size."""
+    scene = (name, None)
+    results = SceneResults(name)
+    for label, size in suite.plan.sizes:
+        progress(f"{name} at {size_label(size)}: Whitted, null engine, raw Embree")
+        image = scene_image(suite, name, "WHITTED", size)
+        results.whitted[label] = suite.render(scene, "WHITTED", size, image=image)
+        results.null[label] = suite.render(scene, "NULL", size)
+        results.embree[label] = suite.raw_embree(scene, size)
+        if name == "demo":
+            results.bpy[label] = suite.render(scene, "WHITTED", size, bpy=True)
+    return results
+
+
+def measure_slow(suite, results, label):
+    """POV-Ray and Cycles on a main scene at one size. At the large size, not when the
+    small one failed, nor when its time scaled by the pixel count would end the run
+    past the time budget."""
+    size = dict(suite.plan.sizes)[label]
+    small = suite.plan.small
+    progress(f"{results.name} at {size_label(size)}: POV-Ray, Cycles")
+    for engine, store in (("POVRAY", results.povray), ("CYCLES", results.cycles)):
+        first = store.get(suite.plan.sizes[0][0])
+        estimate = None
+        if first is not None and first.runs:
+            seconds = first.median(lambda r: r["seconds"])
+            estimate = seconds * (size[0] * size[1]) / (small[0] * small[1])
+            estimate *= suite.plan.large_slow_repeats
+        if first is not None and first.missing:
+            store[label] = Measurement(missing=f"not run: at the small size, {first.missing}")
+        elif estimate is not None and estimate > suite.deadline - time.monotonic():
+            store[label] = Measurement(
+                missing=f"not run: about {estimate:.0f} s (the small size's time scaled by "
+                "the pixels) would end past the time budget (--budget-minutes)"
+            )
+            suite.problems.append(f"{engine} on {results.name} at {size_label(size)}: skipped")
+        else:
+            image = scene_image(suite, results.name, engine, size)
+            store[label] = suite.render((results.name, None), engine, size, image=image)
+
+
+def measure_scaling(suite):
+    """The four curves: {"triangles": [(count, whitted, null)], "pixels": [(w, h, m)],
+    "depth": [(d, m)], "threads": {scene: {threads: m}}}."""
+    plan = suite.plan
+    progress("scaling curves")
+    triangles = [
+        (
+            count,
+            suite.render(("triangles", count), "WHITTED", plan.small),
+            suite.render(("triangles", count), "NULL", plan.small),
+        )
+        for count in plan.triangle_counts
+    ]
+    pixels = [(w, h, suite.render(("demo", None), "WHITTED", (w, h))) for w, h in plan.pixel_sizes]
+    depth = [
+        (d, suite.render(("glass8", None), "WHITTED", plan.small, depth=d)) for d in plan.depths
+    ]
+    threads = {}
+    for name in MAIN_SCENES:
+        default = suite.render((name, None), "WHITTED", plan.small)
+        # Blender's default on a 2-processor machine is 2 threads: that run serves.
+        two = default
+        if default.median(lambda r: r["threads"]) != 2:
+            two = suite.render((name, None), "WHITTED", plan.small, threads=2)
+        threads[name] = {1: suite.render((name, None), "WHITTED", plan.small, threads=1), 2: two}
+    return {"triangles": triangles, "pixels": pixels, "depth": depth, "threads": threads}

@@ -1,0 +1,31 @@
+"""Rendering a scene in Blender and reading its pixels back (Blender 3.4 and 5.0)."""
+
+import bpy
+import numpy as np
+
+
+def render_exr(scene, path, engine=None, png=None):
+    """Render `scene` (with `engine`, default its own) to a 32-bit float RGBA OpenEXR at
+    `path` and return its linear pixels, float32[height, width, 4], rows bottom to top;
+    with `png`, also save that image there through the scene's view transform.
+
+    Blender 3.4 cannot read the Render Result's pixels from Python: the render goes
+    through the file (linear: no view transform).
+    """
+    if engine is not None:
+        scene.render.engine = engine
+    settings = scene.render.image_settings
+    settings.file_format, settings.color_depth, settings.color_mode = "OPEN_EXR", "32", "RGBA"
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(scene.render.filepath)
+    try:
+        width, height = image.size
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        if png is not None:
+            settings.file_format, settings.color_depth, settings.color_mode = "PNG", "8", "RGB"
+            image.save_render(str(png), scene=scene)
+    finally:
+        bpy.data.images.remove(image)
+    return pixels.reshape(height, width, 4)
