@@ -11,16 +11,14 @@ into the render with the scene camera and drawn in the inspector's colours.
 import argparse
 import json
 import os
-import sys
 
 import bpy
 import numpy as np
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import demo_scene
-from harness import script_args
+from whitted_tools import demo_scene
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
 
 COMMAND = (
     "blender -b --factory-startup --python scripts/ray_tree_page.py -- "
@@ -195,11 +193,7 @@ def _page(tree, args, image_rel):
 
 def main():
     args = _parse()
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    import addon_utils
-
-    addon_utils.enable("whitted", default_set=True)
-    scene = demo_scene.build_demo_scene()
+    scene = demo_scene.build_demo_scene(factory_scene())
     scene.render.engine = "WHITTED"
     scene.render.resolution_x, scene.render.resolution_y = args.resolution
     scene.render.resolution_percentage = 100
