@@ -63,11 +63,11 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         "total_internal_reflections": native_stats["total_internal_reflections"],
         # Rays not traced: beyond the max depth, and with a weight below the cutoff.
         "depth_limited": native_stats["depth_limited"],
-        "cutoff_skipped": native_stats["cutoff"],
+        "cutoff_skipped": native_stats["cutoff_skipped"],
         # Shadow feelers not sent, by reason (backfacing, unlit, below the cutoff).
         "shadow_rays_skipped": dict(native_stats["shadow_rays_skipped"]),
-        # Which effects the scene analysis switched on, and why.
-        "effects": list(native_stats["effects"]),
+        # What the scene analysis simulated and skipped: {name, on, why} per effect.
+        "effects": [dict(decision) for decision in native_stats["effects"]],
         # Camera samples; adaptive anti-aliasing takes a different number per pixel.
         "samples": native_stats["samples"],
         "pixels": pixels,
@@ -96,15 +96,13 @@ def summary_line(stats):
 def effects_line(stats):
     """What the render simulated and what it skipped, and why, in one line.
 
-    From the native scene analysis ("refraction: off, no transmissive material") and the
-    shadow feelers not sent, by reason.
+    From the native scene analysis ({"name": "refraction", "on": False, "why": "no
+    transmissive material"}) and the shadow feelers not sent, by reason.
     """
     simulated = []
     skipped = []
-    for reason in stats["effects"]:
-        name, rest = reason.split(": ", 1)
-        state, why = rest.split(", ", 1)
-        (simulated if state == "on" else skipped).append(f"{name} ({why})")
+    for effect in stats["effects"]:
+        (simulated if effect["on"] else skipped).append(f"{effect['name']} ({effect['why']})")
     feelers = stats["shadow_rays_skipped"]
     considered = stats["rays"]["shadow"] + sum(feelers.values())
 

@@ -135,9 +135,11 @@ def main():
         differences.append(
             f"| {variant} | {difference.max():.2e} | {difference.mean():.2e} | {bound:.2e} | "
             f"{skipped['backfacing']} / {skipped['unlit']} / {skipped['cutoff']} | "
-            f"{on_stats['cutoff']} |"
+            f"{on_stats['cutoff_skipped']} |"
         )
-        effects = on_stats["effects"]
+        effects = [
+            f"{e['name']}: {'on' if e['on'] else 'off'}, {e['why']}" for e in on_stats["effects"]
+        ]
         lines.append(
             f"| {variant} | effects | {'; '.join(effects)} |" + " |" * (len(RAY_KINDS) + 1)
         )

@@ -5,6 +5,7 @@
 namespace whitted::python {
 
 void bind_light(py::module_& m) {
+  const LightParams defaults;
   py::enum_<LightType>(m, "LightType")
       .value("POINT", LightType::kPoint)
       .value("SPOT", LightType::kSpot)
@@ -21,45 +22,32 @@ void bind_light(py::module_& m) {
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
                        bool spot_cosine_falloff) {
-             for (const Vec3* v : {&color, &position, &direction, &axis_u, &axis_v}) {
-               require_finite(*v, "light colour, position and axes");
-             }
-             if (glm::length(direction) == 0.0f) {
-               throw std::invalid_argument("light direction must not be zero");
-             }
-             if (samples < 1 || samples > 64) {
-               throw std::invalid_argument("light samples must be between 1 and 64");
-             }
-             Light l;
-             l.type = type;
-             l.color = glm::max(color, Vec3(0.0f));  // negative power emits nothing
-             l.position = position;
-             l.direction = glm::normalize(direction);
-             l.spot_size = std::clamp(spot_size, 0.0f, kPi);
-             l.spot_blend = std::clamp(spot_blend, 0.0f, 1.0f);
-             l.size[0] = std::max(0.0f, size[0]);
-             l.size[1] = std::max(0.0f, size[1]);
-             l.axis_u = axis_u;
-             l.axis_v = axis_v;
-             l.shape = shape;
-             l.samples = samples;
-             l.cast_shadows = cast_shadows;
-             if (!std::isfinite(radius) || !std::isfinite(angle)) {
-               throw std::invalid_argument("light radius and angle must be finite");
-             }
-             l.radius = std::max(0.0f, radius);
-             l.angle = std::clamp(angle, 0.0f, kPi);
-             l.spot_cosine_falloff = spot_cosine_falloff;
-             return l;
+             // Light's constructor checks the values (std::invalid_argument: ValueError).
+             return Light(LightParams{.type = type,
+                                      .color = color,
+                                      .position = position,
+                                      .direction = direction,
+                                      .spot_size = spot_size,
+                                      .spot_blend = spot_blend,
+                                      .spot_cosine_falloff = spot_cosine_falloff,
+                                      .size = {size[0], size[1]},
+                                      .axis_u = axis_u,
+                                      .axis_v = axis_v,
+                                      .shape = shape,
+                                      .radius = radius,
+                                      .angle = angle,
+                                      .samples = samples,
+                                      .cast_shadows = cast_shadows});
            }),
-           py::arg("type") = LightType::kPoint, py::arg("color") = Vec3(1.0f),
-           py::arg("position") = Vec3(0.0f), py::arg("direction") = Vec3(0.0f, 0.0f, -1.0f),
-           py::arg("spot_size") = 0.785398f, py::arg("spot_blend") = 0.15f,
-           py::arg("size") = std::array<float, 2>{0.0f, 0.0f},
-           py::arg("axis_u") = Vec3(1.0f, 0.0f, 0.0f), py::arg("axis_v") = Vec3(0.0f, 1.0f, 0.0f),
-           py::arg("shape") = AreaShape::kRectangle, py::arg("samples") = 1,
-           py::arg("cast_shadows") = true, py::arg("radius") = 0.0f, py::arg("angle") = 0.0f,
-           py::arg("spot_cosine_falloff") = false)
+           py::arg("type") = defaults.type, py::arg("color") = defaults.color,
+           py::arg("position") = defaults.position, py::arg("direction") = defaults.direction,
+           py::arg("spot_size") = defaults.spot_size, py::arg("spot_blend") = defaults.spot_blend,
+           py::arg("size") = std::array<float, 2>{defaults.size[0], defaults.size[1]},
+           py::arg("axis_u") = defaults.axis_u, py::arg("axis_v") = defaults.axis_v,
+           py::arg("shape") = defaults.shape, py::arg("samples") = defaults.samples,
+           py::arg("cast_shadows") = defaults.cast_shadows, py::arg("radius") = defaults.radius,
+           py::arg("angle") = defaults.angle,
+           py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff)
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)

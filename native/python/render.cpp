@@ -15,15 +15,23 @@ py::dict stats_dict(const RenderStats& s) {
   rays["total"] = s.rays.total();
   py::dict out;
   out["rays"] = rays;
-  out["total_internal_reflections"] = s.rays.total_internal_reflection;
+  out["total_internal_reflections"] = s.rays.total_internal_reflections;
   out["depth_limited"] = s.rays.depth_limited;
-  out["cutoff"] = s.rays.cutoff;
+  out["cutoff_skipped"] = s.rays.cutoff_skipped;
   py::dict skipped;
-  skipped["backfacing"] = s.rays.shadow_backfacing;
-  skipped["unlit"] = s.rays.shadow_unlit;
-  skipped["cutoff"] = s.rays.shadow_cutoff;
+  skipped["backfacing"] = s.rays.shadow_rays_skipped.backfacing;
+  skipped["unlit"] = s.rays.shadow_rays_skipped.unlit;
+  skipped["cutoff"] = s.rays.shadow_rays_skipped.cutoff;
   out["shadow_rays_skipped"] = skipped;
-  out["effects"] = s.effects;
+  py::list effects;
+  for (const EffectDecision& decision : s.effects) {
+    py::dict effect;
+    effect["name"] = decision.name;
+    effect["on"] = decision.on;
+    effect["why"] = decision.why;
+    effects.append(effect);
+  }
+  out["effects"] = effects;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["compile_seconds"] = s.compile_seconds;
   out["top_level_built"] = s.top_level_built;

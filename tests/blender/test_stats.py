@@ -139,8 +139,14 @@ def test_each_render_states_what_it_simulated_and_skipped(
                 principled.inputs[socket].default_value = 0.0
     render_pixels(demo)
     stats = json.loads(path.read_text())
-    assert "refraction: off, no transmissive material" in stats["effects"]
-    assert "reflection: off, no reflective or transmissive material" in stats["effects"]
+    refraction = {"name": "refraction", "on": False, "why": "no transmissive material"}
+    reflection = {
+        "name": "reflection",
+        "on": False,
+        "why": "no reflective or transmissive material",
+    }
+    assert refraction in stats["effects"]
+    assert reflection in stats["effects"]
     assert stats["rays"]["reflection"] == 0
     assert stats["rays"]["refraction"] == 0
     line = whitted.stats.effects_line(stats)

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "integrator/render.h"
 #include "scene_builders.h"
 
@@ -66,11 +68,9 @@ TEST(Analysis, DiffuseSceneTracesNoReflectionOrRefractionAndNamesWhy) {
   EXPECT_FALSE(effects.has(kRefractionEffect));
   EXPECT_FALSE(effects.has(kTranslucencyEffect));
   EXPECT_TRUE(effects.has(kShadowEffect));
-  bool named = false;
-  for (const std::string& r : effects.reasons) {
-    named |= r == "refraction: off, no transmissive material";
-  }
-  EXPECT_TRUE(named);
+  const EffectDecision refraction{"refraction", false, "no transmissive material"};
+  EXPECT_NE(std::find(effects.decisions.begin(), effects.decisions.end(), refraction),
+            effects.decisions.end());
   const Result r = render(scene, true);
   EXPECT_EQ(r.stats.rays.reflection, 0u);
   EXPECT_EQ(r.stats.rays.refraction, 0u);
@@ -88,7 +88,7 @@ TEST(Analysis, SkippingChangesNothingWhereNothingCouldShow) {
   EXPECT_GT(forced.stats.rays.refraction, 0u);
   EXPECT_GT(forced.stats.rays.total(), 2 * pruned.stats.rays.total());
   // The spot lights a small disc: most points get no feeler towards it.
-  EXPECT_GT(pruned.stats.rays.shadow_unlit, pruned.stats.rays.camera / 2);
+  EXPECT_GT(pruned.stats.rays.shadow_rays_skipped.unlit, pruned.stats.rays.camera / 2);
 }
 
 TEST(Analysis, CutoffPrunesWithinItsBound) {

@@ -1,9 +1,13 @@
-// Lights: irradiance of sized lights against their point-like limits.
+// Lights: what the constructor refuses and clamps, and the irradiance of sized lights
+// against their point-like limits.
 #include "scene/light.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace whitted {
 namespace {
@@ -79,6 +83,52 @@ TEST(Light, SpotAtItsOwnCentreStaysFinite) {
     EXPECT_TRUE(is_finite(ls.irradiance));
     EXPECT_TRUE(is_finite(ls.wi));
   }
+}
+
+// What Light's constructor says about a value that cannot be a light ("" when it takes it).
+std::string refusal(const LightParams& params) {
+  try {
+    const Light light(params);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(Light, ConstructorRefusesWhatCannotBeALight) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(refusal({}), "");
+  EXPECT_EQ(refusal({.color = Color(inf, 1.0f, 1.0f)}),
+            "light colour, position and axes must be finite");
+  EXPECT_EQ(refusal({.axis_v = Vec3(0.0f, nan, 0.0f)}),
+            "light colour, position and axes must be finite");
+  EXPECT_EQ(refusal({.direction = Vec3(0.0f)}), "light direction must not be zero");
+  EXPECT_EQ(refusal({.spot_size = nan}), "light spot size, blend and area size must be finite");
+  EXPECT_EQ(refusal({.size = {1.0f, inf}}), "light spot size, blend and area size must be finite");
+  EXPECT_EQ(refusal({.radius = inf}), "light radius and angle must be finite");
+  EXPECT_EQ(refusal({.samples = 0}), "light samples must be between 1 and 64");
+  EXPECT_EQ(refusal({.samples = kMaxLightSamples + 1}), "light samples must be between 1 and 64");
+  EXPECT_EQ(refusal({.samples = kMaxLightSamples}), "");
+}
+
+TEST(Light, ConstructorClampsToTheNearestLightAndNormalisesTheDirection) {
+  const Light light({.type = LightType::kSpot,
+                     .color = Color(-1.0f, 2.0f, 3.0f),
+                     .direction = Vec3(0.0f, 0.0f, -4.0f),
+                     .spot_size = 5.0f,
+                     .spot_blend = -0.5f,
+                     .size = {-1.0f, 2.0f},
+                     .radius = -1.0f,
+                     .angle = 7.0f});
+  EXPECT_EQ(light.color, Color(0.0f, 2.0f, 3.0f));  // negative power emits nothing
+  EXPECT_EQ(light.direction, Vec3(0.0f, 0.0f, -1.0f));
+  EXPECT_EQ(light.spot_size, kPi);
+  EXPECT_EQ(light.spot_blend, 0.0f);
+  EXPECT_EQ(light.size[0], 0.0f);
+  EXPECT_EQ(light.size[1], 2.0f);
+  EXPECT_EQ(light.radius, 0.0f);
+  EXPECT_EQ(light.angle, kPi);
 }
 
 }  // namespace

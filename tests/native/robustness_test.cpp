@@ -88,7 +88,7 @@ TEST(Robustness, GlassInAUniformSkyConservesEnergy) {
         EXPECT_NEAR(c.x, 1.0f, 2e-3f) << "ior " << ior << " ray " << i;
       }
       EXPECT_GT(counts.refraction, 0u);
-      if (ior > 1.0f) EXPECT_GT(counts.total_internal_reflection, 0u) << ior;
+      if (ior > 1.0f) EXPECT_GT(counts.total_internal_reflections, 0u) << ior;
     }
   }
 }

@@ -148,7 +148,7 @@ TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
     EXPECT_NEAR(lo, expected, 1e-4) << "theta " << theta;
   }
   EXPECT_GT(counts.refraction, 0u);
-  EXPECT_EQ(counts.total_internal_reflection, 0u);
+  EXPECT_EQ(counts.total_internal_reflections, 0u);
 }
 
 // Two parallel mirrors one unit apart that glow with radiance 1 and reflect half: a ray
@@ -199,7 +199,7 @@ TEST(Whitted, CutoffStopsTheRayTreeWhenItsContributionCannotShow) {
     // Bounce k has weight 0.5^k: traced while 0.5^k >= cutoff.
     const int traced = cutoff > 0.0f ? static_cast<int>(std::floor(-std::log2(cutoff))) : 256;
     EXPECT_EQ(counts.reflection, static_cast<uint64_t>(traced)) << cutoff;
-    EXPECT_EQ(counts.cutoff + counts.depth_limited, 1u) << cutoff;
+    EXPECT_EQ(counts.cutoff_skipped + counts.depth_limited, 1u) << cutoff;
     // The untraced tail sum_{k>traced} 0.5^k is below twice the cutoff.
     EXPECT_NEAR(c, 2.0f, std::max(2.0f * cutoff, 1e-5f)) << cutoff;
     // A lower cutoff never traces fewer rays.

@@ -197,7 +197,8 @@ def test_program_driven_reflectivity_turns_reflection_on():
     scene.set_light("key", point_light(10))
     job = wn.RenderJob(scene, wn.Settings(width=8, height=8))
     finish(job)
-    assert any(line.startswith("reflection: on") for line in job.stats()["effects"])
+    reflection = next(e for e in job.stats()["effects"] if e["name"] == "reflection")
+    assert reflection["on"], reflection
     # Rays leave where u > 0 (every column but the u = 0 edge): the same count as pixels with
     # a non-zero weight would send, at most one per pixel.
     assert 0 < job.stats()["rays"]["reflection"] <= 64

@@ -202,6 +202,29 @@ def test_a_mesh_moves_into_the_scene_and_vertex_normals_shade_as_corner_normals(
     np.testing.assert_array_equal(image, by_vertex)
 
 
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        ({"color": (np.inf, 1, 1)}, "light colour, position and axes must be finite"),
+        ({"direction": (0, 0, 0)}, "light direction must not be zero"),
+        ({"spot_size": np.nan}, "light spot size, blend and area size must be finite"),
+        ({"radius": np.inf}, "light radius and angle must be finite"),
+        ({"samples": 65}, "light samples must be between 1 and 64"),
+    ],
+)
+def test_the_core_refuses_what_cannot_be_a_light(fields, message):
+    with pytest.raises(ValueError, match=message):
+        wn.Light(**fields)
+
+
+def test_the_core_clamps_a_light_to_the_nearest_one():
+    light = wn.Light(color=(-1, 2, 3), direction=(0, 0, -4), radius=-1, angle=7)
+    assert light.color == (0, 2, 3)
+    assert light.direction == (0, 0, -1)
+    assert light.radius == 0
+    assert light.angle == pytest.approx(np.pi)
+
+
 def test_bad_values_raise_instead_of_crashing():
     scene = wn.Scene()
     with pytest.raises(ValueError):
@@ -254,8 +277,13 @@ def test_analysis_names_what_it_skips_and_forcing_everything_changes_no_pixel():
     pruned = wn.RenderJob(scene, wn.Settings(width=16, height=16, cutoff=0.0))
     forced = wn.RenderJob(scene, wn.Settings(width=16, height=16, analysis=False))
     np.testing.assert_array_equal(finish(pruned), finish(forced))
-    assert "reflection: off, no reflective or transmissive material" in pruned.stats()["effects"]
-    assert forced.stats()["effects"] == ["analysis: off, every effect forced on, no ray skipped"]
+    off = {"name": "reflection", "on": False, "why": "no reflective or transmissive material"}
+    assert off in pruned.stats()["effects"]
+    assert [e["name"] for e in pruned.stats()["effects"]] == [
+        *("shadows", "reflection", "refraction", "translucency", "pruning")
+    ]
+    forced_on = {"name": "analysis", "on": False, "why": "every effect forced on, no ray skipped"}
+    assert forced.stats()["effects"] == [forced_on]
     assert pruned.stats()["rays"]["reflection"] == 0
     assert forced.stats()["rays"]["reflection"] > 0
     assert set(pruned.stats()["shadow_rays_skipped"]) == {"backfacing", "unlit", "cutoff"}

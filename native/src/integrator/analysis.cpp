@@ -1,12 +1,13 @@
 #include "integrator/analysis.h"
 
+#include <utility>
+
 namespace whitted {
 namespace {
 
-void decide(Effects* effects, uint32_t bit, bool on, const std::string& name,
-            const std::string& why) {
+void decide(Effects* effects, uint32_t bit, bool on, std::string name, std::string why) {
   if (!on) effects->bits &= ~bit;
-  effects->reasons.push_back(name + (on ? ": on, " : ": off, ") + why);
+  effects->decisions.push_back({std::move(name), on, std::move(why)});
 }
 
 }  // namespace
@@ -15,7 +16,7 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
   Effects effects;
   if (!settings.analysis) {
     effects.bits = kAllEffects & ~kPruningEffect;
-    effects.reasons.emplace_back("analysis: off, every effect forced on, no ray skipped");
+    effects.decisions.push_back({"analysis", false, "every effect forced on, no ray skipped"});
     return effects;
   }
   // Only materials some instance uses can contribute.

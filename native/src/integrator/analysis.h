@@ -23,10 +23,19 @@ enum EffectBits : uint32_t {
   kAllEffects = (1u << 5) - 1,
 };
 
+// One decision of the analysis: an effect's name, whether it is simulated, and why
+// ({"refraction", false, "no transmissive material"}).
+struct EffectDecision {
+  std::string name;
+  bool on = true;
+  std::string why;
+
+  bool operator==(const EffectDecision&) const = default;
+};
+
 struct Effects {
   uint32_t bits = kAllEffects;
-  // One line per effect: "reflection: off, no reflective or transmissive material".
-  std::vector<std::string> reasons;
+  std::vector<EffectDecision> decisions;  // one per effect, in EffectBits order
   bool has(uint32_t bit) const { return (bits & bit) != 0; }
 };
 

@@ -70,7 +70,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
   stats_.lights = scene_->lights.size();
   const WhittedIntegrator integrator(*scene_, settings_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
-  stats_.effects = integrator.effects().reasons;
+  stats_.effects = integrator.effects().decisions;
 }
 
 RenderJob::~RenderJob() {

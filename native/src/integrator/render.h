@@ -34,9 +34,9 @@ struct RenderStats {
   size_t instances = 0;
   size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;
-  bool cancelled = false;            // stopped before the end: cancel(), or a worker failed
-  std::string error;                 // what the first failing worker threw; empty when none did
-  std::vector<std::string> effects;  // what the scene analysis simulated and skipped, why
+  bool cancelled = false;               // stopped before the end: cancel(), or a worker failed
+  std::string error;                    // what the first failing worker threw; empty when none did
+  std::vector<EffectDecision> effects;  // what the scene analysis simulated and skipped, why
 };
 
 // Where a render is in its schedule.

@@ -208,7 +208,7 @@ class Kernel {
       kr += kt * f;
       kt *= 1.0f - f;
       total_internal_reflection = !refracts;
-      if (!refracts) counts->total_internal_reflection += 1;
+      if (!refracts) counts->total_internal_reflections += 1;
     }
     // The coat's mirror on top; beneath it, the base's rays get what the coat lets through.
     // One mirror ray: about the coat's normal where the coat gives most of its weight.
@@ -252,7 +252,7 @@ class Kernel {
       return Color(0.0f);
     }
     if (has(kPruningEffect) && max_component(next.weight) < settings_.cutoff) {
-      counts->cutoff += 1;  // its contribution could no longer show
+      counts->cutoff_skipped += 1;  // its contribution could no longer show
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kCutoff);
       return Color(0.0f);
     }
@@ -284,12 +284,12 @@ class Kernel {
         // coarse smooth mesh.
         if constexpr (has(kPruningEffect)) {
           if (cos_l <= 0.0f) {
-            counts->shadow_backfacing += 1;
+            counts->shadow_rays_skipped.backfacing += 1;
             if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kBackfacing;
             continue;
           }
           if (is_black(ls.irradiance)) {
-            counts->shadow_unlit += 1;  // outside a spot's cone, behind an area light
+            counts->shadow_rays_skipped.unlit += 1;  // outside a spot's cone, behind an area light
             if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kUnlit;
             continue;
           }
@@ -321,7 +321,7 @@ class Kernel {
           // would each fall below the cutoff and soft shadows would fade.
           const float whole_light = static_cast<float>(light.sample_count());
           if (max_component(path.weight * contribution) * whole_light < settings_.cutoff) {
-            counts->shadow_cutoff += 1;
+            counts->shadow_rays_skipped.cutoff += 1;
             radiance += contribution;
             continue;
           }
@@ -458,12 +458,12 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   reflection += o.reflection;
   refraction += o.refraction;
   transparent += o.transparent;
-  total_internal_reflection += o.total_internal_reflection;
+  total_internal_reflections += o.total_internal_reflections;
   depth_limited += o.depth_limited;
-  cutoff += o.cutoff;
-  shadow_backfacing += o.shadow_backfacing;
-  shadow_unlit += o.shadow_unlit;
-  shadow_cutoff += o.shadow_cutoff;
+  cutoff_skipped += o.cutoff_skipped;
+  shadow_rays_skipped.backfacing += o.shadow_rays_skipped.backfacing;
+  shadow_rays_skipped.unlit += o.shadow_rays_skipped.unlit;
+  shadow_rays_skipped.cutoff += o.shadow_rays_skipped.cutoff;
   nonfinite_samples += o.nonfinite_samples;
   return *this;
 }

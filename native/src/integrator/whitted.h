@@ -15,19 +15,23 @@
 namespace whitted {
 
 // Rays traced by type, and rays not traced by reason, per thread, summed after each tile.
+// Named as in the statistics dict and JSON (addon/stats.py).
 struct RayCounts {
   uint64_t camera = 0;
   uint64_t shadow = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
-  uint64_t transparent = 0;                // continuations behind cut-outs (alpha < 1)
-  uint64_t total_internal_reflection = 0;  // refracted rays that became reflections
-  uint64_t depth_limited = 0;              // secondary rays not traced: maximum depth
-  uint64_t cutoff = 0;                     // secondary rays not traced: weight below cutoff
-  uint64_t shadow_backfacing = 0;          // feelers not sent: light behind the surface
-  uint64_t shadow_unlit = 0;               // feelers not sent: no light arrives (spot cone)
-  uint64_t shadow_cutoff = 0;              // feelers not sent: contribution below cutoff
-  uint64_t nonfinite_samples = 0;          // samples discarded as NaN or infinite
+  uint64_t transparent = 0;                 // continuations behind cut-outs (alpha < 1)
+  uint64_t total_internal_reflections = 0;  // refracted rays that became reflections
+  uint64_t depth_limited = 0;               // secondary rays not traced: maximum depth
+  uint64_t cutoff_skipped = 0;              // secondary rays not traced: weight below cutoff
+  // Shadow feelers not sent, by reason.
+  struct ShadowRaysSkipped {
+    uint64_t backfacing = 0;  // the light is behind the surface
+    uint64_t unlit = 0;       // no light arrives (outside a spot's cone, behind an area light)
+    uint64_t cutoff = 0;      // the light's contribution is below the cutoff
+  } shadow_rays_skipped;
+  uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
 
   RayCounts& operator+=(const RayCounts& o);
   uint64_t total() const { return camera + shadow + reflection + refraction + transparent; }

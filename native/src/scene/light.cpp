@@ -1,9 +1,16 @@
 #include "scene/light.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace whitted {
 namespace {
+
+void require_finite(bool finite, const char* what) {
+  if (!finite) throw std::invalid_argument(std::string("light ") + what + " must be finite");
+}
 
 // Cone falloff as Cycles defines it: zero outside the half angle, a smoothstep over the
 // blend band inside it.
@@ -65,6 +72,31 @@ void basis(const Vec3& w, Vec3* u, Vec3* v) {
 }
 
 }  // namespace
+
+Light::Light(const LightParams& params) : LightParams(params) {
+  for (const Vec3* v : {&color, &position, &direction, &axis_u, &axis_v}) {
+    require_finite(is_finite(*v), "colour, position and axes");
+  }
+  require_finite(std::isfinite(spot_size) && std::isfinite(spot_blend) && std::isfinite(size[0]) &&
+                     std::isfinite(size[1]),
+                 "spot size, blend and area size");
+  require_finite(std::isfinite(radius) && std::isfinite(angle), "radius and angle");
+  if (glm::length(direction) == 0.0f) {
+    throw std::invalid_argument("light direction must not be zero");
+  }
+  if (samples < 1 || samples > kMaxLightSamples) {
+    throw std::invalid_argument("light samples must be between 1 and " +
+                                std::to_string(kMaxLightSamples));
+  }
+  color = glm::max(color, Vec3(0.0f));  // negative power emits nothing
+  direction = glm::normalize(direction);
+  spot_size = std::clamp(spot_size, 0.0f, kPi);
+  spot_blend = std::clamp(spot_blend, 0.0f, 1.0f);
+  size[0] = std::max(0.0f, size[0]);
+  size[1] = std::max(0.0f, size[1]);
+  radius = std::max(0.0f, radius);
+  angle = std::clamp(angle, 0.0f, kPi);
+}
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {
   const float share = 1.0f / static_cast<float>(light.sample_count());

@@ -1,4 +1,5 @@
-// Lights, in the units Cycles uses, and the feelers a shading point sends to them.
+// Lights, in the units Cycles uses, checked on construction, and the feelers a shading
+// point sends to them.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +11,9 @@ namespace whitted {
 enum class LightType { kPoint, kSpot, kSun, kArea };
 enum class AreaShape { kRectangle, kEllipse };
 
-struct Light {
+// A light as the exporter describes it, in the units Cycles uses. Light's constructor
+// checks and normalises it; these defaults are a valid 1 W/sr point light.
+struct LightParams {
   LightType type = LightType::kPoint;
   // In the light's own unit, light colour included: radiant intensity (W/sr) for point and
   // spot, irradiance (W/m^2) for sun, radiance (W/(m^2 sr)) for area.
@@ -29,6 +32,19 @@ struct Light {
   float angle = 0.0f;   // sun: full apex angle of the sun's disc, radians
   int samples = 1;      // per axis for sized lights: samples x samples feelers
   bool cast_shadows = true;
+};
+
+// The samples per axis a sized light may ask for (64 x 64 feelers per shading point).
+inline constexpr int kMaxLightSamples = 64;
+
+struct Light : LightParams {
+  Light() = default;
+  // Throws std::invalid_argument for what cannot be a light (a non-finite colour, point,
+  // axis, radius or angle; a zero direction; samples outside 1..kMaxLightSamples) and
+  // clamps what has an obvious nearest light: negative colour to 0 (it emits nothing),
+  // spot size to [0, pi], blend to [0, 1], negative sizes and radius to 0, the sun's
+  // angle to [0, pi]. The direction is normalised.
+  explicit Light(const LightParams& params);
 
   bool sized() const {
     return type == LightType::kArea || (type == LightType::kSun ? angle > 0.0f : radius > 0.0f);

@@ -36,7 +36,9 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "emission", "alpha",      "normal",    "coat_specular", "coat_reflectivity", "coat_shininess",
     "coat_ior", "coat_normal"};
 
-struct Material {
+// A material as the exporter describes it. Material's constructor checks it; these
+// defaults are a valid grey Lambertian material.
+struct MaterialParams {
   Color diffuse{0.8f};         // albedo kd: the diffuse term is kd/pi * E
   Color specular{0.0f};        // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
   float shininess = 50.0f;     // Phong exponent f
@@ -59,16 +61,26 @@ struct Material {
   // surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for specular
   // lobes only, and Whitted then not at all).
   bool valid_reflection = false;
-  std::string diffuse_texture;  // multiplies `diffuse` by its RGB ("" for none)
-  std::string alpha_texture;    // multiplies `alpha` by its A ("" for none)
+  std::string diffuse_texture{};  // multiplies `diffuse` by its RGB ("" for none)
+  std::string alpha_texture{};    // multiplies `alpha` by its A ("" for none)
+  // Fields a program computes per hit: the register holding each after the program, -1
+  // for the constant above.
+  std::shared_ptr<const Program> program{};
+  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1,
+                                              -1, -1, -1, -1, -1, -1, -1};
+};
+
+struct Material : MaterialParams {
+  Material() = default;
+  // Throws std::invalid_argument for what cannot be a material (a non-finite colour,
+  // shininess, ambient, IOR, alpha or coat value; an IOR or coat IOR not above 0; outputs
+  // without a program, or naming a register it does not have) and clamps alpha to [0, 1].
+  explicit Material(const MaterialParams& params);
+
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).
   int32_t diffuse_texture_index = -1;
   int32_t alpha_texture_index = -1;
-  // Fields a program computes per hit: the register holding each after the program, -1
-  // for the constant above. The program's texture slots are resolved by Scene::compile.
-  std::shared_ptr<const Program> program;
-  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1,
-                                              -1, -1, -1, -1, -1, -1, -1};
+  // The program's images, resolved by Scene::compile.
   std::vector<const ImageTexture*> program_images;
 
   bool driven(Field field) const { return outputs[field] >= 0; }

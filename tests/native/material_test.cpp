@@ -1,0 +1,60 @@
+// Material's constructor: what cannot be a material is refused with the reason, alpha is
+// clamped, and program outputs must name registers the program has.
+#include "scene/material.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace whitted {
+namespace {
+
+std::string refusal(const MaterialParams& params) {
+  try {
+    const Material material(params);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(Material, ConstructorRefusesWhatCannotBeAMaterial) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(refusal({}), "");
+  EXPECT_EQ(refusal({.emission = Color(0.0f, inf, 0.0f)}), "material colours must be finite");
+  EXPECT_EQ(refusal({.shininess = nan}),
+            "material shininess, ambient and ior must be finite and ior positive");
+  EXPECT_EQ(refusal({.ior = 0.0f}),
+            "material shininess, ambient and ior must be finite and ior positive");
+  EXPECT_EQ(refusal({.alpha = nan}), "alpha must be finite");
+  EXPECT_EQ(refusal({.coat_shininess = inf}), "coat values must be finite");
+  EXPECT_EQ(refusal({.coat_ior = -1.0f}), "coat_ior must be positive");
+  MaterialParams driven;
+  driven.outputs[kAlphaField] = 0;
+  EXPECT_EQ(refusal(driven), "material outputs need a program");
+}
+
+TEST(Material, ConstructorChecksOutputsAgainstTheProgramsRegisters) {
+  // One instruction-free program with two registers: outputs 0 and 1 exist, 2 does not.
+  MaterialParams params;
+  const std::vector<float> registers(2 * 4, 0.0f);
+  params.program = std::make_shared<Program>(nullptr, 0, registers.data(), 2, std::vector<float>{},
+                                             std::vector<std::string>{});
+  params.outputs[kDiffuseField] = 1;
+  EXPECT_EQ(refusal(params), "");
+  params.outputs[kIorField] = 2;
+  EXPECT_EQ(refusal(params), "output 'ior' register 2 out of range (2 registers)");
+}
+
+TEST(Material, ConstructorClampsAlpha) {
+  EXPECT_EQ(Material({.alpha = 3.0f}).alpha, 1.0f);
+  EXPECT_EQ(Material({.alpha = -1.0f}).alpha, 0.0f);
+}
+
+}  // namespace
+}  // namespace whitted
