@@ -24,8 +24,9 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import gallery_materials
-import harness
 import shader_graphs
+from whitted_tools.cli import script_args
+from whitted_tools.pages import machine_lines
 
 WIDTH, HEIGHT = 480, 270
 AA_SAMPLES = 4
@@ -43,7 +44,7 @@ def parse_args():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", required=True, help="the docs directory to write into")
     parser.add_argument("--repeats", type=int, default=REPEATS)
-    return parser.parse_args(harness.script_args())
+    return parser.parse_args(script_args())
 
 
 def build_scene():
@@ -175,7 +176,7 @@ def main():
         "rays": rays,
         "program_over_constant": best["program"] / best["constant"],
         "textured_over_constant": best["textured"] / best["constant"],
-        "machine": harness.machine_lines(),
+        "machine": machine_lines(),
         "commands": list(COMMANDS),
     }
     version = ".".join(str(v) for v in bpy.app.version[:2])
