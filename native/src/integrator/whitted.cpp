@@ -105,7 +105,7 @@ class Kernel {
       [[maybe_unused]] int node = -1;  // recording: this layer's node
       if constexpr (kRecord) {
         node = record_ray(r, path, layer == 0 ? tree_->next_kind : TreeRayKind::kTransparent,
-                          layer == 0 ? tree_->current : previous, behind);
+                          layer == 0 ? tree_->current : previous, Color(behind));
       }
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
@@ -372,16 +372,17 @@ class Kernel {
   // What a shader program may ask of a ray on `path` besides the ray.
   RayContext context(const PathState& path) const { return {&camera_, path.depth}; }
 
-  // The inspector's records (kRecord only): a ray of the tree, `behind` the share of it
-  // not yet covered by cut-outs in front.
+  // The inspector's records (kRecord only): a ray of the tree, `share` its part of the
+  // weight the tree's position carries (the part not yet covered by cut-outs in front,
+  // or the sigma_r / sigma_t of the surface being shaded).
   int record_ray(const Ray& ray, const PathState& path, TreeRayKind kind, int parent,
-                 float behind) const {
+                 const Color& share) const {
     RayTreeNode node;
     node.kind = kind;
     node.depth = path.depth;
     node.origin = ray.origin;
     node.direction = ray.direction;
-    node.weight = tree_->scale * behind;
+    node.weight = tree_->scale * share;
     return tree_->add(node, parent);
   }
   void record_end(int node, const Interaction& it) const {
@@ -398,14 +399,8 @@ class Kernel {
   // A secondary ray of `weight` (relative to the surface being shaded) that was not traced.
   void record_cut(const Ray& ray, const PathState& next, TreeRayKind kind, const Color& weight,
                   TreeCut cut) const {
-    RayTreeNode node;
-    node.kind = kind;
-    node.depth = next.depth;
-    node.origin = ray.origin;
-    node.direction = ray.direction;
-    node.weight = tree_->scale * weight;
-    node.cut = cut;
-    tree_->add(node, tree_->current);
+    const int node = record_ray(ray, next, kind, tree_->current, weight);
+    tree_->nodes[static_cast<size_t>(node)].cut = cut;
   }
   int record_feeler(const Interaction& it, const LightSample& ls, const Light& light,
                     const PathState& path) const {
@@ -426,11 +421,7 @@ class Kernel {
     node.transmittance = transmittance;
     Hit hit;
     if (transmittance != Color(1.0f) && scene_.accel->intersect(ray, &hit)) {
-      const Interaction it = scene_.interaction(ray, hit);
-      node.hit = true;
-      node.end = it.position;
-      node.instance = static_cast<int32_t>(it.instance);
-      node.material = static_cast<int32_t>(it.material_index);
+      record_end(feeler, scene_.interaction(ray, hit));
     }
   }
 
