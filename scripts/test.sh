@@ -61,8 +61,12 @@ step_ctest() {
 
 # The native tests again, built with AddressSanitizer and UndefinedBehaviorSanitizer
 # (only the core and its tests: a sanitized Python module could not be loaded).
+# -O1 -g1 (the optimisation ASan's authors recommend, and line tables for the
+# reports): whitted.cpp, one kernel per effect set, compiles in a quarter of the time
+# it takes at -O2 -g under the sanitizers (98 s against 358 s in session 5).
 step_ctest_sanitized() {
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DWHITTED_SANITIZE=ON -DWHITTED_PYTHON=OFF -DWHITTED_TESTS=ON
   cmake --build build-asan --parallel "$JOBS"
   export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -203,11 +203,15 @@ def test_a_cancelled_render_stops_well_within_a_second(progressive):
 
 def _thread_nice_values():
     # Field 19 of /proc/<pid>/task/<tid>/stat is the thread's nice value (after the
-    # command name in parentheses, which may hold spaces).
+    # command name in parentheses, which may hold spaces). A worker may exit between
+    # the listing and the read: its entry is gone, and it is skipped.
     values = []
     for tid in os.listdir("/proc/self/task"):
-        with open(f"/proc/self/task/{tid}/stat", encoding="ascii") as stat:
-            fields = stat.read().rsplit(")", 1)[1].split()
+        try:
+            with open(f"/proc/self/task/{tid}/stat", encoding="ascii") as stat:
+                fields = stat.read().rsplit(")", 1)[1].split()
+        except (FileNotFoundError, ProcessLookupError):
+            continue
         values.append(int(fields[16]))
     return values
 
