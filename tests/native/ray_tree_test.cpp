@@ -17,6 +17,7 @@ using testing::add_object;
 using testing::clear;
 using testing::glass_and_mirror_scene;
 using testing::looking_down;
+using testing::occluder_over_floor;
 using testing::quad;
 
 void finish(RenderJob* job) {
@@ -202,16 +203,7 @@ TEST(RayTree, SteepRayInsideGlassIsTotallyReflected) {
 }
 
 TEST(RayTree, FeelerNamesItsBlockerAndPixelsOutsideTheImageAreRefused) {
-  Scene scene;
-  Material white;
-  white.ambient = 0.0f;
-  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
-  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f), white);
-  Light light;
-  light.color = Color(10.0f);
-  light.position = Vec3(0.0f, 0.0f, 2.0f);
-  scene.set_light("light", light);
-  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 3.0f);
+  const Scene scene = occluder_over_floor(3.0f);
   Settings settings;
   settings.width = settings.height = 31;
   const RenderJob job(scene, settings, scene.camera);

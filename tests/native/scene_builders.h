@@ -56,6 +56,23 @@ inline Camera looking_down(Vec3 position, float half) {
   return c;
 }
 
+// A white 40x40 floor at z = 0, a white 1x1 blocker at height 1 and a point light of
+// colour 10 at height 2 (no ambient), seen by a camera looking down from height 5 with a
+// window of half-width `half`. The blocker's hard shadow is the square |x|,|y| < 1.
+inline Scene occluder_over_floor(float half) {
+  Scene scene;
+  Material white;
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f), white);
+  Light light;
+  light.color = Color(10.0f);
+  light.position = Vec3(0.0f, 0.0f, 2.0f);
+  scene.set_light("light", light);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), half);
+  return scene;
+}
+
 // A floor, a glass pane and a mirror under a point light and an area light: every
 // effect, for tests of the render driver.
 inline Scene glass_and_mirror_scene() {

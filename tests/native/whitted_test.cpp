@@ -15,6 +15,7 @@ using testing::add_object;
 using testing::clear;
 using testing::emitter;
 using testing::looking_down;
+using testing::occluder_over_floor;
 using testing::quad;
 
 // Every pixel of a Lambertian plane under a point light is kd/pi * I cos(theta) / r^2.
@@ -59,16 +60,7 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
 }
 
 TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
-  Scene scene;
-  Material white;
-  white.ambient = 0.0f;
-  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
-  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f), white);
-  Light light;
-  light.color = Color(10.0f);
-  light.position = Vec3(0.0f, 0.0f, 2.0f);
-  scene.set_light("light", light);
-  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1.0f);
+  const Scene scene = occluder_over_floor(1.0f);
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
