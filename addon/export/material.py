@@ -83,6 +83,8 @@ class MaterialData:
     coat_ior: float = 1.5
     # Cycles 3.x turns a mapped normal so the view's mirror stays above the surface.
     valid_reflection: bool = False
+    # How the diffuse lobe under a mapped normal fades (native BumpShadowing's name).
+    bump_shadowing: str = "NONE"
 
 
 @dataclass(frozen=True)
@@ -163,7 +165,7 @@ def map_material(material, warnings, programs=False):
     fields = finish(lowering, surface(lowering, output_node))
     exported = _fixed(fields, lowering)
     if exported is None and programs:
-        exported = _programmed(fields, lowering)
+        exported = _programmed(fields, lowering, _bump_shadowing(material))
     if exported is None:
         # The graph needs a program this native module cannot run: lower it again
         # with only what the fixed material shows, the rest at unlinked values.
@@ -226,13 +228,17 @@ def _fixed(fields, lowering, approximate=False):
     return MaterialExport(data, unique)
 
 
-def _programmed(fields, lowering):
+def _programmed(fields, lowering, bump_shadowing):
     program, outputs = emit(fields)
     values = {name: evaluate(fields[name], _stand_in) for name in PROGRAM_FIELDS}
     # Cycles 3.x lifts every BSDF's normal that way (ensure_valid_reflection); 4.x+ only
     # its specular lobes' (not modelled).
-    lifted = "normal" in outputs and bpy.app.version < (4, 0, 0)
-    data = replace(_material_data(values), valid_reflection=lifted)
+    mapped = "normal" in outputs
+    data = replace(
+        _material_data(values),
+        valid_reflection=mapped and bpy.app.version < (4, 0, 0),
+        bump_shadowing=bump_shadowing if mapped else "NONE",
+    )
     textures = tuple(lowering.textures[name] for name in program.textures)
     needs = lowering.needs
     return MaterialExport(
@@ -245,6 +251,20 @@ def _programmed(fields, lowering):
         tangents=tuple(sorted(needs.tangents)),
         object_info=needs.object_info,
     )
+
+
+def _bump_shadowing(material):
+    """How Cycles fades a diffuse closure whose normal a graph changed, towards the
+    smooth surface's horizon: Blender 3.x by Chiang et al.'s term; where the material
+    has Cycles' Bump Map Correction (5.0 has it, default on) by Conty Estevez et al.'s
+    GGX term when it is on, else it only cuts light under the smooth surface. A 4.x
+    without that setting is taken as 3.x (4.1's Cycles source still has Chiang's term;
+    no 4.x was rendered here); 5.0 with the Cycles add-on off, as the setting's default."""
+    settings = getattr(material, "cycles", None)
+    correction = getattr(settings, "use_bump_map_correction", None)
+    if correction is None:
+        return "CHIANG" if bpy.app.version < (5, 0, 0) else "MICROFACET"
+    return "MICROFACET" if correction else "SMOOTH_SIDE"
 
 
 def _material_data(values, **textures):

@@ -25,6 +25,7 @@ def native_camera(native, camera):
 def native_material(native, material):
     # export.material.MaterialExport as a native.Material, with its shader program.
     fields = asdict(material.data)
+    fields["bump_shadowing"] = getattr(native.BumpShadowing, material.data.bump_shadowing)
     if material.program is not None:
         fields["program"] = native_program(native, material.program)
         fields["outputs"] = dict(material.outputs)

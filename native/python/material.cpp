@@ -33,6 +33,13 @@ std::array<int32_t, kFieldCount> field_outputs(const std::map<std::string, int64
 
 void bind_material(py::module_& m) {
   const MaterialParams defaults;
+  py::enum_<BumpShadowing>(m, "BumpShadowing",
+                           "How a diffuse lobe under a program's normal fades towards the smooth "
+                           "surface's horizon (Cycles' bump shadowing term, by Blender version).")
+      .value("NONE", BumpShadowing::kNone)
+      .value("SMOOTH_SIDE", BumpShadowing::kSmoothSide)
+      .value("CHIANG", BumpShadowing::kChiang)
+      .value("MICROFACET", BumpShadowing::kMicrofacet);
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
                        Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,
@@ -40,7 +47,7 @@ void bind_material(py::module_& m) {
                        std::shared_ptr<Program> program,
                        const std::map<std::string, int64_t>& outputs, float coat_specular,
                        float coat_reflectivity, float coat_shininess, float coat_ior,
-                       bool valid_reflection) {
+                       bool valid_reflection, BumpShadowing bump_shadowing) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
@@ -56,6 +63,7 @@ void bind_material(py::module_& m) {
                                             .coat_shininess = coat_shininess,
                                             .coat_ior = coat_ior,
                                             .valid_reflection = valid_reflection,
+                                            .bump_shadowing = bump_shadowing,
                                             .diffuse_texture = std::move(diffuse_texture),
                                             .alpha_texture = std::move(alpha_texture),
                                             .program = std::move(program),
@@ -73,6 +81,7 @@ void bind_material(py::module_& m) {
            py::arg("coat_shininess") = defaults.coat_shininess,
            py::arg("coat_ior") = defaults.coat_ior,
            py::arg("valid_reflection") = defaults.valid_reflection,
+           py::arg("bump_shadowing") = defaults.bump_shadowing,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
@@ -95,6 +104,7 @@ void bind_material(py::module_& m) {
       .def_readonly("valid_reflection", &Material::valid_reflection,
                     "Cycles 3.x: turn a program's normal so the view's mirror stays above "
                     "the surface.")
+      .def_readonly("bump_shadowing", &Material::bump_shadowing)
       .def_readonly("priority", &Material::priority,
                     "Nested dielectrics: where two transmissive objects overlap, the higher "
                     "priority owns the overlap (ties: the one entered last).")

@@ -67,3 +67,41 @@ def test_valid_reflection_lifts_a_mapped_normal_as_cycles_3():
     # Lifted until the view's mirror leaves at height 0.01: 2 z^2 - 1 = 0.01.
     z = math.sqrt(0.505)
     assert centre(tilted_normal_material(True)) == pytest.approx([z * base] * 3, rel=1e-4)
+
+
+def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
+    # The 60-degree normal under a sun 20 degrees above the floor on the side it leans
+    # to (n.l = cos 10), and under one 5 degrees below the floor, which only the mapped
+    # normal sees: Cycles fades the first (3.x: Chiang et al.'s cubic; 4.x+: the GGX
+    # masking of Conty Estevez et al.) and cuts the second.
+    def lit(bump_shadowing, elevation):
+        scene = lit_floor_scene()
+        e = math.radians(elevation)
+        direction = (-math.cos(e), 0.0, -math.sin(e))  # the way the light travels
+        scene.set_light(
+            "key", wn.Light(type=wn.LightType.SUN, color=(1.0,) * 3, direction=direction)
+        )
+        program = tilted_normal_material(False)
+        material = wn.Material(
+            diffuse=(0.5,) * 3,
+            ambient=0.0,
+            program=program.program,
+            outputs=program.outputs,
+            bump_shadowing=bump_shadowing,
+        )
+        scene.set_material("white", material)
+        return finish(wn.RenderJob(scene, wn.Settings(width=33, height=33)))[16, 16, 0]
+
+    base = 0.5 / math.pi * math.cos(math.radians(10.0))
+    modes = wn.BumpShadowing
+    assert lit(modes.NONE, 20.0) == pytest.approx(base, rel=1e-4)
+    cos_si, cos_sn, cos_ni = math.sin(math.radians(20.0)), 0.5, math.cos(math.radians(10.0))
+    g = cos_si / (cos_ni * cos_sn)
+    assert lit(modes.CHIANG, 20.0) == pytest.approx(base * (g + g * g - g**3), rel=1e-4)
+    alpha2 = 0.125 * (1.0 / cos_sn**2 - 1.0)
+    masking = 2.0 / (1.0 + math.sqrt(1.0 + alpha2 * (1.0 / cos_si**2 - 1.0)))
+    assert lit(modes.MICROFACET, 20.0) == pytest.approx(base * masking, rel=1e-4)
+    assert lit(modes.SMOOTH_SIDE, 20.0) == pytest.approx(base, rel=1e-4)
+    assert lit(modes.NONE, -5.0) > 0.1 * base
+    for mode in (modes.SMOOTH_SIDE, modes.CHIANG, modes.MICROFACET):
+        assert lit(mode, -5.0) == 0.0

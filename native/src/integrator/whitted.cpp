@@ -273,6 +273,10 @@ class Kernel {
     Color radiance = base * it.material->ambient * scene_.ambient * surface.diffuse;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * radiance;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
+    // The interpolated normal on the ray's side: a program's normal fades the diffuse
+    // lobe towards its horizon as Cycles does (diffuse_shadowing).
+    const Vec3 smooth =
+        glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
     for (const Light& light : scene_.lights) {
       for (int s = 0; s < light.sample_count(); ++s) {
         const LightSample ls = sample_light(light, it.position, s);
@@ -295,7 +299,8 @@ class Kernel {
           }
         }
         const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
-        const Color brdf = surface.diffuse * kInvPi +
+        const float fade = diffuse_shadowing(it.material->bump_shadowing, smooth, n, ls.wi);
+        const Color brdf = surface.diffuse * (kInvPi * fade) +
                            surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess));
         const Color contribution =
             (base * std::max(0.0f, cos_l) * brdf + Color(coat_highlight(coat, wo, ls.wi))) *
@@ -304,7 +309,7 @@ class Kernel {
           // The coat's highlight counts as specular.
           const Color arriving = tree_->scale * ls.irradiance;
           const float lit = base * std::max(0.0f, cos_l);
-          tree_->nodes[feeler].diffuse = arriving * (lit * kInvPi) * surface.diffuse;
+          tree_->nodes[feeler].diffuse = arriving * (lit * kInvPi * fade) * surface.diffuse;
           tree_->nodes[feeler].specular =
               arriving *
               (lit * phong_norm * std::pow(v_dot_r, surface.shininess) * surface.specular +

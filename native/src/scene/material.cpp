@@ -20,6 +20,9 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
   }
   if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
+  if (static_cast<uint32_t>(bump_shadowing) > static_cast<uint32_t>(BumpShadowing::kMicrofacet)) {
+    throw std::invalid_argument("bump_shadowing is not a BumpShadowing");
+  }
   alpha = std::clamp(alpha, 0.0f, 1.0f);
   // Every output a register of the program that computes it.
   for (size_t f = 0; f < kFieldCount; ++f) {
@@ -31,6 +34,34 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
                                   std::to_string(program->register_count()) + " registers)");
     }
   }
+}
+
+float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n, const Vec3& wi) {
+  if (model == BumpShadowing::kNone || n == smooth) return 1.0f;
+  const float cos_si = glm::dot(smooth, wi);  // the light's height over the smooth surface
+  const float cos_sn = glm::dot(smooth, n);   // how far the normal leans from it
+  const float cos_ni = glm::dot(n, wi);
+  if (model == BumpShadowing::kChiang) {
+    // g is 1 where the tilted facet is no more lit than the smooth surface would be;
+    // below that the cubic g + g^2 - g^3 takes the light smoothly to 0 at the smooth
+    // surface's horizon (and beyond it, none).
+    const float denominator = cos_ni * cos_sn;
+    const float g = denominator != 0.0f ? cos_si / denominator : 0.0f;
+    if (g >= 1.0f) return 1.0f;
+    if (g < 0.0f) return 0.0f;
+    return g + g * g - g * g * g;
+  }
+  // Light and normal on different sides of the smooth surface: none.
+  if (cos_si * cos_sn * cos_ni < 0.0f) return 0.0f;
+  if (model == BumpShadowing::kSmoothSide) return 1.0f;
+  const float cos_i = std::fabs(cos_si), cos_d = std::fabs(cos_sn);
+  if (cos_d >= 1.0f || cos_i >= 1.0f) return 1.0f;
+  if (cos_i < 1e-6f) return 0.0f;
+  // The tilt as the roughness of a GGX surface (alpha^2 = tan^2(tilt) / 8, at most 1), and
+  // Smith's masking of that surface for light at the smooth surface's angle cos_i.
+  const float alpha2 = std::clamp(0.125f * (1.0f / (cos_d * cos_d) - 1.0f), 0.0f, 1.0f);
+  const float tan2_i = 1.0f / (cos_i * cos_i) - 1.0f;
+  return 2.0f / (1.0f + std::sqrt(1.0f + alpha2 * tan2_i));
 }
 
 }  // namespace whitted

@@ -36,6 +36,18 @@ inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "emission", "alpha",      "normal",    "coat_specular", "coat_reflectivity", "coat_shininess",
     "coat_ior", "coat_normal"};
 
+// How a diffuse lobe shaded with a program's normal (a normal map, a bump) fades where
+// that normal leans towards a light the smooth surface turns away from: Cycles' bump
+// shadowing term, which differs by Blender version (diffuse_shadowing).
+enum class BumpShadowing : uint32_t {
+  kNone,        // no fading: the normal is the interpolated one
+  kSmoothSide,  // only light under the smooth surface is cut (Cycles 4.x+, bump map
+                // correction off)
+  kChiang,      // Chiang, Li & Burley 2019, "Taming the Shadow Terminator" (Cycles 3.x)
+  kMicrofacet,  // Conty Estevez, Lecocq & Stein 2019, a GGX shadowing term from the
+                // normal's tilt (Cycles 4.x+ with bump map correction on)
+};
+
 // A material as the exporter describes it. Material's constructor checks it; these
 // defaults are a valid grey Lambertian material.
 struct MaterialParams {
@@ -61,6 +73,7 @@ struct MaterialParams {
   // surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for specular
   // lobes only, and Whitted then not at all).
   bool valid_reflection = false;
+  BumpShadowing bump_shadowing = BumpShadowing::kNone;  // for a program's normal
   std::string diffuse_texture{};  // multiplies `diffuse` by its RGB ("" for none)
   std::string alpha_texture{};    // multiplies `alpha` by its A ("" for none)
   // Fields a program computes per hit: the register holding each after the program, -1
@@ -96,5 +109,10 @@ struct Material : MaterialParams {
     return transmissive() || alpha < 1.0f || alpha_texture_index >= 0 || driven(kAlphaField);
   }
 };
+
+// The factor on the diffuse lobe for light from `wi` when it is shaded with normal `n`
+// but the interpolated (smooth) normal is `smooth`, both unit and on the side the ray
+// comes from, as Cycles applies it to every diffuse closure whose normal was changed.
+float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n, const Vec3& wi);
 
 }  // namespace whitted
