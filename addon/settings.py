@@ -23,6 +23,7 @@ def native_settings(native, scene, width, height, film, quality=None):
         aa_depth=quality.aa_depth,
         cutoff=quality.cutoff,
         fresnel=getattr(native.Fresnel, quality.fresnel),
+        glass_shadows=getattr(native.GlassShadows, whitted.glass_shadows),
         # Blender's thread setting (Auto = all cores, or the -t command-line value).
         threads=scene.render.threads,
         tile_size=whitted.tile_size,

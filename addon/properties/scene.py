@@ -99,6 +99,26 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         ),
         default="EXACT",
     )
+    glass_shadows: EnumProperty(
+        name="Glass Shadows",
+        description="What a shadow feeler does where it meets glass (a refractive surface); "
+        "cut-outs (alpha, Transparent BSDF) always let it through",
+        items=(
+            (
+                "OPAQUE",
+                "Opaque",
+                "Glass casts a full shadow, as in Cycles and Whitted's 1980 tracer (light "
+                "focused through glass is a caustic, which neither traces)",
+            ),
+            (
+                "TINTED",
+                "Tinted",
+                "Feelers pass glass weighted by its transmission colour: lighter, coloured "
+                "shadows (Hall and Greenberg 1983)",
+            ),
+        ),
+        default="OPAQUE",
+    )
     cutoff: FloatProperty(
         name="Cutoff",
         description="Adaptive depth control: a reflected or refracted ray whose weight on "

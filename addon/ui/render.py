@@ -43,6 +43,7 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
             column.prop(settings, "aa_samples")
         column.prop(settings, "light_samples")
         column.prop(settings, "fresnel")
+        column.prop(settings, "glass_shadows")
         column.prop(settings, "texture_filter")
         column.prop(settings, "ambient_strength")
         column.prop(settings, "tile_size")

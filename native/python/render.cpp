@@ -107,12 +107,18 @@ void bind_render(py::module_& m) {
       .value("SCHLICK", Fresnel::kSchlick)
       .value("EXACT", Fresnel::kExact);
 
+  py::enum_<GlassShadows>(m, "GlassShadows",
+                          "What a shadow feeler does at glass: OPAQUE stops (a full shadow, as "
+                          "Cycles and Whitted 1980); TINTED passes, times its transmissivity.")
+      .value("OPAQUE", GlassShadows::kOpaque)
+      .value("TINTED", GlassShadows::kTinted);
+
   py::class_<Settings>(m, "Settings")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
                        float aa_threshold, int aa_depth, bool analysis, bool progressive,
-                       int start_pixel_size) {
+                       int start_pixel_size, GlassShadows glass_shadows) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -130,6 +136,7 @@ void bind_render(py::module_& m) {
              s.analysis = analysis;
              s.progressive = progressive;
              s.start_pixel_size = start_pixel_size;
+             s.glass_shadows = glass_shadows;
              s.validate();
              return s;
            }),
@@ -139,7 +146,7 @@ void bind_render(py::module_& m) {
            py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
            py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
            py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("progressive") = false,
-           py::arg("start_pixel_size") = 8,
+           py::arg("start_pixel_size") = 8, py::arg("glass_shadows") = GlassShadows::kOpaque,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -158,6 +165,7 @@ void bind_render(py::module_& m) {
                      "An estimate probe: trace one tile in every probe_stride^2, spread over "
                      "the border, each pixel as the full render traces it; 1: every tile.")
       .def_readwrite("fresnel", &Settings::fresnel)
+      .def_readwrite("glass_shadows", &Settings::glass_shadows)
       .def_property_readonly(
           "border",
           [](const Settings& s) {

@@ -80,6 +80,11 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
     assert settings.aa_depth == 2
     assert settings.fresnel == native.Fresnel.SCHLICK
     assert settings.cutoff == pytest.approx(0.02)
+    # Not a quality control but a look: glass casts a full shadow unless tinted.
+    assert settings.glass_shadows == native.GlassShadows.OPAQUE
+    empty_scene.whitted.glass_shadows = "TINTED"
+    tinted = native_settings(native, empty_scene, 40, 30, film)
+    assert tinted.glass_shadows == native.GlassShadows.TINTED
 
 
 def render_stats(scene, render_pixels):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 import whitted_native as wn
-from test_scene import finish, lit_floor_scene
+from test_scene import finish, lit_floor_scene, quad
 
 # Exact dielectric reflectance of IOR 1.5 at normal incidence.
 F0 = ((1.5 - 1.0) / (1.5 + 1.0)) ** 2
@@ -105,3 +105,28 @@ def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
     assert lit(modes.NONE, -5.0) > 0.1 * base
     for mode in (modes.SMOOTH_SIDE, modes.CHIANG, modes.MICROFACET):
         assert lit(mode, -5.0) == 0.0
+
+
+def test_glass_casts_a_full_shadow_unless_its_shadows_are_tinted():
+    # A glass pane at height 1 between the light and the floor point (0.909, 0) that
+    # pixel (16, 19) sees past the pane's edge: the feeler meets the glass, the camera
+    # ray does not. Opaque (the default, as Cycles): no light; tinted: its transmissivity.
+    scene = lit_floor_scene()
+    scene.set_mesh("pane", *quad(-0.5, 0.5, -0.5, 0.5, 1))
+    glass = wn.Material(diffuse=(0, 0, 0), ambient=0.0, transmissivity=(0.8, 0.6, 0.4))
+    scene.set_material("glass", glass)
+    scene.set_instance("pane", "pane", np.eye(4), ["glass"])
+    x = (19.5 / 33.0) * 10.0 - 5.0
+    r2 = x * x + 4.0
+    lit = 0.5 / math.pi * 40.0 * (2.0 / math.sqrt(r2)) / r2
+
+    def pixel(**settings):
+        job = wn.RenderJob(scene, wn.Settings(width=33, height=33, **settings))
+        return finish(job)[16, 19, :3], job.stats()["effects"]
+
+    opaque, effects = pixel()
+    assert np.all(opaque == 0.0)
+    # Nothing lets a feeler through: the one-query shadow test is traced.
+    assert not next(e for e in effects if e["name"] == "translucency")["on"]
+    tinted, _ = pixel(glass_shadows=wn.GlassShadows.TINTED)
+    assert tinted == pytest.approx([0.8 * lit, 0.6 * lit, 0.4 * lit], rel=1e-4)

@@ -35,7 +35,9 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
     const Material& mat = scene.materials[m];
     reflective |= mat.reflective() || mat.transmissive();
     transmissive |= mat.transmissive();
-    translucent |= mat.translucent();
+    // Glass lets feelers through only when its shadows are tinted (settings.h).
+    translucent |=
+        mat.cut_out() || (settings.glass_shadows == GlassShadows::kTinted && mat.transmissive());
   }
   bool casting = false;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
@@ -52,7 +54,8 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
          : transmissive          ? "transmissive materials"
                                  : "no transmissive material");
   decide(&effects, kTranslucencyEffect, translucent, "translucency",
-         translucent ? "materials with alpha or transmission" : "every material is opaque");
+         translucent ? "materials with alpha, or glass with tinted shadows"
+                     : "no material lets shadow feelers through");
   decide(&effects, kPruningEffect, true, "pruning",
          "rays that cannot show are skipped (cutoff " + std::to_string(settings.cutoff) + ")");
   return effects;

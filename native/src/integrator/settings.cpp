@@ -43,6 +43,7 @@ void Settings::validate() const {
   }
   check_range("fault_tile", fault_tile, -1, INT32_MAX);
   check_range("worker_nice", worker_nice, 0, 19);
+  check_range("glass_shadows", static_cast<int64_t>(glass_shadows), 0, 1);
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   border_rect(&xmin, &ymin, &xmax, &ymax);
   check_range("border xmin", xmin, 0, width - 1);

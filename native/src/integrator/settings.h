@@ -7,6 +7,13 @@ namespace whitted {
 
 enum class Fresnel { kOff, kSchlick, kExact };
 
+// What a shadow feeler does at a refractive (glass) surface. Opaque: it stops, so glass
+// casts a full shadow, as in Whitted (1980) and Cycles, whose shadow rays pass only
+// cut-outs (alpha, Transparent BSDF); light focused through glass would be a caustic,
+// which neither traces. Tinted: it passes, weighted by the glass's transmissivity (Hall
+// and Greenberg's coloured shadows), a lighter shadow than the glass would cast.
+enum class GlassShadows { kOpaque, kTinted };
+
 // Where camera rays go inside a pixel. Regular: the centres of an n x n grid. Jittered:
 // one point in each cell of that grid, placed by a hash of the pixel (deterministic).
 // Adaptive (Whitted 1980; POV-Ray's method 2): the pixel's corners, and a square is
@@ -33,6 +40,7 @@ struct Settings {
   uint32_t cryptomatte_kinds = 0;
   int cryptomatte_depth = 0;
   Fresnel fresnel = Fresnel::kExact;
+  GlassShadows glass_shadows = GlassShadows::kOpaque;
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
   // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.
   float cutoff = 1.0f / 255.0f;

@@ -344,8 +344,9 @@ class Kernel {
   }
 
   // Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
-  // through a surface of coverage a and transmissivity T, (1 - a) + a*T passes (cut-outs,
-  // and coloured shadows behind glass).
+  // through a surface of coverage a, 1 - a passes (cut-outs), and of its covered part
+  // a*T with glass_shadows tinted (coloured shadows behind glass, transmissivity T), else
+  // none (settings.h).
   Color shadow_transmittance(Ray ray, const PathState& path, RayCounts* counts) const {
     counts->shadow += 1;
     if constexpr (!has(kTranslucencyEffect)) {
@@ -363,7 +364,8 @@ class Kernel {
       const Interaction it = scene_.interaction(ray, hit);
       const SurfaceParams surface = scene_.surface(it, ray, context(path));
       const float a = surface.alpha;
-      transmittance *= (1.0f - a) + a * surface.transmissivity;
+      const bool tinted = settings_.glass_shadows == GlassShadows::kTinted;
+      transmittance *= (1.0f - a) + a * (tinted ? surface.transmissivity : Color(0.0f));
       if (is_black(transmittance)) return transmittance;
       const float remaining = ray.t_max - glm::length(it.position - ray.origin);
       if (!(remaining > 0.0f)) return transmittance;

@@ -105,9 +105,9 @@ struct Material : MaterialParams {
   bool transmissive() const { return !is_black(transmissivity) || driven(kTransmissivityField); }
   // Lets some light through: transmission, or coverage below 1 (after compile, which
   // resolves the alpha texture).
-  bool translucent() const {
-    return transmissive() || alpha < 1.0f || alpha_texture_index >= 0 || driven(kAlphaField);
-  }
+  bool translucent() const { return transmissive() || cut_out(); }
+  // Coverage below 1 somewhere: camera and shadow rays pass its holes.
+  bool cut_out() const { return alpha < 1.0f || alpha_texture_index >= 0 || driven(kAlphaField); }
 };
 
 // The factor on the diffuse lobe for light from `wi` when it is shaded with normal `n`
