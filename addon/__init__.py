@@ -46,6 +46,8 @@ classes = (
     render_ui.WHITTED_RENDER_PT_last_render,
     light_ui.WHITTED_LIGHT_PT_settings,
     material_ui.WHITTED_MATERIAL_PT_settings,
+    passes_ui.WHITTED_VIEWLAYER_PT_passes_data,
+    passes_ui.WHITTED_VIEWLAYER_PT_passes_light,
     passes_ui.WHITTED_VIEWLAYER_PT_passes_whitted,
     ray_tree_operators.WHITTED_OT_inspect_ray_tree,
     ray_tree_operators.WHITTED_OT_clear_ray_tree,

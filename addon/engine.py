@@ -61,12 +61,13 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         started = time.perf_counter()
         scene = depsgraph.scene
         quality = quality_of(scene.whitted)
+        passes = render_result.enabled_passes(depsgraph.view_layer)
         try:
             native = load_native()
             frame = sync_frame(depsgraph, native, quality)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
-            render_result.cryptomatte_settings(frame.settings, depsgraph.view_layer)
+            render_result.configure(frame.settings, scene, depsgraph.view_layer, passes)
             job = frame.job(native)
         except (ImportError, ExportError) as error:
             self._fail(scene, str(error))
@@ -78,7 +79,6 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         if not self.is_preview:
             for warning in frame.warnings:
                 self.report({"WARNING"}, warning)
-        passes = render_result.enabled_passes(depsgraph.view_layer)
         render_result.add_passes(self, passes)
         try:
             self._run(job, frame.film.region, phases, passes)

@@ -45,16 +45,138 @@ class PassSpec:
         return bool(getattr(view_layer.whitted if owner else view_layer, prop))
 
 
+# Blender 3.x names passes as Cycles did for years ("DiffDir"); Blender 5.0's Cycles,
+# its compositor and EXR files use long names ("Diffuse Direct"), taken here from
+# Blender 4.0 on (the two checked: 3.4.1 and 5.0.1).
+LONG_NAMES = {
+    "IndexOB": "Object Index",
+    "IndexMA": "Material Index",
+    "DiffDir": "Diffuse Direct",
+    "DiffInd": "Diffuse Indirect",
+    "DiffCol": "Diffuse Color",
+    "GlossDir": "Glossy Direct",
+    "GlossInd": "Glossy Indirect",
+    "GlossCol": "Glossy Color",
+    "TransDir": "Transmission Direct",
+    "TransInd": "Transmission Indirect",
+    "TransCol": "Transmission Color",
+    "Emit": "Emission",
+    "Env": "Environment",
+}
+
+
+def blender_name(name):
+    """This Blender's name of the pass Blender 3.x calls `name`."""
+    return LONG_NAMES.get(name, name) if bpy.app.version >= (4, 0, 0) else name
+
+
 COMBINED = PassSpec("Combined", "RGBA", "COLOR", "", "combined")
 COST_PASS = "Whitted Rays"
 
 
-# Every pass Whitted can write. The names and channels are Blender's, so the
+def _light(name, toggle, source, heading, label):
+    return PassSpec(
+        blender_name(name),
+        "RGB",
+        "COLOR",
+        toggle,
+        source,
+        panel="LIGHT",
+        heading=heading,
+        label=label,
+    )
+
+
+# Every pass Whitted can write, in the order Cycles lists them (its
+# list_render_passes); the names and channels are Blender's (Cycles'), so the
 # compositor's Render Layers node and EXR readers see what they expect.
 PASSES = (
     COMBINED,
+    PassSpec("Depth", "Z", "VALUE", "use_pass_z", "depth", panel="DATA", heading="Include"),
+    PassSpec("Mist", "Z", "VALUE", "use_pass_mist", "mist", panel="DATA", heading="Include"),
+    PassSpec(
+        "Position",
+        "XYZ",
+        "VECTOR",
+        "use_pass_position",
+        "position",
+        panel="DATA",
+        heading="Include",
+    ),
+    PassSpec(
+        "Normal", "XYZ", "VECTOR", "use_pass_normal", "normal", panel="DATA", heading="Include"
+    ),
+    PassSpec("UV", "UVA", "VECTOR", "use_pass_uv", "uv", panel="DATA", heading="Include"),
+    PassSpec(
+        blender_name("IndexOB"),
+        "X",
+        "VALUE",
+        "use_pass_object_index",
+        "object_index",
+        panel="DATA",
+        heading="Indexes",
+    ),
+    PassSpec(
+        blender_name("IndexMA"),
+        "X",
+        "VALUE",
+        "use_pass_material_index",
+        "material_index",
+        panel="DATA",
+        heading="Indexes",
+    ),
+    _light("DiffDir", "use_pass_diffuse_direct", "diffuse_direct", "Diffuse", "Direct"),
+    _light("DiffInd", "use_pass_diffuse_indirect", "diffuse_indirect", "Diffuse", "Indirect"),
+    _light("DiffCol", "use_pass_diffuse_color", "diffuse_color", "Diffuse", "Color"),
+    _light("GlossDir", "use_pass_glossy_direct", "glossy_direct", "Glossy", "Direct"),
+    _light("GlossInd", "use_pass_glossy_indirect", "glossy_indirect", "Glossy", "Indirect"),
+    _light("GlossCol", "use_pass_glossy_color", "glossy_color", "Glossy", "Color"),
+    _light(
+        "TransDir", "use_pass_transmission_direct", "transmission_direct", "Transmission", "Direct"
+    ),
+    _light(
+        "TransInd",
+        "use_pass_transmission_indirect",
+        "transmission_indirect",
+        "Transmission",
+        "Indirect",
+    ),
+    _light(
+        "TransCol", "use_pass_transmission_color", "transmission_color", "Transmission", "Color"
+    ),
+    _light("Emit", "use_pass_emit", "emission", "Other", "Emission"),
+    _light("Env", "use_pass_environment", "environment", "Other", "Environment"),
     PassSpec(COST_PASS, "X", "VALUE", "whitted.use_pass_rays", "rays", panel="WHITTED"),
+    PassSpec(
+        "Whitted Cut Weight",
+        "X",
+        "VALUE",
+        "whitted.use_pass_cut_weight",
+        "cut_weight",
+        panel="WHITTED",
+    ),
 )
+# The per-depth passes: "Whitted Depth 0" .. "Whitted Depth N-1" and "Whitted Depth
+# N+", N = view_layer.whitted.contribution_depth; made by contribution_passes().
+CONTRIBUTIONS_TOGGLE = "whitted.use_pass_contributions"
+MAX_CONTRIBUTION_DEPTH = 8  # the native limit (Settings.contribution_depth)
+
+
+def contribution_passes(depth):
+    """The per-depth passes for contribution depth N = `depth`: one per depth below
+    N, then one for N and beyond, all read from the native "contributions" pass."""
+    return tuple(
+        PassSpec(
+            f"Whitted Depth {d}{'+' if d == depth else ''}",
+            "RGB",
+            "COLOR",
+            CONTRIBUTIONS_TOGGLE,
+            "contributions",
+            first=3 * d,
+        )
+        for d in range(depth + 1)
+    )
+
 
 # `RenderPass.rect.foreach_set` takes a (w*h, channels) array up to Blender 4.0
 # (it counts the first dimension only; a flat array is refused) and a flat
@@ -105,8 +227,87 @@ def add_cryptomatte_metadata(engine, view_layer, names):
 
 def enabled_passes(view_layer):
     """The passes a render of `view_layer` writes, Combined first."""
-    static = tuple(spec for spec in PASSES if spec.enabled(view_layer))
-    return static + cryptomatte_passes(view_layer)
+    passes = tuple(spec for spec in PASSES if spec.enabled(view_layer))
+    if view_layer.whitted.use_pass_contributions:
+        passes += contribution_passes(view_layer.whitted.contribution_depth)
+    return passes + cryptomatte_passes(view_layer)
+
+
+def configure(settings, scene, view_layer, passes):
+    """Ask native `settings` for the film passes that `passes` are read from, with
+    the view layer's alpha threshold, the world's mist and the contribution depth,
+    and for the Cryptomatte kinds the view layer enables."""
+    sources = {spec.source for spec in passes} - {"combined", "rays"}
+    settings.passes = sorted(s for s in sources if not s.startswith(CRYPTOMATTE_SOURCE))
+    settings.contribution_depth = view_layer.whitted.contribution_depth
+    settings.pass_alpha_threshold = view_layer.pass_alpha_threshold
+    settings.mist = mist_of(scene.world)
+    cryptomatte_settings(settings, view_layer)
+
+
+# Blender's mist falloffs as the exponent of ((distance - start) / depth).
+MIST_FALLOFF = {"QUADRATIC": 2.0, "LINEAR": 1.0, "INVERSE_QUADRATIC": 0.5}
+
+
+def mist_of(world):
+    """(start, depth, falloff exponent) of the world's mist (World > Mist Pass)."""
+    if world is None:
+        return (0.0, 100.0, 1.0)  # what Cycles' film has without a world
+    mist = world.mist_settings
+    # Blender's mist is in scene units (metres with the default unit scale), as are
+    # Whitted's distances.
+    return (mist.start, mist.depth, MIST_FALLOFF[mist.falloff])
+
+
+@dataclass(frozen=True)
+class ViewportDisplay:
+    """Something the Rendered viewport can show (scene.whitted.viewport_display)."""
+
+    key: str  # the enum item
+    label: str
+    description: str
+    kind: str  # RenderJob.display's kind: "image", "cost" or a film pass
+    first: int = 0  # its first channel in that pass
+    passes: tuple = ()  # the film passes the viewport's job keeps for it
+
+
+# A Direct or Indirect pass is shown divided by its Color, as the render writes it
+# when both are enabled.
+_COLOR_OF = {
+    "diffuse": "diffuse_color",
+    "glossy": "glossy_color",
+    "transmission": "transmission_color",
+}
+
+
+def _display_of(spec):
+    key = spec.name.upper().replace(" ", "_").replace("+", "_AND_BEYOND")
+    passes = (spec.source,)
+    component, _, kind = spec.source.partition("_")
+    if kind in ("direct", "indirect"):
+        passes += (_COLOR_OF[component],)
+    description = f'The "{spec.name}" pass, live (docs/PASSES.md)'
+    return ViewportDisplay(key, spec.name, description, spec.source, spec.first, passes)
+
+
+VIEWPORT_DISPLAYS = (
+    ViewportDisplay("IMAGE", "Image", "The rendered image", "image"),
+    ViewportDisplay(
+        "COST",
+        "Ray Cost",
+        "Rays traced per pixel as a heat map (the Whitted Rays pass, live): where the time "
+        "of a frame goes",
+        "cost",
+    ),
+    *(_display_of(spec) for spec in PASSES if spec.source not in ("combined", "rays")),
+    # The viewport keeps all depths apart, up to the deepest the passes can.
+    *(_display_of(spec) for spec in contribution_passes(MAX_CONTRIBUTION_DEPTH)),
+)
+
+
+def viewport_display(key):
+    """The ViewportDisplay of enum item `key`."""
+    return next(display for display in VIEWPORT_DISPLAYS if display.key == key)
 
 
 def register_passes(engine, scene, view_layer):

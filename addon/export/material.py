@@ -97,6 +97,7 @@ class MaterialExport:
     attributes: tuple = ()  # corner attributes it reads: ("COLOR" | "ATTRIBUTE", name)
     tangents: tuple = ()  # UV set indices whose tangents its normal maps read
     object_info: bool = False  # it reads Object Info (per-instance data)
+    pass_index: int = 0  # Material Properties > Settings > Pass Index (the IndexMA pass)
 
     @property
     def uv_map(self):

@@ -274,8 +274,10 @@ def instance_data(object_instance, mesh, view_layer, info=()):
     """InstanceData of a mesh instance placing geometry `mesh` (its key).
 
     `view_layer` is the depsgraph's evaluated view layer (holdout is per layer);
-    `info` the names of the materials that read Object Info."""
+    `info` the names of the materials that read Object Info. An object with a pass
+    index sends its Object Info too, for the IndexOB pass."""
     materials = _slot_materials(object_instance.object)
+    reads_info = any(m in info for m in materials) or object_instance.object.pass_index != 0
     return InstanceData(
         name=instance_name(object_instance),
         mesh=mesh,
@@ -284,7 +286,7 @@ def instance_data(object_instance, mesh, view_layer, info=()):
         materials=materials,
         visibility=ray_visibility(object_instance),
         holdout=is_holdout(object_instance, view_layer),
-        info=object_info(object_instance) if any(m in info for m in materials) else None,
+        info=object_info(object_instance) if reads_info else None,
         cryptomatte=cryptomatte_ids(object_instance.object)
         if writes_cryptomatte(view_layer)
         else None,

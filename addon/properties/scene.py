@@ -15,6 +15,7 @@ from bpy.props import (
 )
 
 from ..export.light import DEFAULT_LIGHT_SAMPLES
+from ..result import VIEWPORT_DISPLAYS
 from .presets import PRESETS
 
 
@@ -161,15 +162,10 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     )
     viewport_display: EnumProperty(
         name="Viewport Display",
-        description="What the Rendered viewport shows",
-        items=(
-            ("IMAGE", "Image", "The rendered image"),
-            (
-                "COST",
-                "Ray Cost",
-                "Rays traced per pixel as a heat map (the Whitted Rays pass, live): where "
-                "the time of a frame goes",
-            ),
+        description="What the Rendered viewport shows: the image, the ray cost, or one of "
+        "the render passes (docs/PASSES.md)",
+        items=tuple(
+            (display.key, display.label, display.description) for display in VIEWPORT_DISPLAYS
         ),
         default="IMAGE",
     )

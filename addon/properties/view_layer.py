@@ -6,7 +6,7 @@ property enables each pass.
 """
 
 import bpy
-from bpy.props import BoolProperty, PointerProperty
+from bpy.props import BoolProperty, IntProperty, PointerProperty
 
 
 class WhittedViewLayerProperties(bpy.types.PropertyGroup):
@@ -15,6 +15,29 @@ class WhittedViewLayerProperties(bpy.types.PropertyGroup):
         description='The "Whitted Rays" pass: rays traced for each pixel (camera, shadow, '
         "reflection, refraction and transparent), where the time of a frame goes",
         default=True,
+    )
+    use_pass_cut_weight: BoolProperty(
+        name="Cut Weight",
+        description='The "Whitted Cut Weight" pass: the share of each pixel\'s ray tree '
+        "that the maximum depth or the cutoff left untraced (0: nothing cut), a bound on "
+        "what raising the depth or lowering the cutoff could still change",
+        default=False,
+    )
+    use_pass_contributions: BoolProperty(
+        name="Per-Depth Contributions",
+        description='The "Whitted Depth N" passes: what the ray tree adds at each depth '
+        "(0: emission and local term at the camera hit, 1: at the surfaces its mirror and "
+        "refracted rays meet, ...), the last one at that depth and beyond; they sum to "
+        "Combined",
+        default=False,
+    )
+    contribution_depth: IntProperty(
+        name="Separate Depths",
+        description="Depths with a pass of their own (0 .. this - 1); one more pass holds "
+        "this depth and beyond",
+        default=3,
+        min=1,
+        max=8,
     )
 
     @classmethod

@@ -29,7 +29,7 @@ def native_material(native, material):
     if material.program is not None:
         fields["program"] = native_program(native, material.program)
         fields["outputs"] = dict(material.outputs)
-    return native.Material(**fields)
+    return native.Material(**fields, pass_index=material.pass_index)
 
 
 def native_program(native, program):

@@ -24,7 +24,7 @@ its own compiled snapshot, so the native scene may change under it.
 """
 
 import time
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from types import SimpleNamespace
 
 import bpy
@@ -63,6 +63,9 @@ class SyncParams:
     light_samples: int  # feelers per axis of a sized light whose own setting is 0
     texture_filter: str  # AUTHORED | CLOSEST
     ambient_strength: float  # scales the world's ambient light
+    # A view layer's UV pass is on: every mesh sends its active render UV map, not only
+    # those whose textures read one.
+    uv_pass: bool = False
 
     @classmethod
     def of(cls, scene, quality):
@@ -71,6 +74,7 @@ class SyncParams:
             light_samples=quality.light_samples,
             texture_filter=quality.texture_filter,
             ambient_strength=scene.whitted.ambient_strength,
+            uv_pass=any(layer.use_pass_uv for layer in scene.view_layers),
         )
 
 
@@ -193,7 +197,11 @@ class SceneSync:
     # --- materials and textures ------------------------------------------------
 
     def _materials_touched(self, changes, params):
-        if changes is None or params.texture_filter != self._params.texture_filter:
+        if (
+            changes is None
+            or params.texture_filter != self._params.texture_filter
+            or params.uv_pass != self._params.uv_pass
+        ):
             return True
         # Objects added or given other materials list their materials' updates too;
         # a removed material can only go with a structural or geometry change.
@@ -216,7 +224,10 @@ class SceneSync:
         redo = changes is None or changes.node_groups
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
-                exported = convert_material(material, warnings, programs=self._programs)
+                exported = replace(
+                    convert_material(material, warnings, programs=self._programs),
+                    pass_index=material.pass_index,  # for the IndexMA pass
+                )
                 if exported != self._materials.get(name):
                     self.scene.set_material(
                         name, native_data.native_material(self._native, exported)
@@ -231,6 +242,9 @@ class SceneSync:
             report.removed += 1
         self._sync_textures(changes, params, report, warnings)
         self._uv_maps = {n: m.uv_map for n, m in self._materials.items() if m.uv_map is not None}
+        if params.uv_pass:
+            # Every material ("" the default one) reads the active render map at least.
+            self._uv_maps = {"": "", **dict.fromkeys(self._materials, ""), **self._uv_maps}
         needs = {
             name: MeshNeeds(m.uv_maps, m.attributes, bool(m.tangents))
             for name, m in self._materials.items()

@@ -47,6 +47,26 @@ class _WhittedPassesPanel:
         """What a panel shows besides the pass switches."""
 
 
+class WHITTED_VIEWLAYER_PT_passes_data(_WhittedPassesPanel, bpy.types.Panel):
+    bl_label = "Data"
+    PANEL = "DATA"
+
+    def draw_more(self, layout, view_layer):
+        layout.prop(view_layer, "pass_alpha_threshold")
+
+
+class WHITTED_VIEWLAYER_PT_passes_light(_WhittedPassesPanel, bpy.types.Panel):
+    bl_label = "Light"
+    PANEL = "LIGHT"
+
+
 class WHITTED_VIEWLAYER_PT_passes_whitted(_WhittedPassesPanel, bpy.types.Panel):
     bl_label = "Whitted"
     PANEL = "WHITTED"
+
+    def draw_more(self, layout, view_layer):
+        column = layout.column(align=True)
+        column.prop(view_layer.whitted, "use_pass_contributions")
+        row = column.row()
+        row.enabled = view_layer.whitted.use_pass_contributions
+        row.prop(view_layer.whitted, "contribution_depth")

@@ -22,6 +22,7 @@ from .. import memory
 from ..export import ExportError
 from ..export.film import FilmData
 from ..properties.presets import preset
+from ..result import MAX_CONTRIBUTION_DEPTH, mist_of, viewport_display
 from ..settings import native_settings
 from ..sync import SceneSync, SyncParams
 from ..sync.native_data import native_camera
@@ -71,7 +72,9 @@ class ViewportSession:
         self._job_version = -1  # the sync the job renders
         self._shown = 0  # the job's frame in the texture
         self._converged = False
-        self._kind = "image"  # what the texture shows: "image" or "cost" (the ray heat map)
+        # What the texture shows: RenderJob.display's (kind, first channel): the image,
+        # the ray cost heat map or a film pass (result.VIEWPORT_DISPLAYS).
+        self._kind = ("image", 0)
         self._samples_per_second = None  # measured camera samples a second
         self._last_sync = None
         self._error = ""
@@ -132,7 +135,8 @@ class ViewportSession:
             return  # not synced yet (view_update comes first)
         if self._job is None or setup != self._setup or self._job_version != self._scene_version:
             self._start(setup, scene)
-        kind = "cost" if scene.whitted.viewport_display == "COST" else "image"
+        shown = viewport_display(scene.whitted.viewport_display)
+        kind = (shown.kind, shown.first)
         if kind != self._kind:
             self._kind = kind
             self._shown = 0  # show the current pass again, as the other kind
@@ -160,6 +164,14 @@ class ViewportSession:
             ),
             _quality(scene),
         )
+        # The film passes the display shows, if any: asked for only then, so the image
+        # and the cost cost what they did without passes.
+        shown = viewport_display(scene.whitted.viewport_display)
+        if shown.passes:
+            settings.passes = list(shown.passes)
+            settings.contribution_depth = MAX_CONTRIBUTION_DEPTH
+            settings.pass_alpha_threshold = bpy.context.view_layer.pass_alpha_threshold
+            settings.mist = mist_of(scene.world)
         settings.progressive = True
         settings.start_pixel_size = self._start_pixel_size(setup)
         # Below the interface's priority: Blender's own thread, which polls the job
@@ -205,7 +217,7 @@ class ViewportSession:
         frame = job.frame
         if frame == self._shown:
             return
-        self._display.upload(job.display(self._kind))
+        self._display.upload(job.display(*self._kind))
         self._shown = frame
         info = job.pass_info()
         self._log.write("frame", frame=frame, **info)
@@ -337,5 +349,11 @@ def _view_setup(context, scene, pixel_size):
         region_width=region.width,
         region_height=region.height,
         border=border,
-        settings=(_quality(scene), render.film_transparent, render.threads),
+        # The passes a display needs: another display may need another job.
+        settings=(
+            _quality(scene),
+            render.film_transparent,
+            render.threads,
+            viewport_display(scene.whitted.viewport_display).passes,
+        ),
     )

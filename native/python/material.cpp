@@ -47,7 +47,7 @@ void bind_material(py::module_& m) {
                        std::shared_ptr<Program> program,
                        const std::map<std::string, int64_t>& outputs, float coat_specular,
                        float coat_reflectivity, float coat_shininess, float coat_ior,
-                       bool valid_reflection, BumpShadowing bump_shadowing) {
+                       bool valid_reflection, BumpShadowing bump_shadowing, int32_t pass_index) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
@@ -58,6 +58,7 @@ void bind_material(py::module_& m) {
                                             .ior = ior,
                                             .emission = emission,
                                             .alpha = alpha,
+                                            .pass_index = pass_index,
                                             .coat_specular = coat_specular,
                                             .coat_reflectivity = coat_reflectivity,
                                             .coat_shininess = coat_shininess,
@@ -82,6 +83,7 @@ void bind_material(py::module_& m) {
            py::arg("coat_ior") = defaults.coat_ior,
            py::arg("valid_reflection") = defaults.valid_reflection,
            py::arg("bump_shadowing") = defaults.bump_shadowing,
+           py::arg("pass_index") = defaults.pass_index,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
@@ -108,6 +110,8 @@ void bind_material(py::module_& m) {
       .def_readonly("priority", &Material::priority,
                     "Nested dielectrics: where two transmissive objects overlap, the higher "
                     "priority owns the overlap (ties: the one entered last).")
+      .def_readonly("pass_index", &Material::pass_index,
+                    "Blender's material Pass Index, for the IndexMA pass.")
       .def_readonly("diffuse_texture", &Material::diffuse_texture)
       .def_readonly("alpha_texture", &Material::alpha_texture)
       .def_property_readonly(

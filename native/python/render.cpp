@@ -2,6 +2,9 @@
 
 #include "bindings.h"
 
+#include <algorithm>
+#include <functional>
+
 namespace whitted::python {
 namespace {
 
@@ -94,9 +97,58 @@ py::array_t<float> copy_rect(const RenderJob& job, int x, int y, int w, int h) {
   return out;
 }
 
+// A film pass by its name (whitted_native.FILM_PASSES).
+FilmPass film_pass(const std::string& name) {
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    if (kFilmPassNames[p] == name) return static_cast<FilmPass>(p);
+  }
+  throw std::invalid_argument("no film pass '" + name + "'");
+}
+
+uint32_t pass_bits(const std::vector<std::string>& names) {
+  uint32_t bits = 0;
+  for (const std::string& name : names) bits |= pass_bit(film_pass(name));
+  return bits;
+}
+
+std::vector<std::string> pass_names(uint32_t bits) {
+  std::vector<std::string> names;
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    if ((bits & pass_bit(static_cast<FilmPass>(p))) != 0) names.emplace_back(kFilmPassNames[p]);
+  }
+  return names;
+}
+
+// A kept pass of the job's film, by name.
+FilmPass kept_pass(const RenderJob& job, const std::string& name) {
+  const FilmPass pass = film_pass(name);
+  if (!job.film().has_pass(pass)) {
+    throw std::invalid_argument("the render keeps no '" + name + "' pass (Settings.passes)");
+  }
+  return pass;
+}
+
+// Copies a rectangle of a buffer of `channels` floats per pixel into float32[h*w, channels].
+py::array_t<float> copy_channels(const RenderJob& job, const std::vector<float>& buffer,
+                                 int channels, int x, int y, int w, int h) {
+  check_rect(job, x, y, w, h);
+  const Settings& s = job.settings();
+  py::array_t<float> out({static_cast<py::ssize_t>(w) * h, py::ssize_t{channels}});
+  float* dst = out.mutable_data();
+  const auto n = static_cast<size_t>(channels);
+  for (int row = 0; row < h; ++row) {
+    const float* line = buffer.data() + n * (static_cast<size_t>(y + row) * s.width + x);
+    std::copy(line, line + n * w, dst + n * static_cast<size_t>(row) * w);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
+  std::vector<std::string> film_passes(kFilmPassNames.begin(), kFilmPassNames.end());
+  m.attr("FILM_PASSES") = film_passes;
+
   py::enum_<AntiAliasing>(m, "AntiAliasing")
       .value("REGULAR", AntiAliasing::kRegular)
       .value("JITTERED", AntiAliasing::kJittered)
@@ -118,7 +170,9 @@ void bind_render(py::module_& m) {
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
                        float aa_threshold, int aa_depth, bool analysis, bool progressive,
-                       int start_pixel_size, GlassShadows glass_shadows) {
+                       int start_pixel_size, GlassShadows glass_shadows,
+                       const std::vector<std::string>& passes, int contribution_depth,
+                       float pass_alpha_threshold, std::array<float, 3> mist) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -137,6 +191,12 @@ void bind_render(py::module_& m) {
              s.progressive = progressive;
              s.start_pixel_size = start_pixel_size;
              s.glass_shadows = glass_shadows;
+             s.passes = pass_bits(passes);
+             s.contribution_depth = contribution_depth;
+             s.pass_alpha_threshold = pass_alpha_threshold;
+             s.mist_start = mist[0];
+             s.mist_depth = mist[1];
+             s.mist_falloff = mist[2];
              s.validate();
              return s;
            }),
@@ -147,10 +207,17 @@ void bind_render(py::module_& m) {
            py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
            py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("progressive") = false,
            py::arg("start_pixel_size") = 8, py::arg("glass_shadows") = GlassShadows::kOpaque,
+           py::arg("passes") = std::vector<std::string>{}, py::arg("contribution_depth") = 3,
+           py::arg("pass_alpha_threshold") = 0.5f,
+           py::arg("mist") = std::array<float, 3>{5.0f, 25.0f, 2.0f},
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
-           "per anti-aliasing sample (for the viewport).")
+           "per anti-aliasing sample (for the viewport). passes: names from FILM_PASSES "
+           "kept besides the image and the ray cost (docs/PASSES.md); contribution_depth: "
+           "the Contributions pass holds depths 0 .. contribution_depth - 1 apart and the "
+           "rest in one bin (1 to 8); pass_alpha_threshold: the data passes come from the "
+           "first surface at least this opaque; mist: (start, depth, falloff exponent).")
       .def_readwrite("width", &Settings::width)
       .def_readwrite("height", &Settings::height)
       .def_readwrite("max_depth", &Settings::max_depth)
@@ -184,6 +251,21 @@ void bind_render(py::module_& m) {
                      "show; off forces every effect on (a benchmark baseline).")
       .def_readwrite("progressive", &Settings::progressive)
       .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
+      .def_property(
+          "passes", [](const Settings& s) { return pass_names(s.passes); },
+          [](Settings& s, const std::vector<std::string>& names) { s.passes = pass_bits(names); })
+      .def_readwrite("contribution_depth", &Settings::contribution_depth)
+      .def_readwrite("pass_alpha_threshold", &Settings::pass_alpha_threshold)
+      .def_property(
+          "mist",
+          [](const Settings& s) {
+            return std::array<float, 3>{s.mist_start, s.mist_depth, s.mist_falloff};
+          },
+          [](Settings& s, std::array<float, 3> mist) {
+            s.mist_start = mist[0];
+            s.mist_depth = mist[1];
+            s.mist_falloff = mist[2];
+          })
       .def_readwrite("worker_nice", &Settings::worker_nice,
                      "The workers' niceness, 0 (normal) to 19 (lowest priority): the "
                      "viewport renders below the interface's priority.")
@@ -248,31 +330,70 @@ void bind_render(py::module_& m) {
           "pixel, its own) of the last completed pass; 0 before the first}.")
       .def(
           "display",
-          [](const RenderJob& job, const std::string& kind) {
+          [](const RenderJob& job, const std::string& kind, int first) {
             const Film& film = job.film();
-            void (Film::*fill)(float*) const = nullptr;
+            std::function<void(float*)> fill;
             if (kind == "image") {
-              fill = &Film::display_image;
+              fill = [&film](float* out) { film.display_image(out); };
             } else if (kind == "cost") {
-              fill = &Film::display_cost;
+              fill = [&film](float* out) { film.display_cost(out); };
             } else {
-              throw std::invalid_argument("display kind must be 'image' or 'cost', not '" + kind +
-                                          "'");
+              const auto known = std::find(kFilmPassNames.begin(), kFilmPassNames.end(), kind);
+              if (known == kFilmPassNames.end() ||
+                  !film.has_pass(static_cast<FilmPass>(known - kFilmPassNames.begin()))) {
+                throw std::invalid_argument(
+                    "display kind must be 'image', 'cost' or a film pass the render keeps "
+                    "(Settings.passes), not '" +
+                    kind + "'");
+              }
+              const auto pass = static_cast<FilmPass>(known - kFilmPassNames.begin());
+              const int channels = film.pass_channels(pass);
+              if (first < 0 || first + (channels == 1 ? 1 : 3) > channels) {
+                throw std::invalid_argument("first channel out of the pass's range");
+              }
+              fill = [&film, pass, first](float* out) { film.display_pass(pass, first, out); };
             }
             py::array_t<float> out(
                 {py::ssize_t{film.height()}, py::ssize_t{film.width()}, py::ssize_t{4}});
             float* dst = out.mutable_data();
             {
               py::gil_scoped_release release;
-              (film.*fill)(dst);
+              fill(dst);
             }
             return out;
           },
-          py::arg("kind") = "image",
+          py::arg("kind") = "image", py::arg("first") = 0,
           "A new float32[height, width, 4] copy of what the film shows now, for a half-float "
           "texture (rows bottom to top). 'image': RGBA scene-linear, premultiplied, each "
           "value clamped to [0, 65000], NaN as 0. 'cost': rays per pixel as a heat map "
-          "(cividis, dark blue to yellow, scaled by the largest so far), alpha 1.")
+          "(cividis, dark blue to yellow, scaled by the largest so far), alpha 1. A kept "
+          "film pass's name: its channels first .. first+2 (one-float passes grey), clamped "
+          "the same way, Depth divided by the farthest surface, alpha 1.")
+      .def(
+          "pass_tile",
+          [](const py::object& self, const std::string& name, int x, int y, int w, int h) {
+            const auto& job = self.cast<const RenderJob&>();
+            const FilmPass pass = kept_pass(job, name);
+            const std::vector<float>& buffer = job.film().pass(pass);
+            const int channels = job.film().pass_channels(pass);
+            check_rect(job, x, y, w, h);
+            return x == 0 && w == job.settings().width
+                       ? view_rows(self, buffer, w, y, h, channels)
+                       : copy_channels(job, buffer, channels, x, y, w, h);
+          },
+          py::arg("name"), py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
+          "A kept film pass of a finished rectangle, float32[h*w, channels]; whole rows come "
+          "as a read-only view.")
+      .def(
+          "pass_image",
+          [](const RenderJob& job, const std::string& name) {
+            const FilmPass pass = kept_pass(job, name);
+            const Settings& s = job.settings();
+            const int channels = job.film().pass_channels(pass);
+            return copy_channels(job, job.film().pass(pass), channels, 0, 0, s.width, s.height)
+                .reshape({s.height, s.width, channels});
+          },
+          py::arg("name"), "A kept film pass, float32[height, width, channels].")
       .def("take_finished_tiles",
            [](RenderJob& job) {
              std::vector<py::tuple> out;

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "integrator/passes.h"
+
 namespace whitted {
 namespace {
 
@@ -45,14 +47,18 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
                        : "nothing is visible to shadow rays");
-  decide(&effects, kReflectionEffect, reflective && settings.max_depth > 0, "reflection",
-         settings.max_depth == 0 ? "maximum depth 0"
-         : reflective            ? "reflective or transmissive materials"
-                                 : "no reflective or transmissive material");
-  decide(&effects, kRefractionEffect, transmissive && settings.max_depth > 0, "refraction",
-         settings.max_depth == 0 ? "maximum depth 0"
-         : transmissive          ? "transmissive materials"
-                                 : "no transmissive material");
+  // At maximum depth 0 no mirror or refracted ray is traced, unless the Cut Weight pass
+  // asks: then the kernel reaches them to count what the depth cuts (and adds nothing).
+  const bool cut_weight = (settings.passes & pass_bit(FilmPass::kCutWeight)) != 0;
+  const bool no_bounce = settings.max_depth == 0 && !cut_weight;
+  decide(&effects, kReflectionEffect, reflective && !no_bounce, "reflection",
+         no_bounce    ? "maximum depth 0"
+         : reflective ? "reflective or transmissive materials"
+                      : "no reflective or transmissive material");
+  decide(&effects, kRefractionEffect, transmissive && !no_bounce, "refraction",
+         no_bounce      ? "maximum depth 0"
+         : transmissive ? "transmissive materials"
+                        : "no transmissive material");
   decide(&effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");

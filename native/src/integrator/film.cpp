@@ -50,26 +50,159 @@ void ramp(float t, float* out) {
   for (int c = 0; c < 3; ++c) out[c] = kRamp[i][c] + f * (kRamp[i + 1][c] - kRamp[i][c]);
 }
 
+int channels_of(FilmPass pass, int contribution_depth) {
+  switch (pass) {
+    case FilmPass::kDepth:
+    case FilmPass::kMist:
+    case FilmPass::kObjectIndex:
+    case FilmPass::kMaterialIndex:
+    case FilmPass::kCutWeight:
+      return 1;
+    case FilmPass::kContributions:
+      return 3 * (contribution_depth + 1);
+    default:
+      return 3;
+  }
+}
+
+// Passes a pixel takes from its first sample alone (as Cycles), not a mean.
+bool first_sample_only(FilmPass pass) {
+  return pass == FilmPass::kDepth || pass == FilmPass::kPosition ||
+         pass == FilmPass::kObjectIndex || pass == FilmPass::kMaterialIndex;
+}
+
+void put(float* out, const Color& c) {
+  out[0] = c.x;
+  out[1] = c.y;
+  out[2] = c.z;
+}
+
+// The floats `pass` takes from a record, before resolve().
+void gather(FilmPass pass, const SampleRecord& r, float* out) {
+  switch (pass) {
+    case FilmPass::kEmission:
+      return put(out, r.emission);
+    case FilmPass::kEnvironment:
+      return put(out, r.environment);
+    case FilmPass::kDiffuseDirect:
+      return put(out, r.diffuse_direct);
+    case FilmPass::kDiffuseIndirect:
+      return put(out, r.diffuse_indirect);
+    case FilmPass::kDiffuseColor:
+      return put(out, r.diffuse_color);
+    case FilmPass::kGlossyDirect:
+      return put(out, r.glossy_direct);
+    case FilmPass::kGlossyIndirect:
+      return put(out, r.glossy_indirect);
+    case FilmPass::kGlossyColor:
+      return put(out, r.glossy_color);
+    case FilmPass::kTransmissionDirect:
+      return put(out, Color(0.0f));
+    case FilmPass::kTransmissionIndirect:
+      return put(out, r.transmission_indirect);
+    case FilmPass::kTransmissionColor:
+      return put(out, r.transmission_color);
+    case FilmPass::kDepth:
+      out[0] = r.depth;
+      return;
+    case FilmPass::kMist:
+      out[0] = r.mist;
+      return;
+    case FilmPass::kNormal:
+      return put(out, r.normal);
+    case FilmPass::kPosition:
+      return put(out, r.position);
+    case FilmPass::kUV:
+      return put(out, r.uv);
+    case FilmPass::kObjectIndex:
+      out[0] = r.object_index;
+      return;
+    case FilmPass::kMaterialIndex:
+      out[0] = r.material_index;
+      return;
+    case FilmPass::kContributions:
+      for (size_t d = 0; d < r.contributions.size(); ++d) put(out + 3 * d, r.contributions[d]);
+      return;
+    case FilmPass::kCutWeight:
+      out[0] = r.cut_weight;
+      return;
+    case FilmPass::kCount:
+      return;
+  }
+}
+
+// The Color a Direct or Indirect pass is divided by; kCount for the other passes.
+FilmPass color_of(FilmPass pass) {
+  switch (pass) {
+    case FilmPass::kDiffuseDirect:
+    case FilmPass::kDiffuseIndirect:
+      return FilmPass::kDiffuseColor;
+    case FilmPass::kGlossyDirect:
+    case FilmPass::kGlossyIndirect:
+      return FilmPass::kGlossyColor;
+    case FilmPass::kTransmissionDirect:
+    case FilmPass::kTransmissionIndirect:
+      return FilmPass::kTransmissionColor;
+    default:
+      return FilmPass::kCount;
+  }
+}
+
+// A pass's value as shown from its mean (`raw`, `channels` floats) and, for Direct and
+// Indirect, its Color's mean (nullptr when the Color pass is not kept: then, as in
+// Cycles, the pass keeps colour times light).
+void resolve(FilmPass pass, const float* raw, const float* color, int channels, float* shown) {
+  for (int c = 0; c < channels; ++c) {
+    float v = raw[c];
+    if (pass == FilmPass::kMist) v = 1.0f - v;
+    if (color != nullptr) v = color[c] != 0.0f ? v / color[c] : 0.0f;
+    store(shown[c], v);
+  }
+}
+
 }  // namespace
 
-Film::Film(int width, int height, bool accumulate)
+Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribution_depth)
     : width_(width),
       height_(height),
       pixels_(size_t{4} * width * height, 0.0f),
-      cost_(static_cast<size_t>(width) * height, 0.0f) {
+      cost_(static_cast<size_t>(width) * height, 0.0f),
+      passes_(passes) {
   if (accumulate) {
     sum_.assign(pixels_.size(), 0.0f);
     count_.assign(cost_.size(), 0);
   }
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    const auto pass = static_cast<FilmPass>(p);
+    channels_[p] = channels_of(pass, contribution_depth);
+    if (!has_pass(pass)) continue;
+    const size_t size = cost_.size() * static_cast<size_t>(channels_[p]);
+    // A pixel not traced yet shows the sky's depth, as Cycles does.
+    shown_[p].assign(size, pass == FilmPass::kDepth ? kNoDepth : 0.0f);
+    if (accumulate) sums_[p].assign(size, 0.0f);
+  }
 }
 
-void Film::set(int x, int y, const Sample& value, float cost) {
+void Film::set(int x, int y, const Sample& value, float cost, const SampleRecord* record) {
   const size_t i = index(x, y);
   store_rgba(&pixels_[4 * i], value);
   store(cost_[i], cost);
+  if (record == nullptr) return;
+  std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
+  std::array<float, 3> color{};
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    const auto pass = static_cast<FilmPass>(p);
+    if (!has_pass(pass)) continue;
+    const int n = channels_[p];
+    gather(pass, *record, raw.data());
+    const FilmPass divisor = color_of(pass);
+    const bool divide = divisor != FilmPass::kCount && has_pass(divisor);
+    if (divide) gather(divisor, *record, color.data());
+    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, &shown_[p][n * i]);
+  }
 }
 
-void Film::add(int x, int y, const Sample& sample, float cost) {
+void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecord* record) {
   const size_t i = index(x, y);
   float* sum = &sum_[4 * i];
   // The same additions, in the same order, as a whole pixel's mean (CameraSampler), so
@@ -83,10 +216,60 @@ void Film::add(int x, int y, const Sample& sample, float cost) {
   store_rgba(&pixels_[4 * i], Sample{Color(sum[0], sum[1], sum[2]) * w, sum[3] * w});
   // The first sample's rays replace the preview's.
   store(cost_[i], count_[i] == 1 ? cost : load(cost_[i]) + cost);
+  if (record == nullptr) return;
+  std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    const auto pass = static_cast<FilmPass>(p);
+    if (!has_pass(pass)) continue;
+    const int n = channels_[p];
+    float* pixel_sum = &sums_[p][n * i];
+    gather(pass, *record, raw.data());
+    for (int c = 0; c < n; ++c) {
+      pixel_sum[c] = first_sample_only(pass) ? (count_[i] == 1 ? raw[c] : pixel_sum[c])
+                                             : pixel_sum[c] + raw[c];
+    }
+  }
+  // Shown: the means, resolved once every kept pass holds this sample.
+  std::array<float, 3> color{};
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    const auto pass = static_cast<FilmPass>(p);
+    if (!has_pass(pass)) continue;
+    const int n = channels_[p];
+    const float scale = first_sample_only(pass) ? 1.0f : w;
+    for (int c = 0; c < n; ++c) raw[c] = sums_[p][n * i + c] * scale;
+    const FilmPass divisor = color_of(pass);
+    const bool divide = divisor != FilmPass::kCount && has_pass(divisor);
+    if (divide) {
+      for (int c = 0; c < 3; ++c) color[c] = sums_[static_cast<size_t>(divisor)][3 * i + c] * w;
+    }
+    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, &shown_[p][n * i]);
+  }
 }
 
 void Film::display_image(float* out) const {
   for (size_t i = 0; i < pixels_.size(); ++i) out[i] = displayable(load(pixels_[i]));
+}
+
+void Film::display_pass(FilmPass pass, int first, float* out) const {
+  const std::vector<float>& values = shown_[static_cast<size_t>(pass)];
+  const int n = channels_[static_cast<size_t>(pass)];
+  float scale = 1.0f;
+  if (pass == FilmPass::kDepth) {
+    float farthest = 0.0f;
+    for (const float& v : values) {
+      const float d = load(v);
+      if (d < kNoDepth) farthest = std::max(farthest, d);
+    }
+    scale = farthest > 0.0f ? 1.0f / farthest : 1.0f;
+  }
+  const int shown = n == 1 ? 1 : 3;
+  for (size_t i = 0; i < cost_.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const float v = load(values[n * i + first + (shown == 1 ? 0 : c)]) * scale;
+      out[4 * i + c] = displayable(v);
+    }
+    out[4 * i + 3] = 1.0f;
+  }
 }
 
 void Film::display_cost(float* out) const {

@@ -1,10 +1,12 @@
 // The film: what a render accumulates per pixel, and what Python reads of it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "core/math.h"
+#include "integrator/passes.h"
 
 namespace whitted {
 
@@ -23,17 +25,28 @@ struct Sample {
 class Film {
  public:
   // `accumulate`: keep sums and counts for pixels built one sample at a time
-  // (progressive); without it only set() may be used.
-  Film(int width, int height, bool accumulate);
+  // (progressive); without it only set() may be used. `passes` (bits of FilmPass) are
+  // kept besides the image and the cost; `contribution_depth` sizes Contributions.
+  Film(int width, int height, bool accumulate, uint32_t passes = 0, int contribution_depth = 1);
 
   int width() const { return width_; }
   int height() const { return height_; }
 
   // What pixel (x, y) shows, and the rays it took: the final value of a pixel rendered
   // whole, or a preview, shown until the pixel has a sample of its own.
-  void set(int x, int y, const Sample& value, float cost);
+  // `record`, the pixel's (the mean of its samples' records), fills the kept passes.
+  void set(int x, int y, const Sample& value, float cost, const SampleRecord* record = nullptr);
   // One more sample of pixel (x, y), and its rays: the pixel shows the mean so far.
-  void add(int x, int y, const Sample& sample, float cost);
+  void add(int x, int y, const Sample& sample, float cost, const SampleRecord* record = nullptr);
+
+  bool has_pass(FilmPass pass) const { return (passes_ & pass_bit(pass)) != 0; }
+  // Floats per pixel of a pass: 1 (Depth, Mist, indices, Cut Weight), 3 per depth bin
+  // (Contributions), 3 for the others.
+  int pass_channels(FilmPass pass) const { return channels_[static_cast<size_t>(pass)]; }
+  // A kept pass as shown, pass_channels floats per pixel, rows bottom to top: Direct
+  // and Indirect divided by their Color where it is kept and not 0, Mist as 1 - the
+  // summed coverage-weighted (1 - mist).
+  const std::vector<float>& pass(FilmPass pass) const { return shown_[static_cast<size_t>(pass)]; }
 
   // As shown, rows bottom to top: RGBA, and rays per pixel. A finished tile's pixels no
   // longer change and may be read directly.
@@ -46,6 +59,10 @@ class Film {
   // alpha 1.
   void display_image(float* out) const;
   void display_cost(float* out) const;
+  // A kept pass, channels `first` .. `first` + 2 (or `first` alone, shown grey, for a
+  // pass of one float), clamped as the image is; Depth is divided by the farthest
+  // surface shown, so that it spans 0 .. 1.
+  void display_pass(FilmPass pass, int first, float* out) const;
 
  private:
   size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
@@ -56,6 +73,10 @@ class Film {
   std::vector<float> cost_;      // rays per pixel shown
   std::vector<float> sum_;       // RGBA sums of the samples (accumulating only)
   std::vector<uint32_t> count_;  // samples taken (accumulating only)
+  uint32_t passes_;
+  std::array<int, kFilmPassCount> channels_{};
+  std::array<std::vector<float>, kFilmPassCount> shown_;  // each kept pass as shown
+  std::array<std::vector<float>, kFilmPassCount> sums_;   // their sums (accumulating only)
 };
 
 }  // namespace whitted

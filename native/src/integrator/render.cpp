@@ -58,7 +58,8 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
       passes_(make_schedule(settings_)),
       tiles_(make_tiles(settings_)),
       area_(border_area(settings_)),
-      film_(settings_.width, settings_.height, settings_.progressive),
+      film_(settings_.width, settings_.height, settings_.progressive, settings_.passes,
+            settings_.contribution_depth),
       cryptomatte_(settings_),
       recorder_(record_stride) {
   const double t0 = now_seconds();
@@ -148,17 +149,21 @@ bool RenderJob::wait_for_pass(size_t pass) {
 void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
                       RayCounts* counts) {
   const int width = settings_.width;
+  // What each pixel (or sample) adds to the passes, when there are any.
+  SampleRecord record;
+  SampleRecord* const passes = settings_.passes != 0 ? &record : nullptr;
   if (pass.kind == Pass::Kind::kPreview) {
     for_each_block(tile, pass.pixel_size, area_, [&](const Tile& block, const Tile& inside) {
       if (cancel_) return false;
       recorder_.select(log, block.x, block.y, width);
       const uint64_t before = counts->total();
+      if (passes != nullptr) record = SampleRecord{};
       const Sample s = sampler.point(
           static_cast<float>(block.x) + 0.5f * static_cast<float>(block.width),
-          static_cast<float>(block.y) + 0.5f * static_cast<float>(block.height), counts);
+          static_cast<float>(block.y) + 0.5f * static_cast<float>(block.height), counts, passes);
       const auto cost = static_cast<float>(counts->total() - before);
       for (int y = inside.y; y < inside.y + inside.height; ++y) {
-        for (int x = inside.x; x < inside.x + inside.width; ++x) film_.set(x, y, s, cost);
+        for (int x = inside.x; x < inside.x + inside.width; ++x) film_.set(x, y, s, cost, passes);
       }
       return true;
     });
@@ -169,13 +174,14 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
       recorder_.select(log, x, y, width);
       const uint64_t before = counts->total();
+      if (passes != nullptr) record = SampleRecord{};
       if (pass.kind == Pass::Kind::kPixels) {
-        const Sample s = sampler.pixel(x, y, counts);
-        film_.set(x, y, s, static_cast<float>(counts->total() - before));
+        const Sample s = sampler.pixel(x, y, counts, nullptr, passes);
+        film_.set(x, y, s, static_cast<float>(counts->total() - before), passes);
         if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
       } else {
-        const Sample s = sampler.grid_sample(x, y, pass.sample, counts);
-        film_.add(x, y, s, static_cast<float>(counts->total() - before));
+        const Sample s = sampler.grid_sample(x, y, pass.sample, counts, passes);
+        film_.add(x, y, s, static_cast<float>(counts->total() - before), passes);
       }
     }
   }

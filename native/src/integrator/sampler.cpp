@@ -27,21 +27,24 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       camera_(camera),
       camera_media_(camera_media) {}
 
-Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights) const {
-  return settings_.aa_mode == AntiAliasing::kAdaptive ? pixel_adaptive(x, y, counts, weights)
-                                                      : pixel_grid(x, y, counts, weights);
+Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
+                            SampleRecord* record) const {
+  return settings_.aa_mode == AntiAliasing::kAdaptive
+             ? pixel_adaptive(x, y, counts, weights, record)
+             : pixel_grid(x, y, counts, weights, record);
 }
 
-Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts) const {
-  return shade(grid_ray(x, y, k), nullptr, counts);
+Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
+                                  SampleRecord* record) const {
+  return shade(grid_ray(x, y, k), nullptr, counts, record);
 }
 
-Sample CameraSampler::point(float px, float py, RayCounts* counts) const {
-  return shade(camera_ray(px, py), nullptr, counts);
+Sample CameraSampler::point(float px, float py, RayCounts* counts, SampleRecord* record) const {
+  return shade(camera_ray(px, py), nullptr, counts, record);
 }
 
-Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts,
-                                 std::vector<float>* weights) const {
+Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
+                                 SampleRecord* record) const {
   // The camera rays of one pixel are coherent: Embree finds their first hits together,
   // up to a packet at a time, then each is shaded on its own. A packet never spans two
   // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
@@ -60,14 +63,21 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts,
     if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
     for (int k = 0; k < count; ++k) {
       const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
-      const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts);
+      SampleRecord sample_record;
+      const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts,
+                             record != nullptr ? &sample_record : nullptr);
       sum.radiance += s.radiance;
       sum.alpha += s.alpha;
+      if (record != nullptr) {
+        record->add(sample_record);
+        if (first + k == 0) record->take_first(sample_record);
+      }
     }
   }
   // The average of the samples (box filter).
   const float w = 1.0f / static_cast<float>(samples);
   if (weights != nullptr) weights->assign(static_cast<size_t>(samples), w);
+  if (record != nullptr) record->scale(w);
   return {sum.radiance * w, sum.alpha * w};
 }
 
@@ -94,18 +104,27 @@ Ray CameraSampler::camera_ray(float px, float py) const {
                               py / static_cast<float>(settings_.height));
 }
 
-Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts,
-                                     std::vector<float>* weights) const {
+Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,
+                                     SampleRecord* record) const {
   const auto fx = static_cast<float>(x);
   const auto fy = static_cast<float>(y);
+  const bool recording = record != nullptr;
   size_t ids[4];
   Sample corners[4];
+  std::array<SampleRecord, 4> records;
+  const SampleRecord* corner_records[4] = {nullptr, nullptr, nullptr, nullptr};
   const float at[4][2] = {{0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}, {1.0f, 1.0f}};
   for (int i = 0; i < 4; ++i) {
     ids[i] = new_weight(weights);
-    corners[i] = point(fx + at[i][0], fy + at[i][1], counts);
+    SampleRecord* r = recording ? &records[static_cast<size_t>(i)] : nullptr;
+    corners[i] = point(fx + at[i][0], fy + at[i][1], counts, r);
+    corner_records[i] = r;
   }
-  return subdivide(fx, fy, 1.0f, corners, ids, 0, counts, weights);
+  const Sample s =
+      subdivide(fx, fy, 1.0f, corners, ids, corner_records, 0, counts, weights, record);
+  // The first-sample data (depth, position, indices) are the bottom-left corner's.
+  if (recording) record->take_first(records[0]);
+  return s;
 }
 
 size_t CameraSampler::new_weight(std::vector<float>* weights) {
@@ -114,22 +133,26 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
   return weights->size() - 1;
 }
 
-Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts) const {
+Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
+                            SampleRecord* record) const {
   counts->camera += 1;
   const PathState path{0, Color(1.0f), camera_media_};
   float alpha = 1.0f;
-  const Color c = first != nullptr ? integrator_.trace_from(ray, *first, path, counts, &alpha)
-                                   : integrator_.trace(ray, path, counts, &alpha);
+  const Color c = first != nullptr
+                      ? integrator_.trace_from(ray, *first, path, counts, &alpha, record)
+                      : integrator_.trace(ray, path, counts, &alpha, record);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+    if (record != nullptr) *record = SampleRecord{};
     return {Color(0.0f), 0.0f};
   }
   return {c, alpha};
 }
 
 Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4],
-                                const size_t ids[4], int depth, RayCounts* counts,
-                                std::vector<float>* weights) const {
+                                const size_t ids[4], const SampleRecord* const records[4],
+                                int depth, RayCounts* counts, std::vector<float>* weights,
+                                SampleRecord* out) const {
   // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
   // summed over RGB.
   Color lo(kInfinity);
@@ -142,6 +165,7 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
   const Color spread = hi - lo;
   const bool split =
       depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
+  const bool recording = out != nullptr;
   if (!split) {
     Sample mean{Color(0.0f), 0.0f};
     for (int i = 0; i < 4; ++i) {
@@ -149,7 +173,9 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
       mean.alpha += 0.25f * corners[i].alpha;
       // A corner's share of the pixel: a quarter of this square's area.
       if (weights != nullptr) (*weights)[ids[i]] += 0.25f * size * size;
+      if (recording) out->add(*records[i]);
     }
+    if (recording) out->scale(0.25f);
     return mean;
   }
   const float h = 0.5f * size;
@@ -157,9 +183,13 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
   const float at[5][2] = {{h, 0.0f}, {0.0f, h}, {h, h}, {size, h}, {h, size}};
   Sample mid[5];
   size_t mid_ids[5];
+  std::array<SampleRecord, 5> mid_records;
+  const SampleRecord* m[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
   for (int i = 0; i < 5; ++i) {
     mid_ids[i] = new_weight(weights);
-    mid[i] = point(x0 + at[i][0], y0 + at[i][1], counts);
+    SampleRecord* r = recording ? &mid_records[static_cast<size_t>(i)] : nullptr;
+    mid[i] = point(x0 + at[i][0], y0 + at[i][1], counts, r);
+    m[i] = r;
   }
   const Sample quadrants[4][4] = {{corners[0], mid[0], mid[1], mid[2]},
                                   {mid[0], corners[1], mid[2], mid[3]},
@@ -169,14 +199,22 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
                                      {mid_ids[0], ids[1], mid_ids[2], mid_ids[3]},
                                      {mid_ids[1], mid_ids[2], ids[2], mid_ids[4]},
                                      {mid_ids[2], mid_ids[3], mid_ids[4], ids[3]}};
+  const SampleRecord* const quadrant_records[4][4] = {{records[0], m[0], m[1], m[2]},
+                                                      {m[0], records[1], m[2], m[3]},
+                                                      {m[1], m[2], records[2], m[4]},
+                                                      {m[2], m[3], m[4], records[3]}};
   const float offsets[4][2] = {{0.0f, 0.0f}, {h, 0.0f}, {0.0f, h}, {h, h}};
   Sample mean{Color(0.0f), 0.0f};
   for (int q = 0; q < 4; ++q) {
-    const Sample s = subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q],
-                               quadrant_ids[q], depth + 1, counts, weights);
+    SampleRecord quadrant;
+    const Sample s =
+        subdivide(x0 + offsets[q][0], y0 + offsets[q][1], h, quadrants[q], quadrant_ids[q],
+                  quadrant_records[q], depth + 1, counts, weights, recording ? &quadrant : nullptr);
     mean.radiance += 0.25f * s.radiance;
     mean.alpha += 0.25f * s.alpha;
+    if (recording) out->add(quadrant);
   }
+  if (recording) out->scale(0.25f);
   return mean;
 }
 

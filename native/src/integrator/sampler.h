@@ -21,29 +21,36 @@ class CameraSampler {
   // The pixel whose bottom-left corner is (x, y), whole, by the anti-aliasing mode: the
   // mean of its regular or jittered grid samples, or Whitted's adaptive subdivision.
   // `weights`, when given, receives each camera sample's weight in the pixel, in the
-  // order they were traced (the inspector's).
-  Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr) const;
+  // order they were traced (the inspector's). `record` (when passes are requested; a
+  // default SampleRecord) receives the pixel's passes: its samples' records weighted as
+  // their radiance is.
+  Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr,
+               SampleRecord* record = nullptr) const;
   // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
   // anti-aliasing, jittered otherwise. The same ray, and value, as in pixel().
-  Sample grid_sample(int x, int y, int k, RayCounts* counts) const;
+  Sample grid_sample(int x, int y, int k, RayCounts* counts, SampleRecord* record = nullptr) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
-  Sample point(float px, float py, RayCounts* counts) const;
+  Sample point(float px, float py, RayCounts* counts, SampleRecord* record = nullptr) const;
 
  private:
-  Sample pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights) const;
-  Sample pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights) const;
+  Sample pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
+                    SampleRecord* record) const;
+  Sample pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,
+                        SampleRecord* record) const;
   // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner
   // samples are `corners` (bottom-left, bottom-right, top-left, top-right); with `weights`,
-  // `ids` are the corners' indices into it.
+  // `ids` are the corners' indices into it; when passes are recorded, `records` are the
+  // corners' records and `out` receives the square's.
   Sample subdivide(float x0, float y0, float size, const Sample corners[4], const size_t ids[4],
-                   int depth, RayCounts* counts, std::vector<float>* weights) const;
+                   const SampleRecord* const records[4], int depth, RayCounts* counts,
+                   std::vector<float>* weights, SampleRecord* out) const;
   // The next point sample's index into `weights` (0 without weights).
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
   Ray grid_ray(int x, int y, int k) const;
   Ray camera_ray(float px, float py) const;
   // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
-  Sample shade(const Ray& ray, const Hit* first, RayCounts* counts) const;
+  Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record) const;
 
   const WhittedIntegrator& integrator_;
   const Settings& settings_;

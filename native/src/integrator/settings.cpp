@@ -1,8 +1,11 @@
 #include "integrator/settings.h"
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+
+#include "integrator/passes.h"
 
 namespace whitted {
 namespace {
@@ -42,6 +45,18 @@ void Settings::validate() const {
                                 "; it must be a power of two");
   }
   check_range("fault_tile", fault_tile, -1, INT32_MAX);
+  check_range("contribution_depth", contribution_depth, 1, kMaxContributionDepth);
+  if (passes >= pass_bit(FilmPass::kCount)) {
+    throw std::invalid_argument("passes has bits beyond the last film pass");
+  }
+  if (!(pass_alpha_threshold >= 0.0f && pass_alpha_threshold <= 1.0f)) {
+    throw std::invalid_argument("pass_alpha_threshold must be between 0 and 1");
+  }
+  if (!(mist_start >= 0.0f && mist_depth >= 0.0f && std::isfinite(mist_start) &&
+        std::isfinite(mist_depth) && mist_falloff > 0.0f && mist_falloff <= 16.0f)) {
+    throw std::invalid_argument(
+        "mist: start and depth must be finite and >= 0, falloff in (0, 16]");
+  }
   check_range("worker_nice", worker_nice, 0, 19);
   check_range("glass_shadows", static_cast<int64_t>(glass_shadows), 0, 1);
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;

@@ -65,6 +65,21 @@ struct Settings {
   // renders at a lower priority than Blender's own thread, so that on a machine whose
   // cores the workers fill the interface still draws each new pass at once.
   int worker_nice = 0;
+  // Render passes beyond Combined and the ray cost: bits of FilmPass (passes.h, 1 << pass).
+  // None: the kernels that record nothing, as fast as without passes.
+  uint32_t passes = 0;
+  // The Contributions pass: depths 0 .. contribution_depth - 1 apart, then one bin for
+  // contribution_depth and beyond (1 to 8).
+  int contribution_depth = 3;
+  // The data passes come from the first surface a camera ray meets whose alpha is at
+  // least this (Blender's view_layer.pass_alpha_threshold; 0: the first surface).
+  float pass_alpha_threshold = 0.5f;
+  // The Mist pass (the world's mist settings): 0 up to mist_start from the camera, 1 from
+  // mist_start + mist_depth, between them ((distance - start) / depth)^mist_falloff
+  // (Blender's falloffs: quadratic 2, linear 1, inverse quadratic 0.5).
+  float mist_start = 5.0f;
+  float mist_depth = 25.0f;
+  float mist_falloff = 2.0f;
   // A test hook: the worker that takes this tile (an index into the tiles, bottom row
   // first) throws std::bad_alloc before tracing it, to show a failing worker stops the
   // job cleanly. -1: off.

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 namespace whitted {
@@ -53,22 +54,34 @@ float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
          std::pow(v_dot_r, coat.shininess) * cos_l;
 }
 
+// The pass listener of a kernel that records no passes: it is never called.
+struct NoRecorder {
+  NoRecorder(const CompiledScene& /*scene*/, const Settings& /*settings*/, const Camera& /*camera*/,
+             SampleRecord* /*record*/) {}
+};
+
 // The Whitted recursion for one set of effects E (EffectBits); what E leaves out is not
 // compiled in. With kRecord (the inspector only) every ray and term also goes into the
-// integrator's RayTree; renders run the kernels without it.
-template <uint32_t E, bool kRecord>
+// integrator's RayTree; renders run the kernels without it. With a Recorder other than
+// NoRecorder (PassRecorder, passes.h: renders with passes) the kernel also tells it, node
+// by node, where each share of a sample's radiance comes from; with NoRecorder none of
+// that is compiled in.
+template <uint32_t E, bool kRecord, class Recorder>
 class Kernel {
+  static constexpr bool kPasses = !std::is_same_v<Recorder, NoRecorder>;
+
  public:
-  explicit Kernel(const WhittedIntegrator& w)
+  Kernel(const WhittedIntegrator& w, SampleRecord* record)
       : scene_(w.scene()),
         settings_(w.settings()),
         camera_(w.camera()),
         log_(w.log()),
-        tree_(w.tree()) {}
+        tree_(w.tree()),
+        recorder_(w.scene(), w.settings(), w.camera(), record) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
-                   RayCounts* counts, float* alpha, const Hit* first) {
-    return Kernel(w).trace(ray, path, counts, alpha, first);
+                   RayCounts* counts, float* alpha, const Hit* first, SampleRecord* record) {
+    return Kernel(w, record).trace(ray, path, counts, alpha, first);
   }
 
  private:
@@ -109,11 +122,18 @@ class Kernel {
       }
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
-        if (!(settings_.transparent_background && ray.kind == kCameraRay)) {
+        const bool shown = !(settings_.transparent_background && ray.kind == kCameraRay);
+        if (shown) {
           const Color background = scene_.world_radiance(r, context(path));
           radiance += behind * background;
           coverage += behind;
           if constexpr (kRecord) record_background(node, background);
+          if constexpr (kPasses) {
+            recorder_.escaped(path.depth, path.throughput * behind, background, true);
+          }
+        } else if constexpr (kPasses) {
+          recorder_.escaped(path.depth, path.throughput * behind,
+                            scene_.world_radiance(r, context(path)), false);
         }
         break;
       }
@@ -129,6 +149,17 @@ class Kernel {
         if constexpr (kRecord) {
           const RayTree::Scope scope(tree_, node, tree_->nodes[node].weight * a);
           radiance += (behind * a) * shade(r, it, surface, path, counts);
+        } else if constexpr (kPasses) {
+          // This layer's share of the sample, for what the recorder is told below it.
+          PathState layer = path;
+          layer.throughput = path.throughput * (behind * a);
+          if (path.depth == 0) {
+            Vec3 ng;
+            Vec3 ns;
+            facing_normals(r, it, surface, &ng, &ns);
+            recorder_.camera_surface(it, surface, ns, max_component(layer.throughput));
+          }
+          radiance += (behind * a) * shade(r, it, surface, layer, counts);
         } else {
           radiance += (behind * a) * shade(r, it, surface, path, counts);
         }
@@ -179,13 +210,21 @@ class Kernel {
                       counts);
       }
     }
-    const Vec3 ng = entering ? it.geometric_normal : -it.geometric_normal;  // faces the ray
-    Vec3 ns = entering ? surface.normal : -surface.normal;
-    if (glm::dot(ns, ng) <= 0.0f) ns = ng;  // a shading normal cannot face away
+    Vec3 ng;
+    Vec3 ns;
+    facing_normals(ray, it, surface, &ng, &ns);
     const Vec3 wo = -ray.direction;
     const Coat coat = coat_of(surface, wo, ng, entering);
     if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * surface.emission;
-    Color radiance = surface.emission + local(it, surface, coat, wo, ng, ns, path, counts);
+    NodeTerms terms;  // filled only by kernels that record passes
+    Color radiance = surface.emission + local(it, surface, coat, wo, ng, ns, path, counts, &terms);
+    if constexpr (kPasses) {
+      terms.emission = surface.emission;
+      terms.total = radiance;
+      terms.diffuse_color = (1.0f - coat.cover) * surface.diffuse;
+      terms.specular_color = (1.0f - coat.cover) * surface.specular + Color(coat.highlight);
+      recorder_.node(path.depth, path.throughput, terms);
+    }
     if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
 
     Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
@@ -225,17 +264,21 @@ class Kernel {
     if (has(kReflectionEffect) && (!has(kPruningEffect) || !is_black(kr))) {
       Vec3 r = reflect(ray.direction, coat_ray ? coat.normal : ns);
       if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
-      radiance += kr * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r,
-                                        kReflectionRay),
-                              path, kr, path.media, /*bounce=*/true,
-                              total_internal_reflection ? TreeRayKind::kTotalInternalReflection
-                                                        : TreeRayKind::kReflection,
-                              counts);
+      const Color reflected =
+          branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r, kReflectionRay),
+                 path, kr, path.media, /*bounce=*/true,
+                 total_internal_reflection ? TreeRayKind::kTotalInternalReflection
+                                           : TreeRayKind::kReflection,
+                 counts);
+      radiance += kr * reflected;
+      if constexpr (kPasses) recorder_.reflected(path.depth, path.throughput, kr, reflected);
     }
     if (refracts && (!has(kPruningEffect) || !is_black(kt))) {
-      radiance += kt * branch(spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir,
-                                        kRefractionRay),
-                              path, kt, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
+      const Color refracted = branch(
+          spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir, kRefractionRay),
+          path, kt, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
+      radiance += kt * refracted;
+      if constexpr (kPasses) recorder_.refracted(path.depth, path.throughput, kt, refracted);
     }
     return radiance;
   }
@@ -245,15 +288,18 @@ class Kernel {
   // (`kind` names it for the inspector). The one place the ray tree branches.
   Color branch(const Ray& ray, const PathState& path, const Color& weight, const MediumStack& media,
                bool bounce, [[maybe_unused]] TreeRayKind kind, RayCounts* counts) const {
-    const PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
+    PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
+    if constexpr (kPasses) next.throughput = path.throughput * weight;
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kDepth);
+      if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
     if (has(kPruningEffect) && max_component(next.weight) < settings_.cutoff) {
       counts->cutoff_skipped += 1;  // its contribution could no longer show
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kCutoff);
+      if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
     if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
@@ -267,10 +313,14 @@ class Kernel {
 
   // I = (1 - coat) * [Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)]
   //     + sum_i delta_i * coat_highlight_i * E_i
+  // A kernel that records passes also splits it into `terms` (ambient, diffuse, specular:
+  // the coat's highlight counts as specular); the sum returned is the same either way.
   Color local(const Interaction& it, const SurfaceParams& surface, const Coat& coat, const Vec3& wo,
-              const Vec3& ng, const Vec3& n, const PathState& path, RayCounts* counts) const {
+              const Vec3& ng, const Vec3& n, const PathState& path, RayCounts* counts,
+              NodeTerms* terms) const {
     const float base = 1.0f - coat.cover;
     Color radiance = base * it.material->ambient * scene_.ambient * surface.diffuse;
+    if constexpr (kPasses) terms->ambient = radiance;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * radiance;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
     // The interpolated normal on the ray's side: a program's normal fades the diffuse
@@ -316,8 +366,21 @@ class Kernel {
                Color(coat_highlight(coat, wo, ls.wi)));
           tree_->nodes[feeler].cut = TreeCut::kUnshadowed;  // until a feeler is sent
         }
+        // The diffuse and specular shares of a light that arrives through `transmittance`.
+        const auto record = [&](const Color& transmittance) {
+          if constexpr (kPasses) {
+            const Color light_in = ls.irradiance * transmittance;
+            const float lit = base * std::max(0.0f, cos_l);
+            terms->diffuse += (lit * kInvPi * fade) * surface.diffuse * light_in;
+            terms->specular +=
+                (lit * surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess)) +
+                 Color(coat_highlight(coat, wo, ls.wi))) *
+                light_in;
+          }
+        };
         if (!has(kShadowEffect) || !light.cast_shadows) {
           radiance += contribution;
+          record(Color(1.0f));
           continue;
         }
         if constexpr (has(kPruningEffect)) {
@@ -328,6 +391,7 @@ class Kernel {
           if (max_component(path.weight * contribution) * whole_light < settings_.cutoff) {
             counts->shadow_rays_skipped.cutoff += 1;
             radiance += contribution;
+            record(Color(1.0f));
             continue;
           }
         }
@@ -338,6 +402,7 @@ class Kernel {
         const Color transmittance = shadow_transmittance(shadow_ray, path, counts);
         if constexpr (kRecord) record_shadow(feeler, shadow_ray, transmittance);
         radiance += contribution * transmittance;
+        record(transmittance);
       }
     }
     return radiance;
@@ -374,6 +439,17 @@ class Kernel {
       counts->shadow += 1;
     }
     return Color(0.0f);
+  }
+
+  // The geometric and shading normals of a hit turned to face the ray; a shading normal
+  // cannot face away.
+  static void facing_normals(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+                             Vec3* ng, Vec3* ns) {
+    // Entering or leaving is decided by the geometric normal, never the shading normal.
+    const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+    *ng = entering ? it.geometric_normal : -it.geometric_normal;
+    *ns = entering ? surface.normal : -surface.normal;
+    if (glm::dot(*ns, *ng) <= 0.0f) *ns = *ng;
   }
 
   // What a shader program may ask of a ray on `path` besides the ray.
@@ -437,16 +513,21 @@ class Kernel {
   const Camera& camera_;
   RayLog* log_;
   RayTree* tree_;
+  [[no_unique_address]] Recorder recorder_;
 };
 
-// One kernel per set of effects, indexed by its bits; the recording ones for the inspector.
-template <bool kRecord, size_t... I>
+// One kernel per set of effects, indexed by its bits: for renders, for renders with
+// passes, and the recording ones for the inspector.
+template <bool kRecord, class Recorder, size_t... I>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(I)> kernels(
     std::index_sequence<I...> /*bits*/) {
-  return {&Kernel<static_cast<uint32_t>(I), kRecord>::run...};
+  return {&Kernel<static_cast<uint32_t>(I), kRecord, Recorder>::run...};
 }
-constexpr auto kKernels = kernels<false>(std::make_index_sequence<kAllEffects + 1>{});
-constexpr auto kRecordingKernels = kernels<true>(std::make_index_sequence<kAllEffects + 1>{});
+constexpr auto kKernels = kernels<false, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
+constexpr auto kPassKernels =
+    kernels<false, PassRecorder>(std::make_index_sequence<kAllEffects + 1>{});
+constexpr auto kRecordingKernels =
+    kernels<true, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
 
 }  // namespace
 
@@ -472,7 +553,9 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings)),
-      trace_(tree != nullptr ? kRecordingKernels[effects_.bits] : kKernels[effects_.bits]),
+      trace_(tree != nullptr        ? kRecordingKernels[effects_.bits]
+             : settings.passes != 0 ? kPassKernels[effects_.bits]
+                                    : kKernels[effects_.bits]),
       log_(log),
       tree_(tree) {}
 

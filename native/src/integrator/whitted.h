@@ -7,6 +7,7 @@
 
 #include "integrator/analysis.h"
 #include "integrator/medium.h"
+#include "integrator/passes.h"
 #include "integrator/ray_tree.h"
 #include "integrator/recorder.h"
 #include "integrator/settings.h"
@@ -39,10 +40,13 @@ struct RayCounts {
 
 // Where a ray is in its ray tree: its recursion depth, its weight on the pixel (the
 // product of the sigma_r/sigma_t along the way), and the media it is inside.
+// `throughput` is that weight times the coverage of the cut-outs on the way: kept only
+// by the kernels that record passes (elsewhere it stays 1).
 struct PathState {
   int depth = 0;
   Color weight{1.0f};
   MediumStack media;
+  Color throughput{1.0f};
 };
 
 // Analyses the scene once, then traces with a kernel specialised to the effects the
@@ -58,15 +62,16 @@ class WhittedIntegrator {
 
   // Radiance arriving along `ray` (camera rays: a default PathState, or the media the
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
-  // coverage (0..1).
-  Color trace(const Ray& ray, const PathState& path, RayCounts* counts,
-              float* alpha = nullptr) const {
-    return trace_(*this, ray, path, counts, alpha, nullptr);
+  // coverage (0..1). `record`, given when the settings request passes, receives what
+  // the ray's tree contributed to them (it must start as a default SampleRecord).
+  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha = nullptr,
+              SampleRecord* record = nullptr) const {
+    return trace_(*this, ray, path, counts, alpha, nullptr, record);
   }
   // The same for a ray whose first hit is already known (from intersect_packet).
   Color trace_from(const Ray& ray, const Hit& first, const PathState& path, RayCounts* counts,
-                   float* alpha) const {
-    return trace_(*this, ray, path, counts, alpha, &first);
+                   float* alpha, SampleRecord* record = nullptr) const {
+    return trace_(*this, ray, path, counts, alpha, &first, record);
   }
   // First hits of up to SceneAccel::kPacketSize coherent rays, traced as one packet.
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
@@ -82,7 +87,7 @@ class WhittedIntegrator {
   RayTree* tree() const { return tree_; }
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
-                            float*, const Hit*);
+                            float*, const Hit*, SampleRecord*);
 
  private:
   const CompiledScene& scene_;

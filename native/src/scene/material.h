@@ -61,6 +61,7 @@ struct MaterialParams {
   Color emission{0.0f};        // radiance added as is
   float alpha = 1.0f;          // coverage: 1 opaque, 0 invisible (cut-outs)
   int32_t priority = 0;        // nested dielectrics: the higher owns overlaps (medium.h)
+  int32_t pass_index = 0;      // Blender's material Pass Index (the IndexMA pass)
   // The coat: a clear dielectric layer over everything above. At a hit it reflects its
   // weights times the dielectric Fresnel factor of coat_ior at its own normal, and what
   // lies beneath receives the rest (whitted.cpp, Coat).

@@ -1,0 +1,132 @@
+#include "integrator/passes.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace whitted {
+namespace {
+
+float mean(const Color& c) {
+  return (c.x + c.y + c.z) * (1.0f / 3.0f);
+}
+
+}  // namespace
+
+void SampleRecord::add(const SampleRecord& s) {
+  emission += s.emission;
+  environment += s.environment;
+  diffuse_direct += s.diffuse_direct;
+  diffuse_indirect += s.diffuse_indirect;
+  diffuse_color += s.diffuse_color;
+  glossy_direct += s.glossy_direct;
+  glossy_indirect += s.glossy_indirect;
+  glossy_color += s.glossy_color;
+  transmission_indirect += s.transmission_indirect;
+  transmission_color += s.transmission_color;
+  for (size_t d = 0; d < contributions.size(); ++d) contributions[d] += s.contributions[d];
+  cut_weight += s.cut_weight;
+  mist += s.mist;
+  normal += s.normal;
+  uv += s.uv;
+}
+
+void SampleRecord::take_first(const SampleRecord& s) {
+  depth = s.depth;
+  position = s.position;
+  object_index = s.object_index;
+  material_index = s.material_index;
+  data_found = s.data_found;
+}
+
+void SampleRecord::scale(float w) {
+  emission *= w;
+  environment *= w;
+  diffuse_direct *= w;
+  diffuse_indirect *= w;
+  diffuse_color *= w;
+  glossy_direct *= w;
+  glossy_indirect *= w;
+  glossy_color *= w;
+  transmission_indirect *= w;
+  transmission_color *= w;
+  for (Color& c : contributions) c *= w;
+  cut_weight *= w;
+  mist *= w;
+  normal *= w;
+  uv *= w;
+}
+
+PassRecorder::PassRecorder(const CompiledScene& scene, const Settings& settings,
+                           const Camera& camera, SampleRecord* record)
+    : scene_(scene), settings_(settings), camera_(camera), record_(record) {}
+
+void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& surface,
+                                  const Vec3& normal, float share) const {
+  // Distances from the camera: along its view axis (Depth), and from its position
+  // (Mist, as Cycles; an orthographic camera has no position, so the view axis).
+  const Vec3 eye(camera_.to_world[3]);
+  const Vec3 forward = -glm::normalize(Vec3(camera_.to_world[2]));
+  const float z = glm::dot(it.position - eye, forward);
+  const float distance =
+      camera_.projection == Projection::kPerspective ? glm::length(it.position - eye) : z;
+  // Mist: 0 at the start distance, 1 at start + depth, shaped by the falloff exponent;
+  // what the film shows is 1 - the sum of (1 - mist) * coverage.
+  const float reach =
+      settings_.mist_depth > 0.0f
+          ? std::clamp((distance - settings_.mist_start) / settings_.mist_depth, 0.0f, 1.0f)
+          : (distance >= settings_.mist_start ? 1.0f : 0.0f);
+  const float mist = std::pow(reach, settings_.mist_falloff);
+  record_->mist += (1.0f - mist) * share;
+  if (record_->data_found || surface.alpha < settings_.pass_alpha_threshold) return;
+  record_->data_found = true;
+  record_->depth = z;
+  record_->position = it.position;
+  record_->normal = normal;
+  const glm::vec2 uv = scene_.texture_point(it).uv;
+  record_->uv = Vec3(uv, 0.0f);
+  record_->object_index = scene_.instances[it.instance].info.pass_index;
+  record_->material_index = static_cast<float>(it.material->pass_index);
+}
+
+void PassRecorder::node(int depth, const Color& throughput, const NodeTerms& terms) const {
+  record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
+      throughput * terms.total;
+  if (depth > 0) return;  // deeper nodes are in the camera hit's indirect terms
+  record_->emission += throughput * terms.emission;
+  record_->diffuse_direct += throughput * terms.diffuse;
+  record_->diffuse_indirect += throughput * terms.ambient;
+  record_->diffuse_color += throughput * terms.diffuse_color;
+  record_->glossy_direct += throughput * terms.specular;
+  record_->glossy_color += throughput * terms.specular_color;
+}
+
+void PassRecorder::reflected(int depth, const Color& throughput, const Color& sigma_r,
+                             const Color& radiance) const {
+  if (depth > 0) return;
+  record_->glossy_indirect += throughput * sigma_r * radiance;
+  record_->glossy_color += throughput * sigma_r;
+}
+
+void PassRecorder::refracted(int depth, const Color& throughput, const Color& sigma_t,
+                             const Color& radiance) const {
+  if (depth > 0) return;
+  record_->transmission_indirect += throughput * sigma_t * radiance;
+  record_->transmission_color += throughput * sigma_t;
+}
+
+void PassRecorder::escaped(int depth, const Color& throughput, const Color& radiance,
+                           bool shown) const {
+  // A transparent film leaves the world out of Combined but, as in Cycles, not out of
+  // the Environment pass, so it can be put back in the compositor.
+  if (shown) {
+    record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
+        throughput * radiance;
+  }
+  if (depth == 0) record_->environment += throughput * radiance;
+}
+
+void PassRecorder::cut(const Color& weight) const {
+  record_->cut_weight += mean(weight);
+}
+
+}  // namespace whitted

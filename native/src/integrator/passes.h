@@ -1,0 +1,161 @@
+// Render passes beyond Combined: which ones a film can keep, and the record of what one
+// camera sample's ray tree contributed to them, filled by the kernel (whitted.cpp) only
+// when passes are requested. docs/PASSES.md defines every pass.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "core/math.h"
+#include "integrator/settings.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace whitted {
+
+// The film passes a render may keep besides Combined and the ray cost, in this order.
+enum class FilmPass : uint32_t {
+  kEmission,
+  kEnvironment,
+  kDiffuseDirect,
+  kDiffuseIndirect,
+  kDiffuseColor,
+  kGlossyDirect,
+  kGlossyIndirect,
+  kGlossyColor,
+  kTransmissionDirect,
+  kTransmissionIndirect,
+  kTransmissionColor,
+  kDepth,
+  kMist,
+  kNormal,
+  kPosition,
+  kUV,
+  kObjectIndex,
+  kMaterialIndex,
+  kContributions,  // per depth of the ray tree: RGB for depths 0 .. N-1, then N and beyond
+  kCutWeight,
+  kCount,
+};
+inline constexpr size_t kFilmPassCount = static_cast<size_t>(FilmPass::kCount);
+inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = {
+    "emission",
+    "environment",
+    "diffuse_direct",
+    "diffuse_indirect",
+    "diffuse_color",
+    "glossy_direct",
+    "glossy_indirect",
+    "glossy_color",
+    "transmission_direct",
+    "transmission_indirect",
+    "transmission_color",
+    "depth",
+    "mist",
+    "normal",
+    "position",
+    "uv",
+    "object_index",
+    "material_index",
+    "contributions",
+    "cut_weight"};
+
+constexpr uint32_t pass_bit(FilmPass pass) {
+  return 1u << static_cast<uint32_t>(pass);
+}
+
+// The deepest separate bin of the Contributions pass (Settings::contribution_depth).
+inline constexpr int kMaxContributionDepth = 8;
+// Depth where a camera sample sees no surface (as Cycles' Depth pass shows the sky).
+inline constexpr float kNoDepth = 1e10f;
+
+// What one camera sample (or, summed and scaled, one pixel) adds to each pass. The light
+// terms belong to the camera hit (depth 0; through cut-outs, every layer the camera ray
+// meets, by its coverage) and are weighted by that share of the sample: Direct and
+// Indirect hold colour times light, as Blender's recombination Color * (Direct +
+// Indirect) wants; the film divides them by their Color.
+struct SampleRecord {
+  Color emission{0.0f};               // emission of the surfaces the camera ray meets
+  Color environment{0.0f};            // the world where the camera ray escapes
+  Color diffuse_direct{0.0f};         // kd/pi * light, through shadow feelers
+  Color diffuse_indirect{0.0f};       // the ambient term Ia * ka * kd
+  Color diffuse_color{0.0f};          // kd
+  Color glossy_direct{0.0f};          // the Phong highlights of the lights
+  Color glossy_indirect{0.0f};        // sigma_r * what the mirror ray brings back
+  Color glossy_color{0.0f};           // ks + sigma_r
+  Color transmission_indirect{0.0f};  // sigma_t * what the refracted ray brings back
+  Color transmission_color{0.0f};     // sigma_t (Transmission Direct is always 0)
+  // Everything the ray tree's nodes at depth d add to the sample (emission and local
+  // term of a surface, the world where a ray escapes), for d < contribution_depth;
+  // the last bin used holds depth contribution_depth and beyond.
+  std::array<Color, kMaxContributionDepth + 1> contributions{};
+  // The summed weight on the sample (mean over RGB) of the rays not traced because of
+  // the maximum depth or the cutoff.
+  float cut_weight = 0.0f;
+  // Data of the first surface the camera ray meets whose alpha reaches the threshold
+  // (Settings::pass_alpha_threshold), as Cycles: normal and UV are averaged over the
+  // samples; depth, position and the indices are the pixel's first sample's.
+  float mist = 0.0f;       // sum over camera-ray surfaces of (1 - mist) * coverage
+  Vec3 normal{0.0f};       // shading normal, world space, facing the camera
+  Vec3 uv{0.0f};           // UV map 0, (u, v, 0)
+  float depth = kNoDepth;  // distance along the camera's view axis
+  Vec3 position{0.0f};     // world space
+  float object_index = 0.0f;
+  float material_index = 0.0f;
+  bool data_found = false;  // whether the data surface was met (set by the kernel)
+
+  // Sums the per-sample terms of `s` into these.
+  void add(const SampleRecord& s);
+  // Takes the first-sample data (depth, position, indices) of `s`.
+  void take_first(const SampleRecord& s);
+  // Scales the summed terms by w (1 / samples), leaving the first-sample data.
+  void scale(float w);
+};
+
+// What one node of a ray tree (a ray's surface hit) adds by itself, as the kernel split
+// the Whitted step: what a recorder is told of each node.
+struct NodeTerms {
+  Color emission{0.0f};
+  Color ambient{0.0f};         // Ia * ka * kd (under a coat: times what the coat lets through)
+  Color diffuse{0.0f};         // sum over the lights of kd/pi * E * (n.l) * feeler transmittance
+  Color specular{0.0f};        // the same for the Phong lobe and the coat's highlight
+  Color total{0.0f};           // emission + local term as the kernel summed it (into Combined)
+  Color diffuse_color{0.0f};   // kd (under a coat: times what the coat lets through)
+  Color specular_color{0.0f};  // ks (the same), plus the coat's highlight weight
+};
+
+// The kernel's listener when passes are requested: it is told, node by node, where each
+// share of a sample's radiance comes from, and fills that sample's SampleRecord. Every
+// hook gets the node's depth in the ray tree and its throughput (its weight on the
+// sample: the sigma_r and sigma_t along the way times the coverage of cut-outs).
+class PassRecorder {
+ public:
+  PassRecorder(const CompiledScene& scene, const Settings& settings, const Camera& camera,
+               SampleRecord* record);
+
+  // A surface the camera ray meets (depth 0), covering `share` of the sample; `normal`
+  // is its shading normal turned to face the ray. The data passes come from the first
+  // whose alpha reaches the threshold.
+  void camera_surface(const Interaction& it, const SurfaceParams& surface, const Vec3& normal,
+                      float share) const;
+  // The terms a surface adds by itself.
+  void node(int depth, const Color& throughput, const NodeTerms& terms) const;
+  // sigma_r * reflected (or sigma_t * refracted) radiance added at a node.
+  void reflected(int depth, const Color& throughput, const Color& sigma_r,
+                 const Color& radiance) const;
+  void refracted(int depth, const Color& throughput, const Color& sigma_t,
+                 const Color& radiance) const;
+  // A ray that escapes to the world, `shown` unless the film is transparent there.
+  void escaped(int depth, const Color& throughput, const Color& radiance, bool shown) const;
+  // A ray of weight `weight` on the sample not traced (maximum depth or cutoff).
+  void cut(const Color& weight) const;
+
+ private:
+  const CompiledScene& scene_;
+  const Settings& settings_;
+  const Camera& camera_;
+  SampleRecord* record_;
+};
+
+}  // namespace whitted
