@@ -370,6 +370,11 @@ def test_object_info_of_an_instance(warnings):
     assert 0.0 <= random <= 1.0
     assert index == 7.0
     assert color == pytest.approx((0.5, 0.25, 0.125, 1.0))
+    # Read by no material, it is sent only for a pass index (the IndexOB pass).
+    (indexed,) = convert_meshes(depsgraph, warnings).instances
+    assert indexed.info[4] == 7.0
+    plane.pass_index = 0
+    depsgraph = bpy.context.evaluated_depsgraph_get()
     (bare,) = convert_meshes(depsgraph, warnings).instances
     assert bare.info is None
     # The same object gives the same random number every time.

@@ -74,7 +74,7 @@ def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
     # to (n.l = cos 10), and under one 5 degrees below the floor, which only the mapped
     # normal sees: Cycles fades the first (3.x: Chiang et al.'s cubic; 4.x+: the GGX
     # masking of Conty Estevez et al.) and cuts the second.
-    def lit(bump_shadowing, elevation):
+    def render(bump_shadowing, elevation, passes=()):
         scene = lit_floor_scene()
         e = math.radians(elevation)
         direction = (-math.cos(e), 0.0, -math.sin(e))  # the way the light travels
@@ -90,7 +90,11 @@ def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
             bump_shadowing=bump_shadowing,
         )
         scene.set_material("white", material)
-        return finish(wn.RenderJob(scene, wn.Settings(width=33, height=33)))[16, 16, 0]
+        job = wn.RenderJob(scene, wn.Settings(width=33, height=33, passes=list(passes)))
+        return finish(job), job
+
+    def lit(bump_shadowing, elevation):
+        return render(bump_shadowing, elevation)[0][16, 16, 0]
 
     base = 0.5 / math.pi * math.cos(math.radians(10.0))
     modes = wn.BumpShadowing
@@ -105,6 +109,10 @@ def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
     assert lit(modes.NONE, -5.0) > 0.1 * base
     for mode in (modes.SMOOTH_SIDE, modes.CHIANG, modes.MICROFACET):
         assert lit(mode, -5.0) == 0.0
+    # The Diffuse passes carry the fade: Color x Direct is the image.
+    image, job = render(modes.CHIANG, 20.0, ("diffuse_direct", "diffuse_color"))
+    rebuilt = job.pass_image("diffuse_color") * job.pass_image("diffuse_direct")
+    np.testing.assert_allclose(rebuilt, image[..., :3], atol=1e-6)
 
 
 def test_glass_casts_a_full_shadow_unless_its_shadows_are_tinted():
