@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -516,18 +518,38 @@ class Kernel {
   [[no_unique_address]] Recorder recorder_;
 };
 
-// One kernel per set of effects, indexed by its bits: for renders, for renders with
-// passes, and the recording ones for the inspector.
+// One kernel per set of effects the analysis can decide (reachable_effects), indexed by
+// its bits, null for the others: for renders, for renders with passes, and the recording
+// ones for the inspector.
+template <uint32_t E, bool kRecord, class Recorder>
+constexpr WhittedIntegrator::TraceFn kernel_of() {
+  if constexpr (reachable_effects(E)) {
+    return &Kernel<E, kRecord, Recorder>::run;
+  } else {
+    return nullptr;
+  }
+}
 template <bool kRecord, class Recorder, size_t... I>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(I)> kernels(
     std::index_sequence<I...> /*bits*/) {
-  return {&Kernel<static_cast<uint32_t>(I), kRecord, Recorder>::run...};
+  return {kernel_of<static_cast<uint32_t>(I), kRecord, Recorder>()...};
 }
 constexpr auto kKernels = kernels<false, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
 constexpr auto kPassKernels =
     kernels<false, PassRecorder>(std::make_index_sequence<kAllEffects + 1>{});
 constexpr auto kRecordingKernels =
     kernels<true, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
+
+WhittedIntegrator::TraceFn kernel_for(uint32_t effects, bool record, bool passes) {
+  const WhittedIntegrator::TraceFn kernel = record   ? kRecordingKernels[effects]
+                                            : passes ? kPassKernels[effects]
+                                                     : kKernels[effects];
+  if (kernel == nullptr) {
+    throw std::logic_error("no kernel compiled for effects " + std::to_string(effects) +
+                           " (reachable_effects, analysis.h)");
+  }
+  return kernel;
+}
 
 }  // namespace
 
@@ -553,9 +575,7 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings)),
-      trace_(tree != nullptr        ? kRecordingKernels[effects_.bits]
-             : settings.passes != 0 ? kPassKernels[effects_.bits]
-                                    : kKernels[effects_.bits]),
+      trace_(kernel_for(effects_.bits, tree != nullptr, settings.passes != 0)),
       log_(log),
       tree_(tree) {}
 
