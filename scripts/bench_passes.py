@@ -1,0 +1,122 @@
+"""What render passes cost (docs/PASSES.md): the demo scene traced with no extra pass,
+with the data passes, with the light passes and with every pass (the per-depth passes
+and Cut Weight too), interleaved in one run; trace time from each render's stats.
+
+    .venv/bin/python scripts/bench_passes.py --out docs          (bpy 5.0 module)
+    blender -b --factory-startup --python-exit-code 1 \\
+        --python scripts/bench_passes.py -- --out docs
+
+Writes OUT/images/passes/cost-blender-X.Y.json (scripts/passes_page.py puts the
+figures of every Blender that ran this on the page). Renders without passes run the
+kernels compiled without a pass recorder; any pass switches the render to the ones
+with it (native/src/integrator/passes.h).
+"""
+
+import argparse
+import json
+import os
+
+import bpy
+from whitted_tools import demo_scene
+from whitted_tools.blender import factory_scene
+from whitted_tools.cli import script_args
+from whitted_tools.pages import machine_lines
+from whitted_tools.timing import median_or_none
+
+WIDTH, HEIGHT = 480, 360
+AA_SAMPLES = 2
+REPEATS = 9
+CONTRIBUTION_DEPTH = 3
+VARIANTS = ("none", "data", "light", "all")
+COMMANDS = (
+    ".venv/bin/python scripts/bench_passes.py --out docs",
+    "blender -b --factory-startup --python-exit-code 1 --python scripts/bench_passes.py "
+    "-- --out docs",
+)
+
+
+def parse_args():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", required=True, help="the docs directory to write into")
+    parser.add_argument("--repeats", type=int, default=REPEATS)
+    return parser.parse_args(script_args())
+
+
+def build_scene():
+    scene = demo_scene.build_demo_scene(factory_scene())
+    render = scene.render
+    render.engine = "WHITTED"
+    render.resolution_x, render.resolution_y = WIDTH, HEIGHT
+    render.resolution_percentage = 100
+    scene.whitted.aa_samples = AA_SAMPLES
+    return scene
+
+
+def set_passes(view_layer, variant):
+    """Switch on the passes of `variant`: none, the Data panel's, the Light panel's, or
+    every pass of result.PASSES with the per-depth passes (Whitted Rays stays on: it is
+    the ray cost every render counts)."""
+    from whitted import result
+
+    for spec in result.PASSES:
+        if not spec.toggle or spec.source == "rays":
+            continue
+        wanted = variant == "all" or spec.panel.lower() == variant
+        owner, _, prop = spec.toggle.rpartition(".")
+        setattr(view_layer.whitted if owner else view_layer, prop, wanted)
+    view_layer.whitted.use_pass_contributions = variant == "all"
+    view_layer.whitted.contribution_depth = CONTRIBUTION_DEPTH
+
+
+def trace_seconds(scene):
+    bpy.ops.render.render()
+    stats = json.loads(scene.whitted.last_stats)
+    return stats["phases"]["trace"], stats["rays"]["total"], len(stats["passes"])
+
+
+def main():
+    args = parse_args()
+    scene = build_scene()
+    view_layer = scene.view_layers[0]
+    times = {name: [] for name in VARIANTS}
+    rays, passes = {}, {}
+    for _ in range(args.repeats):
+        for name in VARIANTS:
+            set_passes(view_layer, name)
+            seconds, rays[name], passes[name] = trace_seconds(scene)
+            times[name].append(seconds)
+    median = {name: median_or_none(values) for name, values in times.items()}
+    best = {name: min(values) for name, values in times.items()}
+    result = {
+        "blender": bpy.app.version_string,
+        "resolution": [WIDTH, HEIGHT],
+        "aa_samples": AA_SAMPLES,
+        "contribution_depth": CONTRIBUTION_DEPTH,
+        "repeats": args.repeats,
+        "trace_seconds": times,
+        "median": median,
+        "best": best,
+        "rays": rays,
+        "passes_written": passes,
+        "median_over_none": {name: median[name] / median["none"] for name in VARIANTS},
+        "best_over_none": {name: best[name] / best["none"] for name in VARIANTS},
+        "machine": machine_lines(),
+        "commands": list(COMMANDS),
+    }
+    version = ".".join(str(v) for v in bpy.app.version[:2])
+    directory = os.path.join(args.out, "images", "passes")
+    os.makedirs(directory, exist_ok=True)
+    path = os.path.join(directory, f"cost-blender-{version}.json")
+    with open(path, "w") as file:
+        json.dump(result, file, indent=2)
+    for name in VARIANTS:
+        print(
+            f"bench_passes: {name}: {passes[name]} passes, median trace {median[name]:.3f} s "
+            f"(best {best[name]:.3f} s, {result['median_over_none'][name]:.3f}x), "
+            f"rays {rays[name]}"
+        )
+    print(f"bench_passes: {machine_lines()[-1][2:]}; wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
