@@ -14,18 +14,15 @@ Writes OUT/images/materials/cost-blender-X.Y.json and rewrites OUT/MATERIALS.md
 import argparse
 import json
 import os
-import sys
 
 import bpy
 
 # isort: split
 import numpy as np
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-
-import gallery_materials
-import shader_graphs
+from whitted_tools import material_scenes, shader_graphs
+from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
+from whitted_tools.materials_page import write_markdown
 from whitted_tools.pages import machine_lines
 
 WIDTH, HEIGHT = 480, 270
@@ -48,15 +45,15 @@ def parse_args():
 
 
 def build_scene():
-    scene = gallery_materials.fresh_scene()
+    scene = factory_scene()
     for i in range(GRID):
         for j in range(GRID):
             location = (1.1 * (i - (GRID - 1) / 2), 1.1 * (j - (GRID - 1) / 2), 0.5)
-            gallery_materials.smooth_sphere(f"Ball.{i}.{j}", location, radius=0.5)
-    gallery_materials.add_floor(scene, size=12.0)
-    gallery_materials.add_sun(scene)
-    gallery_materials.add_camera(scene, (0.0, -9.0, 6.0), (0.0, 0.0, 0.0), lens=35.0)
-    gallery_materials.black_world(scene)
+            material_scenes.smooth_sphere(f"Ball.{i}.{j}", location, radius=0.5)
+    material_scenes.add_floor(scene, size=12.0)
+    material_scenes.add_sun(scene)
+    material_scenes.add_camera(scene, (0.0, -9.0, 6.0), (0.0, 0.0, 0.0), lens=35.0)
+    material_scenes.black_world(scene)
     render = scene.render
     render.resolution_x, render.resolution_y = WIDTH, HEIGHT
     render.resolution_percentage = 100
@@ -108,13 +105,13 @@ def textured_material():
     bsdf = shader_graphs.principled(material)
     rng = np.random.default_rng(7)
     size = 256
-    colour = gallery_materials.numpy_image("colour", rng.uniform(0.1, 0.9, (size, size, 4)))
-    rough = gallery_materials.numpy_image(
+    colour = material_scenes.numpy_image("colour", rng.uniform(0.1, 0.9, (size, size, 4)))
+    rough = material_scenes.numpy_image(
         "rough", rng.uniform(0.2, 0.8, (size, size, 4)), non_color=True
     )
     normals = np.ones((size, size, 4))
     normals[..., :2] = rng.uniform(0.4, 0.6, (size, size, 2))
-    normal_image = gallery_materials.numpy_image("normals", normals, non_color=True)
+    normal_image = material_scenes.numpy_image("normals", normals, non_color=True)
     base = tree.nodes.new("ShaderNodeTexImage")
     base.image = colour
     roughness = tree.nodes.new("ShaderNodeTexImage")
@@ -190,7 +187,7 @@ def main():
         f"bench_materials: program / constant {result['program_over_constant']:.3f}, "
         f"textured / constant {result['textured_over_constant']:.3f}"
     )
-    gallery_materials.write_markdown(args.out)
+    write_markdown(args.out)
 
 
 if __name__ == "__main__":

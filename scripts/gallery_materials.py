@@ -19,118 +19,38 @@ import argparse
 import json
 import math
 import os
-import sys
 import tempfile
 
 import bpy
 
 # isort: split
-import addon_utils
 import numpy as np
-
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
-
-import cycles_scenes  # noqa: E402
-import shader_graphs  # noqa: E402
+from whitted_tools import shader_graphs
+from whitted_tools.blender import enable_addon, factory_scene
+from whitted_tools.cli import script_args
+from whitted_tools.material_scenes import (
+    add_camera,
+    add_floor,
+    add_sun,
+    black_world,
+    checker_pixels,
+    grey_world,
+    numpy_image,
+    smooth_sphere,
+)
+from whitted_tools.materials_page import CYCLES_SAMPLES, TARGET_RATIO, TARGET_SSIM, write_markdown
+from whitted_tools.metrics import subject_figures
+from whitted_tools.render import render_exr
 
 WIDTH, HEIGHT = 240, 180
-CYCLES_SAMPLES = 256  # all at the pixel centre (filter 0.01): glass's random choices average
 GAP = 4
-TARGET_SSIM = 0.95
-TARGET_RATIO = (0.95, 1.05)
-COMMANDS = (
-    "blender -b --factory-startup --python-exit-code 1 --python scripts/gallery_materials.py "
-    "-- --out docs",
-    ".venv/bin/python scripts/gallery_materials.py --out docs",
-)
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", required=True, help="the docs directory to write into")
     parser.add_argument("--only", nargs="*", help="scene names to render")
-    return parser.parse_args(argv)
-
-
-def fresh_scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if addon_utils.enable("whitted", default_set=True) is None:
-        sys.exit("gallery_materials: cannot enable the add-on 'whitted'")
-    return bpy.context.scene
-
-
-# --- scene pieces ---------------------------------------------------------------
-
-
-def add_camera(scene, location, target, lens=50.0):
-    from mathutils import Vector
-
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.location = location
-    camera.rotation_euler = (Vector(target) - Vector(location)).to_track_quat("-Z", "Y").to_euler()
-    camera.data.lens = lens
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-
-
-def add_sun(scene, rotation=(40.0, 10.0, 30.0), strength=3.0):
-    sun = bpy.data.lights.new("Sun", "SUN")
-    sun.energy = strength
-    sun.angle = 0.0
-    obj = bpy.data.objects.new("Sun", sun)
-    obj.rotation_euler = tuple(math.radians(a) for a in rotation)
-    scene.collection.objects.link(obj)
-
-
-def black_world(scene):
-    world = bpy.data.worlds.new("Black")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    world.cycles_visibility.diffuse = False
-    scene.world = world
-
-
-def add_floor(scene, size=6.0, color=(0.5, 0.5, 0.5, 1.0)):
-    material = cycles_scenes.lambert_material("Floor", albedo=color[0])
-    bpy.ops.mesh.primitive_plane_add(size=size)
-    floor = bpy.context.active_object
-    floor.name = "Floor"
-    floor.data.materials.append(material)
-    return floor
-
-
-def numpy_image(name, pixels, non_color=False):
-    """A packed float image from float32[H, W, 4] (rows bottom to top)."""
-    height, width, _ = pixels.shape
-    image = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
-    if non_color:
-        # Before the pixels: changing it makes Blender generate the buffer anew.
-        image.colorspace_settings.name = "Non-Color"
-    image.pixels.foreach_set(pixels.astype(np.float32).reshape(-1))
-    image.pack()
-    return image
-
-
-def checker_pixels(size=64, cells=8, a=(0.8, 0.3, 0.1), b=(0.1, 0.4, 0.7)):
-    y, x = np.mgrid[0:size, 0:size]
-    mask = ((x * cells // size + y * cells // size) % 2 == 0)[..., None]
-    rgb = np.where(mask, a, b)
-    return np.concatenate([rgb, np.ones((size, size, 1))], axis=-1)
-
-
-def smooth_sphere(name, location, radius=0.8, material=None):
-    bpy.ops.mesh.primitive_uv_sphere_add(
-        radius=radius, location=location, segments=48, ring_count=24
-    )
-    sphere = bpy.context.active_object
-    sphere.name = name
-    bpy.ops.object.shade_smooth()
-    if material is not None:
-        sphere.data.materials.append(material)
-    return sphere
+    return parser.parse_args(script_args())
 
 
 # --- the scenes -------------------------------------------------------------------
@@ -139,7 +59,7 @@ def smooth_sphere(name, location, radius=0.8, material=None):
 def scene_gltf_round_trip(scene, work):
     """A textured PBR sphere (base colour, metallic-roughness in G/B, normal map)
     exported with Blender's glTF exporter and imported back with its importer."""
-    addon_utils.enable("io_scene_gltf2", default_set=True)
+    enable_addon("io_scene_gltf2")
     material = shader_graphs.new_material("PBR")
     tree = material.node_tree
     bsdf = shader_graphs.principled(material)
@@ -376,16 +296,6 @@ def scene_hdri_mirror_glass(scene, work):
     add_camera(scene, (0.0, -4.8, 1.6), (0.0, 0.0, 0.8))
 
 
-def grey_world(scene, grey=0.4):
-    """A uniform grey sky that mirrors show but that lights no diffuse surface."""
-    world = bpy.data.worlds.new("Grey")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (grey, grey, grey, 1)
-    world.cycles_visibility.diffuse = False
-    scene.world = world
-
-
 def scene_coat(scene, work):
     """A clear coat (3.x: Clearcoat) over a red diffuse base: the coat's highlight and
     its Fresnel-weighted reflection of the sky and the floor on top."""
@@ -399,7 +309,7 @@ def scene_coat(scene, work):
     roughness = shader_graphs.first_input(bsdf, ("Coat Roughness", "Clearcoat Roughness"))
     roughness.default_value = 0.03  # Blender 4.0+'s default
     smooth_sphere("Ball", (0.0, 0.0, 0.8), material=material)
-    add_floor(scene, color=(0.8, 0.8, 0.8, 1.0))
+    add_floor(scene, albedo=0.8)
     add_sun(scene, rotation=(50.0, 0.0, 30.0))
     add_camera(scene, (0.0, -4.0, 1.8), (0.0, 0.0, 0.7))
     grey_world(scene)
@@ -448,52 +358,6 @@ def set_engines(scene):
     whitted.max_depth = 8
 
 
-def srgb(linear):
-    x = np.clip(linear, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1.0 / 2.4) - 0.055)
-
-
-def luminance(rgb):
-    return rgb @ np.array([0.2126, 0.7152, 0.0722])
-
-
-def _box_mean(image, size):
-    table = np.pad(image, ((1, 0), (1, 0)), mode="constant").cumsum(0).cumsum(1)
-    total = table[size:, size:] - table[:-size, size:] - table[size:, :-size]
-    return (total + table[:-size, :-size]) / (size * size)
-
-
-def ssim(a, b, window=7, data_range=1.0):
-    """Mean SSIM over channels: Wang et al. (2004), uniform 7x7 window, sample
-    covariance (scikit-image's defaults; tests/viewport/images.py, without Pillow)."""
-    c1, c2 = (0.01 * data_range) ** 2, (0.03 * data_range) ** 2
-    n = window * window
-    unbias = n / (n - 1.0)
-    values = []
-    for channel in range(a.shape[2]):
-        x, y = a[..., channel], b[..., channel]
-        mx, my = _box_mean(x, window), _box_mean(y, window)
-        vx = (_box_mean(x * x, window) - mx * mx) * unbias
-        vy = (_box_mean(y * y, window) - my * my) * unbias
-        cxy = (_box_mean(x * y, window) - mx * my) * unbias
-        s = ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2))
-        values.append(s.mean())
-    return float(np.mean(values))
-
-
-def measure(whitted, cycles, subject=None):
-    """(SSIM, median luminance ratio over the subject's pixels); `subject` is a mask
-    of the pixels the scene's subject (not the floor) covers, else the alpha."""
-    value = ssim(srgb(whitted[..., :3]), srgb(cycles[..., :3]))
-    covered = (whitted[..., 3] > 0.99) & (cycles[..., 3] > 0.99)
-    if subject is not None:
-        covered &= subject
-    lw, lc = luminance(whitted[..., :3]), luminance(cycles[..., :3])
-    lit = covered & (lc > 0.02)
-    ratio = float(np.median(lw[lit] / lc[lit])) if lit.any() else float("nan")
-    return value, ratio
-
-
 def save_pair(whitted, cycles, path):
     height, width, _ = whitted.shape
     pair = np.ones((height, 2 * width + GAP, 4), dtype=np.float32)
@@ -518,143 +382,24 @@ def save_pair(whitted, cycles, path):
 
 def render_scene(name, build, image_dir):
     with tempfile.TemporaryDirectory() as work:
-        scene = fresh_scene()
+        scene = factory_scene()
         build(scene, work)
         set_engines(scene)
-        whitted = cycles_scenes.render_rgba(scene, "WHITTED", os.path.join(work, "whitted.exr"))
-        cycles = cycles_scenes.render_rgba(scene, "CYCLES", os.path.join(work, "cycles.exr"))
+        whitted = render_exr(scene, os.path.join(work, "whitted.exr"), engine="WHITTED")
+        cycles = render_exr(scene, os.path.join(work, "cycles.exr"), engine="CYCLES")
         # The subject's pixels: the floor hidden, what still covers the film.
         floor = scene.objects.get("Floor")
         subject = None
         if floor is not None:
             floor.hide_render = True
-            alone = cycles_scenes.render_rgba(scene, "WHITTED", os.path.join(work, "subject.exr"))
+            alone = render_exr(scene, os.path.join(work, "subject.exr"), engine="WHITTED")
             floor.hide_render = False
             subject = alone[..., 3] > 0.99
-        ssim, ratio = measure(whitted, cycles, subject)
+        ssim, ratio = subject_figures(whitted, cycles, subject)
         save_pair(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
     passed = ssim >= TARGET_SSIM and TARGET_RATIO[0] <= ratio <= TARGET_RATIO[1]
     print(f"gallery_materials: {name}: SSIM {ssim:.3f}, ratio {ratio:.3f}, passed {passed}")
     return {"scene": name, "ssim": ssim, "ratio": ratio, "passed": passed}
-
-
-def write_markdown(out_dir):
-    base = os.path.join(out_dir, "images", "materials")
-    runs = []
-    for name in sorted(os.listdir(base)):
-        path = os.path.join(base, name, "results.json")
-        if os.path.isfile(path):
-            with open(path, encoding="utf-8") as file:
-                runs.append((name, json.load(file)))
-    lines = [
-        "# Materials: Whitted beside Cycles",
-        "",
-        "Generated by `scripts/gallery_materials.py`; do not edit. Real material set-ups",
-        "(docs/SUPPORT.md lists how each node is read), **Whitted on the left, Cycles on",
-        "the right**, over a mid grey where the film is transparent. Cycles: direct light",
-        f"plus glossy and transmission bounces (no diffuse bounce), {CYCLES_SAMPLES} samples",
-        "all at the pixel centre, no denoising, no caustics; the world does not light",
-        "diffuse surfaces (Ray Visibility > Diffuse off). Whitted: one sample at each",
-        "pixel centre, depth 8. Measured on the linear renders: **SSIM** (sRGB, clipped",
-        "to [0, 1]) and **ratio**, the median over object pixels (covered in both, lit",
-        "in Cycles, the floor left out) of the luminance ratio Whitted / Cycles. Targets: SSIM >= "
-        f"{TARGET_SSIM}, ratio {TARGET_RATIO[0]}..{TARGET_RATIO[1]}.",
-        "",
-        "Regenerate:",
-        "",
-        *(f"    {command}" for command in COMMANDS),
-        "",
-    ]
-    lines += [
-        "## Known differences",
-        "",
-        "- **hdri_mirror_glass**: under the glass ball, Cycles (no caustics) shows the",
-        "  sun's full shadow; Whitted's shadow feelers pass through glass weighted by its",
-        "  transmissivity, so its shadow is lighter. Cycles' glass also keeps some noise at",
-        "  these samples. Both lower SSIM; the mirror and the glass show the HDRI alike.",
-        "  Whitted's shadows through glass are its transmissive shadows by design.",
-        "- **normal_mapped**: the Normal Map node itself gives Cycles' normal to 3e-8",
-        "  (tests/blender/test_nodes_vs_cycles.py, seen head-on); the lighting at this",
-        "  grazing sun differs, much more in Blender 3.4 than in 5.0, with a Diffuse BSDF",
-        "  too. Not traced. Cycles 3.x turns every mapped normal so that the view's mirror",
-        "  stays above the surface (ensure_valid_reflection), and Whitted now does so too",
-        "  for Blender 3.x (it lifted bump_mapped's 3.4 SSIM from 0.961 to 0.989), but",
-        "  here the ribs never mirror the view below the plane, so that is not the cause.",
-        "- **bump_mapped** and **coat** are diffuse under their bumps and coats (no",
-        "  specular layer of the base's own): a Phong highlight is not Cycles' GGX one",
-        "  (see gltf_round_trip), and a rough coat does not blur what it reflects.",
-        "",
-    ]
-    lines += _cost_lines(base)
-    for blender, results in runs:
-        worst_ssim = min(r["ssim"] for r in results)
-        ratios = [r["ratio"] for r in results]
-        worst_ratio = max(ratios, key=lambda r: abs(r - 1.0))
-        lines += [
-            f"## {blender}",
-            "",
-            f"Worst SSIM {worst_ssim:.3f}; ratio furthest from 1: {worst_ratio:.3f}.",
-            "",
-            "| scene | SSIM | ratio | targets met |",
-            "|---|---:|---:|---|",
-        ]
-        for r in results:
-            lines.append(
-                f"| {r['scene']} | {r['ssim']:.3f} | {r['ratio']:.3f} | "
-                f"{'yes' if r['passed'] else '**no**'} |"
-            )
-        lines.append("")
-        for r in results:
-            lines += [
-                f"### {r['scene']} ({blender})",
-                "",
-                f"![{r['scene']}](images/materials/{blender}/{r['scene']}.png)",
-                "",
-            ]
-    with open(os.path.join(out_dir, "MATERIALS.md"), "w", encoding="utf-8") as file:
-        file.write("\n".join(lines))
-
-
-def _cost_lines(base):
-    """The Cost section from scripts/bench_materials.py's results, if it ran."""
-    runs = []
-    for name in sorted(os.listdir(base)):
-        if name.startswith("cost-") and name.endswith(".json"):
-            with open(os.path.join(base, name), encoding="utf-8") as file:
-                runs.append(json.load(file))
-    if not runs:
-        return []
-    first = runs[0]
-    lines = [
-        "## Cost",
-        "",
-        f"From `scripts/bench_materials.py`: {first['spheres']} smooth spheres on a floor, "
-        f"{first['resolution'][0]}x{first['resolution'][1]}, {first['aa_samples']} samples "
-        "per pixel, one sun; the spheres' material is in turn a constant Principled BSDF "
-        "(no program), the same values computed per hit by a program (Base Color through "
-        "an op that does not fold), and texture-heavy (images on Base Color and Roughness, "
-        "a tangent-space normal map, a Noise texture mixed into the colour); "
-        f"{first['repeats']} interleaved renders of each, best trace time. The textured "
-        "share is (textured - constant) / textured: what the program and its texture "
-        "reads add to the trace.",
-        "",
-        "Regenerate (the machine is shared: figures are of one run):",
-        "",
-        *(f"    {command}" for command in first["commands"]),
-        "",
-        "| Blender | constant (s) | program (s) | textured (s) | program / constant | "
-        "textured share of trace |",
-        "|---|---:|---:|---:|---:|---:|",
-    ]
-    for run in runs:
-        best = run["best"]
-        share = (best["textured"] - best["constant"]) / best["textured"]
-        lines.append(
-            f"| {run['blender']} | {best['constant']:.3f} | {best['program']:.3f} | "
-            f"{best['textured']:.3f} | {run['program_over_constant']:.3f} | {share:.0%} |"
-        )
-    lines.append("")
-    return lines
 
 
 def main():

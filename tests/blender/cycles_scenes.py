@@ -24,6 +24,7 @@ import bpy
 import numpy as np
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
+from whitted_tools.material_scenes import lambert_material
 
 WIDTH, HEIGHT = 64, 48
 ALBEDO = 0.8
@@ -196,28 +197,10 @@ def _box(half):
     return vertices, faces
 
 
-def lambert_material(name="Lambert", albedo=ALBEDO):
-    """A Diffuse BSDF of roughness 0, and the same in the viewport display values."""
-    material = bpy.data.materials.new(name)
-    material.diffuse_color = (albedo, albedo, albedo, 1.0)
-    material.specular_intensity = 0.0
-    material.metallic = 0.0
-    if bpy.app.version < (5, 0, 0):  # 5.0 materials always use nodes
-        material.use_nodes = True
-    nodes = material.node_tree.nodes
-    nodes.clear()
-    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
-    diffuse.inputs["Roughness"].default_value = 0.0
-    output = nodes.new("ShaderNodeOutputMaterial")
-    material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
-    return material
-
-
 def build_scene(scene, case):
     """Fill the (empty) `scene` with the floor, the blocker, the camera and the
     case's light; returns the light object."""
-    material = lambert_material()
+    material = lambert_material(albedo=ALBEDO)
     floor = 3.0
     _mesh_object(
         scene,

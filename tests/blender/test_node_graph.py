@@ -4,7 +4,8 @@ output, Add and Mix Shader trees, constant folding, and the fallbacks."""
 
 import bpy
 import pytest
-from shader_graphs import (
+from whitted.export.material import convert_material
+from whitted_tools.shader_graphs import (
     first_input,
     gltf_wrapper_material,
     group_node,
@@ -13,7 +14,6 @@ from shader_graphs import (
     output,
     principled,
 )
-from whitted.export.material import convert_material
 
 
 def convert(material, warnings, programs=False):

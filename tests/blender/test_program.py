@@ -9,11 +9,11 @@ import math
 import bpy
 import numpy as np
 import pytest
-from shader_graphs import new_material, output, principled
 from whitted.export.material import convert_material
 from whitted.export.mesh import MeshNeeds, convert_meshes, object_info
 from whitted.export.nodes import ops
 from whitted.export.nodes.program import run
+from whitted_tools.shader_graphs import new_material, output, principled
 
 UV = (0.25, 0.75, 0.0, 0.0)
 

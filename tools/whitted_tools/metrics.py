@@ -63,3 +63,29 @@ def error_figures(image, reference):
         "psnr": 10.0 * float(np.log10(1.0 / mse)) if mse > 0.0 else float("inf"),
         "relmse": float(np.mean(difference**2 / (np.asarray(reference) ** 2 + 0.01))),
     }
+
+
+def srgb_encode(linear):
+    """Display values: linear RGB clipped to [0, 1] and sRGB-encoded (IEC 61966-2-1)."""
+    x = np.clip(linear, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1.0 / 2.4) - 0.055)
+
+
+def luminance(rgb):
+    """Rec. 709 luminance of linear RGB (the last axis)."""
+    return rgb @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def subject_figures(image, reference, subject=None, dark=0.02):
+    """(SSIM of the display images, median luminance ratio image / reference) of two
+    linear RGBA renders; the ratio over the pixels both cover fully (alpha), that
+    `subject` (a mask, or every pixel) keeps and the reference shows brighter than
+    `dark`; nan when there are none."""
+    value = ssim(srgb_encode(image[..., :3]), srgb_encode(reference[..., :3]), data_range=1.0)
+    covered = (image[..., 3] > 0.99) & (reference[..., 3] > 0.99)
+    if subject is not None:
+        covered &= subject
+    a, b = luminance(image[..., :3]), luminance(reference[..., :3])
+    lit = covered & (b > dark)
+    ratio = float(np.median(a[lit] / b[lit])) if lit.any() else float("nan")
+    return value, ratio

@@ -1,4 +1,4 @@
-"""Shader node set-ups of real files, built by script (tests and scripts share them)."""
+"""Shader node set-ups of real files, built by script (tests and scripts share them; bpy)."""
 
 import bpy
 

@@ -1,0 +1,108 @@
+"""Pieces of the material gallery's and the material cost benchmark's scenes (bpy):
+camera, sun, worlds, a diffuse floor, packed float images, smooth spheres."""
+
+import math
+
+import bpy
+import numpy as np
+from mathutils import Vector
+
+
+def add_camera(scene, location, target, lens=50.0):
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = location
+    camera.rotation_euler = (Vector(target) - Vector(location)).to_track_quat("-Z", "Y").to_euler()
+    camera.data.lens = lens
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+
+def add_sun(scene, rotation=(40.0, 10.0, 30.0), strength=3.0):
+    """A sun of `strength` W/m^2 and no angular size; `rotation` Euler XYZ in degrees."""
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = strength
+    sun.angle = 0.0
+    obj = bpy.data.objects.new("Sun", sun)
+    obj.rotation_euler = tuple(math.radians(a) for a in rotation)
+    scene.collection.objects.link(obj)
+
+
+def _world(scene, name, color):
+    world = bpy.data.worlds.new(name)
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = color
+    # Seen by mirrors and glass, lighting no diffuse surface (Ray Visibility > Diffuse).
+    world.cycles_visibility.diffuse = False
+    scene.world = world
+    return world
+
+
+def black_world(scene):
+    return _world(scene, "Black", (0.0, 0.0, 0.0, 1.0))
+
+
+def grey_world(scene, grey=0.4):
+    """A uniform grey sky that mirrors show but that lights no diffuse surface."""
+    return _world(scene, "Grey", (grey, grey, grey, 1.0))
+
+
+def lambert_material(name="Lambert", albedo=0.8):
+    """A Diffuse BSDF of roughness 0 (Lambertian in Cycles 3.x and 4.x+ alike), and the
+    same in the viewport display values."""
+    material = bpy.data.materials.new(name)
+    material.diffuse_color = (albedo, albedo, albedo, 1.0)
+    material.specular_intensity = 0.0
+    material.metallic = 0.0
+    if bpy.app.version < (5, 0, 0):  # 5.0 materials always use nodes
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    nodes.clear()
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    diffuse.inputs["Roughness"].default_value = 0.0
+    output = nodes.new("ShaderNodeOutputMaterial")
+    material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+    return material
+
+
+def add_floor(scene, size=6.0, albedo=0.5):
+    """A Lambertian plane named "Floor" at z = 0."""
+    bpy.ops.mesh.primitive_plane_add(size=size)
+    floor = bpy.context.active_object
+    floor.name = "Floor"
+    floor.data.materials.append(lambert_material("Floor", albedo=albedo))
+    return floor
+
+
+def numpy_image(name, pixels, non_color=False):
+    """A packed float image from float32[H, W, 4] (rows bottom to top)."""
+    height, width, _ = pixels.shape
+    image = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
+    if non_color:
+        # Before the pixels: changing it makes Blender generate the buffer anew.
+        image.colorspace_settings.name = "Non-Color"
+    image.pixels.foreach_set(pixels.astype(np.float32).reshape(-1))
+    image.pack()
+    return image
+
+
+def checker_pixels(size=64, cells=8, a=(0.8, 0.3, 0.1), b=(0.1, 0.4, 0.7)):
+    """float[size, size, 4]: a cells x cells checkerboard of colours a and b."""
+    y, x = np.mgrid[0:size, 0:size]
+    mask = ((x * cells // size + y * cells // size) % 2 == 0)[..., None]
+    rgb = np.where(mask, a, b)
+    return np.concatenate([rgb, np.ones((size, size, 1))], axis=-1)
+
+
+def smooth_sphere(name, location, radius=0.8, material=None):
+    """A smooth-shaded UV sphere of 48 segments and 24 rings."""
+    bpy.ops.mesh.primitive_uv_sphere_add(
+        radius=radius, location=location, segments=48, ring_count=24
+    )
+    sphere = bpy.context.active_object
+    sphere.name = name
+    bpy.ops.object.shade_smooth()
+    if material is not None:
+        sphere.data.materials.append(material)
+    return sphere
