@@ -1,0 +1,118 @@
+"""Constant materials traced by two builds of whitted_native side by side: the issue-12
+cost clause ("a scene whose materials are constants traces no slower than today") against
+a build from before shader programs.
+
+    .venv/bin/python scripts/bench_builds.py OLD_ADDON_DIR NEW_ADDON_DIR [--rounds 8]
+
+Each build's module is loaded in its own process (one whitted_native per process), the
+two alternating for --rounds rounds; each process renders the scene three times and
+keeps its best trace time. The scene is built through the bindings only, with what both
+builds accept: 64 smooth spheres (48 x 24 quads) on a floor, Lambert + Phong constants,
+one sun, 480x270, 3x3 samples per pixel, 2 threads. Prints each build's best and median
+trace seconds, its rays and the image mean (the same scene must give the same image),
+the ratio new / old, and the load average.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+REPEATS = 3
+
+
+def sphere(radius, segments=48, rings=24):
+    """(positions, triangles, vertex normals) of a UV sphere at the origin."""
+    points = []
+    for i in range(rings + 1):
+        theta = math.pi * i / rings
+        for j in range(segments):
+            phi = 2.0 * math.pi * j / segments
+            points.append(
+                (math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta))
+            )
+    triangles = []
+    for i in range(rings):
+        for j in range(segments):
+            a, b = i * segments + j, i * segments + (j + 1) % segments
+            if i > 0:
+                triangles.append((a, a + segments, b))
+            if i < rings - 1:
+                triangles.append((b, a + segments, b + segments))
+    normals = np.array(points, np.float32)
+    return radius * normals, np.array(triangles, np.uint32), normals
+
+
+def trace_best(module_dir):
+    """Inside one process: render the scene REPEATS times with the module in module_dir."""
+    sys.path.insert(0, module_dir)
+    import whitted_native as wn
+
+    scene = wn.Scene()
+    positions, triangles, normals = sphere(0.5)
+    scene.set_mesh("ball", positions, triangles, vertex_normals=normals)
+    floor = np.array([[-6, -6, 0], [6, -6, 0], [6, 6, 0], [-6, 6, 0]], np.float32)
+    scene.set_mesh("floor", floor, np.array([[0, 1, 2], [0, 2, 3]], np.uint32))
+    ball = wn.Material(diffuse=(0.6, 0.35, 0.2), specular=(0.04,) * 3, shininess=30.0, ambient=0.0)
+    scene.set_material("ball", ball)
+    scene.set_material("floor", wn.Material(diffuse=(0.5,) * 3, ambient=0.0))
+    scene.set_instance("floor", "floor", np.eye(4), ["floor"])
+    for i in range(8):
+        for j in range(8):
+            to_world = np.eye(4)
+            to_world[:3, 3] = (1.1 * (i - 3.5), 1.1 * (j - 3.5), 0.5)
+            scene.set_instance(f"ball.{i}.{j}", "ball", to_world, ["ball"])
+    sun = wn.Light(type=wn.LightType.SUN, color=(3.0,) * 3, direction=(-0.3, 0.4, -0.8))
+    scene.set_light("sun", sun)
+    to_world = np.eye(4)
+    c, s = math.cos(math.radians(35.0)), math.sin(math.radians(35.0))
+    to_world[:3, :3] = [[1, 0, 0], [0, c, -s], [0, s, c]]  # 35 degrees down at the spheres
+    to_world[:3, 3] = (0.0, -9.0, 6.5)
+    scene.camera = wn.Camera(to_world=to_world, window=(-0.6, 0.6, -0.3375, 0.3375), clip_end=1e4)
+    scene.background = (0.0, 0.0, 0.0)
+    best = math.inf
+    for _ in range(REPEATS):
+        job = wn.RenderJob(scene, wn.Settings(width=480, height=270, aa_samples=3, threads=2))
+        job.start()
+        while not job.wait(1.0):
+            pass
+        image = job.image()
+        best = min(best, job.stats()["trace_seconds"])
+    rays = job.stats()["rays"]["total"]
+    print(json.dumps({"trace": best, "rays": rays, "mean": float(image[..., :3].mean())}))
+
+
+def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--trace":
+        trace_best(sys.argv[2])
+        return
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("old", help="the folder holding the old build's whitted_native")
+    parser.add_argument("new", help="the folder holding the new build's whitted_native")
+    parser.add_argument("--rounds", type=int, default=8)
+    args = parser.parse_args()
+    runs = {"old": [], "new": []}
+    for _ in range(args.rounds):
+        for name in runs:
+            command = [sys.executable, __file__, "--trace", getattr(args, name)]
+            output = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+            runs[name].append(json.loads(output.splitlines()[-1]))
+    best = {}
+    for name, results in runs.items():
+        times = sorted(r["trace"] for r in results)
+        best[name] = times[0]
+        print(
+            f"{name} ({getattr(args, name)}): best {times[0]:.3f} s, median "
+            f"{times[len(times) // 2]:.3f} s, rays {results[0]['rays']}, image mean "
+            f"{results[0]['mean']:.6f}"
+        )
+    print(f"new / old: best {best['new'] / best['old']:.3f}")
+    print("load average (1, 5, 15 min): " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+
+
+if __name__ == "__main__":
+    main()
