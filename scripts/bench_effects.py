@@ -1,168 +1,341 @@
-"""Benchmark (not a test): what simulating only the effects a scene calls for saves.
+"""Benchmark (not a test): what each mechanism behind "simulate only the effects a scene
+calls for" saves, against the plain Whitted tracer.
 
-Builds four variants of the demo scene (diffuse only, mirrors only, glass, everything),
-exports each through the add-on, and renders it twice in the same process: with the
-scene analysis on (the default) and with every effect forced on and no ray skipped.
-Prints, for each scene, rays by type, the median trace time of the repeats, and the
-difference between the two images, as a Markdown page (docs/EFFECTS.md is made so).
+The plain tracer is the classic recursion: every effect on, a shadow feeler to every
+light sample, a reflected or refracted ray wherever its coefficient is not zero and its
+weight on the pixel is at least the cutoff. Each mechanism is then switched alone, in
+the same process, renders interleaved (each repetition starts at the next mode):
+(a) the scene analysis (effects the scene cannot show switched off), (b) per-surface
+feeler pruning, (c) the weight cutoff (switched off: what it saves), and all together
+(the default). (d), the kernels compiled per set of effects against one kernel with the
+effects as run-time flags, needs two builds: --compare-native DIR names a folder with
+another build's whitted_native module, and each repetition runs this build's and that
+one's renders in turn, each in a Blender of its own.
 
-    blender -b --factory-startup --python scripts/bench_effects.py -- \\
-        [--resolution 320 240] [--repeats 3] [--out docs/EFFECTS.md]
+    blender -b --factory-startup --python-exit-code 1 --python scripts/bench_effects.py -- \\
+        [--resolution 320 240] [--repeats 9] [--compare-native DIR] [--out docs/EFFECTS.md]
 """
 
 import argparse
+import importlib.util
+import json
+import os
 import statistics
+import sys
+import tempfile
+import time
 from pathlib import Path
 
 import bpy
+
+# isort: split
 import numpy as np
-from whitted_tools.blender import factory_scene
-from whitted_tools.cli import script_args
-from whitted_tools.demo_scene import build_demo_scene
+from whitted_tools.blender import blender_command, bpy_command, factory_scene, run_process
+from whitted_tools.cli import inside_blender_binary, script_args
+from whitted_tools.demo_scene import DEMO_VARIANTS, build_demo_variant
+from whitted_tools.pages import machine_lines, table, write_page
 
+CUTOFF = 1.0 / 255.0
+AA_SAMPLES = 2
+# The modes of one build: Settings fields. "plain" is the baseline every ratio divides by.
+MODES = {
+    "plain": {"analysis": False, "feeler_pruning": False, "cutoff": CUTOFF},
+    "analysis": {"analysis": True, "feeler_pruning": False, "cutoff": CUTOFF},
+    "feeler pruning": {"analysis": False, "feeler_pruning": True, "cutoff": CUTOFF},
+    "no cutoff": {"analysis": False, "feeler_pruning": False, "cutoff": 0.0},
+    "all": {"analysis": True, "feeler_pruning": True, "cutoff": CUTOFF},
+}
 RAY_KINDS = ("camera", "shadow", "reflection", "refraction", "transparent", "total")
-
-
-def set_input(material, names, value):
-    principled = next(
-        n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"
-    )
-    socket = next(principled.inputs[n] for n in names if n in principled.inputs)
-    socket.default_value = value
-
-
-def make_diffuse(material):
-    set_input(material, ("Metallic",), 0.0)
-    set_input(material, ("Transmission Weight", "Transmission"), 0.0)
-    set_input(material, ("Roughness",), 1.0)
-
-
-def make_mirror(material):
-    set_input(material, ("Transmission Weight", "Transmission"), 0.0)
-    set_input(material, ("Metallic",), 1.0)
-    set_input(material, ("Roughness",), 0.0)
-
-
-def make_glass(material):
-    set_input(material, ("Metallic",), 0.0)
-    set_input(material, ("Transmission Weight", "Transmission"), 1.0)
-    set_input(material, ("Roughness",), 0.0)
-
-
-# Scene variants: what to do to the demo's glass and mirror materials.
-VARIANTS = {
-    "diffuse only": {"Glass": make_diffuse, "Mirror": make_diffuse},
-    "mirrors only": {"Glass": make_mirror, "Mirror": make_mirror},
-    "glass": {"Glass": make_glass, "Mirror": make_glass},
-    "everything": {},
+# What the code does with each mechanism, and why: the measured ratios are on the page.
+VERDICTS = {
+    "analysis": "kept",
+    "feeler pruning": "kept",
+    "cutoff": "kept",
+    "kernels per effect set": "kept",
 }
 
 
-def build(variant, width, height):
-    scene = build_demo_scene(factory_scene())
-    scene.render.resolution_x, scene.render.resolution_y = width, height
-    scene.render.resolution_percentage = 100
-    for name, change in VARIANTS[variant].items():
-        change(bpy.data.materials[name])
-    return scene
+def parse_args():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--resolution", type=int, nargs=2, default=(320, 240))
+    parser.add_argument("--repeats", type=int, default=9)
+    parser.add_argument("--compare-native", help="a folder with another build's module")
+    parser.add_argument("--out", help="write the page to this Markdown file")
+    # A child's own arguments: its results file, which mode goes first, its module.
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--rotation", type=int, default=0, help=argparse.SUPPRESS)
+    parser.add_argument("--native", help=argparse.SUPPRESS)
+    return parser.parse_args(script_args())
 
 
-def render(native, frame, analysis, repeats):
-    times = []
-    for _ in range(repeats):
-        settings = native.Settings(
-            width=frame.width, height=frame.height, aa_samples=2, analysis=analysis
+def load_module(folder):
+    """whitted_native from `folder` (another build), or the add-on's own."""
+    if folder is None:
+        from whitted.native import load_native
+
+        return load_native()
+    path = next(Path(folder).glob("whitted_native*.so"))
+    spec = importlib.util.spec_from_file_location("whitted_native", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def render(native, frame, mode, width, height):
+    """(RGB image, stats, CPU seconds this process spent, all its threads)."""
+    settings = native.Settings(width=width, height=height, aa_samples=AA_SAMPLES, **MODES[mode])
+    job = frame.job(native, settings)
+    started = time.process_time()
+    job.start()
+    while not job.wait(1.0):
+        pass
+    return job.image()[..., :3], job.stats(), time.process_time() - started
+
+
+def run_child(args):
+    """One repetition: every scene in every mode, the modes rotated by --rotation."""
+    from whitted.sync.frame import sync_frame
+
+    native = load_module(args.native)
+    width, height = args.resolution
+    names = list(MODES)
+    order = names[args.rotation % len(names) :] + names[: args.rotation % len(names)]
+    results = {}
+    for variant in DEMO_VARIANTS:
+        scene = build_demo_variant(variant, factory_scene())
+        scene.render.resolution_x, scene.render.resolution_y = width, height
+        scene.render.resolution_percentage = 100
+        frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
+        render(native, frame, "all", width, height)  # a warm-up, not counted
+        images, modes = {}, {}
+        for mode in order:
+            images[mode], stats, cpu_seconds = render(native, frame, mode, width, height)
+            modes[mode] = {
+                "trace_seconds": stats["trace_seconds"],
+                "cpu_seconds": cpu_seconds,
+                "rays": {kind: stats["rays"][kind] for kind in RAY_KINDS},
+                "shadow_rays_skipped": stats["shadow_rays_skipped"],
+                "cutoff_skipped": stats["cutoff_skipped"],
+                "effects": stats["effects"],
+            }
+        brightest = float(images["plain"].max())
+        for mode, image in images.items():
+            difference = np.abs(image - images["plain"])
+            modes[mode]["difference"] = [float(difference.max()), float(difference.mean())]
+        results[variant] = {"modes": modes, "brightest": brightest}
+    Path(args.child).write_text(json.dumps(results), encoding="utf-8")
+
+
+def child_command(args, results, rotation, native):
+    script = Path(__file__).resolve()
+    child_args = [
+        *("--resolution", *args.resolution, "--child", results, "--rotation", rotation),
+        *(("--native", native) if native else ()),
+    ]
+    if inside_blender_binary():
+        return blender_command(script, *child_args, blender=bpy.app.binary_path)
+    return bpy_command(script, *child_args, python=sys.executable)
+
+
+def run_repetitions(args, folder):
+    """[repetition][build] -> that child's results; the builds alternate which goes first."""
+    builds = [None] + ([os.path.abspath(args.compare_native)] if args.compare_native else [])
+    repetitions = []
+    for rotation in range(args.repeats):
+        done = {}
+        for index in range(len(builds)) if rotation % 2 == 0 else reversed(range(len(builds))):
+            results = Path(folder) / f"{rotation}-{index}.json"
+            _, problem = run_process(
+                child_command(args, results, rotation, builds[index]), timeout=900
+            )
+            if problem:
+                sys.exit(f"bench_effects.py: a repetition {problem}")
+            done[index] = json.loads(results.read_text(encoding="utf-8"))
+        repetitions.append([done[index] for index in range(len(builds))])
+    return repetitions
+
+
+def spread(values):
+    """'median [min..max]' of ratios."""
+    values = sorted(values)
+    return f"{statistics.median(values):.3f} [{values[0]:.3f}..{values[-1]:.3f}]"
+
+
+def ratios(repetitions, variant, numerator, denominator, clock, builds=(0, 0)):
+    """Per repetition, the `clock` seconds of (build, mode) numerator over denominator."""
+
+    def seconds(repetition, build, mode):
+        return repetition[build][variant]["modes"][mode][clock]
+
+    return [
+        seconds(r, builds[0], numerator) / seconds(r, builds[1], denominator) for r in repetitions
+    ]
+
+
+def attribution(repetitions, clock):
+    """The table of time ratios per mechanism and scene, by `clock`."""
+    compared = len(repetitions[0]) > 1
+    header = [
+        "scene",
+        "(a) analysis / plain",
+        "(b) feeler pruning / plain",
+        "(c) plain / no cutoff",
+        "all / plain",
+    ]
+    if compared:
+        header += ["(d) per effect set / run-time flags: all", "(d): plain"]
+    rows = []
+    for variant in DEMO_VARIANTS:
+        row = [
+            variant,
+            spread(ratios(repetitions, variant, "analysis", "plain", clock)),
+            spread(ratios(repetitions, variant, "feeler pruning", "plain", clock)),
+            spread(ratios(repetitions, variant, "plain", "no cutoff", clock)),
+            spread(ratios(repetitions, variant, "all", "plain", clock)),
+        ]
+        if compared:
+            row.append(spread(ratios(repetitions, variant, "all", "all", clock, builds=(1, 0))))
+            row.append(spread(ratios(repetitions, variant, "plain", "plain", clock, (1, 0))))
+        rows.append(row)
+    return table(header, rows)
+
+
+def page(args, repetitions, load_before, load_after):
+    width, height = args.resolution
+    first = repetitions[0][0]
+    compared = len(repetitions[0]) > 1
+    header = ["scene", "mode", *(f"{k} rays" for k in RAY_KINDS), "median trace s"]
+    rays_rows = []
+    differences = []
+    for variant in DEMO_VARIANTS:
+        modes = first[variant]["modes"]
+        for mode in MODES:
+            median = statistics.median(
+                r[0][variant]["modes"][mode]["trace_seconds"] for r in repetitions
+            )
+            rays = [modes[mode]["rays"][kind] for kind in RAY_KINDS]
+            rays_rows.append([variant, mode, *rays, f"{median:.3f}"])
+        bound = CUTOFF * first[variant]["brightest"]
+        for mode in ("analysis", "feeler pruning", "no cutoff", "all"):
+            skipped = modes[mode]["shadow_rays_skipped"]
+            largest, mean = modes[mode]["difference"]
+            differences.append(
+                [
+                    variant,
+                    mode,
+                    f"{largest:.2e}",
+                    f"{mean:.2e}",
+                    f"{bound:.2e}",
+                    f"{skipped['backfacing']} / {skipped['unlit']} / {skipped['cutoff']}",
+                    modes[mode]["cutoff_skipped"],
+                ]
+            )
+    decisions = [
+        f"- {variant}: "
+        + "; ".join(
+            f"{e['name']} {'on' if e['on'] else 'off'} ({e['why']})"
+            for e in first[variant]["modes"]["all"]["effects"]
         )
-        job = frame.job(native, settings)
-        job.start()
-        while not job.wait(1.0):
-            pass
-        times.append(job.stats()["trace_seconds"])
-    return job.image(), job.stats(), statistics.median(times)
+        for variant in DEMO_VARIANTS
+    ]
+    command = (
+        "blender -b --factory-startup --python-exit-code 1 --python scripts/bench_effects.py -- "
+        f"--resolution {width} {height} --repeats {args.repeats}"
+        + (f" --compare-native {args.compare_native}" if compared else "")
+        + " --out docs/EFFECTS.md"
+    )
+    return [
+        "# Simulate only the effects a scene calls for: what each part saves",
+        "",
+        "Generated by `scripts/bench_effects.py`; do not edit by hand. The baseline is the",
+        "plain Whitted tracer: every effect on, a shadow feeler to every light sample, a",
+        "reflected or refracted ray wherever its coefficient is not zero and its weight on",
+        "the pixel is at least the cutoff, one kernel. Each mechanism is then switched",
+        "alone: (a) the scene analysis, which switches off the effects the scene cannot",
+        "show (shadows, reflection, refraction, translucency: a scene without a",
+        "translucent material sends each feeler as one occlusion query instead of an",
+        "occlusion query and a walk through cut-outs); (b) per-surface feeler pruning (no",
+        "feeler to a light behind the surface, to a point no light reaches, or when the",
+        "whole light's contribution is below the cutoff); (c) the weight cutoff (a",
+        "branch whose weight on the pixel is below it is not traced; the plain tracer",
+        "has it, so its saving is measured by switching it off); all: the default.",
+        "(d) compares the kernels compiled per set of effects (one per combination, the",
+        "effects a template parameter) against one kernel reading the same effects at",
+        "run time, each build's module in its own Blender, in turn.",
+        "",
+        f"Blender {bpy.app.version_string}, the demo scene's variants at {width}x{height}, "
+        f"{AA_SAMPLES}x{AA_SAMPLES} samples per pixel, depth 5, cutoff 1/255. Trace seconds "
+        f"from each render's statistics; {args.repeats} repetitions, the modes interleaved "
+        "(each repetition starts at the next mode, after a warm-up render). A ratio is taken "
+        "within each repetition and shown as median [min..max] over the repetitions; below 1 "
+        "is faster.",
+        "",
+        *machine_lines(),
+        "- Load average before and after the run (1, 5, 15 min): "
+        f"{', '.join(f'{v:.2f}' for v in load_before)} / "
+        f"{', '.join(f'{v:.2f}' for v in load_after)}",
+        "",
+        "## Time ratios per mechanism",
+        "",
+        "Trace seconds (wall clock, from the render's statistics):",
+        "",
+        *attribution(repetitions, "trace_seconds"),
+        "",
+        "CPU seconds the Blender process spent during the render (all its threads; less",
+        "sensitive to what else runs on the machine than the wall clock):",
+        "",
+        *attribution(repetitions, "cpu_seconds"),
+        "",
+        "What the code keeps: "
+        + "; ".join(f"{name} {verdict}" for name, verdict in VERDICTS.items())
+        + ".",
+        "",
+        "## Rays per mode",
+        "",
+        *table(header, rays_rows, "ll" + "r" * (len(header) - 2)),
+        "",
+        "The analysis's decisions in the default mode:",
+        "",
+        *decisions,
+        "",
+        "## The images against the plain tracer",
+        "",
+        "The analysis only switches off what cannot show: its image is the plain one bit",
+        "for bit. A feeler skipped below the cutoff leaves out less than the cutoff, a",
+        "branch not traced less than the cutoff times what it would have returned; a",
+        "pixel can lose several, so the difference is compared with the cutoff times the",
+        "brightest pixel of the plain render.",
+        "",
+        *table(
+            [
+                "scene",
+                "mode",
+                "max abs difference",
+                "mean abs difference",
+                "cutoff x brightest pixel",
+                "feelers skipped (behind surface / no light / below cutoff)",
+                "branches below cutoff",
+            ],
+            differences,
+            "llrrrlr",
+        ),
+        "",
+        f"Command: `{command}`",
+    ]
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--resolution", type=int, nargs=2, default=(320, 240))
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", help="also write the table to this Markdown file")
-    args = parser.parse_args(script_args())
-
-    from whitted.native import load_native
-    from whitted.sync.frame import sync_frame
-
-    native = load_native()
-    width, height = args.resolution
-    lines = [
-        "# Simulate only the effects a scene calls for: what it saves",
-        "",
-        "Generated by `scripts/bench_effects.py`; do not edit by hand. Each scene is a",
-        "variant of the demo scene, rendered twice in one Blender process: with the scene",
-        "analysis on (the default: effects the scene cannot show are compiled out, and",
-        "feelers and branches that cannot show are skipped) and with every effect forced",
-        "on and no ray skipped. Trace times are the median of the repeats; the time ratio",
-        "is analysis / forced.",
-        "",
-        f"Blender {bpy.app.version_string}, {width}x{height}, 2x2 samples per pixel, depth 5, "
-        f"cutoff 1/255, median of {args.repeats} renders.",
-        "",
-        "| scene | mode | " + " | ".join(f"{k} rays" for k in RAY_KINDS) + " | trace s | "
-        "time ratio |",
-        "|---|---|" + "---:|" * (len(RAY_KINDS) + 2),
-    ]
-    differences = [
-        "| scene | max abs difference | mean abs difference | cutoff x brightest pixel | "
-        "shadow feelers skipped (behind surface / no light / below cutoff) | branches "
-        "below cutoff |",
-        "|---|---:|---:|---:|---|---:|",
-    ]
-    for variant in VARIANTS:
-        build(variant, width, height)
-        frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
-        on_image, on_stats, on_time = render(native, frame, True, args.repeats)
-        off_image, off_stats, off_time = render(native, frame, False, args.repeats)
-        for mode, stats, seconds in (
-            ("analysis", on_stats, on_time),
-            ("forced", off_stats, off_time),
-        ):
-            rays = " | ".join(str(stats["rays"][k]) for k in RAY_KINDS)
-            lines.append(
-                f"| {variant} | {mode} | {rays} | {seconds:.3f} | {seconds / off_time:.2f} |"
-            )
-        difference = np.abs(on_image - off_image)[..., :3]
-        bound = (1.0 / 255.0) * float(off_image[..., :3].max())
-        skipped = on_stats["shadow_rays_skipped"]
-        differences.append(
-            f"| {variant} | {difference.max():.2e} | {difference.mean():.2e} | {bound:.2e} | "
-            f"{skipped['backfacing']} / {skipped['unlit']} / {skipped['cutoff']} | "
-            f"{on_stats['cutoff_skipped']} |"
-        )
-        effects = [
-            f"{e['name']}: {'on' if e['on'] else 'off'}, {e['why']}" for e in on_stats["effects"]
-        ]
-        lines.append(
-            f"| {variant} | effects | {'; '.join(effects)} |" + " |" * (len(RAY_KINDS) + 1)
-        )
-    lines += [
-        "",
-        "## The images: analysis against forced",
-        "",
-        "Where a skipped effect cannot contribute the two images are identical (difference",
-        "0). Where the cutoff prunes, each pruned branch leaves out less than the cutoff",
-        "times the radiance it would have returned, and each skipped feeler less than the",
-        "cutoff; a pixel can lose several of them, so the difference is compared with the",
-        "cutoff times the brightest pixel of the forced render, an estimate of what one",
-        "pruned branch can return.",
-        "",
-        *differences,
-        "",
-        "Command: `blender -b --factory-startup --python scripts/bench_effects.py -- "
-        f"--resolution {width} {height} --repeats {args.repeats} --out docs/EFFECTS.md`",
-    ]
-    text = "\n".join(lines)
-    print(text)
+    args = parse_args()
+    if args.child:
+        run_child(args)
+        return
+    load_before = os.getloadavg()
+    with tempfile.TemporaryDirectory() as folder:
+        repetitions = run_repetitions(args, folder)
+    lines = page(args, repetitions, load_before, os.getloadavg())
+    print("\n".join(lines))
     if args.out:
-        Path(args.out).write_text(text + "\n", encoding="utf-8")
+        write_page(args.out, lines)
 
 
 if __name__ == "__main__":

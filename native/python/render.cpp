@@ -169,8 +169,8 @@ void bind_render(py::module_& m) {
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
-                       float aa_threshold, int aa_depth, bool analysis, bool progressive,
-                       int start_pixel_size, GlassShadows glass_shadows,
+                       float aa_threshold, int aa_depth, bool analysis, bool feeler_pruning,
+                       bool progressive, int start_pixel_size, GlassShadows glass_shadows,
                        const std::vector<std::string>& passes, int contribution_depth,
                        float pass_alpha_threshold, std::array<float, 3> mist) {
              Settings s;
@@ -188,6 +188,7 @@ void bind_render(py::module_& m) {
              s.aa_threshold = aa_threshold;
              s.aa_depth = aa_depth;
              s.analysis = analysis;
+             s.feeler_pruning = feeler_pruning;
              s.progressive = progressive;
              s.start_pixel_size = start_pixel_size;
              s.glass_shadows = glass_shadows;
@@ -205,8 +206,9 @@ void bind_render(py::module_& m) {
            py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
            py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
            py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
-           py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("progressive") = false,
-           py::arg("start_pixel_size") = 8, py::arg("glass_shadows") = GlassShadows::kOpaque,
+           py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("feeler_pruning") = true,
+           py::arg("progressive") = false, py::arg("start_pixel_size") = 8,
+           py::arg("glass_shadows") = GlassShadows::kOpaque,
            py::arg("passes") = std::vector<std::string>{}, py::arg("contribution_depth") = 3,
            py::arg("pass_alpha_threshold") = 0.5f,
            py::arg("mist") = std::array<float, 3>{5.0f, 25.0f, 2.0f},
@@ -247,8 +249,12 @@ void bind_render(py::module_& m) {
                      "Trace each pixel's camera rays as one Embree packet; off: one query "
                      "per ray (a benchmark baseline).")
       .def_readwrite("analysis", &Settings::analysis,
-                     "Trace only the effects the scene calls for and skip rays that cannot "
-                     "show; off forces every effect on (a benchmark baseline).")
+                     "Trace only the effects the scene calls for (shadows, reflection, "
+                     "refraction, translucency); off: every effect on (a benchmark baseline).")
+      .def_readwrite("feeler_pruning", &Settings::feeler_pruning,
+                     "Skip shadow feelers that cannot show (light behind the surface, no "
+                     "irradiance, below the cutoff); off: a feeler to every light sample "
+                     "(a benchmark baseline).")
       .def_readwrite("progressive", &Settings::progressive)
       .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
       .def_property(

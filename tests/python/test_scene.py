@@ -272,18 +272,22 @@ def test_tiles_cover_the_image_and_match_it():
         job.tile(30, 0, 16, 16)
 
 
-def test_analysis_names_what_it_skips_and_forcing_everything_changes_no_pixel():
+def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
     scene = lit_floor_scene()
     pruned = wn.RenderJob(scene, wn.Settings(width=16, height=16, cutoff=0.0))
-    forced = wn.RenderJob(scene, wn.Settings(width=16, height=16, analysis=False))
-    np.testing.assert_array_equal(finish(pruned), finish(forced))
+    plain = wn.RenderJob(
+        scene, wn.Settings(width=16, height=16, analysis=False, feeler_pruning=False)
+    )
+    np.testing.assert_array_equal(finish(pruned), finish(plain))
     off = {"name": "reflection", "on": False, "why": "no reflective or transmissive material"}
     assert off in pruned.stats()["effects"]
     assert [e["name"] for e in pruned.stats()["effects"]] == [
         *("shadows", "reflection", "refraction", "translucency", "pruning")
     ]
-    forced_on = {"name": "analysis", "on": False, "why": "every effect forced on, no ray skipped"}
-    assert forced.stats()["effects"] == [forced_on]
-    assert pruned.stats()["rays"]["reflection"] == 0
-    assert forced.stats()["rays"]["reflection"] > 0
+    assert plain.stats()["effects"] == [
+        {"name": "analysis", "on": False, "why": "every effect on"},
+        {"name": "pruning", "on": False, "why": "a feeler to every light sample"},
+    ]
+    # A zero coefficient is never traced, with the analysis or without.
+    assert pruned.stats()["rays"]["reflection"] == plain.stats()["rays"]["reflection"] == 0
     assert set(pruned.stats()["shadow_rays_skipped"]) == {"backfacing", "unlit", "cutoff"}

@@ -24,6 +24,7 @@ from whitted_tools.scenes import (
     cube_mesh,
     facing,
     principled_material,
+    set_principled_inputs,
     sphere_mesh,
 )
 
@@ -89,6 +90,29 @@ def build_demo_scene(scene=None):
     scene.camera = camera_object
 
     scene.world = sky_world()
+    return scene
+
+
+# The demo's variants that call for fewer effects (scripts/bench_effects.py): what
+# becomes of its Glass and Mirror materials.
+DIFFUSE_INPUTS = {("Metallic",): 0.0, TRANSMISSION: 0.0, ("Roughness",): 1.0}
+MIRROR_INPUTS = {TRANSMISSION: 0.0, ("Metallic",): 1.0, ("Roughness",): 0.0}
+GLASS_INPUTS = {("Metallic",): 0.0, TRANSMISSION: 1.0, ("Roughness",): 0.0}
+DEMO_VARIANTS = {
+    "diffuse only": DIFFUSE_INPUTS,
+    "mirrors only": MIRROR_INPUTS,
+    "glass": GLASS_INPUTS,
+    "everything": None,  # the demo as it is
+}
+
+
+def build_demo_variant(variant, scene=None):
+    """The demo scene with both spheres' materials made as DEMO_VARIANTS[variant] says."""
+    scene = build_demo_scene(scene)
+    inputs = DEMO_VARIANTS[variant]
+    if inputs is not None:
+        for name in ("Glass", "Mirror"):
+            set_principled_inputs(bpy.data.materials[name], inputs)
     return scene
 
 

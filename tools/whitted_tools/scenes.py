@@ -91,14 +91,18 @@ def principled_material(name, base_color, inputs):
     material.diffuse_color = (*base_color, 1.0)
     if not uses_node_tree_always():
         material.use_nodes = True
+    set_principled_inputs(material, {("Base Color",): (*base_color, 1.0), **inputs})
+    return material
+
+
+def set_principled_inputs(material, inputs):
+    """Set inputs of the material's Principled BSDF: {(names, newest first): value}."""
     principled = next(
         node for node in material.node_tree.nodes if node.bl_idname == "ShaderNodeBsdfPrincipled"
     )
-    principled.inputs["Base Color"].default_value = (*base_color, 1.0)
     for names, value in inputs.items():
         socket = next(principled.inputs[n] for n in names if n in principled.inputs)
         socket.default_value = value
-    return material
 
 
 def background_world(name, color, strength=1.0):

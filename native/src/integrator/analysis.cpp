@@ -12,15 +12,8 @@ void decide(Effects* effects, uint32_t bit, bool on, std::string name, std::stri
   effects->decisions.push_back({std::move(name), on, std::move(why)});
 }
 
-}  // namespace
-
-Effects analyse(const CompiledScene& scene, const Settings& settings) {
-  Effects effects;
-  if (!settings.analysis) {
-    effects.bits = kAllEffects & ~kPruningEffect;
-    effects.decisions.push_back({"analysis", false, "every effect forced on, no ray skipped"});
-    return effects;
-  }
+// Which of shadows, reflection, refraction and translucency the scene can show.
+void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects* effects) {
   // Only materials some instance uses can contribute.
   std::vector<bool> used(scene.materials.size(), false);
   bool any_blocker = false;
@@ -43,7 +36,7 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
   }
   bool casting = false;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
-  decide(&effects, kShadowEffect, casting && any_blocker, "shadows",
+  decide(effects, kShadowEffect, casting && any_blocker, "shadows",
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
                        : "nothing is visible to shadow rays");
@@ -51,19 +44,32 @@ Effects analyse(const CompiledScene& scene, const Settings& settings) {
   // asks: then the kernel reaches them to count what the depth cuts (and adds nothing).
   const bool cut_weight = (settings.passes & pass_bit(FilmPass::kCutWeight)) != 0;
   const bool no_bounce = settings.max_depth == 0 && !cut_weight;
-  decide(&effects, kReflectionEffect, reflective && !no_bounce, "reflection",
+  decide(effects, kReflectionEffect, reflective && !no_bounce, "reflection",
          no_bounce    ? "maximum depth 0"
          : reflective ? "reflective or transmissive materials"
                       : "no reflective or transmissive material");
-  decide(&effects, kRefractionEffect, transmissive && !no_bounce, "refraction",
+  decide(effects, kRefractionEffect, transmissive && !no_bounce, "refraction",
          no_bounce      ? "maximum depth 0"
          : transmissive ? "transmissive materials"
                         : "no transmissive material");
-  decide(&effects, kTranslucencyEffect, translucent, "translucency",
+  decide(effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
-  decide(&effects, kPruningEffect, true, "pruning",
-         "rays that cannot show are skipped (cutoff " + std::to_string(settings.cutoff) + ")");
+}
+
+}  // namespace
+
+Effects analyse(const CompiledScene& scene, const Settings& settings) {
+  Effects effects;
+  if (settings.analysis) {
+    analyse_scene(scene, settings, &effects);
+  } else {
+    effects.decisions.push_back({"analysis", false, "every effect on"});
+  }
+  decide(&effects, kPruningEffect, settings.feeler_pruning, "pruning",
+         settings.feeler_pruning ? "shadow feelers that cannot show are skipped (cutoff " +
+                                       std::to_string(settings.cutoff) + ")"
+                                 : "a feeler to every light sample");
   return effects;
 }
 

@@ -18,17 +18,16 @@ enum EffectBits : uint32_t {
   kRefractionEffect = 1u << 2,    // a material transmits
   kTranslucencyEffect = 1u << 3,  // a material lets light through (alpha, transmission):
                                   // cut-out walks for camera rays and shadow feelers
-  kPruningEffect = 1u << 4,       // skip rays that cannot show (backfacing lights, zero
-                                  // irradiance, contribution below the cutoff)
+  kPruningEffect = 1u << 4,       // skip shadow feelers that cannot show (the light
+                                  // behind the surface, no irradiance, the light's
+                                  // contribution below the cutoff)
   kAllEffects = (1u << 5) - 1,
 };
 
 // Whether analyse() can decide the effects `bits`, the only sets a kernel is compiled
-// for (whitted.cpp): pruning is off only with the analysis off, and then every other
-// effect is on; refraction comes with reflection (a transmissive material also reflects,
-// by Fresnel).
+// for (whitted.cpp): refraction comes with reflection (a transmissive material also
+// reflects, by Fresnel); pruning follows Settings.feeler_pruning.
 constexpr bool reachable_effects(uint32_t bits) {
-  if ((bits & kPruningEffect) == 0) return bits == (kAllEffects & ~kPruningEffect);
   return (bits & kRefractionEffect) == 0 || (bits & kReflectionEffect) != 0;
 }
 
@@ -48,8 +47,8 @@ struct Effects {
   bool has(uint32_t bit) const { return (bits & bit) != 0; }
 };
 
-// With settings.analysis off, every effect is on and nothing is pruned (the baseline the
-// benchmark compares against).
+// With settings.analysis off, every effect is on; pruning follows settings.feeler_pruning
+// (both off: the plain Whitted tracer the benchmark compares against).
 Effects analyse(const CompiledScene& scene, const Settings& settings);
 
 }  // namespace whitted

@@ -44,9 +44,15 @@ struct Settings {
   // Adaptive depth control (Hall & Greenberg 1983; POV-Ray's adc_bailout): a secondary
   // ray whose weight on the pixel falls below this is not traced. 0 traces every ray.
   float cutoff = 1.0f / 255.0f;
-  // Scene analysis: trace only the effects the scene calls for and skip rays that cannot
-  // show. Off forces every effect on and traces every ray (a baseline for benchmarks).
+  // Scene analysis: trace only the effects the scene calls for (shadows, reflection,
+  // refraction, translucency; integrator/analysis.h). Off: every effect on, as a tracer
+  // without the analysis (a benchmark baseline). Either way a ray whose coefficient is
+  // zero is never traced.
   bool analysis = true;
+  // Skip shadow feelers that cannot show: the light behind the surface (by the shading
+  // normal), no irradiance (outside a spot's cone), or the whole light's contribution
+  // below the cutoff. Off sends a feeler to every light sample (a benchmark baseline).
+  bool feeler_pruning = true;
   // Trace each pixel's camera rays as one Embree packet (faster; the same image up to
   // ties between coplanar faces). Off: one query per ray (a benchmark baseline).
   bool packets = true;

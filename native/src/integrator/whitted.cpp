@@ -231,9 +231,7 @@ class Kernel {
 
     Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
     Color kt = has(kRefractionEffect) ? surface.transmissivity : Color(0.0f);
-    if (has(kPruningEffect) && is_black(kr) && is_black(kt) && coat.mirror <= 0.0f) {
-      return radiance;
-    }
+    if (is_black(kr) && is_black(kt) && coat.mirror <= 0.0f) return radiance;
     Vec3 t_dir(0.0f);
     bool total_internal_reflection = false;
     const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
@@ -263,7 +261,7 @@ class Kernel {
       kr /= sum;
       kt /= sum;
     }
-    if (has(kReflectionEffect) && (!has(kPruningEffect) || !is_black(kr))) {
+    if (has(kReflectionEffect) && !is_black(kr)) {
       Vec3 r = reflect(ray.direction, coat_ray ? coat.normal : ns);
       if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
       const Color reflected =
@@ -275,7 +273,7 @@ class Kernel {
       radiance += kr * reflected;
       if constexpr (kPasses) recorder_.reflected(path.depth, path.throughput, kr, reflected);
     }
-    if (refracts && (!has(kPruningEffect) || !is_black(kt))) {
+    if (refracts && !is_black(kt)) {
       const Color refracted = branch(
           spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir, kRefractionRay),
           path, kt, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
@@ -298,7 +296,7 @@ class Kernel {
       if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
-    if (has(kPruningEffect) && max_component(next.weight) < settings_.cutoff) {
+    if (max_component(next.weight) < settings_.cutoff) {
       counts->cutoff_skipped += 1;  // its contribution could no longer show
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kCutoff);
       if constexpr (kPasses) recorder_.cut(next.throughput);
