@@ -51,7 +51,7 @@ VERDICTS = {
     "analysis": "kept",
     "feeler pruning": "kept",
     "cutoff": "kept",
-    "kernels per effect set": "kept",
+    "kernels per effect set": "dropped",
 }
 
 

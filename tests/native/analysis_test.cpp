@@ -175,35 +175,5 @@ TEST(Analysis, NothingToBlockMeansNoFeelers) {
   EXPECT_EQ(r.pixels, render(scene, false).pixels);
 }
 
-// Kernels are compiled only for the sets of effects the analysis can decide: every
-// decision it makes must be one of them.
-TEST(Analysis, DecidesOnlySetsThatHaveAKernel) {
-  int reachable = 0;
-  for (uint32_t bits = 0; bits <= kAllEffects; ++bits) reachable += reachable_effects(bits);
-  EXPECT_EQ(reachable, 24);  // 12 with feeler pruning, 12 without
-  Material mirror = diffuse(Color(0.1f));
-  mirror.reflectivity = Color(0.8f);
-  Material glass = diffuse(Color(0.0f));
-  glass.transmissivity = Color(1.0f);
-  Material cutout = diffuse(Color(0.5f));
-  cutout.alpha = 0.5f;
-  for (const Material* extra : {&mirror, &glass, &cutout}) {
-    Scene scene = diffuse_scene();
-    add_object(&scene, "extra", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f), *extra);
-    const auto compiled = scene.compile();
-    for (const int depth : {0, 3}) {
-      for (const bool analysis : {false, true}) {
-        Settings settings;
-        settings.max_depth = depth;
-        settings.analysis = analysis;
-        for (const GlassShadows shadows : {GlassShadows::kOpaque, GlassShadows::kTinted}) {
-          settings.glass_shadows = shadows;
-          EXPECT_TRUE(reachable_effects(analyse(*compiled, settings).bits));
-        }
-      }
-    }
-  }
-}
-
 }  // namespace
 }  // namespace whitted

@@ -24,13 +24,6 @@ enum EffectBits : uint32_t {
   kAllEffects = (1u << 5) - 1,
 };
 
-// Whether analyse() can decide the effects `bits`, the only sets a kernel is compiled
-// for (whitted.cpp): refraction comes with reflection (a transmissive material also
-// reflects, by Fresnel); pruning follows Settings.feeler_pruning.
-constexpr bool reachable_effects(uint32_t bits) {
-  return (bits & kRefractionEffect) == 0 || (bits & kReflectionEffect) != 0;
-}
-
 // One decision of the analysis: an effect's name, whether it is simulated, and why
 // ({"refraction", false, "no transmissive material"}).
 struct EffectDecision {

@@ -1,11 +1,7 @@
 #include "integrator/whitted.h"
 
-#include <array>
 #include <cmath>
-#include <stdexcept>
-#include <string>
 #include <type_traits>
-#include <utility>
 
 namespace whitted {
 namespace {
@@ -62,13 +58,14 @@ struct NoRecorder {
              SampleRecord* /*record*/) {}
 };
 
-// The Whitted recursion for one set of effects E (EffectBits); what E leaves out is not
-// compiled in. With kRecord (the inspector only) every ray and term also goes into the
-// integrator's RayTree; renders run the kernels without it. With a Recorder other than
-// NoRecorder (PassRecorder, passes.h: renders with passes) the kernel also tells it, node
-// by node, where each share of a sample's radiance comes from; with NoRecorder none of
-// that is compiled in.
-template <uint32_t E, bool kRecord, class Recorder>
+// The Whitted recursion, with the effects the analysis chose (EffectBits) as run-time
+// flags: compiling a kernel per set of effects measured no faster (docs/EFFECTS.md). With
+// kRecord (the inspector only) every ray and term also goes into the integrator's
+// RayTree; renders run the kernel without it. With a Recorder other than NoRecorder
+// (PassRecorder, passes.h: renders with passes) the kernel also tells it, node by node,
+// where each share of a sample's radiance comes from; with NoRecorder none of that is
+// compiled in.
+template <bool kRecord, class Recorder>
 class Kernel {
   static constexpr bool kPasses = !std::is_same_v<Recorder, NoRecorder>;
 
@@ -79,6 +76,7 @@ class Kernel {
         camera_(w.camera()),
         log_(w.log()),
         tree_(w.tree()),
+        effects_(w.effects().bits),
         recorder_(w.scene(), w.settings(), w.camera(), record) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
@@ -87,7 +85,7 @@ class Kernel {
   }
 
  private:
-  static constexpr bool has(uint32_t bit) { return (E & bit) != 0; }
+  bool has(uint32_t bit) const { return (effects_ & bit) != 0; }
 
   // Every query of the kernel goes through these two (and into the log when recording).
   bool intersect(const Ray& ray, Hit* hit) const {
@@ -144,7 +142,7 @@ class Kernel {
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
       const SurfaceParams surface = scene_.surface(it, r, context(path));
       float a = 1.0f;
-      if constexpr (has(kTranslucencyEffect)) {
+      if (has(kTranslucencyEffect)) {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
       }
       if (a > 0.0f) {
@@ -227,7 +225,7 @@ class Kernel {
       terms.specular_color = (1.0f - coat.cover) * surface.specular + Color(coat.highlight);
       recorder_.node(path.depth, path.throughput, terms);
     }
-    if constexpr (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
+    if (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
 
     Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
     Color kt = has(kRefractionEffect) ? surface.transmissivity : Color(0.0f);
@@ -336,7 +334,7 @@ class Kernel {
         // The shading normal decides whether a light is behind the (smooth) surface, not
         // the flat facet: gating on the facet draws stair-steps along the terminator of a
         // coarse smooth mesh.
-        if constexpr (has(kPruningEffect)) {
+        if (has(kPruningEffect)) {
           if (cos_l <= 0.0f) {
             counts->shadow_rays_skipped.backfacing += 1;
             if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kBackfacing;
@@ -383,7 +381,7 @@ class Kernel {
           record(Color(1.0f));
           continue;
         }
-        if constexpr (has(kPruningEffect)) {
+        if (has(kPruningEffect)) {
           // Lit or not, this light cannot change the pixel by more than the cutoff. The
           // whole light is judged, not this feeler's share of it: otherwise more samples
           // would each fall below the cutoff and soft shadows would fade.
@@ -414,7 +412,7 @@ class Kernel {
   // none (settings.h).
   Color shadow_transmittance(Ray ray, const PathState& path, RayCounts* counts) const {
     counts->shadow += 1;
-    if constexpr (!has(kTranslucencyEffect)) {
+    if (!has(kTranslucencyEffect)) {
       return occluded(ray) ? Color(0.0f) : Color(1.0f);
     }
     // Anything opaque in the way blocks all of it, whatever lies in front (ray.h).
@@ -513,41 +511,9 @@ class Kernel {
   const Camera& camera_;
   RayLog* log_;
   RayTree* tree_;
+  uint32_t effects_;  // EffectBits
   [[no_unique_address]] Recorder recorder_;
 };
-
-// One kernel per set of effects the analysis can decide (reachable_effects), indexed by
-// its bits, null for the others: for renders, for renders with passes, and the recording
-// ones for the inspector.
-template <uint32_t E, bool kRecord, class Recorder>
-constexpr WhittedIntegrator::TraceFn kernel_of() {
-  if constexpr (reachable_effects(E)) {
-    return &Kernel<E, kRecord, Recorder>::run;
-  } else {
-    return nullptr;
-  }
-}
-template <bool kRecord, class Recorder, size_t... I>
-constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(I)> kernels(
-    std::index_sequence<I...> /*bits*/) {
-  return {kernel_of<static_cast<uint32_t>(I), kRecord, Recorder>()...};
-}
-constexpr auto kKernels = kernels<false, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
-constexpr auto kPassKernels =
-    kernels<false, PassRecorder>(std::make_index_sequence<kAllEffects + 1>{});
-constexpr auto kRecordingKernels =
-    kernels<true, NoRecorder>(std::make_index_sequence<kAllEffects + 1>{});
-
-WhittedIntegrator::TraceFn kernel_for(uint32_t effects, bool record, bool passes) {
-  const WhittedIntegrator::TraceFn kernel = record   ? kRecordingKernels[effects]
-                                            : passes ? kPassKernels[effects]
-                                                     : kKernels[effects];
-  if (kernel == nullptr) {
-    throw std::logic_error("no kernel compiled for effects " + std::to_string(effects) +
-                           " (reachable_effects, analysis.h)");
-  }
-  return kernel;
-}
 
 }  // namespace
 
@@ -573,7 +539,9 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings)),
-      trace_(kernel_for(effects_.bits, tree != nullptr, settings.passes != 0)),
+      trace_(tree != nullptr        ? &Kernel<true, NoRecorder>::run
+             : settings.passes != 0 ? &Kernel<false, PassRecorder>::run
+                                    : &Kernel<false, NoRecorder>::run),
       log_(log),
       tree_(tree) {}
 

@@ -49,8 +49,8 @@ struct PathState {
   Color throughput{1.0f};
 };
 
-// Analyses the scene once, then traces with a kernel specialised to the effects the
-// scene calls for (integrator/whitted.cpp), so a disabled effect costs nothing.
+// Analyses the scene once, then traces only the effects the scene calls for
+// (integrator/whitted.cpp: the effects as run-time flags, a kernel per recorder).
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
