@@ -26,3 +26,18 @@ def median_or_none(values):
     """The median of the values that are not None; None when there are none."""
     known = [value for value in values if value is not None]
     return statistics.median(known) if known else None
+
+
+def paired_ratios(numerators, denominators):
+    """Ratios of timings taken in pairs (the same repetition of an interleaved run), so a
+    machine whose speed drifts between repetitions moves both sides of each ratio alike."""
+    numerators, denominators = list(numerators), list(denominators)
+    if len(numerators) != len(denominators) or not numerators:
+        raise ValueError("paired ratios need the same number of timings on each side, not 0")
+    return [n / d for n, d in zip(numerators, denominators, strict=True)]
+
+
+def spread_text(values):
+    """'median [min..max]' of the values, three decimals: a figure with its spread."""
+    values = sorted(values)
+    return f"{statistics.median(values):.3f} [{values[0]:.3f}..{values[-1]:.3f}]"
