@@ -49,17 +49,19 @@ MODES = {
 RAY_KINDS = ("camera", "shadow", "reflection", "refraction", "transparent", "total")
 # What the code does with each mechanism, and why (the ratios on the page are the reason).
 VERDICTS = {
-    "(a) scene analysis": "kept: faster where it switches an effect off (in the opaque "
-    "scenes translucency is off, so a feeler is one occlusion query, not that and a walk); "
-    "where a scene calls for every effect it switches nothing off and its ratio is 1 within "
-    "the spread",
-    "(b) feeler pruning": "kept: fewer feelers and faster in every scene",
-    "(c) weight cutoff": "kept: faster where branches fall below it (glass); where none "
-    "does, it costs nothing measurable",
-    "(d) kernels per effect set": "dropped: no faster than one kernel reading the same "
-    "effects at run time (medians either side of 1, well inside the spread), so "
-    "integrator/whitted.cpp now compiles one kernel for renders and one for the inspector "
-    "instead of one per set of effects for each",
+    "(a) scene analysis": "kept: in each of these scenes it switches translucency off (no "
+    "cut-outs, and glass casts opaque shadows by default), so a feeler is one occlusion "
+    "query, not that and a walk, and in the diffuse scene reflection and refraction too; "
+    "a scene that calls for every effect switches nothing off",
+    "(b) feeler pruning": "kept: it sends fewer feelers in every scene (rays table) and "
+    "its median ratios are below 1",
+    "(c) weight cutoff": "kept: faster where branches fall below it (glass, everything); "
+    "where none does (diffuse, mirrors) its ratio is 1 within the spread",
+    "(d) kernels per effect set": "dropped: not measurably faster; every spread reaches "
+    "past 1 on both sides, and a difference of a few percent, if there is one, is below "
+    "what this shared machine resolves. With the effects as run-time flags "
+    "integrator/whitted.cpp compiles one kernel per recorder (renders, renders with "
+    "passes) and the inspector's, instead of one per set of effects for each",
 }
 
 
@@ -264,7 +266,10 @@ def page(args, repetitions, load_before, load_after):
         "has it, so its saving is measured by switching it off); all: the default.",
         "(d) compares the kernels compiled per set of effects (one per combination, the",
         "effects a template parameter) against one kernel reading the same effects at",
-        "run time, each build's module in its own Blender, in turn.",
+        "run time, each build's module in its own Blender, in turn: the other build",
+        '(`--compare-native`) is one of the commit before "One Whitted kernel with the',
+        'effects as run-time flags" (`git log --grep`), the same code with a kernel per',
+        "set of effects; (d) is its time over this build's.",
         "",
         f"Blender {bpy.app.version_string}, the demo scene's variants at {width}x{height}, "
         f"{AA_SAMPLES}x{AA_SAMPLES} samples per pixel, depth 5, cutoff 1/255. Trace seconds "
