@@ -39,6 +39,7 @@ DEFAULT_MATERIAL = ""
 # cross product of edges, |e|^2, whose squared length |e|^4 must stay below
 # FLT_MAX (3.4e38): at 1e7 it is 1e28, ten orders of magnitude of margin for the
 # instance's own scale. No sane model needs more than 10,000 km from its origin.
+# (native/src/core/limits.h lists it with the core's own bounds.)
 MAX_COORDINATE = 1.0e7
 
 # Triangles per block of `_sanitise`'s arithmetic: about 150 bytes of temporaries a

@@ -11,6 +11,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "core/limits.h"
+
 namespace whitted {
 namespace {
 
@@ -33,10 +35,11 @@ void on_error(void* user, RTCError code, const char* message) {
 // Embree asserts (and so aborts the whole process, Blender with it) on a ray whose
 // origin or direction has a NaN or a component above FLT_LARGE (1.8e18), or whose
 // interval is NaN (RayK::valid in Embree's kernels), also after an instance has moved the
-// ray into object space. Such rays come only from absurd scenes: past 1e9 from the
-// origin they hit nothing here (instances are bounded too, scene.cpp).
+// ray into object space. Such rays come only from absurd scenes: past
+// limits::kMaxRayComponent from the origin they hit nothing here (instances are bounded
+// too, scene.cpp; core/limits.h).
 bool valid_for_embree(const Ray& ray) {
-  constexpr float kLimit = 1e9f;
+  constexpr float kLimit = limits::kMaxRayComponent;
   for (int i = 0; i < 3; ++i) {
     if (!(std::fabs(ray.origin[i]) <= kLimit) || !(std::fabs(ray.direction[i]) <= kLimit)) {
       return false;

@@ -3,11 +3,12 @@
 #include <cmath>
 #include <type_traits>
 
+#include "core/limits.h"
+
 namespace whitted {
 namespace {
 
-// Beyond this many cut-out layers a surface counts as opaque: a bound on the walk.
-constexpr int kMaxTransparentLayers = 64;
+using limits::kMaxTransparentLayers;
 
 // IOR of a medium (-1 is the surrounding air): its material's constant ior, since a
 // program's ior belongs to a hit, not to the volume behind it.
@@ -394,7 +395,8 @@ class Kernel {
           }
         }
         // Stop the feeler just short of the light sample.
-        const float t_max = std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - 1e-4f);
+        const float t_max =
+            std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kFeelerShortening);
         const Ray shadow_ray =
             spawn_ray(it.shadow_origin, it.position_error, ng, ls.wi, kShadowRay, t_max);
         const Color transmittance = shadow_transmittance(shadow_ray, path, counts);
@@ -559,7 +561,7 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
   Ray ray{p, glm::normalize(Vec3(0.3717f, 0.5419f, 0.7537f)), 0.0f, kInfinity, kRefractionRay};
   std::vector<uint32_t> enclosing;  // innermost first
   std::vector<int> entered(scene_.materials.size(), 0);
-  for (int i = 0; i < 1024; ++i) {
+  for (int i = 0; i < limits::kMaxMediaCrossings; ++i) {
     Hit hit;
     if (!scene_.accel->intersect(ray, &hit)) break;
     const Interaction it = scene_.interaction(ray, hit);

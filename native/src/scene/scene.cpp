@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <variant>
 
+#include "core/limits.h"
+
 namespace whitted {
 namespace {
 
@@ -28,12 +30,11 @@ bool is_finite(const glm::mat4& m) {
 // Embree traces an instance by moving the ray into object space with the inverse
 // transform; a singular or near-singular transform (an object scaled to zero), or one
 // absurdly far away, would make that ray invalid, which Embree's assertions turn into an
-// abort. Such an instance shows nothing worth rendering, so it is left out. With the
-// linear part and its inverse below 1e8, and translations and ray origins below 1e9
-// (embree.cpp), object-space rays stay below 2e17, inside Embree's 1.8e18.
+// abort. Such an instance shows nothing worth rendering, so it is left out (the bounds and
+// their reason: core/limits.h).
 bool safely_invertible(const glm::mat4& m) {
-  constexpr float kLinearLimit = 1e8f;
-  constexpr float kTranslationLimit = 1e9f;
+  constexpr float kLinearLimit = limits::kMaxInstanceLinear;
+  constexpr float kTranslationLimit = limits::kMaxInstanceTranslation;
   const glm::mat3 linear(m);
   const glm::mat3 inverse = glm::inverse(linear);
   for (int c = 0; c < 3; ++c) {
@@ -559,12 +560,8 @@ Vec3 valid_reflection(const Vec3& ng, const Vec3& wo, const Vec3& n) {
   return chosen[0] * x_axis + chosen[1] * ng;
 }
 
-// How far the height of a Bump node is read from the hit: this fraction of the hit's
-// distance from the camera, about the footprint of one pixel of a 1000-pixel-wide image
-// at a 53-degree field of view (Cycles steps by the ray differentials, which Whitted does
-// not carry; the Bump's result does not depend on the step to first order).
-constexpr float kBumpStep = 1e-3f;
-
+// How far the height of a Bump node is read from the hit: limits::kBumpStep of the hit's
+// distance from the camera (the Bump's result does not depend on the step to first order).
 // Two offsets along the surface (perpendicular to the geometric normal, a right-handed
 // frame with it) for the Bump node's differences.
 void bump_offsets(const Interaction& it, const RayContext& context, ProgramHit* hit) {
@@ -576,7 +573,7 @@ void bump_offsets(const Interaction& it, const RayContext& context, ProgramHit* 
   const Vec3 t(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
   const Vec3 bitangent(b, sign + n.y * n.y * a, -n.y);
   const float distance = glm::length(it.position - Vec3(context.camera->to_world[3]));
-  const float step = kBumpStep * std::fmax(distance, 1e-3f);
+  const float step = limits::kBumpStep * std::fmax(distance, limits::kBumpMinDistance);
   hit->bump_dx = step * t;
   hit->bump_dy = step * bitangent;
 }

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/limits.h"
+
 namespace whitted {
 namespace {
 
@@ -37,7 +39,8 @@ glm::vec4 sample_image(const ImageTexture& image, glm::vec2 uv) {
   }
   const float x = uv.x * static_cast<float>(image.width);
   const float y = uv.y * static_cast<float>(image.height);
-  if (!std::isfinite(x) || !std::isfinite(y) || std::fabs(x) > 1e8f || std::fabs(y) > 1e8f) {
+  if (!std::isfinite(x) || !std::isfinite(y) || std::fabs(x) > limits::kMaxTexelCoordinate ||
+      std::fabs(y) > limits::kMaxTexelCoordinate) {
     return glm::vec4(0.0f);
   }
   if (image.interpolation == Interpolation::kClosest) {
