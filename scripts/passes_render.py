@@ -15,18 +15,10 @@ import bpy
 from whitted_tools import demo_scene
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
+from whitted_tools.render import enable_every_pass
 
 # The tint the second compositing example gives to what the mirror reflects.
 TINT = (1.0, 0.45, 0.1, 1.0)
-
-
-def enable_every_pass(view_layer, result, contribution_depth):
-    for spec in result.PASSES:
-        owner, _, prop = spec.toggle.rpartition(".")
-        if prop:
-            setattr(view_layer.whitted if owner else view_layer, prop, True)
-    view_layer.whitted.use_pass_contributions = True
-    view_layer.whitted.contribution_depth = contribution_depth
 
 
 def number_objects(scene):

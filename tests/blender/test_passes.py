@@ -11,6 +11,7 @@ import pytest
 from whitted import result
 from whitted.sync.frame import sync_frame
 from whitted.ui import passes as passes_ui
+from whitted_tools.render import enable_every_pass
 
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 VENV_PYTHON = os.path.join(REPO_ROOT, ".venv", "bin", "python")
@@ -115,15 +116,6 @@ def demo(empty_scene, demo_scene_module):
     return scene
 
 
-def enable_every_pass(view_layer, contribution_depth=2):
-    for spec in result.PASSES:
-        owner, _, prop = spec.toggle.rpartition(".")
-        if prop:
-            setattr(view_layer.whitted if owner else view_layer, prop, True)
-    view_layer.whitted.use_pass_contributions = True
-    view_layer.whitted.contribution_depth = contribution_depth
-
-
 def rgb(channels, name):
     """float32[h, w, 3] of pass `name` (its Blender 3.x name) in the EXR's channels
     ("ViewLayer.<name>.R", ...)."""
@@ -133,7 +125,7 @@ def rgb(channels, name):
 
 def test_every_pass_is_in_the_exr_and_the_light_and_depth_passes_rebuild_combined(demo, tmp_path):
     view_layer = demo.view_layers[0]
-    enable_every_pass(view_layer)
+    enable_every_pass(view_layer, result, contribution_depth=2)
     channels = render_multilayer(demo, tmp_path / "all.exr")
     expected = {spec.name for spec in result.enabled_passes(view_layer)}
     assert layer_names(channels) == expected

@@ -29,3 +29,14 @@ def render_exr(scene, path, engine=None, png=None):
     finally:
         bpy.data.images.remove(image)
     return pixels.reshape(height, width, 4)
+
+
+def enable_every_pass(view_layer, result, contribution_depth):
+    """Switch on every pass of the add-on's table (`result`, the add-on's result module)
+    in `view_layer`, and the per-depth passes up to `contribution_depth`."""
+    for spec in result.PASSES:
+        owner, _, prop = spec.toggle.rpartition(".")
+        if prop:
+            setattr(view_layer.whitted if owner else view_layer, prop, True)
+    view_layer.whitted.use_pass_contributions = True
+    view_layer.whitted.contribution_depth = contribution_depth
