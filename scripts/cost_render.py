@@ -18,6 +18,7 @@ import os
 import bpy
 from whitted_tools.blender import enable_addon
 from whitted_tools.cli import script_args
+from whitted_tools.render import use_multilayer_exr
 
 
 def parse_args():
@@ -35,12 +36,7 @@ def configure_output(scene, width, height):
     render.resolution_x, render.resolution_y = width, height
     render.resolution_percentage = 100
     render.use_border = False
-    settings = render.image_settings
-    # Blender 5.0 chooses multilayer through the media type first.
-    if hasattr(settings, "media_type"):
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
+    use_multilayer_exr(render.image_settings)
 
 
 def main():

@@ -15,7 +15,7 @@ import bpy
 from whitted_tools import demo_scene
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
-from whitted_tools.render import enable_every_pass
+from whitted_tools.render import enable_every_pass, use_multilayer_exr
 
 # The tint the second compositing example gives to what the mirror reflects.
 TINT = (1.0, 0.45, 0.1, 1.0)
@@ -34,10 +34,10 @@ def number_objects(scene):
 def set_output(scene, path, multilayer):
     """32-bit float OpenEXR: every pass (multilayer), or the composite's RGBA."""
     settings = scene.render.image_settings
-    if multilayer and hasattr(settings, "media_type"):
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
-    settings.color_depth = "32"
+    if multilayer:
+        use_multilayer_exr(settings)
+    else:
+        settings.file_format, settings.color_depth = "OPEN_EXR", "32"
     scene.render.filepath = str(path)
 
 

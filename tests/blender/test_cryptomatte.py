@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from test_passes import VENV_PYTHON
 from whitted import cryptomatte
+from whitted_tools.render import use_multilayer_exr
 
 WIDTH, HEIGHT = 96, 72
 SUBJECT = "Mirror Sphere"  # a demo object with a parent-free name
@@ -102,11 +103,7 @@ def test_blenders_node_decodes_our_matte_as_cycles_matte(demo, tmp_path):
 
 def test_exr_holds_the_layers_and_their_metadata(demo, tmp_path):
     demo.render.engine = "WHITTED"
-    settings = demo.render.image_settings
-    if hasattr(settings, "media_type"):
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
+    use_multilayer_exr(demo.render.image_settings)
     path = tmp_path / "crypto.exr"
     demo.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)

@@ -11,7 +11,7 @@ import pytest
 from whitted import result
 from whitted.sync.frame import sync_frame
 from whitted.ui import passes as passes_ui
-from whitted_tools.render import enable_every_pass
+from whitted_tools.render import enable_every_pass, use_multilayer_exr
 
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 VENV_PYTHON = os.path.join(REPO_ROOT, ".venv", "bin", "python")
@@ -45,11 +45,7 @@ def read_exr(path):
 def render_multilayer(scene, path):
     """F12 of `scene` saved as a 32-bit multilayer EXR at `path`; its channels."""
     scene.render.engine = "WHITTED"
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):
-        settings.media_type = "MULTI_LAYER_IMAGE"  # Blender 5.0: needed for every pass
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
+    use_multilayer_exr(scene.render.image_settings)
     scene.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)
     return read_exr(path)

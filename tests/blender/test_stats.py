@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import whitted.stats
 from whitted import result
+from whitted_tools.render import use_multilayer_exr
 
 WIDTH, HEIGHT = 64, 48
 
@@ -108,13 +109,7 @@ def test_cost_pass_holds_the_rays_of_each_pixel(demo, render_pixels, monkeypatch
 
 def test_cost_pass_is_saved_in_a_multilayer_exr(demo, tmp_path):
     demo.render.engine = "WHITTED"
-    settings = demo.render.image_settings
-    if hasattr(settings, "media_type"):
-        # Blender 5.0: a multilayer EXR is a media type of its own; set as a plain
-        # OPEN_EXR format it holds Combined alone.
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
+    use_multilayer_exr(demo.render.image_settings)
     demo.render.filepath = str(tmp_path / "passes.exr")
     bpy.ops.render.render(write_still=True)
     assert (tmp_path / "passes.exr").stat().st_size > 0

@@ -40,3 +40,13 @@ def enable_every_pass(view_layer, result, contribution_depth):
             setattr(view_layer.whitted if owner else view_layer, prop, True)
     view_layer.whitted.use_pass_contributions = True
     view_layer.whitted.contribution_depth = contribution_depth
+
+
+def use_multilayer_exr(image_settings):
+    """Save renders as 32-bit float multilayer OpenEXR, every pass in the file. Blender
+    5.0 chooses multilayer through the media type first: set as a plain OPEN_EXR format
+    its file holds Combined alone."""
+    if hasattr(image_settings, "media_type"):
+        image_settings.media_type = "MULTI_LAYER_IMAGE"
+    image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    image_settings.color_depth = "32"
