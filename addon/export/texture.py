@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .nodes import linked_output, socket_value, warn
+from .nodes import warn
 
 Color = tuple[float, float, float]
 
@@ -23,9 +23,6 @@ EXTENSIONS = {"REPEAT": "REPEAT", "CLIP": "CLIP", "EXTEND": "EXTEND"}
 
 # Colour spaces whose stored values are already linear (or are data, not colour).
 LINEAR_SPACES = {"Linear", "Linear Rec.709", "Non-Color", "Raw"}
-
-# Texture Coordinate node outputs the tracer can evaluate.
-TEX_COORD_OUTPUTS = {"UV": "UV", "Generated": "GENERATED", "Object": "OBJECT"}
 
 
 @dataclass(frozen=True)
@@ -67,8 +64,10 @@ class ImageTextureData:
 
 
 def image_texture_spec(node, owner, warnings):
-    """An Image Texture node as an ImageTextureSpec, or None when it has no image
-    (the caller then warns and uses the input's unlinked value)."""
+    """An Image Texture node's image and sampling as an ImageTextureSpec on UV
+    coordinates, or None when it has no image (the caller then warns and uses the
+    input's unlinked value). Its Vector and projection are the shader program's
+    (nodes/values.py), which also tells the coordinates of a fixed texture."""
     if node.image is None:
         return None
     where = f"Whitted: {owner}, node '{node.name}'"
@@ -80,64 +79,14 @@ def image_texture_spec(node, owner, warnings):
     if extension is None:
         warn(warnings, f"{where}: {node.extension} extension is not supported; Repeat")
         extension = "REPEAT"
-    if node.projection != "FLAT":
-        warn(warnings, f"{where}: {node.projection} projection is not supported; Flat")
-    coordinates, uv_map = texture_coordinates(node, "UV", owner, warnings)
     return ImageTextureSpec(
         # A material from the depsgraph holds evaluated copies; pixels live in the original.
         image=node.image.original,
         interpolation=interpolation,
         extension=extension,
-        coordinates=coordinates,
-        uv_map=uv_map,
+        coordinates="UV",
+        uv_map="",
     )
-
-
-def checker_texture_spec(node, owner, warnings):
-    """A Checker Texture node as a CheckerTextureSpec; linked colours or scale
-    fall back to their unlinked values (input_value warns)."""
-    values = {}
-    for name in ("Color1", "Color2", "Scale"):
-        socket = node.inputs[name]
-        if linked_output(socket) is not None:
-            warn(
-                warnings,
-                f"Whitted: {owner}, node '{node.name}': input '{name}' is linked; "
-                "Whitted uses its unlinked value",
-            )
-        values[name] = socket_value(socket)
-    coordinates, uv_map = texture_coordinates(node, "GENERATED", owner, warnings)
-    return CheckerTextureSpec(
-        color1=values["Color1"][:3],
-        color2=values["Color2"][:3],
-        scale=values["Scale"],
-        coordinates=coordinates,
-        uv_map=uv_map,
-    )
-
-
-def texture_coordinates(node, default, owner, warnings):
-    """(coordinates, uv_map) of a texture node's Vector input.
-
-    Unlinked: the node's default (UV for images, Generated for procedurals, as in
-    Cycles). A UV Map node picks a named map; a Texture Coordinate node's UV,
-    Generated or Object output is used as such. Anything else (a Mapping node,
-    say) is not evaluated: warning, and the default coordinates.
-    """
-    output = linked_output(node.inputs["Vector"])
-    if output is None:
-        return default, ""
-    source = output.node
-    if source.bl_idname == "ShaderNodeUVMap":
-        return "UV", source.uv_map
-    if source.bl_idname == "ShaderNodeTexCoord" and output.name in TEX_COORD_OUTPUTS:
-        return TEX_COORD_OUTPUTS[output.name], ""
-    warn(
-        warnings,
-        f"Whitted: {owner}, node '{node.name}': coordinates from '{source.name}' "
-        f"({output.name}) are not supported; using {default} coordinates",
-    )
-    return default, ""
 
 
 def convert_textures(specs, warnings, texture_filter="AUTHORED"):

@@ -13,6 +13,7 @@ import math
 import bpy
 import numpy as np
 import pytest
+from whitted.export.material import convert_material
 from whitted.export.mesh import convert_meshes
 from whitted.export.texture import MISSING_COLOR, image_pixels
 
@@ -148,6 +149,23 @@ def test_missing_image_is_magenta_and_reported(tmp_path, warnings):
     assert len(warnings) == 1
     assert "image 'gone.png'" in warnings[0]
     assert "magenta" in warnings[0]
+
+
+def test_mapped_box_projected_image_is_not_reported(warnings):
+    # glTF's KHR_texture_transform imports as a Mapping node into the Image Texture's
+    # Vector: the shader program evaluates it, and every projection, so nothing is
+    # reported (it was: "coordinates from 'Mapping' are not supported").
+    material = image_material("Mapped", new_image("cells", TEXELS))
+    tree = material.node_tree
+    texture = tree.nodes["Image Texture"]
+    texture.projection = "BOX"
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Location"].default_value = (0.5, 0.0, 0.0)
+    tree.links.new(tree.nodes.new("ShaderNodeUVMap").outputs["UV"], mapping.inputs["Vector"])
+    tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    exported = convert_material(material, warnings, programs=True)
+    assert exported.program is not None
+    assert warnings == []
 
 
 def test_image_texture_renders_its_linear_colours(lit_scene, tmp_path, render_pixels):

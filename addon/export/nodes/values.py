@@ -197,7 +197,6 @@ def _image(c, out):
         c.warn(node, "no image; the input it feeds uses its unlinked value")
         return None
     # The program gives the coordinates; one native texture per image and sampling.
-    spec = ImageTextureSpec(spec.image, spec.interpolation, spec.extension, "UV", "")
     vector = _vector_input(c, out, default=None)
     if vector is None:
         vector = c.uv("")
