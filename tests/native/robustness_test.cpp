@@ -83,7 +83,7 @@ TEST(Robustness, GlassInAUniformSkyConservesEnergy) {
         const Vec3 origin(3.0f * std::cos(a), 3.0f * std::sin(a), 0.7f * std::sin(3.0f * a));
         const Vec3 target(0.3f * std::sin(5.0f * a), 0.2f * std::cos(7.0f * a), 0.1f);
         const Ray ray{origin, glm::normalize(target - origin), 0.0f, kInfinity};
-        const Color c = integrator.trace(ray, PathState{}, &counts);
+        const Color c = integrator.trace(ray, NodeState{}, &counts);
         ASSERT_TRUE(is_finite(c));
         EXPECT_NEAR(c.x, 1.0f, 2e-3f) << "ior " << ior << " ray " << i;
       }
@@ -101,7 +101,7 @@ TEST(Robustness, IndexOfRefractionOnePassesStraightThrough) {
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
   const Ray ray{Vec3(0.01f, 0.02f, 5.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-  EXPECT_NEAR(integrator.trace(ray, PathState{}, &counts).x, 7.0f, 1e-5f);
+  EXPECT_NEAR(integrator.trace(ray, NodeState{}, &counts).x, 7.0f, 1e-5f);
   EXPECT_EQ(counts.refraction, 2u);
 }
 
@@ -169,7 +169,7 @@ float traced_landing(const Scene& scene_in, float theta, const MediumStack& medi
   for (int i = 0; i < 60; ++i) {
     const float mid = 0.5f * (lo + hi);
     const Ray ray{Vec3(mid, 0.0f, 5.0f), dir, 0.0f, kInfinity};
-    (integrator.trace(ray, PathState{0, Color(1.0f), media}, &counts).x > 0.5f ? hi : lo) = mid;
+    (integrator.trace(ray, NodeState{0, Color(1.0f), media}, &counts).x > 0.5f ? hi : lo) = mid;
   }
   return -lo;  // the origin that lands on x = 0 is minus the landing offset
 }
@@ -353,7 +353,7 @@ TEST(Robustness, LowPolySmoothSphereShowsNoShadowTerminatorSteps) {
       const float cos_l = glm::dot(it.shading_normal, -sun.direction);
       if (cos_l < 0.1f) continue;  // only where the smooth surface clearly faces the light
       const float expected = 0.8f * kInvPi * 3.0f * cos_l;
-      const float got = integrator.trace(ray, PathState{}, &counts).x;
+      const float got = integrator.trace(ray, NodeState{}, &counts).x;
       ++lit;
       if (got < 0.5f * expected) ++dark;
     }

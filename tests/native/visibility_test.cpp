@@ -36,7 +36,7 @@ float radiance_down_at(const Scene& scene, float x, float* alpha = nullptr) {
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
   Ray ray{Vec3(x, 0.0f, 3.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
-  return integrator.trace(ray, PathState{}, &counts, alpha).x;
+  return integrator.trace(ray, NodeState{}, &counts, alpha).x;
 }
 
 const float kLitFloor = 0.8f / kPi * 10.0f / 16.0f;  // kd/pi * I / r^2 under the light

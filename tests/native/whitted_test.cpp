@@ -42,7 +42,7 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
       const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
-      const Color c = integrator.trace(ray, PathState{}, &counts);
+      const Color c = integrator.trace(ray, NodeState{}, &counts);
       // Where the camera ray meets z = 0, in double precision.
       const double t = -double(ray.origin.z) / ray.direction.z;
       const double px = ray.origin.x + t * ray.direction.x;
@@ -67,7 +67,7 @@ TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
   // From height 2 a 1x1 blocker at height 1 shadows the square |x|,|y| < 1 on the floor.
   const auto floor_radiance = [&](float x, float y) {
     Ray ray{Vec3(x, y, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    return integrator.trace(ray, PathState{}, &counts).x;
+    return integrator.trace(ray, NodeState{}, &counts).x;
   };
   EXPECT_EQ(floor_radiance(0.0f, 0.0f), 0.0f);
   EXPECT_EQ(floor_radiance(0.95f, 0.0f), 0.0f);
@@ -94,7 +94,7 @@ TEST(Whitted, MirrorShowsTheReflectedObjectWhereGeometrySays) {
   const auto look = [&](float x_target) {
     const Vec3 origin(0.0f, 0.0f, 1.0f);
     Ray ray{origin, glm::normalize(Vec3(x_target, 0.0f, 0.0f) - origin), 0.0f, kInfinity};
-    return integrator.trace(ray, PathState{}, &counts).x;
+    return integrator.trace(ray, NodeState{}, &counts).x;
   };
   EXPECT_NEAR(look(2.0f), 0.9f * 2.0f, 1e-5f);   // marker, times reflectivity
   EXPECT_NEAR(look(1.9f), 0.9f * 0.25f, 1e-5f);  // background beside it
@@ -130,7 +130,7 @@ TEST(Whitted, GlassSlabDisplacesARayByTheTextbookAmount) {
     for (int i = 0; i < 60; ++i) {
       const float mid = 0.5f * (lo + hi);
       Ray ray{Vec3(mid, 0.0f, 5.0f), dir, 0.0f, kInfinity};
-      (integrator.trace(ray, PathState{}, &counts).x > 0.5f ? hi : lo) = mid;
+      (integrator.trace(ray, NodeState{}, &counts).x > 0.5f ? hi : lo) = mid;
     }
     const double theta_t = std::asin(std::sin(theta) / 1.5);
     const double lateral = std::sin(theta - theta_t) / std::cos(theta_t);  // d = 1
@@ -166,7 +166,7 @@ TEST(Whitted, FacingMirrorsTerminateAtTheMaximumDepthAndLoseEnergy) {
     const WhittedIntegrator integrator(*compiled, settings);
     RayCounts counts;
     Ray ray{Vec3(0.0f, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    const float c = integrator.trace(ray, PathState{}, &counts).x;
+    const float c = integrator.trace(ray, NodeState{}, &counts).x;
     // A geometric series: sum_{k=0..depth} 0.5^k.
     EXPECT_NEAR(c, 2.0f * (1.0f - std::pow(0.5f, depth + 1)), 1e-5f) << depth;
     EXPECT_EQ(counts.reflection, static_cast<uint64_t>(depth));
@@ -187,7 +187,7 @@ TEST(Whitted, CutoffStopsTheRayTreeWhenItsContributionCannotShow) {
     const WhittedIntegrator integrator(*compiled, settings);
     RayCounts counts;
     Ray ray{Vec3(0.0f, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    const float c = integrator.trace(ray, PathState{}, &counts).x;
+    const float c = integrator.trace(ray, NodeState{}, &counts).x;
     // Bounce k has weight 0.5^k: traced while 0.5^k >= cutoff.
     const int traced = cutoff > 0.0f ? static_cast<int>(std::floor(-std::log2(cutoff))) : 256;
     EXPECT_EQ(counts.reflection, static_cast<uint64_t>(traced)) << cutoff;
@@ -218,7 +218,7 @@ TEST(Whitted, SpotLightSendsNothingOutsideItsCone) {
   RayCounts counts;
   const auto floor_radiance = [&](float x) {
     Ray ray{Vec3(x, 0.0f, 0.5f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
-    return integrator.trace(ray, PathState{}, &counts).x;
+    return integrator.trace(ray, NodeState{}, &counts).x;
   };
   EXPECT_NEAR(floor_radiance(0.0f), 0.8f / kPi * 10.0f / 4.0f, 1e-5f);
   EXPECT_GT(floor_radiance(0.95f), 0.0f);
@@ -238,9 +238,9 @@ TEST(Whitted, AmbientAndBackground) {
   const WhittedIntegrator integrator(*compiled, Settings{});
   RayCounts counts;
   const Color hit =
-      integrator.trace({Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, PathState{}, &counts);
+      integrator.trace({Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, NodeState{}, &counts);
   const Color miss =
-      integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, PathState{}, &counts);
+      integrator.trace({Vec3(5, 0, 1), Vec3(0, 0, -1), 0.0f, kInfinity}, NodeState{}, &counts);
   EXPECT_NEAR(hit.x, 0.8f * 0.1f * 0.5f, 1e-6f);
   EXPECT_NEAR(hit.z, 0.8f * 0.3f * 1.0f, 1e-6f);
   EXPECT_EQ(miss, scene.background());

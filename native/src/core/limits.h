@@ -1,7 +1,7 @@
 // The tracer's numeric limits, in one place, each with its reason.
 //
 // What scales with the scene: a secondary ray leaves its surface by that point's own
-// floating-point error bound (spawn_ray, core/ray.h), a shadow feeler stops a fraction of
+// floating-point error bound (spawn_ray, core/ray.h), a shadow ray stops a fraction of
 // its length short of the light, and the Bump node's step is a fraction of the distance
 // from the camera. What does not: the absolute bounds below on coordinates and
 // transforms, which keep float32 arithmetic and Embree's range valid; past them geometry
@@ -12,10 +12,10 @@ namespace whitted::limits {
 
 // --- bounds that scale with the scene ------------------------------------------------
 
-// A feeler to a light sample at distance d ends at d * (1 - kFeelerShortening), so the
-// light's own surface (an area light's quad, an emitter's mesh) cannot block its own
-// feeler; relative to d, so the same at every scale (about 800 float steps of d).
-inline constexpr float kFeelerShortening = 1e-4f;
+// A shadow ray to a light sample at distance d ends at d * (1 - kShadowRayShortening), so
+// the light's own surface (an area light's quad, an emitter's mesh) cannot block its own
+// shadow ray; relative to d, so the same at every scale (about 800 float steps of d).
+inline constexpr float kShadowRayShortening = 1e-4f;
 
 // The Bump node reads its height this fraction of the hit's distance from the camera
 // away (about one pixel's footprint of a 1000-pixel-wide image at a 53-degree field of

@@ -17,22 +17,22 @@ struct CompiledScene;
 
 enum class TreeRayKind {
   kCamera,
-  kShadow,                   // a feeler towards one light sample
+  kShadow,                   // a shadow ray towards one light sample
   kReflection,               // the mirror ray, sigma_r
   kRefraction,               // the refracted ray, sigma_t
   kTotalInternalReflection,  // the mirror ray of a transmissive surface that could not refract
   kTransparent,              // straight on: behind a cut-out, or through a false interface
 };
 
-// Why a ray of the tree was not traced (or, for a feeler, not tested).
+// Why a ray of the tree was not traced (or, for a shadow ray, not sent).
 enum class TreeCut {
   kNone,
   kDepth,       // the maximum depth
   kCutoff,      // its weight on the pixel fell below the cutoff
-  kBackfacing,  // feeler: the light is behind the surface
-  kUnlit,       // feeler: no light arrives (outside a spot's cone, behind an area light)
-  kUnshadowed,  // feeler: not sent, the light counted as visible (no shadows, or its whole
-                // contribution is below the cutoff)
+  kBackfacing,  // shadow ray: the light is behind the surface
+  kUnlit,       // shadow ray: no light arrives (outside a spot's cone, behind an area light)
+  kUnshadowed,  // shadow ray: not sent, the light counted as visible (no shadows, or its
+                // whole contribution is below the cutoff)
 };
 
 struct RayTreeNode {
@@ -42,11 +42,11 @@ struct RayTreeNode {
   int sample = 0;   // the camera sample it belongs to
   Vec3 origin{0.0f};
   Vec3 direction{0.0f};
-  bool hit = false;       // the ray ended on a surface (for a feeler: on a blocker)
+  bool hit = false;       // the ray ended on a surface (for a shadow ray: on a blocker)
   Vec3 end{0.0f};         // where it ended, when `hit`
   int32_t instance = -1;  // CompiledScene::instances index of what it hit or was blocked by
   int32_t material = -1;  // CompiledScene::materials index of that surface
-  int32_t light = -1;     // feelers: CompiledScene::lights index
+  int32_t light = -1;     // shadow rays: CompiledScene::lights index
   // Its share of the pixel: a ray's radiance times `weight` is what it brings to the pixel
   // (the product of the anti-aliasing weight, the coverage of cut-outs in front and the
   // sigma_r / sigma_t of every surface on the way).
@@ -54,13 +54,13 @@ struct RayTreeNode {
   TreeCut cut = TreeCut::kNone;
   // What this node adds to the pixel itself; its children add theirs. A ray that hits a
   // surface adds the surface's emission and ambient term; a ray that misses adds the
-  // background; a feeler adds its light's diffuse and specular terms times what gets
+  // background; a shadow ray adds its light's diffuse and specular terms times what gets
   // through (`transmittance`).
   Color emission{0.0f};
   Color ambient{0.0f};
   Color background{0.0f};
-  Color diffuse{0.0f};   // feelers: the Phong diffuse term of the light, unshadowed
-  Color specular{0.0f};  // feelers: the Phong specular term, unshadowed
+  Color diffuse{0.0f};   // shadow rays: the Phong diffuse term of the light, unshadowed
+  Color specular{0.0f};  // shadow rays: the Phong specular term, unshadowed
   Color transmittance{1.0f};
   Color contribution() const {
     return emission + ambient + background + (diffuse + specular) * transmittance;

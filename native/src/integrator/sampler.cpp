@@ -142,11 +142,11 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
                             SampleRecord* record) const {
   counts->camera += 1;
-  const PathState path{0, Color(1.0f), camera_media_};
+  const NodeState root{0, Color(1.0f), camera_media_};
   float alpha = 1.0f;
   const Color c = first != nullptr
-                      ? integrator_.trace_from(ray, *first, path, counts, &alpha, record)
-                      : integrator_.trace(ray, path, counts, &alpha, record);
+                      ? integrator_.trace_from(ray, *first, root, counts, &alpha, record)
+                      : integrator_.trace(ray, root, counts, &alpha, record);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     if (record != nullptr) *record = SampleRecord{};

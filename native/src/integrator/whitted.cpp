@@ -53,19 +53,61 @@ float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
          std::pow(v_dot_r, coat.shininess) * cos_l;
 }
 
+// The interface step's answer: what lies beyond a transmissive surface for the refracted
+// ray (medium.h's rule for nested media).
+struct Crossing {
+  MediumStack media;             // the media the refracted ray is inside
+  float eta = 1.0f;              // eta_incident / eta_transmitted
+  bool false_interface = false;  // the current medium stays what it was: go on straight
+};
+
+// A hit as the Whitted step shades it: the surface, its normals turned to face the ray,
+// the direction back along the ray, and what the local term reads of them.
+struct ShadingPoint {
+  const Interaction& it;
+  const SurfaceParams& surface;
+  Vec3 ng;      // geometric normal, facing the ray
+  Vec3 ns;      // shading normal, facing the ray (never away from ng)
+  Vec3 smooth;  // the interpolated normal on the ray's side (diffuse_shadowing)
+  Vec3 wo;      // back along the ray
+  Coat coat;
+  float base;        // 1 - coat.cover: what the coat lets through to the base
+  float phong_norm;  // (f+2)/(2pi), the normalisation of the Phong lobe
+};
+
+// One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
+// the pieces the sum, the passes and the inspector multiply out.
+struct LightTerms {
+  float lit;   // (1 - coat) * max(0, n.l): the light the base receives
+  float fade;  // diffuse_shadowing: kd/pi * fade is the diffuse lobe
+  float lobe;  // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
+  float coat;  // the coat's highlight
+};
+
+// The split of weights: the weights of the secondary rays, Whitted's sigma_r and sigma_t,
+// from the surface's reflectivity and transmissivity.
+struct Split {
+  Color sigma_r{0.0f};
+  Color sigma_t{0.0f};
+  Vec3 refracted{0.0f};  // the refracted direction, when `refracts`
+  bool refracts = false;
+  bool total_internal_reflection = false;  // the whole transmissive layer is in sigma_r
+  bool about_coat = false;                 // the mirror ray reflects about the coat's normal
+};
+
 // The pass listener of a kernel that records no passes: it is never called.
 struct NoRecorder {
   NoRecorder(const CompiledScene& /*scene*/, const Settings& /*settings*/, const Camera& /*camera*/,
              SampleRecord* /*record*/) {}
 };
 
-// The Whitted recursion, with the effects the analysis chose (EffectBits) as run-time
-// flags: compiling a kernel per set of effects measured no faster (docs/EFFECTS.md). With
-// kRecord (the inspector only) every ray and term also goes into the integrator's
-// RayTree; renders run the kernel without it. With a Recorder other than NoRecorder
-// (PassRecorder, passes.h: renders with passes) the kernel also tells it, node by node,
-// where each share of a sample's radiance comes from; with NoRecorder none of that is
-// compiled in.
+// The Whitted recursion. Two choices are made at compile time, with `if constexpr`:
+// kRecord (the inspector only) also writes every ray and term into the integrator's
+// RayTree, and kPasses (a Recorder other than NoRecorder: PassRecorder, passes.h, for
+// renders with passes) tells the recorder, node by node, where each share of a sample's
+// radiance comes from; a kernel without them compiles none of that in. The effects the
+// analysis chose (EffectBits) are run-time flags, read with has(): compiling a kernel per
+// set of effects measured no faster (docs/EFFECTS.md).
 template <bool kRecord, class Recorder>
 class Kernel {
   static constexpr bool kPasses = !std::is_same_v<Recorder, NoRecorder>;
@@ -80,9 +122,9 @@ class Kernel {
         effects_(w.effects().bits),
         recorder_(w.scene(), w.settings(), w.camera(), record) {}
 
-  static Color run(const WhittedIntegrator& w, const Ray& ray, const PathState& path,
+  static Color run(const WhittedIntegrator& w, const Ray& ray, const NodeState& state,
                    RayCounts* counts, float* alpha, const Hit* first, SampleRecord* record) {
-    return Kernel(w, record).trace(ray, path, counts, alpha, first);
+    return Kernel(w, record).trace(ray, state, counts, alpha, first);
   }
 
  private:
@@ -100,7 +142,7 @@ class Kernel {
 
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
   // `first`, when given, is the ray's first hit, already found.
-  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha,
+  Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
               const Hit* first = nullptr) const {
     Color radiance(0.0f);
     float coverage = 0.0f;
@@ -118,30 +160,30 @@ class Kernel {
       }
       [[maybe_unused]] int node = -1;  // recording: this layer's node
       if constexpr (kRecord) {
-        node = record_ray(r, path, layer == 0 ? tree_->next_kind : TreeRayKind::kTransparent,
+        node = record_ray(r, state, layer == 0 ? tree_->next_kind : TreeRayKind::kTransparent,
                           layer == 0 ? tree_->current : previous, Color(behind));
       }
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
         const bool shown = !(settings_.transparent_background && ray.kind == kCameraRay);
         if (shown) {
-          const Color background = scene_.world_radiance(r, context(path));
+          const Color background = scene_.world_radiance(r, context(state));
           radiance += behind * background;
           coverage += behind;
           if constexpr (kRecord) record_background(node, background);
           if constexpr (kPasses) {
-            recorder_.escaped(path.depth, path.throughput * behind, background, true);
+            recorder_.escaped(state.depth, state.throughput * behind, background, true);
           }
         } else if constexpr (kPasses) {
-          recorder_.escaped(path.depth, path.throughput * behind,
-                            scene_.world_radiance(r, context(path)), false);
+          recorder_.escaped(state.depth, state.throughput * behind,
+                            scene_.world_radiance(r, context(state)), false);
         }
         break;
       }
       const Interaction it = scene_.interaction(r, hit);
       if constexpr (kRecord) record_end(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
-      const SurfaceParams surface = scene_.surface(it, r, context(path));
+      const SurfaceParams surface = scene_.surface(it, r, context(state));
       float a = 1.0f;
       if (has(kTranslucencyEffect)) {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
@@ -149,20 +191,20 @@ class Kernel {
       if (a > 0.0f) {
         if constexpr (kRecord) {
           const RayTree::Scope scope(tree_, node, tree_->nodes[node].weight * a);
-          radiance += (behind * a) * shade(r, it, surface, path, counts);
+          radiance += (behind * a) * shade(r, it, surface, state, counts);
         } else if constexpr (kPasses) {
           // This layer's share of the sample, for what the recorder is told below it.
-          PathState layer = path;
-          layer.throughput = path.throughput * (behind * a);
-          if (path.depth == 0) {
+          NodeState covered = state;
+          covered.throughput = state.throughput * (behind * a);
+          if (state.depth == 0) {
             Vec3 ng;
             Vec3 ns;
             facing_normals(r, it, surface, &ng, &ns);
-            recorder_.camera_surface(it, surface, ns, max_component(layer.throughput));
+            recorder_.camera_surface(it, surface, ns, max_component(covered.throughput));
           }
-          radiance += (behind * a) * shade(r, it, surface, layer, counts);
+          radiance += (behind * a) * shade(r, it, surface, covered, counts);
         } else {
-          radiance += (behind * a) * shade(r, it, surface, path, counts);
+          radiance += (behind * a) * shade(r, it, surface, state, counts);
         }
         coverage += behind * a;
       }
@@ -180,115 +222,152 @@ class Kernel {
     return radiance;
   }
 
-  // Radiance leaving a surface point towards the ray: the Whitted step.
+  // The Whitted step, the seed's RayTrace: the radiance a surface point sends back along
+  // the ray, I = local + sigma_r * reflected + sigma_t * refracted.
   Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-              const PathState& path, RayCounts* counts) const {
-    const Material& m = *it.material;
+              const NodeState& state, RayCounts* counts) const {
     // Entering or leaving is decided by the geometric normal, never the shading normal.
     const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
-    MediumStack media = path.media;  // the media on the far side of this surface
-    float eta = 1.0f;                // eta_incident / eta_transmitted
-    if (has(kRefractionEffect) && m.transmissive()) {
-      const int32_t from = media.current();
-      bool false_interface = false;  // the current medium stays what it was
-      if (entering) {
-        false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
-        media.enter(it.material_index, m.priority);
-        eta = ior_of(scene_, from) / surface.ior;
-      } else if (media.leave(it.material_index)) {
-        false_interface = from != static_cast<int32_t>(it.material_index);
-        eta = surface.ior / ior_of(scene_, media.current());
-      } else {
-        // Leaving a medium it never entered (flipped normals, an open mesh): out into the
-        // current medium, as a renderer without media lists would.
-        eta = surface.ior / ior_of(scene_, from);
-      }
-      if (false_interface) {
-        counts->transparent += 1;
-        return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
-                                RayKind(ray.kind)),
-                      path, Color(1.0f), media, /*bounce=*/false, TreeRayKind::kTransparent,
-                      counts);
-      }
+    const Crossing beyond = crossing(it, surface, entering, state.media);
+    if (beyond.false_interface) return pass_through(ray, it, state, beyond.media, counts);
+    const ShadingPoint p = shading_point(ray, it, surface, entering);
+    Color radiance = local(p, state, counts);
+    if (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
+    const Split split = split_weights(ray, p, beyond.eta, counts);
+    if (has(kReflectionEffect) && !is_black(split.sigma_r)) {
+      radiance += reflection(ray, p, split, state, counts);
     }
+    if (split.refracts && !is_black(split.sigma_t)) {
+      radiance += transmission(p, split, beyond.media, state, counts);
+    }
+    return radiance;
+  }
+
+  // The interface step: which media lie beyond a transmissive surface (the ray enters
+  // its medium or leaves it), the ratio of indices across it, and whether it is a false
+  // interface, inside a medium of higher priority. Elsewhere the media stay as they are.
+  Crossing crossing(const Interaction& it, const SurfaceParams& surface, bool entering,
+                    const MediumStack& media) const {
+    Crossing beyond{media};
+    const Material& m = *it.material;
+    if (!has(kRefractionEffect) || !m.transmissive()) return beyond;
+    const int32_t from = media.current();
+    if (entering) {
+      beyond.false_interface = from >= 0 && m.priority < scene_.materials[from].priority;
+      beyond.media.enter(it.material_index, m.priority);
+      beyond.eta = ior_of(scene_, from) / surface.ior;
+    } else if (beyond.media.leave(it.material_index)) {
+      beyond.false_interface = from != static_cast<int32_t>(it.material_index);
+      beyond.eta = surface.ior / ior_of(scene_, beyond.media.current());
+    } else {
+      // Leaving a medium it never entered (flipped normals, an open mesh): out into the
+      // current medium, as a renderer without media lists would.
+      beyond.eta = surface.ior / ior_of(scene_, from);
+    }
+    return beyond;
+  }
+
+  // A false interface: the ray goes on straight and unshaded, into the media beyond.
+  Color pass_through(const Ray& ray, const Interaction& it, const NodeState& state,
+                     const MediumStack& media, RayCounts* counts) const {
+    counts->transparent += 1;
+    return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+                            RayKind(ray.kind)),
+                  state, Color(1.0f), media, /*bounce=*/false, TreeRayKind::kTransparent, counts);
+  }
+
+  // The hit as the local term and the split of weights read it: normals facing the ray,
+  // the coat over the base.
+  ShadingPoint shading_point(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+                             bool entering) const {
     Vec3 ng;
     Vec3 ns;
     facing_normals(ray, it, surface, &ng, &ns);
     const Vec3 wo = -ray.direction;
     const Coat coat = coat_of(surface, wo, ng, entering);
-    if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * surface.emission;
-    NodeTerms terms;  // filled only by kernels that record passes
-    Color radiance = surface.emission + local(it, surface, coat, wo, ng, ns, path, counts, &terms);
-    if constexpr (kPasses) {
-      terms.emission = surface.emission;
-      terms.total = radiance;
-      terms.diffuse_color = (1.0f - coat.cover) * surface.diffuse;
-      terms.specular_color = (1.0f - coat.cover) * surface.specular + Color(coat.highlight);
-      recorder_.node(path.depth, path.throughput, terms);
-    }
-    if (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
+    // A program's normal fades the diffuse lobe towards the smooth surface's horizon, as
+    // Cycles does (diffuse_shadowing).
+    const Vec3 smooth =
+        glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
+    const float base = 1.0f - coat.cover;
+    const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
+    return {it, surface, ng, ns, smooth, wo, coat, base, phong_norm};
+  }
 
-    Color kr = has(kReflectionEffect) ? surface.reflectivity : Color(0.0f);
-    Color kt = has(kRefractionEffect) ? surface.transmissivity : Color(0.0f);
-    if (is_black(kr) && is_black(kt) && coat.mirror <= 0.0f) return radiance;
-    Vec3 t_dir(0.0f);
-    bool total_internal_reflection = false;
-    const bool refracts = has(kRefractionEffect) && refract(ray.direction, ns, eta, &t_dir) &&
-                          glm::dot(t_dir, ng) < 0.0f;
-    if (!is_black(kt)) {
-      const float cos_i = std::min(1.0f, glm::dot(wo, ns));
-      const float f = !refracts                                ? 1.0f
+  // The split of weights: sigma_r and sigma_t of the secondary rays. The transmissive
+  // layer splits by Fresnel into a reflected and a refracted share (all reflected on
+  // total internal reflection); the coat's mirror goes on top and takes its share of both;
+  // then sigma_r + sigma_t <= 1.
+  Split split_weights(const Ray& ray, const ShadingPoint& p, float eta, RayCounts* counts) const {
+    Split split;
+    split.sigma_r = has(kReflectionEffect) ? p.surface.reflectivity : Color(0.0f);
+    split.sigma_t = has(kRefractionEffect) ? p.surface.transmissivity : Color(0.0f);
+    if (is_black(split.sigma_r) && is_black(split.sigma_t) && p.coat.mirror <= 0.0f) return split;
+    if (!is_black(split.sigma_t)) {
+      split.refracts = refract(ray.direction, p.ns, eta, &split.refracted) &&
+                       glm::dot(split.refracted, p.ng) < 0.0f;
+      const float cos_i = std::min(1.0f, glm::dot(p.wo, p.ns));
+      const float f = !split.refracts                          ? 1.0f
                       : settings_.fresnel == Fresnel::kExact   ? fresnel_exact(cos_i, eta)
                       : settings_.fresnel == Fresnel::kSchlick ? fresnel_schlick(cos_i, eta)
                                                                : 0.0f;
-      // The reflected share of the transmissive layer: all of it on total internal
-      // reflection.
-      kr += kt * f;
-      kt *= 1.0f - f;
-      total_internal_reflection = !refracts;
-      if (!refracts) counts->total_internal_reflections += 1;
+      split.sigma_r += split.sigma_t * f;
+      split.sigma_t *= 1.0f - f;
+      split.total_internal_reflection = !split.refracts;
+      if (!split.refracts) counts->total_internal_reflections += 1;
     }
-    // The coat's mirror on top; beneath it, the base's rays get what the coat lets through.
     // One mirror ray: about the coat's normal where the coat gives most of its weight.
-    const bool coat_ray = coat.mirror > (1.0f - coat.cover) * max_component(kr);
-    kr = (1.0f - coat.cover) * kr + Color(coat.mirror);
-    kt *= 1.0f - coat.cover;
+    split.about_coat = p.coat.mirror > p.base * max_component(split.sigma_r);
+    split.sigma_r = p.base * split.sigma_r + Color(p.coat.mirror);
+    split.sigma_t *= p.base;
     // A surface returns at most what arrives: sigma_r + sigma_t <= 1 keeps the ray tree
     // from growing without bound (two facing mirror-glass panes at depth 256).
-    const float sum = max_component(kr + kt);
+    const float sum = max_component(split.sigma_r + split.sigma_t);
     if (sum > 1.0f) {
-      kr /= sum;
-      kt /= sum;
+      split.sigma_r /= sum;
+      split.sigma_t /= sum;
     }
-    if (has(kReflectionEffect) && !is_black(kr)) {
-      Vec3 r = reflect(ray.direction, coat_ray ? coat.normal : ns);
-      if (glm::dot(r, ng) <= 0.0f) r = reflect(ray.direction, ng);  // below the surface
-      const Color reflected =
-          branch(spawn_ray(it.position, it.position_error, it.geometric_normal, r, kReflectionRay),
-                 path, kr, path.media, /*bounce=*/true,
-                 total_internal_reflection ? TreeRayKind::kTotalInternalReflection
-                                           : TreeRayKind::kReflection,
-                 counts);
-      radiance += kr * reflected;
-      if constexpr (kPasses) recorder_.reflected(path.depth, path.throughput, kr, reflected);
+    return split;
+  }
+
+  // The reflected term: sigma_r times what the mirror ray brings back.
+  Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
+                   const NodeState& state, RayCounts* counts) const {
+    Vec3 r = reflect(ray.direction, split.about_coat ? p.coat.normal : p.ns);
+    if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
+    const TreeRayKind kind = split.total_internal_reflection ? TreeRayKind::kTotalInternalReflection
+                                                             : TreeRayKind::kReflection;
+    const Color reflected = branch(
+        spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, r, kReflectionRay),
+        state, split.sigma_r, state.media, /*bounce=*/true, kind, counts);
+    if constexpr (kPasses) {
+      recorder_.reflected(state.depth, state.throughput, split.sigma_r, reflected);
     }
-    if (refracts && !is_black(kt)) {
-      const Color refracted = branch(
-          spawn_ray(it.position, it.position_error, it.geometric_normal, t_dir, kRefractionRay),
-          path, kt, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
-      radiance += kt * refracted;
-      if constexpr (kPasses) recorder_.refracted(path.depth, path.throughput, kt, refracted);
+    return split.sigma_r * reflected;
+  }
+
+  // The refracted term: sigma_t times what the refracted ray brings back from the media
+  // beyond.
+  Color transmission(const ShadingPoint& p, const Split& split, const MediumStack& media,
+                     const NodeState& state, RayCounts* counts) const {
+    const Color refracted =
+        branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, split.refracted,
+                         kRefractionRay),
+               state, split.sigma_t, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
+    if constexpr (kPasses) {
+      recorder_.refracted(state.depth, state.throughput, split.sigma_t, refracted);
     }
-    return radiance;
+    return split.sigma_t * refracted;
   }
 
   // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
   // the cutoff stops it; `bounce` is false for a ray that only continues straight on
   // (`kind` names it for the inspector). The one place the ray tree branches.
-  Color branch(const Ray& ray, const PathState& path, const Color& weight, const MediumStack& media,
-               bool bounce, [[maybe_unused]] TreeRayKind kind, RayCounts* counts) const {
-    PathState next{bounce ? path.depth + 1 : path.depth, path.weight * weight, media};
-    if constexpr (kPasses) next.throughput = path.throughput * weight;
+  Color branch(const Ray& ray, const NodeState& state, const Color& weight,
+               const MediumStack& media, bool bounce, [[maybe_unused]] TreeRayKind kind,
+               RayCounts* counts) const {
+    NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
+    if constexpr (kPasses) next.throughput = state.throughput * weight;
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kDepth);
@@ -310,109 +389,122 @@ class Kernel {
     return trace(ray, next, counts, nullptr);
   }
 
-  // I = (1 - coat) * [Ia*ka*kd + sum_i delta_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)]
-  //     + sum_i delta_i * coat_highlight_i * E_i
-  // A kernel that records passes also splits it into `terms` (ambient, diffuse, specular:
-  // the coat's highlight counts as specular); the sum returned is the same either way.
-  Color local(const Interaction& it, const SurfaceParams& surface, const Coat& coat, const Vec3& wo,
-              const Vec3& ng, const Vec3& n, const PathState& path, RayCounts* counts,
-              NodeTerms* terms) const {
-    const float base = 1.0f - coat.cover;
-    Color radiance = base * it.material->ambient * scene_.ambient * surface.diffuse;
-    if constexpr (kPasses) terms->ambient = radiance;
-    if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * radiance;
-    const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
-    // The interpolated normal on the ray's side: a program's normal fades the diffuse
-    // lobe towards its horizon as Cycles does (diffuse_shadowing).
-    const Vec3 smooth =
-        glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
+  // The local term: the surface's emission and its Phong shading, over the light samples i
+  // (E_i the irradiance of sample i, S_i what its shadow ray lets through),
+  //   (1 - coat) * [Ia*ka*kd + sum_i S_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)]
+  //   + sum_i S_i * coat_highlight_i * E_i.
+  // A kernel that records passes also tells the recorder its ambient, diffuse and specular
+  // terms (the coat's highlight counts as specular).
+  Color local(const ShadingPoint& p, const NodeState& state, RayCounts* counts) const {
+    const SurfaceParams& surface = p.surface;
+    if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * surface.emission;
+    NodeTerms terms;  // filled only by kernels that record passes
+    Color phong = p.base * p.it.material->ambient * scene_.ambient * surface.diffuse;
+    if constexpr (kPasses) terms.ambient = phong;
+    if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
       for (int s = 0; s < light.sample_count(); ++s) {
-        const LightSample ls = sample_light(light, it.position, s);
-        const float cos_l = glm::dot(n, ls.wi);
-        [[maybe_unused]] int feeler = -1;  // recording: this feeler's node
-        if constexpr (kRecord) feeler = record_feeler(it, ls, light, path);
-        // The shading normal decides whether a light is behind the (smooth) surface, not
-        // the flat facet: gating on the facet draws stair-steps along the terminator of a
-        // coarse smooth mesh.
-        if (has(kPruningEffect)) {
-          if (cos_l <= 0.0f) {
-            counts->shadow_rays_skipped.backfacing += 1;
-            if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kBackfacing;
-            continue;
-          }
-          if (is_black(ls.irradiance)) {
-            counts->shadow_rays_skipped.unlit += 1;  // outside a spot's cone, behind an area light
-            if constexpr (kRecord) tree_->nodes[feeler].cut = TreeCut::kUnlit;
-            continue;
-          }
-        }
-        const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-ls.wi, n)));
-        const float fade = diffuse_shadowing(it.material->bump_shadowing, smooth, n, ls.wi);
-        const Color brdf = surface.diffuse * (kInvPi * fade) +
-                           surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess));
-        const Color contribution =
-            (base * std::max(0.0f, cos_l) * brdf + Color(coat_highlight(coat, wo, ls.wi))) *
-            ls.irradiance;
-        if constexpr (kRecord) {
-          // The coat's highlight counts as specular.
-          const Color arriving = tree_->scale * ls.irradiance;
-          const float lit = base * std::max(0.0f, cos_l);
-          tree_->nodes[feeler].diffuse = arriving * (lit * kInvPi * fade) * surface.diffuse;
-          tree_->nodes[feeler].specular =
-              arriving *
-              (lit * phong_norm * std::pow(v_dot_r, surface.shininess) * surface.specular +
-               Color(coat_highlight(coat, wo, ls.wi)));
-          tree_->nodes[feeler].cut = TreeCut::kUnshadowed;  // until a feeler is sent
-        }
-        // The diffuse and specular shares of a light that arrives through `transmittance`.
-        const auto record = [&](const Color& transmittance) {
-          if constexpr (kPasses) {
-            const Color light_in = ls.irradiance * transmittance;
-            const float lit = base * std::max(0.0f, cos_l);
-            terms->diffuse += (lit * kInvPi * fade) * surface.diffuse * light_in;
-            terms->specular +=
-                (lit * surface.specular * (phong_norm * std::pow(v_dot_r, surface.shininess)) +
-                 Color(coat_highlight(coat, wo, ls.wi))) *
-                light_in;
-          }
-        };
-        if (!has(kShadowEffect) || !light.cast_shadows) {
-          radiance += contribution;
-          record(Color(1.0f));
-          continue;
-        }
-        if (has(kPruningEffect)) {
-          // Lit or not, this light cannot change the pixel by more than the cutoff. The
-          // whole light is judged, not this feeler's share of it: otherwise more samples
-          // would each fall below the cutoff and soft shadows would fade.
-          const float whole_light = static_cast<float>(light.sample_count());
-          if (max_component(path.weight * contribution) * whole_light < settings_.cutoff) {
-            counts->shadow_rays_skipped.cutoff += 1;
-            radiance += contribution;
-            record(Color(1.0f));
-            continue;
-          }
-        }
-        // Stop the feeler just short of the light sample.
-        const float t_max =
-            std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kFeelerShortening);
-        const Ray shadow_ray =
-            spawn_ray(it.shadow_origin, it.position_error, ng, ls.wi, kShadowRay, t_max);
-        const Color transmittance = shadow_transmittance(shadow_ray, path, counts);
-        if constexpr (kRecord) record_shadow(feeler, shadow_ray, transmittance);
-        radiance += contribution * transmittance;
-        record(transmittance);
+        phong +=
+            light_sample(p, light, sample_light(light, p.it.position, s), state, counts, &terms);
       }
+    }
+    const Color radiance = surface.emission + phong;
+    if constexpr (kPasses) {
+      terms.emission = surface.emission;
+      terms.total = radiance;
+      terms.diffuse_color = p.base * surface.diffuse;
+      terms.specular_color = p.base * surface.specular + Color(p.coat.highlight);
+      recorder_.node(state.depth, state.throughput, terms);
     }
     return radiance;
   }
 
-  // Fraction of light that reaches the end of a shadow feeler: 0 behind anything opaque;
+  // One light sample's share of the local term: its Phong terms, unshadowed, times what
+  // its shadow ray lets through; nothing when pruning finds it cannot light the point.
+  Color light_sample(const ShadingPoint& p, const Light& light, const LightSample& ls,
+                     const NodeState& state, RayCounts* counts, NodeTerms* terms) const {
+    [[maybe_unused]] int node = -1;  // recording: this shadow ray's node
+    if constexpr (kRecord) node = record_shadow_ray(p.it, ls, light, state);
+    // The shading normal decides whether a light is behind the (smooth) surface, not the
+    // flat facet: gating on the facet draws stair-steps along the terminator of a coarse
+    // smooth mesh.
+    const float cos_l = glm::dot(p.ns, ls.wi);
+    if (has(kPruningEffect) && dark(cos_l, ls, node, counts)) return Color(0.0f);
+    const LightTerms t = light_terms(p, ls.wi, cos_l);
+    const SurfaceParams& surface = p.surface;
+    const Color brdf =
+        surface.diffuse * (kInvPi * t.fade) + surface.specular * (p.phong_norm * t.lobe);
+    const Color unshadowed = (t.lit * brdf + Color(t.coat)) * ls.irradiance;
+    if constexpr (kRecord) record_light(node, p, t, ls);
+    const Color transmittance = shadow(p, light, ls, unshadowed, state, counts, node);
+    if constexpr (kPasses) {
+      // The diffuse and specular shares of what arrives. The sum above, these and the
+      // inspector's (record_light) multiply the same terms in their own orders, which
+      // rounding tells apart: each keeps the order its images always had.
+      const Color light_in = ls.irradiance * transmittance;
+      terms->diffuse += (t.lit * kInvPi * t.fade) * surface.diffuse * light_in;
+      terms->specular +=
+          (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
+    }
+    return unshadowed * transmittance;
+  }
+
+  // The pruning decision (kPruningEffect) before any term is computed: a light sample
+  // behind the surface or sending no light here adds nothing and needs no shadow ray.
+  bool dark(float cos_l, const LightSample& ls, [[maybe_unused]] int node,
+            RayCounts* counts) const {
+    if (cos_l <= 0.0f) {
+      counts->shadow_rays_skipped.backfacing += 1;
+      if constexpr (kRecord) tree_->nodes[node].cut = TreeCut::kBackfacing;
+      return true;
+    }
+    if (is_black(ls.irradiance)) {
+      counts->shadow_rays_skipped.unlit += 1;  // outside a spot's cone, behind an area light
+      if constexpr (kRecord) tree_->nodes[node].cut = TreeCut::kUnlit;
+      return true;
+    }
+    return false;
+  }
+
+  // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
+  static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
+    const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
+    return {p.base * std::max(0.0f, cos_l),
+            diffuse_shadowing(p.it.material->bump_shadowing, p.smooth, p.ns, wi),
+            std::pow(v_dot_r, p.surface.shininess), coat_highlight(p.coat, p.wo, wi)};
+  }
+
+  // What of a light sample arrives: the shadow ray's transmittance. None is sent, and all
+  // of it arrives, for a light that casts no shadows, or when pruning finds that the
+  // light, lit or not, cannot change the pixel by the cutoff.
+  Color shadow(const ShadingPoint& p, const Light& light, const LightSample& ls,
+               const Color& unshadowed, const NodeState& state, RayCounts* counts,
+               [[maybe_unused]] int node) const {
+    if (!has(kShadowEffect) || !light.cast_shadows) return Color(1.0f);
+    if (has(kPruningEffect)) {
+      // The whole light is judged, not this sample's share of it: otherwise more samples
+      // would each fall below the cutoff and soft shadows would fade.
+      const float whole_light = static_cast<float>(light.sample_count());
+      if (max_component(state.weight * unshadowed) * whole_light < settings_.cutoff) {
+        counts->shadow_rays_skipped.cutoff += 1;
+        return Color(1.0f);
+      }
+    }
+    // Stop the shadow ray just short of the light sample.
+    const float t_max =
+        std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kShadowRayShortening);
+    const Ray shadow_ray =
+        spawn_ray(p.it.shadow_origin, p.it.position_error, p.ng, ls.wi, kShadowRay, t_max);
+    const Color transmittance = shadow_transmittance(shadow_ray, state, counts);
+    if constexpr (kRecord) record_shadow(node, shadow_ray, transmittance);
+    return transmittance;
+  }
+
+  // Fraction of light that reaches the end of a shadow ray: 0 behind anything opaque;
   // through a surface of coverage a, 1 - a passes (cut-outs), and of its covered part
   // a*T with glass_shadows tinted (coloured shadows behind glass, transmissivity T), else
   // none (settings.h).
-  Color shadow_transmittance(Ray ray, const PathState& path, RayCounts* counts) const {
+  Color shadow_transmittance(Ray ray, const NodeState& state, RayCounts* counts) const {
     counts->shadow += 1;
     if (!has(kTranslucencyEffect)) {
       return occluded(ray) ? Color(0.0f) : Color(1.0f);
@@ -427,7 +519,7 @@ class Kernel {
       Hit hit;
       if (!intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
-      const SurfaceParams surface = scene_.surface(it, ray, context(path));
+      const SurfaceParams surface = scene_.surface(it, ray, context(state));
       const float a = surface.alpha;
       const bool tinted = settings_.glass_shadows == GlassShadows::kTinted;
       transmittance *= (1.0f - a) + a * (tinted ? surface.transmissivity : Color(0.0f));
@@ -452,17 +544,17 @@ class Kernel {
     if (glm::dot(*ns, *ng) <= 0.0f) *ns = *ng;
   }
 
-  // What a shader program may ask of a ray on `path` besides the ray.
-  RayContext context(const PathState& path) const { return {&camera_, path.depth}; }
+  // What a shader program may ask of a ray at `state` besides the ray.
+  RayContext context(const NodeState& state) const { return {&camera_, state.depth}; }
 
   // The inspector's records (kRecord only): a ray of the tree, `share` its part of the
   // weight the tree's position carries (the part not yet covered by cut-outs in front,
   // or the sigma_r / sigma_t of the surface being shaded).
-  int record_ray(const Ray& ray, const PathState& path, TreeRayKind kind, int parent,
+  int record_ray(const Ray& ray, const NodeState& state, TreeRayKind kind, int parent,
                  const Color& share) const {
     RayTreeNode node;
     node.kind = kind;
-    node.depth = path.depth;
+    node.depth = state.depth;
     node.origin = ray.origin;
     node.direction = ray.direction;
     node.weight = tree_->scale * share;
@@ -480,16 +572,17 @@ class Kernel {
     n.background = n.weight * background;
   }
   // A secondary ray of `weight` (relative to the surface being shaded) that was not traced.
-  void record_cut(const Ray& ray, const PathState& next, TreeRayKind kind, const Color& weight,
+  void record_cut(const Ray& ray, const NodeState& next, TreeRayKind kind, const Color& weight,
                   TreeCut cut) const {
     const int node = record_ray(ray, next, kind, tree_->current, weight);
     tree_->nodes[static_cast<size_t>(node)].cut = cut;
   }
-  int record_feeler(const Interaction& it, const LightSample& ls, const Light& light,
-                    const PathState& path) const {
+  // The shadow ray towards a light sample, before anything is known of it.
+  int record_shadow_ray(const Interaction& it, const LightSample& ls, const Light& light,
+                        const NodeState& state) const {
     RayTreeNode node;
     node.kind = TreeRayKind::kShadow;
-    node.depth = path.depth;
+    node.depth = state.depth;
     node.origin = it.shadow_origin;
     node.direction = ls.wi;
     node.light = static_cast<int32_t>(&light - scene_.lights.data());
@@ -497,14 +590,24 @@ class Kernel {
     if (!std::isinf(ls.distance)) node.end = it.shadow_origin + ls.wi * ls.distance;
     return tree_->add(node, tree_->current);
   }
-  // A feeler that was sent: what got through, and the first surface in its way, if any.
-  void record_shadow(int feeler, const Ray& ray, const Color& transmittance) const {
-    RayTreeNode& node = tree_->nodes[static_cast<size_t>(feeler)];
-    node.cut = TreeCut::kNone;
-    node.transmittance = transmittance;
+  // Its Phong terms, unshadowed (the coat's highlight counts as specular); counted as
+  // unshadowed until the shadow ray is sent.
+  void record_light(int node, const ShadingPoint& p, const LightTerms& t,
+                    const LightSample& ls) const {
+    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
+    const Color arriving = tree_->scale * ls.irradiance;
+    n.diffuse = arriving * (t.lit * kInvPi * t.fade) * p.surface.diffuse;
+    n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
+    n.cut = TreeCut::kUnshadowed;
+  }
+  // A shadow ray that was sent: what got through, and the first surface in its way, if any.
+  void record_shadow(int node, const Ray& ray, const Color& transmittance) const {
+    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
+    n.cut = TreeCut::kNone;
+    n.transmittance = transmittance;
     Hit hit;
     if (transmittance != Color(1.0f) && scene_.accel->intersect(ray, &hit)) {
-      record_end(feeler, scene_.interaction(ray, hit));
+      record_end(node, scene_.interaction(ray, hit));
     }
   }
 

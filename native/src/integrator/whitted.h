@@ -1,5 +1,8 @@
-// The Whitted (1980) integrator: local Phong shading gated by shadow feelers, plus
-// mirror reflection and refraction, recursing to a maximum depth.
+// The Whitted (1980) integrator: local Phong shading gated by shadow rays, plus mirror
+// reflection and refraction, recursing to a maximum depth. Its vocabulary is the paper's:
+// sigma_r and sigma_t are the weights of the reflected and refracted rays after the
+// Fresnel split (a material's reflectivity and transmissivity are their values before
+// it); a shadow ray is what the lecture calls a feeler (hence Settings::feeler_pruning).
 #pragma once
 
 #include <cstdint>
@@ -26,7 +29,7 @@ struct RayCounts {
   uint64_t total_internal_reflections = 0;  // refracted rays that became reflections
   uint64_t depth_limited = 0;               // secondary rays not traced: maximum depth
   uint64_t cutoff_skipped = 0;              // secondary rays not traced: weight below cutoff
-  // Shadow feelers not sent, by reason.
+  // Shadow rays not sent, by reason.
   struct ShadowRaysSkipped {
     uint64_t backfacing = 0;  // the light is behind the surface
     uint64_t unlit = 0;       // no light arrives (outside a spot's cone, behind an area light)
@@ -38,11 +41,14 @@ struct RayCounts {
   uint64_t total() const { return camera + shadow + reflection + refraction + transparent; }
 };
 
-// Where a ray is in its ray tree: its recursion depth, its weight on the pixel (the
+// Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
 // product of the sigma_r/sigma_t along the way), and the media it is inside.
 // `throughput` is that weight times the coverage of the cut-outs on the way: kept only
-// by the kernels that record passes (elsewhere it stays 1).
-struct PathState {
+// by the kernels that record passes (elsewhere it stays 1). Named for the node of the
+// ray tree it describes, beside NodeTerms (passes.h), what that node adds: a Whitted
+// ray tree branches, so it is no path; the inspector's record of a traced ray is
+// RayTreeNode (ray_tree.h).
+struct NodeState {
   int depth = 0;
   Color weight{1.0f};
   MediumStack media;
@@ -60,18 +66,18 @@ class WhittedIntegrator {
                     const Camera& camera = Camera{}, RayLog* log = nullptr,
                     RayTree* tree = nullptr);
 
-  // Radiance arriving along `ray` (camera rays: a default PathState, or the media the
+  // Radiance arriving along `ray` (camera rays: a default NodeState, or the media the
   // camera is inside). Passes through cut-outs; `alpha`, when given, receives the
   // coverage (0..1). `record`, given when the settings request passes, receives what
   // the ray's tree contributed to them (it must start as a default SampleRecord).
-  Color trace(const Ray& ray, const PathState& path, RayCounts* counts, float* alpha = nullptr,
+  Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha = nullptr,
               SampleRecord* record = nullptr) const {
-    return trace_(*this, ray, path, counts, alpha, nullptr, record);
+    return trace_(*this, ray, state, counts, alpha, nullptr, record);
   }
   // The same for a ray whose first hit is already known (from intersect_packet).
-  Color trace_from(const Ray& ray, const Hit& first, const PathState& path, RayCounts* counts,
+  Color trace_from(const Ray& ray, const Hit& first, const NodeState& state, RayCounts* counts,
                    float* alpha, SampleRecord* record = nullptr) const {
-    return trace_(*this, ray, path, counts, alpha, &first, record);
+    return trace_(*this, ray, state, counts, alpha, &first, record);
   }
   // First hits of up to SceneAccel::kPacketSize coherent rays, traced as one packet.
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
@@ -86,7 +92,7 @@ class WhittedIntegrator {
   RayLog* log() const { return log_; }
   RayTree* tree() const { return tree_; }
 
-  using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const PathState&, RayCounts*,
+  using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
 
  private:

@@ -81,8 +81,8 @@ struct SurfaceParams {
   Color diffuse;
   Color specular;
   float shininess;
-  Color reflectivity;
-  Color transmissivity;
+  Color reflectivity;    // sigma_r before the Fresnel split (whitted.cpp: split_weights)
+  Color transmissivity;  // sigma_t before the Fresnel split
   float ior;
   Color emission;
   float alpha;  // clamped to [0, 1]
