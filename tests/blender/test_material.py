@@ -41,11 +41,15 @@ def assert_material(data, **expected):
 def test_default_principled_is_a_grey_dielectric(warnings):
     data = convert(node_material("Default"), warnings)
     # roughness 0.5 -> alpha 0.25 -> shininess 2 / 0.0625 - 2 = 30;
-    # specular 0.5 -> 0.08 * 0.5 = 0.04.
+    # specular 0.5 -> 0.08 * 0.5 = 0.04. 4.x+ layers the specular over the diffuse:
+    # there it is a layer whose Fresnel factor (4.x+ IOR default 1.5) weights the highlight.
+    layered = bpy.app.version >= (4, 0, 0)
+    if layered:
+        assert_material(data, coat_specular=1.0, coat_ior=1.5, coat_shininess=30.0)
     assert_material(
         data,
         diffuse=(0.8, 0.8, 0.8),
-        specular=(0.04, 0.04, 0.04),
+        specular=(0.0, 0.0, 0.0) if layered else (0.04, 0.04, 0.04),
         shininess=30.0,
         ambient=1.0,
         reflectivity=(0.0, 0.0, 0.0),
@@ -271,12 +275,22 @@ F0 = {"3.x": 0.08 * 0.5, "4.x": (0.33 / 2.33) ** 2}
 def test_principled_mapping_by_socket_name(version, inputs, warnings):
     data = convert(fake_principled_material(inputs), warnings)
     base = (0.5, 0.4, 0.3)
-    # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04).
+    # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04). The
+    # opaque dielectric share, 0.75 * 0.5, reflects as a layer of the IOR of F0: its
+    # sharp part a mirror; in 4.x its highlight too (3.x keeps that in the base's).
+    kept = 0.5 if version == "4.x" else 1.0 - 0.5 * 0.2
+    assert_material(
+        data,
+        coat_reflectivity=0.375 * 0.2,
+        coat_specular=0.375 * 0.8 if version == "4.x" else 0.0,
+        coat_ior={"3.x": 1.5, "4.x": 1.33}[version],
+        coat_shininess=1248.0,
+    )
     assert_material(
         data,
         diffuse=tuple(0.75 * 0.5 * c for c in base),
         reflectivity=tuple(0.25 * 0.2 * c for c in base),
-        specular=tuple(0.75 * F0[version] + 0.25 * 0.8 * c for c in base),
+        specular=tuple(0.75 * F0[version] * kept + 0.25 * 0.8 * c for c in base),
         shininess=1248.0,
         transmissivity=tuple(0.5 * 0.75 * c for c in base),
         ior=1.33,
@@ -319,7 +333,9 @@ def test_principled_coat(warnings):
         coat_ior=1.5,
         diffuse=plain.diffuse,
     )
-    assert plain.coat_specular == plain.coat_reflectivity == 0.0
+    # Without a coat, 3.x's sharp dielectric share is the layer's mirror alone.
+    assert plain.coat_specular == 0.0
+    assert plain.coat_reflectivity == pytest.approx(0.375 * 0.2)
     assert warnings == [
         "Whitted: material 'Fake', node 'Principled BSDF': 'Clearcoat' is approximated: a "
         "Phong highlight and a mirror of the coat's roughness, weighted by its Fresnel "

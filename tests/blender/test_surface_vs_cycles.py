@@ -2,6 +2,8 @@
 Coordinate Normal (object space) and the Bump node's normal, rendered by Whitted
 and by Cycles as an emission colour."""
 
+import math
+
 import numpy as np
 import pytest
 from node_cases import render, set_cycles
@@ -27,3 +29,52 @@ def test_normal_matches_cycles(case, empty_scene, tmp_path, native):
     print(f"\n{case.name}: max |Whitted - Cycles| = {error:.2e}")
     first = (whitted[covered][0], cycles[covered][0])
     assert error <= BOUND, f"{case.name}: Whitted {first[0]}, Cycles {first[1]}"
+
+
+def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, native):
+    # A black Principled BSDF of roughness 0 (F0 0.04: 3.x Specular 0.5, 4.x+ IOR 1.5)
+    # seen at every angle from 0 to about 80 degrees, under a grey world that lights no
+    # diffuse surface: Cycles shows the world Fresnel-weighted, F(theta) * 0.5; Whitted
+    # showed black (a dielectric's specular was a highlight alone).
+    import bpy
+    from cycles_scenes import render_rgba
+
+    scene = empty_scene
+    scene.render.resolution_x = scene.render.resolution_y = 12
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    world = bpy.data.worlds.new("Grey")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    world.cycles_visibility.diffuse = False
+    scene.world = world
+    material = bpy.data.materials.new("Gloss")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.0
+    bsdf.inputs["IOR"].default_value = 1.5
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=64, ring_count=32)
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(material)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 2.0
+    camera.location = (0.0, -5.0, 0.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    set_cycles(scene)
+    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "gloss_cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "gloss_whitted.exr"))
+    covered = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
+    assert covered.sum() > 60
+    expected, got = cycles[covered][:, :3], whitted[covered][:, :3]
+    # Normal incidence reflects 4%, the rim several times more.
+    assert expected.min() > 0.015 and expected.max() > 0.06
+    error = np.abs(got / expected - 1.0)
+    print(f"\nglossy dielectric: median |Whitted / Cycles - 1| {np.median(error):.3f}")
+    assert np.median(error) < 0.03
