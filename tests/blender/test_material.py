@@ -41,15 +41,12 @@ def assert_material(data, **expected):
 def test_default_principled_is_a_grey_dielectric(warnings):
     data = convert(node_material("Default"), warnings)
     # roughness 0.5 -> alpha 0.25 -> shininess 2 / 0.0625 - 2 = 30;
-    # specular 0.5 -> 0.08 * 0.5 = 0.04. 4.x+ layers the specular over the diffuse:
-    # there it is a layer whose Fresnel factor (4.x+ IOR default 1.5) weights the highlight.
-    layered = bpy.app.version >= (4, 0, 0)
-    if layered:
-        assert_material(data, coat_specular=1.0, coat_ior=1.5, coat_shininess=30.0)
+    # specular 0.5 -> 0.08 * 0.5 = 0.04; too rough for a mirror (no layer).
+    assert_material(data, coat_specular=0.0, coat_reflectivity=0.0)
     assert_material(
         data,
         diffuse=(0.8, 0.8, 0.8),
-        specular=(0.0, 0.0, 0.0) if layered else (0.04, 0.04, 0.04),
+        specular=(0.04, 0.04, 0.04),
         shininess=30.0,
         ambient=1.0,
         reflectivity=(0.0, 0.0, 0.0),
@@ -276,13 +273,13 @@ def test_principled_mapping_by_socket_name(version, inputs, warnings):
     data = convert(fake_principled_material(inputs), warnings)
     base = (0.5, 0.4, 0.3)
     # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04). The
-    # opaque dielectric share, 0.75 * 0.5, reflects as a layer of the IOR of F0: its
-    # sharp part a mirror; in 4.x its highlight too (3.x keeps that in the base's).
-    kept = 0.5 if version == "4.x" else 1.0 - 0.5 * 0.2
+    # sharp part of the opaque dielectric share, 0.75 * 0.5, is a layer's mirror of the
+    # IOR of F0; the highlight keeps the rest.
+    kept = 1.0 - 0.5 * 0.2
     assert_material(
         data,
         coat_reflectivity=0.375 * 0.2,
-        coat_specular=0.375 * 0.8 if version == "4.x" else 0.0,
+        coat_specular=0.0,
         coat_ior={"3.x": 1.5, "4.x": 1.33}[version],
         coat_shininess=1248.0,
     )
@@ -333,7 +330,7 @@ def test_principled_coat(warnings):
         coat_ior=1.5,
         diffuse=plain.diffuse,
     )
-    # Without a coat, 3.x's sharp dielectric share is the layer's mirror alone.
+    # Without a coat, the sharp dielectric share is the layer's mirror.
     assert plain.coat_specular == 0.0
     assert plain.coat_reflectivity == pytest.approx(0.375 * 0.2)
     assert warnings == [

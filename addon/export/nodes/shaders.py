@@ -374,16 +374,12 @@ def _principled(s, out):
         out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0), textured=False
     )
     highlight_f0 = b.vmul(f0, tint)
-    # 3.x Cycles adds its specular lobe to the diffuse one; 4.x+ layers it on top.
-    layered = specular_socket is not None and specular_socket.name == "Specular IOR Level"
     if coat is None:
-        coat = _specular_layer(s, out, f0, tint, metallic, roughness, transmission, layered)
+        coat = _specular_layer(s, out, f0, tint, metallic, roughness, transmission)
         if coat is not None:
-            # The highlight keeps the glass part's share, and in 3.x the rough one's.
-            kept = transmission
-            if not layered:
-                opaque = b.sub(b.f(1.0), transmission)
-                kept = b.sub(b.f(1.0), b.mul(opaque, _sharpness(b, roughness)))
+            # The highlight keeps the glass part's share and the rough one's.
+            opaque = b.sub(b.f(1.0), transmission)
+            kept = b.sub(b.f(1.0), b.mul(opaque, _sharpness(b, roughness)))
             highlight_f0 = b.vmul(b.mul(f0, kept), tint)
     fields = whitted_fields(
         b,
@@ -457,29 +453,27 @@ def _coat(s, out):
     return fields, beneath, s.normal(out, COAT_INPUTS["normal"])
 
 
-def _specular_layer(s, out, f0, tint, metallic, roughness, transmission, layered):
-    """The opaque dielectric part's specular reflection as a clear layer on top, in
-    the coat fields (as _coat returns them), or None when it is tinted. Cycles
-    reflects the surroundings there, Fresnel-weighted; a highlight alone left glossy
-    plastic black where Cycles mirrors. `layered` (4.x+, whose Principled layers its
-    specular over the diffuse, as Whitted's coat is): the highlight as well as the
-    mirror; else (3.x, which adds the lobes) the mirror share alone, the highlight
-    staying the base's. The layer's IOR is the one whose F0 is the Principled's, so
-    at normal incidence its weight is that of the highlight it replaces (3.x Cycles
-    takes that IOR for its Fresnel curve too)."""
+def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
+    """The sharp share (1 - 4 roughness) of the opaque dielectric part's specular as
+    a clear layer's mirror on top, in the coat fields (as _coat returns them), or None
+    when there is none or it is tinted. Cycles reflects the surroundings there,
+    Fresnel-weighted; a highlight alone left glossy plastic black where Cycles
+    mirrors. The layer's IOR is the one whose F0 is the Principled's, so at normal
+    incidence its weight is that of the highlight share it replaces (3.x Cycles takes
+    that IOR for its Fresnel curve too). The rough share stays the base's highlight:
+    an exact Fresnel factor would dim the diffuse beneath far more at grazing angles
+    than a rough lobe's albedo does in Cycles 4.x+ (and 3.x does not dim it at all)."""
     b = s.b
     if not (tint.is_const and all(v == 1.0 for v in tint.value[:3])):
         return None
     opaque = b.mul(b.sub(b.f(1.0), metallic), b.sub(b.f(1.0), transmission))
-    if _zero(opaque) or _zero(f0):
-        return None
     sharp = _sharpness(b, roughness)
-    if not layered and _zero(sharp):
+    if _zero(opaque) or _zero(f0) or _zero(sharp):
         return None
     # n = (1 + sqrt(F0)) / (1 - sqrt(F0)), F0 kept below 1.
     root = b.math("SQRT", b.clamp(f0, 0.0, 0.99))
     layer = {
-        "coat_specular": b.mul(opaque, b.sub(b.f(1.0), sharp)) if layered else b.f(0.0),
+        "coat_specular": b.f(0.0),
         "coat_reflectivity": b.mul(opaque, sharp),
         "coat_shininess": shininess_of(b, b.clamp01(roughness)),
         "coat_ior": b.div(b.add(b.f(1.0), root), b.sub(b.f(1.0), root)),
