@@ -132,6 +132,8 @@ def test_each_render_states_what_it_simulated_and_skipped(
         for socket in ("Metallic", "Transmission Weight", "Transmission"):
             if socket in principled.inputs:
                 principled.inputs[socket].default_value = 0.0
+        # A sharp dielectric still mirrors its surroundings (Fresnel-weighted).
+        principled.inputs["Roughness"].default_value = 0.5
     render_pixels(demo)
     stats = json.loads(path.read_text())
     refraction = {"name": "refraction", "on": False, "why": "no transmissive material"}
