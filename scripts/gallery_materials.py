@@ -9,6 +9,11 @@ Each run renders with the Blender that runs it and writes, for that Blender,
 OUT/images/materials/blender-X.Y/<scene>.png (Whitted left, Cycles right) and
 results.json; then it rewrites OUT/MATERIALS.md from every Blender's results.
 
+Then the third-party scenes: real models made by other people, from Debian's
+assimp-testmodels package (scripts/setup.sh installs it), each imported with
+Blender's own importer, framed by a camera from its bounds, on a floor, under the
+same sun and black world; results in third_party.json beside the others.
+
 Measures, on the linear renders (transparent film, so alpha is the object mask):
 SSIM of the two images (sRGB-encoded, clipped to [0, 1]) and the median of the
 per-pixel luminance ratio Whitted / Cycles over the subject's pixels (the floor left
@@ -20,11 +25,13 @@ import json
 import math
 import os
 import tempfile
+from pathlib import Path
 
 import bpy
 
 # isort: split
 import numpy as np
+from mathutils import Vector
 from whitted_tools import shader_graphs
 from whitted_tools.blender import enable_addon, factory_scene
 from whitted_tools.cli import script_args
@@ -38,7 +45,14 @@ from whitted_tools.material_scenes import (
     numpy_image,
     smooth_sphere,
 )
-from whitted_tools.materials_page import CYCLES_SAMPLES, TARGET_RATIO, TARGET_SSIM, write_markdown
+from whitted_tools.materials_page import (
+    CYCLES_SAMPLES,
+    TARGET_RATIO,
+    TARGET_SSIM,
+    THIRD_PARTY,
+    THIRD_PARTY_MODELS,
+    write_markdown,
+)
 from whitted_tools.metrics import subject_figures
 from whitted_tools.render import render_exr
 
@@ -327,6 +341,59 @@ SCENES = {
 }
 
 
+# --- third-party scenes --------------------------------------------------------------
+
+
+def import_file(path):
+    """Import a model with Blender's own importer for its file type."""
+    suffix = path.suffix.lower()
+    if suffix in (".gltf", ".glb"):
+        enable_addon("io_scene_gltf2")
+        if not hasattr(np, "bool"):
+            np.bool = bool  # as in scene_gltf_round_trip
+        bpy.ops.import_scene.gltf(filepath=str(path))
+    elif suffix == ".obj":
+        bpy.ops.wm.obj_import(filepath=str(path))
+    elif suffix == ".dae":
+        bpy.ops.wm.collada_import(filepath=str(path))
+    else:
+        raise ValueError(f"no importer for {path.name}")
+
+
+def frame_subject(scene):
+    """The gallery's set-up around whatever was imported: its own lights and cameras
+    removed; a camera 27 degrees wide from the front right above, fitting the bounds;
+    a floor just under them; the sun; the black world."""
+    for obj in [o for o in scene.objects if o.type in ("LIGHT", "CAMERA")]:
+        bpy.data.objects.remove(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    corners = [
+        tuple(obj.matrix_world @ Vector(corner))
+        for obj in scene.objects
+        if obj.type == "MESH"
+        for corner in obj.evaluated_get(depsgraph).bound_box
+    ]
+    low, high = np.min(corners, axis=0), np.max(corners, axis=0)
+    centre, radius = (low + high) / 2.0, float(np.linalg.norm(high - low)) / 2.0
+    view = np.array([0.55, -1.0, 0.6]) / np.linalg.norm([0.55, -1.0, 0.6])
+    distance = 1.05 * radius / math.sin(math.radians(27.0) / 2.0)
+    add_camera(scene, tuple(centre + distance * view), tuple(centre))
+    scene.camera.data.clip_start = 1e-3 * distance
+    scene.camera.data.clip_end = 10.0 * distance
+    floor = add_floor(scene, size=8.0 * radius)
+    floor.location.z = low[2] - 0.01 * radius  # not coplanar with a flat model
+    add_sun(scene)
+    black_world(scene)
+
+
+def third_party_scene(entry):
+    def build(scene, work):
+        import_file(THIRD_PARTY_MODELS / entry["file"])
+        frame_subject(scene)
+
+    return build
+
+
 # --- rendering and measures -----------------------------------------------------------
 
 
@@ -422,7 +489,32 @@ def main():
         results.append(render_scene(name, build, image_dir))
     with open(results_path, "w", encoding="utf-8") as file:
         json.dump(results, file, indent=2)
+    render_third_party(args, image_dir)
     write_markdown(args.out)
+
+
+def render_third_party(args, image_dir):
+    """The third-party scenes this Blender can import, into third_party.json."""
+    if not THIRD_PARTY_MODELS.is_dir():
+        raise SystemExit(
+            f"gallery_materials: {THIRD_PARTY_MODELS} is missing: run scripts/setup.sh "
+            "(it installs Debian's assimp-testmodels)"
+        )
+    path = Path(image_dir) / "third_party.json"
+    earlier = {}
+    if args.only and path.is_file():
+        earlier = {r["scene"]: r for r in json.loads(path.read_text(encoding="utf-8"))}
+    results = []
+    for entry in THIRD_PARTY:
+        name = entry["scene"]
+        if Path(entry["file"]).suffix.lower() == ".dae" and bpy.app.version >= (5, 0, 0):
+            continue  # Blender 5.0 has no Collada importer
+        if args.only and name not in args.only:
+            if name in earlier:
+                results.append(earlier[name])
+            continue
+        results.append(render_scene(name, third_party_scene(entry), image_dir))
+    path.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
 
 
 if __name__ == "__main__":

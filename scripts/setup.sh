@@ -37,6 +37,9 @@ APT_PACKAGES=(
   # tests/viewport: a real Blender 3.4 window on a virtual X server (xvfb-run needs
   # xauth) drawn by Mesa's software OpenGL (llvmpipe, in libgl1-mesa-dri)
   xvfb xauth libgl1-mesa-dri
+  # scripts/gallery_materials.py's third-party scenes: real glTF, OBJ and Collada models
+  # made by other people, under /usr/share/assimp/models
+  assimp-testmodels
 )
 
 # --- step bookkeeping: each step prints its duration, or how it failed ---------
