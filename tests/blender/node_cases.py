@@ -167,22 +167,18 @@ def _separate_hsv(tree, uv):
     return _combine(tree, separate.outputs[0], separate.outputs[1], separate.outputs[2])
 
 
-def _combine_hsl(tree, uv):
-    x, y = _x(tree, uv)
-    combine = _node(tree, "ShaderNodeCombineColor", mode="HSL")
-    tree.links.new(x, combine.inputs[0])
-    tree.links.new(y, combine.inputs[1])
-    combine.inputs[2].default_value = 0.4
-    return combine.outputs[0]
+def combine_color_case(mode, third):
+    """Combine Color in `mode` of U, V and the constant `third`."""
 
+    def build(tree, uv):
+        x, y = _x(tree, uv)
+        combine = _node(tree, "ShaderNodeCombineColor", mode=mode)
+        tree.links.new(x, combine.inputs[0])
+        tree.links.new(y, combine.inputs[1])
+        combine.inputs[2].default_value = third
+        return combine.outputs[0]
 
-def _combine_hsv(tree, uv):
-    x, y = _x(tree, uv)
-    combine = _node(tree, "ShaderNodeCombineColor", mode="HSV")
-    tree.links.new(x, combine.inputs[0])
-    tree.links.new(y, combine.inputs[1])
-    combine.inputs[2].default_value = 0.8
-    return combine.outputs[0]
+    return NodeCase(f"combine_{mode.lower()}", build, "Combine Color")
 
 
 def _hue_saturation(tree, uv):
@@ -335,6 +331,12 @@ def _texture_input(tree, uv, node, location=(0.13, -0.27, 0.41), scale=(1.0, 1.0
     return uv
 
 
+def _texture_output(tree, node, output):
+    """A texture's output `output`: its Color as is, a value as a grey colour."""
+    socket = node.outputs[output]
+    return socket if output == "Color" else _combine(tree, socket)
+
+
 def _set_inputs(node, values):
     for name, value in values.items():
         node.inputs[name].default_value = value
@@ -356,8 +358,7 @@ def noise_case(dimensions, output="Color", name=None, noise_type=None, normalize
             x, _ = _x(tree, uv)
             tree.links.new(_spread(tree, x, 1.3, 0.37), node.inputs["W"])
         _set_inputs(node, inputs)
-        socket = node.outputs[output]
-        return socket if output == "Color" else _combine(tree, socket)
+        return _texture_output(tree, node, output)
 
     return NodeCase(
         name or f"noise_{dimensions.lower()}_{output.lower()}", build, "Noise Texture",
@@ -374,8 +375,7 @@ def wave_case(name, wave_type, direction, profile, output="Fac", **inputs):
             node.rings_direction = direction
         _texture_input(tree, uv, node, location=(-0.5, -0.45, 0.1))
         _set_inputs(node, inputs)
-        socket = node.outputs[output]
-        return socket if output == "Color" else _combine(tree, socket)
+        return _texture_output(tree, node, output)
 
     return NodeCase(f"wave_{name}", build, "Wave Texture", procedural=True)
 
@@ -385,8 +385,7 @@ def magic_case(depth, output="Color", **inputs):
         node = _node(tree, "ShaderNodeTexMagic", turbulence_depth=depth)
         _texture_input(tree, uv, node)
         _set_inputs(node, inputs)
-        socket = node.outputs[output]
-        return socket if output == "Color" else _combine(tree, socket)
+        return _texture_output(tree, node, output)
 
     return NodeCase(
         f"magic_depth_{depth}_{output.lower()}", build, "Magic Texture", procedural=True
@@ -401,8 +400,7 @@ def brick_case(name, output="Color", settings=None, **inputs):
         node.inputs["Mortar"].default_value = (0.2, 0.2, 0.25, 1.0)
         _texture_input(tree, uv, node, location=(0.013, 0.021, 0.0))
         _set_inputs(node, inputs)
-        socket = node.outputs[output]
-        return socket if output == "Color" else _combine(tree, socket)
+        return _texture_output(tree, node, output)
 
     return NodeCase(f"brick_{name}", build, "Brick Texture", procedural=True)
 
@@ -609,8 +607,8 @@ CASES = [
     NodeCase("float_curve", _float_curve, "Float Curve"),
     NodeCase("vector_curves", _vector_curves, "Vector Curves"),
     NodeCase("separate_hsv", _separate_hsv, "Separate Color"),
-    NodeCase("combine_hsv", _combine_hsv, "Combine Color"),
-    NodeCase("combine_hsl", _combine_hsl, "Combine Color"),
+    combine_color_case("HSV", 0.8),
+    combine_color_case("HSL", 0.4),
     NodeCase("hue_saturation", _hue_saturation, "Hue/Saturation/Value"),
     NodeCase("gamma", _gamma, "Gamma"),
     NodeCase("bright_contrast", _bright_contrast, "Bright/Contrast"),
