@@ -101,6 +101,8 @@ TEST(Passes, ProgressiveLastPassHasTheSamePasses) {
   }
 }
 
+// Also the kernel compiled for the scene's set of effects (no passes) against the one
+// reading them at run time (with passes): the same code, the same pixels.
 TEST(Passes, DoNotChangeCombined) {
   const Scene scene = glass_and_mirror_scene();
   RenderJob plain(scene, small(0), scene.camera);

@@ -1,7 +1,9 @@
 #include "integrator/whitted.h"
 
+#include <array>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 
 #include "core/limits.h"
 
@@ -101,14 +103,18 @@ struct NoRecorder {
              SampleRecord* /*record*/) {}
 };
 
+// kEffects of a kernel that reads the effects at run time.
+constexpr uint32_t kRuntimeEffects = ~0u;
+
 // The Whitted recursion. Two choices are made at compile time, with `if constexpr`:
 // kRecord (the inspector only) also writes every ray and term into the integrator's
 // RayTree, and kPasses (a Recorder other than NoRecorder: PassRecorder, passes.h, for
 // renders with passes) tells the recorder, node by node, where each share of a sample's
 // radiance comes from; a kernel without them compiles none of that in. The effects the
-// analysis chose (EffectBits) are run-time flags, read with has(): compiling a kernel per
-// set of effects measured no faster (docs/EFFECTS.md).
-template <bool kRecord, class Recorder>
+// analysis chose (EffectBits) are read with has(): constants in the kernels compiled per
+// set of effects (kEffects, for renders without passes: measured faster, docs/EFFECTS.md),
+// run-time flags in the others (kRuntimeEffects). The code is the same either way.
+template <uint32_t kEffects, bool kRecord, class Recorder>
 class Kernel {
   static constexpr bool kPasses = !std::is_same_v<Recorder, NoRecorder>;
 
@@ -128,7 +134,13 @@ class Kernel {
   }
 
  private:
-  bool has(uint32_t bit) const { return (effects_ & bit) != 0; }
+  bool has(uint32_t bit) const {
+    if constexpr (kEffects == kRuntimeEffects) {
+      return (effects_ & bit) != 0;
+    } else {
+      return (kEffects & bit) != 0;
+    }
+  }
 
   // Every query of the kernel goes through these two (and into the log when recording).
   bool intersect(const Ray& ray, Hit* hit) const {
@@ -620,6 +632,34 @@ class Kernel {
   [[no_unique_address]] Recorder recorder_;
 };
 
+// The sets of effects a render without passes gets a kernel of its own for: those the
+// analysis decides with pruning on, its default (refraction comes with reflection, as a
+// transmissive material also reflects by Fresnel): 12 of the 32. A build with
+// WHITTED_EFFECT_KERNELS off (CMakeLists.txt) has none, for docs/EFFECTS.md's (d).
+constexpr bool specialised(uint32_t effects) {
+#ifdef WHITTED_RUNTIME_EFFECTS_ONLY
+  static_cast<void>(effects);
+  return false;
+#else
+  return (effects & kPruningEffect) != 0 &&
+         ((effects & kRefractionEffect) == 0 || (effects & kReflectionEffect) != 0);
+#endif
+}
+template <uint32_t E>
+constexpr WhittedIntegrator::TraceFn render_kernel() {
+  if constexpr (specialised(E)) {
+    return &Kernel<E, false, NoRecorder>::run;
+  } else {
+    return &Kernel<kRuntimeEffects, false, NoRecorder>::run;
+  }
+}
+template <size_t... E>
+constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(E)> render_kernels(
+    std::index_sequence<E...> /*effects*/) {
+  return {render_kernel<static_cast<uint32_t>(E)>()...};
+}
+constexpr auto kRenderKernels = render_kernels(std::make_index_sequence<kAllEffects + 1>{});
+
 }  // namespace
 
 RayCounts& RayCounts::operator+=(const RayCounts& o) {
@@ -644,9 +684,9 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings)),
-      trace_(tree != nullptr        ? &Kernel<true, NoRecorder>::run
-             : settings.passes != 0 ? &Kernel<false, PassRecorder>::run
-                                    : &Kernel<false, NoRecorder>::run),
+      trace_(tree != nullptr        ? &Kernel<kRuntimeEffects, true, NoRecorder>::run
+             : settings.passes != 0 ? &Kernel<kRuntimeEffects, false, PassRecorder>::run
+                                    : kRenderKernels[effects_.bits & kAllEffects]),
       log_(log),
       tree_(tree) {}
 

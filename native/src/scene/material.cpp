@@ -36,8 +36,8 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
   }
 }
 
-float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n, const Vec3& wi) {
-  if (model == BumpShadowing::kNone || n == smooth) return 1.0f;
+float tilted_diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n,
+                               const Vec3& wi) {
   const float cos_si = glm::dot(smooth, wi);  // the light's height over the smooth surface
   const float cos_sn = glm::dot(smooth, n);   // how far the normal leans from it
   const float cos_ni = glm::dot(n, wi);

@@ -114,6 +114,14 @@ struct Material : MaterialParams {
 // The factor on the diffuse lobe for light from `wi` when it is shaded with normal `n`
 // but the interpolated (smooth) normal is `smooth`, both unit and on the side the ray
 // comes from, as Cycles applies it to every diffuse closure whose normal was changed.
-float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n, const Vec3& wi);
+// Inline for its common case (no fading: every hit of a constant material pays this per
+// light), the tilted normal out of line.
+float tilted_diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n,
+                               const Vec3& wi);
+inline float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Vec3& n,
+                               const Vec3& wi) {
+  if (model == BumpShadowing::kNone || n == smooth) return 1.0f;
+  return tilted_diffuse_shadowing(model, smooth, n, wi);
+}
 
 }  // namespace whitted
