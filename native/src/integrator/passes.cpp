@@ -58,10 +58,18 @@ void SampleRecord::scale(float w) {
 
 PassRecorder::PassRecorder(const CompiledScene& scene, const Settings& settings,
                            const Camera& camera, SampleRecord* record)
-    : scene_(scene), settings_(settings), camera_(camera), record_(record) {}
+    : scene_(scene),
+      settings_(settings),
+      camera_(camera),
+      record_(record),
+      light_((settings.passes & kLightPasses) != 0),
+      data_((settings.passes & kDataPasses) != 0),
+      contributions_((settings.passes & pass_bit(FilmPass::kContributions)) != 0),
+      cut_weight_((settings.passes & pass_bit(FilmPass::kCutWeight)) != 0) {}
 
 void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& surface,
                                   const Vec3& normal, float share) const {
+  if (!data_) return;
   // Distances from the camera: along its view axis (Depth), and from its position
   // (Mist, as Cycles; an orthographic camera has no position, so the view axis).
   const Vec3 eye(camera_.to_world[3]);
@@ -89,9 +97,11 @@ void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& su
 }
 
 void PassRecorder::node(int depth, const Color& throughput, const NodeTerms& terms) const {
-  record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
-      throughput * terms.total;
-  if (depth > 0) return;  // deeper nodes are in the camera hit's indirect terms
+  if (contributions_) {
+    record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
+        throughput * terms.total;
+  }
+  if (depth > 0 || !light_) return;  // deeper nodes are in the camera hit's indirect terms
   record_->emission += throughput * terms.emission;
   record_->diffuse_direct += throughput * terms.diffuse;
   record_->diffuse_indirect += throughput * terms.ambient;
@@ -102,14 +112,14 @@ void PassRecorder::node(int depth, const Color& throughput, const NodeTerms& ter
 
 void PassRecorder::reflected(int depth, const Color& throughput, const Color& sigma_r,
                              const Color& radiance) const {
-  if (depth > 0) return;
+  if (depth > 0 || !light_) return;
   record_->glossy_indirect += throughput * sigma_r * radiance;
   record_->glossy_color += throughput * sigma_r;
 }
 
 void PassRecorder::refracted(int depth, const Color& throughput, const Color& sigma_t,
                              const Color& radiance) const {
-  if (depth > 0) return;
+  if (depth > 0 || !light_) return;
   record_->transmission_indirect += throughput * sigma_t * radiance;
   record_->transmission_color += throughput * sigma_t;
 }
@@ -118,15 +128,15 @@ void PassRecorder::escaped(int depth, const Color& throughput, const Color& radi
                            bool shown) const {
   // A transparent film leaves the world out of Combined but, as in Cycles, not out of
   // the Environment pass, so it can be put back in the compositor.
-  if (shown) {
+  if (shown && contributions_) {
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
         throughput * radiance;
   }
-  if (depth == 0) record_->environment += throughput * radiance;
+  if (depth == 0 && light_) record_->environment += throughput * radiance;
 }
 
 void PassRecorder::cut(const Color& weight) const {
-  record_->cut_weight += mean(weight);
+  if (cut_weight_) record_->cut_weight += mean(weight);
 }
 
 }  // namespace whitted

@@ -65,6 +65,15 @@ constexpr uint32_t pass_bit(FilmPass pass) {
   return 1u << static_cast<uint32_t>(pass);
 }
 
+// The passes by what they ask of the kernel, so a render pays only for the groups it
+// keeps: the Light panel's split each camera hit's light into its terms, the Data
+// panel's read the first surface the camera sees, Contributions sums every node by its
+// depth, Cut Weight sums the rays not traced.
+inline constexpr uint32_t kLightPasses =
+    pass_bit(FilmPass::kDepth) - 1;  // kEmission .. kTransmissionColor
+inline constexpr uint32_t kDataPasses =
+    pass_bit(FilmPass::kContributions) - pass_bit(FilmPass::kDepth);  // kDepth .. kMaterialIndex
+
 // The deepest separate bin of the Contributions pass (Settings::contribution_depth).
 inline constexpr int kMaxContributionDepth = 8;
 // Depth where a camera sample sees no surface (as Cycles' Depth pass shows the sky).
@@ -126,13 +135,17 @@ struct NodeTerms {
 };
 
 // The kernel's listener when passes are requested: it is told, node by node, where each
-// share of a sample's radiance comes from, and fills that sample's SampleRecord. Every
+// share of a sample's radiance comes from, and fills the fields of that sample's
+// SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Every
 // hook gets the node's depth in the ray tree and its throughput (its weight on the
 // sample: the sigma_r and sigma_t along the way times the coverage of cut-outs).
 class PassRecorder {
  public:
   PassRecorder(const CompiledScene& scene, const Settings& settings, const Camera& camera,
                SampleRecord* record);
+
+  // Whether the kernel must find the camera's surface data (a Data pass is kept).
+  bool wants_data() const { return data_; }
 
   // A surface the camera ray meets (depth 0), covering `share` of the sample; `normal`
   // is its shading normal turned to face the ray. The data passes come from the first
@@ -156,6 +169,10 @@ class PassRecorder {
   const Settings& settings_;
   const Camera& camera_;
   SampleRecord* record_;
+  bool light_;          // a pass of kLightPasses is kept
+  bool data_;           // a pass of kDataPasses is kept
+  bool contributions_;  // Contributions is kept
+  bool cut_weight_;     // Cut Weight is kept
 };
 
 }  // namespace whitted

@@ -208,7 +208,7 @@ class Kernel {
           // This layer's share of the sample, for what the recorder is told below it.
           NodeState covered = state;
           covered.throughput = state.throughput * (behind * a);
-          if (state.depth == 0) {
+          if (state.depth == 0 && recorder_.wants_data()) {
             Vec3 ng;
             Vec3 ns;
             facing_normals(r, it, surface, &ng, &ns);
