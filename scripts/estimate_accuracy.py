@@ -11,9 +11,9 @@ display_error, on the whole frame) with the predictions:
         FILE.blend [FILE.blend ...] [--resolution 320 240] [--repeats 3] \\
         [--out docs/notes/estimate_accuracy.md]
 
-Writes a Markdown fragment (a table, the time and error figures) for
-scripts/accuracy_cost.py --notes, and prints it. docs/notes/estimate_accuracy.md was
-made at 240x180 from six scenes built by the scene builders (S=/tmp/crypto-scenes):
+Writes a Markdown page (a table, the time, rays and error figures; docs/ACCURACY_COST.md
+links to it) and prints it. docs/notes/estimate_accuracy.md was made at 240x180 from
+six scenes built by the scene builders (S=/tmp/crypto-scenes):
 
     blender -b --factory-startup --python scripts/perf_scenes.py -- --scene demo \
         --resolution 320 240 --save $S/demo.blend
@@ -53,20 +53,21 @@ def parse_args():
 
 
 def render_image(scene, path):
-    """Render the scene to an EXR at `path`; (engine's total seconds, float[H, W, 4])."""
+    """Render the scene to an EXR at `path`; (engine's total seconds, rays per pixel,
+    float[H, W, 4])."""
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
-    seconds = json.loads(scene.whitted.last_stats)["phases"]["total"]
+    stats = json.loads(scene.whitted.last_stats)
     image = bpy.data.images.load(path)
     width, height = image.size
     pixels = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
     bpy.data.images.remove(image)
-    return seconds, pixels
+    return stats["phases"]["total"], stats["rays"]["total"] / stats["pixels"], pixels
 
 
 def measure(path, resolution, repeats, workdir):
     """(probe description, Estimate seconds, [(preset label, predicted s, actual s,
-    predicted error, actual error)]) for one .blend."""
+    predicted error, actual error, predicted rays per pixel, actual)]) for one .blend."""
     bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
     if addon_utils.enable("whitted", default_set=True) is None:
         sys.exit("estimate_accuracy: the add-on 'whitted' is not installed; run scripts/setup.sh")
@@ -83,17 +84,17 @@ def measure(path, resolution, repeats, workdir):
     started = time.perf_counter()
     bpy.ops.whitted.estimate()
     estimate_seconds = time.perf_counter() - started
-    predicted = {e.preset: (e.seconds, e.error) for e in scene.whitted.estimates}
+    predicted = {e.preset: (e.seconds, e.error, e.rays_per_pixel) for e in scene.whitted.estimates}
     actual = {}
     for key, _, _, values in PRESETS:
         apply_quality(scene.whitted, values)
         times = []
         for _ in range(repeats):
-            seconds, image = render_image(scene, os.path.join(workdir, f"{key}.exr"))
+            seconds, rays, image = render_image(scene, os.path.join(workdir, f"{key}.exr"))
             times.append(seconds)
             if sum(times) >= MAX_RENDER_SECONDS:
                 break
-        actual[key] = (statistics.median(times), image)
+        actual[key] = (statistics.median(times), image, rays)
     reference = actual[REFERENCE][1]
     rows = [
         (
@@ -102,6 +103,8 @@ def measure(path, resolution, repeats, workdir):
             actual[key][0],
             predicted[key][1],
             display_error(actual[key][1], reference),
+            predicted[key][2],
+            actual[key][2],
         )
         for key, label, _, _ in PRESETS
     ]
@@ -139,31 +142,37 @@ def main():
             ]
         ),
         "",
-        "| scene | preset | predicted (s) | actual (s) | time error | predicted error "
-        "| actual error |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| scene | preset | predicted (s) | actual (s) | time error | predicted rays/px "
+        "| actual rays/px | predicted error | actual error |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     time_errors, error_ratios, ranks_right, probes, estimate_seconds = [], [], 0, set(), []
+    ray_errors = []
     with tempfile.TemporaryDirectory() as workdir:
         for path in args.blend:
             probe, seconds, rows = measure(path, args.resolution, args.repeats, workdir)
             probes.add(probe)
             estimate_seconds.append(seconds)
-            for label, predicted, actual, predicted_error, actual_error in rows:
+            for label, predicted, actual, predicted_error, actual_error, *rays in rows:
                 error = (predicted - actual) / actual
                 time_errors.append(abs(error))
+                ray_errors.append(abs(rays[0] / rays[1] - 1.0))
                 if actual_error > 0.0:
                     error_ratios.append(predicted_error / actual_error)
                 lines.append(
                     f"| {os.path.basename(path)} | {label} | {predicted:.3f} | {actual:.3f} | "
-                    f"{100 * error:+.0f}% | {predicted_error:.2f} | {actual_error:.2f} |"
+                    f"{100 * error:+.0f}% | {rays[0]:.1f} | {rays[1]:.1f} | "
+                    f"{predicted_error:.2f} | {actual_error:.2f} |"
                 )
             ranks_right += rank([r[3] for r in rows]) == rank([r[4] for r in rows])
     scenes = len(args.blend)
     lines += [
         "",
         f"Time, over {len(time_errors)} renders: mean absolute error "
-        f"{100 * statistics.fmean(time_errors):.1f}%, worst {100 * max(time_errors):.0f}%.",
+        f"{100 * statistics.fmean(time_errors):.1f}%, worst {100 * max(time_errors):.0f}%. "
+        f"Rays: mean absolute error {100 * statistics.fmean(ray_errors):.1f}%, worst "
+        f"{100 * max(ray_errors):.1f}% (the rest of the time error is the ray rate and the "
+        "fixed costs: export, BVH, write-back, as the load of the machine moves them).",
         "",
         f"Error: the predicted order of the presets is right on {ranks_right} of {scenes} "
         f"scenes; predicted / actual error over the {len(error_ratios)} presets below "
