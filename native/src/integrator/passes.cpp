@@ -12,18 +12,22 @@ float mean(const Color& c) {
 
 }  // namespace
 
-void SampleRecord::add(const SampleRecord& s) {
-  emission += s.emission;
-  environment += s.environment;
-  diffuse_direct += s.diffuse_direct;
-  diffuse_indirect += s.diffuse_indirect;
-  diffuse_color += s.diffuse_color;
-  glossy_direct += s.glossy_direct;
-  glossy_indirect += s.glossy_indirect;
-  glossy_color += s.glossy_color;
-  transmission_indirect += s.transmission_indirect;
-  transmission_color += s.transmission_color;
-  for (size_t d = 0; d < contributions.size(); ++d) contributions[d] += s.contributions[d];
+void SampleRecord::add(const SampleRecord& s, uint32_t passes) {
+  if ((passes & kLightPasses) != 0) {
+    emission += s.emission;
+    environment += s.environment;
+    diffuse_direct += s.diffuse_direct;
+    diffuse_indirect += s.diffuse_indirect;
+    diffuse_color += s.diffuse_color;
+    glossy_direct += s.glossy_direct;
+    glossy_indirect += s.glossy_indirect;
+    glossy_color += s.glossy_color;
+    transmission_indirect += s.transmission_indirect;
+    transmission_color += s.transmission_color;
+  }
+  if ((passes & pass_bit(FilmPass::kContributions)) != 0) {
+    for (size_t d = 0; d < contributions.size(); ++d) contributions[d] += s.contributions[d];
+  }
   cut_weight += s.cut_weight;
   mist += s.mist;
   normal += s.normal;
@@ -38,18 +42,22 @@ void SampleRecord::take_first(const SampleRecord& s) {
   data_found = s.data_found;
 }
 
-void SampleRecord::scale(float w) {
-  emission *= w;
-  environment *= w;
-  diffuse_direct *= w;
-  diffuse_indirect *= w;
-  diffuse_color *= w;
-  glossy_direct *= w;
-  glossy_indirect *= w;
-  glossy_color *= w;
-  transmission_indirect *= w;
-  transmission_color *= w;
-  for (Color& c : contributions) c *= w;
+void SampleRecord::scale(float w, uint32_t passes) {
+  if ((passes & kLightPasses) != 0) {
+    emission *= w;
+    environment *= w;
+    diffuse_direct *= w;
+    diffuse_indirect *= w;
+    diffuse_color *= w;
+    glossy_direct *= w;
+    glossy_indirect *= w;
+    glossy_color *= w;
+    transmission_indirect *= w;
+    transmission_color *= w;
+  }
+  if ((passes & pass_bit(FilmPass::kContributions)) != 0) {
+    for (Color& c : contributions) c *= w;
+  }
   cut_weight *= w;
   mist *= w;
   normal *= w;
@@ -75,23 +83,26 @@ void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& su
   const Vec3 eye(camera_.to_world[3]);
   const Vec3 forward = -glm::normalize(Vec3(camera_.to_world[2]));
   const float z = glm::dot(it.position - eye, forward);
-  const float distance =
-      camera_.projection == Projection::kPerspective ? glm::length(it.position - eye) : z;
-  // Mist: 0 at the start distance, 1 at start + depth, shaped by the falloff exponent;
-  // what the film shows is 1 - the sum of (1 - mist) * coverage.
-  const float reach =
-      settings_.mist_depth > 0.0f
-          ? std::clamp((distance - settings_.mist_start) / settings_.mist_depth, 0.0f, 1.0f)
-          : (distance >= settings_.mist_start ? 1.0f : 0.0f);
-  const float mist = std::pow(reach, settings_.mist_falloff);
-  record_->mist += (1.0f - mist) * share;
+  if ((settings_.passes & pass_bit(FilmPass::kMist)) != 0) {
+    const float distance =
+        camera_.projection == Projection::kPerspective ? glm::length(it.position - eye) : z;
+    // Mist: 0 at the start distance, 1 at start + depth, shaped by the falloff exponent;
+    // what the film shows is 1 - the sum of (1 - mist) * coverage.
+    const float reach =
+        settings_.mist_depth > 0.0f
+            ? std::clamp((distance - settings_.mist_start) / settings_.mist_depth, 0.0f, 1.0f)
+            : (distance >= settings_.mist_start ? 1.0f : 0.0f);
+    const float mist = std::pow(reach, settings_.mist_falloff);
+    record_->mist += (1.0f - mist) * share;
+  }
   if (record_->data_found || surface.alpha < settings_.pass_alpha_threshold) return;
   record_->data_found = true;
   record_->depth = z;
   record_->position = it.position;
   record_->normal = normal;
-  const glm::vec2 uv = scene_.texture_point(it).uv;
-  record_->uv = Vec3(uv, 0.0f);
+  if ((settings_.passes & pass_bit(FilmPass::kUV)) != 0) {
+    record_->uv = Vec3(scene_.texture_point(it).uv, 0.0f);
+  }
   record_->object_index = scene_.instances[it.instance].info.pass_index;
   record_->material_index = static_cast<float>(it.material->pass_index);
 }

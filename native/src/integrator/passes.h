@@ -114,12 +114,14 @@ struct SampleRecord {
   float material_index = 0.0f;
   bool data_found = false;  // whether the data surface was met (set by the kernel)
 
-  // Sums the per-sample terms of `s` into these.
-  void add(const SampleRecord& s);
+  // Sums the per-sample terms of `s` into these (those the kept `passes`, bits of
+  // FilmPass, read; the others stay as they are).
+  void add(const SampleRecord& s, uint32_t passes);
   // Takes the first-sample data (depth, position, indices) of `s`.
   void take_first(const SampleRecord& s);
-  // Scales the summed terms by w (1 / samples), leaving the first-sample data.
-  void scale(float w);
+  // Scales the summed terms (of the kept `passes`) by w (1 / samples), leaving the
+  // first-sample data.
+  void scale(float w, uint32_t passes);
 };
 
 // What one node of a ray tree (a ray's surface hit) adds by itself, as the kernel split

@@ -72,7 +72,7 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
         // passes about 40 instructions per sample (callgrind, session 6).
         SampleRecord sample_record;
         s = shade(rays[static_cast<size_t>(k)], hit, counts, &sample_record);
-        record->add(sample_record);
+        record->add(sample_record, settings_.passes);
         if (first + k == 0) record->take_first(sample_record);
       }
       sum.radiance += s.radiance;
@@ -82,7 +82,7 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   // The average of the samples (box filter).
   const float w = 1.0f / static_cast<float>(samples);
   if (weights != nullptr) weights->assign(static_cast<size_t>(samples), w);
-  if (record != nullptr) record->scale(w);
+  if (record != nullptr) record->scale(w, settings_.passes);
   return {sum.radiance * w, sum.alpha * w};
 }
 
@@ -179,9 +179,9 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
       mean.alpha += 0.25f * corners[i].alpha;
       // A corner's share of the pixel: a quarter of this square's area.
       if (weights != nullptr) (*weights)[ids[i]] += 0.25f * size * size;
-      if (recording) out->add(*records[i]);
+      if (recording) out->add(*records[i], settings_.passes);
     }
-    if (recording) out->scale(0.25f);
+    if (recording) out->scale(0.25f, settings_.passes);
     return mean;
   }
   const float h = 0.5f * size;
@@ -220,9 +220,9 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
                                recording ? &*quadrant : nullptr);
     mean.radiance += 0.25f * s.radiance;
     mean.alpha += 0.25f * s.alpha;
-    if (recording) out->add(*quadrant);
+    if (recording) out->add(*quadrant, settings_.passes);
   }
-  if (recording) out->scale(0.25f);
+  if (recording) out->scale(0.25f, settings_.passes);
   return mean;
 }
 
