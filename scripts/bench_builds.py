@@ -1,8 +1,14 @@
 """Constant materials traced by two builds of whitted_native side by side: the issue-12
 cost clause ("a scene whose materials are constants traces no slower than today") against
-a build from before shader programs.
+a build from before shader programs, and issue 13's (no pass enabled, trace time
+unchanged) against a build from before passes.
 
-    .venv/bin/python scripts/bench_builds.py OLD_ADDON_DIR NEW_ADDON_DIR [--rounds 8]
+    .venv/bin/python scripts/bench_builds.py OLD_ADDON_DIR NEW_ADDON_DIR [--rounds 8] \
+        [--json FILE --old-label TEXT --new-label TEXT]
+
+--json writes the figures, the command and the machine to FILE for a page's generator
+(scripts/passes_page.py reads docs/images/passes/builds.json), the labels saying what
+each build is (its commit).
 
 Each build's module is loaded in its own process (one whitted_native per process), the
 two alternating for --rounds rounds; each process renders the scene three times and
@@ -10,17 +16,24 @@ keeps its best trace time. The scene is built through the bindings only, with wh
 builds accept: 64 smooth spheres (48 x 24 quads) on a floor, Lambert + Phong constants,
 one sun, 480x270, 3x3 samples per pixel, 2 threads. Prints each build's best and median
 trace seconds, its rays and the image mean (the same scene must give the same image),
-the ratio new / old, and the load average.
+the ratio new / old of the best times and the rounds' paired ratios (median [min..max])
+of the best trace and of the best CPU seconds (every thread of the process), and the
+load average.
 """
 
 import argparse
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
+import time
+from pathlib import Path
 
 import numpy as np
+from whitted_tools.pages import command_line, machine_lines
+from whitted_tools.timing import paired_ratios, spread_text
 
 REPEATS = 3
 
@@ -74,16 +87,21 @@ def trace_best(module_dir):
     to_world[:3, 3] = (0.0, -9.0, 6.5)
     scene.camera = wn.Camera(to_world=to_world, window=(-0.6, 0.6, -0.3375, 0.3375), clip_end=1e4)
     scene.background = (0.0, 0.0, 0.0)
-    best = math.inf
+    best, best_cpu = math.inf, math.inf
     for _ in range(REPEATS):
         job = wn.RenderJob(scene, wn.Settings(width=480, height=270, aa_samples=3, threads=2))
+        started = time.process_time()
         job.start()
         while not job.wait(1.0):
             pass
+        # CPU seconds of every thread of the process: they move less than the wall clock
+        # when other work shares the cores.
+        best_cpu = min(best_cpu, time.process_time() - started)
         image = job.image()
         best = min(best, job.stats()["trace_seconds"])
     rays = job.stats()["rays"]["total"]
-    print(json.dumps({"trace": best, "rays": rays, "mean": float(image[..., :3].mean())}))
+    mean = float(image[..., :3].mean())
+    print(json.dumps({"trace": best, "cpu": best_cpu, "rays": rays, "mean": mean}))
 
 
 def main():
@@ -94,6 +112,9 @@ def main():
     parser.add_argument("old", help="the folder holding the old build's whitted_native")
     parser.add_argument("new", help="the folder holding the new build's whitted_native")
     parser.add_argument("--rounds", type=int, default=8)
+    parser.add_argument("--json", type=Path, help="write the figures to this file")
+    parser.add_argument("--old-label", default="old", help="what the old build is")
+    parser.add_argument("--new-label", default="new", help="what the new build is")
     args = parser.parse_args()
     runs = {"old": [], "new": []}
     for _ in range(args.rounds):
@@ -101,17 +122,44 @@ def main():
             command = [sys.executable, __file__, "--trace", getattr(args, name)]
             output = subprocess.run(command, capture_output=True, text=True, check=True).stdout
             runs[name].append(json.loads(output.splitlines()[-1]))
-    best = {}
+    figures = {}
     for name, results in runs.items():
-        times = sorted(r["trace"] for r in results)
-        best[name] = times[0]
+        times = [r["trace"] for r in results]
+        figures[name] = {
+            "label": getattr(args, f"{name}_label"),
+            "best": min(times),
+            "median": statistics.median(times),
+            "rays": results[0]["rays"],
+            "image_mean": results[0]["mean"],
+        }
         print(
-            f"{name} ({getattr(args, name)}): best {times[0]:.3f} s, median "
-            f"{times[len(times) // 2]:.3f} s, rays {results[0]['rays']}, image mean "
+            f"{name} ({getattr(args, name)}): best {min(times):.3f} s, median "
+            f"{statistics.median(times):.3f} s, rays {results[0]['rays']}, image mean "
             f"{results[0]['mean']:.6f}"
         )
-    print(f"new / old: best {best['new'] / best['old']:.3f}")
+    paired = paired_ratios([r["trace"] for r in runs["new"]], [r["trace"] for r in runs["old"]])
+    paired_cpu = paired_ratios([r["cpu"] for r in runs["new"]], [r["cpu"] for r in runs["old"]])
+    best = figures["new"]["best"] / figures["old"]["best"]
+    print(
+        f"new / old: best {best:.3f}, paired rounds {spread_text(paired)}, CPU seconds "
+        f"paired {spread_text(paired_cpu)}"
+    )
     print("load average (1, 5, 15 min): " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    if args.json:
+        record = {
+            "command": command_line(python=".venv/bin/python"),
+            "rounds": args.rounds,
+            "builds": figures,
+            "best_ratio": best,
+            "paired_ratios": paired,
+            "paired_text": spread_text(paired),
+            "paired_cpu_ratios": paired_cpu,
+            "paired_cpu_text": spread_text(paired_cpu),
+            "machine": machine_lines(),
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(record, indent=2) + "\n")
+        print(f"wrote {args.json}")
 
 
 if __name__ == "__main__":

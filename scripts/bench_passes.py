@@ -1,6 +1,7 @@
 """What render passes cost (docs/PASSES.md): the demo scene traced with no extra pass,
-with the data passes, with the light passes and with every pass (the per-depth passes
-and Cut Weight too), interleaved in one run; trace time from each render's stats.
+with Depth alone, with the data passes, with the light passes, with the Whitted ones
+(the per-depth passes and Cut Weight) and with every pass, interleaved in one run;
+trace time from each render's stats.
 
     .venv/bin/python scripts/bench_passes.py --out docs          (bpy 5.0 module)
     blender -b --factory-startup --python-exit-code 1 \\
@@ -9,12 +10,14 @@ and Cut Weight too), interleaved in one run; trace time from each render's stats
 Writes OUT/images/passes/cost-blender-X.Y.json (scripts/passes_page.py puts the
 figures of every Blender that ran this on the page). Renders without passes run the
 kernels compiled without a pass recorder; any pass switches the render to the ones
-with it (native/src/integrator/passes.h).
+with it, whose recorder fills only what the enabled groups of passes read
+(native/src/integrator/passes.h).
 """
 
 import argparse
 import json
 import os
+import time
 
 import bpy
 from whitted_tools import demo_scene
@@ -27,7 +30,7 @@ WIDTH, HEIGHT = 480, 360
 AA_SAMPLES = 2
 REPEATS = 9
 CONTRIBUTION_DEPTH = 3
-VARIANTS = ("none", "data", "light", "all")
+VARIANTS = ("none", "depth", "data", "light", "whitted", "all")
 COMMANDS = (
     ".venv/bin/python scripts/bench_passes.py --out docs",
     "blender -b --factory-startup --python-exit-code 1 --python scripts/bench_passes.py "
@@ -53,25 +56,36 @@ def build_scene():
 
 
 def set_passes(view_layer, variant):
-    """Switch on the passes of `variant`: none, the Data panel's, the Light panel's, or
-    every pass of result.PASSES with the per-depth passes (Whitted Rays stays on: it is
-    the ray cost every render counts)."""
+    """Switch on the passes of `variant`: none, Depth alone, the Data panel's, the Light
+    panel's, the Whitted panel's (Cut Weight and the per-depth passes), or every pass of
+    result.PASSES with the per-depth passes (Whitted Rays stays on: it is the ray cost
+    every render counts)."""
     from whitted import result
 
     for spec in result.PASSES:
         if not spec.toggle or spec.source == "rays":
             continue
-        wanted = variant == "all" or spec.panel.lower() == variant
+        wanted = (
+            variant == "all"
+            or spec.panel.lower() == variant
+            or (variant == "depth" and spec.source == "depth")
+        )
         owner, _, prop = spec.toggle.rpartition(".")
         setattr(view_layer.whitted if owner else view_layer, prop, wanted)
-    view_layer.whitted.use_pass_contributions = variant == "all"
+    view_layer.whitted.use_pass_contributions = variant in ("whitted", "all")
     view_layer.whitted.contribution_depth = CONTRIBUTION_DEPTH
 
 
 def trace_seconds(scene):
+    """(trace seconds, CPU seconds of the whole render, rays, passes written) of one
+    render. The CPU seconds (every thread of this process, the export and the write-back
+    of the passes included) move less than the wall clock when other work shares the
+    cores."""
+    started = time.process_time()
     bpy.ops.render.render()
+    cpu = time.process_time() - started
     stats = json.loads(scene.whitted.last_stats)
-    return stats["phases"]["trace"], stats["rays"]["total"], len(stats["passes"])
+    return stats["phases"]["trace"], cpu, stats["rays"]["total"], len(stats["passes"])
 
 
 def main():
@@ -79,12 +93,14 @@ def main():
     scene = build_scene()
     view_layer = scene.view_layers[0]
     times = {name: [] for name in VARIANTS}
+    cpu = {name: [] for name in VARIANTS}
     rays, passes = {}, {}
     for _ in range(args.repeats):
         for name in VARIANTS:
             set_passes(view_layer, name)
-            seconds, rays[name], passes[name] = trace_seconds(scene)
+            seconds, cpu_seconds, rays[name], passes[name] = trace_seconds(scene)
             times[name].append(seconds)
+            cpu[name].append(cpu_seconds)
     median = {name: median_or_none(values) for name, values in times.items()}
     best = {name: min(values) for name, values in times.items()}
     result = {
@@ -94,6 +110,10 @@ def main():
         "contribution_depth": CONTRIBUTION_DEPTH,
         "repeats": args.repeats,
         "trace_seconds": times,
+        "cpu_seconds": cpu,
+        "cpu_median_over_none": {
+            name: median_or_none(cpu[name]) / median_or_none(cpu["none"]) for name in VARIANTS
+        },
         "median": median,
         "best": best,
         "rays": rays,
@@ -113,7 +133,7 @@ def main():
         print(
             f"bench_passes: {name}: {passes[name]} passes, median trace {median[name]:.3f} s "
             f"(best {best[name]:.3f} s, {result['median_over_none'][name]:.3f}x), "
-            f"rays {rays[name]}"
+            f"render CPU {result['cpu_median_over_none'][name]:.3f}x, rays {rays[name]}"
         )
     print(f"bench_passes: {machine_lines()[-1][2:]}; wrote {path}")
 

@@ -219,14 +219,19 @@ def main():
     picture(tinted, "color").save(images / "composite_tint.png")
 
     costs = [json.loads(path.read_text()) for path in sorted(images.glob("cost-blender-*.json"))]
+    builds = images / "builds.json"
+    costs_of_builds = json.loads(builds.read_text()) if builds.exists() else None
     print(
         f"passes_page: max |recombined - Combined| {error_light:.2e}, depth passes summed "
         f"{error_depth:.2e}, compositor rebuild {error_node:.2e}"
     )
-    write_page(args.out, page(passes, error_light, error_depth, error_node, costs, blender_version))
+    write_page(
+        args.out,
+        page(passes, error_light, error_depth, error_node, costs, costs_of_builds, blender_version),
+    )
 
 
-def page(passes, error_light, error_depth, error_node, costs, blender_version):
+def page(passes, error_light, error_depth, error_node, costs, builds, blender_version):
     h, w = passes["Combined"].shape[:2]
     lines = [
         "# Render passes",
@@ -301,6 +306,8 @@ def page(passes, error_light, error_depth, error_node, costs, blender_version):
         "",
         *cost_lines(costs),
         "",
+        *builds_lines(builds),
+        "",
         "Machine when this page was written:",
         "",
         *machine_lines(),
@@ -310,9 +317,11 @@ def page(passes, error_light, error_depth, error_node, costs, blender_version):
 
 VARIANT_LABELS = {
     "none": "no extra pass",
+    "depth": "Depth alone",
     "data": "the Data passes",
     "light": "the Light passes",
-    "all": "every pass (and the per-depth passes, Cut Weight)",
+    "whitted": "the Whitted passes (per-depth, Cut Weight)",
+    "all": "every pass",
 }
 
 
@@ -325,8 +334,11 @@ def cost_lines(costs):
         f"`{first['commands'][0]}` (and `{first['commands'][1]}`): the demo scene at "
         f"{first['resolution'][0]}x{first['resolution'][1]}, {first['aa_samples']}x"
         f"{first['aa_samples']} samples, the variants in turns ({first['repeats']} renders "
-        "each), trace time from each render's statistics. Without passes a render runs the "
-        "kernels compiled without a pass recorder; any pass switches it to those with one.",
+        "each), trace time from each render's statistics and the CPU seconds of the whole "
+        "render (every thread; export and write-back too, medians). Without passes a render "
+        "runs the kernels compiled without a pass recorder; any pass switches it to those with "
+        "one, "
+        "whose recorder fills only what the enabled groups of passes read.",
         "",
     ]
     header = ["variant", "passes written"]
@@ -338,10 +350,16 @@ def cost_lines(costs):
                 f"{cost['median'][name]:.3f}",
                 f"{cost['median_over_none'][name]:.2f}x",
                 f"{cost['best_over_none'][name]:.2f}x",
+                f"{cost['cpu_median_over_none'][name]:.2f}x",
             ]
         rows.append(row)
     for cost in costs:
-        header += [f"median trace (s), {cost['blender']}", "/ no pass", "best / best no pass"]
+        header += [
+            f"median trace (s), {cost['blender']}",
+            "/ no pass",
+            "best / best no pass",
+            "render CPU / no pass",
+        ]
     lines += table(header, rows)
     for cost in costs:
         lines += ["", f"Blender {cost['blender']}'s run:", "", *cost["machine"]]
@@ -351,6 +369,44 @@ def cost_lines(costs):
         "are noisy; the ratios, taken in turns in one run, are what to read.",
     ]
     return lines
+
+
+def builds_lines(builds):
+    """No pass enabled against the build before passes existed (scripts/bench_builds.py
+    --json images/passes/builds.json)."""
+    if builds is None:
+        return ["Against the build before passes: not measured yet (scripts/bench_builds.py)."]
+    old, new = builds["builds"]["old"], builds["builds"]["new"]
+    same = old["rays"] == new["rays"] and old["image_mean"] == new["image_mean"]
+    return [
+        "**No pass enabled, against the build before passes existed**: "
+        f"`{builds['command']}` traces one scene (64 spheres on a floor, constant "
+        "materials, 480x270, 3x3 samples, 2 threads, no pass) with each build's module "
+        f"in turns, {builds['rounds']} rounds of a process per build that keeps the best "
+        f"of 3 renders. Old: {old['label']}; new: {new['label']}.",
+        "",
+        *table(
+            ["build", "best trace (s)", "median trace (s)", "rays", "image mean"],
+            [
+                [
+                    b["label"],
+                    f"{b['best']:.3f}",
+                    f"{b['median']:.3f}",
+                    b["rays"],
+                    f"{b['image_mean']:.6f}",
+                ]
+                for b in (old, new)
+            ],
+            align="lrrrr",
+        ),
+        "",
+        f"New / old: best trace {builds['best_ratio']:.3f}, the rounds' paired ratios "
+        f"{builds['paired_text']} (median [min..max]) of the trace and "
+        f"{builds['paired_cpu_text']} of the CPU seconds (every thread); "
+        + ("the same rays and image." if same else "**the rays or the image differ**."),
+        "",
+        *builds["machine"],
+    ]
 
 
 if __name__ == "__main__":
