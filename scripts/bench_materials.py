@@ -11,7 +11,6 @@ Writes OUT/images/materials/cost-blender-X.Y.json and rewrites OUT/MATERIALS.md
 (scripts/gallery_materials.py shows the figures of every Blender that ran this).
 """
 
-import argparse
 import json
 import os
 
@@ -21,7 +20,7 @@ import bpy
 import numpy as np
 from whitted_tools import material_scenes, shader_graphs
 from whitted_tools.blender import factory_scene
-from whitted_tools.cli import script_args
+from whitted_tools.cli import page_parser, script_args
 from whitted_tools.materials_page import write_markdown
 from whitted_tools.pages import machine_lines
 
@@ -38,10 +37,7 @@ COMMANDS = (
 
 
 def parse_args():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", required=True, help="the docs directory to write into")
-    parser.add_argument("--repeats", type=int, default=REPEATS)
-    return parser.parse_args(script_args())
+    return page_parser(__doc__, REPEATS).parse_args(script_args())
 
 
 def build_scene():

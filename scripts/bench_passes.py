@@ -14,7 +14,6 @@ with it, whose recorder fills only what the enabled groups of passes read
 (native/src/integrator/passes.h).
 """
 
-import argparse
 import json
 import os
 import time
@@ -22,7 +21,7 @@ import time
 import bpy
 from whitted_tools import demo_scene
 from whitted_tools.blender import factory_scene
-from whitted_tools.cli import script_args
+from whitted_tools.cli import page_parser, script_args
 from whitted_tools.pages import machine_lines
 from whitted_tools.timing import median_or_none
 
@@ -39,10 +38,7 @@ COMMANDS = (
 
 
 def parse_args():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", required=True, help="the docs directory to write into")
-    parser.add_argument("--repeats", type=int, default=REPEATS)
-    return parser.parse_args(script_args())
+    return page_parser(__doc__, REPEATS).parse_args(script_args())
 
 
 def build_scene():

@@ -12,7 +12,6 @@ settings and measures are those of tests/blender/test_cycles_lights.py
 (tests/blender/cycles_scenes.py), rendered --scale times larger.
 """
 
-import argparse
 import json
 import os
 import sys
@@ -22,7 +21,7 @@ import bpy
 import numpy as np
 from whitted_tools import REPO
 from whitted_tools.blender import factory_scene
-from whitted_tools.cli import script_args
+from whitted_tools.cli import page_parser, script_args
 
 # tests/blender/cycles_scenes.py is still a test module (another change is moving the
 # Cycles comparison scenes); it is found through this one path until it is in the
@@ -40,8 +39,7 @@ COMMANDS = (
 
 
 def parse_args():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", required=True, help="the docs directory to write into")
+    parser = page_parser(__doc__)
     parser.add_argument(
         "--scale", type=int, default=4, help="image size as a multiple of the tests' 64 x 48"
     )

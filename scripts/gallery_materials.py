@@ -20,7 +20,6 @@ per-pixel luminance ratio Whitted / Cycles over the subject's pixels (the floor 
 out) that both show covered and Cycles shows lit.
 """
 
-import argparse
 import json
 import math
 import os
@@ -34,7 +33,7 @@ import numpy as np
 from mathutils import Vector
 from whitted_tools import shader_graphs
 from whitted_tools.blender import enable_addon, factory_scene
-from whitted_tools.cli import script_args
+from whitted_tools.cli import page_parser, script_args
 from whitted_tools.material_scenes import (
     add_camera,
     add_floor,
@@ -61,8 +60,7 @@ GAP = 4
 
 
 def parse_args():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", required=True, help="the docs directory to write into")
+    parser = page_parser(__doc__)
     parser.add_argument("--only", nargs="*", help="scene names to render")
     return parser.parse_args(script_args())
 

@@ -4,7 +4,7 @@ arguments a script is given."""
 import pytest
 from whitted_tools import REPO
 from whitted_tools.blender import blender_command, bpy_command
-from whitted_tools.cli import script_args
+from whitted_tools.cli import page_parser, script_args
 from whitted_tools.pages import (
     command_line,
     num,
@@ -84,3 +84,15 @@ def test_blender_commands():
         "--blend",
         "f.blend",
     ]
+
+
+def test_page_parser_takes_out_and_the_repeats_it_is_given():
+    doc = "Writes a page.\n\nMore words."
+    parser = page_parser(doc, repeats=9)
+    assert parser.description == "Writes a page."
+    args = parser.parse_args(["--out", "docs"])
+    assert (args.out, args.repeats) == ("docs", 9)
+    assert parser.parse_args(["--out", "d", "--repeats", "3"]).repeats == 3
+    assert not hasattr(page_parser(doc).parse_args(["--out", "d"]), "repeats")
+    with pytest.raises(SystemExit):
+        page_parser(doc).parse_args([])  # --out is required

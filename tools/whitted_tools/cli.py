@@ -1,5 +1,6 @@
 """The command-line arguments of a script, wherever it runs."""
 
+import argparse
 import importlib.util
 import os
 import sys
@@ -16,6 +17,18 @@ def script_args(argv=None):
     if "--" in argv:
         return argv[argv.index("--") + 1 :]
     return [] if inside_blender_binary(argv) else argv[1:]
+
+
+def page_parser(doc, repeats=None):
+    """The argument parser of a script that writes a docs page: described by the first
+    paragraph of its docstring `doc`, with --out (the docs directory, required) and, when
+    `repeats` is given, --repeats (default `repeats`). The script adds its own arguments
+    and parses script_args()."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--out", required=True, help="the docs directory to write into")
+    if repeats is not None:
+        parser.add_argument("--repeats", type=int, default=repeats)
+    return parser
 
 
 def inside_blender_binary(argv=None):
