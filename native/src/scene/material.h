@@ -55,8 +55,8 @@ struct MaterialParams {
   Color specular{0.0f};        // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
   float shininess = 50.0f;     // Phong exponent f
   float ambient = 1.0f;        // ka: the ambient term is ka * Ia * kd
-  Color reflectivity{0.0f};    // sigma_r: weight of the mirror-reflected ray
-  Color transmissivity{0.0f};  // sigma_t: weight of the refracted ray
+  Color reflectivity{0.0f};    // sigma_r before the Fresnel split (whitted.cpp)
+  Color transmissivity{0.0f};  // sigma_t before the Fresnel split
   float ior = 1.5f;            // index of refraction inside the surface (outside: 1)
   Color emission{0.0f};        // radiance added as is
   float alpha = 1.0f;          // coverage: 1 opaque, 0 invisible (cut-outs)
