@@ -58,6 +58,7 @@ PROGRAM_FIELDS = (
     "coat_reflectivity",
     "coat_shininess",
     "coat_ior",
+    "diffuse_roughness",
 )
 
 
@@ -81,10 +82,17 @@ class MaterialData:
     coat_reflectivity: float = 0.0
     coat_shininess: float = 1000.0
     coat_ior: float = 1.5
+    # The coat takes its share from the layers beneath (Cycles 4.0 on); Cycles 3.x's
+    # Principled adds its specular and Clearcoat on top.
+    coat_layered: bool = True
     # Cycles 3.x turns a mapped normal so the view's mirror stays above the surface.
     valid_reflection: bool = False
     # How the diffuse lobe under a mapped normal fades (native BumpShadowing's name).
     bump_shadowing: str = "NONE"
+    # The diffuse lobe's shape (native DiffuseModel's name): "BURLEY" for Cycles 3.x's
+    # Principled BSDF, shaped by its roughness `diffuse_roughness`.
+    diffuse_model: str = "LAMBERT"
+    diffuse_roughness: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -163,7 +171,8 @@ def map_material(material, warnings, programs=False):
         return MaterialExport(_BLACK)
     found = []
     lowering = Lowering(owner, found)
-    fields = finish(lowering, surface(lowering, output_node))
+    closure = surface(lowering, output_node)
+    fields = finish(lowering, closure)
     exported = _fixed(fields, lowering)
     if exported is None and programs:
         exported = _programmed(fields, lowering, _bump_shadowing(material))
@@ -181,6 +190,12 @@ def map_material(material, warnings, programs=False):
         )
     for message in found:
         _warn(warnings, message)
+    # Where a Cycles 3.x Principled BSDF has a say (the coverage of its Burley diffuse
+    # lobe): that lobe, and its specular and Clearcoat added on top of it, not layered.
+    burley = closure.weights["diffuse_roughness"]
+    if not (burley.is_const and burley.value[0] == 0.0):
+        data = replace(exported.data, diffuse_model="BURLEY", coat_layered=False)
+        exported = replace(exported, data=data)
     return exported
 
 
@@ -285,6 +300,7 @@ def _material_data(values, **textures):
         coat_reflectivity=values["coat_reflectivity"][0],
         coat_shininess=values["coat_shininess"][0],
         coat_ior=values["coat_ior"][0],
+        diffuse_roughness=values["diffuse_roughness"][0],
         **textures,
     )
 

@@ -26,6 +26,7 @@ def native_material(native, material):
     # export.material.MaterialExport as a native.Material, with its shader program.
     fields = asdict(material.data)
     fields["bump_shadowing"] = getattr(native.BumpShadowing, material.data.bump_shadowing)
+    fields["diffuse_model"] = getattr(native.DiffuseModel, material.data.diffuse_model)
     if material.program is not None:
         fields["program"] = native_program(native, material.program)
         fields["outputs"] = dict(material.outputs)

@@ -40,6 +40,12 @@ void bind_material(py::module_& m) {
       .value("SMOOTH_SIDE", BumpShadowing::kSmoothSide)
       .value("CHIANG", BumpShadowing::kChiang)
       .value("MICROFACET", BumpShadowing::kMicrofacet);
+  py::enum_<DiffuseModel>(m, "DiffuseModel",
+                          "The shape of the diffuse lobe: LAMBERT, or BURLEY (Burley's diffuse "
+                          "with retro-reflection, shaped by diffuse_roughness: Cycles 3.x's "
+                          "Principled BSDF).")
+      .value("LAMBERT", DiffuseModel::kLambert)
+      .value("BURLEY", DiffuseModel::kBurley);
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
                        Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,
@@ -47,7 +53,8 @@ void bind_material(py::module_& m) {
                        std::shared_ptr<Program> program,
                        const std::map<std::string, int64_t>& outputs, float coat_specular,
                        float coat_reflectivity, float coat_shininess, float coat_ior,
-                       bool valid_reflection, BumpShadowing bump_shadowing, int32_t pass_index) {
+                       bool coat_layered, bool valid_reflection, BumpShadowing bump_shadowing,
+                       DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
@@ -63,8 +70,11 @@ void bind_material(py::module_& m) {
                                             .coat_reflectivity = coat_reflectivity,
                                             .coat_shininess = coat_shininess,
                                             .coat_ior = coat_ior,
+                                            .coat_layered = coat_layered,
                                             .valid_reflection = valid_reflection,
                                             .bump_shadowing = bump_shadowing,
+                                            .diffuse_model = diffuse_model,
+                                            .diffuse_roughness = diffuse_roughness,
                                             .diffuse_texture = std::move(diffuse_texture),
                                             .alpha_texture = std::move(alpha_texture),
                                             .program = std::move(program),
@@ -80,16 +90,20 @@ void bind_material(py::module_& m) {
            py::arg("coat_specular") = defaults.coat_specular,
            py::arg("coat_reflectivity") = defaults.coat_reflectivity,
            py::arg("coat_shininess") = defaults.coat_shininess,
-           py::arg("coat_ior") = defaults.coat_ior,
+           py::arg("coat_ior") = defaults.coat_ior, py::arg("coat_layered") = defaults.coat_layered,
            py::arg("valid_reflection") = defaults.valid_reflection,
            py::arg("bump_shadowing") = defaults.bump_shadowing,
+           py::arg("diffuse_model") = defaults.diffuse_model,
+           py::arg("diffuse_roughness") = defaults.diffuse_roughness,
            py::arg("pass_index") = defaults.pass_index,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
-           "coat_shininess, coat_ior, coat_normal); the other fields keep the constants given "
+           "coat_shininess, coat_ior, coat_normal, diffuse_roughness); the other fields keep the "
+           "constants given "
            "here. coat_*: a clear layer on top whose highlight and mirror weights are scaled by "
-           "the dielectric Fresnel factor of coat_ior per hit; the rest lights the base.")
+           "the dielectric Fresnel factor of coat_ior per hit; the rest lights the base (with "
+           "coat_layered; without it the coat is added on top, as Cycles 3.x does).")
       .def_readonly("diffuse", &Material::diffuse)
       .def_readonly("specular", &Material::specular)
       .def_readonly("shininess", &Material::shininess)
@@ -103,10 +117,13 @@ void bind_material(py::module_& m) {
       .def_readonly("coat_reflectivity", &Material::coat_reflectivity)
       .def_readonly("coat_shininess", &Material::coat_shininess)
       .def_readonly("coat_ior", &Material::coat_ior)
+      .def_readonly("coat_layered", &Material::coat_layered)
       .def_readonly("valid_reflection", &Material::valid_reflection,
                     "Cycles 3.x: turn a program's normal so the view's mirror stays above "
                     "the surface.")
       .def_readonly("bump_shadowing", &Material::bump_shadowing)
+      .def_readonly("diffuse_model", &Material::diffuse_model)
+      .def_readonly("diffuse_roughness", &Material::diffuse_roughness)
       .def_readonly("priority", &Material::priority,
                     "Nested dielectrics: where two transmissive objects overlap, the higher "
                     "priority owns the overlap (ties: the one entered last).")

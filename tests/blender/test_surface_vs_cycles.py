@@ -78,3 +78,65 @@ def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, na
     error = np.abs(got / expected - 1.0)
     print(f"\nglossy dielectric: median |Whitted / Cycles - 1| {np.median(error):.3f}")
     assert np.median(error) < 0.03
+
+
+# (roughness, Specular / Specular IOR Level): a rough diffuse (3.x: Burley's lobe and its
+# retro-reflection) and a sharp glossy dielectric over a diffuse base (3.x adds the
+# specular layer on top; 4.x+ layers it, taking its Fresnel share from the base).
+PRINCIPLED_UNDER_SUN = [(1.0, 0.0), (0.6, 0.0), (0.0, 0.5)]
+
+
+@pytest.mark.parametrize("roughness, specular", PRINCIPLED_UNDER_SUN)
+def test_principled_diffuse_under_a_sun_as_cycles(
+    roughness, specular, empty_scene, tmp_path, native
+):
+    # A smooth sphere under a sun seen along a side, black world: every pixel's light
+    # and view angles differ. Cycles' direct light is deterministic here (a sun of angle
+    # 0, a centre-point filter), so each pixel is compared with its own.
+    import bpy
+    from cycles_scenes import render_rgba, set_cycles_direct_light
+
+    scene = empty_scene
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    world = bpy.data.worlds.new("Black")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    scene.world = world
+    material = bpy.data.materials.new("Principled")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.5, 0.4, 0.3, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    level = "Specular" if "Specular" in bsdf.inputs else "Specular IOR Level"
+    bsdf.inputs[level].default_value = specular
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=96, ring_count=48)
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(material)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 2.2
+    camera.location = (0.0, -5.0, 0.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 3.0
+    sun.data.angle = 0.0
+    sun.rotation_euler = (math.radians(45.0), 0.0, math.radians(-40.0))
+    scene.collection.objects.link(sun)
+    set_cycles_direct_light(scene, samples=4)
+    scene.whitted.aa_samples = 1
+    scene.whitted.max_depth = 1
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "principled_cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "principled_whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 0.01)
+    assert lit.sum() > 400
+    ratio = whitted[lit][:, :3] / cycles[lit][:, :3]
+    low, high = np.percentile(ratio, [2, 98])
+    print(f"\nroughness {roughness}, specular {specular}: Whitted / Cycles {low:.4f}..{high:.4f}")
+    assert low > 0.99 and high < 1.01

@@ -34,6 +34,9 @@ TEST(Material, ConstructorRefusesWhatCannotBeAMaterial) {
   EXPECT_EQ(refusal({.alpha = nan}), "alpha must be finite");
   EXPECT_EQ(refusal({.coat_shininess = inf}), "coat values must be finite");
   EXPECT_EQ(refusal({.coat_ior = -1.0f}), "coat_ior must be positive");
+  EXPECT_EQ(refusal({.diffuse_model = static_cast<DiffuseModel>(7)}),
+            "diffuse_model is not a DiffuseModel");
+  EXPECT_EQ(refusal({.diffuse_roughness = nan}), "diffuse_roughness must be finite");
   MaterialParams driven;
   driven.outputs[kAlphaField] = 0;
   EXPECT_EQ(refusal(driven), "material outputs need a program");
@@ -51,9 +54,29 @@ TEST(Material, ConstructorChecksOutputsAgainstTheProgramsRegisters) {
   EXPECT_EQ(refusal(params), "output 'ior' register 2 out of range (2 registers)");
 }
 
-TEST(Material, ConstructorClampsAlpha) {
+TEST(Material, ConstructorClampsAlphaAndDiffuseRoughness) {
   EXPECT_EQ(Material({.alpha = 3.0f}).alpha, 1.0f);
   EXPECT_EQ(Material({.alpha = -1.0f}).alpha, 0.0f);
+  EXPECT_EQ(Material({.diffuse_roughness = 2.0f}).diffuse_roughness, 1.0f);
+  EXPECT_EQ(Material({.diffuse_roughness = -1.0f}).diffuse_roughness, 0.0f);
+}
+
+// Burley's diffuse shape by hand: Schlick weights F = (1 - cos)^5, R = r (1 + l.v),
+// (1 - F_l/2)(1 - F_v/2) + R (F_l + F_v + F_l F_v (R - 1)).
+TEST(Material, BurleyDiffuseShape) {
+  // Light and view along the normal: Lambert's lobe, whatever the roughness.
+  EXPECT_FLOAT_EQ(burley_diffuse(1.0f, 1.0f, 1.0f, 0.0f), 1.0f);
+  EXPECT_FLOAT_EQ(burley_diffuse(1.0f, 1.0f, 1.0f, 1.0f), 1.0f);
+  // Light at the horizon, smooth: half of Lambert's.
+  EXPECT_FLOAT_EQ(burley_diffuse(0.0f, 1.0f, 0.0f, 0.0f), 0.5f);
+  // Light at 60 degrees, view along the normal, rough: F_l = 1/32, R = 1.5,
+  // (1 - 1/64) + 1.5/32.
+  EXPECT_FLOAT_EQ(burley_diffuse(0.5f, 1.0f, 0.5f, 1.0f), 1.0f - 1.0f / 64.0f + 1.5f / 32.0f);
+  // Light and view both at the horizon, together (retro-reflection), rough: R = 2,
+  // 1/4 + 2 (1 + 1 + 1).
+  EXPECT_FLOAT_EQ(burley_diffuse(0.0f, 0.0f, 1.0f, 1.0f), 6.25f);
+  // Cosines beyond [0, 1] (rounding) count as their bound.
+  EXPECT_FLOAT_EQ(burley_diffuse(1.0000001f, -1e-7f, 0.0f, 0.0f), 0.5f);
 }
 
 }  // namespace

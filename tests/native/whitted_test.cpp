@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "scene_builders.h"
 
@@ -244,6 +246,64 @@ TEST(Whitted, AmbientAndBackground) {
   EXPECT_NEAR(hit.x, 0.8f * 0.1f * 0.5f, 1e-6f);
   EXPECT_NEAR(hit.z, 0.8f * 0.3f * 1.0f, 1e-6f);
   EXPECT_EQ(miss, scene.background());
+}
+
+// A floor under a sun, seen from many directions: a Burley material (Cycles 3.x's
+// Principled diffuse) is the Lambertian value times burley_diffuse of that pixel's
+// light and view; a coat added on top (not layered) leaves that diffuse as it is, and a
+// layered one takes the coat's Fresnel share from it.
+TEST(Whitted, BurleyDiffuseAndAnUnlayeredCoat) {
+  const Vec3 to_sun = glm::normalize(Vec3(0.6f, -0.3f, 0.5f));
+  const auto render = [&](const Material& m, std::vector<Ray>* rays) {
+    Scene scene;
+    add_object(&scene, "floor", quad(-40, 40, -40, 40, 0), m);
+    Light sun;
+    sun.type = LightType::kSun;
+    sun.color = Color(3.0f);  // irradiance, W/m^2
+    sun.direction = -to_sun;
+    scene.set_light("sun", sun);
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 1.0f), 2.0f);  // views to 63 degrees
+    scene.set_background(Color(0.0f));
+    const auto compiled = scene.compile();
+    const WhittedIntegrator integrator(*compiled, Settings{});
+    RayCounts counts;
+    std::vector<float> out;
+    const int n = 24;
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
+        if (rays != nullptr) rays->push_back(ray);
+        out.push_back(integrator.trace(ray, NodeState{}, &counts).x);
+      }
+    }
+    return out;
+  };
+  Material lambert;
+  lambert.diffuse = Color(0.6f);
+  lambert.ambient = 0.0f;
+  Material burley = lambert;
+  burley.diffuse_model = DiffuseModel::kBurley;
+  burley.diffuse_roughness = 0.8f;
+  std::vector<Ray> rays;
+  const std::vector<float> flat = render(lambert, &rays);
+  const std::vector<float> shaped = render(burley, nullptr);
+  Material coated = burley;  // a coat that mirrors the black background only
+  coated.coat_reflectivity = 1.0f;
+  coated.coat_layered = false;
+  const std::vector<float> unlayered = render(coated, nullptr);
+  coated.coat_layered = true;
+  const std::vector<float> layered = render(coated, nullptr);
+  float brightest = 0.0f;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Vec3 wo = -glm::normalize(rays[i].direction);
+    const float shape = burley_diffuse(to_sun.z, wo.z, glm::dot(to_sun, wo), 0.8f);
+    ASSERT_NEAR(shaped[i], flat[i] * shape, 1e-5f * flat[i]) << "pixel " << i;
+    EXPECT_EQ(unlayered[i], shaped[i]);
+    const float f = fresnel_exact(wo.z, 1.0f / 1.5f);
+    ASSERT_NEAR(layered[i], (1.0f - f) * shaped[i], 1e-5f * shaped[i]) << "pixel " << i;
+    brightest = std::max(brightest, shape);
+  }
+  EXPECT_GT(brightest, 1.05f);  // retro-reflection shows where the view nears the sun
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ FIELD_ORDER = (
     "coat_shininess",
     "coat_ior",
     "coat_normal",
+    "diffuse_roughness",
 )
 
 

@@ -36,8 +36,14 @@ LINEAR_FIELDS = (
     "coat_specular",
     "coat_reflectivity",
 )
-WEIGHTED_FIELDS = ("shininess", "ior", "coat_shininess", "coat_ior")
-DEFAULTS = {"shininess": 1.0, "ior": 1.45, "coat_shininess": 1.0, "coat_ior": 1.5}
+WEIGHTED_FIELDS = ("shininess", "ior", "coat_shininess", "coat_ior", "diffuse_roughness")
+DEFAULTS = {
+    "shininess": 1.0,
+    "ior": 1.45,
+    "coat_shininess": 1.0,
+    "coat_ior": 1.5,
+    "diffuse_roughness": 0.0,
+}
 
 # Phong exponents past this make highlights smaller than a pixel anyway.
 MAX_SHININESS = 10000.0
@@ -106,7 +112,7 @@ LUMINANCE = (0.2126, 0.7152, 0.0722)
 class Closure:
     coverage: object  # Expr, float
     fields: dict  # field -> Expr (colours; shininess and ior floats)
-    weights: dict  # "shininess" | "ior" -> Expr: the coverage that has an opinion
+    weights: dict  # a WEIGHTED_FIELDS name -> Expr: the coverage that has an opinion
     normal: object = None  # Expr (world vector) or None: the interpolated normal
     coat_normal: object = None  # the coat's, likewise
 
@@ -209,6 +215,7 @@ class ShaderLowering:
         refracts=False,
         coat=False,
         coat_normal=None,
+        burley=False,
         **fields,
     ):
         base = self.black()
@@ -221,6 +228,8 @@ class ShaderLowering:
             "ior": coverage if refracts else self.b.f(0.0),
             "coat_shininess": coverage if coat else self.b.f(0.0),
             "coat_ior": coverage if coat else self.b.f(0.0),
+            # A diffuse lobe shaped as Burley's (Cycles 3.x's Principled), by roughness.
+            "diffuse_roughness": coverage if burley else self.b.f(0.0),
         }
         return Closure(coverage, values, weights, normal, coat_normal)
 
@@ -403,6 +412,11 @@ def _principled(s, out):
     # The Principled BSDF emits Emission Color * Emission Strength as radiance.
     fields["emission"] = b.vmul(emission_color, strength)
     fields["ior"] = ior
+    # Cycles 3.x shapes the Principled diffuse lobe by roughness (Burley's diffuse with
+    # retro-reflection); 4.0 on, it is Lambert's.
+    burley = specular_socket is None or specular_socket.name == "Specular"
+    if burley:
+        fields["diffuse_roughness"] = b.clamp01(roughness)
     return s.closure(
         coverage=alpha,
         normal=s.normal(out),
@@ -410,6 +424,7 @@ def _principled(s, out):
         refracts=True,
         coat=coat is not None,
         coat_normal=coat_normal,
+        burley=burley,
         **fields,
     )
 

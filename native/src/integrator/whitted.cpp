@@ -73,7 +73,7 @@ struct ShadingPoint {
   Vec3 smooth;  // the interpolated normal on the ray's side (diffuse_shadowing)
   Vec3 wo;      // back along the ray
   Coat coat;
-  float base;        // 1 - coat.cover: what the coat lets through to the base
+  float base;        // 1 - coat.cover (1 if the coat is not layered): what reaches the base
   float phong_norm;  // (f+2)/(2pi), the normalisation of the Phong lobe
 };
 
@@ -81,7 +81,7 @@ struct ShadingPoint {
 // the pieces the sum, the passes and the inspector multiply out.
 struct LightTerms {
   float lit;   // (1 - coat) * max(0, n.l): the light the base receives
-  float fade;  // diffuse_shadowing: kd/pi * fade is the diffuse lobe
+  float fade;  // diffuse_fade: kd/pi * fade is the diffuse lobe
   float lobe;  // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
   float coat;  // the coat's highlight
 };
@@ -301,7 +301,7 @@ class Kernel {
     // Cycles does (diffuse_shadowing).
     const Vec3 smooth =
         glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
-    const float base = 1.0f - coat.cover;
+    const float base = it.material->coat_layered ? 1.0f - coat.cover : 1.0f;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
     return {it, surface, ng, ns, smooth, wo, coat, base, phong_norm};
   }
@@ -481,9 +481,20 @@ class Kernel {
   // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
   static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
     const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-    return {p.base * std::max(0.0f, cos_l),
-            diffuse_shadowing(p.it.material->bump_shadowing, p.smooth, p.ns, wi),
+    return {p.base * std::max(0.0f, cos_l), diffuse_fade(p, wi, cos_l),
             std::pow(v_dot_r, p.surface.shininess), coat_highlight(p.coat, p.wo, wi)};
+  }
+
+  // The diffuse lobe's factor for light from wi: Cycles' bump shadowing, times the
+  // lobe's shape where it is not Lambert's (Cycles 3.x's Principled BSDF).
+  static float diffuse_fade(const ShadingPoint& p, const Vec3& wi, float cos_l) {
+    const Material& m = *p.it.material;
+    float fade = diffuse_shadowing(m.bump_shadowing, p.smooth, p.ns, wi);
+    if (m.diffuse_model == DiffuseModel::kBurley) {
+      fade *= burley_diffuse(cos_l, glm::dot(p.ns, p.wo), glm::dot(wi, p.wo),
+                             p.surface.diffuse_roughness);
+    }
+    return fade;
   }
 
   // What of a light sample arrives: the shadow ray's transmittance. None is sent, and all

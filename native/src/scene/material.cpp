@@ -20,6 +20,13 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
   }
   if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
+  if (static_cast<uint32_t>(diffuse_model) > static_cast<uint32_t>(DiffuseModel::kBurley)) {
+    throw std::invalid_argument("diffuse_model is not a DiffuseModel");
+  }
+  if (!std::isfinite(diffuse_roughness)) {
+    throw std::invalid_argument("diffuse_roughness must be finite");
+  }
+  diffuse_roughness = std::clamp(diffuse_roughness, 0.0f, 1.0f);
   if (static_cast<uint32_t>(bump_shadowing) > static_cast<uint32_t>(BumpShadowing::kMicrofacet)) {
     throw std::invalid_argument("bump_shadowing is not a BumpShadowing");
   }

@@ -1,6 +1,7 @@
 // Whitted material parameters: Phong local term plus reflection and transmission weights.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -29,12 +30,14 @@ enum Field : uint32_t {
   kCoatShininessField,
   kCoatIorField,
   kCoatNormalField,
+  kDiffuseRoughnessField,
   kFieldCount,
 };
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
-    "diffuse",  "specular",   "shininess", "reflectivity",  "transmissivity",    "ior",
-    "emission", "alpha",      "normal",    "coat_specular", "coat_reflectivity", "coat_shininess",
-    "coat_ior", "coat_normal"};
+    "diffuse",        "specular",      "shininess",         "reflectivity",
+    "transmissivity", "ior",           "emission",          "alpha",
+    "normal",         "coat_specular", "coat_reflectivity", "coat_shininess",
+    "coat_ior",       "coat_normal",   "diffuse_roughness"};
 
 // How a diffuse lobe shaded with a program's normal (a normal map, a bump) fades where
 // that normal leans towards a light the smooth surface turns away from: Cycles' bump
@@ -46,6 +49,13 @@ enum class BumpShadowing : uint32_t {
   kChiang,      // Chiang, Li & Burley 2019, "Taming the Shadow Terminator" (Cycles 3.x)
   kMicrofacet,  // Conty Estevez, Lecocq & Stein 2019, a GGX shadowing term from the
                 // normal's tilt (Cycles 4.x+ with bump map correction on)
+};
+
+// The shape of the diffuse lobe kd/pi * E (l.n) * shape, by the BSDF it stands for.
+enum class DiffuseModel : uint32_t {
+  kLambert,  // shape 1: Lambert (Diffuse BSDF; Principled BSDF from Blender 4.0 on)
+  kBurley,   // Burley's diffuse with retro-reflection (burley_diffuse): Cycles 3.x's
+             // Principled BSDF, whose roughness shapes it
 };
 
 // A material as the exporter describes it. Material's constructor checks it; these
@@ -69,18 +79,24 @@ struct MaterialParams {
   float coat_reflectivity = 0.0f;  // weight of its mirror reflection
   float coat_shininess = 1000.0f;  // Phong exponent of its highlight
   float coat_ior = 1.5f;           // index of refraction of the coat (outside: 1)
+  // Whether what the coat reflects is taken from the light the layers beneath receive
+  // (Cycles 4.0 on); false: the coat is added on top of them, as Cycles 3.x's Principled
+  // BSDF adds its specular and Clearcoat lobes to its diffuse one.
+  bool coat_layered = true;
   // Cycles 3.x: a program's normal (a normal map, a bump) is turned towards the
   // geometric normal just enough that the view's mirror direction stays above the
   // surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for specular
   // lobes only, and Whitted then not at all).
   bool valid_reflection = false;
   BumpShadowing bump_shadowing = BumpShadowing::kNone;  // for a program's normal
-  std::string diffuse_texture{};  // multiplies `diffuse` by its RGB ("" for none)
-  std::string alpha_texture{};    // multiplies `alpha` by its A ("" for none)
+  DiffuseModel diffuse_model = DiffuseModel::kLambert;
+  float diffuse_roughness = 0.0f;  // what shapes a kBurley lobe, in [0, 1]
+  std::string diffuse_texture{};   // multiplies `diffuse` by its RGB ("" for none)
+  std::string alpha_texture{};     // multiplies `alpha` by its A ("" for none)
   // Fields a program computes per hit: the register holding each after the program, -1
   // for the constant above.
   std::shared_ptr<const Program> program{};
-  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1,
+  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1,
                                               -1, -1, -1, -1, -1, -1, -1};
 };
 
@@ -122,6 +138,26 @@ inline float diffuse_shadowing(BumpShadowing model, const Vec3& smooth, const Ve
                                const Vec3& wi) {
   if (model == BumpShadowing::kNone || n == smooth) return 1.0f;
   return tilted_diffuse_shadowing(model, smooth, n, wi);
+}
+
+// The shape of a kBurley diffuse lobe (Burley 2015, "Extending the Disney BRDF to a BSDF
+// with Integrated Subsurface Scattering", as Cycles 3.x's Principled BSDF evaluates it):
+// Lambert's lobe darkened where light arrives or leaves at grazing angles, by the Schlick
+// weights F = (1 - cos)^5, plus a retro-reflection that grows with roughness r and with
+// how close the light is to the view, R = r (1 + l.v):
+//   (1 - F_l/2) (1 - F_v/2) + R (F_l + F_v + F_l F_v (R - 1)).
+// cos_l = n.l, cos_v = n.v and l_dot_v = l.v, for unit vectors.
+inline float burley_diffuse(float cos_l, float cos_v, float l_dot_v, float roughness) {
+  const auto schlick_weight = [](float cosine) {
+    const float m = std::clamp(1.0f - cosine, 0.0f, 1.0f);
+    const float m2 = m * m;
+    return m2 * m2 * m;
+  };
+  const float f_l = schlick_weight(cos_l);
+  const float f_v = schlick_weight(cos_v);
+  const float retro = roughness * (1.0f + l_dot_v);
+  return (1.0f - 0.5f * f_l) * (1.0f - 0.5f * f_v) +
+         retro * (f_l + f_v + f_l * f_v * (retro - 1.0f));
 }
 
 }  // namespace whitted

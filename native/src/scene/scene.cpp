@@ -617,7 +617,8 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
                     m.emission,          m.alpha,
                     it.shading_normal,   m.coat_specular,
                     m.coat_reflectivity, m.coat_shininess,
-                    m.coat_ior,          it.shading_normal};
+                    m.coat_ior,          it.shading_normal,
+                    m.diffuse_roughness};
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
     const TexturePoint tp = texture_point(it);
     if (m.diffuse_texture_index >= 0) {
@@ -698,6 +699,10 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     if (m.driven(kCoatIorField)) {
       const float ior = field(kCoatIorField).x;
       if (ior > 0.0f && std::isfinite(ior)) out.coat_ior = ior;
+    }
+    if (m.driven(kDiffuseRoughnessField)) {
+      const float roughness = field(kDiffuseRoughnessField).x;  // NaN: the material's own
+      if (!std::isnan(roughness)) out.diffuse_roughness = std::clamp(roughness, 0.0f, 1.0f);
     }
   }
   out.alpha = std::isnan(out.alpha) ? 1.0f : std::clamp(out.alpha, 0.0f, 1.0f);

@@ -91,7 +91,8 @@ struct SurfaceParams {
   float coat_reflectivity;
   float coat_shininess;
   float coat_ior;
-  Vec3 coat_normal;  // as `normal`: the interpolated normal unless a program drives it
+  Vec3 coat_normal;         // as `normal`: the interpolated normal unless a program drives it
+  float diffuse_roughness;  // shapes a DiffuseModel::kBurley lobe; in [0, 1]
 };
 
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
