@@ -25,10 +25,11 @@ THIRD_PARTY = [
     {
         "scene": "box_textured",
         "file": "glTF2/BoxTextured-glTF/BoxTextured.gltf",
-        "differs": "3.4: the glTF default roughness 1 on a dielectric: Cycles 3.x's Disney "
-        "diffuse (retro-reflection) and its GGX lobe added on top against Lambert and a "
-        "Phong lobe of exponent 1 (Whitted darker; with Specular and Roughness set to "
-        "0 the two agree). 5.0 (Lambert, layered GGX) matches.",
+        "differs": "3.4: the glTF default roughness 1 on a dielectric. Cycles 3.x's "
+        "Burley diffuse (retro-reflection) is modelled since 9993313 (ratio 0.855 -> "
+        "0.946); what is left is likely its GGX lobe at roughness 1 added on top, whose "
+        "Fresnel factor rises towards grazing angles where Whitted's Phong lobe of "
+        "exponent 1 keeps F0. 5.0 (Lambert, layered GGX) matches.",
     },
     {
         "scene": "clearcoat_test",
@@ -43,8 +44,8 @@ THIRD_PARTY = [
         "scene": "texture_transform",
         "file": "glTF2/textureTransform/TextureTransformTest.gltf",
         "differs": "KHR_texture_transform (a Mapping node) renders as Cycles does; it was "
-        "falsely warned as not supported. 3.4's ratio: Disney diffuse and the added GGX "
-        "lobe at roughness 1, as box_textured.",
+        "falsely warned as not supported. 3.4's ratio: the added GGX lobe at roughness "
+        "1, as box_textured.",
     },
     {
         "scene": "two_cylinder_engine",
@@ -69,8 +70,10 @@ THIRD_PARTY = [
         "file": "Collada/duck.dae",
         "differs": "3.4 only (5.0 has no Collada importer). The importer makes a Principled "
         "of Metallic 0.5, Roughness 0.5: the metal half is a Phong lobe of exponent 30 "
-        "against Cycles 3.x's GGX one (Whitted darker over the whole body; the cause "
-        "is likely that lobe's shape and 3.x's Disney diffuse, not confirmed).",
+        "against Cycles' GGX lobe, whose long tails light most of the body where the "
+        "Phong lobe has fallen to almost nothing (seen on a metal sphere under a sun in "
+        "both Blenders); Whitted is darker over the whole body. Burley's diffuse, "
+        "modelled since 9993313, changed the ratio from 0.692 to 0.697.",
     },
 ]
 
@@ -83,9 +86,10 @@ KNOWN_DIFFERENCES = [
     "  lighter shadow than Cycles'. Cycles' glass keeps some noise at these samples.",
     "- **normal_mapped**: the diffuse lobe under the mapped normal fades towards the",
     "  plane's horizon as Cycles fades it (3.x: Chiang et al.'s bump shadowing term, 5.0:",
-    "  Conty Estevez et al.'s); without that Whitted was 28% too bright in 3.4. What is",
-    "  left in 3.4 is the Principled BSDF's own: Cycles 3.x's Disney diffuse and GGX",
-    "  highlight against Whitted's Lambert and Phong (a Diffuse BSDF plane matches).",
+    "  Conty Estevez et al.'s); without that Whitted was 28% too bright in 3.4. 3.4's",
+    "  Principled diffuse is Burley's, as Cycles 3.x's (ratio 0.963 -> 0.976); what is",
+    "  left is Cycles' GGX highlight against Whitted's Phong one (a Diffuse BSDF plane",
+    "  matches).",
     "- **bump_mapped** and **coat** are diffuse under their bumps and coats (no",
     "  specular layer of the base's own): a Phong highlight is not Cycles' GGX one",
     "  (see gltf_round_trip), and a rough coat does not blur what it reflects.",
