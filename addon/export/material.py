@@ -89,8 +89,9 @@ class MaterialData:
     valid_reflection: bool = False
     # How the diffuse lobe under a mapped normal fades (native BumpShadowing's name).
     bump_shadowing: str = "NONE"
-    # The diffuse lobe's shape (native DiffuseModel's name): "BURLEY" for Cycles 3.x's
-    # Principled BSDF, shaped by its roughness `diffuse_roughness`.
+    # The diffuse lobe's shape (native DiffuseModel's name): "LAMBERT"; "BURLEY" for
+    # Cycles 3.x's Principled BSDF, "OREN_NAYAR" for a rough Diffuse BSDF (and 4.3+'s
+    # Principled Diffuse Roughness), shaped per hit by `diffuse_roughness`.
     diffuse_model: str = "LAMBERT"
     diffuse_roughness: float = 0.0
 
@@ -190,12 +191,13 @@ def map_material(material, warnings, programs=False):
         )
     for message in found:
         _warn(warnings, message)
-    # Where a Cycles 3.x Principled BSDF has a say (the coverage of its Burley diffuse
-    # lobe): that lobe, and its specular and Clearcoat added on top of it, not layered.
-    burley = closure.weights["diffuse_roughness"]
-    if not (burley.is_const and burley.value[0] == 0.0):
-        data = replace(exported.data, diffuse_model="BURLEY", coat_layered=False)
-        exported = replace(exported, data=data)
+    if closure.diffuse_model is not None:
+        model = closure.diffuse_model
+        if model == "OREN_NAYAR" and bpy.app.version >= (4, 3, 0):
+            # Cycles 4.3 added Oren-Nayar's multiple scattering (read in 5.0's source;
+            # 4.0-4.2 were not rendered here).
+            model = "OREN_NAYAR_ENERGY"
+        exported = replace(exported, data=replace(exported.data, diffuse_model=model))
     return exported
 
 
@@ -301,6 +303,9 @@ def _material_data(values, **textures):
         coat_shininess=values["coat_shininess"][0],
         coat_ior=values["coat_ior"][0],
         diffuse_roughness=values["diffuse_roughness"][0],
+        # Cycles 3.x adds every lobe of a closure on top of the others (the Principled's
+        # specular and Clearcoat do not dim its diffuse); 4.0 on layers them.
+        coat_layered=bpy.app.version >= (4, 0, 0),
         **textures,
     )
 

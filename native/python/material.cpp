@@ -41,11 +41,14 @@ void bind_material(py::module_& m) {
       .value("CHIANG", BumpShadowing::kChiang)
       .value("MICROFACET", BumpShadowing::kMicrofacet);
   py::enum_<DiffuseModel>(m, "DiffuseModel",
-                          "The shape of the diffuse lobe: LAMBERT, or BURLEY (Burley's diffuse "
-                          "with retro-reflection, shaped by diffuse_roughness: Cycles 3.x's "
-                          "Principled BSDF).")
+                          "The shape of the diffuse lobe: LAMBERT; BURLEY (Burley's diffuse with "
+                          "retro-reflection: Cycles 3.x's Principled BSDF), OREN_NAYAR (a rough "
+                          "Diffuse BSDF) or OREN_NAYAR_ENERGY (with Cycles 4.3+'s multiple "
+                          "scattering), shaped by diffuse_roughness.")
       .value("LAMBERT", DiffuseModel::kLambert)
-      .value("BURLEY", DiffuseModel::kBurley);
+      .value("BURLEY", DiffuseModel::kBurley)
+      .value("OREN_NAYAR", DiffuseModel::kOrenNayar)
+      .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy);
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
                        Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,

@@ -382,11 +382,15 @@ def test_diffuse_bsdf_is_lambert(warnings):
     assert warnings == []
 
 
-def test_diffuse_roughness_warns(warnings):
+def test_rough_diffuse_bsdf_is_oren_nayar(warnings):
     material = node_material("Rough")
-    surface_shader(material, "ShaderNodeBsdfDiffuse", Roughness=0.5)
-    convert(material, warnings)
-    assert "Oren-Nayar" in warnings[0]
+    surface_shader(material, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.2, 0.1, 1.0), Roughness=0.5)
+    exported = map_material(material, warnings, programs=True)
+    energy = bpy.app.version >= (4, 3, 0)  # Cycles 4.3 added its multiple scattering
+    assert exported.data.diffuse_model == ("OREN_NAYAR_ENERGY" if energy else "OREN_NAYAR")
+    assert exported.data.diffuse_roughness == pytest.approx(0.5)
+    assert exported.data.diffuse == pytest.approx((0.3, 0.2, 0.1))
+    assert warnings == []
 
 
 def test_sharp_glossy_is_a_mirror(warnings):

@@ -80,16 +80,27 @@ def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, na
     assert np.median(error) < 0.03
 
 
-# (roughness, Specular / Specular IOR Level): a rough diffuse (3.x: Burley's lobe and its
-# retro-reflection) and a sharp glossy dielectric over a diffuse base (3.x adds the
-# specular layer on top; 4.x+ layers it, taking its Fresnel share from the base).
-PRINCIPLED_UNDER_SUN = [(1.0, 0.0), (0.6, 0.0), (0.0, 0.5)]
+# BSDFs whose diffuse lobe is not Lambert's, as (id, node, inputs): a rough Principled
+# (3.x: Burley's lobe and its retro-reflection; 4.x+: Lambert's), a sharp glossy
+# dielectric over a diffuse base (3.x adds the specular layer on top; 4.x+ layers it,
+# taking its Fresnel share from the base), and rough Diffuse BSDFs (Oren-Nayar).
+UNDER_SUN = [
+    ("principled_rough", "ShaderNodeBsdfPrincipled", {"Roughness": 1.0, "Specular": 0.0}),
+    ("principled_half", "ShaderNodeBsdfPrincipled", {"Roughness": 0.6, "Specular": 0.0}),
+    ("principled_glossy", "ShaderNodeBsdfPrincipled", {"Roughness": 0.0, "Specular": 0.5}),
+    # 4.3+ only: Oren-Nayar's lobe under the Principled's dielectric layer.
+    (
+        "principled_diffuse_roughness",
+        "ShaderNodeBsdfPrincipled",
+        {"Roughness": 1.0, "Specular": 0.0, "Diffuse Roughness": 0.8},
+    ),
+    ("diffuse_rough", "ShaderNodeBsdfDiffuse", {"Roughness": 1.0}),
+    ("diffuse_half", "ShaderNodeBsdfDiffuse", {"Roughness": 0.5}),
+]
 
 
-@pytest.mark.parametrize("roughness, specular", PRINCIPLED_UNDER_SUN)
-def test_principled_diffuse_under_a_sun_as_cycles(
-    roughness, specular, empty_scene, tmp_path, native
-):
+@pytest.mark.parametrize("node, inputs", [c[1:] for c in UNDER_SUN], ids=[c[0] for c in UNDER_SUN])
+def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path, native):
     # A smooth sphere under a sun seen along a side, black world: every pixel's light
     # and view angles differ. Cycles' direct light is deterministic here (a sun of angle
     # 0, a centre-point filter), so each pixel is compared with its own.
@@ -106,14 +117,20 @@ def test_principled_diffuse_under_a_sun_as_cycles(
         world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     scene.world = world
-    material = bpy.data.materials.new("Principled")
+    material = bpy.data.materials.new("Under a sun")
     if bpy.app.version < (5, 0, 0):
         material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.5, 0.4, 0.3, 1.0)
-    bsdf.inputs["Roughness"].default_value = roughness
-    level = "Specular" if "Specular" in bsdf.inputs else "Specular IOR Level"
-    bsdf.inputs[level].default_value = specular
+    tree = material.node_tree
+    bsdf = tree.nodes.new(node)
+    colour = "Base Color" if "Base Color" in bsdf.inputs else "Color"
+    bsdf.inputs[colour].default_value = (0.5, 0.4, 0.3, 1.0)
+    for name, value in inputs.items():
+        if name == "Specular" and name not in bsdf.inputs:
+            name = "Specular IOR Level"  # 4.0 renamed it
+        if name not in bsdf.inputs:
+            pytest.skip(f"this Blender's {bsdf.name} has no {name}")
+        bsdf.inputs[name].default_value = value
+    tree.links.new(bsdf.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
     bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=96, ring_count=48)
     bpy.ops.object.shade_smooth()
     bpy.context.active_object.data.materials.append(material)
@@ -132,11 +149,11 @@ def test_principled_diffuse_under_a_sun_as_cycles(
     set_cycles_direct_light(scene, samples=4)
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 1
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "principled_cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "principled_whitted.exr"))
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "under_sun_cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "under_sun_whitted.exr"))
     lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 0.01)
     assert lit.sum() > 400
     ratio = whitted[lit][:, :3] / cycles[lit][:, :3]
     low, high = np.percentile(ratio, [2, 98])
-    print(f"\nroughness {roughness}, specular {specular}: Whitted / Cycles {low:.4f}..{high:.4f}")
+    print(f"\n{node} {inputs}: Whitted / Cycles {low:.4f}..{high:.4f}")
     assert low > 0.99 and high < 1.01

@@ -34,7 +34,7 @@ TEST(Material, ConstructorRefusesWhatCannotBeAMaterial) {
   EXPECT_EQ(refusal({.alpha = nan}), "alpha must be finite");
   EXPECT_EQ(refusal({.coat_shininess = inf}), "coat values must be finite");
   EXPECT_EQ(refusal({.coat_ior = -1.0f}), "coat_ior must be positive");
-  EXPECT_EQ(refusal({.diffuse_model = static_cast<DiffuseModel>(7)}),
+  EXPECT_EQ(refusal({.diffuse_model = static_cast<DiffuseModel>(4)}),
             "diffuse_model is not a DiffuseModel");
   EXPECT_EQ(refusal({.diffuse_roughness = nan}), "diffuse_roughness must be finite");
   MaterialParams driven;
@@ -77,6 +77,33 @@ TEST(Material, BurleyDiffuseShape) {
   EXPECT_FLOAT_EQ(burley_diffuse(0.0f, 0.0f, 1.0f, 1.0f), 6.25f);
   // Cosines beyond [0, 1] (rounding) count as their bound.
   EXPECT_FLOAT_EQ(burley_diffuse(1.0000001f, -1e-7f, 0.0f, 0.0f), 0.5f);
+}
+
+// Oren-Nayar in Fujii's form by hand: pi (1 + r s) / (pi + (pi/2 - 2/3) r), with
+// s = l.v - (n.l)(n.v), over max(n.l, n.v) where positive.
+TEST(Material, OrenNayarDiffuseShape) {
+  const float pi = 3.14159265358979f;
+  const float c = pi / 2.0f - 2.0f / 3.0f;
+  // Roughness 0: Lambert.
+  EXPECT_FLOAT_EQ(oren_nayar_diffuse(0.3f, 0.8f, -0.2f, 0.0f), 1.0f);
+  // Light and view along the normal: s = 0, only the normalisation.
+  EXPECT_FLOAT_EQ(oren_nayar_diffuse(1.0f, 1.0f, 1.0f, 1.0f), pi / (pi + c));
+  // Light at 60 degrees, view along the normal, in the same plane: l.v = 0.5 = n.l n.v,
+  // s = 0. Behind the view (light at 60 degrees on the viewer's side, view at 60 too,
+  // l = v): s = 1 - 1/4 = 3/4, over 1/2: 3/2.
+  EXPECT_FLOAT_EQ(oren_nayar_diffuse(0.5f, 1.0f, 0.5f, 1.0f), pi / (pi + c));
+  EXPECT_FLOAT_EQ(oren_nayar_diffuse(0.5f, 0.5f, 1.0f, 0.5f),
+                  pi * (1.0f + 0.5f * 1.5f) / (pi + 0.5f * c));
+  // Cycles 4.3+'s multiple scattering: none at roughness 0 (Lambert loses nothing; no
+  // 0/0 either), at normal incidence 1 - pi A (G(1) = 0), and more for a brighter albedo.
+  EXPECT_NEAR(oren_nayar_loss(0.7f, 0.0f), 0.0f, 1e-6f);
+  EXPECT_EQ(oren_nayar_multiscatter(Color(0.5f), 0.0f, 0.7f), Color(0.0f));
+  EXPECT_NEAR(oren_nayar_loss(1.0f, 1.0f), 1.0f - pi / (pi + c), 1e-6f);
+  const Color ms = oren_nayar_multiscatter(Color(0.9f, 0.5f, 0.1f), 1.0f, 1.0f);
+  EXPECT_GT(ms.x, ms.y);
+  EXPECT_GT(ms.y, ms.z);
+  // Light opposite the view: s negative, not divided: darker than Lambert.
+  EXPECT_FLOAT_EQ(oren_nayar_diffuse(0.5f, 0.5f, -0.5f, 1.0f), pi * (1.0f - 0.75f) / (pi + c));
 }
 
 }  // namespace

@@ -138,3 +138,38 @@ def test_glass_casts_a_full_shadow_unless_its_shadows_are_tinted():
     assert not next(e for e in effects if e["name"] == "translucency")["on"]
     tinted, _ = pixel(glass_shadows=wn.GlassShadows.TINTED)
     assert tinted == pytest.approx([0.8 * lit, 0.6 * lit, 0.4 * lit], rel=1e-4)
+
+
+def test_unlayered_coat_is_added_on_top_of_the_base():
+    # Cycles 3.x's Principled adds its specular layer and Clearcoat without dimming the
+    # base: head-on, the base keeps all of its light and the coat adds F0 of the sky.
+    base = 0.5 / math.pi * 10.0
+    material = wn.Material(
+        diffuse=(0.5,) * 3, ambient=0.0, coat_reflectivity=1.0, coat_ior=1.5, coat_layered=False
+    )
+    assert centre(material, (1.0, 1.0, 1.0)) == pytest.approx([base + F0] * 3, rel=1e-4)
+
+
+def floor_image(material):
+    scene = lit_floor_scene()
+    scene.set_material("white", material)
+    return finish(wn.RenderJob(scene, wn.Settings(width=33, height=33)))
+
+
+def test_burley_diffuse_roughness_from_a_program_as_from_a_constant():
+    # A program with no instruction whose register 0 holds roughness 0.7 drives the
+    # Burley lobe's roughness as the constant does; Lambert's lobe differs away from the
+    # pixel under the light.
+    program = wn.Program(
+        np.zeros((0, 8), np.uint32),
+        np.array([[0.7, 0.0, 0.0, 0.0]], np.float32),
+        np.zeros(0, np.float32),
+        [],
+    )
+    burley = {"diffuse": (0.5,) * 3, "ambient": 0.0, "diffuse_model": wn.DiffuseModel.BURLEY}
+    constant = floor_image(wn.Material(diffuse_roughness=0.7, **burley))
+    driven = floor_image(wn.Material(program=program, outputs={"diffuse_roughness": 0}, **burley))
+    lambert = floor_image(wn.Material(diffuse=(0.5,) * 3, ambient=0.0))
+    np.testing.assert_array_equal(driven, constant)
+    assert not np.allclose(constant, lambert, rtol=1e-3)
+    assert wn.Material(diffuse_roughness=3.0).diffuse_roughness == 1.0

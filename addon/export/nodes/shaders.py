@@ -61,6 +61,7 @@ PRINCIPLED_INPUTS = {
     "emission_strength": ("Emission Strength",),
     "alpha": ("Alpha",),
     "normal": ("Normal",),
+    "diffuse_roughness": ("Diffuse Roughness",),  # 4.3+
 }
 
 # Values for inputs a node lacks, Blender 3.4's defaults.
@@ -115,6 +116,9 @@ class Closure:
     weights: dict  # a WEIGHTED_FIELDS name -> Expr: the coverage that has an opinion
     normal: object = None  # Expr (world vector) or None: the interpolated normal
     coat_normal: object = None  # the coat's, likewise
+    # The shape of its diffuse lobe where not Lambert's (native DiffuseModel's name:
+    # "BURLEY", "OREN_NAYAR"), shaped by the field diffuse_roughness; None: Lambert's.
+    diffuse_model: object = None
 
 
 class ShaderLowering:
@@ -215,7 +219,7 @@ class ShaderLowering:
         refracts=False,
         coat=False,
         coat_normal=None,
-        burley=False,
+        diffuse_model=None,
         **fields,
     ):
         base = self.black()
@@ -228,10 +232,10 @@ class ShaderLowering:
             "ior": coverage if refracts else self.b.f(0.0),
             "coat_shininess": coverage if coat else self.b.f(0.0),
             "coat_ior": coverage if coat else self.b.f(0.0),
-            # A diffuse lobe shaped as Burley's (Cycles 3.x's Principled), by roughness.
-            "diffuse_roughness": coverage if burley else self.b.f(0.0),
+            # A diffuse lobe of another shape than Lambert's, by its roughness.
+            "diffuse_roughness": coverage if diffuse_model else self.b.f(0.0),
         }
-        return Closure(coverage, values, weights, normal, coat_normal)
+        return Closure(coverage, values, weights, normal, coat_normal, diffuse_model)
 
     # --- combining -----------------------------------------------------------------
 
@@ -289,7 +293,12 @@ class ShaderLowering:
         if a.normal is not None and b.normal is not None and a.normal is not b.normal:
             self.c.warn(node, "combines two different normals; the first one is used")
         coat_normal = a.coat_normal if a.coat_normal is not None else b.coat_normal
-        return Closure(coverage, fields, weights, normal, coat_normal)
+        # One shape for the material's whole diffuse lobe (a Lambertian part takes the
+        # other's shape).
+        model = a.diffuse_model or b.diffuse_model
+        if a.diffuse_model and b.diffuse_model and a.diffuse_model != b.diffuse_model:
+            self.c.warn(node, "combines two diffuse models; the first one is used")
+        return Closure(coverage, fields, weights, normal, coat_normal, model)
 
 
 def _zero(expr):
@@ -414,9 +423,16 @@ def _principled(s, out):
     fields["ior"] = ior
     # Cycles 3.x shapes the Principled diffuse lobe by roughness (Burley's diffuse with
     # retro-reflection); 4.0 on, it is Lambert's.
-    burley = specular_socket is None or specular_socket.name == "Specular"
-    if burley:
+    diffuse_model = None
+    if specular_socket is None or specular_socket.name == "Specular":
+        diffuse_model = "BURLEY"
         fields["diffuse_roughness"] = b.clamp01(roughness)
+    else:
+        # 4.3+: Diffuse Roughness makes the diffuse lobe Oren-Nayar's (as a Diffuse BSDF's).
+        diffuse_roughness = s.scalar(out, PRINCIPLED_INPUTS["diffuse_roughness"], 0.0)
+        if not _zero(diffuse_roughness):
+            diffuse_model = "OREN_NAYAR"
+            fields["diffuse_roughness"] = b.clamp01(diffuse_roughness)
     return s.closure(
         coverage=alpha,
         normal=s.normal(out),
@@ -424,7 +440,7 @@ def _principled(s, out):
         refracts=True,
         coat=coat is not None,
         coat_normal=coat_normal,
-        burley=burley,
+        diffuse_model=diffuse_model,
         **fields,
     )
 
@@ -602,10 +618,16 @@ def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=
 def _diffuse(s, out):
     color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
     roughness = s.scalar(out, ("Roughness",), 0.0)
-    if not roughness.is_const or roughness.value[0] > 0.0:
-        s.c.warn(out.node, "Oren-Nayar roughness is not supported; the surface is Lambertian")
-    # A Lambertian reflector of albedo `color` is exactly Whitted's diffuse term.
-    return s.closure(diffuse=color, normal=s.normal(out))
+    if _zero(roughness):
+        # A Lambertian reflector of albedo `color` is exactly Whitted's diffuse term.
+        return s.closure(diffuse=color, normal=s.normal(out))
+    # Roughness makes it Oren-Nayar's (Fujii's form, as Cycles evaluates it).
+    return s.closure(
+        diffuse=color,
+        normal=s.normal(out),
+        diffuse_model="OREN_NAYAR",
+        diffuse_roughness=s.b.clamp01(roughness),
+    )
 
 
 def _glossy(s, out):

@@ -73,15 +73,18 @@ struct ShadingPoint {
   Vec3 smooth;  // the interpolated normal on the ray's side (diffuse_shadowing)
   Vec3 wo;      // back along the ray
   Coat coat;
-  float base;        // 1 - coat.cover (1 if the coat is not layered): what reaches the base
-  float phong_norm;  // (f+2)/(2pi), the normalisation of the Phong lobe
+  float base;          // 1 - coat.cover (1 if the coat is not layered): what reaches the base
+  float phong_norm;    // (f+2)/(2pi), the normalisation of the Phong lobe
+  Color multiscatter;  // kOrenNayarEnergy: the diffuse lobe's multiple scattering, per
+                       // unit LightTerms::loss (0 for the other diffuse models)
 };
 
 // One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
 // the pieces the sum, the passes and the inspector multiply out.
 struct LightTerms {
   float lit;   // (1 - coat) * max(0, n.l): the light the base receives
-  float fade;  // diffuse_fade: kd/pi * fade is the diffuse lobe
+  float fade;  // diffuse_fade: kd/pi * fade + multiscatter * loss is the diffuse lobe
+  float loss;  // what a kOrenNayarEnergy lobe's single scattering loses of this light
   float lobe;  // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
   float coat;  // the coat's highlight
 };
@@ -303,7 +306,12 @@ class Kernel {
         glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
     const float base = it.material->coat_layered ? 1.0f - coat.cover : 1.0f;
     const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
-    return {it, surface, ng, ns, smooth, wo, coat, base, phong_norm};
+    const Color multiscatter =
+        it.material->diffuse_model == DiffuseModel::kOrenNayarEnergy
+            ? surface.diffuse * oren_nayar_multiscatter(surface.diffuse, surface.diffuse_roughness,
+                                                        glm::dot(ns, wo))
+            : Color(0.0f);
+    return {it, surface, ng, ns, smooth, wo, coat, base, phong_norm, multiscatter};
   }
 
   // The split of weights: sigma_r and sigma_t of the secondary rays. The transmissive
@@ -444,8 +452,8 @@ class Kernel {
     if (has(kPruningEffect) && dark(cos_l, ls, node, counts)) return Color(0.0f);
     const LightTerms t = light_terms(p, ls.wi, cos_l);
     const SurfaceParams& surface = p.surface;
-    const Color brdf =
-        surface.diffuse * (kInvPi * t.fade) + surface.specular * (p.phong_norm * t.lobe);
+    const Color brdf = surface.diffuse * (kInvPi * t.fade) + p.multiscatter * t.loss +
+                       surface.specular * (p.phong_norm * t.lobe);
     const Color unshadowed = (t.lit * brdf + Color(t.coat)) * ls.irradiance;
     if constexpr (kRecord) record_light(node, p, t, ls);
     const Color transmittance = shadow(p, light, ls, unshadowed, state, counts, node);
@@ -454,7 +462,9 @@ class Kernel {
       // inspector's (record_light) multiply the same terms in their own orders, which
       // rounding tells apart: each keeps the order its images always had.
       const Color light_in = ls.irradiance * transmittance;
-      terms->diffuse += (t.lit * kInvPi * t.fade) * surface.diffuse * light_in;
+      terms->diffuse +=
+          ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) *
+          light_in;
       terms->specular +=
           (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
     }
@@ -481,20 +491,29 @@ class Kernel {
   // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
   static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
     const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-    return {p.base * std::max(0.0f, cos_l), diffuse_fade(p, wi, cos_l),
-            std::pow(v_dot_r, p.surface.shininess), coat_highlight(p.coat, p.wo, wi)};
+    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, std::pow(v_dot_r, p.surface.shininess),
+                 coat_highlight(p.coat, p.wo, wi)};
+    diffuse_fade(p, wi, cos_l, &t);
+    return t;
   }
 
-  // The diffuse lobe's factor for light from wi: Cycles' bump shadowing, times the
-  // lobe's shape where it is not Lambert's (Cycles 3.x's Principled BSDF).
-  static float diffuse_fade(const ShadingPoint& p, const Vec3& wi, float cos_l) {
+  // The diffuse lobe's factors for light from wi (fade, loss): Cycles' bump shadowing,
+  // times the lobe's shape where it is not Lambert's (material.h's DiffuseModel).
+  static void diffuse_fade(const ShadingPoint& p, const Vec3& wi, float cos_l, LightTerms* t) {
     const Material& m = *p.it.material;
-    float fade = diffuse_shadowing(m.bump_shadowing, p.smooth, p.ns, wi);
+    t->fade = diffuse_shadowing(m.bump_shadowing, p.smooth, p.ns, wi);
+    if (m.diffuse_model == DiffuseModel::kLambert) return;
+    const float cos_v = glm::dot(p.ns, p.wo);
+    const float l_dot_v = glm::dot(wi, p.wo);
+    const float r = p.surface.diffuse_roughness;
     if (m.diffuse_model == DiffuseModel::kBurley) {
-      fade *= burley_diffuse(cos_l, glm::dot(p.ns, p.wo), glm::dot(wi, p.wo),
-                             p.surface.diffuse_roughness);
+      t->fade *= burley_diffuse(cos_l, cos_v, l_dot_v, r);
+      return;
     }
-    return fade;
+    if (m.diffuse_model == DiffuseModel::kOrenNayarEnergy) {
+      t->loss = t->fade * oren_nayar_loss(cos_l, r);
+    }
+    t->fade *= oren_nayar_diffuse(cos_l, cos_v, l_dot_v, r);
   }
 
   // What of a light sample arrives: the shadow ray's transmittance. None is sent, and all
@@ -619,7 +638,8 @@ class Kernel {
                     const LightSample& ls) const {
     RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
     const Color arriving = tree_->scale * ls.irradiance;
-    n.diffuse = arriving * (t.lit * kInvPi * t.fade) * p.surface.diffuse;
+    n.diffuse = arriving * (t.lit * kInvPi * t.fade) * p.surface.diffuse +
+                arriving * (t.lit * t.loss) * p.multiscatter;
     n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
     n.cut = TreeCut::kUnshadowed;
   }
