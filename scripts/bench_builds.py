@@ -5,6 +5,7 @@ unchanged) against a build from before passes.
 
     .venv/bin/python scripts/bench_builds.py OLD_ADDON_DIR NEW_ADDON_DIR [--rounds 8] \
         [--json FILE --old-label TEXT --new-label TEXT]
+    valgrind --tool=callgrind .venv/bin/python scripts/bench_builds.py --small ADDON_DIR
 
 --json writes the figures, the command and the machine to FILE for a page's generator
 (scripts/passes_page.py reads docs/images/passes/builds.json), the labels saying what
@@ -36,6 +37,13 @@ from whitted_tools.pages import command_line, machine_lines
 from whitted_tools.timing import paired_ratios, spread_text
 
 REPEATS = 3
+# The render timed (480x270, 3x3 samples, 2 threads, best of REPEATS) and, with --small,
+# the one whose instructions are counted (one render, one thread):
+#     valgrind --tool=callgrind .venv/bin/python scripts/bench_builds.py --small DIR
+# then `callgrind_annotate --inclusive=yes` gives RenderJob::trace's count (a build with
+# symbols: -DCMAKE_CXX_FLAGS=-g -DCMAKE_STRIP=/bin/true).
+TIMED = {"width": 480, "height": 270, "aa_samples": 3, "threads": 2}
+SMALL = {"width": 160, "height": 90, "aa_samples": 2, "threads": 1}
 
 
 def sphere(radius, segments=48, rings=24):
@@ -60,8 +68,8 @@ def sphere(radius, segments=48, rings=24):
     return radius * normals, np.array(triangles, np.uint32), normals
 
 
-def trace_best(module_dir):
-    """Inside one process: render the scene REPEATS times with the module in module_dir."""
+def trace_best(module_dir, size=TIMED, repeats=REPEATS):
+    """Inside one process: render the scene `repeats` times with the module in module_dir."""
     sys.path.insert(0, module_dir)
     import whitted_native as wn
 
@@ -88,8 +96,8 @@ def trace_best(module_dir):
     scene.camera = wn.Camera(to_world=to_world, window=(-0.6, 0.6, -0.3375, 0.3375), clip_end=1e4)
     scene.background = (0.0, 0.0, 0.0)
     best, best_cpu = math.inf, math.inf
-    for _ in range(REPEATS):
-        job = wn.RenderJob(scene, wn.Settings(width=480, height=270, aa_samples=3, threads=2))
+    for _ in range(repeats):
+        job = wn.RenderJob(scene, wn.Settings(**size))
         started = time.process_time()
         job.start()
         while not job.wait(1.0):
@@ -107,6 +115,9 @@ def trace_best(module_dir):
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == "--trace":
         trace_best(sys.argv[2])
+        return
+    if len(sys.argv) == 3 and sys.argv[1] == "--small":
+        trace_best(sys.argv[2], SMALL, repeats=1)
         return
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("old", help="the folder holding the old build's whitted_native")
