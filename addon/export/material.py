@@ -33,7 +33,7 @@ from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
 from .nodes.program import emit
-from .nodes.shaders import MAX_SHININESS, finish, legacy_texture, surface
+from .nodes.shaders import MAX_SHININESS, finish, legacy_texture, phong_exponent, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 
@@ -378,15 +378,13 @@ def _whitted_material(base_color, metallic, roughness, f0):
     metallic = _clamp(metallic, 0.0, 1.0)
     roughness = _clamp(roughness, 0.0, 1.0)
     sharp = max(0.0, 1.0 - 4.0 * roughness)
-    alpha = roughness * roughness
-    shininess = MAX_SHININESS if alpha == 0.0 else 2.0 / (alpha * alpha) - 2.0
     return MaterialData(
         diffuse=tuple((1.0 - metallic) * c for c in base_color),
         specular=tuple(
             (1.0 - metallic) * max(0.0, f) + metallic * (1.0 - sharp) * c
             for f, c in zip(f0, base_color, strict=True)
         ),
-        shininess=_clamp(shininess, 1.0, MAX_SHININESS),
+        shininess=phong_exponent(roughness),
         ambient=1.0,
         reflectivity=tuple(metallic * sharp * c for c in base_color),
         transmissivity=BLACK,

@@ -40,14 +40,14 @@ def assert_material(data, **expected):
 
 def test_default_principled_is_a_grey_dielectric(warnings):
     data = convert(node_material("Default"), warnings)
-    # roughness 0.5 -> alpha 0.25 -> shininess 2 / 0.0625 - 2 = 30;
+    # roughness 0.5 -> alpha 0.25 -> Blinn exponent 2 / 0.0625 - 2 = 30, Phong 30 / 4;
     # specular 0.5 -> 0.08 * 0.5 = 0.04; too rough for a mirror (no layer).
     assert_material(data, coat_specular=0.0, coat_reflectivity=0.0)
     assert_material(
         data,
         diffuse=(0.8, 0.8, 0.8),
         specular=(0.04, 0.04, 0.04),
-        shininess=30.0,
+        shininess=7.5,
         ambient=1.0,
         reflectivity=(0.0, 0.0, 0.0),
         transmissivity=(0.0, 0.0, 0.0),
@@ -72,12 +72,12 @@ def test_rough_metal_moves_reflection_into_the_highlight(warnings):
     color = (0.9, 0.8, 0.7, 1.0)
     material = node_material("Metal", **{"Base Color": color, "Metallic": 1.0, "Roughness": 0.2})
     # sharp = 1 - 4 * 0.2 = 0.2 of the base colour is mirror, the rest highlight;
-    # alpha = 0.04 -> shininess 2 / 0.0016 - 2 = 1248.
+    # alpha = 0.04 -> Blinn exponent 2 / 0.0016 - 2 = 1248, Phong 1248 / 4.
     assert_material(
         convert(material, warnings),
         reflectivity=tuple(0.2 * c for c in color[:3]),
         specular=tuple(0.8 * c for c in color[:3]),
-        shininess=1248.0,
+        shininess=312.0,
     )
 
 
@@ -281,14 +281,14 @@ def test_principled_mapping_by_socket_name(version, inputs, warnings):
         coat_reflectivity=0.375 * 0.2,
         coat_specular=0.0,
         coat_ior={"3.x": 1.5, "4.x": 1.33}[version],
-        coat_shininess=1248.0,
+        coat_shininess=312.0,  # (2 / 0.04^2 - 2) / 4
     )
     assert_material(
         data,
         diffuse=tuple(0.75 * 0.5 * c for c in base),
         reflectivity=tuple(0.25 * 0.2 * c for c in base),
         specular=tuple(0.75 * F0[version] * kept + 0.25 * 0.8 * c for c in base),
-        shininess=1248.0,
+        shininess=312.0,
         transmissivity=tuple(0.5 * 0.75 * c for c in base),
         ior=1.33,
         emission=(2.0, 1.0, 0.0),
@@ -352,7 +352,7 @@ def test_principled_coat(warnings):
         data,
         coat_reflectivity=0.5 * 0.6,
         coat_specular=0.5 * 0.4,
-        coat_shininess=10000.0,
+        coat_shininess=4999.5,  # roughness 0.1: (2 / 0.01^2 - 2) / 4
         coat_ior=1.3,
         diffuse=(0.75 * plain.diffuse[0], plain.diffuse[1], plain.diffuse[2]),
     )
@@ -408,12 +408,12 @@ def test_sharp_glossy_is_a_mirror(warnings):
 def test_rough_glossy_is_a_highlight(warnings):
     material = node_material("Satin")
     surface_shader(material, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.7, 1.0), Roughness=0.5)
-    # roughness 0.5: sharp = 0, alpha = 0.25 -> shininess 2 / 0.0625 - 2 = 30.
+    # roughness 0.5: sharp = 0, alpha = 0.25 -> Phong exponent (2 / 0.0625 - 2) / 4.
     assert_material(
         convert(material, warnings),
         reflectivity=(0.0, 0.0, 0.0),
         specular=(0.9, 0.8, 0.7),
-        shininess=30.0,
+        shininess=7.5,
     )
 
 

@@ -28,8 +28,8 @@ def test_textured_material_inside_a_group_is_a_diffuse_texture(warnings):
     assert spec.image == image
     assert exported.data.diffuse_texture == spec.name
     assert exported.data.diffuse == pytest.approx((1.0, 1.0, 1.0))
-    # Roughness 0.25 from the group node's input: alpha 0.0625 -> 2 / 0.0039 - 2.
-    assert exported.data.shininess == pytest.approx(2.0 / 0.0625**2 - 2.0, rel=1e-5)
+    # Roughness 0.25 from the group node's input: alpha 0.0625 -> (2 / 0.0039 - 2) / 4.
+    assert exported.data.shininess == pytest.approx((2.0 / 0.0625**2 - 2.0) / 4.0, rel=1e-5)
     assert warnings == []
 
 

@@ -571,18 +571,27 @@ def fresnel_f0(b, ior):
     return b.mul(b.mul(ratio, ratio), positive)
 
 
+def phong_exponent(roughness):
+    """The Phong exponent of about the same highlight as a microfacet lobe of this
+    roughness (alpha = roughness^2), in [1, MAX_SHININESS]. Walter et al. (2007) match
+    Beckmann's alpha with a Blinn-Phong exponent s = 2/alpha^2 - 2 about the half
+    vector; Whitted's Phong lobe (v.r)^n is about the mirror direction, whose angle to
+    the view is twice the half vector's to the normal, so it has that width at n = s/4
+    (cos(2t)^n ~ exp(-2 n t^2) against cos(t)^s ~ exp(-s t^2 / 2))."""
+    alpha2 = (roughness * roughness) ** 2
+    n = MAX_SHININESS if alpha2 == 0.0 else 0.5 / alpha2 - 0.5
+    return min(max(n, 1.0), MAX_SHININESS)
+
+
 def shininess_of(b, roughness):
-    """Phong exponent of about the same lobe as a microfacet roughness: alpha =
-    roughness^2 and n = 2/alpha^2 - 2 (Walter et al. 2007), in [1, MAX_SHININESS]."""
+    """phong_exponent as an Expr of a roughness Expr."""
     if roughness.is_const:
-        alpha = roughness.value[0] ** 2
-        n = MAX_SHININESS if alpha == 0.0 else 2.0 / (alpha * alpha) - 2.0
-        return b.f(min(max(n, 1.0), MAX_SHININESS))
+        return b.f(phong_exponent(roughness.value[0]))
     alpha = b.mul(roughness, roughness)
-    # alpha^2 floored where 2/alpha^2 - 2 reaches the maximum: the same clamp.
-    floor = 2.0 / (MAX_SHININESS + 2.0)
+    # alpha^2 floored where 0.5/alpha^2 - 0.5 reaches the maximum: the same clamp.
+    floor = 0.5 / (MAX_SHININESS + 0.5)
     alpha2 = b.maximum(b.mul(alpha, alpha), b.f(floor))
-    return b.clamp(b.sub(b.div(b.f(2.0), alpha2), b.f(2.0)), 1.0, MAX_SHININESS)
+    return b.clamp(b.sub(b.div(b.f(0.5), alpha2), b.f(0.5)), 1.0, MAX_SHININESS)
 
 
 def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=None):
