@@ -108,7 +108,11 @@ struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
     glm::mat4 to_world;
-    glm::mat3 normal_to_world;        // inverse transpose of the linear part
+    glm::mat3 normal_to_world;  // inverse transpose of the linear part
+    // |linear part| and |translation|, element by element: the error bound of every hit
+    // point carried through to_world reads them (interaction), so they are made once.
+    glm::mat3 abs_linear;
+    Vec3 abs_translation;
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
     uint32_t visibility;  // RayKind bits
