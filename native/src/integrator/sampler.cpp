@@ -26,6 +26,7 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
     : integrator_(integrator),
       settings_(integrator.settings()),
       camera_(camera),
+      frame_(camera),
       camera_media_(camera_media) {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -103,8 +104,8 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
 }
 
 Ray CameraSampler::camera_ray(float px, float py) const {
-  return camera_.generate_ray(px / static_cast<float>(settings_.width),
-                              py / static_cast<float>(settings_.height));
+  return frame_.generate_ray(px / static_cast<float>(settings_.width),
+                             py / static_cast<float>(settings_.height));
 }
 
 Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,

@@ -55,6 +55,7 @@ class CameraSampler {
   const WhittedIntegrator& integrator_;
   const Settings& settings_;
   const Camera& camera_;
+  const CameraFrame frame_;  // camera_'s, made once: not per camera ray
   const MediumStack& camera_media_;
 };
 
