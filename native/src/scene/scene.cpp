@@ -69,6 +69,19 @@ glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uin
   return out;
 }
 
+// Coverage as the integrator reads it: in [0, 1], NaN (from a program) opaque.
+float clamp_alpha(float alpha) {
+  return std::isnan(alpha) ? 1.0f : std::clamp(alpha, 0.0f, 1.0f);
+}
+
+// A material's fields before its textures and program: CompiledScene::material_constants.
+SurfaceParams constant_surface(const Material& m) {
+  return {m.diffuse,        m.specular,      m.shininess,         m.reflectivity,
+          m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
+          Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
+          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness};
+}
+
 // The Light Path inputs of a program (and 0 for any other mode).
 glm::vec4 light_path_input(uint32_t mode, const Ray& ray, const RayContext& context) {
   const auto flag = [](bool on) { return glm::vec4(on ? 1.0f : 0.0f); };
@@ -277,6 +290,9 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     }
     compiled->materials.push_back(std::move(resolved));
     compiled->material_names.push_back(name);
+  }
+  for (const Material& material : compiled->materials) {
+    compiled->material_constants.push_back(constant_surface(material));
   }
   for (const auto& [name, light] : state_.lights) {
     compiled->lights.push_back(light);
@@ -616,14 +632,11 @@ using Inputs = std::array<glm::vec4, Program::kMaxInputs>;
 SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
                                      const RayContext& context) const {
   const Material& m = *it.material;
-  SurfaceParams out{m.diffuse,           m.specular,
-                    m.shininess,         m.reflectivity,
-                    m.transmissivity,    m.ior,
-                    m.emission,          m.alpha,
-                    it.shading_normal,   m.coat_specular,
-                    m.coat_reflectivity, m.coat_shininess,
-                    m.coat_ior,          it.shading_normal,
-                    m.diffuse_roughness};
+  SurfaceParams out = material_constants[it.material_index];
+  out.normal = it.shading_normal;
+  out.coat_normal = it.shading_normal;
+  if (m.diffuse_texture_index < 0 && m.alpha_texture_index < 0 && !m.program) return out;
+  out.alpha = m.alpha;  // clamped once textures and program have applied
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
     const TexturePoint tp = texture_point(it);
     if (m.diffuse_texture_index >= 0) {
@@ -710,7 +723,7 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
       if (!std::isnan(roughness)) out.diffuse_roughness = std::clamp(roughness, 0.0f, 1.0f);
     }
   }
-  out.alpha = std::isnan(out.alpha) ? 1.0f : std::clamp(out.alpha, 0.0f, 1.0f);
+  out.alpha = clamp_alpha(out.alpha);
   return out;
 }
 

@@ -121,7 +121,10 @@ struct CompiledScene {
     CryptomatteIds cryptomatte;
   };
   std::vector<Instance> instances;
-  std::vector<Material> materials;          // index 0 is the default material
+  std::vector<Material> materials;  // index 0 is the default material
+  // By material: its fields as constants, alpha clamped, normals unset; surface() starts
+  // from these, so a material without textures or program costs a copy per hit.
+  std::vector<SurfaceParams> material_constants;
   std::vector<std::string> material_names;  // by index; "" for the default material
   std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
