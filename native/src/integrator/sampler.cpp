@@ -27,7 +27,7 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       settings_(integrator.settings()),
       camera_(camera),
       frame_(camera),
-      camera_media_(camera_media) {}
+      root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
                             SampleRecord* record) const {
@@ -141,11 +141,10 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
                             SampleRecord* record) const {
   counts->camera += 1;
-  const NodeState root{0, Color(1.0f), camera_media_};
   float alpha = 1.0f;
   const Color c = first != nullptr
-                      ? integrator_.trace_from(ray, *first, root, counts, &alpha, record)
-                      : integrator_.trace(ray, root, counts, &alpha, record);
+                      ? integrator_.trace_from(ray, *first, root_, counts, &alpha, record)
+                      : integrator_.trace(ray, root_, counts, &alpha, record);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     if (record != nullptr) *record = SampleRecord{};

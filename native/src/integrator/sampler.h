@@ -56,7 +56,9 @@ class CameraSampler {
   const Settings& settings_;
   const Camera& camera_;
   const CameraFrame frame_;  // camera_'s, made once: not per camera ray
-  const MediumStack& camera_media_;
+  // Where every camera ray starts (depth 0, weight 1, inside the camera's media), made
+  // once: not copied per camera ray.
+  const NodeState root_;
 };
 
 }  // namespace whitted
