@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <random>
+#include <vector>
 
 #include "accel/embree.h"
 #include "scene_builders.h"
@@ -21,6 +23,25 @@ TEST(Ray, OffsetMovesToTheRequestedSideByItsErrorBound) {
     EXPECT_LT(glm::dot(offset_ray_origin(p, error, -n) - p, n), 0.0f) << magnitude;
     // A few ulps: small against the point's own magnitude (or tiny near zero).
     EXPECT_LE(glm::length(q - p), 1e-5f * magnitude + 1e-29f) << magnitude;
+  }
+}
+
+// The origin's one-float step is std::nextafter's, without the library call.
+TEST(Ray, NextFloatStepsAsNextafter) {
+  const auto same = [](float a, float b) {
+    return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b) ||
+           (std::isnan(a) && std::isnan(b));
+  };
+  using limits = std::numeric_limits<float>;
+  std::vector<float> xs = {0.0f,          1.0f,          limits::denorm_min(),
+                           limits::min(), limits::max(), kInfinity};
+  for (size_t i = 0, n = xs.size(); i < n; ++i) xs.push_back(-xs[i]);
+  xs.push_back(limits::quiet_NaN());
+  std::mt19937 rng(15);
+  for (int i = 0; i < 100000; ++i) xs.push_back(std::bit_cast<float>(static_cast<uint32_t>(rng())));
+  for (float x : xs) {
+    EXPECT_TRUE(same(next_float_up(x), std::nextafter(x, kInfinity))) << x;
+    EXPECT_TRUE(same(next_float_down(x), std::nextafter(x, -kInfinity))) << x;
   }
 }
 

@@ -1,6 +1,7 @@
 // Rays and the one function that starts every secondary ray.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -49,6 +50,23 @@ inline Vec3 barycentric_error(const Vec3& p0, const Vec3& p1, const Vec3& p2, fl
   return gamma(7) * (glm::abs(w0 * p0) + glm::abs(w1 * p1) + glm::abs(w2 * p2));
 }
 
+// The float next to x towards +infinity or -infinity: std::nextafter(x, +-kInfinity) to
+// the bit, without its library call (three per secondary ray): a finite float's neighbour
+// is one step of its bit pattern (pbrt-v4 NextFloatUp / NextFloatDown). Infinities towards
+// themselves and NaN stay as they are; both zeros step to the smallest subnormal.
+inline float next_float_up(float x) {
+  if (!(x < kInfinity)) return x;
+  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const auto bits = std::bit_cast<uint32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
+}
+inline float next_float_down(float x) {
+  if (!(x > -kInfinity)) return x;
+  if (x == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  const auto bits = std::bit_cast<uint32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits - 1 : bits + 1);
+}
+
 // Moves a surface point off its surface along the geometric normal by just more than its
 // rounding error bound, so a ray leaving it cannot re-hit the same surface whatever the
 // scene's scale (pbrt-v4 OffsetRayOrigin). `n` points to the side the ray leaves towards.
@@ -58,8 +76,8 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& error, const Vec3& n) {
   Vec3 out = p + offset;
   // Round away from p so the offset survives the addition's own rounding.
   for (int i = 0; i < 3; ++i) {
-    if (offset[i] > 0.0f) out[i] = std::nextafter(out[i], kInfinity);
-    if (offset[i] < 0.0f) out[i] = std::nextafter(out[i], -kInfinity);
+    if (offset[i] > 0.0f) out[i] = next_float_up(out[i]);
+    if (offset[i] < 0.0f) out[i] = next_float_down(out[i]);
   }
   return out;
 }

@@ -26,7 +26,8 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
     : integrator_(integrator),
       settings_(integrator.settings()),
       camera_(camera),
-      camera_media_(camera_media) {}
+      frame_(camera),
+      root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
                             SampleRecord* record) const {
@@ -57,6 +58,11 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   std::array<Hit, kPacket> hits;
   // Summed in sample order, as Film::add sums a pixel built one sample at a time.
   Sample sum{Color(0.0f), 0.0f};
+  // Each sample's record, emplaced afresh only when passes are recorded: zeroing every
+  // pass cost a render without passes about 48 instructions per sample (callgrind,
+  // session 6). Declared once per pixel, as GCC 12 zeroes an optional's storage where it
+  // is declared (about 40 instructions per sample inside the loop, callgrind).
+  std::optional<SampleRecord> sample_record;
   for (int first = 0; first < samples; first += kPacket) {
     const int count = std::min(kPacket, samples - first);
     for (int k = 0; k < count; ++k) rays[static_cast<size_t>(k)] = grid_ray(x, y, first + k);
@@ -64,9 +70,6 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
     if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
     for (int k = 0; k < count; ++k) {
       const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
-      // Made only when passes are recorded: zeroing every pass cost a render without
-      // passes about 48 instructions per sample (callgrind, session 6).
-      std::optional<SampleRecord> sample_record;
       const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts,
                              record != nullptr ? &sample_record.emplace() : nullptr);
       sum.radiance += s.radiance;
@@ -103,8 +106,8 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
 }
 
 Ray CameraSampler::camera_ray(float px, float py) const {
-  return camera_.generate_ray(px / static_cast<float>(settings_.width),
-                              py / static_cast<float>(settings_.height));
+  return frame_.generate_ray(px / static_cast<float>(settings_.width),
+                             py / static_cast<float>(settings_.height));
 }
 
 Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -140,11 +143,10 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
                             SampleRecord* record) const {
   counts->camera += 1;
-  const NodeState root{0, Color(1.0f), camera_media_};
   float alpha = 1.0f;
   const Color c = first != nullptr
-                      ? integrator_.trace_from(ray, *first, root, counts, &alpha, record)
-                      : integrator_.trace(ray, root, counts, &alpha, record);
+                      ? integrator_.trace_from(ray, *first, root_, counts, &alpha, record)
+                      : integrator_.trace(ray, root_, counts, &alpha, record);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     if (record != nullptr) *record = SampleRecord{};

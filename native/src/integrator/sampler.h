@@ -55,7 +55,10 @@ class CameraSampler {
   const WhittedIntegrator& integrator_;
   const Settings& settings_;
   const Camera& camera_;
-  const MediumStack& camera_media_;
+  const CameraFrame frame_;  // camera_'s, made once: not per camera ray
+  // Where every camera ray starts (depth 0, weight 1, inside the camera's media), made
+  // once: not copied per camera ray.
+  const NodeState root_;
 };
 
 }  // namespace whitted

@@ -423,7 +423,8 @@ class Kernel {
     if constexpr (kPasses) terms.ambient = phong;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
-      for (int s = 0; s < light.sample_count(); ++s) {
+      const int samples = light.sample_count();
+      for (int s = 0; s < samples; ++s) {
         phong +=
             light_sample(p, light, sample_light(light, p.it.position, s), state, counts, &terms);
       }

@@ -23,4 +23,18 @@ struct Camera {
   Ray generate_ray(float sx, float sy) const;
 };
 
+// What a camera's rays are made from, taken from it once for the many rays of a render:
+// Camera::generate_ray makes one per ray, a sampler one per render.
+struct CameraFrame {
+  explicit CameraFrame(const Camera& camera);
+  Ray generate_ray(float sx, float sy) const;
+
+  const Camera& camera;
+  // Blender ignores the camera's scale: the unit axes of its rotation.
+  Vec3 right;
+  Vec3 up;
+  Vec3 back;
+  Vec3 position;
+};
+
 }  // namespace whitted

@@ -99,7 +99,9 @@ Light::Light(const LightParams& params) : LightParams(params) {
 }
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {
-  const float share = 1.0f / static_cast<float>(light.sample_count());
+  // What each of a sized light's feelers carries of it; asked only there (not per feeler
+  // of a sun without a disc, the common case).
+  const auto share = [&] { return 1.0f / static_cast<float>(light.sample_count()); };
   if (light.type == LightType::kSun) {
     const Vec3 towards = -glm::normalize(light.direction);
     if (light.angle <= 0.0f) return {towards, kInfinity, light.color};
@@ -111,7 +113,7 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
     float b = 0.0f;
     disc_offset(light, index, &a, &b);
     const float spread = 2.0f * std::tan(0.5f * std::min(light.angle, 3.0f));
-    return {glm::normalize(towards + spread * (a * u + b * v)), kInfinity, light.color * share};
+    return {glm::normalize(towards + spread * (a * u + b * v)), kInfinity, light.color * share()};
   }
   Vec3 target = light.position;
   float weight = 1.0f;
@@ -128,7 +130,7 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
       disc_offset(light, index, &a, &b);
       target += 2.0f * light.radius * (a * u + b * v);
     }
-    weight = share;  // each feeler carries its share of the intensity
+    weight = share();  // each feeler carries its share of the intensity
   } else if (light.type == LightType::kArea) {
     float a = 0.0f;
     float b = 0.0f;
@@ -136,7 +138,7 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
     target += a * light.size[0] * light.axis_u + b * light.size[1] * light.axis_v;
     const float area =
         light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
-    weight = area * share;
+    weight = area * share();
   }
   const Vec3 d = target - p;
   const float dist2 = glm::dot(d, d);

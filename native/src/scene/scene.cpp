@@ -49,6 +49,12 @@ bool safely_invertible(const glm::mat4& m) {
   return std::fabs(glm::determinant(linear)) > 0.0f;
 }
 
+// to_world * (p, 1) without the fourth row, in glm's order of operations, (m0 x + m1 y) +
+// (m2 z + m3), so the point is glm's to the bit.
+Vec3 transform_point(const glm::mat4& m, const Vec3& p) {
+  return (Vec3(m[0]) * p.x + Vec3(m[1]) * p.y) + (Vec3(m[2]) * p.z + Vec3(m[3]));
+}
+
 // The barycentric blend of a corner layer (`width` floats a corner) at a point of triangle
 // `primitive`; barycentric holds the weights of corners 1 and 2.
 glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uint32_t primitive,
@@ -61,6 +67,19 @@ glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uin
         w0 * c[k] + barycentric.x * c[width + k] + barycentric.y * c[2 * width + k];
   }
   return out;
+}
+
+// Coverage as the integrator reads it: in [0, 1], NaN (from a program) opaque.
+float clamp_alpha(float alpha) {
+  return std::isnan(alpha) ? 1.0f : std::clamp(alpha, 0.0f, 1.0f);
+}
+
+// A material's fields before its textures and program: CompiledScene::material_constants.
+SurfaceParams constant_surface(const Material& m) {
+  return {m.diffuse,        m.specular,      m.shininess,         m.reflectivity,
+          m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
+          Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
+          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness};
 }
 
 // The Light Path inputs of a program (and 0 for any other mode).
@@ -272,6 +291,9 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     compiled->materials.push_back(std::move(resolved));
     compiled->material_names.push_back(name);
   }
+  for (const Material& material : compiled->materials) {
+    compiled->material_constants.push_back(constant_surface(material));
+  }
   for (const auto& [name, light] : state_.lights) {
     compiled->lights.push_back(light);
     compiled->light_names.push_back(name);
@@ -291,6 +313,8 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     out.mesh = mesh->second;
     out.to_world = instance.to_world;
     out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
+    for (int c = 0; c < 3; ++c) out.abs_linear[c] = glm::abs(Vec3(instance.to_world[c]));
+    out.abs_translation = glm::abs(Vec3(instance.to_world[3]));
     out.holdout = instance.holdout;
     out.visibility = instance.visibility;
     out.info = instance.info;
@@ -355,16 +379,13 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   // The point from barycentrics on the triangle, not origin + t*direction: its error is
   // a few ulps of the coordinates, which is what the ray-origin offset assumes.
   const Vec3 local = w0 * p0 + hit.u * p1 + hit.v * p2;
-  out.position = Vec3(instance.to_world * glm::vec4(local, 1.0f));
+  out.position = transform_point(instance.to_world, local);
   // Error of the object-space point, carried through the transform (pbrt-v4 Transform):
   // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|).
-  const glm::mat3 m(instance.to_world);
-  glm::mat3 abs_m;
-  for (int c = 0; c < 3; ++c) abs_m[c] = glm::abs(m[c]);
   const Vec3 local_error = barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
   const Vec3 world_error =
-      (1.0f + gamma(3)) * (abs_m * local_error) +
-      gamma(3) * (abs_m * glm::abs(local) + glm::abs(Vec3(instance.to_world[3])));
+      (1.0f + gamma(3)) * (instance.abs_linear * local_error) +
+      gamma(3) * (instance.abs_linear * glm::abs(local) + instance.abs_translation);
   // Embree's intersector computes with all coordinates at once (relative to the ray
   // origin), so its error scales with the largest of them: use the largest bound on
   // every axis. A flat triangle exactly on a coordinate plane then still gets an offset.
@@ -389,7 +410,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
         return -below * normal;
       };
       const Vec3 lifted = local + w0 * lift(p0, n0) + hit.u * lift(p1, n1) + hit.v * lift(p2, n2);
-      const Vec3 world_lifted = Vec3(instance.to_world * glm::vec4(lifted, 1.0f));
+      const Vec3 world_lifted = transform_point(instance.to_world, lifted);
       if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
     }
   }
@@ -611,14 +632,11 @@ using Inputs = std::array<glm::vec4, Program::kMaxInputs>;
 SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
                                      const RayContext& context) const {
   const Material& m = *it.material;
-  SurfaceParams out{m.diffuse,           m.specular,
-                    m.shininess,         m.reflectivity,
-                    m.transmissivity,    m.ior,
-                    m.emission,          m.alpha,
-                    it.shading_normal,   m.coat_specular,
-                    m.coat_reflectivity, m.coat_shininess,
-                    m.coat_ior,          it.shading_normal,
-                    m.diffuse_roughness};
+  SurfaceParams out = material_constants[it.material_index];
+  out.normal = it.shading_normal;
+  out.coat_normal = it.shading_normal;
+  if (m.diffuse_texture_index < 0 && m.alpha_texture_index < 0 && !m.program) return out;
+  out.alpha = m.alpha;  // clamped once textures and program have applied
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
     const TexturePoint tp = texture_point(it);
     if (m.diffuse_texture_index >= 0) {
@@ -705,7 +723,7 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
       if (!std::isnan(roughness)) out.diffuse_roughness = std::clamp(roughness, 0.0f, 1.0f);
     }
   }
-  out.alpha = std::isnan(out.alpha) ? 1.0f : std::clamp(out.alpha, 0.0f, 1.0f);
+  out.alpha = clamp_alpha(out.alpha);
   return out;
 }
 

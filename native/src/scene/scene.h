@@ -108,7 +108,11 @@ struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
     glm::mat4 to_world;
-    glm::mat3 normal_to_world;        // inverse transpose of the linear part
+    glm::mat3 normal_to_world;  // inverse transpose of the linear part
+    // |linear part| and |translation|, element by element: the error bound of every hit
+    // point carried through to_world reads them (interaction), so they are made once.
+    glm::mat3 abs_linear;
+    Vec3 abs_translation;
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
     uint32_t visibility;  // RayKind bits
@@ -117,7 +121,10 @@ struct CompiledScene {
     CryptomatteIds cryptomatte;
   };
   std::vector<Instance> instances;
-  std::vector<Material> materials;          // index 0 is the default material
+  std::vector<Material> materials;  // index 0 is the default material
+  // By material: its fields as constants, alpha clamped, normals unset; surface() starts
+  // from these, so a material without textures or program costs a copy per hit.
+  std::vector<SurfaceParams> material_constants;
   std::vector<std::string> material_names;  // by index; "" for the default material
   std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
