@@ -36,7 +36,8 @@ THIRD_PARTY = [
         "file": "glTF2/ClearCoat-glTF/ClearCoatTest.gltf",
         "differs": "KHR_materials_clearcoat as Principled Coat: a rough coat does not blur "
         "what it mirrors, and the coat's highlight is Phong, not GGX (the ratio's gap "
-        "was not split further between these); the 'Coating Only' "
+        "was not split further between these; the Phong exponent fix of c43f207 took "
+        "3.4's from 0.804 to 0.844); the 'Coating Only' "
         "column (black, roughness 0.03) mirrors the floor as Cycles does since the "
         "dielectric specular layer (docs/SUPPORT.md; before, it was black).",
     },
@@ -69,11 +70,11 @@ THIRD_PARTY = [
         "scene": "duck_dae",
         "file": "Collada/duck.dae",
         "differs": "3.4 only (5.0 has no Collada importer). The importer makes a Principled "
-        "of Metallic 0.5, Roughness 0.5: the metal half is a Phong lobe of exponent 30 "
-        "against Cycles' GGX lobe, whose long tails light most of the body where the "
-        "Phong lobe has fallen to almost nothing (seen on a metal sphere under a sun in "
-        "both Blenders); Whitted is darker over the whole body. Burley's diffuse, "
-        "modelled since 9993313, changed the ratio from 0.692 to 0.697.",
+        "of Metallic 0.5, Roughness 0.5: the metal half is a Phong lobe against Cycles' "
+        "GGX lobe, whose long tails light most of the body where the Phong lobe has "
+        "fallen to almost nothing; Whitted is darker over the whole body. The ratio was "
+        "0.692; Burley's diffuse (9993313) made it 0.697, the Phong exponent as a "
+        "quarter of the Blinn one (c43f207: a lobe twice as wide) 0.825.",
     },
 ]
 
