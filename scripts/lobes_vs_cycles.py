@@ -11,7 +11,6 @@ Cycles' direct light from a sun of angle 0 is deterministic per pixel (light sam
 only, a centre-point filter), so a few samples suffice.
 """
 
-import math
 import tempfile
 from pathlib import Path
 
@@ -20,7 +19,7 @@ import bpy
 # isort: split
 import numpy as np
 from whitted_tools.blender import factory_scene
-from whitted_tools.material_scenes import add_sun, black_world, smooth_sphere
+from whitted_tools.material_scenes import add_sun, black_world, side_camera, smooth_sphere
 from whitted_tools.render import render_exr
 
 SIZE = 64
@@ -47,13 +46,7 @@ def build(metallic, roughness, base):
     bsdf.inputs["Metallic"].default_value = metallic
     bsdf.inputs["Roughness"].default_value = roughness
     smooth_sphere("Ball", (0.0, 0.0, 0.0), radius=1.0, material=material)
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = 2.2
-    camera.location = (0.0, -5.0, 0.0)
-    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
+    side_camera(scene, 2.2)
     add_sun(scene, rotation=(45.0, 0.0, -40.0))
     cycles = scene.cycles
     cycles.samples, cycles.use_denoising, cycles.max_bounces = 16, False, 0

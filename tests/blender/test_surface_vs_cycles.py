@@ -2,12 +2,11 @@
 Coordinate Normal (object space) and the Bump node's normal, rendered by Whitted
 and by Cycles as an emission colour."""
 
-import math
-
 import numpy as np
 import pytest
 from node_cases import render, set_cycles
 from node_cases_surface import CASES, build_surface_scene
+from whitted_tools.material_scenes import add_sun, black_world, grey_world, side_camera
 
 # float32 differences of heights a few thousandths apart (the Bump's offsets).
 BOUND = 1e-3
@@ -43,12 +42,7 @@ def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, na
     scene.render.resolution_x = scene.render.resolution_y = 12
     scene.render.resolution_percentage = 100
     scene.render.film_transparent = True
-    world = bpy.data.worlds.new("Grey")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    world.cycles_visibility.diffuse = False
-    scene.world = world
+    grey_world(scene, 0.5)
     material = bpy.data.materials.new("Gloss")
     if bpy.app.version < (5, 0, 0):
         material.use_nodes = True
@@ -59,13 +53,7 @@ def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, na
     bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=64, ring_count=32)
     bpy.ops.object.shade_smooth()
     bpy.context.active_object.data.materials.append(material)
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = 2.0
-    camera.location = (0.0, -5.0, 0.0)
-    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
+    side_camera(scene, 2.0)
     set_cycles(scene)
     scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
     cycles = render_rgba(scene, "CYCLES", str(tmp_path / "gloss_cycles.exr"))
@@ -112,11 +100,7 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
     scene.render.resolution_percentage = 100
     scene.render.film_transparent = True
     scene.view_settings.view_transform = "Standard"
-    world = bpy.data.worlds.new("Black")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    scene.world = world
+    black_world(scene)
     material = bpy.data.materials.new("Under a sun")
     if bpy.app.version < (5, 0, 0):
         material.use_nodes = True
@@ -134,18 +118,8 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
     bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=96, ring_count=48)
     bpy.ops.object.shade_smooth()
     bpy.context.active_object.data.materials.append(material)
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = 2.2
-    camera.location = (0.0, -5.0, 0.0)
-    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    sun.data.energy = 3.0
-    sun.data.angle = 0.0
-    sun.rotation_euler = (math.radians(45.0), 0.0, math.radians(-40.0))
-    scene.collection.objects.link(sun)
+    side_camera(scene, 2.2)
+    add_sun(scene, rotation=(45.0, 0.0, -40.0), strength=3.0)
     set_cycles_direct_light(scene, samples=4)
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 1

@@ -17,6 +17,18 @@ def add_camera(scene, location, target, lens=50.0):
     scene.camera = camera
 
 
+def side_camera(scene, width):
+    """An orthographic camera 5 m out along -Y looking at the origin along +Y, its frame
+    `width` m wide: a unit sphere at the origin seen side-on."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = width
+    camera.location = (0.0, -5.0, 0.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+
 def add_sun(scene, rotation=(40.0, 10.0, 30.0), strength=3.0):
     """A sun of `strength` W/m^2 and no angular size; `rotation` Euler XYZ in degrees."""
     sun = bpy.data.lights.new("Sun", "SUN")
