@@ -19,7 +19,7 @@ import bpy
 # isort: split
 import numpy as np
 from whitted_tools.blender import factory_scene
-from whitted_tools.material_scenes import add_sun, black_world, side_camera, smooth_sphere
+from whitted_tools.material_scenes import sphere_under_sun
 from whitted_tools.render import render_exr
 
 SIZE = 64
@@ -33,11 +33,6 @@ CASES = [  # (metallic, roughness, base grey)
 
 def build(metallic, roughness, base):
     scene = factory_scene()
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
     material = bpy.data.materials.new("Principled")
     if bpy.app.version < (5, 0, 0):
         material.use_nodes = True
@@ -45,9 +40,7 @@ def build(metallic, roughness, base):
     bsdf.inputs["Base Color"].default_value = (base, base, base, 1.0)
     bsdf.inputs["Metallic"].default_value = metallic
     bsdf.inputs["Roughness"].default_value = roughness
-    smooth_sphere("Ball", (0.0, 0.0, 0.0), radius=1.0, material=material)
-    side_camera(scene, 2.2)
-    add_sun(scene, rotation=(45.0, 0.0, -40.0))
+    sphere_under_sun(scene, material, SIZE)
     cycles = scene.cycles
     cycles.samples, cycles.use_denoising, cycles.max_bounces = 16, False, 0
     cycles.filter_width = 0.01

@@ -90,8 +90,9 @@ class MaterialData:
     # How the diffuse lobe under a mapped normal fades (native BumpShadowing's name).
     bump_shadowing: str = "NONE"
     # The diffuse lobe's shape (native DiffuseModel's name): "LAMBERT"; "BURLEY" for
-    # Cycles 3.x's Principled BSDF, "OREN_NAYAR" for a rough Diffuse BSDF (and 4.3+'s
-    # Principled Diffuse Roughness), shaped per hit by `diffuse_roughness`.
+    # Cycles 3.x's Principled BSDF; "OREN_NAYAR" for a rough Diffuse BSDF, and from 4.3
+    # "OREN_NAYAR_ENERGY" (also for the Principled's Diffuse Roughness); shaped per hit by
+    # `diffuse_roughness`.
     diffuse_model: str = "LAMBERT"
     diffuse_roughness: float = 0.0
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from node_cases import render, set_cycles
 from node_cases_surface import CASES, build_surface_scene
-from whitted_tools.material_scenes import add_sun, black_world, grey_world, side_camera
+from whitted_tools.material_scenes import grey_world, side_camera, sphere_under_sun
 
 # float32 differences of heights a few thousandths apart (the Bump's offsets).
 BOUND = 1e-3
@@ -96,11 +96,6 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
     from cycles_scenes import render_rgba, set_cycles_direct_light
 
     scene = empty_scene
-    scene.render.resolution_x = scene.render.resolution_y = 48
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
     material = bpy.data.materials.new("Under a sun")
     if bpy.app.version < (5, 0, 0):
         material.use_nodes = True
@@ -115,11 +110,7 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
             pytest.skip(f"this Blender's {bsdf.name} has no {name}")
         bsdf.inputs[name].default_value = value
     tree.links.new(bsdf.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=96, ring_count=48)
-    bpy.ops.object.shade_smooth()
-    bpy.context.active_object.data.materials.append(material)
-    side_camera(scene, 2.2)
-    add_sun(scene, rotation=(45.0, 0.0, -40.0), strength=3.0)
+    sphere_under_sun(scene, material, 48, segments=96, rings=48)
     set_cycles_direct_light(scene, samples=4)
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 1

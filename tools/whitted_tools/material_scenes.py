@@ -17,6 +17,21 @@ def add_camera(scene, location, target, lens=50.0):
     scene.camera = camera
 
 
+def sphere_under_sun(scene, material, size, segments=48, rings=24):
+    """A smooth unit sphere of `material` at the origin under a sun 45 degrees up (3
+    W/m^2, no angular size) on a black world, seen side-on (side_camera, 2.2 m wide) at
+    size x size pixels on a transparent film, Standard view: each pixel sees its own
+    angles of light and view, for comparing lobes with Cycles pixel by pixel."""
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    black_world(scene)
+    smooth_sphere("Ball", (0.0, 0.0, 0.0), 1.0, material, segments, rings)
+    side_camera(scene, 2.2)
+    add_sun(scene, rotation=(45.0, 0.0, -40.0), strength=3.0)
+
+
 def side_camera(scene, width):
     """An orthographic camera 5 m out along -Y looking at the origin along +Y, its frame
     `width` m wide: a unit sphere at the origin seen side-on."""
@@ -107,10 +122,10 @@ def checker_pixels(size=64, cells=8, a=(0.8, 0.3, 0.1), b=(0.1, 0.4, 0.7)):
     return np.concatenate([rgb, np.ones((size, size, 1))], axis=-1)
 
 
-def smooth_sphere(name, location, radius=0.8, material=None):
-    """A smooth-shaded UV sphere of 48 segments and 24 rings."""
+def smooth_sphere(name, location, radius=0.8, material=None, segments=48, rings=24):
+    """A smooth-shaded UV sphere (48 segments and 24 rings unless told)."""
     bpy.ops.mesh.primitive_uv_sphere_add(
-        radius=radius, location=location, segments=48, ring_count=24
+        radius=radius, location=location, segments=segments, ring_count=rings
     )
     sphere = bpy.context.active_object
     sphere.name = name

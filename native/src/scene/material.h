@@ -97,7 +97,7 @@ struct MaterialParams {
   bool valid_reflection = false;
   BumpShadowing bump_shadowing = BumpShadowing::kNone;  // for a program's normal
   DiffuseModel diffuse_model = DiffuseModel::kLambert;
-  float diffuse_roughness = 0.0f;  // what shapes a kBurley lobe, in [0, 1]
+  float diffuse_roughness = 0.0f;  // what shapes a lobe other than kLambert, in [0, 1]
   std::string diffuse_texture{};   // multiplies `diffuse` by its RGB ("" for none)
   std::string alpha_texture{};     // multiplies `alpha` by its A ("" for none)
   // Fields a program computes per hit: the register holding each after the program, -1
@@ -172,13 +172,16 @@ inline float burley_diffuse(float cos_l, float cos_v, float l_dot_v, float rough
 // pi (A + B s), A = 1 / (pi + (pi/2 - 2/3) r), B = r A, for roughness r, with
 // s = l.v - (n.l)(n.v), divided by max(n.l, n.v) where positive. 1 at r = 0; rough
 // surfaces are darker towards the light and brighter with the light behind the viewer.
+// A, the Lambertian part of Fujii's lobe (B = r A), for roughness r.
+inline float oren_nayar_a(float roughness) {
+  return 1.0f / (kPi + (0.5f * kPi - 2.0f / 3.0f) * roughness);
+}
 inline float oren_nayar_diffuse(float cos_l, float cos_v, float l_dot_v, float roughness) {
   cos_l = std::max(cos_l, 0.0f);
   cos_v = std::max(cos_v, 0.0f);
   float s = l_dot_v - cos_l * cos_v;
   if (s > 0.0f) s /= std::max(cos_l, cos_v) + std::numeric_limits<float>::min();
-  constexpr float kPi = 3.14159265358979f;
-  return kPi * (1.0f + roughness * s) / (kPi + (0.5f * kPi - 2.0f / 3.0f) * roughness);
+  return kPi * (1.0f + roughness * s) * oren_nayar_a(roughness);
 }
 
 // kOrenNayarEnergy's multiple scattering, in the OpenPBR specification's form as Cycles
@@ -192,7 +195,7 @@ inline float oren_nayar_diffuse(float cos_l, float cos_v, float l_dot_v, float r
 // E(cos) = pi A + B G(cos), with G from the specification (its series near the horizon).
 inline float oren_nayar_g(float cos_theta) {
   constexpr float kTwoThirds = 2.0f / 3.0f;
-  if (cos_theta < 1e-6f) return (1.57079632679f - kTwoThirds) - cos_theta;
+  if (cos_theta < 1e-6f) return (0.5f * kPi - kTwoThirds) - cos_theta;
   const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
   const float theta = std::acos(std::min(cos_theta, 1.0f));
   return sin_theta * (theta - kTwoThirds - sin_theta * cos_theta) +
@@ -200,14 +203,12 @@ inline float oren_nayar_g(float cos_theta) {
 }
 // 1 - E(cos): what the single-scattering lobe does not reflect of light from that angle.
 inline float oren_nayar_loss(float cos_theta, float roughness) {
-  constexpr float kPi = 3.14159265358979f;
-  const float a = 1.0f / (kPi + (0.5f * kPi - 2.0f / 3.0f) * roughness);
+  const float a = oren_nayar_a(roughness);
   return 1.0f - (kPi * a + roughness * a * oren_nayar_g(std::max(cos_theta, 0.0f)));
 }
 inline Color oren_nayar_multiscatter(const Color& kd, float roughness, float cos_v) {
   if (!(roughness > 0.0f)) return Color(0.0f);  // Lambert loses nothing (and Eavg = 1)
-  constexpr float kPi = 3.14159265358979f;
-  const float a = 1.0f / (kPi + (0.5f * kPi - 2.0f / 3.0f) * roughness);
+  const float a = oren_nayar_a(roughness);
   const float average = kPi * a + (2.0f * kPi - 5.6f) / 3.0f * roughness * a;  // Eavg
   const Color albedo = glm::clamp(kd, Color(0.0f), Color(1.0f));
   const Color ms = albedo * albedo * (average / (1.0f - average) / kPi) /
