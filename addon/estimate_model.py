@@ -40,6 +40,14 @@ MIN_PROBE_PIXELS = 4800
 # tiles of 8x8 (4,800 pixels) missed the frame's mean by up to 13% (Final, 240x180);
 # 1,200 tiles of 2x2 miss it by 2% at most there.
 PROBE_TILE_SIZE = 2
+# The probe's timing jobs (a probe's rate, not its pixels): tiles of 8x8. Each tile
+# costs the job a fixed hand-over (the shared tile counter and the statistics' lock,
+# whose cache lines the two cores pass back and forth); in a 2x2 tile of a Draft
+# preset, about 9 rays, that hand-over was a quarter of the tile's time (the probe's
+# rate came out 24% low on the demo scene), and a 32x32 tile of the render pays it 256
+# times less often per pixel. At 8x8 it is 16 times rarer than at 2x2, and a probe of
+# a 240x180 frame at stride 3 still holds 75 tiles for the two threads to share.
+TIMING_TILE_SIZE = 8
 
 
 def probe_stride(pixels):

@@ -1,11 +1,12 @@
 """How good is the Estimate button? Predicted against actual time and error, per preset.
 
-Run inside Blender (3.4 binary or the bpy 5.0 module); for each .blend it runs the
-Estimate operator (a probe of each preset: addon/estimate.py), then renders every
-preset at the full resolution and compares the engine's total time (the median of
-up to --repeats renders, fewer once MAX_RENDER_SECONDS have been spent on a preset)
-and the display error against the Reference render (addon/estimate_model.py's
-display_error, on the whole frame) with the predictions:
+Run inside Blender (3.4 binary or the bpy 5.0 module); for each .blend it makes the
+Estimate button's prediction (estimate_presets, a probe of each preset:
+addon/estimate.py), then renders every preset at the full resolution and compares the
+engine's total time (the median of up to --repeats renders, made one of each preset
+in turn, fewer once MAX_RENDER_SECONDS have been spent on a preset), its fixed costs
+and its tracing, and the display error against the Reference render
+(addon/estimate_model.py's display_error, on the whole frame) with the predictions:
 
     blender -b --factory-startup --python scripts/estimate_accuracy.py -- \\
         FILE.blend [FILE.blend ...] [--resolution 320 240] [--repeats 3] \\
@@ -33,6 +34,7 @@ import statistics
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 
 import addon_utils
 import bpy
@@ -53,8 +55,8 @@ def parse_args():
 
 
 def render_image(scene, path):
-    """Render the scene to an EXR at `path`; (engine's total seconds, rays per pixel,
-    float[H, W, 4])."""
+    """Render the scene to an EXR at `path`; (the engine's phases in seconds, rays per
+    pixel, float[H, W, 4])."""
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
     stats = json.loads(scene.whitted.last_stats)
@@ -62,17 +64,33 @@ def render_image(scene, path):
     width, height = image.size
     pixels = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
     bpy.data.images.remove(image)
-    return stats["phases"]["total"], stats["rays"]["total"] / stats["pixels"], pixels
+    return stats["phases"], stats["rays"]["total"] / stats["pixels"], pixels
+
+
+@dataclass(frozen=True)
+class Row:
+    label: str  # the preset's
+    predicted: float  # seconds, the whole render
+    actual: float  # seconds, the engine's total (median of the renders)
+    predicted_fixed: float  # export, BVHs and scene compile
+    actual_fixed: float  # (median)
+    predicted_trace: float  # thread start-up and tracing
+    actual_trace: float  # (median)
+    predicted_error: float  # display RMSE against Reference, 8-bit levels
+    actual_error: float
+    predicted_rays: float  # rays per pixel
+    actual_rays: float
 
 
 def measure(path, resolution, repeats, workdir):
-    """(probe description, Estimate seconds, [(preset label, predicted s, actual s,
-    predicted error, actual error, predicted rays per pixel, actual)]) for one .blend."""
+    """(probe description, Estimate seconds, [Row per preset]) for one .blend. Calls
+    what the Estimate operator calls (estimate.estimate_presets), to see its parts."""
     bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
     if addon_utils.enable("whitted", default_set=True) is None:
         sys.exit("estimate_accuracy: the add-on 'whitted' is not installed; run scripts/setup.sh")
-    from whitted.estimate import REFERENCE
+    from whitted.estimate import REFERENCE, estimate_presets
     from whitted.estimate_model import display_error
+    from whitted.native import load_native
     from whitted.properties.presets import PRESETS, apply_quality
 
     scene = bpy.context.scene
@@ -82,33 +100,44 @@ def measure(path, resolution, repeats, workdir):
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     started = time.perf_counter()
-    bpy.ops.whitted.estimate()
+    probe, estimates, _ = estimate_presets(bpy.context.evaluated_depsgraph_get(), load_native())
     estimate_seconds = time.perf_counter() - started
-    predicted = {e.preset: (e.seconds, e.error, e.rays_per_pixel) for e in scene.whitted.estimates}
+    predicted = {e.preset: e for e in estimates}
+    # The renders go round the presets, one of each per round, rather than one preset's
+    # renders back to back: the machine's speed drifts over seconds, and a preset's
+    # median should not be taken in one moment of it.
+    phases = {key: [] for key, _, _, _ in PRESETS}
     actual = {}
-    for key, _, _, values in PRESETS:
-        apply_quality(scene.whitted, values)
-        times = []
-        for _ in range(repeats):
-            seconds, rays, image = render_image(scene, os.path.join(workdir, f"{key}.exr"))
-            times.append(seconds)
-            if sum(times) >= MAX_RENDER_SECONDS:
-                break
-        actual[key] = (statistics.median(times), image, rays)
+    for _ in range(repeats):
+        for key, _, _, values in PRESETS:
+            if sum(p["total"] for p in phases[key]) >= MAX_RENDER_SECONDS:
+                continue
+            apply_quality(scene.whitted, values)
+            times, rays, image = render_image(scene, os.path.join(workdir, f"{key}.exr"))
+            phases[key].append(times)
+            actual[key] = (phases[key], image, rays)
     reference = actual[REFERENCE][1]
-    rows = [
-        (
-            label,
-            predicted[key][0],
-            actual[key][0],
-            predicted[key][1],
-            display_error(actual[key][1], reference),
-            predicted[key][2],
-            actual[key][2],
+    rows = []
+    for key, label, _, _ in PRESETS:
+        estimate, (phases, image, rays) = predicted[key], actual[key]
+        rows.append(
+            Row(
+                label=label,
+                predicted=estimate.seconds,
+                actual=statistics.median(p["total"] for p in phases),
+                predicted_fixed=probe.fixed_seconds,
+                actual_fixed=statistics.median(
+                    p["export"] + p["mesh_bvh"] + p["scene_bvh"] for p in phases
+                ),
+                predicted_trace=estimate.seconds - probe.fixed_seconds,
+                actual_trace=statistics.median(p["trace"] for p in phases),
+                predicted_error=estimate.error,
+                actual_error=display_error(image, reference),
+                predicted_rays=estimate.rays_per_pixel,
+                actual_rays=rays,
+            )
         )
-        for key, label, _, _ in PRESETS
-    ]
-    return scene.whitted.estimate_probe, estimate_seconds, rows
+    return probe.describe(), estimate_seconds, rows
 
 
 def rank(values):
@@ -122,10 +151,11 @@ def main():
     lines = [
         "## How accurate is the Estimate button",
         "",
-        "Predicted (Estimate operator: each preset traces one tile in n^2 of the frame "
+        "Predicted (the Estimate button: each preset traces one tile in n^2 of the frame "
         "at full resolution, addon/estimate.py) against actual render time (the engine's "
-        f"total, median of up to {args.repeats} renders) and error against the Reference "
-        "render (RMSE as an 8-bit sRGB display shows the image, in levels of 255: "
+        f"total, median of up to {args.repeats} renders, made one of each preset in turn) "
+        "and error against the Reference render (RMSE as an 8-bit sRGB display shows the "
+        "image, in levels of 255: "
         f"addon/estimate_model.py), at {args.resolution[0]}x{args.resolution[1]}, "
         f"Blender {bpy.app.version_string}, {os.cpu_count()} cores. Command:",
         "",
@@ -142,37 +172,49 @@ def main():
             ]
         ),
         "",
-        "| scene | preset | predicted (s) | actual (s) | time error | predicted rays/px "
-        "| actual rays/px | predicted error | actual error |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| scene | preset | predicted (s) | actual (s) | time error | fixed: predicted / "
+        "actual (s) | tracing: predicted / actual (s) | predicted rays/px | actual rays/px "
+        "| predicted error | actual error |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    time_errors, error_ratios, ranks_right, probes, estimate_seconds = [], [], 0, set(), []
-    ray_errors = []
+    time_errors, fixed_errors, trace_errors, error_ratios, ray_errors = [], [], [], [], []
+    ranks_right, probes, estimate_seconds = 0, set(), []
     with tempfile.TemporaryDirectory() as workdir:
         for path in args.blend:
             probe, seconds, rows = measure(path, args.resolution, args.repeats, workdir)
             probes.add(probe)
             estimate_seconds.append(seconds)
-            for label, predicted, actual, predicted_error, actual_error, *rays in rows:
-                error = (predicted - actual) / actual
+            for r in rows:
+                error = (r.predicted - r.actual) / r.actual
                 time_errors.append(abs(error))
-                ray_errors.append(abs(rays[0] / rays[1] - 1.0))
-                if actual_error > 0.0:
-                    error_ratios.append(predicted_error / actual_error)
+                # Each part's miss as a share of the actual total: the two add up to it,
+                # less what the prediction leaves out (the write-back, the engine's own).
+                fixed_errors.append(abs(r.predicted_fixed - r.actual_fixed) / r.actual)
+                trace_errors.append(abs(r.predicted_trace - r.actual_trace) / r.actual)
+                ray_errors.append(abs(r.predicted_rays / r.actual_rays - 1.0))
+                if r.actual_error > 0.0:
+                    error_ratios.append(r.predicted_error / r.actual_error)
                 lines.append(
-                    f"| {os.path.basename(path)} | {label} | {predicted:.3f} | {actual:.3f} | "
-                    f"{100 * error:+.0f}% | {rays[0]:.1f} | {rays[1]:.1f} | "
-                    f"{predicted_error:.2f} | {actual_error:.2f} |"
+                    f"| {os.path.basename(path)} | {r.label} | {r.predicted:.3f} | "
+                    f"{r.actual:.3f} | {100 * error:+.0f}% | {r.predicted_fixed:.3f} / "
+                    f"{r.actual_fixed:.3f} | {r.predicted_trace:.3f} / {r.actual_trace:.3f} | "
+                    f"{r.predicted_rays:.1f} | {r.actual_rays:.1f} | "
+                    f"{r.predicted_error:.2f} | {r.actual_error:.2f} |"
                 )
-            ranks_right += rank([r[3] for r in rows]) == rank([r[4] for r in rows])
+            ranks_right += rank([r.predicted_error for r in rows]) == rank(
+                [r.actual_error for r in rows]
+            )
     scenes = len(args.blend)
     lines += [
         "",
         f"Time, over {len(time_errors)} renders: mean absolute error "
         f"{100 * statistics.fmean(time_errors):.1f}%, worst {100 * max(time_errors):.0f}%. "
         f"Rays: mean absolute error {100 * statistics.fmean(ray_errors):.1f}%, worst "
-        f"{100 * max(ray_errors):.1f}% (the rest of the time error is the ray rate and the "
-        "fixed costs: export, BVH, write-back, as the load of the machine moves them).",
+        f"{100 * max(ray_errors):.1f}%. Where the time error comes from, as a share of "
+        "the actual total (mean absolute): the fixed costs (export, BVHs, scene compile; "
+        "the Estimate's median of up to 3 exports) "
+        f"{100 * statistics.fmean(fixed_errors):.1f}%, the tracing "
+        f"{100 * statistics.fmean(trace_errors):.1f}%.",
         "",
         f"Error: the predicted order of the presets is right on {ranks_right} of {scenes} "
         f"scenes; predicted / actual error over the {len(error_ratios)} presets below "
