@@ -116,6 +116,36 @@ def estimate_presets(depsgraph, native):
     return probe, estimates, frame.memory
 
 
+def render_differences(depsgraph):
+    """How a render's geometry will differ from the evaluated (viewport) `depsgraph`'s,
+    as short sentences. The Estimate measures the viewport's depsgraph (Python cannot
+    make a render one), and F12 evaluates each modifier with its render settings: this
+    lists, for the objects the viewport shows, the modifiers enabled in one of the two
+    only and the Subdivision Surface and Multiresolution levels that differ. Geometry
+    nodes that ask Is Viewport, and objects shown in one of the two only, are not
+    seen."""
+    differences = []
+    for obj in depsgraph.scene.objects:
+        if not obj.visible_get(view_layer=depsgraph.view_layer):
+            continue
+        for modifier in obj.modifiers:
+            if modifier.show_viewport != modifier.show_render:
+                where = "the viewport" if modifier.show_viewport else "renders"
+                differences.append(
+                    f"'{obj.name}': modifier '{modifier.name}' is on in {where} only"
+                )
+            elif (
+                modifier.show_render
+                and modifier.type in ("SUBSURF", "MULTIRES")
+                and modifier.levels != modifier.render_levels
+            ):
+                differences.append(
+                    f"'{obj.name}': '{modifier.name}' subdivides {modifier.levels} times in "
+                    f"the viewport, {modifier.render_levels} in renders"
+                )
+    return differences
+
+
 def _export(depsgraph, native):
     """(the Frame of the depsgraph, the median seconds its export took): the scene is
     exported again while that is cheap (FIXED_BUDGET_SECONDS), keeping the last

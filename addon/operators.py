@@ -4,7 +4,7 @@ render time and error."""
 import bpy
 from bpy.props import EnumProperty
 
-from .estimate import estimate_presets
+from .estimate import estimate_presets, render_differences
 from .export import ExportError
 from .memory import MIB
 from .native import load_native
@@ -36,9 +36,10 @@ class WHITTED_OT_estimate(bpy.types.Operator):
     )
 
     def execute(self, context):
+        depsgraph = context.evaluated_depsgraph_get()
         try:
             native = load_native()
-            probe, estimates, needed = estimate_presets(context.evaluated_depsgraph_get(), native)
+            probe, estimates, needed = estimate_presets(depsgraph, native)
         except (ImportError, ExportError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -55,4 +56,12 @@ class WHITTED_OT_estimate(bpy.types.Operator):
             item.rays_per_pixel = estimate.rays_per_pixel
         whitted.estimate_probe = probe.describe()
         whitted.estimate_memory_mib = needed.bytes / MIB
+        differences = render_differences(depsgraph)
+        whitted.estimate_caveat = "; ".join(differences)
+        if differences:
+            self.report(
+                {"WARNING"},
+                "Whitted: the Estimate measured the viewport's geometry, and a render's "
+                f"will differ: {whitted.estimate_caveat}",
+            )
         return {"FINISHED"}

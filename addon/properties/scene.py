@@ -197,6 +197,13 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         description="The probe the estimates were made from",
         default="",
     )
+    estimate_caveat: StringProperty(
+        name="Estimate Caveat",
+        description="How a render's geometry differs from the viewport's, which the "
+        "estimates were measured on (modifiers with other render settings); empty when "
+        "it does not",
+        default="",
+    )
 
     @classmethod
     def register(cls):

@@ -67,6 +67,8 @@ class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
         if not settings.estimates:
             return
         layout.label(text=settings.estimate_probe)
+        if settings.estimate_caveat:
+            layout.label(text=f"Renders differ: {settings.estimate_caveat}", icon="ERROR")
         layout.label(text=f"Memory: about {settings.estimate_memory_mib:,.0f} MiB")
         # preset | time | display RMSE against Reference in 8-bit levels
         # (addon/estimate_model.py) | rays per pixel

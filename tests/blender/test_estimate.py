@@ -49,6 +49,26 @@ def test_estimate_fills_time_and_error_of_every_preset(demo):
     assert 4000 <= int(probe[1].replace(",", "")) <= 5600
     # Memory beside time: the guard's estimate of the full render.
     assert 0.0 < demo.whitted.estimate_memory_mib < 100.0
+    # The demo's modifiers render as the viewport shows them.
+    assert demo.whitted.estimate_caveat == ""
+
+
+def test_estimate_says_how_a_renders_geometry_differs_from_the_viewports(demo):
+    # The Estimate can only measure the viewport's depsgraph; F12 evaluates modifiers
+    # with their render settings. It must say so rather than predict another scene.
+    mesh = next(o for o in demo.objects if o.type == "MESH")
+    subdivision = mesh.modifiers.new("Smooth", "SUBSURF")
+    subdivision.levels, subdivision.render_levels = 0, 2
+    bevel = mesh.modifiers.new("Edges", "BEVEL")
+    bevel.show_viewport = False
+    assert bpy.ops.whitted.estimate() == {"FINISHED"}
+    caveat = demo.whitted.estimate_caveat
+    assert f"'{mesh.name}': 'Smooth' subdivides 0 times in the viewport, 2 in renders" in caveat
+    assert f"'{mesh.name}': modifier 'Edges' is on in renders only" in caveat
+    subdivision.render_levels = 0
+    bevel.show_viewport = True
+    assert bpy.ops.whitted.estimate() == {"FINISHED"}
+    assert demo.whitted.estimate_caveat == ""
 
 
 def test_a_probe_traces_the_full_renders_pixels(demo, native):
