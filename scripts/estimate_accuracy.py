@@ -13,17 +13,15 @@ and its tracing, and the display error against the Reference render
         [--out docs/notes/estimate_accuracy.md]
 
 Writes a Markdown page (a table, the time, rays and error figures; docs/ACCURACY_COST.md
-links to it) and prints it. docs/notes/estimate_accuracy.md was made at 240x180 from
-six scenes built by the scene builders (S=/tmp/crypto-scenes):
+links to it) and prints it. --standard-scenes DIR builds the six scenes of
+docs/notes/estimate_accuracy.md into DIR first (STANDARD_SCENES: whitted_tools.
+bench_scenes' demo, glass, diffuse, glass8, 1,000 instances and 300,000 triangles, as
+scripts/perf_scenes.py and scripts/cost_scenes.py save them) and measures them after
+any FILE.blend given; that page was made with
 
-    blender -b --factory-startup --python scripts/perf_scenes.py -- --scene demo \
-        --resolution 320 240 --save $S/demo.blend
-    blender -b --factory-startup --python scripts/cost_scenes.py -- --scene glass \
-        --save $S/glass.blend                      (and --scene diffuse)
-    blender -b --factory-startup --python scripts/perf_scenes.py -- --scene glass8 \
-        --resolution 320 240 --save $S/glass8.blend
-    ... --scene instances --instances 1000 --ico-subdivisions 3 (instances.blend)
-    ... --scene triangles --triangles 300000 (triangles.blend)
+    blender -b --factory-startup --python scripts/estimate_accuracy.py -- \
+        --standard-scenes /tmp/estimate-scenes --resolution 240 180 --repeats 5 \
+        --out docs/notes/estimate_accuracy.md
 """
 
 import argparse
@@ -39,15 +37,62 @@ from dataclasses import dataclass
 import addon_utils
 import bpy
 import numpy as np
+from whitted_tools import bench_scenes
+from whitted_tools.blender import factory_scene
 
 # Renders of one preset stop repeating once they have taken this long in all.
 MAX_RENDER_SECONDS = 20.0
 
 
+# The scenes of --standard-scenes: (name, builder, the builder's arguments, max depth;
+# None: the cost report's scenes, which keep the presets' own settings).
+STANDARD_SCENES = (
+    ("demo", bench_scenes.build_demo, {}, bench_scenes.DEFAULT_MAX_DEPTH),
+    ("glass", bench_scenes.build_glass_scene, None, None),
+    ("diffuse", bench_scenes.build_diffuse_scene, None, None),
+    ("glass8", bench_scenes.build_glass8, {}, bench_scenes.GLASS8_MAX_DEPTH),
+    (
+        "instances",
+        bench_scenes.build_instances,
+        {"instances": 1000, "ico_subdivisions": 3},
+        bench_scenes.DEFAULT_MAX_DEPTH,
+    ),
+    (
+        "triangles",
+        bench_scenes.build_triangles,
+        {"triangles": 300_000},
+        bench_scenes.DEFAULT_MAX_DEPTH,
+    ),
+)
+# The size the standard scenes are built for (the instances' grid is laid out for it);
+# they are measured at --resolution.
+BUILD_RESOLUTION = (320, 240)
+
+
+def build_standard_scenes(directory):
+    """Save the STANDARD_SCENES into `directory`; their paths."""
+    os.makedirs(directory, exist_ok=True)
+    paths = []
+    for name, build, arguments, depth in STANDARD_SCENES:
+        if arguments is None:
+            scene = build(factory_scene())
+            scene.render.engine = "WHITTED"
+            scene.view_settings.view_transform = "Standard"
+        else:
+            options = {"triangles": None, "instances": None, "ico_subdivisions": None}
+            options.update(arguments, resolution=BUILD_RESOLUTION)
+            scene = build(factory_scene("whitted", "cycles"), argparse.Namespace(**options))
+            bench_scenes.configure(scene, BUILD_RESOLUTION, depth)
+        paths.append(os.path.join(os.path.abspath(directory), f"{name}.blend"))
+        bpy.ops.wm.save_as_mainfile(filepath=paths[-1])
+    return paths
+
+
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("blend", nargs="+")
+    parser.add_argument("blend", nargs="*")
+    parser.add_argument("--standard-scenes", metavar="DIR", help="build and measure those too")
     parser.add_argument("--resolution", nargs=2, type=int, default=(320, 240), metavar=("W", "H"))
     parser.add_argument("--repeats", type=int, default=3, help="renders of each preset at most")
     parser.add_argument("--out", help="Markdown file to write")
@@ -147,6 +192,10 @@ def rank(values):
 
 def main():
     args, argv = parse_args()
+    if args.standard_scenes:
+        args.blend += build_standard_scenes(args.standard_scenes)
+    if not args.blend:
+        sys.exit("estimate_accuracy: no scenes (give .blend files or --standard-scenes DIR)")
     load = os.getloadavg()[0]
     lines = [
         "## How accurate is the Estimate button",
