@@ -17,7 +17,9 @@ links to it) and prints it. --standard-scenes DIR builds the six scenes of
 docs/notes/estimate_accuracy.md into DIR first (STANDARD_SCENES: whitted_tools.
 bench_scenes' demo, glass, diffuse, glass8, 1,000 instances and 300,000 triangles, as
 scripts/perf_scenes.py and scripts/cost_scenes.py save them) and measures them after
-any FILE.blend given; that page was made with
+any FILE.blend given; --third-party NAME ... adds the material gallery's scenes of
+real models (whitted_tools.materials_page.THIRD_PARTY), which nothing was tuned on.
+That page was made with
 
     blender -b --factory-startup --python scripts/estimate_accuracy.py -- \
         --standard-scenes /tmp/estimate-scenes --resolution 240 180 --repeats 5 \
@@ -39,6 +41,8 @@ import bpy
 import numpy as np
 from whitted_tools import bench_scenes
 from whitted_tools.blender import factory_scene
+from whitted_tools.material_scenes import frame_subject, import_file
+from whitted_tools.materials_page import THIRD_PARTY, THIRD_PARTY_MODELS
 
 # Renders of one preset stop repeating once they have taken this long in all.
 MAX_RENDER_SECONDS = 20.0
@@ -88,11 +92,36 @@ def build_standard_scenes(directory):
     return paths
 
 
+def build_third_party_scenes(directory, names):
+    """Save the material gallery's third-party scenes `names` (materials_page.THIRD_PARTY:
+    real models by other people, framed under the gallery's sun) into `directory`, at
+    Whitted's default settings; their paths. Scenes the presets were not tuned on."""
+    entries = {entry["scene"]: entry for entry in THIRD_PARTY}
+    os.makedirs(directory, exist_ok=True)
+    paths = []
+    for name in names:
+        scene = factory_scene()
+        import_file(THIRD_PARTY_MODELS / entries[name]["file"])
+        frame_subject(scene)
+        scene.render.engine = "WHITTED"
+        scene.view_settings.view_transform = "Standard"
+        paths.append(os.path.join(os.path.abspath(directory), f"{name}.blend"))
+        bpy.ops.wm.save_as_mainfile(filepath=paths[-1])
+    return paths
+
+
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("blend", nargs="*")
     parser.add_argument("--standard-scenes", metavar="DIR", help="build and measure those too")
+    parser.add_argument(
+        "--third-party",
+        nargs="+",
+        default=[],
+        choices=[entry["scene"] for entry in THIRD_PARTY],
+        help="build these gallery scenes into the --standard-scenes DIR and measure them too",
+    )
     parser.add_argument("--resolution", nargs=2, type=int, default=(320, 240), metavar=("W", "H"))
     parser.add_argument("--repeats", type=int, default=3, help="renders of each preset at most")
     parser.add_argument("--out", help="Markdown file to write")
@@ -194,6 +223,7 @@ def main():
     args, argv = parse_args()
     if args.standard_scenes:
         args.blend += build_standard_scenes(args.standard_scenes)
+        args.blend += build_third_party_scenes(args.standard_scenes, args.third_party)
     if not args.blend:
         sys.exit("estimate_accuracy: no scenes (give .blend files or --standard-scenes DIR)")
     load = os.getloadavg()[0]

@@ -30,7 +30,6 @@ import bpy
 
 # isort: split
 import numpy as np
-from mathutils import Vector
 from whitted_tools import shader_graphs
 from whitted_tools.blender import enable_addon, factory_scene
 from whitted_tools.cli import page_parser, script_args
@@ -40,7 +39,9 @@ from whitted_tools.material_scenes import (
     add_sun,
     black_world,
     checker_pixels,
+    frame_subject,
     grey_world,
+    import_file,
     numpy_image,
     smooth_sphere,
 )
@@ -340,48 +341,6 @@ SCENES = {
 
 
 # --- third-party scenes --------------------------------------------------------------
-
-
-def import_file(path):
-    """Import a model with Blender's own importer for its file type."""
-    suffix = path.suffix.lower()
-    if suffix in (".gltf", ".glb"):
-        enable_addon("io_scene_gltf2")
-        if not hasattr(np, "bool"):
-            np.bool = bool  # as in scene_gltf_round_trip
-        bpy.ops.import_scene.gltf(filepath=str(path))
-    elif suffix == ".obj":
-        bpy.ops.wm.obj_import(filepath=str(path))
-    elif suffix == ".dae":
-        bpy.ops.wm.collada_import(filepath=str(path))
-    else:
-        raise ValueError(f"no importer for {path.name}")
-
-
-def frame_subject(scene):
-    """The gallery's set-up around whatever was imported: its own lights and cameras
-    removed; a camera 27 degrees wide from the front right above, fitting the bounds;
-    a floor just under them; the sun; the black world."""
-    for obj in [o for o in scene.objects if o.type in ("LIGHT", "CAMERA")]:
-        bpy.data.objects.remove(obj)
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    corners = [
-        tuple(obj.matrix_world @ Vector(corner))
-        for obj in scene.objects
-        if obj.type == "MESH"
-        for corner in obj.evaluated_get(depsgraph).bound_box
-    ]
-    low, high = np.min(corners, axis=0), np.max(corners, axis=0)
-    centre, radius = (low + high) / 2.0, float(np.linalg.norm(high - low)) / 2.0
-    view = np.array([0.55, -1.0, 0.6]) / np.linalg.norm([0.55, -1.0, 0.6])
-    distance = 1.05 * radius / math.sin(math.radians(27.0) / 2.0)
-    add_camera(scene, tuple(centre + distance * view), tuple(centre))
-    scene.camera.data.clip_start = 1e-3 * distance
-    scene.camera.data.clip_end = 10.0 * distance
-    floor = add_floor(scene, size=8.0 * radius)
-    floor.location.z = low[2] - 0.01 * radius  # not coplanar with a flat model
-    add_sun(scene)
-    black_world(scene)
 
 
 def third_party_scene(entry):

@@ -1,11 +1,14 @@
 """Pieces of the material gallery's and the material cost benchmark's scenes (bpy):
-camera, sun, worlds, a diffuse floor, packed float images, smooth spheres."""
+camera, sun, worlds, a diffuse floor, packed float images, smooth spheres, and a
+third-party model imported and framed as the gallery shows it."""
 
 import math
 
 import bpy
 import numpy as np
 from mathutils import Vector
+
+from whitted_tools.blender import enable_addon
 
 
 def add_camera(scene, location, target, lens=50.0):
@@ -133,3 +136,45 @@ def smooth_sphere(name, location, radius=0.8, material=None, segments=48, rings=
     if material is not None:
         sphere.data.materials.append(material)
     return sphere
+
+
+def import_file(path):
+    """Import a model with Blender's own importer for its file type."""
+    suffix = path.suffix.lower()
+    if suffix in (".gltf", ".glb"):
+        enable_addon("io_scene_gltf2")
+        if not hasattr(np, "bool"):
+            np.bool = bool  # as in scene_gltf_round_trip
+        bpy.ops.import_scene.gltf(filepath=str(path))
+    elif suffix == ".obj":
+        bpy.ops.wm.obj_import(filepath=str(path))
+    elif suffix == ".dae":
+        bpy.ops.wm.collada_import(filepath=str(path))
+    else:
+        raise ValueError(f"no importer for {path.name}")
+
+
+def frame_subject(scene):
+    """The gallery's set-up around whatever was imported: its own lights and cameras
+    removed; a camera 27 degrees wide from the front right above, fitting the bounds;
+    a floor just under them; the sun; the black world."""
+    for obj in [o for o in scene.objects if o.type in ("LIGHT", "CAMERA")]:
+        bpy.data.objects.remove(obj)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    corners = [
+        tuple(obj.matrix_world @ Vector(corner))
+        for obj in scene.objects
+        if obj.type == "MESH"
+        for corner in obj.evaluated_get(depsgraph).bound_box
+    ]
+    low, high = np.min(corners, axis=0), np.max(corners, axis=0)
+    centre, radius = (low + high) / 2.0, float(np.linalg.norm(high - low)) / 2.0
+    view = np.array([0.55, -1.0, 0.6]) / np.linalg.norm([0.55, -1.0, 0.6])
+    distance = 1.05 * radius / math.sin(math.radians(27.0) / 2.0)
+    add_camera(scene, tuple(centre + distance * view), tuple(centre))
+    scene.camera.data.clip_start = 1e-3 * distance
+    scene.camera.data.clip_end = 10.0 * distance
+    floor = add_floor(scene, size=8.0 * radius)
+    floor.location.z = low[2] - 0.01 * radius  # not coplanar with a flat model
+    add_sun(scene)
+    black_world(scene)
