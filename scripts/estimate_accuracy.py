@@ -36,13 +36,13 @@ import tempfile
 import time
 from dataclasses import dataclass
 
-import addon_utils
 import bpy
-import numpy as np
 from whitted_tools import bench_scenes
-from whitted_tools.blender import factory_scene
+from whitted_tools.blender import enable_addon, factory_scene
+from whitted_tools.cli import inside_blender_binary, script_args
 from whitted_tools.material_scenes import frame_subject, import_file
 from whitted_tools.materials_page import THIRD_PARTY, THIRD_PARTY_MODELS
+from whitted_tools.render import render_exr
 
 # Renders of one preset stop repeating once they have taken this long in all.
 MAX_RENDER_SECONDS = 20.0
@@ -111,7 +111,7 @@ def build_third_party_scenes(directory, names):
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
+    argv = script_args()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("blend", nargs="*")
     parser.add_argument("--standard-scenes", metavar="DIR", help="build and measure those too")
@@ -131,13 +131,8 @@ def parse_args():
 def render_image(scene, path):
     """Render the scene to an EXR at `path`; (the engine's phases in seconds, rays per
     pixel, float[H, W, 4])."""
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
+    pixels = render_exr(scene, path)
     stats = json.loads(scene.whitted.last_stats)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
-    bpy.data.images.remove(image)
     return stats["phases"], stats["rays"]["total"] / stats["pixels"], pixels
 
 
@@ -160,8 +155,7 @@ def measure(path, resolution, repeats, workdir):
     """(probe description, Estimate seconds, [Row per preset]) for one .blend. Calls
     what the Estimate operator calls (estimate.estimate_presets), to see its parts."""
     bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path))
-    if addon_utils.enable("whitted", default_set=True) is None:
-        sys.exit("estimate_accuracy: the add-on 'whitted' is not installed; run scripts/setup.sh")
+    enable_addon()
     from whitted.estimate import REFERENCE, estimate_presets
     from whitted.estimate_model import display_error
     from whitted.native import load_native
@@ -171,8 +165,6 @@ def measure(path, resolution, repeats, workdir):
     scene.render.engine = "WHITTED"
     scene.render.resolution_x, scene.render.resolution_y = resolution
     scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
     started = time.perf_counter()
     probe, estimates, _ = estimate_presets(bpy.context.evaluated_depsgraph_get(), load_native())
     estimate_seconds = time.perf_counter() - started
@@ -219,6 +211,14 @@ def rank(values):
     return sorted(range(len(values)), key=lambda i: -values[i])
 
 
+def _command(argv):
+    """This run's command, as typed from the repository root in either Blender."""
+    if inside_blender_binary():
+        blender = ["blender", "-b", "--factory-startup", "--python"]
+        return shlex.join([*blender, "scripts/estimate_accuracy.py", "--", *argv])
+    return shlex.join([".venv/bin/python", "scripts/estimate_accuracy.py", *argv])
+
+
 def main():
     args, argv = parse_args()
     if args.standard_scenes:
@@ -238,18 +238,7 @@ def main():
         f"addon/estimate_model.py), at {args.resolution[0]}x{args.resolution[1]}, "
         f"Blender {bpy.app.version_string}, {os.cpu_count()} cores. Command:",
         "",
-        "    "
-        + shlex.join(
-            [
-                "blender",
-                "-b",
-                "--factory-startup",
-                "--python",
-                "scripts/estimate_accuracy.py",
-                "--",
-                *argv,
-            ]
-        ),
+        "    " + _command(argv),
         "",
         "| scene | preset | predicted (s) | actual (s) | time error | fixed: predicted / "
         "actual (s) | tracing: predicted / actual (s) | predicted rays/px | actual rays/px "
