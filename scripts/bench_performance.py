@@ -2,7 +2,8 @@
 and write docs/PERFORMANCE.md with its plots (docs/images/perf_*.png).
 
     .venv/bin/python scripts/bench_performance.py [--quick] [--repeats 3] \\
-        [--out docs/PERFORMANCE.md] [--notes NOTES.md ...] [--blender blender]
+        [--out docs/PERFORMANCE.md] [--notes NOTES.md ...] [--blender blender] \
+        [--before ADDON_DIR]
 
 Scenes (scripts/perf_scenes.py): the demo; about a million triangles of glass and
 mirrors; 10,000 geometry-nodes instances; a glass-heavy scene at depth 8; each at a
@@ -14,6 +15,10 @@ at 1920x1080, and are not run at 1920x1080 on a scene whose small run failed or 
 out. Then the scaling curves: time against triangle count (1k..10M, a fixed small
 size), against pixel count (the demo), against depth (0..8 on the glass scene), and 1
 against 2 threads. A target table says pass or miss, and by how much.
+
+--before ADDON_DIR also makes the raw Embree runs (only those) with another build of
+the add-on (a folder holding an add-on with its whitted_native*.so), each beside the
+same run with this checkout's: the page then gives the efficiency before and after.
 
 --quick runs tiny sizes, small scenes and few points, once each (a smoke test of the
 whole pipeline in a minute or two); give it an --out outside docs/. --notes inserts
@@ -42,6 +47,13 @@ def parse_args():
     parser.add_argument("--python", default=sys.executable, help="Python with the bpy module")
     parser.add_argument("--keep", type=Path, help="keep the scene files and JSON here")
     parser.add_argument(
+        "--before",
+        type=Path,
+        metavar="ADDON_DIR",
+        help="another build of the add-on (a folder with its whitted_native*.so): raw "
+        "Embree's runs are made with it too, for the efficiency before and after",
+    )
+    parser.add_argument(
         "--budget-minutes",
         type=float,
         help="after this long, skip the POV-Ray, Cycles and raw Embree runs not yet made "
@@ -52,6 +64,8 @@ def parse_args():
 
 def main():
     args = parse_args()
+    if args.before and not list(args.before.glob("whitted_native*.so")):
+        sys.exit(f"bench_performance: no whitted_native*.so in {args.before}")
     started = time.perf_counter()
     plan = quick_plan() if args.quick else full_plan(args.repeats)
     image_dir = args.out.resolve().parent / "images"
@@ -62,7 +76,9 @@ def main():
         workdir = args.keep or Path(tmp)
         workdir.mkdir(parents=True, exist_ok=True)
         deadline = time.monotonic() + 60.0 * (args.budget_minutes or plan.budget_minutes)
-        suite = Suite(plan, args.blender, args.python, workdir.resolve(), image_dir, deadline)
+        suite = Suite(
+            plan, args.blender, args.python, workdir.resolve(), image_dir, deadline, args.before
+        )
         # The cheap figures first; the slow engines last, the large size last of all, so
         # a run past its budget loses only those.
         scenes = [measure_whitted(suite, name) for name in MAIN_SCENES]

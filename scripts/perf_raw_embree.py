@@ -17,6 +17,12 @@ add-on enabled:
 3. Those queries are traced again by a loop of single-ray rtcIntersect1/rtcOccluded1
    calls on as many threads, with no shading and nothing else in the loop
    (SceneAccel::trace_bare), `repeats` times: Embree's rays per second.
+4. The recording kept what each query found, so the recorded pixels are rendered again
+   `repeats` times with every query answered from it instead of Embree
+   (RenderJob.replay(): traversal stubbed out, each worker the tiles it took): the
+   shading's rays per second, on the same rays as step 3. 1 / that rate is the shading's
+   cost per ray, 1 / Embree's the traversal's. An add-on built before replays existed
+   (bench_performance.py --before) gives no such figure.
 
 Efficiency = ours / Embree's, medians of the repeats. Above 1 would mean we trace
 faster than single-ray Embree (packets); below, the gap is our shading and overhead.
@@ -25,6 +31,7 @@ faster than single-ray Embree (packets); below, the gap is our shading and overh
 import argparse
 import json
 import math
+import os
 import statistics
 import time
 
@@ -59,12 +66,26 @@ def export(threads):
     return native, sync_frame(bpy.context.evaluated_depsgraph_get(), native)
 
 
-def render(native, frame, settings, record_stride=0):
-    job = frame.job(native, settings, record_stride=record_stride)
+def finish(job):
     job.start()
     while not job.wait(1.0):
         pass
     return job
+
+
+def render(native, frame, settings, **recording):
+    return finish(frame.job(native, settings, **recording))
+
+
+def stubbed(recorded, repeats):
+    """Rays per second of the recorded pixels rendered again with every query answered
+    from the recording (the median of `repeats` replays), and the rays of one; (None,
+    None) with a module that cannot replay."""
+    if not hasattr(recorded, "replay"):
+        return None, None
+    replays = [finish(recorded.replay()).stats() for _ in range(repeats)]
+    rate = statistics.median(r["rays"]["total"] / r["trace_seconds"] for r in replays)
+    return rate, replays[0]["rays"]["total"]
 
 
 def main():
@@ -87,15 +108,19 @@ def main():
         single.append(stats["rays"]["total"] / stats["trace_seconds"])
     settings.packets = True
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
+    # With what each query found, for the replays, where the module can replay.
+    results = {"record_results": True} if hasattr(native.RenderJob, "replay") else {}
     started = time.perf_counter()
-    recorded = render(native, frame, settings, record_stride=stride)
+    recorded = render(native, frame, settings, record_stride=stride, **results)
     record_seconds = time.perf_counter() - started
     bare = [recorded.trace_bare() for _ in range(args.repeats)]
+    stubbed_rps, stubbed_rays = stubbed(recorded, args.repeats)
 
     whitted_rps = statistics.median(rays / seconds for rays, seconds, _ in ours)
     embree_rps = statistics.median(b["rays"] / b["seconds"] for b in bare)
     result = {
         "blender": bpy.app.version_string,
+        "native_module": os.path.realpath(native.__file__),  # which add-on's build ran
         "threads": ours[0][2],
         "width": settings.width,
         "height": settings.height,
@@ -110,6 +135,9 @@ def main():
         "embree_seconds": statistics.median(b["seconds"] for b in bare),
         "embree_rays_per_second": embree_rps,
         "efficiency": whitted_rps / embree_rps,
+        # The recorded pixels with traversal stubbed out (replays): the shading alone.
+        "stubbed_rays": stubbed_rays,
+        "stubbed_rays_per_second": stubbed_rps,
         "repeats": args.repeats,
     }
     with open(args.json, "w", encoding="utf-8") as out:

@@ -283,17 +283,31 @@ void bind_render(py::module_& m) {
                         "A render on worker threads. Poll with wait(), collect finished "
                         "tiles, cancel() to stop. Rows run bottom to top.")
       .def(py::init([](const Scene& scene, const Settings& settings, uint32_t record_stride,
-                       const std::optional<Camera>& camera) {
+                       const std::optional<Camera>& camera, bool record_results) {
              // The camera is copied with the GIL held: Python may assign scene.camera.
              const Camera view = camera ? *camera : scene.camera;
              py::gil_scoped_release release;
-             return std::make_unique<RenderJob>(scene, settings, view, record_stride);
+             return std::make_unique<RenderJob>(scene, settings, view, record_stride,
+                                                record_results);
            }),
            py::arg("scene"), py::arg("settings"), py::arg("record_stride") = 0,
-           py::arg("camera") = py::none(),
+           py::arg("camera") = py::none(), py::arg("record_results") = false,
            "Compiles the scene (or reuses its last snapshot) and prepares the render. "
            "camera: the view to render, None for scene.camera. record_stride n > 0 records "
-           "the rays of every n-th pixel for trace_bare() (a benchmark baseline).")
+           "the rays of every n-th pixel for trace_bare() (a benchmark baseline); "
+           "record_results also what they found, for replay().")
+      .def(
+          "replay",
+          [](const RenderJob& job) {
+            py::gil_scoped_release release;
+            return std::make_unique<RenderJob>(ReplayOf{job});
+          },
+          // The replay reads this job's recording: it keeps this job alive.
+          py::keep_alive<0, 1>(),
+          "After a finished render made with record_results: a new job (to start) that "
+          "renders the recorded pixels again, each worker the tiles it took and every query "
+          "answered from its recording instead of Embree: the shading alone. Its image is "
+          "this one's, bit for bit, where pixels were recorded (the others stay empty).")
       .def(
           "inspect",
           [](const RenderJob& job, int x, int y, int sample) {

@@ -197,5 +197,67 @@ TEST(Render, BareTraceRetracesTheRecordedRays) {
   EXPECT_THROW(none.trace_bare(), std::logic_error);  // nothing recorded
 }
 
+// A replay answers every query from the recording, not from Embree: the same pixels bit
+// for bit, threads taking the tiles they took, with packets or without. Pixels a stride
+// left out are not rendered.
+TEST(Render, ReplayGivesTheRecordedImage) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 40;
+  settings.height = 30;
+  settings.aa_samples = 3;
+  settings.tile_size = 8;
+  for (auto [threads, packets] : {std::pair{1, true}, std::pair{2, true}, std::pair{2, false}}) {
+    settings.threads = threads;
+    settings.packets = packets;
+    RenderJob recorded(scene, settings, scene.camera, 1, true);
+    recorded.start();
+    while (!recorded.wait(1.0)) {
+    }
+    RenderJob replay(ReplayOf{recorded});
+    replay.start();
+    while (!replay.wait(1.0)) {
+    }
+    EXPECT_EQ(replay.film().pixels(), recorded.film().pixels()) << threads << " threads";
+    EXPECT_EQ(replay.stats().rays.total(), recorded.stats().rays.total());
+    EXPECT_EQ(replay.stats().threads, threads);
+  }
+  RenderJob some(scene, settings, scene.camera, 7, true);
+  some.start();
+  while (!some.wait(1.0)) {
+  }
+  RenderJob replay(ReplayOf{some});
+  replay.start();
+  while (!replay.wait(1.0)) {
+  }
+  const std::vector<float> all = some.film().pixels();
+  const std::vector<float> replayed = replay.film().pixels();
+  ASSERT_EQ(replayed.size(), all.size());
+  const size_t channels = all.size() / (40 * 30);
+  for (size_t pixel = 0; pixel < 40 * 30; ++pixel) {
+    for (size_t c = 0; c < channels; ++c) {
+      const float expected = pixel % 7 == 0 ? all[pixel * channels + c] : 0.0f;
+      ASSERT_EQ(replayed[pixel * channels + c], expected) << "pixel " << pixel;
+    }
+  }
+  EXPECT_LT(replay.stats().rays.total(), some.stats().rays.total() / 4);
+}
+
+TEST(Render, ReplayNeedsAFinishedRenderRecordedWithResults) {
+  const Scene scene = glass_and_mirror_scene();
+  Settings settings;
+  settings.width = 8;
+  settings.height = 8;
+  RenderJob unstarted(scene, settings, scene.camera, 1, true);
+  EXPECT_THROW(RenderJob{ReplayOf{unstarted}}, std::logic_error);
+  for (auto [stride, results] : {std::pair{0u, false}, std::pair{1u, false}}) {
+    RenderJob job(scene, settings, scene.camera, stride, results);
+    job.start();
+    while (!job.wait(1.0)) {
+    }
+    EXPECT_THROW(RenderJob{ReplayOf{job}}, std::logic_error) << stride;
+  }
+}
+
 }  // namespace
 }  // namespace whitted

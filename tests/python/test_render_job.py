@@ -92,6 +92,24 @@ def test_progressive_ends_bit_identical_to_a_render_of_whole_pixels(aa_mode):
     np.testing.assert_array_equal(job.display(), expected)
 
 
+@pytest.mark.parametrize("progressive", [False, True])
+def test_a_replay_gives_the_recorded_pixels_without_embree(progressive):
+    # Every query answered from the recording (two workers, each the tiles it took; the
+    # progressive schedule's passes in order): the same image, bit for bit.
+    recorded = wn.RenderJob(
+        glass_scene(),
+        progressive_settings(progressive=progressive),
+        record_stride=1,
+        record_results=True,
+    )
+    expected = finish(recorded)
+    rays = recorded.stats()["rays"]
+    replay = recorded.replay()
+    del recorded  # the replay keeps the recording alive
+    np.testing.assert_array_equal(finish(replay).view(np.uint32), expected.view(np.uint32))
+    assert replay.stats()["rays"] == rays
+
+
 def test_frame_counts_passes_up_to_the_schedule():
     job = wn.RenderJob(
         glass_scene(), progressive_settings(width=300, height=200, start_pixel_size=8)

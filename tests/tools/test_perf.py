@@ -1,18 +1,23 @@
 """The performance suite's derived figures and target checks, on hand-made runs (the
 JSON perf_render.py writes), without Blender."""
 
+from pathlib import Path
+
 import pytest
 from whitted_tools.perf.figures import (
     MIB,
     Target,
     bytes_per_triangle,
     export_per_million,
+    per_ray_ns,
     speedup,
     verdict,
     worst,
     writeback_per_hd_pass,
 )
-from whitted_tools.perf.measure import Measurement
+from whitted_tools.perf.measure import Measurement, SceneResults, Suite
+from whitted_tools.perf.page import embree_details
+from whitted_tools.perf.plan import quick_plan
 
 
 def whitted_run(rss, export=0.5, writeback=0.004, width=960, height=540, triangles=2_000_000):
@@ -79,3 +84,37 @@ def test_worst_is_the_minimum_of_at_least_targets_and_the_maximum_of_others():
     assert worst(pairs, at_least=True) == (1.0, "c")
     assert worst(pairs, at_least=False) == (2.0, "a")
     assert worst([(None, "b")], at_least=True) == (None, "not measured")
+
+
+def embree_run(efficiency, stubbed=None):
+    run = {
+        "threads": 2,
+        "whitted_rays_per_second": 4e6,
+        "whitted_single_ray_rays_per_second": 3e6,
+        "embree_rays_per_second": 8e6,
+        "efficiency": efficiency,
+        "recorded_rays": 1000,
+    }
+    return run | ({"stubbed_rays_per_second": stubbed} if stubbed else {})
+
+
+def test_a_ray_costs_its_threads_over_the_rate():
+    assert per_ray_ns(embree_run(0.5), "embree_rays_per_second") == 250.0
+    assert per_ray_ns(embree_run(0.5), "stubbed_rays_per_second") is None
+
+
+@pytest.mark.parametrize("before", [None, Path("/old/addon")])
+def test_raw_embree_details_show_shading_alone_and_the_efficiency_before(before):
+    suite = Suite(quick_plan(), "blender", "python", Path("/tmp"), Path("/tmp"), 0.0, before)
+    results = SceneResults("demo")
+    results.embree["tiny"] = Measurement(runs=[embree_run(0.5, stubbed=8e6)])
+    results.embree_before["tiny"] = Measurement(runs=[embree_run(0.25)])
+    lines = embree_details(suite, [results])
+    header = next(line for line in lines if line.startswith("| scene | size | Whitted |"))
+    row = next(line for line in lines if line.startswith("| demo | 96x54 | 4.00 |"))
+    assert "shading alone (traversal stubbed), Mrays/s" in header
+    assert row.count("|") == header.count("|")
+    assert "| 8.00 | 8.00 | 0.50 | 1000 |" in row
+    assert ("| 0.25 | 2.00x |" in row) == (before is not None)
+    # Shading 250 ns and traversal 250 ns a ray (2 threads at 8 Mrays/s each), Whitted 500.
+    assert "| demo | 96x54 | 500 | 250 | 250 | 500 | 50% |" in lines

@@ -37,10 +37,27 @@ def bpy_command(script, *args, python=None):
     return [str(python or VENV_PYTHON), str(script), *map(str, args)]
 
 
-def run_process(command, timeout):
+def addon_env(addon_dir, root):
+    """The environment (os.environ's, with BLENDER_USER_SCRIPTS) of a Blender 3.4 whose
+    user scripts folder, made under `root`, holds the add-on in `addon_dir` (a folder
+    with its whitted_native*.so: another build of the add-on) as `whitted` and this
+    checkout's tool package, as scripts/install_addon.py links them into the user's."""
+    scripts = Path(root) / "scripts"
+    links = {
+        scripts / "addons" / ADDON: Path(addon_dir).resolve(),
+        scripts / "addons" / "modules" / "whitted_tools": REPO / "tools" / "whitted_tools",
+    }
+    for link, target in links.items():
+        link.parent.mkdir(parents=True, exist_ok=True)
+        if not link.is_symlink():
+            link.symlink_to(target, target_is_directory=True)
+    return {**os.environ, "BLENDER_USER_SCRIPTS": str(scripts)}
+
+
+def run_process(command, timeout, env=None):
     """(output, None) or (None, why it failed): stdout and stderr together. A process
     past its timeout is killed with its process group (POV-Ray runs as Blender's
-    child)."""
+    child). `env`: the process's environment (default: this one's)."""
     print(f"  $ {shlex.join(map(str, command))}", flush=True)
     started = time.perf_counter()
     with subprocess.Popen(
@@ -50,6 +67,7 @@ def run_process(command, timeout):
         text=True,
         errors="replace",
         start_new_session=True,
+        env=env,
     ) as process:
         try:
             output, _ = process.communicate(timeout=timeout)

@@ -1,25 +1,103 @@
 #include "integrator/recorder.h"
 
+#include <algorithm>
 #include <chrono>
 #include <latch>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 
 namespace whitted {
+namespace {
+
+// A replay runs the recorded render again: needing answers past the recorded ones (up to
+// `end`) is a bug.
+void check_answers(size_t end, size_t recorded) {
+  if (end > recorded) throw std::logic_error("a replay made a query its recording did not");
+}
+
+}  // namespace
+
+bool RayLog::intersect(const SceneAccel& accel, const Ray& ray, Hit* hit) {
+  if (source != nullptr) {
+    check_answers(next_hit + 1, source->hits.size());
+    const Hit& recorded = source->hits[next_hit++];
+    if (!(recorded.t < kInfinity)) return false;  // a miss leaves `hit` as it was
+    *hit = recorded;
+    return true;
+  }
+  queries.push_back({ray, false});
+  const bool found = accel.intersect(ray, hit);
+  if (results) hits.push_back(found ? *hit : Hit{});
+  return found;
+}
+
+bool RayLog::occluded(const SceneAccel& accel, const Ray& ray) {
+  if (source != nullptr) {
+    check_answers(next_occlusion + 1, source->occlusion.size());
+    return source->occlusion[next_occlusion++] != 0;
+  }
+  queries.push_back({ray, true});
+  const bool blocked = accel.occluded(ray);
+  if (results) occlusion.push_back(blocked ? 1 : 0);
+  return blocked;
+}
+
+void RayLog::intersect_packet(const SceneAccel& accel, const Ray* rays, int count, Hit* out) {
+  const auto n = static_cast<size_t>(count);
+  if (source != nullptr) {
+    check_answers(next_hit + n, source->hits.size());
+    std::copy_n(source->hits.begin() + static_cast<std::ptrdiff_t>(next_hit), n, out);
+    next_hit += n;
+    return;
+  }
+  for (size_t i = 0; i < n; ++i) queries.push_back({rays[i], false});
+  accel.intersect_packet(rays, count, out);
+  if (results) hits.insert(hits.end(), out, out + n);
+}
+
+size_t RayLog::take_item(std::atomic<size_t>* next) {
+  if (source != nullptr) {
+    return next_item < source->items.size() ? source->items[next_item++]
+                                            : std::numeric_limits<size_t>::max();
+  }
+  const size_t item = (*next)++;
+  items.push_back(item);
+  return item;
+}
+
+RayRecorder RayRecorder::replaying(const RayRecorder& recorded) {
+  if (recorded.logs_.empty() || !recorded.results_) {
+    throw std::logic_error("a replay needs a finished render recorded with its results");
+  }
+  RayRecorder replay(recorded.stride_);
+  replay.source_ = &recorded;
+  return replay;
+}
 
 void RayRecorder::prepare(int workers) {
-  if (stride_ > 0) logs_.resize(static_cast<size_t>(workers));
+  if (stride_ == 0) return;
+  logs_.resize(static_cast<size_t>(workers));
+  for (size_t i = 0; i < logs_.size(); ++i) {
+    logs_[i].results = results_;
+    if (source_ != nullptr) logs_[i].source = &source_->logs_[i];
+  }
 }
 
 RayLog* RayRecorder::log(int worker) {
   return stride_ > 0 ? &logs_[static_cast<size_t>(worker)] : nullptr;
 }
 
-void RayRecorder::select(RayLog* log, int x, int y, int width) const {
-  if (log == nullptr) return;
+int RayRecorder::workers(int wanted) const {
+  return source_ != nullptr ? static_cast<int>(source_->logs_.size()) : wanted;
+}
+
+bool RayRecorder::select(RayLog* log, int x, int y, int width) const {
+  if (log == nullptr) return true;
   const uint64_t index =
       static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
   log->active = index % stride_ == 0;
+  return log->active || source_ == nullptr;
 }
 
 BareTrace RayRecorder::trace_bare(const SceneAccel& accel) const {

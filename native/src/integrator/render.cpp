@@ -4,6 +4,8 @@
 #include <chrono>
 #include <new>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -51,8 +53,7 @@ std::string describe(const std::exception_ptr& error) {
 
 }  // namespace
 
-RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
-                     uint32_t record_stride)
+RenderJob::RenderJob(const Settings& settings, const Camera& camera, RayRecorder recorder)
     : settings_(validated(settings)),
       camera_(camera),
       passes_(make_schedule(settings_)),
@@ -61,10 +62,18 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
       film_(settings_.width, settings_.height, settings_.progressive, settings_.passes,
             settings_.contribution_depth),
       cryptomatte_(settings_),
-      recorder_(record_stride) {
+      recorder_(std::move(recorder)) {}
+
+RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
+                     uint32_t record_stride, bool record_results)
+    : RenderJob(settings, camera, RayRecorder(record_stride, record_results)) {
   const double t0 = now_seconds();
   scene_ = scene.compile(&stats_.top_level_built);
   stats_.compile_seconds = now_seconds() - t0;
+  describe_scene();
+}
+
+void RenderJob::describe_scene() {
   stats_.triangles = scene_->triangle_count();
   stats_.instances = scene_->instances.size();
   stats_.degenerate_instances = scene_->degenerate_instances;
@@ -72,6 +81,18 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
   const WhittedIntegrator integrator(*scene_, settings_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().decisions;
+}
+
+RenderJob::RenderJob(ReplayOf replay)
+    : RenderJob(replay.recorded.settings_, replay.recorded.camera_,
+                replay_recorder(replay.recorded)) {
+  scene_ = replay.recorded.scene_;
+  describe_scene();
+}
+
+RayRecorder RenderJob::replay_recorder(const RenderJob& recorded) {
+  recorded.check_finished("a replay");
+  return RayRecorder::replaying(recorded.recorder_);
 }
 
 RenderJob::~RenderJob() {
@@ -83,7 +104,7 @@ void RenderJob::start() {
   if (!workers_.empty()) return;
   int threads = settings_.threads > 0 ? settings_.threads
                                       : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(tiles_.size())));
+  threads = recorder_.workers(std::max(1, std::min<int>(threads, static_cast<int>(tiles_.size()))));
   std::lock_guard lock(mutex_);
   stats_.threads = threads;
   running_ = threads;
@@ -113,7 +134,8 @@ void RenderJob::work(int worker) {
     const WhittedIntegrator integrator(*scene_, settings_, camera_, log);
     const CameraSampler sampler(integrator, camera_, camera_media_);
     const size_t items = passes_.size() * tiles_.size();
-    for (size_t item = next_item_++; item < items; item = next_item_++) {
+    const auto take = [&] { return log != nullptr ? log->take_item(&next_item_) : next_item_++; };
+    for (size_t item = take(); item < items; item = take()) {
       const size_t pass = item / tiles_.size();
       if (!wait_for_pass(pass)) break;
       const size_t tile = item % tiles_.size();
@@ -155,7 +177,7 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
   if (pass.kind == Pass::Kind::kPreview) {
     for_each_block(tile, pass.pixel_size, area_, [&](const Tile& block, const Tile& inside) {
       if (cancel_) return false;
-      recorder_.select(log, block.x, block.y, width);
+      if (!recorder_.select(log, block.x, block.y, width)) return true;
       const uint64_t before = counts->total();
       if (passes != nullptr) record = SampleRecord{};
       const Sample s = sampler.point(
@@ -172,7 +194,7 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
-      recorder_.select(log, x, y, width);
+      if (!recorder_.select(log, x, y, width)) continue;
       const uint64_t before = counts->total();
       if (passes != nullptr) record = SampleRecord{};
       if (pass.kind == Pass::Kind::kPixels) {
@@ -268,13 +290,15 @@ RayTree RenderJob::inspect(int x, int y, int sample) const {
   return inspect_pixel(*scene_, settings_, camera_, camera_media_, x, y, sample);
 }
 
-BareTrace RenderJob::trace_bare() const {
-  {
-    std::lock_guard lock(mutex_);
-    if (workers_.empty() || running_ > 0) {
-      throw std::logic_error("trace_bare needs a finished render");
-    }
+void RenderJob::check_finished(const char* what) const {
+  std::lock_guard lock(mutex_);
+  if (workers_.empty() || running_ > 0) {
+    throw std::logic_error(std::string(what) + " needs a finished render");
   }
+}
+
+BareTrace RenderJob::trace_bare() const {
+  check_finished("trace_bare");
   return recorder_.trace_bare(*scene_->accel);
 }
 

@@ -47,14 +47,28 @@ struct PassInfo {
   int samples = 0;     // camera samples of its own each pixel has after it (Pass::samples)
 };
 
+class RenderJob;
+
+// What a replay replays: a finished render recorded with its results.
+struct ReplayOf {
+  const RenderJob& recorded;
+};
+
 class RenderJob {
  public:
   // Renders `scene` as `camera` sees it (the camera is not part of the compiled scene, so
   // a new view reuses the snapshot). With `record_stride` n > 0 the render records the
   // queries of every n-th pixel for trace_bare (a benchmark baseline; recording costs time
-  // and memory).
+  // and memory), and with `record_results` also what they found, for a replay.
   RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
-            uint32_t record_stride = 0);
+            uint32_t record_stride = 0, bool record_results = false);
+  // A replay (a benchmark of the shading alone): the recorded render's pixels rendered
+  // again with its snapshot, settings and camera, each worker taking the tiles the same
+  // worker took and every query answered from that worker's recording, not by Embree.
+  // Its pixels are the recording's, bit for bit; those not recorded stay empty, and
+  // Cryptomatte's own rays are not replayed. The recorded job must outlive it. Throws
+  // std::logic_error unless `replay.recorded` finished recorded with its results.
+  explicit RenderJob(ReplayOf replay);
   ~RenderJob();  // cancels and joins
   RenderJob(const RenderJob&) = delete;
   RenderJob& operator=(const RenderJob&) = delete;
@@ -86,9 +100,15 @@ class RenderJob {
   BareTrace trace_bare() const;
 
  private:
+  RenderJob(const Settings& settings, const Camera& camera, RayRecorder recorder);
+  static RayRecorder replay_recorder(const RenderJob& recorded);
+  // The snapshot's statistics, its effects and the media around the camera.
+  void describe_scene();
   // Passes and tiles are handed out as one sequence of items, pass by pass: item i is
-  // tile i % tiles of pass i / tiles.
+  // tile i % tiles of pass i / tiles (a replay's worker takes those its recording took).
   void work(int worker);
+  // Throws std::logic_error unless every worker has stopped.
+  void check_finished(const char* what) const;
   // Blocks until every pass before `pass` is complete; false if the job was cancelled.
   bool wait_for_pass(size_t pass);
   void trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,

@@ -145,13 +145,14 @@ class Kernel {
     }
   }
 
-  // Every query of the kernel goes through these two (and into the log when recording).
+  // Every query of the kernel goes through these two: to the log when recording or
+  // replaying (recorder.h), else straight to Embree.
   bool intersect(const Ray& ray, Hit* hit) const {
-    if (log_ != nullptr && log_->active) log_->queries.push_back({ray, false});
+    if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
     return scene_.accel->intersect(ray, hit);
   }
   bool occluded(const Ray& ray) const {
-    if (log_ != nullptr && log_->active) log_->queries.push_back({ray, true});
+    if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray);
     return scene_.accel->occluded(ray);
   }
 
@@ -724,7 +725,8 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
 
 void WhittedIntegrator::intersect_packet(const Ray* rays, int count, Hit* hits) const {
   if (log_ != nullptr && log_->active) {
-    for (int i = 0; i < count; ++i) log_->queries.push_back({rays[i], false});
+    log_->intersect_packet(*scene_.accel, rays, count, hits);
+    return;
   }
   scene_.accel->intersect_packet(rays, count, hits);
 }

@@ -60,7 +60,8 @@ struct NodeState {
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
-  // `log`, when given, receives the queries made while it is active; `tree`, when given,
+  // `log`, when given, takes the queries made while it is active (records them, or
+  // answers them in a replay: recorder.h); `tree`, when given,
   // every ray and term of what is traced (the inspector: slower, never for renders).
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
                     const Camera& camera = Camera{}, RayLog* log = nullptr,

@@ -73,6 +73,13 @@ def rays_per_second(measurement, ray):
     return None if rays is None or not trace else rays / trace / 1e6
 
 
+def per_ray_ns(run, key):
+    """Nanoseconds a thread spends on a ray at run[key] rays per second (all of the run's
+    threads together): threads / rate. None when either is missing."""
+    rate, threads = run.get(key), run.get("threads")
+    return None if not rate or not threads else threads * 1e9 / rate
+
+
 @dataclass(frozen=True)
 class Target:
     title: str

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from whitted_tools import SCRIPTS
-from whitted_tools.blender import blender_command, bpy_command, run_process
+from whitted_tools.blender import addon_env, blender_command, bpy_command, run_process
 from whitted_tools.pages import size_label
 from whitted_tools.perf.plan import MAIN_SCENES, Plan
 from whitted_tools.timing import progress
@@ -65,6 +65,7 @@ class Suite:
     workdir: Path
     image_dir: Path
     deadline: float  # time.monotonic() after which slow engines and raw Embree are skipped
+    before: Path | None = None  # another build of the add-on, for raw Embree's "before" runs
     files: dict = field(default_factory=dict)
     results: dict = field(default_factory=dict)
     problems: list = field(default_factory=list)
@@ -157,9 +158,11 @@ class Suite:
             script, *args, blend=blend, addons=("whitted",), blender=self.blender
         )
 
-    def raw_embree(self, scene, resolution):
-        """scripts/perf_raw_embree.py's JSON for the scene at resolution (a Measurement)."""
-        key = (scene, "EMBREE", tuple(resolution))
+    def raw_embree(self, scene, resolution, before=False):
+        """scripts/perf_raw_embree.py's JSON for the scene at resolution (a Measurement),
+        with the add-on in self.before when `before` (Blender finds it through
+        BLENDER_USER_SCRIPTS: blender.addon_env)."""
+        key = (scene, "EMBREE_BEFORE" if before else "EMBREE", tuple(resolution))
         if key in self.results:
             return self.results[key]
         measurement = Measurement()
@@ -177,11 +180,13 @@ class Suite:
             command = self.in_blender(
                 SCRIPTS / "perf_raw_embree.py", blend, "--json", out, "--repeats", repeats
             )
-            _, problem = run_process(command, self.plan.timeouts["EMBREE"])
+            env = addon_env(self.before, self.workdir / "before") if before else None
+            _, problem = run_process(command, self.plan.timeouts["EMBREE"], env=env)
             if problem:
                 measurement.missing = problem
                 where = f"{scene[0]} at {size_label(resolution)}"
-                self.problems.append(f"raw Embree on {where}: {problem}")
+                build = " (before)" if before else ""
+                self.problems.append(f"raw Embree{build} on {where}: {problem}")
             else:
                 measurement.runs.append(json.loads(out.read_text()))
         self.results[key] = measurement
@@ -198,6 +203,7 @@ class SceneResults:
     cycles: dict = field(default_factory=dict)
     povray: dict = field(default_factory=dict)
     embree: dict = field(default_factory=dict)
+    embree_before: dict = field(default_factory=dict)  # with Suite.before's add-on
     bpy: dict = field(default_factory=dict)
 
 
@@ -219,6 +225,8 @@ def measure_whitted(suite, name):
         results.whitted[label] = suite.render(scene, "WHITTED", size, image=image)
         results.null[label] = suite.render(scene, "NULL", size)
         results.embree[label] = suite.raw_embree(scene, size)
+        if suite.before:
+            results.embree_before[label] = suite.raw_embree(scene, size, before=True)
         if name == "demo":
             results.bpy[label] = suite.render(scene, "WHITTED", size, bpy=True)
     return results

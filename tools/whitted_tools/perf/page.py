@@ -19,6 +19,7 @@ from whitted_tools.perf.figures import (
     cell,
     export_per_million,
     mesh_triangles,
+    per_ray_ns,
     rays_per_second,
     repeats_note,
     speedup,
@@ -291,30 +292,91 @@ def image_agreement(suite, scenes):
 
 
 def embree_details(suite, scenes):
+    before = suite.before is not None
     lines = [
         "Raw Embree in detail (Mrays/s, one process each, all threads). Whitted without "
         "packets is the same render with each camera ray its own query (Settings.packets "
-        "off), in the same process: the packet gain is the ratio of the two.",
+        "off), in the same process: the packet gain is the ratio of the two. Shading alone "
+        "is the recorded pixels rendered again with every query answered from the "
+        "recording instead of Embree (traversal stubbed out: RenderJob.replay()), on the "
+        "rays raw Embree traces.",
         "",
-        "| scene | size | Whitted | Whitted without packets | packet gain | raw Embree "
-        "| efficiency | rays recorded |",
-        "|---|---|---:|---:|---:|---:|---:|---:|",
     ]
+    if before:
+        lines += [
+            f"Before: the same raw Embree runs, in the same suite run, with the add-on in "
+            f"`{suite.before}`; after: this checkout's.",
+            "",
+        ]
+    header = (
+        "| scene | size | Whitted | Whitted without packets | packet gain | raw Embree "
+        "| shading alone (traversal stubbed), Mrays/s | efficiency | rays recorded |"
+    )
+    columns = 9
+    if before:
+        header += " efficiency before | after / before |"
+        columns += 2
+    lines += [header, "|---|---|" + "---:|" * (columns - 2)]
     for results in scenes:
         for label, size in suite.plan.sizes:
             embree = results.embree[label]
             if not embree.runs:
-                lines.append(f"| {results.name} | {size_label(size)} | {embree.missing} |||||")
+                gap = "|" * (columns - 3)
+                lines.append(f"| {results.name} | {size_label(size)} | {embree.missing} {gap}")
                 continue
             run = embree.runs[0]
             packets = run.get("whitted_rays_per_second")
             single = run.get("whitted_single_ray_rays_per_second")
-            lines.append(
+            efficiency = run.get("efficiency")
+            row = (
                 f"| {results.name} | {size_label(size)} | "
                 f"{num(scale(packets, 1e-6), 2)} | {num(scale(single, 1e-6), 2)} | "
                 f"{ratio_text(ratio(packets, single))} | "
                 f"{num(scale(run.get('embree_rays_per_second'), 1e-6), 2)} | "
-                f"{num(run.get('efficiency'), 2)} | {run.get('recorded_rays', '—')} |"
+                f"{num(scale(run.get('stubbed_rays_per_second'), 1e-6), 2)} | "
+                f"{num(efficiency, 2)} | {run.get('recorded_rays', '—')} |"
+            )
+            if before:
+                then = results.embree_before[label]
+                old = then.median(lambda r: r.get("efficiency"))
+                shown = cell(then, num(old, 2) if old is not None else None)
+                row += f" {shown} | {ratio_text(ratio(efficiency, old))} |"
+            lines.append(row)
+    return [*lines, "", *cost_per_ray(suite, scenes)]
+
+
+def cost_per_ray(suite, scenes):
+    """A ray's cost split into shading and traversal, from the raw Embree runs."""
+    lines = [
+        "A ray's cost in nanoseconds per thread, from the same runs: Whitted's is 1 over "
+        "its rate (all its rays, packets on), shading's 1 over the stubbed rate, "
+        "traversal's 1 over raw Embree's (both on the recorded rays), each times the "
+        "threads. Shading + traversal near Whitted's says the two account for its time.",
+        "",
+        "| scene | size | Whitted (ns/ray) | shading alone (ns/ray) | traversal, raw Embree "
+        "(ns/ray) | shading + traversal (ns/ray) | shading's share |",
+        "|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for results in scenes:
+        for label, size in suite.plan.sizes:
+            runs = results.embree[label].runs
+            if not runs:
+                continue
+            ns = {
+                key: per_ray_ns(runs[0], key)
+                for key in (
+                    "whitted_rays_per_second",
+                    "stubbed_rays_per_second",
+                    "embree_rays_per_second",
+                )
+            }
+            shading, traversal = ns["stubbed_rays_per_second"], ns["embree_rays_per_second"]
+            both = None if shading is None or traversal is None else shading + traversal
+            lines.append(
+                f"| {results.name} | {size_label(size)} | "
+                f"{num(ns['whitted_rays_per_second'], 0)} | {num(shading, 0)} | "
+                f"{num(traversal, 0)} | {num(both, 0)} | "
+                f"{num(scale(ratio(shading, both), 100.0), 0, '%')} |"
             )
     return [*lines, ""]
 
@@ -514,7 +576,11 @@ def method_lines(plan):
         "speed-up is the 1-thread trace time over the 2-thread one (engine total and end "
         "to end shown too: export is single-threaded Python).",
         "- **Raw Embree**: scripts/perf_raw_embree.py (one process per scene and size, its "
-        "own repeats).",
+        "own repeats). **Shading alone**: in the same process, the recorded pixels rendered "
+        "again with every query answered from the recording (RenderJob.replay(): the "
+        "kernel unchanged, traversal stubbed out), on the rays raw Embree traces. "
+        "**Before** (--before ADDON_DIR): the same script run with that add-on, which "
+        "Blender finds through BLENDER_USER_SCRIPTS (a folder linking it as `whitted`).",
         "- **POV-Ray**: scripts/perf_povray.py `configure(scene)` then `render(scene, "
         "image)`: end to end is its `render_seconds` (the wall time of the add-on's "
         "`bpy.ops.render.render`: export, POV-Ray, reading the image back), POV-Ray's own "
