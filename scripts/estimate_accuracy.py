@@ -292,7 +292,7 @@ def main():
         f"Probe: {'; '.join(sorted(probes))}. The Estimate button took "
         f"{statistics.fmean(estimate_seconds):.1f} s a scene on average (at most "
         f"{max(estimate_seconds):.1f} s). Load average over 1 minute when the run began: "
-        f"{load:.1f} (other work shared the cores; times vary with it).",
+        f"{load:.1f} (times vary with the load of the machine).",
     ]
     text = "\n".join(lines) + "\n"
     print(text)

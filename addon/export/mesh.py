@@ -398,20 +398,35 @@ def _corner_normals_ready(mesh):
     computed (for auto smooth and custom normals), so that it is read in place, as
     Cycles does: to_mesh() would copy every array but drop them, and
     calc_normals_split() take 0.3 s a million triangles to compute them again.
+    Loop 0's normal is (0, 0, 0) when they are missing (a computed one has length 1).
+    """
+    return _computes_corner_normals(mesh) and any(mesh.loops[0].normal)
+
+
+def _computes_corner_normals(mesh):
+    """Whether a render depsgraph of Blender < 4.1 computes the evaluated `mesh`'s
+    corner normals (auto smooth or custom normals): the meshes F12 reads in place.
 
     Not in edit mode: the geometry is in a BMesh that only to_mesh() turns into
     arrays. Other meshes are copied: read in place, they would keep the caches the
     export computes (loop triangles: 16 bytes a triangle) for the whole render, for
     little gain; and from 4.1 to_mesh() shares the arrays and normals anyway.
-    Loop 0's normal is (0, 0, 0) when they are missing (a computed one has length 1).
     """
     return (
         hasattr(mesh, "calc_normals_split")
         and not mesh.is_editmode
         and (mesh.use_auto_smooth or mesh.has_custom_normals)
         and len(mesh.loops) > 0
-        and any(mesh.loops[0].normal)
     )
+
+
+def copied_for_normals(obj):
+    """Whether exporting evaluated mesh object `obj` from a viewport depsgraph copies it
+    (to_mesh()) and computes its corner normals where a render (F12) reads it in place
+    (_convert_geometry): work done before a render's engine starts, which the Estimate
+    leaves out of its fixed costs. A mesh whose materials need tangents is copied
+    either way; that is not considered here."""
+    return _computes_corner_normals(obj.data) and _normals_domain(obj.data) == "CORNER"
 
 
 def _read(mesh, domain, owner, uv_map, warnings, needs=NO_NEEDS):
