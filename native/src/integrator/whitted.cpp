@@ -51,6 +51,7 @@ float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
   const float cos_l = glm::dot(coat.normal, wi);
   if (cos_l <= 0.0f) return 0.0f;
   const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-wi, coat.normal)));
+  if (v_dot_r <= 0.0f && coat.shininess > 0.0f) return 0.0f;  // what powf's +0 makes of it
   return coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
          std::pow(v_dot_r, coat.shininess) * cos_l;
 }
@@ -492,10 +493,21 @@ class Kernel {
   // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
   static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
     const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, std::pow(v_dot_r, p.surface.shininess),
+    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, phong_lobe(p, v_dot_r),
                  coat_highlight(p.coat, p.wo, wi)};
     diffuse_fade(p, wi, cos_l, &t);
     return t;
+  }
+
+  // (v.r)^f, without powf (about 61 instructions a call, callgrind) where its value is
+  // known or cannot show, to the bit: for f > 0 it is +0 at v.r = 0, and where ks is 0 the
+  // lobe is only ever multiplied by ks (then finite, as v.r <= 1), so 0 gives the same
+  // products.
+  static float phong_lobe(const ShadingPoint& p, float v_dot_r) {
+    const float f = p.surface.shininess;
+    const bool known =
+        f > 0.0f && (v_dot_r <= 0.0f || (v_dot_r <= 1.0f && p.surface.specular == Color(0.0f)));
+    return known ? 0.0f : std::pow(v_dot_r, f);
   }
 
   // The diffuse lobe's factors for light from wi (fade, loss): Cycles' bump shadowing,
