@@ -220,6 +220,52 @@ void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
   }
 }
 
+namespace {
+
+// Embree's packet rays (RTCRay4, RTCRay8), filled from up to K of ours; lanes past
+// `count` and rays Embree cannot take (valid_for_embree) stay inactive.
+template <int K, class Packet>
+void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
+  for (int i = 0; i < K; ++i) {
+    const Ray& ray = rays[std::min(i, count - 1)];
+    valid[i] = i < count && valid_for_embree(ray) ? -1 : 0;
+    packet->org_x[i] = ray.origin.x;
+    packet->org_y[i] = ray.origin.y;
+    packet->org_z[i] = ray.origin.z;
+    packet->dir_x[i] = ray.direction.x;
+    packet->dir_y[i] = ray.direction.y;
+    packet->dir_z[i] = ray.direction.z;
+    packet->tnear[i] = ray.t_min;
+    packet->tfar[i] = ray.t_max;
+    packet->time[i] = 0.0f;
+    packet->mask[i] = ray.kind;
+    packet->id[i] = 0;
+    packet->flags[i] = 0;
+  }
+}
+
+}  // namespace
+
+void SceneAccel::occluded_packet(const Ray* rays, int count, bool* blocked) const {
+  static_assert(kPacketSize == 8, "the widest packet below is RTCRay8");
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  // An inactive lane is left unblocked, as occluded() answers for a ray it cannot take.
+  if (count <= 4) {
+    alignas(16) int valid[4];
+    RTCRay4 r;
+    to_embree_packet<4>(rays, count, &r, valid);
+    rtcOccluded4(valid, as_scene(scene_), &context, &r);
+    for (int i = 0; i < count; ++i) blocked[i] = valid[i] != 0 && r.tfar[i] < 0.0f;
+  } else {
+    alignas(32) int valid[8];
+    RTCRay8 r;
+    to_embree_packet<8>(rays, count, &r, valid);
+    rtcOccluded8(valid, as_scene(scene_), &context, &r);
+    for (int i = 0; i < count; ++i) blocked[i] = valid[i] != 0 && r.tfar[i] < 0.0f;
+  }
+}
+
 BareRays SceneAccel::prepare_bare(const std::vector<RayQuery>& queries) {
   BareRays out;
   out.records.reserve(queries.size());

@@ -101,6 +101,11 @@ class SceneAccel {
   // packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t infinite.
   static constexpr int kPacketSize = 8;
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
+  // Any-hit tests of up to kPacketSize rays traced together: blocked[i] is what
+  // occluded(rays[i]) answers. Shadow feelers leaving one point, or towards one light
+  // from nearby points, share most of their BVH walk. A packet of up to 4 rays is traced
+  // 4 wide (rtcOccluded4), a larger one 8 wide.
+  void occluded_packet(const Ray* rays, int count, bool* blocked) const;
 
   // The benchmark baseline, in two steps so the conversion is not timed:
   // prepare_bare converts queries to Embree's layout, leaving out rays Embree cannot take

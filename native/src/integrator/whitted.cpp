@@ -51,6 +51,7 @@ float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
   const float cos_l = glm::dot(coat.normal, wi);
   if (cos_l <= 0.0f) return 0.0f;
   const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-wi, coat.normal)));
+  if (v_dot_r <= 0.0f && coat.shininess > 0.0f) return 0.0f;  // what powf's +0 makes of it
   return coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
          std::pow(v_dot_r, coat.shininess) * cos_l;
 }
@@ -154,6 +155,12 @@ class Kernel {
   bool occluded(const Ray& ray) const {
     if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray);
     return scene_.accel->occluded(ray);
+  }
+  void occluded_packet(const Ray* rays, int count, bool* blocked) const {
+    if (log_ != nullptr && log_->active) {
+      for (int i = 0; i < count; ++i) log_->queries.push_back({rays[i], true});
+    }
+    scene_.accel->occluded_packet(rays, count, blocked);
   }
 
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
@@ -425,10 +432,16 @@ class Kernel {
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
       const int samples = light.sample_count();
-      for (int s = 0; s < samples; ++s) {
-        phong +=
-            light_sample(p, light, sample_light(light, p.it.position, s), state, counts, &terms);
+      // A single feeler, or those of different lights, trace faster one at a time
+      // (docs/notes/performance_reading.md); the inspector records each sample alone.
+      if (kRecord || samples == 1) {
+        for (int s = 0; s < samples; ++s) {
+          phong +=
+              light_sample(p, light, sample_light(light, p.it.position, s), state, counts, &terms);
+        }
+        continue;
       }
+      sized_light(p, light, samples, state, counts, &terms, &phong);
     }
     const Color radiance = surface.emission + phong;
     if constexpr (kPasses) {
@@ -441,36 +454,123 @@ class Kernel {
     return radiance;
   }
 
+  // Adds the shares of the `samples` samples of a sized light to *phong one by one, in
+  // sample order, as light_sample's are (so the sum is the same to the bit). Their
+  // feelers leave one point for one small region of space: they go to Embree as packets
+  // of up to kFeelerBatch.
+  void sized_light(const ShadingPoint& p, const Light& light, int samples, const NodeState& state,
+                   RayCounts* counts, NodeTerms* terms, Color* phong) const {
+    std::array<PreparedSample, kFeelerBatch> batch;
+    for (int first = 0; first < samples; first += kFeelerBatch) {
+      const int n = std::min(kFeelerBatch, samples - first);
+      for (int k = 0; k < n; ++k) {
+        prepare_sample(p, light, sample_light(light, p.it.position, first + k), state, counts, -1,
+                       &batch[static_cast<size_t>(k)]);
+      }
+      sum_batch(p, batch.data(), n, state, counts, terms, phong);
+    }
+  }
+
+  // A light sample between its Phong terms and its shadow feeler's answer.
+  struct PreparedSample {
+    LightTerms t;
+    Color irradiance;
+    Color unshadowed;  // its share of the local term if all of it arrives
+    Ray feeler;        // the shadow ray, when `sends_feeler` (else all of it arrives)
+    bool dark;         // pruned: it adds nothing
+    bool sends_feeler;
+  };
+  // A batch's feelers fill at most one packet.
+  static constexpr int kFeelerBatch = SceneAccel::kPacketSize;
+
   // One light sample's share of the local term: its Phong terms, unshadowed, times what
   // its shadow ray lets through; nothing when pruning finds it cannot light the point.
   Color light_sample(const ShadingPoint& p, const Light& light, const LightSample& ls,
                      const NodeState& state, RayCounts* counts, NodeTerms* terms) const {
     [[maybe_unused]] int node = -1;  // recording: this shadow ray's node
     if constexpr (kRecord) node = record_shadow_ray(p.it, ls, light, state);
+    PreparedSample prepared;
+    prepare_sample(p, light, ls, state, counts, node, &prepared);
+    if (prepared.dark) return Color(0.0f);
+    Color transmittance(1.0f);
+    if (prepared.sends_feeler) {
+      const Ray& ray = prepared.feeler;
+      transmittance = shadow_transmittance(ray, occluded(first_query(ray)), state, counts);
+      if constexpr (kRecord) record_shadow(node, ray, transmittance);
+    }
+    return arrived(p, prepared, transmittance, terms);
+  }
+
+  // Everything of a light sample up to its shadow feeler: the pruning decisions, the
+  // unshadowed Phong terms, and the feeler, if one is sent.
+  void prepare_sample(const ShadingPoint& p, const Light& light, const LightSample& ls,
+                      const NodeState& state, RayCounts* counts, [[maybe_unused]] int node,
+                      PreparedSample* out) const {
     // The shading normal decides whether a light is behind the (smooth) surface, not the
     // flat facet: gating on the facet draws stair-steps along the terminator of a coarse
     // smooth mesh.
     const float cos_l = glm::dot(p.ns, ls.wi);
-    if (has(kPruningEffect) && dark(cos_l, ls, node, counts)) return Color(0.0f);
-    const LightTerms t = light_terms(p, ls.wi, cos_l);
+    out->dark = has(kPruningEffect) && dark(cos_l, ls, node, counts);
+    out->sends_feeler = false;
+    if (out->dark) return;
+    out->t = light_terms(p, ls.wi, cos_l);
+    out->irradiance = ls.irradiance;
+    const LightTerms& t = out->t;
     const SurfaceParams& surface = p.surface;
     const Color brdf = surface.diffuse * (kInvPi * t.fade) + p.multiscatter * t.loss +
                        surface.specular * (p.phong_norm * t.lobe);
-    const Color unshadowed = (t.lit * brdf + Color(t.coat)) * ls.irradiance;
+    out->unshadowed = (t.lit * brdf + Color(t.coat)) * ls.irradiance;
     if constexpr (kRecord) record_light(node, p, t, ls);
-    const Color transmittance = shadow(p, light, ls, unshadowed, state, counts, node);
+    out->sends_feeler = shadow(p, light, ls, out->unshadowed, state, counts, &out->feeler);
+  }
+
+  // What a prepared sample adds to the local term once `transmittance` of it arrives.
+  Color arrived(const ShadingPoint& p, const PreparedSample& prepared, const Color& transmittance,
+                [[maybe_unused]] NodeTerms* terms) const {
     if constexpr (kPasses) {
-      // The diffuse and specular shares of what arrives. The sum above, these and the
+      // The diffuse and specular shares of what arrives. The sum below, these and the
       // inspector's (record_light) multiply the same terms in their own orders, which
       // rounding tells apart: each keeps the order its images always had.
-      const Color light_in = ls.irradiance * transmittance;
+      const LightTerms& t = prepared.t;
+      const SurfaceParams& surface = p.surface;
+      const Color light_in = prepared.irradiance * transmittance;
       terms->diffuse +=
           ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) *
           light_in;
       terms->specular +=
           (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
     }
-    return unshadowed * transmittance;
+    return prepared.unshadowed * transmittance;
+  }
+
+  // Traces the feelers of `n` prepared samples, as one packet when there are several, and
+  // adds the samples' shares to *phong in their order.
+  void sum_batch(const ShadingPoint& p, const PreparedSample* batch, int n, const NodeState& state,
+                 RayCounts* counts, NodeTerms* terms, Color* phong) const {
+    std::array<Ray, kFeelerBatch> rays;
+    std::array<bool, kFeelerBatch> blocked;
+    int feelers = 0;
+    for (int i = 0; i < n; ++i) {
+      if (batch[i].sends_feeler) {
+        rays[static_cast<size_t>(feelers++)] = first_query(batch[i].feeler);
+      }
+    }
+    if (feelers == 1) blocked[0] = occluded(rays[0]);
+    if (feelers > 1) occluded_packet(rays.data(), feelers, blocked.data());
+    int feeler = 0;
+    for (int i = 0; i < n; ++i) {
+      const PreparedSample& prepared = batch[i];
+      if (prepared.dark) {
+        *phong += Color(0.0f);  // as light_sample's share: a -0 sum becomes +0
+        continue;
+      }
+      Color transmittance(1.0f);
+      if (prepared.sends_feeler) {
+        const bool first_blocked = blocked[static_cast<size_t>(feeler++)];
+        transmittance = shadow_transmittance(prepared.feeler, first_blocked, state, counts);
+      }
+      *phong += arrived(p, prepared, transmittance, terms);
+    }
   }
 
   // The pruning decision (kPruningEffect) before any term is computed: a light sample
@@ -493,10 +593,21 @@ class Kernel {
   // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
   static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
     const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, std::pow(v_dot_r, p.surface.shininess),
+    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, phong_lobe(p, v_dot_r),
                  coat_highlight(p.coat, p.wo, wi)};
     diffuse_fade(p, wi, cos_l, &t);
     return t;
+  }
+
+  // (v.r)^f, without powf (about 61 instructions a call, callgrind) where its value is
+  // known or cannot show, to the bit: for f > 0 it is +0 at v.r = 0, and where ks is 0 the
+  // lobe is only ever multiplied by ks (then finite, as v.r <= 1), so 0 gives the same
+  // products.
+  static float phong_lobe(const ShadingPoint& p, float v_dot_r) {
+    const float f = p.surface.shininess;
+    const bool known =
+        f > 0.0f && (v_dot_r <= 0.0f || (v_dot_r <= 1.0f && p.surface.specular == Color(0.0f)));
+    return known ? 0.0f : std::pow(v_dot_r, f);
   }
 
   // The diffuse lobe's factors for light from wi (fade, loss): Cycles' bump shadowing,
@@ -518,44 +629,48 @@ class Kernel {
     t->fade *= oren_nayar_diffuse(cos_l, cos_v, l_dot_v, r);
   }
 
-  // What of a light sample arrives: the shadow ray's transmittance. None is sent, and all
-  // of it arrives, for a light that casts no shadows, or when pruning finds that the
-  // light, lit or not, cannot change the pixel by the cutoff.
-  Color shadow(const ShadingPoint& p, const Light& light, const LightSample& ls,
-               const Color& unshadowed, const NodeState& state, RayCounts* counts,
-               [[maybe_unused]] int node) const {
-    if (!has(kShadowEffect) || !light.cast_shadows) return Color(1.0f);
+  // Whether a light sample's shadow ray is sent, and which (*ray). None is sent, and all
+  // of the light arrives, for a light that casts no shadows, or when pruning finds that
+  // the light, lit or not, cannot change the pixel by the cutoff.
+  // Flattened: with two callers of prepare_sample, GCC stopped inlining spawn_ray here,
+  // which cost the one-sample path about 1% (callgrind, bench_builds --small).
+  [[gnu::flatten]] bool shadow(const ShadingPoint& p, const Light& light, const LightSample& ls,
+                               const Color& unshadowed, const NodeState& state, RayCounts* counts,
+                               Ray* ray) const {
+    if (!has(kShadowEffect) || !light.cast_shadows) return false;
     if (has(kPruningEffect)) {
       // The whole light is judged, not this sample's share of it: otherwise more samples
       // would each fall below the cutoff and soft shadows would fade.
       const float whole_light = static_cast<float>(light.sample_count());
       if (max_component(state.weight * unshadowed) * whole_light < settings_.cutoff) {
         counts->shadow_rays_skipped.cutoff += 1;
-        return Color(1.0f);
+        return false;
       }
     }
     // Stop the shadow ray just short of the light sample.
     const float t_max =
         std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kShadowRayShortening);
-    const Ray shadow_ray =
-        spawn_ray(p.it.shadow_origin, p.it.position_error, p.ng, ls.wi, kShadowRay, t_max);
-    const Color transmittance = shadow_transmittance(shadow_ray, state, counts);
-    if constexpr (kRecord) record_shadow(node, shadow_ray, transmittance);
-    return transmittance;
+    *ray = spawn_ray(p.it.shadow_origin, p.it.position_error, p.ng, ls.wi, kShadowRay, t_max);
+    return true;
   }
 
-  // Fraction of light that reaches the end of a shadow ray: 0 behind anything opaque;
-  // through a surface of coverage a, 1 - a passes (cut-outs), and of its covered part
-  // a*T with glass_shadows tinted (coloured shadows behind glass, transmissivity T), else
-  // none (settings.h).
-  Color shadow_transmittance(Ray ray, const NodeState& state, RayCounts* counts) const {
+  // A shadow ray's first query, an any-hit test: against everything, or where anything
+  // lets light through, against the opaque instances only (anything opaque in the way
+  // blocks all of the light, whatever lies in front: ray.h).
+  Ray first_query(Ray ray) const {
+    if (has(kTranslucencyEffect)) ray.kind = kOpaqueShadowRay;
+    return ray;
+  }
+
+  // Fraction of light that reaches the end of a shadow ray whose first query answered
+  // `blocked`: 0 behind anything opaque; through a surface of coverage a, 1 - a passes
+  // (cut-outs), and of its covered part a*T with glass_shadows tinted (coloured shadows
+  // behind glass, transmissivity T), else none (settings.h).
+  Color shadow_transmittance(Ray ray, bool blocked, const NodeState& state,
+                             RayCounts* counts) const {
     counts->shadow += 1;
-    if (!has(kTranslucencyEffect)) {
-      return occluded(ray) ? Color(0.0f) : Color(1.0f);
-    }
-    // Anything opaque in the way blocks all of it, whatever lies in front (ray.h).
-    ray.kind = kOpaqueShadowRay;
-    if (occluded(ray)) return Color(0.0f);
+    if (blocked) return Color(0.0f);
+    if (!has(kTranslucencyEffect)) return Color(1.0f);
     ray.kind = kTranslucentShadowRay;
     counts->shadow += 1;
     Color transmittance(1.0f);
