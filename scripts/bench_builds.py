@@ -33,6 +33,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from whitted_tools.binding_scenes import sphere
 from whitted_tools.pages import command_line, machine_lines
 from whitted_tools.timing import paired_ratios, spread_text
 
@@ -44,28 +45,6 @@ REPEATS = 3
 # symbols: -DCMAKE_CXX_FLAGS=-g -DCMAKE_STRIP=/bin/true).
 TIMED = {"width": 480, "height": 270, "aa_samples": 3, "threads": 2}
 SMALL = {"width": 160, "height": 90, "aa_samples": 2, "threads": 1}
-
-
-def sphere(radius, segments=48, rings=24):
-    """(positions, triangles, vertex normals) of a UV sphere at the origin."""
-    points = []
-    for i in range(rings + 1):
-        theta = math.pi * i / rings
-        for j in range(segments):
-            phi = 2.0 * math.pi * j / segments
-            points.append(
-                (math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta))
-            )
-    triangles = []
-    for i in range(rings):
-        for j in range(segments):
-            a, b = i * segments + j, i * segments + (j + 1) % segments
-            if i > 0:
-                triangles.append((a, a + segments, b))
-            if i < rings - 1:
-                triangles.append((b, a + segments, b + segments))
-    normals = np.array(points, np.float32)
-    return radius * normals, np.array(triangles, np.uint32), normals
 
 
 def trace_best(module_dir, size=TIMED, repeats=REPEATS):

@@ -22,6 +22,7 @@ import math
 import sys
 
 import numpy as np
+from whitted_tools.binding_scenes import sphere
 
 # name: (lights, Settings overrides)
 VARIANTS = {
@@ -34,28 +35,6 @@ VARIANTS = {
     "demo_nopacket_jitter": ("demo", {"packets": False, "aa_mode": "JITTERED"}),
     "area_noprune": ("area", {"feeler_pruning": False}),
 }
-
-
-def sphere(radius, segments=48, rings=24):
-    """(positions, triangles, vertex normals) of a UV sphere at the origin."""
-    points = []
-    for i in range(rings + 1):
-        theta = math.pi * i / rings
-        for j in range(segments):
-            phi = 2.0 * math.pi * j / segments
-            points.append(
-                (math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta))
-            )
-    triangles = []
-    for i in range(rings):
-        for j in range(segments):
-            a, b = i * segments + j, i * segments + (j + 1) % segments
-            if i > 0:
-                triangles.append((a, a + segments, b))
-            if i < rings - 1:
-                triangles.append((b, a + segments, b + segments))
-    normals = np.array(points, np.float32)
-    return radius * normals, np.array(triangles, np.uint32), normals
 
 
 def materials(wn):

@@ -27,6 +27,7 @@ Modules (those marked bpy import it, so only inside Blender):
 - demo_scene (bpy): the classic demo scene, the figures tests read back, and its
   variants that call for fewer effects
 - bench_scenes (bpy): the performance suite's, cost report's and instancing scenes
+- binding_scenes: pieces of scenes made through the native bindings alone (a UV sphere)
 - hard_cases (bpy): the hard cases of ray tracing (tests/blender/test_robustness.py,
   scripts/robustness_images.py)
 - render (bpy): render to a float EXR and read it back
