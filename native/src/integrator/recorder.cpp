@@ -56,6 +56,20 @@ void RayLog::intersect_packet(const SceneAccel& accel, const Ray* rays, int coun
   if (results) hits.insert(hits.end(), out, out + n);
 }
 
+void RayLog::occluded_packet(const SceneAccel& accel, const Ray* rays, int count, bool* blocked) {
+  const auto n = static_cast<size_t>(count);
+  if (source != nullptr) {
+    check_answers(next_occlusion + n, source->occlusion.size());
+    for (size_t i = 0; i < n; ++i) blocked[i] = source->occlusion[next_occlusion++] != 0;
+    return;
+  }
+  for (size_t i = 0; i < n; ++i) queries.push_back({rays[i], true});
+  accel.occluded_packet(rays, count, blocked);
+  if (results) {
+    for (size_t i = 0; i < n; ++i) occlusion.push_back(blocked[i] ? 1 : 0);
+  }
+}
+
 size_t RayLog::take_item(std::atomic<size_t>* next) {
   if (source != nullptr) {
     return next_item < source->items.size() ? source->items[next_item++]

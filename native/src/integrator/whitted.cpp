@@ -146,7 +146,7 @@ class Kernel {
     }
   }
 
-  // Every query of the kernel goes through these two: to the log when recording or
+  // Every query of the kernel goes through these three: to the log when recording or
   // replaying (recorder.h), else straight to Embree.
   bool intersect(const Ray& ray, Hit* hit) const {
     if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
@@ -158,7 +158,8 @@ class Kernel {
   }
   void occluded_packet(const Ray* rays, int count, bool* blocked) const {
     if (log_ != nullptr && log_->active) {
-      for (int i = 0; i < count; ++i) log_->queries.push_back({rays[i], true});
+      log_->occluded_packet(*scene_.accel, rays, count, blocked);
+      return;
     }
     scene_.accel->occluded_packet(rays, count, blocked);
   }
