@@ -1,5 +1,7 @@
 """docs/PERFORMANCE.md and its plots from the suite's measurements."""
 
+import subprocess
+
 from whitted_tools.metrics import mean_absolute_difference
 from whitted_tools.pages import (
     command_line,
@@ -305,7 +307,7 @@ def embree_details(suite, scenes):
     if before:
         lines += [
             f"Before: the same raw Embree runs, in the same suite run, with the add-on in "
-            f"`{suite.before}`; after: this checkout's.",
+            f"`{suite.before}`{_commit_of(suite.before)}; after: this checkout's.",
             "",
         ]
     header = (
@@ -648,3 +650,14 @@ def page(suite, args, scenes, scaling, elapsed):
         lines += [f"- {problem}" for problem in suite.problems]
         lines.append("")
     return "\n".join(lines) + "\n"
+
+
+def _commit_of(directory):
+    """ " (commit abc1234 of 2026-12-01)" when `directory` is in a git checkout, else ""."""
+    described = subprocess.run(
+        ["git", "-C", str(directory), "log", "-1", "--format=%h of %cs"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    return f" (commit {described.stdout.strip()})" if described.returncode == 0 else ""
