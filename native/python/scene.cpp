@@ -73,9 +73,43 @@ void set_native_mesh(Scene& scene, const std::string& name, Mesh mesh) {
   scene.set_mesh(name, std::move(mesh));
 }
 
+// Blender's vertex normals of a polygon mesh (vertex_normals in scene/mesh.h).
+py::array_t<float> vertex_normals_from_arrays(const FloatArray& positions,
+                                              const UintArray& loop_vertices,
+                                              const UintArray& loop_starts,
+                                              const UintArray& loop_totals,
+                                              const FloatArray& face_normals) {
+  require_shape(positions, "positions", {-1, 3});
+  require_shape(loop_vertices, "loop_vertices", {-1});
+  require_shape(loop_starts, "loop_starts", {-1});
+  const py::ssize_t polygons = loop_starts.shape(0);
+  require_shape(loop_totals, "loop_totals", {polygons});
+  require_shape(face_normals, "face_normals", {polygons, 3});
+  const auto n = static_cast<size_t>(positions.shape(0));
+  std::vector<float> normals;
+  {
+    py::gil_scoped_release release;
+    normals = vertex_normals(
+        positions.data(), n, loop_vertices.data(), static_cast<size_t>(loop_vertices.shape(0)),
+        loop_starts.data(), loop_totals.data(), face_normals.data(), static_cast<size_t>(polygons));
+  }
+  py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+  std::copy(normals.begin(), normals.end(), out.mutable_data());
+  return out;
+}
+
 }  // namespace
 
 void bind_scene(py::module_& m) {
+  m.def("vertex_normals", &vertex_normals_from_arrays, py::arg("positions"),
+        py::arg("loop_vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
+        py::arg("face_normals"),
+        "float32[N,3]: Blender's smooth vertex normals of a polygon mesh (each vertex's "
+        "face normals weighted by the corner angle, normalised; (0, 0, 0) at a vertex of no "
+        "face), summed in a fixed order so that one mesh always gives the same bits. "
+        "positions float32[N,3]; loop_vertices uint32[L]; loop_starts, loop_totals uint32[P] "
+        "(polygon p owns loops loop_starts[p] .. + loop_totals[p] - 1); face_normals "
+        "float32[P,3].");
   py::enum_<RayKind>(m, "Visibility", py::arithmetic(),
                      "Kinds of ray an instance is visible to; combine with |.")
       .value("CAMERA", kCameraRay)

@@ -9,6 +9,7 @@ import bpy
 import bmesh
 import numpy as np
 import pytest
+from mathutils import Vector
 from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish, convert_meshes
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, bmesh_mesh, ico_sphere_on_points, sphere_mesh
@@ -70,6 +71,32 @@ def test_smooth_sphere_has_radial_vertex_normals(empty_scene, warnings):
     # On a unit sphere they point nearly along the position (within 2 degrees).
     cosines = np.sum(corners * data.positions[data.triangles], axis=-1)
     assert cosines.min() > np.cos(np.radians(2.0))
+
+
+def test_vertex_normals_of_n_gons_equal_blenders_and_repeat_to_the_bit(empty_scene, warnings):
+    # A smooth cylinder (two 32-gon caps), its vertices jittered so that the quads are
+    # not planar and the angles all differ, and one cap made concave by pulling a
+    # vertex inwards: the angle weighting and the polygons' own normals both count.
+    bm = bmesh.new()
+    bmesh.ops.create_cone(bm, cap_ends=True, segments=32, radius1=1.0, radius2=0.7, depth=2.0)
+    rng = np.random.default_rng(7)
+    for vertex in bm.verts:
+        vertex.co += Vector(rng.uniform(-0.05, 0.05, 3))
+    bm.verts.ensure_lookup_table()
+    bm.verts[0].co.xy *= 0.3
+    for face in bm.faces:
+        face.smooth = True
+    mesh = bpy.data.meshes.new("Cylinder")
+    bm.to_mesh(mesh)
+    bm.free()
+    add_object(empty_scene.collection, "Cylinder", mesh)
+    (data,) = convert(warnings).meshes
+    blenders = np.empty((len(mesh.vertices), 3), dtype=np.float32)
+    mesh.vertices.foreach_get("normal", blenders.reshape(-1))
+    np.testing.assert_allclose(data.vertex_normals, blenders, atol=1e-6)
+    for _ in range(3):
+        mesh.update()  # Blender computes its normals again, on threads
+        assert convert(warnings).meshes[0].vertex_normals.tobytes() == data.vertex_normals.tobytes()
 
 
 def test_custom_normals_are_exported_per_corner(empty_scene, warnings):

@@ -157,5 +157,70 @@ TEST(Mesh, VertexNormalsShadeExactlyAsTheSameCornerNormals) {
   EXPECT_NE(flat, by_corner);  // the normals do shade
 }
 
+// A unit cube's six quads: every corner has three right angles, so each vertex normal is
+// the normalised sum of its three faces' normals, the direction of the vertex itself.
+TEST(MeshVertexNormals, ACubeCornerIsTheMeanOfItsThreeFaces) {
+  std::vector<float> positions;
+  for (int v = 0; v < 8; ++v) {
+    positions.insert(positions.end(),
+                     {v & 1 ? 1.0f : -1.0f, v & 2 ? 1.0f : -1.0f, v & 4 ? 1.0f : -1.0f});
+  }
+  const std::vector<uint32_t> loops = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4,
+                                       2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
+  const std::vector<uint32_t> starts = {0, 4, 8, 12, 16, 20};
+  const std::vector<uint32_t> totals(6, 4);
+  const std::vector<float> faces = {0, 0, -1, 0, 0, 1, 0, -1, 0, 0, 1, 0, -1, 0, 0, 1, 0, 0};
+  const std::vector<float> normals = vertex_normals(positions.data(), 8, loops.data(), 24,
+                                                    starts.data(), totals.data(), faces.data(), 6);
+  ASSERT_EQ(normals.size(), 24u);
+  for (size_t i = 0; i < 24; ++i) {
+    EXPECT_NEAR(normals[i], positions[i] / std::sqrt(3.0f), 1e-7f) << i;
+  }
+}
+
+// Two faces meet at vertex 0 with corner angles of 90 and 45 degrees: their normals are
+// weighted 2:1 (Blender's weighting by angle, not by area or count).
+TEST(MeshVertexNormals, FacesAreWeightedByTheirCornerAngle) {
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1};
+  // Face 0: (0, 1, 2) in z = 0, right angle at vertex 0. Face 1: (0, 3, 4) in x = 0, 45
+  // degrees at vertex 0.
+  const uint32_t loops[] = {0, 1, 2, 0, 3, 4};
+  const uint32_t starts[] = {0, 3};
+  const uint32_t totals[] = {3, 3};
+  const float faces[] = {0, 0, 1, 1, 0, 0};
+  const std::vector<float> n = vertex_normals(positions, 5, loops, 6, starts, totals, faces, 2);
+  const float length = std::sqrt(0.25f + 1.0f / 16.0f);
+  EXPECT_NEAR(n[0], 0.25f / length, 1e-6f);  // x: face 1 with pi/4
+  EXPECT_NEAR(n[1], 0.0f, 1e-7f);
+  EXPECT_NEAR(n[2], 0.5f / length, 1e-6f);  // z: face 0 with pi/2
+}
+
+TEST(MeshVertexNormals, AVertexOfNoFaceGetsZero) {
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5};
+  const uint32_t loops[] = {0, 1, 2};
+  const uint32_t starts[] = {0};
+  const uint32_t totals[] = {3};
+  const float faces[] = {0, 0, 1};
+  const std::vector<float> n = vertex_normals(positions, 4, loops, 3, starts, totals, faces, 1);
+  EXPECT_EQ(n[2], 1.0f);
+  EXPECT_EQ(n[9], 0.0f);
+  EXPECT_EQ(n[10], 0.0f);
+  EXPECT_EQ(n[11], 0.0f);
+}
+
+TEST(MeshVertexNormals, IndicesOutOfRangeThrow) {
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint32_t bad_vertex[] = {0, 1, 3};
+  const uint32_t loops[] = {0, 1, 2};
+  const uint32_t starts[] = {0};
+  const uint32_t totals[] = {3};
+  const uint32_t too_many[] = {4};
+  const float faces[] = {0, 0, 1};
+  EXPECT_THROW(vertex_normals(positions, 3, bad_vertex, 3, starts, totals, faces, 1),
+               std::invalid_argument);
+  EXPECT_THROW(vertex_normals(positions, 3, loops, 3, starts, too_many, faces, 1),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace whitted

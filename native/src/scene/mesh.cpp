@@ -83,4 +83,51 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
   return mesh;
 }
 
+std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
+                                  const uint32_t* loop_vertices, size_t loop_count,
+                                  const uint32_t* loop_starts, const uint32_t* loop_totals,
+                                  const float* face_normals, size_t polygon_count) {
+  for (size_t l = 0; l < loop_count; ++l) {
+    if (loop_vertices[l] >= vertex_count) {
+      throw std::invalid_argument("loop " + std::to_string(l) + " refers to vertex " +
+                                  std::to_string(loop_vertices[l]) + " of " +
+                                  std::to_string(vertex_count));
+    }
+  }
+  for (size_t p = 0; p < polygon_count; ++p) {
+    if (size_t{loop_starts[p]} + loop_totals[p] > loop_count) {
+      throw std::invalid_argument("polygon " + std::to_string(p) + "'s loops are out of range");
+    }
+  }
+  const auto at = [&](size_t loop) {
+    const float* v = &positions[3 * size_t{loop_vertices[loop]}];
+    return glm::dvec3(v[0], v[1], v[2]);
+  };
+  std::vector<double> sums(3 * vertex_count, 0.0);
+  for (size_t p = 0; p < polygon_count; ++p) {
+    const size_t start = loop_starts[p];
+    const size_t total = loop_totals[p];
+    const glm::dvec3 face(face_normals[3 * p], face_normals[3 * p + 1], face_normals[3 * p + 2]);
+    for (size_t k = 0; k < total; ++k) {
+      // The corner's angle between the edges to its two neighbours in the polygon.
+      const glm::dvec3 here = at(start + k);
+      const glm::dvec3 a = at(start + (k + total - 1) % total) - here;
+      const glm::dvec3 b = at(start + (k + 1) % total) - here;
+      double cosine = glm::dot(a, b) / (glm::length(a) * glm::length(b));
+      if (std::isnan(cosine)) cosine = 0.0;  // a zero-length edge counts as a right angle
+      const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
+      double* sum = &sums[3 * size_t{loop_vertices[start + k]}];
+      for (int i = 0; i < 3; ++i) sum[i] += face[i] * angle;
+    }
+  }
+  std::vector<float> normals(3 * vertex_count, 0.0f);
+  for (size_t v = 0; v < vertex_count; ++v) {
+    const glm::dvec3 sum(sums[3 * v], sums[3 * v + 1], sums[3 * v + 2]);
+    const double length = glm::length(sum);
+    if (!(length > 0.0)) continue;  // no face, or zero-area faces only
+    for (int i = 0; i < 3; ++i) normals[3 * v + i] = static_cast<float>(sum[i] / length);
+  }
+  return normals;
+}
+
 }  // namespace whitted
