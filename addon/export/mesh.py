@@ -608,12 +608,9 @@ def _sanitise(positions, corners, normals):
 
 def _zero_area(positions, corners):
     """bool[k]: whether the cross product of each triangle's edges (p1 - p0, p2 - p0),
-    in float64, is exactly 0."""
-    points = np.take(positions, corners, axis=0).astype(np.float64)  # [k,3,3]
-    edges = points[:, 1:] - points[:, :1]  # [k,2,3]
-    (ax, ay, az), (bx, by, bz) = edges[:, 0].T, edges[:, 1].T
-    # A component a_i b_j - a_j b_i is 0 exactly when its two products are equal.
-    return (ay * bz == az * by) & (az * bx == ax * bz) & (ax * by == ay * bx)
+    in float64, is exactly 0 (in the native core: numpy's temporaries took 0.12 s a
+    million triangles)."""
+    return load_native().zero_area_triangles(positions, corners)
 
 
 def _usable(normals):

@@ -98,9 +98,28 @@ py::array_t<float> vertex_normals_from_arrays(const FloatArray& positions,
   return out;
 }
 
+// zero_area_triangles in scene/mesh.h, as bool[M].
+py::array_t<bool> zero_area_from_arrays(const FloatArray& positions, const UintArray& triangles) {
+  require_shape(positions, "positions", {-1, 3});
+  require_shape(triangles, "triangles", {-1, 3});
+  std::vector<uint8_t> zero;
+  {
+    py::gil_scoped_release release;
+    zero = zero_area_triangles(positions.data(), static_cast<size_t>(positions.shape(0)),
+                               triangles.data(), static_cast<size_t>(triangles.shape(0)));
+  }
+  py::array_t<bool> out(static_cast<py::ssize_t>(zero.size()));
+  std::copy(zero.begin(), zero.end(), out.mutable_data());
+  return out;
+}
+
 }  // namespace
 
 void bind_scene(py::module_& m) {
+  m.def("zero_area_triangles", &zero_area_from_arrays, py::arg("positions"), py::arg("triangles"),
+        "bool[M]: which triangles have zero area, the cross product of their edges (p1 - p0, "
+        "p2 - p0), in float64, exactly 0; False where a corner is NaN or infinite. "
+        "positions float32[N,3], triangles uint32[M,3].");
   m.def("vertex_normals", &vertex_normals_from_arrays, py::arg("positions"),
         py::arg("loop_vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
         py::arg("face_normals"),

@@ -222,5 +222,21 @@ TEST(MeshVertexNormals, IndicesOutOfRangeThrow) {
                std::invalid_argument);
 }
 
+TEST(MeshZeroArea, OnlyTrianglesWhoseEdgeCrossProductIsExactlyZero) {
+  const float nan = std::nanf("");
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, nan, 0, 0, 1e-30f, 1e-30f, 0};
+  const uint32_t triangles[] = {
+      0, 1, 2,  // a right triangle
+      0, 1, 3,  // collinear
+      0, 0, 2,  // a repeated corner
+      0, 1, 4,  // a NaN corner: not zero area (dropped as non-finite instead)
+      0, 1, 5,  // a sliver whose cross product is tiny, not zero in double
+  };
+  const std::vector<uint8_t> zero = zero_area_triangles(positions, 6, triangles, 5);
+  EXPECT_EQ(zero, (std::vector<uint8_t>{0, 1, 1, 0, 0}));
+  const uint32_t bad[] = {0, 1, 6};
+  EXPECT_THROW(zero_area_triangles(positions, 6, bad, 1), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace whitted

@@ -130,4 +130,26 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
   return normals;
 }
 
+std::vector<uint8_t> zero_area_triangles(const float* positions, size_t vertex_count,
+                                         const uint32_t* triangles, size_t triangle_count) {
+  std::vector<uint8_t> zero(triangle_count, 0);
+  const auto at = [&](size_t corner) {
+    if (triangles[corner] >= vertex_count) {
+      throw std::invalid_argument("triangle " + std::to_string(corner / 3) + " refers to vertex " +
+                                  std::to_string(triangles[corner]) + " of " +
+                                  std::to_string(vertex_count));
+    }
+    const float* v = &positions[3 * size_t{triangles[corner]}];
+    return glm::dvec3(v[0], v[1], v[2]);
+  };
+  for (size_t t = 0; t < triangle_count; ++t) {
+    const glm::dvec3 p0 = at(3 * t);
+    const glm::dvec3 a = at(3 * t + 1) - p0;
+    const glm::dvec3 b = at(3 * t + 2) - p0;
+    // A component a_i b_j - a_j b_i is 0 exactly when its two products are equal.
+    zero[t] = a.y * b.z == a.z * b.y && a.z * b.x == a.x * b.z && a.x * b.y == a.y * b.x;
+  }
+  return zero;
+}
+
 }  // namespace whitted

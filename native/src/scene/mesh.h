@@ -89,4 +89,11 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
                                   const uint32_t* loop_starts, const uint32_t* loop_totals,
                                   const float* face_normals, size_t polygon_count);
 
+// Which triangles have zero area: the cross product of their edges (p1 - p0, p2 - p0),
+// in double, exactly 0 (collinear or repeated corners). A triangle with a non-finite
+// corner is not (its products are NaN). Throws std::invalid_argument for an index out of
+// range.
+std::vector<uint8_t> zero_area_triangles(const float* positions, size_t vertex_count,
+                                         const uint32_t* triangles, size_t triangle_count);
+
 }  // namespace whitted
