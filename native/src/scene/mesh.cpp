@@ -107,17 +107,24 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
   for (size_t p = 0; p < polygon_count; ++p) {
     const size_t start = loop_starts[p];
     const size_t total = loop_totals[p];
+    if (total == 0) continue;
     const glm::dvec3 face(face_normals[3 * p], face_normals[3 * p + 1], face_normals[3 * p + 2]);
+    // Walking the polygon's edges in order, each normalised once: the corner between
+    // edge `in` (arriving) and edge `out` (leaving) has cos = -in.out. A zero-length
+    // edge gives NaN, counted as a right angle.
+    const glm::dvec3 first = at(start);
+    glm::dvec3 here = first;
+    glm::dvec3 in = glm::normalize(here - at(start + total - 1));
     for (size_t k = 0; k < total; ++k) {
-      // The corner's angle between the edges to its two neighbours in the polygon.
-      const glm::dvec3 here = at(start + k);
-      const glm::dvec3 a = at(start + (k + total - 1) % total) - here;
-      const glm::dvec3 b = at(start + (k + 1) % total) - here;
-      double cosine = glm::dot(a, b) / (glm::length(a) * glm::length(b));
-      if (std::isnan(cosine)) cosine = 0.0;  // a zero-length edge counts as a right angle
+      const glm::dvec3 next = k + 1 < total ? at(start + k + 1) : first;
+      const glm::dvec3 out = glm::normalize(next - here);
+      double cosine = -glm::dot(in, out);
+      if (std::isnan(cosine)) cosine = 0.0;
       const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
       double* sum = &sums[3 * size_t{loop_vertices[start + k]}];
       for (int i = 0; i < 3; ++i) sum[i] += face[i] * angle;
+      here = next;
+      in = out;
     }
   }
   std::vector<float> normals(3 * vertex_count, 0.0f);
