@@ -182,44 +182,6 @@ bool SceneAccel::occluded(const Ray& ray) const {
   return r.tfar < 0.0f;
 }
 
-void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
-  static_assert(kPacketSize == 8, "the packet type below is RTCRayHit8");
-  alignas(32) int valid[8] = {};
-  RTCRayHit8 rh;
-  for (int i = 0; i < 8; ++i) {
-    // Lanes past `count` and rays Embree cannot take stay inactive (valid 0).
-    const Ray& ray = rays[std::min(i, count - 1)];
-    valid[i] = i < count && valid_for_embree(ray) ? -1 : 0;
-    rh.ray.org_x[i] = ray.origin.x;
-    rh.ray.org_y[i] = ray.origin.y;
-    rh.ray.org_z[i] = ray.origin.z;
-    rh.ray.dir_x[i] = ray.direction.x;
-    rh.ray.dir_y[i] = ray.direction.y;
-    rh.ray.dir_z[i] = ray.direction.z;
-    rh.ray.tnear[i] = ray.t_min;
-    rh.ray.tfar[i] = ray.t_max;
-    rh.ray.time[i] = 0.0f;
-    rh.ray.mask[i] = ray.kind;
-    rh.ray.id[i] = 0;
-    rh.ray.flags[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-  }
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect8(valid, as_scene(scene_), &context, &rh);
-  for (int i = 0; i < count; ++i) {
-    hits[i] = Hit{};
-    if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-    hits[i].t = rh.ray.tfar[i];
-    hits[i].u = rh.hit.u[i];
-    hits[i].v = rh.hit.v[i];
-    hits[i].instance = rh.hit.instID[0][i];
-    hits[i].primitive = rh.hit.primID[i];
-  }
-}
-
 namespace {
 
 // Embree's packet rays (RTCRay4, RTCRay8), filled from up to K of ours; lanes past
@@ -244,7 +206,43 @@ void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
   }
 }
 
+// The first hits of up to K rays as one Embree packet (RTCRayHit4 or RTCRayHit8).
+template <int K, class PacketHit, class Intersect>
+void intersect_k(RTCScene scene, const Ray* rays, int count, Hit* hits, Intersect intersect) {
+  alignas(32) int valid[K];
+  PacketHit rh;
+  to_embree_packet<K>(rays, count, &rh.ray, valid);
+  for (int i = 0; i < K; ++i) {
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  intersect(valid, scene, &context, &rh);
+  for (int i = 0; i < count; ++i) {
+    hits[i] = Hit{};
+    if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    hits[i].t = rh.ray.tfar[i];
+    hits[i].u = rh.hit.u[i];
+    hits[i].v = rh.hit.v[i];
+    hits[i].instance = rh.hit.instID[0][i];
+    hits[i].primitive = rh.hit.primID[i];
+  }
+}
+
 }  // namespace
+
+void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
+  static_assert(kPacketSize == 8, "the widest packet below is RTCRayHit8");
+  // Four rays or fewer (a pixel's 2x2 samples) go as a 4-wide packet: in an 8-wide one
+  // half the lanes would idle through every node test.
+  if (count <= 4) {
+    intersect_k<4, RTCRayHit4>(as_scene(scene_), rays, count, hits, rtcIntersect4);
+  } else {
+    intersect_k<8, RTCRayHit8>(as_scene(scene_), rays, count, hits, rtcIntersect8);
+  }
+}
 
 void SceneAccel::occluded_packet(const Ray* rays, int count, bool* blocked) const {
   static_assert(kPacketSize == 8, "the widest packet below is RTCRay8");

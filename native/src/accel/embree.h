@@ -99,6 +99,7 @@ class SceneAccel {
   bool occluded(const Ray& ray) const;
   // Closest hits of up to kPacketSize coherent rays (camera rays) traced together as one
   // packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t infinite.
+  // Up to 4 rays go as a 4-wide packet, more as an 8-wide one.
   static constexpr int kPacketSize = 8;
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
   // Any-hit tests of up to kPacketSize rays traced together: blocked[i] is what
