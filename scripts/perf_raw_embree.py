@@ -29,6 +29,7 @@ faster than single-ray Embree (packets); below, the gap is our shading and overh
 """
 
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -77,6 +78,12 @@ def render(native, frame, settings, **recording):
     return finish(frame.job(native, settings, **recording))
 
 
+def image_sha256(job):
+    """SHA-256 of a finished job's float32 RGBA pixels: equal digests, the same image to
+    the bit (the page compares the builds, and packets on and off, with it)."""
+    return hashlib.sha256(job.image().tobytes()).hexdigest()
+
+
 def stubbed(recorded, repeats):
     """Rays per second of the recorded pixels rendered again with every query answered
     from the recording (the median of `repeats` replays), and the rays of one; (None,
@@ -95,8 +102,10 @@ def main():
     render(native, frame, settings)  # warm-up: page in the BVHs, start the threads once
     ours = []
     for _ in range(args.repeats):
-        stats = render(native, frame, settings).stats()
+        job = render(native, frame, settings)
+        stats = job.stats()
         ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
+    image = image_sha256(job)
     rays_per_render = ours[0][0]
     if args.renders_only:
         return
@@ -104,8 +113,10 @@ def main():
     settings.packets = False
     single = []
     for _ in range(args.repeats):
-        stats = render(native, frame, settings).stats()
+        job = render(native, frame, settings)
+        stats = job.stats()
         single.append(stats["rays"]["total"] / stats["trace_seconds"])
+    single_image = image_sha256(job)
     settings.packets = True
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
     # With what each query found, for the replays, where the module can replay.
@@ -129,6 +140,8 @@ def main():
         "whitted_rays_per_second": whitted_rps,
         # Without camera-ray packets (Settings.packets off), in the same run.
         "whitted_single_ray_rays_per_second": statistics.median(single),
+        "image_sha256": image,  # packets on
+        "single_ray_image_sha256": single_image,  # packets off
         "record_stride": stride,
         "recorded_rays": bare[0]["rays"],
         "record_render_seconds": record_seconds,

@@ -344,7 +344,41 @@ def embree_details(suite, scenes):
                 shown = cell(then, num(old, 2) if old is not None else None)
                 row += f" {shown} | {ratio_text(ratio(efficiency, old))} |"
             lines.append(row)
-    return [*lines, "", *cost_per_ray(suite, scenes)]
+    return [*lines, "", *cost_per_ray(suite, scenes), *pixel_identity(suite, scenes)]
+
+
+def pixel_identity(suite, scenes):
+    """Whether the raw Embree runs' images are the same to the bit: packets on against
+    off, and (with --before) this build's against the other's (SHA-256 of the float
+    pixels, perf_raw_embree.py)."""
+    before = suite.before is not None
+    lines = [
+        "Pixel identity, from the same raw Embree runs: the SHA-256 of each render's float "
+        "RGBA pixels. Camera packets may pick another of two coplanar faces than single "
+        "rays (a packet is one pixel's samples, so never another tiling's). A before "
+        "build older than an intended change of the image (a material fixed to match "
+        "Cycles, say: `git log` between the two commits) differs for that reason.",
+        "",
+        "| scene | size | packets on = off |" + (" after = before |" if before else ""),
+        "|---|---|---|" + ("---|" if before else ""),
+    ]
+
+    def same(a, b):
+        return "—" if a is None or b is None else ("same" if a == b else "**differs**")
+
+    for results in scenes:
+        for label, size in suite.plan.sizes:
+            runs = results.embree[label].runs
+            if not runs:
+                continue
+            digest = runs[0].get("image_sha256")
+            row = f"| {results.name} | {size_label(size)} | "
+            row += f"{same(digest, runs[0].get('single_ray_image_sha256'))} |"
+            if before:
+                then = results.embree_before[label].runs
+                row += f" {same(digest, then[0].get('image_sha256') if then else None)} |"
+            lines.append(row)
+    return [*lines, ""]
 
 
 def cost_per_ray(suite, scenes):
