@@ -467,7 +467,7 @@ def _vertex_normals(mesh, positions):
     Blender before 4.1 sums them on several threads in no fixed order, so two reads
     of one unchanged mesh can differ in the last bit, and a render would not be a
     pure function of the scene. The native core sums them in a fixed order, in double
-    (whitted_native.vertex_normals: 0.06 s for 1M quads; the numpy code it replaced,
+    (whitted_native.vertex_normals: 0.12 s for 1M quads; the numpy code it replaced,
     with the same operations and so the same bits, took 1.1 s on the million scene).
     """
     # uint32, the type Blender stores the indices in: int32 is copied item by item, 10x
