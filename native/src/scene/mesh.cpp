@@ -109,10 +109,10 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
   constexpr size_t kBlock = size_t{1} << 16;
   std::vector<double> sums(3 * vertex_count, 0.0);
   std::vector<double> block_sums(3 * vertex_count, 0.0);
-  std::vector<uint32_t> touched;
   const auto squared = [](const glm::dvec3& a) { return (a.x * a.x + a.y * a.y) + a.z * a.z; };
   for (size_t first = 0; first < polygon_count; first += kBlock) {
-    for (size_t p = first; p < std::min(first + kBlock, polygon_count); ++p) {
+    const size_t last = std::min(first + kBlock, polygon_count);
+    for (size_t p = first; p < last; ++p) {
       const size_t start = loop_starts[p];
       const size_t total = loop_totals[p];
       for (size_t k = 0; k < total; ++k) {
@@ -126,19 +126,22 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
         if (std::isnan(cosine)) cosine = 0.0;
         const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
         const uint32_t v = loop_vertices[start + k];
-        touched.push_back(v);
         for (size_t i = 0; i < 3; ++i) {
           block_sums[3 * size_t{v} + i] += static_cast<double>(face_normals[3 * p + i]) * angle;
         }
       }
     }
-    for (const uint32_t v : touched) {
-      for (size_t i = 0; i < 3; ++i) {
-        sums[3 * size_t{v} + i] += block_sums[3 * size_t{v} + i];
-        block_sums[3 * size_t{v} + i] = 0.0;
+    // The block's vertices are those of its loops: each sum moves over once (a repeat
+    // finds it already moved and zeroed).
+    for (size_t p = first; p < last; ++p) {
+      for (size_t l = loop_starts[p]; l < size_t{loop_starts[p]} + loop_totals[p]; ++l) {
+        const size_t v = loop_vertices[l];
+        for (size_t i = 0; i < 3; ++i) {
+          sums[3 * v + i] += block_sums[3 * v + i];
+          block_sums[3 * v + i] = 0.0;
+        }
       }
     }
-    touched.clear();
   }
   std::vector<float> normals(3 * vertex_count, 0.0f);
   for (size_t v = 0; v < vertex_count; ++v) {
