@@ -66,6 +66,14 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         "cutoff_skipped": native_stats["cutoff_skipped"],
         # Shadow feelers not sent, by reason (backfacing, unlit, below the cutoff).
         "shadow_rays_skipped": dict(native_stats["shadow_rays_skipped"]),
+        # Whether each pixel's camera rays went to Embree as one packet, and the instances
+        # in view that chose it (packets up to one per 500 pixels: native sampler.h,
+        # choose_packets).
+        "camera_packets": {
+            "on": native_stats["camera_packets"],
+            "visible_instances": native_stats["visible_instances"],
+            "instances_per_pixel": native_stats["instances_per_pixel"],
+        },
         # What the scene analysis simulated and skipped: {name, on, why} per effect.
         "effects": [dict(decision) for decision in native_stats["effects"]],
         # Camera samples; adaptive anti-aliasing takes a different number per pixel.

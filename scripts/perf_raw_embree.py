@@ -106,6 +106,7 @@ def main():
         stats = job.stats()
         ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
     image = image_sha256(job)
+    chosen = job.stats()  # the packet choice of the renders with packets on
     rays_per_render = ours[0][0]
     if args.renders_only:
         return
@@ -138,6 +139,11 @@ def main():
         "rays_per_render": rays_per_render,
         "whitted_trace_seconds": statistics.median(s for _, s, _ in ours),
         "whitted_rays_per_second": whitted_rps,
+        # Whether the render sent each pixel's camera rays as a packet (Settings.packets
+        # on: where the scene suits them), and the estimate that chose it.
+        # (Builds before the choice always sent packets.)
+        "camera_packets": chosen.get("camera_packets", True),
+        "instances_per_pixel": chosen.get("instances_per_pixel"),
         # Without camera-ray packets (Settings.packets off), in the same run.
         "whitted_single_ray_rays_per_second": statistics.median(single),
         "image_sha256": image,  # packets on

@@ -46,6 +46,9 @@ py::dict stats_dict(const RenderStats& s) {
   out["instances"] = s.instances;
   out["degenerate_instances"] = s.degenerate_instances;
   out["lights"] = s.lights;
+  out["camera_packets"] = s.camera_packets;
+  out["visible_instances"] = s.visible_instances;
+  out["instances_per_pixel"] = s.instances_per_pixel;
   out["cancelled"] = s.cancelled;
   out["error"] = s.error;
   return out;

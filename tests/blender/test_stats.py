@@ -67,6 +67,11 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
     assert stats["nonfinite_samples"] == 0
     assert stats["cancelled"] is False
     assert stats["lights"] == 2
+    # The demo's five objects in 3,072 pixels: fewer than one per 500 pixels, packets.
+    packets = stats["camera_packets"]
+    assert packets["on"] is True
+    assert packets["visible_instances"] == 5
+    assert packets["instances_per_pixel"] == pytest.approx(5 / (WIDTH * HEIGHT))
     # The same statistics stay on the scene for Python after the render.
     assert json.loads(demo.whitted.last_stats) == stats
 

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "scene_builders.h"
 
@@ -153,15 +155,68 @@ TEST(Render, PacketHitsAreTheSingleRayHits) {
 TEST(Render, PacketsDoNotChangeTheImage) {
   const Scene scene = glass_and_mirror_scene();
   Settings settings;
-  settings.width = 40;
-  settings.height = 30;
+  settings.width = 60;  // three instances in 2,400 pixels: packets chosen
+  settings.height = 40;
   for (int n : {2, 3}) {  // 4 rays: one part-filled packet; 9 rays: a full one and one
     settings.aa_samples = n;
     settings.packets = true;
+    ASSERT_TRUE(RenderJob(scene, settings, scene.camera).stats().camera_packets);  // chosen
     const std::vector<float> packets = render(scene, settings);
     settings.packets = false;
     EXPECT_EQ(render(scene, settings), packets) << n << "x" << n << " samples";
   }
+}
+
+// The packet choice (choose_packets, sampler.h) counts the instances the camera sees.
+TEST(Render, PacketChoiceCountsTheInstancesInView) {
+  Scene scene;
+  testing::add_object(&scene, "quad", quad(-1, 1, -1, 1, 0), Material{});
+  const Camera camera = testing::looking_down(Vec3(0.0f, 0.0f, 10.0f), 0.5f);
+  Settings settings;
+  settings.width = 100;
+  settings.height = 100;
+  const RenderStats seen = RenderJob(scene, settings, camera).stats();
+  EXPECT_EQ(seen.visible_instances, 1u);
+  EXPECT_FLOAT_EQ(seen.instances_per_pixel, 1e-4f);
+  EXPECT_TRUE(seen.camera_packets);
+  // Behind the camera, beside the image, or around the camera.
+  const auto seen_from = [&](Vec3 position) {
+    return RenderJob(scene, settings, testing::looking_down(position, 0.5f))
+        .stats()
+        .visible_instances;
+  };
+  EXPECT_EQ(seen_from(Vec3(0.0f, 0.0f, -10.0f)), 0u);
+  EXPECT_EQ(seen_from(Vec3(30.0f, 0.0f, 10.0f)), 0u);
+  EXPECT_EQ(seen_from(Vec3(0.5f, 0.0f, 0.5f)), 1u);
+  // Packets off in the settings: never packets.
+  settings.packets = false;
+  EXPECT_FALSE(RenderJob(scene, settings, camera).stats().camera_packets);
+}
+
+// 400 instances in a 20x20 image: each pixel's rays go to Embree one by one; in a
+// 1000x1000 image, one instance per 2,500 pixels, as packets.
+TEST(Render, PacketsAreLeftOutWhereInstancesAreDenserThanPixels) {
+  Scene scene;
+  scene.set_mesh("tile", quad(-0.05f, 0.05f, -0.05f, 0.05f, 0));
+  scene.set_material("tile", Material{});
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      const Vec3 at(-0.95f + 0.1f * static_cast<float>(i), -0.95f + 0.1f * static_cast<float>(j),
+                    0);
+      const std::string name = "tile" + std::to_string(i) + "_" + std::to_string(j);
+      scene.set_instance(name, Instance{"tile", glm::translate(glm::mat4(1.0f), at), {"tile"}});
+    }
+  }
+  scene.camera = testing::looking_down(Vec3(0.0f, 0.0f, 2.0f), 0.5f);
+  Settings settings;
+  settings.width = 20;
+  settings.height = 20;
+  const RenderStats coarse = RenderJob(scene, settings, scene.camera).stats();
+  EXPECT_EQ(coarse.visible_instances, 400u);
+  EXPECT_FALSE(coarse.camera_packets);
+  settings.width = 1000;
+  settings.height = 1000;
+  EXPECT_TRUE(RenderJob(scene, settings, scene.camera).stats().camera_packets);
 }
 
 // The bare-Embree baseline traces exactly the rays the render traced: all of them with a

@@ -94,6 +94,8 @@ def embree_run(efficiency, stubbed=None):
         "embree_rays_per_second": 8e6,
         "efficiency": efficiency,
         "recorded_rays": 1000,
+        "camera_packets": True,
+        "instances_per_pixel": 0.0004,
     }
     return run | ({"stubbed_rays_per_second": stubbed} if stubbed else {})
 
@@ -110,8 +112,8 @@ def test_raw_embree_details_show_shading_alone_and_the_efficiency_before(before)
     results.embree["tiny"] = Measurement(runs=[embree_run(0.5, stubbed=8e6)])
     results.embree_before["tiny"] = Measurement(runs=[embree_run(0.25)])
     lines = embree_details(suite, [results])
-    header = next(line for line in lines if line.startswith("| scene | size | Whitted |"))
-    row = next(line for line in lines if line.startswith("| demo | 96x54 | 4.00 |"))
+    header = next(line for line in lines if line.startswith("| scene | size | camera packets"))
+    row = next(line for line in lines if line.startswith("| demo | 96x54 | yes (2,500) | 4.00 |"))
     assert "shading alone (traversal stubbed), Mrays/s" in header
     assert row.count("|") == header.count("|")
     assert "| 8.00 | 8.00 | 0.50 | 1000 |" in row

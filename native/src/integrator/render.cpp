@@ -81,6 +81,10 @@ void RenderJob::describe_scene() {
   const WhittedIntegrator integrator(*scene_, settings_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().decisions;
+  const PacketChoice packets = choose_packets(*scene_, camera_, settings_);
+  stats_.camera_packets = packets.packets;
+  stats_.visible_instances = packets.visible_instances;
+  stats_.instances_per_pixel = packets.instances_per_pixel;
 }
 
 RenderJob::RenderJob(ReplayOf replay)

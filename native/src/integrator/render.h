@@ -34,6 +34,11 @@ struct RenderStats {
   size_t instances = 0;
   size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;
+  // Whether a pixel's camera rays went to Embree as one packet, and the estimate that
+  // chose it (choose_packets, sampler.h).
+  bool camera_packets = false;
+  size_t visible_instances = 0;
+  float instances_per_pixel = 0.0f;
   bool cancelled = false;               // stopped before the end: cancel(), or a worker failed
   std::string error;                    // what the first failing worker threw; empty when none did
   std::vector<EffectDecision> effects;  // what the scene analysis simulated and skipped, why

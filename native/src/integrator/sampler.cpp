@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 
 namespace whitted {
@@ -19,7 +20,57 @@ float hash01(uint32_t x, uint32_t y, uint32_t i) {
   return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
 }
 
+// Where packets stop paying: at about one instance in view per 500 pixels. Callgrind's
+// instructions per camera ray in Embree, packet / single, on the sphere grids of
+// scripts/perf_scenes.py (docs/notes/performance_reading.md), by instances in view per
+// pixel: 0.85 at 0.0006, 0.84 at 0.0016, 0.99 at 0.0019, 1.29 at 0.0055, 1.52 at 0.016,
+// 1.78 at 0.054. (The share of pixels on an instance's outline sorted them worse: 100
+// large spheres on 42% of the pixels still gained, at 0.84.)
+constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
+
 }  // namespace
+
+PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
+                            const Settings& settings) {
+  const CameraFrame frame(camera);
+  const float* window = camera.window;
+  const bool perspective = camera.projection == Projection::kPerspective;
+  PacketChoice choice;
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    if ((instance.visibility & kCameraRay) == 0) continue;
+    const Sphere& sphere = instance.mesh->bounds;
+    // The sphere through to_world: its centre moved, its radius times the longest axis.
+    const glm::mat3 linear(instance.to_world);
+    const float stretch =
+        std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const Vec3 to_centre =
+        Vec3(instance.to_world * glm::vec4(sphere.centre, 1.0f)) - frame.position;
+    double x = glm::dot(to_centre, frame.right);
+    double y = glm::dot(to_centre, frame.up);
+    double r = sphere.radius * stretch;
+    const double depth = -glm::dot(to_centre, frame.back);
+    if (depth + r <= 0.0) continue;  // behind the camera
+    if (perspective) {
+      if (depth <= r) {  // around the camera: in view
+        ++choice.visible_instances;
+        continue;
+      }
+      // Onto the image plane at distance 1 (the window's).
+      x /= depth;
+      y /= depth;
+      r /= depth;
+    }
+    if (x + r < window[0] || x - r > window[1] || y + r < window[2] || y - r > window[3]) {
+      continue;  // outside the image
+    }
+    ++choice.visible_instances;
+  }
+  const double pixels = static_cast<double>(settings.width) * settings.height;
+  choice.instances_per_pixel = static_cast<float>(choice.visible_instances / pixels);
+  choice.packets =
+      settings.packets && choice.visible_instances <= kPacketInstancesPerPixel * pixels;
+  return choice;
+}
 
 CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& camera,
                              const MediumStack& camera_media)
@@ -27,6 +78,7 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       settings_(integrator.settings()),
       camera_(camera),
       frame_(camera),
+      packets_(choose_packets(integrator.scene(), camera, integrator.settings()).packets),
       root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -66,7 +118,7 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   for (int first = 0; first < samples; first += kPacket) {
     const int count = std::min(kPacket, samples - first);
     for (int k = 0; k < count; ++k) rays[static_cast<size_t>(k)] = grid_ray(x, y, first + k);
-    const bool packet = settings_.packets && count > 1;
+    const bool packet = packets_ && count > 1;
     if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
     for (int k = 0; k < count; ++k) {
       const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;

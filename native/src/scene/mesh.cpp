@@ -20,6 +20,19 @@ std::vector<float> finite_copy(const float* values, size_t count) {
 
 }  // namespace
 
+Sphere bounding_sphere(const Mesh& mesh) {
+  const size_t n = mesh.vertex_count();
+  if (n == 0) return {};
+  Vec3 lower = mesh.vertex(0);
+  Vec3 upper = lower;
+  for (size_t i = 1; i < n; ++i) {
+    const Vec3 v = mesh.vertex(static_cast<uint32_t>(i));
+    lower = glm::min(lower, v);
+    upper = glm::max(upper, v);
+  }
+  return {0.5f * (lower + upper), 0.5f * glm::length(upper - lower)};
+}
+
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,
                size_t triangle_count, const float* normals, const int32_t* material_slots,
                const float* uvs, const float* vertex_normals, const CornerLayers& layers) {

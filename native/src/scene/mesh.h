@@ -61,6 +61,14 @@ struct Mesh {
   }
 };
 
+// A bounding sphere of a mesh's vertices (about its box's centre; radius 0 for a mesh
+// without vertices): its extent, for estimates made before tracing (camera packets).
+struct Sphere {
+  Vec3 centre{0.0f};
+  float radius = 0.0f;
+};
+Sphere bounding_sphere(const Mesh& mesh);
+
 // Corner layers handed to make_mesh, each `triangle_count` x 3 corners.
 struct CornerLayers {
   std::vector<const float*> uv_sets;     // 2 floats a corner

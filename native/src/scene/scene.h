@@ -23,9 +23,10 @@ namespace whitted {
 // A mesh together with its BVH; built once when the mesh is set, shared by instances.
 struct MeshEntry {
   MeshEntry(std::shared_ptr<AccelDevice> device, Mesh m)
-      : mesh(std::move(m)), accel(std::move(device), mesh) {}
+      : mesh(std::move(m)), accel(std::move(device), mesh), bounds(bounding_sphere(mesh)) {}
   Mesh mesh;
   MeshAccel accel;
+  Sphere bounds;  // in object space
 };
 
 // What Blender's Object Info node reports of an instance.

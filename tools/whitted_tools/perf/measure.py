@@ -246,7 +246,9 @@ def measure_slow(suite, results, label):
             seconds = first.median(lambda r: r["seconds"])
             estimate = seconds * (size[0] * size[1]) / (small[0] * small[1])
             estimate *= suite.plan.large_slow_repeats
-        if first is not None and first.missing:
+        if results.name not in suite.plan.slow_scenes:
+            store[label] = Measurement(missing="not run: this plan renders it on fewer scenes")
+        elif first is not None and first.missing:
             store[label] = Measurement(missing=f"not run: at the small size, {first.missing}")
         elif estimate is not None and estimate > suite.deadline - time.monotonic():
             store[label] = Measurement(
@@ -279,6 +281,10 @@ def measure_scaling(suite):
     threads = {}
     for name in MAIN_SCENES:
         default = suite.render((name, None), "WHITTED", plan.small)
+        if name not in plan.thread_scenes:
+            missing = Measurement(missing="not run: this plan measures threads on fewer scenes")
+            threads[name] = {1: missing, 2: default}
+            continue
         # Blender's default on a 2-processor machine is 2 threads: that run serves.
         two = default
         if default.median(lambda r: r["threads"]) != 2:

@@ -296,9 +296,13 @@ def image_agreement(suite, scenes):
 def embree_details(suite, scenes):
     before = suite.before is not None
     lines = [
-        "Raw Embree in detail (Mrays/s, one process each, all threads). Whitted without "
-        "packets is the same render with each camera ray its own query (Settings.packets "
-        "off), in the same process: the packet gain is the ratio of the two. Shading alone "
+        "Raw Embree in detail (Mrays/s, one process each, all threads). Whitted sends a "
+        "pixel's camera rays to Embree as one packet where the scene suits packets: the "
+        "camera packets column says whether it did, and how many pixels there are per "
+        "instance in view (packets from 500 up: sampler.h, choose_packets). "
+        "Whitted without packets is the same render with each camera ray its own query "
+        "(Settings.packets off), in the same process: the packet gain is the ratio of the "
+        "two (1x where no packets were chosen). Shading alone "
         "is the recorded pixels rendered again with every query answered from the "
         "recording instead of Embree (traversal stubbed out: RenderJob.replay()), on the "
         "rays raw Embree traces.",
@@ -311,10 +315,11 @@ def embree_details(suite, scenes):
             "",
         ]
     header = (
-        "| scene | size | Whitted | Whitted without packets | packet gain | raw Embree "
-        "| shading alone (traversal stubbed), Mrays/s | efficiency | rays recorded |"
+        "| scene | size | camera packets (pixels per instance) | Whitted | Whitted without "
+        "packets | packet gain | raw Embree | shading alone (traversal stubbed), Mrays/s "
+        "| efficiency | rays recorded |"
     )
-    columns = 9
+    columns = 10
     if before:
         header += " efficiency before | after / before |"
         columns += 2
@@ -330,8 +335,11 @@ def embree_details(suite, scenes):
             packets = run.get("whitted_rays_per_second")
             single = run.get("whitted_single_ray_rays_per_second")
             efficiency = run.get("efficiency")
+            density = run.get("instances_per_pixel")
+            chosen = "yes" if run.get("camera_packets", True) else "no"
+            chosen += f" ({1 / density:,.0f})" if density else ""
             row = (
-                f"| {results.name} | {size_label(size)} | "
+                f"| {results.name} | {size_label(size)} | {chosen} | "
                 f"{num(scale(packets, 1e-6), 2)} | {num(scale(single, 1e-6), 2)} | "
                 f"{ratio_text(ratio(packets, single))} | "
                 f"{num(scale(run.get('embree_rays_per_second'), 1e-6), 2)} | "

@@ -24,6 +24,8 @@ class Plan:
     large_slow_repeats: int  # Cycles and POV-Ray at the large size
     timeouts: dict  # process kind -> seconds; "<engine>_large" for the large size
     budget_minutes: float  # default of --budget-minutes
+    slow_scenes: tuple = MAIN_SCENES  # the main scenes POV-Ray and Cycles render
+    thread_scenes: tuple = MAIN_SCENES  # the main scenes rendered on 1 thread as well
 
     @property
     def small(self):
@@ -74,4 +76,8 @@ def quick_plan():
         timeouts={"build": 120, "EMBREE": 120, "POVRAY": 30}
         | dict.fromkeys(("WHITTED", "NULL", "CYCLES"), 120),
         budget_minutes=3.0,
+        # A smoke test: each kind of process once is enough (POV-Ray alone took 30 s,
+        # its time-out, on glass8).
+        slow_scenes=("demo",),
+        thread_scenes=("demo",),
     )
