@@ -156,3 +156,33 @@ def test_each_render_states_what_it_simulated_and_skipped(
     assert "shadows (lights cast shadows)" in line
     # Points facing away from one of the two lights send it no feeler.
     assert stats["shadow_rays_skipped"]["backfacing"] > 0
+
+
+def test_camera_packets_are_left_out_where_hundreds_of_instances_are_in_view(
+    empty_scene, render_pixels, tmp_path, monkeypatch
+):
+    # 400 linked duplicates of one small cube seen from above: one instance in view per
+    # 7.7 pixels, far more than the one per 500 up to which packets pay (sampler.h).
+    path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(path))
+    scene = empty_scene
+    scene.render.engine = "WHITTED"
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    camera.location = (0.0, 0.0, 10.0)  # looking down -Z
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    cube = bpy.data.meshes.new("pebble")
+    corners = [(x, y, z) for x in (-0.1, 0.1) for y in (-0.1, 0.1) for z in (0.0, 0.2)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    cube.from_pydata(corners, [], faces)
+    for i in range(20):
+        for j in range(20):
+            pebble = bpy.data.objects.new(f"pebble{i}_{j}", cube)
+            pebble.location = (-2.375 + 0.25 * i, -2.375 + 0.25 * j, 0.0)
+            scene.collection.objects.link(pebble)
+    render_pixels(scene)
+    packets = json.loads(path.read_text())["camera_packets"]
+    assert packets["visible_instances"] == 400
+    assert packets["on"] is False

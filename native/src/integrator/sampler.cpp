@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <optional>
 
 namespace whitted {
@@ -102,7 +101,8 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   // The camera rays of one pixel are coherent: Embree finds their first hits together,
   // up to a packet at a time, then each is shaded on its own. A packet never spans two
   // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
-  // threads): where two coplanar faces tie, the winner can depend on the packet.
+  // threads): where two faces tie (coplanar, or meeting a ray at their shared edge), the winner
+  // can depend on the packet.
   constexpr int kPacket = SceneAccel::kPacketSize;
   const int n = settings_.aa_samples;
   const int samples = n * n;

@@ -20,7 +20,7 @@ namespace whitted {
 // sphere as the camera projects it, inside the image and not behind the camera); packets
 // are kept up to the measured break-even (kPacketInstancesPerPixel, sampler.cpp). A pure
 // function of the scene, the camera and the settings, so tiles and threads change
-// nothing; packets change no pixel but where two coplanar faces tie.
+// nothing; packets change no pixel but where two faces tie (settings.h, `packets`).
 struct PacketChoice {
   bool packets = true;
   size_t visible_instances = 0;   // instances in view

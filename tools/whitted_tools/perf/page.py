@@ -362,8 +362,10 @@ def pixel_identity(suite, scenes):
     before = suite.before is not None
     lines = [
         "Pixel identity, from the same raw Embree runs: the SHA-256 of each render's float "
-        "RGBA pixels. Camera packets may pick another of two coplanar faces than single "
-        "rays (a packet is one pixel's samples, so never another tiling's). A before "
+        "RGBA pixels. Embree's packet and single-ray queries may pick different faces "
+        "where two tie: coplanar faces, or a ray through the edge two faces share (a "
+        "packet is one pixel's samples, so never another tiling's); so a before build "
+        "that chose packets otherwise differs there too. A before "
         "build older than an intended change of the image (a material fixed to match "
         "Cycles, say: `git log` between the two commits) differs for that reason.",
         "",
