@@ -63,7 +63,8 @@ step_ctest() {
 # (only the core and its tests: a sanitized Python module could not be loaded).
 # -O0 -g1 (line tables for the reports): the build is most of this step, and -O0 halves
 # it. Session 10, `cmake --build --parallel 1` of this configuration: 205 s of CPU at
-# -O0 against 436 s at -O1; the tests then take 33 s instead of 12-23 s.
+# -O0 against 436 s at -O1; the tests then took 19.9 s in a clean-clone CI run (12-23 s
+# at -O1).
 step_ctest_sanitized() {
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O0 -g1 -DNDEBUG" \
