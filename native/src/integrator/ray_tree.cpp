@@ -9,7 +9,7 @@
 namespace whitted {
 
 RayTree inspect_pixel(const CompiledScene& scene, const Settings& settings, const Camera& camera,
-                      const MediumStack& camera_media, int x, int y, int sample) {
+                      const MediumStack& camera_media, bool packets, int x, int y, int sample) {
   if (x < 0 || y < 0 || x >= settings.width || y >= settings.height) {
     throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                             ") is outside the " + std::to_string(settings.width) + " x " +
@@ -25,7 +25,7 @@ RayTree inspect_pixel(const CompiledScene& scene, const Settings& settings, cons
   }
   RayTree tree;
   const WhittedIntegrator integrator(scene, settings, camera, nullptr, &tree);
-  const CameraSampler sampler(integrator, camera, camera_media);
+  const CameraSampler sampler(integrator, camera, camera_media, packets);
   RayCounts counts;
   std::vector<float> weights;  // of each camera sample, in the order traced
   Sample s;

@@ -123,12 +123,12 @@ struct RayTree {
 };
 
 // Pixel (x, y) (from the bottom-left) traced again, alone, as a render with these scene,
-// settings and camera would, recording its ray tree: every camera sample weighted as in
-// the pixel, or with `sample` >= 0 that grid sample alone (weight 1). Reads only immutable
-// data, so it may run beside a render of the same scene. Throws std::out_of_range for a
-// pixel or sample outside the image, std::invalid_argument for a single sample of
-// adaptive anti-aliasing (its samples are not a grid).
+// settings and camera would (inside `camera_media`, with that render's packet choice), recording
+// its ray tree: every camera sample weighted as in the pixel, or with `sample` >= 0 that grid
+// sample alone (weight 1). Reads only immutable data, so it may run beside a render of the same
+// scene. Throws std::out_of_range for a pixel or sample outside the image, std::invalid_argument
+// for a single sample of adaptive anti-aliasing (its samples are not a grid).
 RayTree inspect_pixel(const CompiledScene& scene, const Settings& settings, const Camera& camera,
-                      const MediumStack& camera_media, int x, int y, int sample = -1);
+                      const MediumStack& camera_media, bool packets, int x, int y, int sample = -1);
 
 }  // namespace whitted

@@ -82,6 +82,7 @@ void RenderJob::describe_scene() {
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().decisions;
   const PacketChoice packets = choose_packets(*scene_, camera_, settings_);
+  camera_packets_ = packets.packets;
   stats_.camera_packets = packets.packets;
   stats_.visible_instances = packets.visible_instances;
   stats_.instances_per_pixel = packets.instances_per_pixel;
@@ -136,7 +137,7 @@ void RenderJob::work(int worker) {
   // it would call std::terminate and take Blender down. It is kept for wait() instead.
   try {
     const WhittedIntegrator integrator(*scene_, settings_, camera_, log);
-    const CameraSampler sampler(integrator, camera_, camera_media_);
+    const CameraSampler sampler(integrator, camera_, camera_media_, camera_packets_);
     const size_t items = passes_.size() * tiles_.size();
     const auto take = [&] { return log != nullptr ? log->take_item(&next_item_) : next_item_++; };
     for (size_t item = take(); item < items; item = take()) {
@@ -291,7 +292,7 @@ RenderStats RenderJob::stats() const {
 }
 
 RayTree RenderJob::inspect(int x, int y, int sample) const {
-  return inspect_pixel(*scene_, settings_, camera_, camera_media_, x, y, sample);
+  return inspect_pixel(*scene_, settings_, camera_, camera_media_, camera_packets_, x, y, sample);
 }
 
 void RenderJob::check_finished(const char* what) const {

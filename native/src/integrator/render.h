@@ -125,7 +125,8 @@ class RenderJob {
   Settings settings_;
   Camera camera_;
   std::shared_ptr<const CompiledScene> scene_;
-  MediumStack camera_media_;  // the glass the camera is inside, if any
+  MediumStack camera_media_;    // the glass the camera is inside, if any
+  bool camera_packets_ = true;  // choose_packets' answer for this render
   std::vector<Pass> passes_;
   std::vector<Tile> tiles_;
   Tile area_;  // the border rectangle

@@ -72,12 +72,12 @@ PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
 }
 
 CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& camera,
-                             const MediumStack& camera_media)
+                             const MediumStack& camera_media, bool packets)
     : integrator_(integrator),
       settings_(integrator.settings()),
       camera_(camera),
       frame_(camera),
-      packets_(choose_packets(integrator.scene(), camera, integrator.settings()).packets),
+      packets_(packets),
       root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,

@@ -33,9 +33,10 @@ PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
 // depends only on the pixel and the sample, never on tiles or threads.
 class CameraSampler {
  public:
-  // `camera_media`: the glass the camera is inside, if any.
+  // `camera_media`: the glass the camera is inside, if any; `packets`: choose_packets'
+  // answer for the render (a pixel's camera rays as one Embree packet, or one by one).
   CameraSampler(const WhittedIntegrator& integrator, const Camera& camera,
-                const MediumStack& camera_media);
+                const MediumStack& camera_media, bool packets);
 
   // The pixel whose bottom-left corner is (x, y), whole, by the anti-aliasing mode: the
   // mean of its regular or jittered grid samples, or Whitted's adaptive subdivision.
@@ -75,7 +76,7 @@ class CameraSampler {
   const Settings& settings_;
   const Camera& camera_;
   const CameraFrame frame_;  // camera_'s, made once: not per camera ray
-  const bool packets_;       // choose_packets' answer
+  const bool packets_;       // choose_packets' answer, made once per render
   // Where every camera ray starts (depth 0, weight 1, inside the camera's media), made
   // once: not copied per camera ray.
   const NodeState root_;
