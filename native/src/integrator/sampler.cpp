@@ -108,8 +108,6 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   const int samples = n * n;
   std::array<Ray, kPacket> rays;
   std::array<Hit, kPacket> hits;
-  std::array<Color, kPacket> radiance;
-  std::array<float, kPacket> alpha;
   // Summed in sample order, as Film::add sums a pixel built one sample at a time.
   Sample sum{Color(0.0f), 0.0f};
   // Each sample's record, emplaced afresh only when passes are recorded: zeroing every
@@ -122,19 +120,10 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
     for (int k = 0; k < count; ++k) rays[static_cast<size_t>(k)] = grid_ray(x, y, first + k);
     const bool packet = packets_ && count > 1;
     if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
-    // Without passes the packet's hits are shaded together too, so their shadow feelers
-    // to each light go to Embree as one packet (WhittedIntegrator::trace_packet).
-    const bool shaded_together = packet && record == nullptr;
-    if (shaded_together) {
-      integrator_.trace_packet(rays.data(), hits.data(), count, root_, counts, radiance.data(),
-                               alpha.data());
-    }
     for (int k = 0; k < count; ++k) {
-      const auto i = static_cast<size_t>(k);
-      const Sample s =
-          shaded_together ? checked(radiance[i], alpha[i], counts, nullptr)
-                          : shade(rays[i], packet ? &hits[i] : nullptr, counts,
-                                  record != nullptr ? &sample_record.emplace() : nullptr);
+      const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
+      const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts,
+                             record != nullptr ? &sample_record.emplace() : nullptr);
       sum.radiance += s.radiance;
       sum.alpha += s.alpha;
       if (record != nullptr) {
@@ -205,16 +194,11 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
                             SampleRecord* record) const {
+  counts->camera += 1;
   float alpha = 1.0f;
   const Color c = first != nullptr
                       ? integrator_.trace_from(ray, *first, root_, counts, &alpha, record)
                       : integrator_.trace(ray, root_, counts, &alpha, record);
-  return checked(c, alpha, counts, record);
-}
-
-Sample CameraSampler::checked(const Color& c, float alpha, RayCounts* counts,
-                              SampleRecord* record) {
-  counts->camera += 1;
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     if (record != nullptr) *record = SampleRecord{};

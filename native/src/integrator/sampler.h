@@ -71,9 +71,6 @@ class CameraSampler {
   Ray camera_ray(float px, float py) const;
   // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
   Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record) const;
-  // A camera ray's traced radiance and coverage as a sample, counted; a non-finite one
-  // (and its record) dropped.
-  static Sample checked(const Color& c, float alpha, RayCounts* counts, SampleRecord* record);
 
   const WhittedIntegrator& integrator_;
   const Settings& settings_;

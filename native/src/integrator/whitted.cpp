@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -137,21 +136,8 @@ class Kernel {
                    RayCounts* counts, float* alpha, const Hit* first, SampleRecord* record) {
     return Kernel(w, record).trace(ray, state, counts, alpha, first);
   }
-  static void run_packet(const WhittedIntegrator& w, const Ray* rays, const Hit* hits, int count,
-                         const NodeState& state, RayCounts* counts, Color* radiance,
-                         float* alpha) {
-    if constexpr (kRecord || kPasses) {
-      for (int i = 0; i < count; ++i) {
-        radiance[i] = run(w, rays[i], state, counts, &alpha[i], &hits[i], nullptr);
-      }
-    } else {
-      Kernel(w, nullptr).trace_packet(rays, hits, count, state, counts, radiance, alpha);
-    }
-  }
 
  private:
-  struct Primed;  // a camera packet's first hit, ready to shade (below)
-
   bool has(uint32_t bit) const {
     if constexpr (kEffects == kRuntimeEffects) {
       return (effects_ & bit) != 0;
@@ -182,15 +168,6 @@ class Kernel {
   // `first`, when given, is the ray's first hit, already found.
   Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
               const Hit* first = nullptr) const {
-    return trace(ray, state, counts, alpha, first, nullptr);
-  }
-  // The same from a first hit `primed` already made ready to shade (trace_packet).
-  Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
-              const Primed& primed) const {
-    return trace(ray, state, counts, alpha, &primed.hit, &primed);
-  }
-  Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
-              const Hit* first, const Primed* primed) const {
     Color radiance(0.0f);
     float coverage = 0.0f;
     float behind = 1.0f;  // the share of the ray not yet covered by a surface
@@ -227,16 +204,10 @@ class Kernel {
         }
         break;
       }
-      const Primed* const ready = layer == 0 ? primed : nullptr;
-      Interaction traced_it;  // made here unless primed
-      const Interaction& it =
-          ready != nullptr ? ready->it : (traced_it = scene_.interaction(r, hit));
+      const Interaction it = scene_.interaction(r, hit);
       if constexpr (kRecord) record_end(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
-      SurfaceParams traced_surface;
-      const SurfaceParams& surface =
-          ready != nullptr ? ready->surface
-                           : (traced_surface = scene_.surface(it, r, context(state)));
+      const SurfaceParams surface = scene_.surface(it, r, context(state));
       float a = 1.0f;
       if (has(kTranslucencyEffect)) {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
@@ -257,7 +228,7 @@ class Kernel {
           }
           radiance += (behind * a) * shade(r, it, surface, covered, counts);
         } else {
-          radiance += (behind * a) * shade(r, it, surface, state, counts, ready);
+          radiance += (behind * a) * shade(r, it, surface, state, counts);
         }
         coverage += behind * a;
       }
@@ -277,16 +248,14 @@ class Kernel {
 
   // The Whitted step, the seed's RayTrace: the radiance a surface point sends back along
   // the ray, I = local + sigma_r * reflected + sigma_t * refracted.
-  // `primed`, when it answered its feelers, holds this hit's one-sample lights, prepared.
   Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-              const NodeState& state, RayCounts* counts, const Primed* primed = nullptr) const {
+              const NodeState& state, RayCounts* counts) const {
     // Entering or leaving is decided by the geometric normal, never the shading normal.
     const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
     const Crossing beyond = crossing(it, surface, entering, state.media);
     if (beyond.false_interface) return pass_through(ray, it, state, beyond.media, counts);
-    const bool answered = primed != nullptr && primed->answered;
-    const ShadingPoint p = answered ? *primed->point : shading_point(ray, it, surface, entering);
-    Color radiance = local(p, state, counts, answered ? primed : nullptr);
+    const ShadingPoint p = shading_point(ray, it, surface, entering);
+    Color radiance = local(p, state, counts);
     if (!has(kReflectionEffect) && !has(kRefractionEffect)) return radiance;
     const Split split = split_weights(ray, p, beyond.eta, counts);
     if (has(kReflectionEffect) && !is_black(split.sigma_r)) {
@@ -455,23 +424,15 @@ class Kernel {
   //   + sum_i S_i * coat_highlight_i * E_i.
   // A kernel that records passes also tells the recorder its ambient, diffuse and specular
   // terms (the coat's highlight counts as specular).
-  // `primed` (a camera packet's hit, trace_packet) has its one-sample lights prepared and
-  // their feelers answered.
-  Color local(const ShadingPoint& p, const NodeState& state, RayCounts* counts,
-              const Primed* primed = nullptr) const {
+  Color local(const ShadingPoint& p, const NodeState& state, RayCounts* counts) const {
     const SurfaceParams& surface = p.surface;
     if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * surface.emission;
     NodeTerms terms;  // filled only by kernels that record passes
     Color phong = p.base * p.it.material->ambient * scene_.ambient * surface.diffuse;
     if constexpr (kPasses) terms.ambient = phong;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
-    for (size_t j = 0; j < scene_.lights.size(); ++j) {
-      const Light& light = scene_.lights[j];
+    for (const Light& light : scene_.lights) {
       const int samples = light.sample_count();
-      if (primed != nullptr && samples == 1) {
-        phong += answered(primed->lights[j], state, counts);
-        continue;
-      }
       // A single feeler, or those of different lights, trace faster one at a time
       // (docs/notes/performance_reading.md); the inspector records each sample alone.
       if (kRecord || samples == 1) {
@@ -522,34 +483,6 @@ class Kernel {
   };
   // A batch's feelers fill at most one packet.
   static constexpr int kFeelerBatch = SceneAccel::kPacketSize;
-
-  static constexpr int kPacket = SceneAccel::kPacketSize;
-  // Lights whose feelers a camera packet's hits send together; in scenes with more, each
-  // hit sends its own.
-  static constexpr size_t kPrimedLights = 8;
-  // A one-sample light at a primed hit: prepare_sample's answers that the sum reads (a
-  // render kernel reads no terms), with the feeler kept as plain floats (a Ray would be
-  // initialised for every light of every lane) and its first query's answer.
-  struct PrimedLight {
-    Color unshadowed;
-    Vec3 origin;
-    Vec3 direction;
-    float t_max;
-    bool dark;
-    bool sends_feeler;
-    bool blocked;
-  };
-  // A camera packet's first hit, made ready to shade (prime): the hit; when it hit
-  // something, its interaction and surface (the surface unless a holdout); when
-  // `answered`, its shading point and its one-sample lights, indexed by light.
-  struct Primed {
-    Hit hit;
-    Interaction it;
-    SurfaceParams surface;
-    bool answered;
-    std::optional<ShadingPoint> point;
-    std::array<PrimedLight, kPrimedLights> lights;
-  };
 
   // One light sample's share of the local term: its Phong terms, unshadowed, times what
   // its shadow ray lets through; nothing when pruning finds it cannot light the point.
@@ -627,107 +560,17 @@ class Kernel {
     if (feelers > 1) occluded_packet(rays.data(), feelers, blocked.data());
     int feeler = 0;
     for (int i = 0; i < n; ++i) {
-      const bool first_blocked = batch[i].sends_feeler && blocked[static_cast<size_t>(feeler++)];
-      *phong += answered(p, batch[i], first_blocked, state, counts, terms);
-    }
-  }
-
-  // A prepared sample's share once its feeler's first query answered `first_blocked`:
-  // light_sample's, to the bit (a dark sample adds +0, as light_sample's share does).
-  Color answered(const ShadingPoint& p, const PreparedSample& prepared, bool first_blocked,
-                 const NodeState& state, RayCounts* counts, NodeTerms* terms) const {
-    if (prepared.dark) return Color(0.0f);
-    Color transmittance(1.0f);
-    if (prepared.sends_feeler) {
-      transmittance = shadow_transmittance(prepared.feeler, first_blocked, state, counts);
-    }
-    return arrived(p, prepared, transmittance, terms);
-  }
-
-  // A primed light's share, as answered() gives it for the render kernels (no terms).
-  Color answered(const PrimedLight& light, const NodeState& state, RayCounts* counts) const {
-    if (light.dark) return Color(0.0f);
-    Color transmittance(1.0f);
-    if (light.sends_feeler) {
-      const Ray feeler{light.origin, light.direction, 0.0f, light.t_max, kShadowRay};
-      transmittance = shadow_transmittance(feeler, light.blocked, state, counts);
-    }
-    return light.unshadowed * transmittance;
-  }
-
-  // Camera rays of one packet from their known first hits (WhittedIntegrator::trace_packet):
-  // each hit primed (its interaction and surface made once; where it is shaded whole, its
-  // one-sample lights prepared), the feelers of all the hits to each light traced as one
-  // Embree packet, then each ray traced on from its primed hit as trace() would trace it
-  // alone. The queries and their answers are the same, only their order differs, and every
-  // sum keeps its order: the same pixels to the bit.
-  void trace_packet(const Ray* rays, const Hit* hits, int count, const NodeState& state,
-                    RayCounts* counts, Color* radiance, float* alpha) const {
-    std::array<Primed, kPacket> primed;
-    for (int i = 0; i < count; ++i) {
-      prime(rays[i], hits[i], state, counts, &primed[static_cast<size_t>(i)]);
-    }
-    answer_feelers(primed.data(), count);
-    for (int i = 0; i < count; ++i) {
-      radiance[i] = trace(rays[i], state, counts, &alpha[i], primed[static_cast<size_t>(i)]);
-    }
-  }
-
-  // Makes a first hit ready to shade: what trace() and shade() would compute first, and,
-  // for a hit shaded whole (no holdout, cut-out or false interface) under few enough lights,
-  // local()'s one-sample lights up to their feelers.
-  void prime(const Ray& ray, const Hit& hit, const NodeState& state, RayCounts* counts,
-             Primed* out) const {
-    out->hit = hit;
-    out->answered = false;
-    if (!(hit.t < kInfinity)) return;
-    out->it = scene_.interaction(ray, hit);
-    if (out->it.holdout) return;
-    out->surface = scene_.surface(out->it, ray, context(state));
-    const bool whole = !has(kTranslucencyEffect) || out->surface.alpha >= 1.0f;
-    if (!whole || !has(kShadowEffect) || scene_.lights.size() > kPrimedLights) return;
-    const bool entering = glm::dot(ray.direction, out->it.geometric_normal) < 0.0f;
-    if (crossing(out->it, out->surface, entering, state.media).false_interface) return;
-    const ShadingPoint& p = out->point.emplace(shading_point(ray, out->it, out->surface, entering));
-    for (size_t j = 0; j < scene_.lights.size(); ++j) {
-      const Light& light = scene_.lights[j];
-      if (light.sample_count() != 1) continue;
-      PreparedSample prepared;
-      prepare_sample(p, light, sample_light(light, out->it.position, 0), state, counts, -1,
-                     &prepared);
-      PrimedLight& primed = out->lights[j];
-      primed.unshadowed = prepared.dark ? Color(0.0f) : prepared.unshadowed;
-      primed.origin = prepared.feeler.origin;
-      primed.direction = prepared.feeler.direction;
-      primed.t_max = prepared.feeler.t_max;
-      primed.dark = prepared.dark;
-      primed.sends_feeler = prepared.sends_feeler;
-    }
-    out->answered = true;
-  }
-
-  // The first queries of the primed hits' feelers, light by light: one packet per light
-  // (a lone feeler as a single query), as the feelers of one light from neighbouring hits
-  // are coherent (those of different lights are not: docs/notes/performance_reading.md).
-  void answer_feelers(Primed* primed, int count) const {
-    for (size_t j = 0; j < scene_.lights.size() && j < kPrimedLights; ++j) {
-      if (scene_.lights[j].sample_count() != 1) continue;
-      std::array<Ray, kPacket> rays;
-      std::array<bool, kPacket> blocked;
-      std::array<PrimedLight*, kPacket> lane;
-      int feelers = 0;
-      for (int i = 0; i < count; ++i) {
-        PrimedLight& light = primed[i].lights[j];
-        if (!primed[i].answered || !light.sends_feeler) continue;
-        lane[static_cast<size_t>(feelers)] = &light;
-        rays[static_cast<size_t>(feelers++)] =
-            first_query({light.origin, light.direction, 0.0f, light.t_max, kShadowRay});
+      const PreparedSample& prepared = batch[i];
+      if (prepared.dark) {
+        *phong += Color(0.0f);  // as light_sample's share: a -0 sum becomes +0
+        continue;
       }
-      if (feelers == 1) blocked[0] = occluded(rays[0]);
-      if (feelers > 1) occluded_packet(rays.data(), feelers, blocked.data());
-      for (int f = 0; f < feelers; ++f) {
-        lane[static_cast<size_t>(f)]->blocked = blocked[static_cast<size_t>(f)];
+      Color transmittance(1.0f);
+      if (prepared.sends_feeler) {
+        const bool first_blocked = blocked[static_cast<size_t>(feeler++)];
+        transmittance = shadow_transmittance(prepared.feeler, first_blocked, state, counts);
       }
+      *phong += arrived(p, prepared, transmittance, terms);
     }
   }
 
@@ -952,21 +795,19 @@ constexpr bool specialised(uint32_t effects) {
 #endif
 }
 template <uint32_t E>
-using RenderKernel =
-    Kernel<specialised(E) ? E : kRuntimeEffects, false, NoRecorder>;  // by EffectBits E
+constexpr WhittedIntegrator::TraceFn render_kernel() {
+  if constexpr (specialised(E)) {
+    return &Kernel<E, false, NoRecorder>::run;
+  } else {
+    return &Kernel<kRuntimeEffects, false, NoRecorder>::run;
+  }
+}
 template <size_t... E>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(E)> render_kernels(
     std::index_sequence<E...> /*effects*/) {
-  return {&RenderKernel<static_cast<uint32_t>(E)>::run...};
-}
-template <size_t... E>
-constexpr std::array<WhittedIntegrator::PacketFn, sizeof...(E)> render_packet_kernels(
-    std::index_sequence<E...> /*effects*/) {
-  return {&RenderKernel<static_cast<uint32_t>(E)>::run_packet...};
+  return {render_kernel<static_cast<uint32_t>(E)>()...};
 }
 constexpr auto kRenderKernels = render_kernels(std::make_index_sequence<kAllEffects + 1>{});
-constexpr auto kRenderPacketKernels =
-    render_packet_kernels(std::make_index_sequence<kAllEffects + 1>{});
 
 }  // namespace
 
@@ -995,10 +836,6 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       trace_(tree != nullptr        ? &Kernel<kRuntimeEffects, true, NoRecorder>::run
              : settings.passes != 0 ? &Kernel<kRuntimeEffects, false, PassRecorder>::run
                                     : kRenderKernels[effects_.bits & kAllEffects]),
-      trace_packet_(tree != nullptr ? &Kernel<kRuntimeEffects, true, NoRecorder>::run_packet
-                    : settings.passes != 0
-                        ? &Kernel<kRuntimeEffects, false, PassRecorder>::run_packet
-                        : kRenderPacketKernels[effects_.bits & kAllEffects]),
       log_(log),
       tree_(tree) {}
 

@@ -82,14 +82,6 @@ class WhittedIntegrator {
   }
   // First hits of up to SceneAccel::kPacketSize coherent rays, traced as one packet.
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
-  // trace_from for each of `count` (up to SceneAccel::kPacketSize) coherent rays whose
-  // first hits `hits` are known (from intersect_packet), into radiance[i] and alpha[i],
-  // the same to the bit: the render kernels shade the first hits together so that their
-  // shadow feelers to each light go to Embree as one packet.
-  void trace_packet(const Ray* rays, const Hit* hits, int count, const NodeState& state,
-                    RayCounts* counts, Color* radiance, float* alpha) const {
-    trace_packet_(*this, rays, hits, count, state, counts, radiance, alpha);
-  }
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
@@ -103,8 +95,6 @@ class WhittedIntegrator {
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
-  using PacketFn = void (*)(const WhittedIntegrator&, const Ray*, const Hit*, int,
-                            const NodeState&, RayCounts*, Color*, float*);
 
  private:
   const CompiledScene& scene_;
@@ -112,7 +102,6 @@ class WhittedIntegrator {
   const Camera camera_;
   Effects effects_;
   TraceFn trace_;
-  PacketFn trace_packet_;
   RayLog* log_;
   RayTree* tree_;
 };
