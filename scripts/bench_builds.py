@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 from whitted_tools.binding_scenes import sphere
+from whitted_tools.native_job import run_job
 from whitted_tools.pages import command_line, machine_lines
 from whitted_tools.timing import paired_ratios, spread_text
 
@@ -78,9 +79,7 @@ def trace_best(module_dir, size=TIMED, repeats=REPEATS):
     for _ in range(repeats):
         job = wn.RenderJob(scene, wn.Settings(**size))
         started = time.process_time()
-        job.start()
-        while not job.wait(1.0):
-            pass
+        run_job(job)
         # CPU seconds of every thread of the process: they move less than the wall clock
         # when other work shares the cores.
         best_cpu = min(best_cpu, time.process_time() - started)

@@ -33,6 +33,7 @@ import numpy as np
 from whitted_tools.blender import blender_command, bpy_command, factory_scene, run_process
 from whitted_tools.cli import inside_blender_binary, script_args
 from whitted_tools.demo_scene import DEMO_VARIANTS, build_demo_variant
+from whitted_tools.native_job import run_job
 from whitted_tools.pages import machine_lines, table, write_page
 from whitted_tools.timing import paired_ratios, spread_text
 
@@ -101,9 +102,7 @@ def render(native, frame, mode, width, height):
     settings = native.Settings(width=width, height=height, aa_samples=AA_SAMPLES, **MODES[mode])
     job = frame.job(native, settings)
     started = time.process_time()
-    job.start()
-    while not job.wait(1.0):
-        pass
+    run_job(job)
     return job.image()[..., :3], job.stats(), time.process_time() - started
 
 

@@ -23,6 +23,7 @@ import sys
 
 import numpy as np
 from whitted_tools.binding_scenes import sphere
+from whitted_tools.native_job import run_job
 
 # name: (lights, Settings overrides)
 VARIANTS = {
@@ -172,9 +173,7 @@ def render(wn, name, width, height, threads):
     lights, overrides = VARIANTS[name]
     chosen = settings(wn, overrides, width, height, threads)
     job = wn.RenderJob(build(wn, lights), chosen)
-    job.start()
-    while not job.wait(1.0):
-        pass
+    run_job(job)
     out = {"image": job.image(), "cost": job.cost_image()}
     for film_pass in chosen.passes:
         out[f"pass_{film_pass}"] = job.pass_image(film_pass)

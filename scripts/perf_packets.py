@@ -27,6 +27,7 @@ import argparse
 
 import bpy
 from whitted_tools.cli import script_args
+from whitted_tools.native_job import run_job
 
 
 def parse_args():
@@ -64,11 +65,7 @@ def main():
 
 
 def render(native, frame, settings):
-    job = frame.job(native, settings)
-    job.start()
-    while not job.wait(1.0):
-        pass
-    return job
+    return run_job(frame.job(native, settings))
 
 
 def compare(native, frame, settings):

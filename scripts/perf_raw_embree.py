@@ -7,25 +7,29 @@ add-on enabled:
     blender -b SCENE.blend --python scripts/perf_raw_embree.py -- --json OUT.json \\
         [--threads N] [--repeats 3] [--max-recorded 20000000]
 
-1. The scene is exported as the engine exports it and rendered `repeats` times
-   without recording: our rays per second are all rays traced (camera, shadow,
-   reflection, refraction, cut-out continuations) over the trace phase, which
-   includes shading, texture lookups and the recursion. Then `repeats` times
-   more with camera-ray packets off, for what the packets buy.
+1. The scene is exported as the engine exports it and rendered once to warm up.
 2. It is rendered once more recording the queries of every n-th pixel (n chosen so
    at most --max-recorded queries are kept), each worker thread its own list.
-3. Those queries are traced again by a loop of single-ray rtcIntersect1/rtcOccluded1
-   calls on as many threads, with no shading and nothing else in the loop
-   (SceneAccel::trace_bare), `repeats` times: Embree's rays per second.
-4. The recording kept what each query found, so the recorded pixels are rendered again
-   `repeats` times with every query answered from it instead of Embree
-   (RenderJob.replay(): traversal stubbed out, each worker the tiles it took): the
-   shading's rays per second, on the same rays as step 3. 1 / that rate is the shading's
-   cost per ray, 1 / Embree's the traversal's. An add-on built before replays existed
-   (bench_performance.py --before) gives no such figure.
+3. Then `repeats` rounds, each of four runs side by side:
+   - a render: our rays per second are all rays traced (camera, shadow, reflection,
+     refraction, cut-out continuations) over the trace phase, which includes shading,
+     texture lookups and the recursion;
+   - the same render with camera-ray packets off, for what the packets buy;
+   - the recorded queries traced again by a loop of single-ray
+     rtcIntersect1/rtcOccluded1 calls on as many threads, with no shading and nothing
+     else in the loop (SceneAccel::trace_bare): Embree's rays per second;
+   - the recorded pixels rendered again with every query answered from the recording
+     instead of Embree (RenderJob.replay(): traversal stubbed out, each worker the
+     tiles it took): the shading's rays per second, on the same rays as the bare loop.
+     1 / that rate is the shading's cost per ray, 1 / Embree's the traversal's. An
+     add-on built before replays existed (bench_performance.py --before) gives no
+     such figure.
 
-Efficiency = ours / Embree's, medians of the repeats. Above 1 would mean we trace
-faster than single-ray Embree (packets); below, the gap is our shading and overhead.
+Efficiency = ours / Embree's and the packet gain = ours / ours without packets, each
+taken within a round and the median of the rounds' ratios: this machine's speed drifts
+over minutes, and runs seconds apart drift together. Rates are medians of the rounds.
+Above 1 the efficiency would say we trace faster than single-ray Embree (packets);
+below, the gap is our shading and overhead.
 """
 
 import argparse
@@ -38,6 +42,7 @@ import time
 
 import bpy
 from whitted_tools.cli import script_args
+from whitted_tools.native_job import run_job
 
 
 def parse_args():
@@ -67,15 +72,8 @@ def export(threads):
     return native, sync_frame(bpy.context.evaluated_depsgraph_get(), native)
 
 
-def finish(job):
-    job.start()
-    while not job.wait(1.0):
-        pass
-    return job
-
-
 def render(native, frame, settings, **recording):
-    return finish(frame.job(native, settings, **recording))
+    return run_job(frame.job(native, settings, **recording))
 
 
 def image_sha256(job):
@@ -84,80 +82,102 @@ def image_sha256(job):
     return hashlib.sha256(job.image().tobytes()).hexdigest()
 
 
-def stubbed(recorded, repeats):
+def replay_rate(recorded):
     """Rays per second of the recorded pixels rendered again with every query answered
-    from the recording (the median of `repeats` replays), and the rays of one; (None,
-    None) with a module that cannot replay."""
+    from the recording, and the rays of that replay; (None, None) with a module that
+    cannot replay."""
     if not hasattr(recorded, "replay"):
         return None, None
-    replays = [finish(recorded.replay()).stats() for _ in range(repeats)]
-    rate = statistics.median(r["rays"]["total"] / r["trace_seconds"] for r in replays)
-    return rate, replays[0]["rays"]["total"]
+    stats = run_job(recorded.replay()).stats()
+    return stats["rays"]["total"] / stats["trace_seconds"], stats["rays"]["total"]
+
+
+def rate(job):
+    stats = job.stats()
+    return stats["rays"]["total"] / stats["trace_seconds"]
 
 
 def main():
     args = parse_args()
     native, frame = export(args.threads)
     settings = frame.settings
-    render(native, frame, settings)  # warm-up: page in the BVHs, start the threads once
-    ours = []
-    for _ in range(args.repeats):
-        job = render(native, frame, settings)
-        stats = job.stats()
-        ours.append((stats["rays"]["total"], stats["trace_seconds"], stats["threads"]))
-    image = image_sha256(job)
-    chosen = job.stats()  # the packet choice of the renders with packets on
-    rays_per_render = ours[0][0]
+    warm_up = render(native, frame, settings)  # page in the BVHs, start the threads once
+    chosen = warm_up.stats()  # the packet choice of the renders with packets on
+    rays_per_render = chosen["rays"]["total"]
     if args.renders_only:
+        for _ in range(args.repeats):
+            render(native, frame, settings)
         return
-    # The same renders without camera-ray packets: what the packets buy.
-    settings.packets = False
-    single = []
-    for _ in range(args.repeats):
-        job = render(native, frame, settings)
-        stats = job.stats()
-        single.append(stats["rays"]["total"] / stats["trace_seconds"])
-    single_image = image_sha256(job)
-    settings.packets = True
     stride = max(1, math.ceil(rays_per_render / args.max_recorded))
     # With what each query found, for the replays, where the module can replay.
     results = {"record_results": True} if hasattr(native.RenderJob, "replay") else {}
     started = time.perf_counter()
     recorded = render(native, frame, settings, record_stride=stride, **results)
     record_seconds = time.perf_counter() - started
-    bare = [recorded.trace_bare() for _ in range(args.repeats)]
-    stubbed_rps, stubbed_rays = stubbed(recorded, args.repeats)
+    # Rounds of the four measurements side by side, so that each ratio is taken between
+    # runs a few seconds apart (this machine's speed drifts over minutes): a render, the
+    # same render without camera-ray packets (what the packets buy), the bare Embree loop
+    # over the recorded rays, and the replay of the recorded pixels (the shading alone).
+    rounds = []
+    for _ in range(args.repeats):
+        job = render(native, frame, settings)
+        settings.packets = False
+        single_job = render(native, frame, settings)
+        settings.packets = True
+        bare = recorded.trace_bare()
+        stubbed_rps, stubbed_rays = replay_rate(recorded)
+        rounds.append(
+            {
+                "whitted": rate(job),
+                "trace_seconds": job.stats()["trace_seconds"],
+                "single": rate(single_job),
+                "embree": bare["rays"] / bare["seconds"],
+                "embree_seconds": bare["seconds"],
+                "stubbed": stubbed_rps,
+            }
+        )
+    image = image_sha256(job)
+    single_image = image_sha256(single_job)
 
-    whitted_rps = statistics.median(rays / seconds for rays, seconds, _ in ours)
-    embree_rps = statistics.median(b["rays"] / b["seconds"] for b in bare)
+    def median(key):
+        values = [r[key] for r in rounds]
+        return None if None in values else statistics.median(values)
+
+    def paired(top, bottom):
+        """The median of the rounds' ratios top / bottom."""
+        return statistics.median(r[top] / r[bottom] for r in rounds)
+
     result = {
         "blender": bpy.app.version_string,
         "native_module": os.path.realpath(native.__file__),  # which add-on's build ran
-        "threads": ours[0][2],
+        "threads": chosen["threads"],
         "width": settings.width,
         "height": settings.height,
         "rays_per_render": rays_per_render,
-        "whitted_trace_seconds": statistics.median(s for _, s, _ in ours),
-        "whitted_rays_per_second": whitted_rps,
+        "whitted_trace_seconds": median("trace_seconds"),
+        "whitted_rays_per_second": median("whitted"),
         # Whether the render sent each pixel's camera rays as a packet (Settings.packets
         # on: where the scene suits them), and the estimate that chose it.
         # (Builds before the choice always sent packets.)
         "camera_packets": chosen.get("camera_packets", True),
         "instances_per_pixel": chosen.get("instances_per_pixel"),
-        # Without camera-ray packets (Settings.packets off), in the same run.
-        "whitted_single_ray_rays_per_second": statistics.median(single),
+        # Without camera-ray packets (Settings.packets off), in the same rounds.
+        "whitted_single_ray_rays_per_second": median("single"),
+        "packet_gain": paired("whitted", "single"),
         "image_sha256": image,  # packets on
         "single_ray_image_sha256": single_image,  # packets off
         "record_stride": stride,
-        "recorded_rays": bare[0]["rays"],
+        "recorded_rays": bare["rays"],
         "record_render_seconds": record_seconds,
-        "embree_seconds": statistics.median(b["seconds"] for b in bare),
-        "embree_rays_per_second": embree_rps,
-        "efficiency": whitted_rps / embree_rps,
+        "embree_seconds": median("embree_seconds"),
+        "embree_rays_per_second": median("embree"),
+        # Each round's Whitted rate over its bare Embree rate, the median of the rounds.
+        "efficiency": paired("whitted", "embree"),
         # The recorded pixels with traversal stubbed out (replays): the shading alone.
         "stubbed_rays": stubbed_rays,
-        "stubbed_rays_per_second": stubbed_rps,
+        "stubbed_rays_per_second": median("stubbed"),
         "repeats": args.repeats,
+        "rounds": rounds,
     }
     with open(args.json, "w", encoding="utf-8") as out:
         json.dump(result, out, indent=2)

@@ -64,6 +64,24 @@ def test_thread_speedup():
     assert speedup(scaling, "demo", lambda m: m.whitted("phases", "trace")) == 2.0
 
 
+def test_thread_speedup_is_taken_round_by_round():
+    """Runs made in pairs (Suite.render_alternating) give the median of the pairs'
+    ratios: a slow spell that slows both runs of a round leaves its ratio alone, where
+    the ratio of the medians would mix runs of different rounds."""
+
+    def traces(*seconds):
+        return Measurement(runs=[{"whitted": {"phases": {"trace": s}}} for s in seconds])
+
+    # Rounds 2 and 3 ran on a machine twice as slow; each round's ratio is 2.
+    scaling = {"threads": {"demo": {1: traces(1.0, 2.0, 2.0), 2: traces(0.5, 1.0, 1.0)}}}
+    assert speedup(scaling, "demo", lambda m: m.whitted("phases", "trace")) == 2.0
+    # The same medians paired otherwise: ratios 1, 4 and 2.
+    scaling = {"threads": {"demo": {1: traces(1.0, 2.0, 2.0), 2: traces(1.0, 0.5, 1.0)}}}
+    assert speedup(scaling, "demo", lambda m: m.whitted("phases", "trace")) == 2.0
+    scaling = {"threads": {"demo": {1: traces(1.0, 4.0, 2.0), 2: traces(1.0, 1.0, 2.0)}}}
+    assert speedup(scaling, "demo", lambda m: m.whitted("phases", "trace")) == 1.0
+
+
 @pytest.mark.parametrize(
     ("measured", "at_least", "result", "margin"),
     [

@@ -1,9 +1,11 @@
 """Figures derived from the measurements, and the targets they are judged against
 (pure functions of the JSON each render wrote: tested without Blender)."""
 
+import statistics
 from dataclasses import dataclass
 
 from whitted_tools.pages import ratio, scale, size_label
+from whitted_tools.perf.measure import Measurement
 from whitted_tools.perf.plan import MAIN_SCENES
 
 HD_PIXELS = 1920 * 1080
@@ -52,8 +54,19 @@ def writeback_per_hd_pass(measurement):
 
 
 def speedup(scaling, name, getter):
-    one, two = (getter(scaling["threads"][name][n]) for n in (1, 2))
-    return None if one is None or not two else one / two
+    """getter's 1-thread figure over its 2-thread one: the median of the runs' ratios
+    where the runs were made in pairs (Suite.render_alternating: as many of each), else
+    the ratio of the medians."""
+    one, two = (scaling["threads"][name][n] for n in (1, 2))
+    if one.runs and len(one.runs) == len(two.runs):
+        ratios = []
+        for a, b in zip(one.runs, two.runs, strict=True):
+            x, y = getter(Measurement(runs=[a])), getter(Measurement(runs=[b]))
+            if x is not None and y:
+                ratios.append(x / y)
+        return statistics.median(ratios) if ratios else None
+    x, y = getter(one), getter(two)
+    return None if x is None or not y else x / y
 
 
 def cell(measurement, value):

@@ -111,8 +111,26 @@ class Suite:
     def render(self, scene, engine, resolution, *, threads=None, depth=None, image=None, bpy=False):
         """perf_render.py's JSON for each repeat of one configuration (a Measurement)."""
         key = (scene, engine, tuple(resolution), threads, depth, bpy)
-        if key in self.results:
-            return self.results[key]
+        if key not in self.results:
+            self.results[key] = self.render_rounds(
+                scene, engine, resolution, [threads], depth=depth, image=image, bpy=bpy
+            )[0]
+        return self.results[key]
+
+    def render_alternating(self, scene, engine, resolution, thread_counts):
+        """One Measurement per thread count, their repeats run in rounds (one run of each
+        count per round), so that run i of each was made side by side with run i of the
+        others: ratios between them are taken round by round (figures.speedup)."""
+        keys = [(scene, engine, tuple(resolution), n, "alternating") for n in thread_counts]
+        if keys[0] not in self.results:
+            measured = self.render_rounds(scene, engine, resolution, thread_counts)
+            self.results.update(zip(keys, measured, strict=True))
+        return [self.results[key] for key in keys]
+
+    def render_rounds(
+        self, scene, engine, resolution, thread_counts, *, depth=None, image=None, bpy=False
+    ):
+        """A Measurement per entry of thread_counts (None: Blender's), run round by round."""
         blend = self.scene_file(scene, self.plan.small)
         large = self.is_large(resolution)
         slow = engine in ("CYCLES", "POVRAY")
@@ -121,36 +139,40 @@ class Suite:
             repeats = self.plan.large_slow_repeats
         timeout = self.plan.timeouts.get(f"{engine}_large" if large else engine)
         timeout = timeout or self.plan.timeouts[engine]
-        measurement = Measurement()
+        measurements = [Measurement() for _ in thread_counts]
         if blend is None:
-            measurement.missing = "the scene could not be built"
+            for measurement in measurements:
+                measurement.missing = "the scene could not be built"
         elif slow and self.past_budget():
-            measurement.missing = "not run: past the time budget (--budget-minutes)"
+            for measurement in measurements:
+                measurement.missing = "not run: past the time budget (--budget-minutes)"
             blend = None
         for index in range(repeats if blend else 0):
-            out = self.workdir / f"run-{len(self.results)}-{index}.json"
-            options = ["--engine", engine, "--json", str(out)]
-            options += ["--resolution", *map(str, resolution)]
-            if threads:
-                options += ["--threads", str(threads)]
-            if depth is not None:
-                options += ["--depth", str(depth)]
-            if image and index == 0:
-                options += ["--image", str(image)]
-            script = SCRIPTS / "perf_render.py"
-            if bpy:
-                command = bpy_command(script, "--blend", blend, *options, python=self.python)
-            else:
-                command = self.in_blender(script, blend, *options)
-            _, problem = run_process(command, timeout)
-            if problem:
-                measurement.missing = problem
-                where = f"{scene[0]} at {size_label(resolution)}"
-                self.problems.append(f"{engine} on {where}: {problem}")
-                break
-            measurement.runs.append(json.loads(out.read_text()))
-        self.results[key] = measurement
-        return measurement
+            for threads, measurement in zip(thread_counts, measurements, strict=True):
+                if measurement.missing:
+                    continue
+                out = self.workdir / f"run-{len(self.results)}-{threads or 0}-{index}.json"
+                options = ["--engine", engine, "--json", str(out)]
+                options += ["--resolution", *map(str, resolution)]
+                if threads:
+                    options += ["--threads", str(threads)]
+                if depth is not None:
+                    options += ["--depth", str(depth)]
+                if image and index == 0:
+                    options += ["--image", str(image)]
+                script = SCRIPTS / "perf_render.py"
+                if bpy:
+                    command = bpy_command(script, "--blend", blend, *options, python=self.python)
+                else:
+                    command = self.in_blender(script, blend, *options)
+                _, problem = run_process(command, timeout)
+                if problem:
+                    measurement.missing = problem
+                    where = f"{scene[0]} at {size_label(resolution)}"
+                    self.problems.append(f"{engine} on {where}: {problem}")
+                    continue
+                measurement.runs.append(json.loads(out.read_text()))
+        return measurements
 
     def in_blender(self, script, blend, *args):
         """Blender 3.4 with the add-on enabled running script on the saved scene."""
@@ -280,14 +302,13 @@ def measure_scaling(suite):
     ]
     threads = {}
     for name in MAIN_SCENES:
-        default = suite.render((name, None), "WHITTED", plan.small)
         if name not in plan.thread_scenes:
             missing = Measurement(missing="not run: this plan measures threads on fewer scenes")
-            threads[name] = {1: missing, 2: default}
+            threads[name] = {1: missing, 2: suite.render((name, None), "WHITTED", plan.small)}
             continue
-        # Blender's default on a 2-processor machine is 2 threads: that run serves.
-        two = default
-        if default.median(lambda r: r["threads"]) != 2:
-            two = suite.render((name, None), "WHITTED", plan.small, threads=2)
-        threads[name] = {1: suite.render((name, None), "WHITTED", plan.small, threads=1), 2: two}
+        # 1 and 2 threads alternating, so that each speed-up is taken between two runs
+        # made side by side (the page of 2026-12-02 took the 2-thread runs from the
+        # scene's first measurements and the 1-thread ones from minutes later).
+        one, two = suite.render_alternating((name, None), "WHITTED", plan.small, (1, 2))
+        threads[name] = {1: one, 2: two}
     return {"triangles": triangles, "pixels": pixels, "depth": depth, "threads": threads}

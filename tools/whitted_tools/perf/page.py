@@ -302,7 +302,8 @@ def embree_details(suite, scenes):
         "instance in view (packets from 500 up: sampler.h, choose_packets). "
         "Whitted without packets is the same render with each camera ray its own query "
         "(Settings.packets off), in the same process: the packet gain is the ratio of the "
-        "two (1x where no packets were chosen). Shading alone "
+        "two (1x where no packets were chosen), taken round by round like the efficiency "
+        "(the median of the rounds' ratios; the rates are the rounds' medians). Shading alone "
         "is the recorded pixels rendered again with every query answered from the "
         "recording instead of Embree (traversal stubbed out: RenderJob.replay()), on the "
         "rays raw Embree traces.",
@@ -341,7 +342,7 @@ def embree_details(suite, scenes):
             row = (
                 f"| {results.name} | {size_label(size)} | {chosen} | "
                 f"{num(scale(packets, 1e-6), 2)} | {num(scale(single, 1e-6), 2)} | "
-                f"{ratio_text(ratio(packets, single))} | "
+                f"{ratio_text(run.get('packet_gain') or ratio(packets, single))} | "
                 f"{num(scale(run.get('embree_rays_per_second'), 1e-6), 2)} | "
                 f"{num(scale(run.get('stubbed_rays_per_second'), 1e-6), 2)} | "
                 f"{num(efficiency, 2)} | {run.get('recorded_rays', '—')} |"
@@ -617,12 +618,15 @@ def method_lines(plan):
         "triangles. The target is judged where triangles dominate: the million scene at "
         "the small size and the largest point of the triangle curve. ru_maxrss varies by a "
         "few MiB from run to run, so the small scenes' differences are noise.",
-        "- **Threads**: Blender's render threads fixed at 1 (`--threads 1`) against 2 (the "
-        "default runs where Blender's default is 2 threads, else `--threads 2`); the "
-        "speed-up is the 1-thread trace time over the 2-thread one (engine total and end "
-        "to end shown too: export is single-threaded Python).",
+        "- **Threads**: Blender's render threads fixed at 1 (`--threads 1`) against 2 "
+        "(`--threads 2`), the two runs of each repeat one after the other; the speed-up "
+        "is the 1-thread trace time over the 2-thread one, the median of the repeats' "
+        "ratios (engine total and end to end shown too: export is single-threaded "
+        "Python); the times are the medians.",
         "- **Raw Embree**: scripts/perf_raw_embree.py (one process per scene and size, its "
-        "own repeats). **Shading alone**: in the same process, the recorded pixels rendered "
+        "own repeats, as rounds: a render with packets, one without, the bare Embree loop "
+        "and the replay side by side; the efficiency is the median of the rounds' Whitted "
+        "over Embree ratios). **Shading alone**: in the same process, the recorded pixels rendered "
         "again with every query answered from the recording (RenderJob.replay(): the "
         "kernel unchanged, traversal stubbed out), on the rays raw Embree traces. "
         "**Before** (--before ADDON_DIR): the same script run with that add-on, which "
