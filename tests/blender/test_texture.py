@@ -136,6 +136,26 @@ def test_srgb_png_is_read_as_linear(tmp_path, warnings):
     assert warnings == []
 
 
+def test_srgb_conversion_gives_the_same_bits_every_export(warnings):
+    # Every byte code, in an image whose pixels numpy copies to arrays that lie in
+    # memory differently from export to export: the conversion must not depend on
+    # where (numpy's float32 power took SIMD or scalar paths by alignment, and two
+    # exports of one image differed in the last bit; test_sync caught it).
+    codes = np.arange(256, dtype=np.float32) / 255.0
+    texels = np.stack([codes, codes[::-1], np.roll(codes, 7), np.ones(256, np.float32)], -1)
+    image = bpy.data.images.new("codes", 16, 16)
+    image.pixels.foreach_set(texels.ravel())
+    first = image_pixels(image, warnings)
+    for shift in range(1, 8):
+        spacer = np.empty(shift, dtype=np.float32)  # moves the next allocations
+        assert np.array_equal(image_pixels(image, warnings), first), shift
+        del spacer
+    # Each code's value is the EOTF computed in double, then rounded once.
+    stored = stored_values(image)[..., :3].astype(np.float64)
+    np.testing.assert_array_equal(first[..., :3], srgb_to_linear(stored).astype(np.float32))
+    assert warnings == []
+
+
 def test_non_color_image_is_read_as_is(tmp_path, warnings):
     image = saved_png(new_image("data", TEXELS), tmp_path / "data.png")
     image.colorspace_settings.name = "Non-Color"
