@@ -88,11 +88,12 @@ def replay_rate(recorded):
     cannot replay."""
     if not hasattr(recorded, "replay"):
         return None, None
-    stats = run_job(recorded.replay()).stats()
-    return stats["rays"]["total"] / stats["trace_seconds"], stats["rays"]["total"]
+    replay = run_job(recorded.replay())
+    return rate(replay), replay.stats()["rays"]["total"]
 
 
 def rate(job):
+    """A finished job's rays per second over its trace phase."""
     stats = job.stats()
     return stats["rays"]["total"] / stats["trace_seconds"]
 

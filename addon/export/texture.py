@@ -164,25 +164,17 @@ def _to_linear(image, pixels, warnings):
     # in float64, the same bits whatever the array. (numpy's float32 power ran the
     # same values through SIMD or scalar code depending on where the array lay in
     # memory, and two exports of one image differed in the last bit: a render must be
-    # a pure function of the scene.) Values off that grid go through float64 numpy.
+    # a pure function of the scene.) Values off that grid go through the same function.
     codes = np.rint(rgb * 255.0)
     if np.array_equal(codes / np.float32(255.0), rgb):
-        np.copyto(rgb, _srgb_byte_table()[codes.astype(np.intp)])
+        table = [_srgb_eotf(float(np.float32(k / 255.0))) for k in range(256)]
+        np.copyto(rgb, np.array(table, dtype=np.float32)[codes.astype(np.intp)])
         return
-    wide = rgb.astype(np.float64)
-    np.copyto(rgb, _srgb_eotf(wide), casting="same_kind")
+    linear = np.vectorize(_srgb_eotf, otypes=[np.float64])(rgb.astype(np.float64))
+    np.copyto(rgb, linear, casting="same_kind")
 
 
 def _srgb_eotf(c):
-    """The sRGB EOTF (IEC 61966-2-1) in float64: linear below 0.04045, a 2.4 power above."""
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def _srgb_byte_table():
-    """float32 linear values of the 256 byte codes as Blender hands them over (float32
-    k/255), each from Python's own float64 pow."""
-    codes = [float(np.float32(k / 255.0)) for k in range(256)]
-    return np.array(
-        [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in codes],
-        dtype=np.float32,
-    )
+    """The sRGB EOTF (IEC 61966-2-1) of one float, with Python's own float64 pow: linear
+    below 0.04045, a 2.4 power above."""
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
