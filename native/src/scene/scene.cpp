@@ -427,6 +427,220 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   return out;
 }
 
+Interaction CompiledScene::interaction_packed(const Ray& ray, const Hit& hit,
+                                              const float* packed) const {
+  const Instance& instance = instances[hit.instance];
+  const Mesh& mesh = instance.mesh->mesh;
+  const float* q = &packed[18 * size_t{hit.primitive}];
+  const Vec3 p0(q[0], q[1], q[2]);
+  const Vec3 p1(q[3], q[4], q[5]);
+  const Vec3 p2(q[6], q[7], q[8]);
+  const float w0 = 1.0f - hit.u - hit.v;
+  Interaction out;
+  // The point from barycentrics on the triangle, not origin + t*direction: its error is
+  // a few ulps of the coordinates, which is what the ray-origin offset assumes.
+  const Vec3 local = w0 * p0 + hit.u * p1 + hit.v * p2;
+  out.position = transform_point(instance.to_world, local);
+  // Error of the object-space point, carried through the transform (pbrt-v4 Transform):
+  // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|).
+  const Vec3 local_error = barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
+  const Vec3 world_error =
+      (1.0f + gamma(3)) * (instance.abs_linear * local_error) +
+      gamma(3) * (instance.abs_linear * glm::abs(local) + instance.abs_translation);
+  // Embree's intersector computes with all coordinates at once (relative to the ray
+  // origin), so its error scales with the largest of them: use the largest bound on
+  // every axis. A flat triangle exactly on a coordinate plane then still gets an offset.
+  out.position_error = Vec3(max_component(world_error));
+  Vec3 ng = instance.normal_to_world * glm::cross(p1 - p0, p2 - p0);
+  const float ng_length = glm::length(ng);
+  // A degenerate (zero-area) triangle has no normal; face the ray instead.
+  out.geometric_normal =
+      ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
+  out.shading_normal = out.geometric_normal;
+  out.shadow_origin = out.position;
+  const Vec3 n0(q[9], q[10], q[11]);
+  const Vec3 n1(q[12], q[13], q[14]);
+  const Vec3 n2(q[15], q[16], q[17]);
+  if (mesh.has_normals()) {
+    const Vec3 world = instance.normal_to_world * (w0 * n0 + hit.u * n1 + hit.v * n2);
+    const float length = glm::length(world);
+    if (length > 0.0f && std::isfinite(length)) {
+      out.shading_normal = world / length;
+      // Project the point onto the tangent plane of each corner it lies below, and
+      // blend: the lifted point lies on a smooth surface through the corners.
+      const auto lift = [&](const Vec3& corner, const Vec3& normal) {
+        const float below = std::min(0.0f, glm::dot(local - corner, normal));
+        return -below * normal;
+      };
+      const Vec3 lifted = local + w0 * lift(p0, n0) + hit.u * lift(p1, n1) + hit.v * lift(p2, n2);
+      const Vec3 world_lifted = transform_point(instance.to_world, lifted);
+      if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
+    }
+  }
+  const size_t slot =
+      mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
+  const uint32_t index = slot < instance.materials.size() ? instance.materials[slot] : 0;
+  out.material = &materials[index];
+  out.material_index = index;
+  out.holdout = instance.holdout;
+  out.instance = hit.instance;
+  out.primitive = hit.primitive;
+  out.local_position = local;
+  out.barycentric = glm::vec2(hit.u, hit.v);
+  return out;
+}
+
+namespace {
+
+// The batch's body: gathers each lane's triangle and transform (scalar loads), then the
+// arithmetic lane by lane in loops the compiler can vectorise, in `interaction`'s order.
+[[gnu::always_inline]] inline void interaction_batch(const CompiledScene& scene, const Ray* rays,
+                                                     const Hit* hits,
+                                                     CompiledScene::InteractionBatch* out) {
+  constexpr int W = CompiledScene::InteractionBatch::kWidth;
+  float p[3][3][W], nn[3][3][W], u[W], v[W], m[12][W], nt[9][W], al[9][W], at[3][W], dir[3][W];
+  int smooth[W];
+  for (int i = 0; i < W; ++i) {
+    const Hit& hit = hits[i];
+    const CompiledScene::Instance& instance = scene.instances[hit.instance];
+    const Mesh& mesh = instance.mesh->mesh;
+    const uint32_t* tri = &mesh.triangles[3 * size_t{hit.primitive}];
+    for (int k = 0; k < 3; ++k) {
+      const float* q = &mesh.positions[3 * size_t{tri[k]}];
+      for (int a = 0; a < 3; ++a) p[k][a][i] = q[a];
+    }
+    Vec3 n0, n1, n2;
+    smooth[i] = mesh.corner_normals(hit.primitive, &n0, &n1, &n2);
+    const Vec3 ns[3] = {n0, n1, n2};
+    for (int k = 0; k < 3; ++k) {
+      for (int a = 0; a < 3; ++a) nn[k][a][i] = smooth[i] ? ns[k][a] : 0.0f;
+    }
+    u[i] = hit.u;
+    v[i] = hit.v;
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 3; ++r) m[3 * c + r][i] = instance.to_world[c][r];
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        nt[3 * c + r][i] = instance.normal_to_world[c][r];
+        al[3 * c + r][i] = instance.abs_linear[c][r];
+      }
+      at[c][i] = instance.abs_translation[c];
+      dir[c][i] = rays[i].direction[c];
+    }
+    const size_t slot =
+        mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
+    out->material[i] = slot < instance.materials.size() ? instance.materials[slot] : 0;
+  }
+  const float g3 = gamma(3);
+  const float g7 = gamma(7);
+  // Each stage a loop over the lanes with a straight body, so that it vectorises.
+  float w0[W], local[3][W], e[3][W];
+  for (int i = 0; i < W; ++i) w0[i] = 1.0f - u[i] - v[i];
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < W; ++i) {
+      local[a][i] = w0[i] * p[0][a][i] + u[i] * p[1][a][i] + v[i] * p[2][a][i];
+      e[a][i] = g7 * (std::fabs(w0[i] * p[0][a][i]) + std::fabs(u[i] * p[1][a][i]) +
+                      std::fabs(v[i] * p[2][a][i]));
+      out->local[a][i] = local[a][i];
+    }
+  }
+  float we[3][W];
+  for (int r = 0; r < 3; ++r) {
+    for (int i = 0; i < W; ++i) {
+      out->position[r][i] = (m[r][i] * local[0][i] + m[3 + r][i] * local[1][i]) +
+                            (m[6 + r][i] * local[2][i] + m[9 + r][i]);
+      const float le = al[r][i] * e[0][i] + al[3 + r][i] * e[1][i] + al[6 + r][i] * e[2][i];
+      const float lp = al[r][i] * std::fabs(local[0][i]) + al[3 + r][i] * std::fabs(local[1][i]) +
+                       al[6 + r][i] * std::fabs(local[2][i]);
+      we[r][i] = (1.0f + g3) * le + g3 * (lp + at[r][i]);
+    }
+  }
+  for (int i = 0; i < W; ++i) {
+    const float m01 = we[0][i] < we[1][i] ? we[1][i] : we[0][i];
+    out->error[i] = m01 < we[2][i] ? we[2][i] : m01;
+  }
+  float c[3][W];
+  for (int i = 0; i < W; ++i) {
+    const float e1x = p[1][0][i] - p[0][0][i], e1y = p[1][1][i] - p[0][1][i],
+                e1z = p[1][2][i] - p[0][2][i];
+    const float e2x = p[2][0][i] - p[0][0][i], e2y = p[2][1][i] - p[0][1][i],
+                e2z = p[2][2][i] - p[0][2][i];
+    c[0][i] = e1y * e2z - e2y * e1z;
+    c[1][i] = e1z * e2x - e2z * e1x;
+    c[2][i] = e1x * e2y - e2x * e1y;
+  }
+  float ng[3][W], wn[3][W], sn[3][W];
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < W; ++i) {
+      sn[a][i] = w0[i] * nn[0][a][i] + u[i] * nn[1][a][i] + v[i] * nn[2][a][i];
+    }
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int i = 0; i < W; ++i) {
+      ng[r][i] = nt[r][i] * c[0][i] + nt[3 + r][i] * c[1][i] + nt[6 + r][i] * c[2][i];
+      wn[r][i] = nt[r][i] * sn[0][i] + nt[3 + r][i] * sn[1][i] + nt[6 + r][i] * sn[2][i];
+    }
+  }
+  float len[W], sl[W];
+  for (int i = 0; i < W; ++i) {
+    len[i] = std::sqrt(ng[0][i] * ng[0][i] + ng[1][i] * ng[1][i] + ng[2][i] * ng[2][i]);
+    sl[i] = std::sqrt(wn[0][i] * wn[0][i] + wn[1][i] * wn[1][i] + wn[2][i] * wn[2][i]);
+  }
+  // The terminator lift (flat lanes read zero normals; their result is not used).
+  float below[3][W];
+  for (int k = 0; k < 3; ++k) {
+    for (int i = 0; i < W; ++i) {
+      const float d = (local[0][i] - p[k][0][i]) * nn[k][0][i] +
+                      (local[1][i] - p[k][1][i]) * nn[k][1][i] +
+                      (local[2][i] - p[k][2][i]) * nn[k][2][i];
+      below[k][i] = -(d < 0.0f ? d : 0.0f);
+    }
+  }
+  float lifted[3][W];
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < W; ++i) {
+      lifted[a][i] = ((local[a][i] + w0[i] * (below[0][i] * nn[0][a][i])) +
+                      u[i] * (below[1][i] * nn[1][a][i])) +
+                     v[i] * (below[2][i] * nn[2][a][i]);
+    }
+  }
+  float wl[3][W];
+  for (int r = 0; r < 3; ++r) {
+    for (int i = 0; i < W; ++i) {
+      wl[r][i] = (m[r][i] * lifted[0][i] + m[3 + r][i] * lifted[1][i]) +
+                 (m[6 + r][i] * lifted[2][i] + m[9 + r][i]);
+    }
+  }
+  constexpr float kMax = std::numeric_limits<float>::max();
+  int ok[W], use[W], lift[W];
+  for (int i = 0; i < W; ++i) {
+    ok[i] = len[i] > 0.0f && len[i] <= kMax;
+    use[i] = smooth[i] && sl[i] > 0.0f && sl[i] <= kMax;
+    lift[i] = use[i] && std::fabs(wl[0][i]) <= kMax && std::fabs(wl[1][i]) <= kMax &&
+              std::fabs(wl[2][i]) <= kMax;
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int i = 0; i < W; ++i) {
+      const float g = ok[i] ? ng[r][i] / len[i] : -dir[r][i];
+      out->geometric[r][i] = g;
+      out->shading[r][i] = use[i] ? wn[r][i] / sl[i] : g;
+      out->shadow[r][i] = lift[i] ? wl[r][i] : out->position[r][i];
+    }
+  }
+}
+
+}  // namespace
+
+void CompiledScene::interactions(const Ray* rays, const Hit* hits, InteractionBatch* out) const {
+  interaction_batch(*this, rays, hits, out);
+}
+
+[[gnu::target("avx2")]] void CompiledScene::interactions_avx2(const Ray* rays, const Hit* hits,
+                                                              InteractionBatch* out) const {
+  interaction_batch(*this, rays, hits, out);
+}
+
 TexturePoint CompiledScene::texture_point(const Interaction& it) const {
   const Mesh& mesh = instances[it.instance].mesh->mesh;
   TexturePoint tp;
