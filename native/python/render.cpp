@@ -491,24 +491,6 @@ void bind_render(py::module_& m) {
            })
       .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); })
       .def(
-          "bench_interaction",
-          [](const RenderJob& job, int repeats) {
-            RenderJob::InteractionBench b;
-            {
-              py::gil_scoped_release release;
-              b = job.bench_interaction(repeats);
-            }
-            py::dict out;
-            out["hits"] = b.hits;
-            out["scalar_seconds"] = b.scalar_seconds;
-            out["batch_seconds"] = b.batch_seconds;
-            out["batch_avx2_seconds"] = b.batch_avx2_seconds;
-            out["packed_seconds"] = b.packed_seconds;
-            out["mismatches"] = b.mismatches;
-            return out;
-          },
-          py::arg("repeats") = 5)
-      .def(
           "trace_bare",
           [](const RenderJob& job) {
             BareTrace bare;

@@ -139,17 +139,4 @@ BareTrace RayRecorder::trace_bare(const SceneAccel& accel) const {
   return out;
 }
 
-void RayRecorder::closest_hits(std::vector<Ray>* rays, std::vector<Hit>* hits) const {
-  for (const RayLog& log : logs_) {
-    size_t next = 0;
-    for (const RayQuery& query : log.queries) {
-      if (query.occlusion) continue;
-      const Hit& hit = log.hits[next++];
-      if (!(hit.t < kInfinity)) continue;
-      rays->push_back(query.ray);
-      hits->push_back(hit);
-    }
-  }
-}
-
 }  // namespace whitted

@@ -67,8 +67,6 @@ class RayRecorder {
   // single-ray Embree queries, all threads timed from a common start to the last one's
   // end. Throws std::logic_error when nothing was recorded.
   BareTrace trace_bare(const SceneAccel& accel) const;
-  // Experiment (issue 15): every recorded closest-hit query that found a hit, with it.
-  void closest_hits(std::vector<Ray>* rays, std::vector<Hit>* hits) const;
 
  private:
   uint32_t stride_;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
-#include <map>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -307,96 +305,6 @@ void RenderJob::check_finished(const char* what) const {
 BareTrace RenderJob::trace_bare() const {
   check_finished("trace_bare");
   return recorder_.trace_bare(*scene_->accel);
-}
-
-RenderJob::InteractionBench RenderJob::bench_interaction(int repeats) const {
-  check_finished("bench_interaction");
-  std::vector<Ray> rays;
-  std::vector<Hit> hits;
-  recorder_.closest_hits(&rays, &hits);
-  constexpr size_t W = CompiledScene::InteractionBatch::kWidth;
-  const size_t n = hits.size() / W * W;
-  InteractionBench out;
-  out.hits = n;
-  std::vector<Interaction> scalar(n);
-  std::vector<CompiledScene::InteractionBatch> batch(n / W), batch2(n / W);
-  using Clock = std::chrono::steady_clock;
-  const auto best = [&](auto&& body) {
-    double fastest = 1e30;
-    for (int r = 0; r < repeats; ++r) {
-      const auto t0 = Clock::now();
-      body();
-      fastest = std::min(fastest, std::chrono::duration<double>(Clock::now() - t0).count());
-    }
-    return fastest;
-  };
-  const CompiledScene& scene = *scene_;
-  out.scalar_seconds = best([&] {
-    for (size_t i = 0; i < n; ++i) scalar[i] = scene.interaction(rays[i], hits[i]);
-  });
-  out.batch_seconds = best([&] {
-    for (size_t b = 0; b < n / W; ++b) scene.interactions(&rays[b * W], &hits[b * W], &batch[b]);
-  });
-  out.batch_avx2_seconds = best([&] {
-    for (size_t b = 0; b < n / W; ++b) {
-      scene.interactions_avx2(&rays[b * W], &hits[b * W], &batch2[b]);
-    }
-  });
-  // The triangles' corners and normals packed per triangle (18 floats), per mesh.
-  std::map<const Mesh*, std::vector<float>> packs;
-  for (const auto& instance : scene.instances) {
-    const Mesh& mesh = instance.mesh->mesh;
-    std::vector<float>& pack = packs[&mesh];
-    if (!pack.empty()) continue;
-    pack.resize(18 * mesh.triangle_count());
-    for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-      float* q = &pack[18 * size_t{t}];
-      for (int k = 0; k < 3; ++k) {
-        const Vec3 c = mesh.vertex(mesh.triangles[3 * size_t{t} + k]);
-        for (int a = 0; a < 3; ++a) q[3 * k + a] = c[a];
-      }
-      Vec3 n[3];
-      if (mesh.corner_normals(t, &n[0], &n[1], &n[2])) {
-        for (int k = 0; k < 3; ++k) {
-          for (int a = 0; a < 3; ++a) q[9 + 3 * k + a] = n[k][a];
-        }
-      }
-    }
-  }
-  std::vector<const float*> pack_of(scene.instances.size());
-  for (size_t k = 0; k < scene.instances.size(); ++k) {
-    pack_of[k] = packs[&scene.instances[k].mesh->mesh].data();
-  }
-  std::vector<Interaction> packed(n);
-  out.packed_seconds = best([&] {
-    for (size_t i = 0; i < n; ++i) {
-      packed[i] = scene.interaction_packed(rays[i], hits[i], pack_of[hits[i].instance]);
-    }
-  });
-  const auto same = [](float a, float b) {
-    return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b);
-  };
-  for (size_t i = 0; i < n; ++i) {
-    const Interaction& it = scalar[i];
-    bool equal = true;
-    for (const auto* bt : {&batch[i / W], &batch2[i / W]}) {
-      const size_t l = i % W;
-      for (int a = 0; a < 3; ++a) {
-        equal = equal && same(it.position[a], bt->position[a][l]) &&
-                same(it.geometric_normal[a], bt->geometric[a][l]) &&
-                same(it.shading_normal[a], bt->shading[a][l]) &&
-                same(it.shadow_origin[a], bt->shadow[a][l]) &&
-                same(it.local_position[a], bt->local[a][l]);
-      }
-      equal = equal && same(it.position_error.x, bt->error[l]) &&
-              std::memcmp(&it.shadow_origin, &packed[i].shadow_origin, sizeof(Vec3)) == 0 &&
-              std::memcmp(&it.shading_normal, &packed[i].shading_normal, sizeof(Vec3)) == 0 &&
-              std::memcmp(&it.position_error, &packed[i].position_error, sizeof(Vec3)) == 0 &&
-              it.material_index == bt->material[l];
-    }
-    if (!equal) ++out.mismatches;
-  }
-  return out;
 }
 
 }  // namespace whitted

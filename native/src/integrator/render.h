@@ -103,15 +103,6 @@ class RenderJob {
   // After a finished render with recording: the recorded rays traced again by a bare
   // loop of single-ray Embree queries (RayRecorder::trace_bare).
   BareTrace trace_bare() const;
-  // Experiment (issue 15): the recorded hits reconstructed one by one (interaction) and
-  // eight at a time (interactions, SSE2 and AVX2), each the fastest of `repeats`.
-  struct InteractionBench {
-    size_t hits = 0;
-    double scalar_seconds = 0.0, batch_seconds = 0.0, batch_avx2_seconds = 0.0;
-    double packed_seconds = 0.0;  // interaction_packed
-    size_t mismatches = 0;        // hits whose batch result differs from interaction's in a bit
-  };
-  InteractionBench bench_interaction(int repeats) const;
 
  private:
   RenderJob(const Settings& settings, const Camera& camera, RayRecorder recorder);

@@ -143,22 +143,6 @@ struct CompiledScene {
 
   size_t triangle_count() const;
   Interaction interaction(const Ray& ray, const Hit& hit) const;
-  // Experiment (issue 15): `interaction` for kBatch hits at once, structure of arrays.
-  struct InteractionBatch {
-    static constexpr int kWidth = 8;
-    float position[3][kWidth];
-    float error[kWidth];
-    float geometric[3][kWidth];
-    float shading[3][kWidth];
-    float shadow[3][kWidth];
-    float local[3][kWidth];
-    uint32_t material[kWidth];
-  };
-  void interactions(const Ray* rays, const Hit* hits, InteractionBatch* out) const;
-  // Experiment (issue 15): `interaction` reading the triangle's corners and corner normals
-  // from `packed` (18 floats a triangle: three positions, three normals, zero when flat).
-  Interaction interaction_packed(const Ray& ray, const Hit& hit, const float* packed) const;
-  void interactions_avx2(const Ray* rays, const Hit* hits, InteractionBatch* out) const;
   // Texture coordinates at a hit; computed only for textured materials.
   TexturePoint texture_point(const Interaction& it) const;
   // The material's fields at a hit of `ray`: its constants, unless textures or a program
