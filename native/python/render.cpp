@@ -491,13 +491,6 @@ void bind_render(py::module_& m) {
            })
       .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); })
       .def(
-          "bench_camera_groups",
-          [](const RenderJob& job, int width, int repeats) {
-            py::gil_scoped_release release;
-            return job.bench_camera_groups(width, repeats);
-          },
-          py::arg("width"), py::arg("repeats") = 5)
-      .def(
           "trace_bare",
           [](const RenderJob& job) {
             BareTrace bare;

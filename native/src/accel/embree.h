@@ -102,9 +102,6 @@ class SceneAccel {
   // Up to 4 rays go as a 4-wide packet, more as an 8-wide one.
   static constexpr int kPacketSize = 8;
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
-  // Experiment (issue 15): `rays` traced in consecutive groups of `width` (1, 4, 8, 16:
-  // single rays or Embree packets); the seconds it took.
-  double trace_groups(const std::vector<Ray>& rays, int width, std::vector<Hit>* hits) const;
   // Any-hit tests of up to kPacketSize rays traced together: blocked[i] is what
   // occluded(rays[i]) answers. Shadow feelers leaving one point, or towards one light
   // from nearby points, share most of their BVH walk. A packet of up to 4 rays is traced
