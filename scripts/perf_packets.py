@@ -7,7 +7,8 @@ Runs inside Blender 3.4 on a saved scene (scripts/perf_scenes.py) with the add-o
 
     valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*RenderJob::trace*' \\
         blender -b --factory-startup --addons whitted SCENE.blend \\
-        --python scripts/perf_packets.py -- --packets on [--lens 60] [--resolution 480 270]
+        --python scripts/perf_packets.py -- --packets on [--lens 60] [--resolution 480 270] \\
+        [--aa 1]
 
 It prints the rays by type and the choice's inputs (instances in view per pixel). With
 `callgrind_annotate --inclusive=yes`, a packet's cost per camera ray is rtcIntersect4's
@@ -35,6 +36,7 @@ def parse_args():
     parser.add_argument("--packets", choices=("on", "off", "compare"), required=True)
     parser.add_argument("--lens", type=float, help="the camera's focal length (mm)")
     parser.add_argument("--resolution", nargs=2, type=int, metavar=("W", "H"))
+    parser.add_argument("--aa", type=int, help="anti-aliasing samples per axis")
     return parser.parse_args(script_args())
 
 
@@ -51,6 +53,8 @@ def main():
         scene.camera.data.lens = args.lens
     if args.resolution:
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
+    if args.aa:
+        scene.whitted.aa_samples = args.aa
     native = load_native()
     frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
     settings = frame.settings

@@ -128,8 +128,8 @@ TEST(Render, BadMeshesAreRefusedWithAMessage) {
 TEST(Render, PacketHitsAreTheSingleRayHits) {
   const Scene source = glass_and_mirror_scene();
   const auto scene = source.compile();
-  constexpr int kPacket = SceneAccel::kPacketSize;
-  for (int count = 1; count <= kPacket; ++count) {
+  constexpr int kPacket = SceneAccel::kIntersectPacketSize;
+  for (int count = 1; count <= kPacket; ++count) {  // 4-, 8- and 16-wide packets
     for (int row = 0; row < 16; ++row) {
       Ray rays[kPacket];
       Hit hits[kPacket];
@@ -157,7 +157,9 @@ TEST(Render, PacketsDoNotChangeTheImage) {
   Settings settings;
   settings.width = 60;  // three instances in 2,400 pixels: packets chosen
   settings.height = 40;
-  for (int n : {2, 3}) {  // 4 rays: one part-filled packet; 9 rays: a full one and one
+  // Blocks of 4 pixels of 4 rays (one 16-wide packet); one pixel of 9 rays (a part-filled
+  // one); one pixel of 25 rays (a full one and a part-filled one).
+  for (int n : {2, 3, 5}) {
     settings.aa_samples = n;
     settings.packets = true;
     ASSERT_TRUE(RenderJob(scene, settings, scene.camera).stats().camera_packets);  // chosen

@@ -300,6 +300,51 @@ TEST(Robustness, CoplanarFacesGiveTheSameImageEveryTime) {
   EXPECT_EQ(render_image(build(), 3, 1), first);
 }
 
+// The same with camera rays in packets of several pixels (a block fixed in the image):
+// a border that starts and ends inside blocks, and tiles that cut them, leave every
+// pixel as the whole image has it, where the packet decides each tie.
+TEST(Robustness, CoplanarFacesInCameraPacketsDoNotDependOnBorderOrTiles) {
+  Scene scene;
+  add_object(&scene, "red", quad(-1, 1, -1, 1, 0), emitter(Color(1.0f, 0.0f, 0.0f)));
+  add_object(&scene, "blue", quad(-1, 1, -1, 1, 0), emitter(Color(0.0f, 0.0f, 1.0f)));
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 3.0f), 0.3f);
+  for (int n : {2, 3}) {  // blocks of 4 pixels and of 1
+    Settings settings;
+    settings.width = 64;
+    settings.height = 64;
+    settings.aa_samples = n;
+    settings.threads = 1;
+    settings.tile_size = 64;
+    RenderJob whole(scene, settings, scene.camera);
+    ASSERT_TRUE(whole.stats().camera_packets);
+    whole.start();
+    while (!whole.wait(1.0)) {
+    }
+    const std::vector<float>& reference = whole.film().pixels();
+    settings.border[0] = 3;
+    settings.border[1] = 5;
+    settings.border[2] = 57;
+    settings.border[3] = 40;
+    settings.threads = 2;
+    settings.tile_size = 9;
+    RenderJob part(scene, settings, scene.camera);
+    part.start();
+    while (!part.wait(1.0)) {
+    }
+    const std::vector<float>& pixels = part.film().pixels();
+    int differ = 0;
+    for (int y = 5; y < 40; ++y) {
+      for (int x = 3; x < 57; ++x) {
+        for (int c = 0; c < 4; ++c) {
+          const size_t i = (static_cast<size_t>(y) * 64 + static_cast<size_t>(x)) * 4 + c;
+          differ += pixels[i] != reference[i];
+        }
+      }
+    }
+    EXPECT_EQ(differ, 0) << n << "x" << n << " samples";
+  }
+}
+
 // A low-poly UV sphere with smooth (vertex) normals, as corner normals.
 Mesh smooth_sphere(int rings, int segments) {
   std::vector<float> p;

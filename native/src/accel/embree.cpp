@@ -184,7 +184,7 @@ bool SceneAccel::occluded(const Ray& ray) const {
 
 namespace {
 
-// Embree's packet rays (RTCRay4, RTCRay8), filled from up to K of ours; lanes past
+// Embree's packet rays (RTCRay4, 8 or 16), filled from up to K of ours; lanes past
 // `count` and rays Embree cannot take (valid_for_embree) stay inactive.
 template <int K, class Packet>
 void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
@@ -206,10 +206,10 @@ void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
   }
 }
 
-// The first hits of up to K rays as one Embree packet (RTCRayHit4 or RTCRayHit8).
+// The first hits of up to K rays as one Embree packet (RTCRayHit4, 8 or 16).
 template <int K, class PacketHit, class Intersect>
 void intersect_k(RTCScene scene, const Ray* rays, int count, Hit* hits, Intersect intersect) {
-  alignas(32) int valid[K];
+  alignas(64) int valid[K];
   PacketHit rh;
   to_embree_packet<K>(rays, count, &rh.ray, valid);
   for (int i = 0; i < K; ++i) {
@@ -234,13 +234,15 @@ void intersect_k(RTCScene scene, const Ray* rays, int count, Hit* hits, Intersec
 }  // namespace
 
 void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
-  static_assert(kPacketSize == 8, "the widest packet below is RTCRayHit8");
-  // Four rays or fewer (a pixel's 2x2 samples) go as a 4-wide packet: in an 8-wide one
-  // half the lanes would idle through every node test.
+  static_assert(kIntersectPacketSize <= 16, "the widest packet below is RTCRayHit16");
+  // The narrowest packet that holds them: in a wider one the idle lanes would go through
+  // every node test.
   if (count <= 4) {
     intersect_k<4, RTCRayHit4>(as_scene(scene_), rays, count, hits, rtcIntersect4);
-  } else {
+  } else if (count <= 8) {
     intersect_k<8, RTCRayHit8>(as_scene(scene_), rays, count, hits, rtcIntersect8);
+  } else {
+    intersect_k<16, RTCRayHit16>(as_scene(scene_), rays, count, hits, rtcIntersect16);
   }
 }
 

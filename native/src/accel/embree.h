@@ -97,15 +97,19 @@ class SceneAccel {
   bool intersect(const Ray& ray, Hit* hit) const;
   // Any hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
   bool occluded(const Ray& ray) const;
-  // Closest hits of up to kPacketSize coherent rays (camera rays) traced together as one
-  // packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t infinite.
-  // Up to 4 rays go as a 4-wide packet, more as an 8-wide one.
-  static constexpr int kPacketSize = 8;
+  // Closest hits of up to kIntersectPacketSize coherent rays (camera rays) traced together
+  // as one packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t
+  // infinite. Up to 4 rays go as a 4-wide packet, up to 8 as an 8-wide one, more as a
+  // 16-wide one. This CPU has no AVX-512, yet 16-wide packets measured fastest per camera
+  // ray (perf_camera_groups.py of commit d607207: demo, 2x2 samples, ns per camera ray
+  // 95.4 single, 49.0 4-wide, 34.1 8-wide, 22.3 16-wide).
+  static constexpr int kIntersectPacketSize = 16;
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
   // Any-hit tests of up to kPacketSize rays traced together: blocked[i] is what
   // occluded(rays[i]) answers. Shadow feelers leaving one point, or towards one light
   // from nearby points, share most of their BVH walk. A packet of up to 4 rays is traced
   // 4 wide (rtcOccluded4), a larger one 8 wide.
+  static constexpr int kPacketSize = 8;
   void occluded_packet(const Ray* rays, int count, bool* blocked) const;
 
   // The benchmark baseline, in two steps so the conversion is not timed:

@@ -114,6 +114,16 @@ bool RayRecorder::select(RayLog* log, int x, int y, int width) const {
   return log->active || source_ == nullptr;
 }
 
+bool RayRecorder::select_range(RayLog* log, int x0, int x1, int y, int width) const {
+  if (log == nullptr) return true;
+  const uint64_t row = static_cast<uint64_t>(y) * static_cast<uint64_t>(width);
+  log->active = false;
+  for (int x = x0; x < x1 && !log->active; ++x) {
+    log->active = (row + static_cast<uint64_t>(x)) % stride_ == 0;
+  }
+  return log->active || source_ == nullptr;
+}
+
 BareTrace RayRecorder::trace_bare(const SceneAccel& accel) const {
   if (logs_.empty()) throw std::logic_error("trace_bare needs a render made with recording");
   std::vector<BareRays> batches;

@@ -62,6 +62,9 @@ class RayRecorder {
   // Switches `log` (if any) on for the queries of pixel (x, y) of an image `width` wide.
   // False for a pixel a replay skips: one the recording did not record.
   bool select(RayLog* log, int x, int y, int width) const;
+  // The same for queries shared by pixels x0 to x1 - 1 of row y (a block's camera packets):
+  // on when any of them is recorded; false when a replay skips them all.
+  bool select_range(RayLog* log, int x0, int x1, int y, int width) const;
 
   // Each worker's recording traced again on its own thread by a bare loop of
   // single-ray Embree queries, all threads timed from a common start to the last one's

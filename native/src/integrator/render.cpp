@@ -196,14 +196,22 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
     });
     return;
   }
+  // Whole pixels: the camera rays of each block of pixels (fixed in the image, so it may
+  // reach past the tile) go to Embree together when its first pixel in this tile comes up.
+  const int block_width = pass.kind == Pass::Kind::kPixels ? sampler.block_width() : 0;
+  FirstHits block;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
+      if (block_width > 0 && !block.holds(x, y)) {
+        const int end = std::min(x / block_width * block_width + block_width, tile.x + tile.width);
+        if (recorder_.select_range(log, x, end, y, width)) sampler.first_hits(x, y, &block);
+      }
       if (!recorder_.select(log, x, y, width)) continue;
       const uint64_t before = counts->total();
       if (passes != nullptr) record = SampleRecord{};
       if (pass.kind == Pass::Kind::kPixels) {
-        const Sample s = sampler.pixel(x, y, counts, nullptr, passes);
+        const Sample s = sampler.pixel(x, y, counts, nullptr, passes, &block);
         film_.set(x, y, s, static_cast<float>(counts->total() - before), passes);
         if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
       } else {

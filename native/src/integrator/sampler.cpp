@@ -81,10 +81,10 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
-                            SampleRecord* record) const {
+                            SampleRecord* record, const FirstHits* block) const {
   return settings_.aa_mode == AntiAliasing::kAdaptive
              ? pixel_adaptive(x, y, counts, weights, record)
-             : pixel_grid(x, y, counts, weights, record);
+             : pixel_grid(x, y, counts, weights, record, block);
 }
 
 Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
@@ -92,22 +92,68 @@ Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
   return shade(grid_ray(x, y, k), nullptr, counts, record);
 }
 
+int CameraSampler::block_width() const {
+  // One sample per pixel is left to single rays: a packet of neighbouring pixels' rays
+  // picks another face than single rays where coplanar faces overlap, and where its
+  // pixels meet the next block's the overlap shows both colours (the coplanar-quads hard
+  // case, tests/blender/test_robustness.py: 48 to 404 of its pixels changed colour at
+  // 64x48 to 200x150). With 2x2 samples or more, packets of whole pixels' samples changed
+  // no more pixels there than the packets of one pixel's samples did before.
+  const int samples = settings_.aa_samples * settings_.aa_samples;
+  if (!packets_ || settings_.aa_mode == AntiAliasing::kAdaptive || samples == 1) return 0;
+  // As many whole pixels as one packet holds (2x2 samples: 4 pixels), at least one.
+  return std::max(1, SceneAccel::kIntersectPacketSize / samples);
+}
+
+void CameraSampler::first_hits(int x, int y, FirstHits* out) const {
+  constexpr int kPacket = SceneAccel::kIntersectPacketSize;
+  const int width = block_width();
+  const int samples = settings_.aa_samples * settings_.aa_samples;
+  out->x0 = x / width * width;
+  out->y = y;
+  out->width = std::min(width, settings_.width - out->x0);
+  const int count = out->width * samples;
+  out->rays.resize(static_cast<size_t>(count));
+  out->hits.resize(static_cast<size_t>(count));
+  out->found.assign(static_cast<size_t>(count), 0);
+  for (int i = 0; i < count; ++i) {
+    out->rays[static_cast<size_t>(i)] = grid_ray(out->x0 + i / samples, y, i % samples);
+  }
+  // The block's rays in order, a packet at a time: the same packets whichever pixel of
+  // the block asks.
+  for (int first = 0; first < count; first += kPacket) {
+    const int n = std::min(kPacket, count - first);
+    if (n == 1) break;  // a lone ray is no packet: the integrator traces it
+    const auto at = static_cast<size_t>(first);
+    integrator_.intersect_packet(&out->rays[at], n, &out->hits[at]);
+    std::fill_n(out->found.begin() + first, n, uint8_t{1});
+  }
+}
+
+const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
+                                          FirstHits* own) const {
+  if (block != nullptr && block->holds(x, y)) return block;
+  if (block_width() == 0) return nullptr;
+  first_hits(x, y, own);
+  return own;
+}
+
 Sample CameraSampler::point(float px, float py, RayCounts* counts, SampleRecord* record) const {
   return shade(camera_ray(px, py), nullptr, counts, record);
 }
 
 Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
-                                 SampleRecord* record) const {
-  // The camera rays of one pixel are coherent: Embree finds their first hits together,
-  // up to a packet at a time, then each is shaded on its own. A packet never spans two
-  // pixels, so a pixel's value depends on nothing but the pixel (not on tiles or
-  // threads): where two faces tie (coplanar, or meeting a ray at their shared edge), the winner
-  // can depend on the packet.
-  constexpr int kPacket = SceneAccel::kPacketSize;
+                                 SampleRecord* record, const FirstHits* block) const {
+  // Neighbouring camera rays are coherent: Embree finds the first hits of a block of
+  // pixels together (first_hits), then each sample is shaded on its own. The blocks are
+  // fixed in the image, so a pixel's value depends on nothing but the pixel (not on tiles,
+  // threads or the border): where two faces tie (coplanar, or meeting a ray at their
+  // shared edge), the winner can depend on the packet.
   const int n = settings_.aa_samples;
   const int samples = n * n;
-  std::array<Ray, kPacket> rays;
-  std::array<Hit, kPacket> hits;
+  FirstHits own;
+  const FirstHits* hits = block_for(x, y, block, &own);
+  const size_t offset = hits != nullptr ? static_cast<size_t>((x - hits->x0) * samples) : 0;
   // Summed in sample order, as Film::add sums a pixel built one sample at a time.
   Sample sum{Color(0.0f), 0.0f};
   // Each sample's record, emplaced afresh only when passes are recorded: zeroing every
@@ -115,21 +161,16 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   // session 6). Declared once per pixel, as GCC 12 zeroes an optional's storage where it
   // is declared (about 40 instructions per sample inside the loop, callgrind).
   std::optional<SampleRecord> sample_record;
-  for (int first = 0; first < samples; first += kPacket) {
-    const int count = std::min(kPacket, samples - first);
-    for (int k = 0; k < count; ++k) rays[static_cast<size_t>(k)] = grid_ray(x, y, first + k);
-    const bool packet = packets_ && count > 1;
-    if (packet) integrator_.intersect_packet(rays.data(), count, hits.data());
-    for (int k = 0; k < count; ++k) {
-      const Hit* hit = packet ? &hits[static_cast<size_t>(k)] : nullptr;
-      const Sample s = shade(rays[static_cast<size_t>(k)], hit, counts,
-                             record != nullptr ? &sample_record.emplace() : nullptr);
-      sum.radiance += s.radiance;
-      sum.alpha += s.alpha;
-      if (record != nullptr) {
-        record->add(*sample_record, settings_.passes);
-        if (first + k == 0) record->take_first(*sample_record);
-      }
+  for (int k = 0; k < samples; ++k) {
+    const size_t i = offset + static_cast<size_t>(k);
+    const Hit* hit = hits != nullptr && hits->found[i] != 0 ? &hits->hits[i] : nullptr;
+    const Sample s = shade(hits != nullptr ? hits->rays[i] : grid_ray(x, y, k), hit, counts,
+                           record != nullptr ? &sample_record.emplace() : nullptr);
+    sum.radiance += s.radiance;
+    sum.alpha += s.alpha;
+    if (record != nullptr) {
+      record->add(*sample_record, settings_.passes);
+      if (k == 0) record->take_first(*sample_record);
     }
   }
   // The average of the samples (box filter).

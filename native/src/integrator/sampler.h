@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "integrator/film.h"
@@ -11,7 +12,7 @@
 
 namespace whitted {
 
-// Whether a pixel's camera rays go to Embree as one packet (Settings::packets allowing).
+// Whether camera rays go to Embree as packets (Settings::packets allowing; FirstHits).
 // A packet pays when its rays stay together and loses when they part for different
 // instances: Embree then walks each instance's BVH for the whole packet. Callgrind
 // counted, per camera ray, 0.85 of a single ray's traversal for a packet on 100 spheres
@@ -29,6 +30,22 @@ struct PacketChoice {
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings);
 
+// The first hits of the camera rays of a block of pixels in one row, found as Embree
+// packets (CameraSampler::first_hits): a block is `width` pixels from a column that is a
+// multiple of `width`, counted from the image's left edge, so which rays share a packet
+// depends on neither tiles, threads nor the border.
+struct FirstHits {
+  int x0 = -1;
+  int y = -1;
+  int width = 0;          // pixels in the block (the last block of a row may have fewer)
+  std::vector<Ray> rays;  // pixel by pixel, each pixel's grid samples in order
+  std::vector<Hit> hits;
+  // Whether hits[i] was found by a packet; a lone ray left over is traced by the
+  // integrator itself, as it would be without packets.
+  std::vector<uint8_t> found;
+  bool holds(int x, int row) const { return row == y && x >= x0 && x < x0 + width; }
+};
+
 // One per worker (it traces through that worker's integrator). Everything it returns
 // depends only on the pixel and the sample, never on tiles or threads.
 class CameraSampler {
@@ -44,17 +61,26 @@ class CameraSampler {
   // order they were traced (the inspector's). `record` (when passes are requested; a
   // default SampleRecord) receives the pixel's passes: its samples' records weighted as
   // their radiance is.
+  // `block`, when given, holds the first hits of the pixel's block (first_hits with sample
+  // -1); otherwise the sampler finds them itself, the same way.
   Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr,
-               SampleRecord* record = nullptr) const;
+               SampleRecord* record = nullptr, const FirstHits* block = nullptr) const;
   // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
-  // anti-aliasing, jittered otherwise. The same ray, and value, as in pixel().
+  // anti-aliasing, jittered otherwise. The same ray as in pixel(), traced on its own.
   Sample grid_sample(int x, int y, int k, RayCounts* counts, SampleRecord* record = nullptr) const;
+  // Pixels per block of pixel() (whole pixels' camera rays in packets); 0 when camera rays
+  // are traced one by one: packets off, adaptive anti-aliasing, or one sample per pixel.
+  int block_width() const;
+  // The first hits of the block holding pixel (x, y) (block_width() > 0).
+  void first_hits(int x, int y, FirstHits* out) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
   Sample point(float px, float py, RayCounts* counts, SampleRecord* record = nullptr) const;
 
  private:
   Sample pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
-                    SampleRecord* record) const;
+                    SampleRecord* record, const FirstHits* block) const;
+  // `block` if it holds (x, y); else, with blocks, `own` filled for it; else null.
+  const FirstHits* block_for(int x, int y, const FirstHits* block, FirstHits* own) const;
   Sample pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,
                         SampleRecord* record) const;
   // Whitted's adaptive subdivision of the square at (x0, y0) of side `size` whose corner

@@ -53,11 +53,12 @@ struct Settings {
   // normal), no irradiance (outside a spot's cone), or the whole light's contribution
   // below the cutoff. Off sends a feeler to every light sample (a benchmark baseline).
   bool feeler_pruning = true;
-  // Trace each pixel's camera rays as one Embree packet where the scene suits packets
-  // (choose_packets, sampler.h; faster there). Embree's packet and single-ray queries
-  // may pick differently where two faces tie: coplanar faces, or a ray through the edge
-  // two faces share (1 pixel of 2,073,600 on three suite scenes at 1920x1080). Off: one
-  // query per ray everywhere (a benchmark baseline).
+  // Trace the camera rays of blocks of pixels as Embree packets where the scene suits
+  // packets (choose_packets and CameraSampler::first_hits, sampler.h; faster there).
+  // Embree's packet and single-ray queries may pick differently where two faces tie:
+  // coplanar faces, or a ray through the edge two faces share (docs/PERFORMANCE.md counts
+  // the pixels on the suite's scenes). Off: one query per ray everywhere (a benchmark
+  // baseline).
   bool packets = true;
   // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
   // whole image. The rest of the image stays 0.

@@ -80,7 +80,7 @@ class WhittedIntegrator {
                    float* alpha, SampleRecord* record = nullptr) const {
     return trace_(*this, ray, state, counts, alpha, &first, record);
   }
-  // First hits of up to SceneAccel::kPacketSize coherent rays, traced as one packet.
+  // First hits of up to SceneAccel::kIntersectPacketSize coherent rays, traced as one packet.
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
 
   // The media that contain point p (the camera inside glass), innermost current.
