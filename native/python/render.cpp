@@ -491,13 +491,6 @@ void bind_render(py::module_& m) {
            })
       .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); })
       .def(
-          "bench_camera_groups",
-          [](const RenderJob& job, int width, int repeats, uint32_t kind) {
-            py::gil_scoped_release release;
-            return job.bench_camera_groups(width, repeats, kind);
-          },
-          py::arg("width"), py::arg("repeats") = 5, py::arg("kind") = 1)
-      .def(
           "trace_bare",
           [](const RenderJob& job) {
             BareTrace bare;

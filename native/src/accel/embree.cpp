@@ -3,8 +3,6 @@
 // an RTCIntersectContext) and set the geometry mask explicitly.
 #include "accel/embree.h"
 
-#include <chrono>
-
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -266,28 +264,6 @@ void SceneAccel::occluded_packet(const Ray* rays, int count, bool* blocked) cons
     rtcOccluded8(valid, as_scene(scene_), &context, &r);
     for (int i = 0; i < count; ++i) blocked[i] = valid[i] != 0 && r.tfar[i] < 0.0f;
   }
-}
-
-double SceneAccel::trace_groups(const std::vector<Ray>& rays, int width,
-                                std::vector<Hit>* hits) const {
-  hits->assign(rays.size(), Hit{});
-  const auto t0 = std::chrono::steady_clock::now();
-  const RTCScene scene = as_scene(scene_);
-  for (size_t first = 0; first < rays.size(); first += static_cast<size_t>(width)) {
-    const int count = static_cast<int>(std::min(rays.size() - first, size_t(width)));
-    const Ray* r = &rays[first];
-    Hit* h = &(*hits)[first];
-    if (width == 1) {
-      intersect(*r, h);
-    } else if (width == 4) {
-      intersect_k<4, RTCRayHit4>(scene, r, count, h, rtcIntersect4);
-    } else if (width == 8) {
-      intersect_k<8, RTCRayHit8>(scene, r, count, h, rtcIntersect8);
-    } else {
-      intersect_k<16, RTCRayHit16>(scene, r, count, h, rtcIntersect16);
-    }
-  }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 BareRays SceneAccel::prepare_bare(const std::vector<RayQuery>& queries) {

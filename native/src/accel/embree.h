@@ -105,9 +105,6 @@ class SceneAccel {
   // 95.4 single, 49.0 4-wide, 34.1 8-wide, 22.3 16-wide).
   static constexpr int kIntersectPacketSize = 16;
   void intersect_packet(const Ray* rays, int count, Hit* hits) const;
-  // Experiment (issue 15): `rays` traced in consecutive groups of `width` (1, 4, 8, 16:
-  // single rays or Embree packets); the seconds it took.
-  double trace_groups(const std::vector<Ray>& rays, int width, std::vector<Hit>* hits) const;
   // Any-hit tests of up to kPacketSize rays traced together: blocked[i] is what
   // occluded(rays[i]) answers. Shadow feelers leaving one point, or towards one light
   // from nearby points, share most of their BVH walk. A packet of up to 4 rays is traced

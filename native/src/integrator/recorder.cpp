@@ -149,14 +149,4 @@ BareTrace RayRecorder::trace_bare(const SceneAccel& accel) const {
   return out;
 }
 
-std::vector<Ray> RayRecorder::camera_rays(uint32_t kind) const {
-  std::vector<Ray> out;
-  for (const RayLog& log : logs_) {
-    for (const RayQuery& query : log.queries) {
-      if (!query.occlusion && query.ray.kind == kind) out.push_back(query.ray);
-    }
-  }
-  return out;
-}
-
 }  // namespace whitted

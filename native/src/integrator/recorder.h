@@ -70,8 +70,6 @@ class RayRecorder {
   // single-ray Embree queries, all threads timed from a common start to the last one's
   // end. Throws std::logic_error when nothing was recorded.
   BareTrace trace_bare(const SceneAccel& accel) const;
-  // Experiment (issue 15): the recorded camera rays, in the order they were traced.
-  std::vector<Ray> camera_rays(uint32_t kind) const;
 
  private:
   uint32_t stride_;

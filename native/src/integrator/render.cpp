@@ -315,20 +315,4 @@ BareTrace RenderJob::trace_bare() const {
   return recorder_.trace_bare(*scene_->accel);
 }
 
-std::pair<double, size_t> RenderJob::bench_camera_groups(int width, int repeats, uint32_t kind) const {
-  check_finished("bench_camera_groups");
-  const std::vector<Ray> rays = recorder_.camera_rays(kind);
-  std::vector<Hit> single, hits;
-  scene_->accel->trace_groups(rays, 1, &single);
-  double best = 1e30;
-  for (int r = 0; r < repeats; ++r)
-    best = std::min(best, scene_->accel->trace_groups(rays, width, &hits));
-  size_t differ = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    differ += hits[i].t != single[i].t || hits[i].primitive != single[i].primitive ||
-              hits[i].instance != single[i].instance;
-  }
-  return {best, differ};
-}
-
 }  // namespace whitted

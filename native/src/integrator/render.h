@@ -103,9 +103,6 @@ class RenderJob {
   // After a finished render with recording: the recorded rays traced again by a bare
   // loop of single-ray Embree queries (RayRecorder::trace_bare).
   BareTrace trace_bare() const;
-  // Experiment (issue 15): the recorded camera rays traced in groups of `width` (1, 4, 8,
-  // 16), `repeats` times; the fastest time and how many hits differ from single rays'.
-  std::pair<double, size_t> bench_camera_groups(int width, int repeats, uint32_t kind) const;
 
  private:
   RenderJob(const Settings& settings, const Camera& camera, RayRecorder recorder);
