@@ -296,8 +296,9 @@ def image_agreement(suite, scenes):
 def embree_details(suite, scenes):
     before = suite.before is not None
     lines = [
-        "Raw Embree in detail (Mrays/s, one process each, all threads). Whitted sends a "
-        "pixel's camera rays to Embree as one packet where the scene suits packets: the "
+        "Raw Embree in detail (Mrays/s, one process each, all threads). Whitted sends the "
+        "camera rays of a block of pixels to Embree as one packet (at 2x2 samples 4 pixels, "
+        "16 rays: CameraSampler::first_hits) where the scene suits packets: the "
         "camera packets column says whether it did, and how many pixels there are per "
         "instance in view (packets from 500 up: sampler.h, choose_packets). "
         "Whitted without packets is the same render with each camera ray its own query "
@@ -365,8 +366,8 @@ def pixel_identity(suite, scenes):
         "Pixel identity, from the same raw Embree runs: the SHA-256 of each render's float "
         "RGBA pixels. Embree's packet and single-ray queries may pick different faces "
         "where two tie: coplanar faces, or a ray through the edge two faces share (a "
-        "packet is one pixel's samples, so never another tiling's); so a before build "
-        "that chose packets otherwise differs there too. A before "
+        "packet is a block of pixels fixed in the image, so never another tiling's); so a "
+        "before build that chose or grouped packets otherwise differs there too. A before "
         "build older than an intended change of the image (a material fixed to match "
         "Cycles, say: `git log` between the two commits) differs for that reason.",
         "",
