@@ -107,11 +107,7 @@ int RayRecorder::workers(int wanted) const {
 }
 
 bool RayRecorder::select(RayLog* log, int x, int y, int width) const {
-  if (log == nullptr) return true;
-  const uint64_t index =
-      static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
-  log->active = index % stride_ == 0;
-  return log->active || source_ == nullptr;
+  return select_range(log, x, x + 1, y, width);
 }
 
 bool RayRecorder::select_range(RayLog* log, int x0, int x1, int y, int width) const {

@@ -61,8 +61,8 @@ class CameraSampler {
   // order they were traced (the inspector's). `record` (when passes are requested; a
   // default SampleRecord) receives the pixel's passes: its samples' records weighted as
   // their radiance is.
-  // `block`, when given, holds the first hits of the pixel's block (first_hits with sample
-  // -1); otherwise the sampler finds them itself, the same way.
+  // `block`, when given, holds the first hits of the pixel's block (first_hits);
+  // otherwise the sampler finds them itself, the same way.
   Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr,
                SampleRecord* record = nullptr, const FirstHits* block = nullptr) const;
   // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
