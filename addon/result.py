@@ -45,9 +45,10 @@ class PassSpec:
         return bool(getattr(view_layer.whitted if owner else view_layer, prop))
 
 
-# Blender 3.x names passes as Cycles did for years ("DiffDir"); Blender 5.0's Cycles,
-# its compositor and EXR files use long names ("Diffuse Direct"), taken here from
-# Blender 4.0 on (the two checked: 3.4.1 and 5.0.1).
+# Blender 3.x and 4.x name passes as Cycles did for years ("DiffDir"); Blender 5.0's
+# Cycles, its compositor and EXR files use long names ("Diffuse Direct"), taken here
+# from 5.0 on (checked: Cycles' multilayer EXR from 3.4.1, bpy 4.2.23 and 4.5 has the
+# short names, from 5.0.1 the long ones).
 LONG_NAMES = {
     "IndexOB": "Object Index",
     "IndexMA": "Material Index",
@@ -67,7 +68,7 @@ LONG_NAMES = {
 
 def blender_name(name):
     """This Blender's name of the pass Blender 3.x calls `name`."""
-    return LONG_NAMES.get(name, name) if bpy.app.version >= (4, 0, 0) else name
+    return LONG_NAMES.get(name, name) if bpy.app.version >= (5, 0, 0) else name
 
 
 COMBINED = PassSpec("Combined", "RGBA", "COLOR", "", "combined")

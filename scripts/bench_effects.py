@@ -22,6 +22,7 @@ import json
 import os
 import statistics
 import sys
+import sysconfig
 import tempfile
 import time
 from pathlib import Path
@@ -90,7 +91,8 @@ def load_module(folder):
         from whitted.native import load_native
 
         return load_native()
-    path = next(Path(folder).glob("whitted_native*.so"))
+    # The module built for this Python (a build may hold one per CPython).
+    path = Path(folder) / f"whitted_native{sysconfig.get_config_var('EXT_SUFFIX')}"
     spec = importlib.util.spec_from_file_location("whitted_native", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

@@ -74,7 +74,12 @@ def main() -> None:
     if not os.path.isfile(os.path.join(addon_dir, "__init__.py")):
         fail(f"{addon_dir} is not an add-on (no __init__.py)")
 
-    if running_as_module():
+    userpref = os.path.join(bpy.utils.user_resource("CONFIG"), "userpref.blend")
+    # bpy 4.2's read_userpref crashes (a segmentation fault, with or without the file):
+    # there the add-on is linked and checked but the preferences are left alone, so
+    # nothing the user saved is overwritten (scripts enable it with addon_utils).
+    keep_preferences = not running_as_module() or bpy.app.version >= (4, 3, 0)
+    if running_as_module() and keep_preferences and os.path.exists(userpref):
         # The bpy module starts with factory preferences and ignores the user's
         # userpref.blend; read it so that saving below keeps the user's settings.
         bpy.ops.wm.read_userpref()
@@ -92,12 +97,20 @@ def main() -> None:
         fail(f"Blender {bpy.app.version_string} could not enable '{ADDON_MODULE}' (see above)")
     if not engine_registered():
         fail(f"'{ADDON_MODULE}' is enabled but no RenderEngine '{ENGINE_ID}' is registered")
-    bpy.ops.wm.save_userpref()
+    if keep_preferences:
+        bpy.ops.wm.save_userpref()
+        saved = f"preferences saved in {bpy.utils.user_resource('CONFIG')}"
+    else:
+        saved = "preferences not saved (enable it with addon_utils.enable)"
     print(
-        f"install_addon: Blender {bpy.app.version_string}: {addon_link} -> {addon_dir} enabled, "
-        f"preferences saved in {bpy.utils.user_resource('CONFIG')}",
+        f"install_addon: Blender {bpy.app.version_string}: {addon_link} -> {addon_dir} "
+        f"enabled, {saved}",
         flush=True,
     )
+    if running_as_module():  # the .venv's Python has the tools through setup.sh's .pth
+        from whitted_tools.blender import exit_process
+
+        exit_process(0)
 
 
 main()

@@ -1,6 +1,7 @@
 """Build the installable Whitted package: dist/whitted-VERSION-linux-x64.zip.
 
     .venv/bin/python scripts/package.py [--build-dir build] [--dist dist] [--no-validate]
+                                        [--python 3.X ...]
 
 (`bash scripts/package.sh` sets up, then runs this.) One zip serves both Blender
 targets: it holds a single folder `whitted/` with
@@ -9,14 +10,20 @@ targets: it holds a single folder `whitted/` with
   installs the zip from Preferences > Add-ons > Install),
 - `blender_manifest.toml` for Blender 4.2+ (Preferences > Get Extensions >
   Install from Disk), made from `bl_info` so the version is written once,
-- the compiled module `whitted_native*.so`, self-contained: every shared library
-  it needs that is not part of the base system (glibc, libstdc++, libgcc_s) is
-  copied into `whitted/libs/` under a name made unique by a hash of its contents
+- the compiled module once per CPython a supported Blender embeds
+  (`whitted_native.cpython-310-x86_64-linux-gnu.so` for 3.10, and 3.11, 3.12,
+  3.13: whitted_tools.blenders.MODULE_PYTHONS); Python imports the one of its own
+  ABI. Each is self-contained: every shared library they need that is not part
+  of the base system (glibc, libstdc++, libgcc_s) is copied once into
+  `whitted/libs/` under a name made unique by a hash of its contents
   (`libembree3-1a2b3c4d.so.3`, as auditwheel does), its SONAME and every
-  DT_NEEDED entry naming it are rewritten to that name, and the module's
+  DT_NEEDED entry naming it are rewritten to that name, and each module's
   RUNPATH is `$ORIGIN/libs` (each bundled library's is `$ORIGIN`). A unique
   SONAME matters: Blender 5.0 ships its own `libtbb.so.12` and Embree 4, and the
   dynamic loader reuses any already loaded library of the same SONAME.
+
+`--python 3.11` (repeatable) carries only those modules (the tests make such a
+zip to see what a Blender whose Python it lacks reports).
 
 Then the zip is checked by Blender 5.0's own `blender --command extension
 validate` code (run from the bpy module). Prints the zip's path. Exits non-zero
@@ -33,6 +40,8 @@ import subprocess
 import sys
 import tempfile
 import zipfile
+
+from whitted_tools.blenders import MODULE_PYTHONS
 
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ADDON_DIR = os.path.join(REPO_ROOT, "addon")
@@ -148,12 +157,12 @@ def bundled_name(soname, real_path):
     return f"{stem}-{digest}.so{version}"
 
 
-def bundle_libraries(module_path, libs_dir):
-    """Copy the module's non-base dependencies (transitively) into libs_dir and
-    rewrite names and run paths. Returns {original soname: bundled file name}."""
+def bundle_libraries(module_paths, libs_dir):
+    """Copy the modules' non-base dependencies (transitively) into libs_dir, once each,
+    and rewrite names and run paths. Returns {original soname: bundled file name}."""
     tool = patchelf()
     renamed = {}
-    queue = [module_path]
+    queue = list(module_paths)
     seen = set()
     while queue:
         current = queue.pop()
@@ -175,28 +184,38 @@ def bundle_libraries(module_path, libs_dir):
             queue.append(target)
             copy_license(real, libs_dir, name)
     # ldd above resolved the copies' own dependencies from the system; now rename.
-    for path in [module_path, *(os.path.join(libs_dir, name) for name in renamed.values())]:
+    bundled = [os.path.join(libs_dir, name) for name in renamed.values()]
+    for path in [*module_paths, *bundled]:
         args = []
         for soname in needed(path):
             if soname in renamed:
                 args += ["--replace-needed", soname, renamed[soname]]
         if args:
             subprocess.run([tool, *args, path], check=True)
-        origin = "$ORIGIN/libs" if path == module_path else "$ORIGIN"
+        origin = "$ORIGIN/libs" if path in module_paths else "$ORIGIN"
         subprocess.run([tool, "--set-rpath", origin, path], check=True)
     for name in renamed.values():
         subprocess.run([tool, "--set-soname", name, os.path.join(libs_dir, name)], check=True)
     return renamed
 
 
-def built_module(build_dir):
-    names = [name for name in os.listdir(build_dir) if re.match(r"whitted_native.*\.so$", name)]
-    if len(names) != 1:
-        fail(f"expected one whitted_native*.so in {build_dir}, found {names}: build it first")
-    return os.path.join(build_dir, names[0])
+def built_modules(build_dir, pythons):
+    """{"3.11": path, ...}: the build's whitted_native module for each CPython asked for."""
+    found = {}
+    for name in os.listdir(build_dir):
+        match = re.fullmatch(r"whitted_native\.cpython-3(\d+)-.*\.so", name)
+        if match:
+            found[f"3.{match.group(1)}"] = os.path.join(build_dir, name)
+    missing = [python for python in pythons if python not in found]
+    if missing:
+        fail(
+            f"{build_dir} has no whitted_native for CPython {', '.join(missing)} (it has "
+            f"{', '.join(sorted(found)) or 'none'}): run scripts/setup.sh, which builds each"
+        )
+    return [found[python] for python in pythons]
 
 
-def stage(staging, build_dir, info):
+def stage(staging, build_dir, info, pythons):
     package_dir = os.path.join(staging, PACKAGE_ID)
     for root, dirs, files in os.walk(ADDON_DIR):
         dirs[:] = sorted(d for d in dirs if d not in EXCLUDED_DIRS)
@@ -205,12 +224,13 @@ def stage(staging, build_dir, info):
         for name in sorted(files):
             if not name.endswith(EXCLUDED_SUFFIXES):
                 shutil.copy2(os.path.join(root, name), os.path.join(package_dir, relative, name))
-    module = built_module(build_dir)
-    module_path = os.path.join(package_dir, os.path.basename(module))
-    shutil.copy2(module, module_path)
+    module_paths = []
+    for module in built_modules(build_dir, pythons):
+        module_paths.append(os.path.join(package_dir, os.path.basename(module)))
+        shutil.copy2(module, module_paths[-1])
     libs_dir = os.path.join(package_dir, "libs")
     os.makedirs(libs_dir)
-    renamed = bundle_libraries(module_path, libs_dir)
+    renamed = bundle_libraries(module_paths, libs_dir)
     with open(os.path.join(package_dir, "blender_manifest.toml"), "w", encoding="utf-8") as out:
         out.write(manifest_text(info))
     # The licence the manifest names travels with the add-on.
@@ -262,7 +282,14 @@ def main():
     parser.add_argument("--build-dir", default=os.path.join(REPO_ROOT, "build"))
     parser.add_argument("--dist", default=os.path.join(REPO_ROOT, "dist"))
     parser.add_argument("--no-validate", action="store_true")
+    parser.add_argument(
+        "--python",
+        action="append",
+        choices=MODULE_PYTHONS,
+        help="carry only the module for this CPython (repeatable; default: all of them)",
+    )
     args = parser.parse_args()
+    pythons = sorted(set(args.python or MODULE_PYTHONS))
 
     info = bl_info()
     version = ".".join(str(part) for part in info["version"])
@@ -271,9 +298,10 @@ def main():
     os.makedirs(args.dist)
     zip_path = os.path.join(args.dist, f"{PACKAGE_ID}-{version}-{PLATFORM}.zip")
     with tempfile.TemporaryDirectory(prefix="whitted-package-") as staging:
-        package_dir, renamed = stage(staging, args.build_dir, info)
+        package_dir, renamed = stage(staging, args.build_dir, info, pythons)
         for soname, name in sorted(renamed.items()):
             print(f"package: bundled {soname} as libs/{name}")
+        print(f"package: the module for CPython {', '.join(pythons)}")
         write_zip(package_dir, zip_path)
     if not args.no_validate:
         validate(zip_path)

@@ -17,14 +17,14 @@ HEIGHT=${2:-720}
 command -v perf >/dev/null || { echo "perf not found: apt-get install linux-perf" >&2; exit 1; }
 
 WORK=$(mktemp -d /tmp/whitted-profile-XXXXXX)
-restore_release() { cmake --build build --target whitted_native >/dev/null; }
+restore_release() { cmake --build build >/dev/null; }
 trap restore_release EXIT
 
 cmake -S . -B build-profile -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O3 -g -DNDEBUG -fno-omit-frame-pointer" \
   -Dpybind11_DIR="$(.venv/bin/python -m pybind11 --cmakedir)" \
-  -DPython_EXECUTABLE="$REPO_ROOT/.venv/bin/python" >/dev/null
-cmake --build build-profile --target whitted_native --parallel "$(nproc)" >/dev/null
+  -DWHITTED_PYTHON_EXECUTABLES="$REPO_ROOT/.venv/bin/python" >/dev/null
+cmake --build build-profile --target whitted_native_py311 --parallel "$(nproc)" >/dev/null
 
 blender -b --factory-startup --python scripts/demo_scene.py -- \
   --save "$WORK/demo.blend" --resolution "$WIDTH" "$HEIGHT" --no-render >/dev/null
@@ -46,6 +46,6 @@ perf report -i "$WORK/perf.data" --no-children --sort dso --stdio 2>/dev/null |
 echo
 echo "Our module and libm by function (share of all samples):"
 perf report -i "$WORK/perf.data" --no-children --sort symbol --stdio \
-  --dsos "$(basename addon/whitted_native*.so)",libm.so.6 2>/dev/null |
+  --dsos "$(basename addon/whitted_native.cpython-311-*.so)",libm.so.6 2>/dev/null |
   grep -E '^ +[0-9]' | head -15
 rm -rf "$WORK"

@@ -4,14 +4,20 @@
 #
 #   1. Debian packages (skipped when all are installed already)
 #   2. .venv: CPython 3.11 + requirements-dev.txt (bpy 5.0, numpy, pytest, ruff, pybind11)
-#   3. the native module: CMake Release build in build/ (copied into addon/ by the build)
+#   3. the native module: CMake Release build in build/ (copied into addon/ by the build),
+#      once per CPython a supported Blender embeds: 3.11 (the .venv's: Debian's Blender
+#      3.4, Blender 4.1-5.0), and pyenv's 3.10 (official 3.x, 4.0), 3.12 and 3.13 (5.1 on)
 #   4. the add-on, linked as `whitted` into the user add-on folders of Blender 3.4
 #      and of the bpy 5.0 module, enabled, user preferences saved; the tool package
 #      tools/whitted_tools linked for Blender 3.4 (the .venv has it through a .pth)
 #   5. a check in fresh processes that both Blenders list the WHITTED engine
+#   6. with --test-blenders only (scripts/test.sh): one environment per other Blender
+#      the suite tests (scripts/blenders.txt), each with the add-on linked and enabled:
+#      .venv-5.2 (the full suite's second target) and the smoke tier's
 #
 # Run from anywhere; scripts/demo.sh and scripts/test.sh run it first.
 # Environment: WHITTED_PYTHON=/path/to/python3.11 picks the interpreter for .venv;
+# WHITTED_PYTHON_3_10, _3_12, _3_13=/path/to/python pick the others (default: pyenv's);
 # WHITTED_JOBS=N sets build parallelism (default: nproc).
 set -euo pipefail
 
@@ -21,6 +27,16 @@ cd "$REPO_ROOT"
 VENV="$REPO_ROOT/.venv"
 BUILD_DIR="$REPO_ROOT/build"
 JOBS=${WHITTED_JOBS:-$(nproc)}
+TEST_BLENDERS=0
+for arg in "$@"; do
+  case $arg in
+    --test-blenders) TEST_BLENDERS=1 ;;
+    *)
+      echo "setup.sh: unknown argument: $arg (usage: setup.sh [--test-blenders])" >&2
+      exit 2
+      ;;
+  esac
+done
 
 APT_PACKAGES=(
   # build
@@ -156,16 +172,45 @@ EOF
 }
 
 # --- 3. native build ----------------------------------------------------------
+# find_cpython X.Y: the path of a CPython X.Y with its headers: $WHITTED_PYTHON_X_Y, or
+# pyenv's newest X.Y.* (these machines' image has 3.10.13, 3.11.7, 3.12.1, 3.13.0).
+find_cpython() {
+  local version=$1 override_name="WHITTED_PYTHON_${1//./_}" candidate where
+  local override=${!override_name:-}
+  if [[ -n $override ]]; then
+    candidate=$override where=$override
+  else
+    where="$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")/versions/$version.*"
+    candidate=$(compgen -G "$where/bin/python$version" | sort -V | tail -n1 || true)
+  fi
+  [[ -n $candidate && -x $candidate ]] ||
+    die "no CPython $version found (looked for $where)." \
+      "The package carries the module for every CPython a supported Blender embeds;" \
+      "install it (pyenv install $version) or set $override_name=/path/to/python$version"
+  "$candidate" -c 'import sysconfig, os, sys; sys.exit(not os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")))' ||
+    die "$candidate has no Python.h: the module cannot be built for it"
+  echo "$candidate"
+}
+
 build_native() {
   [[ -f CMakeLists.txt ]] || die "no CMakeLists.txt in $REPO_ROOT"
   echo "$(cmake --version | head -n1), $(c++ --version | head -n1), $JOBS jobs"
+  local pythons=("$VENV/bin/python") version python
+  for version in 3.10 3.12 3.13; do
+    python=$(find_cpython "$version")
+    pythons+=("$python")
+  done
+  local IFS=";"
   cmake -S . -B "$BUILD_DIR" \
     -DCMAKE_BUILD_TYPE=Release \
     -Dpybind11_DIR="$("$VENV/bin/python" -m pybind11 --cmakedir)" \
-    -DPython_EXECUTABLE="$VENV/bin/python"
+    -DWHITTED_PYTHON_EXECUTABLES="${pythons[*]}"
+  unset IFS
   cmake --build "$BUILD_DIR" --parallel "$JOBS"
-  compgen -G "addon/whitted_native*.so" >/dev/null ||
-    die "the build did not put whitted_native*.so into addon/"
+  for version in 310 311 312 313; do
+    compgen -G "addon/whitted_native.cpython-$version-*.so" >/dev/null ||
+      die "the build did not put whitted_native.cpython-$version-*.so into addon/"
+  done
 }
 
 # --- 4. add-on for the current user in both Blenders -------------------------
@@ -190,6 +235,40 @@ verify_addon() {
   echo "bpy 5.0 ($VENV): WHITTED engine registered after bpy.ops.wm.read_userpref()"
 }
 
+# --- 6. the other Blenders the suite tests (--test-blenders) -------------------
+# One venv per bpy module in whitted_tools.blenders (.venv keeps 5.0), made from the
+# CPython that Blender embeds, holding bpy, pytest and the tool package (.pth); the
+# development add-on linked and enabled in that Blender's user folder. pip keeps its
+# cache (~/.cache/pip) between runs: each wheel is about 400 MB.
+make_blender_venv() {
+  local label=$1 version=$2 venv="$REPO_ROOT/$3" requirement=$4 python
+  local stamp="$venv/.whitted-requirement" want="$requirement pytest>=8,<10"
+  if [[ -x $venv/bin/python && -f $stamp && $(cat "$stamp") == "$want" ]]; then
+    echo "Blender $label: reusing $venv ($requirement)"
+  else
+    rm -rf "$venv"
+    if [[ $version == 3.11 ]]; then python=$(find_python311); else python=$(find_cpython "$version"); fi
+    echo "Blender $label: creating $venv from $python, installing $requirement"
+    "$python" -m venv "$venv"
+    # shellcheck disable=SC2086  # $want is two requirements
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check --progress-bar off \
+      "$requirement" "pytest>=8,<10"
+    echo "$want" >"$stamp"
+  fi
+  local site
+  site=$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_path("purelib"))')
+  echo "../../../../tools" >"$site/whitted_tools.pth"
+  "$venv/bin/python" scripts/install_addon.py "$REPO_ROOT/addon"
+}
+
+make_test_blenders() {
+  local label version venv requirement
+  while read -r label version venv requirement; do
+    [[ $venv == .venv ]] && continue # made in step 2
+    make_blender_venv "$label" "$version" "$venv" "$requirement"
+  done < <("$VENV/bin/python" -m whitted_tools.blenders)
+}
+
 begin_step "Debian packages"
 install_debian_packages
 end_step
@@ -209,6 +288,12 @@ end_step
 begin_step "add-on check"
 verify_addon
 end_step
+
+if [[ $TEST_BLENDERS == 1 ]]; then
+  begin_step "test Blenders"
+  make_test_blenders
+  end_step
+fi
 
 echo
 echo "[setup] done in $(seconds_since "$SETUP_START") s"

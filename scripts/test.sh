@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Set up (scripts/setup.sh), then run the whole test suite: the native gtest suite
-# (ctest, then again under ASan+UBSan), the bindings without Blender (pytest), the
-# add-on inside Blender 3.4 and inside the bpy 5.0 module, the viewport in real
-# Blender 3.4 windows under Xvfb, the installable package (tests/package), the farm
-# on a real Dask cluster (tests/farm), and the linters.
+# Set up (scripts/setup.sh --test-blenders), then run the whole test suite: the native
+# gtest suite (ctest, then again under ASan+UBSan), the bindings without Blender
+# (pytest), the add-on inside Blender 3.4 and inside the bpy 5.2 module (the two full
+# targets), the viewport in real Blender 3.4 windows under Xvfb, the installable
+# package (tests/package: built, installed into fresh profiles of Blender 3.4 and of
+# bpy 4.2, 4.5, 5.0, 5.2 and 5.3, the smoke tier's tests), the farm on a real Dask
+# cluster (tests/farm), and the linters. Each in-Blender suite's counts go to
+# build/blender_versions/ (scripts/blender_versions.py makes the README's table).
 # Every step runs even when an earlier one failed; a summary line per step is
 # printed at the end, and the exit status is non-zero if any step failed.
 # Run from anywhere. .ci/run runs exactly this.
@@ -53,7 +56,9 @@ run_step() {
 # Kill a hung step (a render that never finishes) instead of eating CI's 90 minutes.
 limited() { timeout --kill-after=30 "$STEP_TIMEOUT" "$@"; }
 
-step_setup() { bash scripts/setup.sh; }
+step_setup() { bash scripts/setup.sh --test-blenders; }
+
+RESULTS="$REPO_ROOT/build/blender_versions"
 
 step_ctest() {
   limited ctest --test-dir build --output-on-failure --no-tests=error --parallel "$JOBS"
@@ -79,16 +84,26 @@ step_ctest_sanitized() {
 step_pytest_bindings() { limited "$VENV/bin/python" -m pytest tests/python tests/tools -q; }
 
 step_blender_34() {
-  limited blender -b --factory-startup --python-exit-code 1 --python tests/blender/run.py -- -q
+  WHITTED_RESULTS="$RESULTS/3.4-full.json" limited blender -b --factory-startup \
+    --python-exit-code 1 --python tests/blender/run.py -- -q
 }
 
-step_bpy_50() { limited "$VENV/bin/python" tests/blender/run.py -q; }
+step_bpy_52() { WHITTED_RESULTS="$RESULTS/5.2-full.json" limited .venv-5.2/bin/python tests/blender/run.py -q; }
 
-# The installable package (tests/package): built into a temporary dist, its module's
-# library needs, a load with the system's Embree and TBB hidden (unshare -m), and an
-# install into fresh user profiles of Blender 3.4 and bpy 5.0 that renders the demo
-# bit for bit as the development install.
-step_package() { limited "$VENV/bin/python" -m pytest tests/package -q -p no:cacheprovider; }
+# The installable package (tests/package/test_package.py): built into a temporary dist,
+# its modules' library needs, a load of each with the system's Embree and TBB hidden
+# (unshare -m), and an install into fresh user profiles of Blender 3.4 and bpy 5.2
+# that renders the demo bit for bit as the development install.
+step_package() {
+  limited "$VENV/bin/python" -m pytest tests/package/test_package.py -q -p no:cacheprovider
+}
+
+# The package in every bpy version (tests/package/test_versions.py): installed into a
+# fresh profile, rendering Blender 3.4's demo and node-graph files, compared with 3.4's
+# renders; the smoke tier's sync and passes tests; a Blender whose Python it lacks.
+step_versions() {
+  limited "$VENV/bin/python" -m pytest tests/package/test_versions.py -q -p no:cacheprovider
+}
 
 # The farm (tests/farm): scripts/farm.py on a real Dask cluster (a scheduler and two
 # worker processes on 127.0.0.1), a worker killed mid-frame, tiles, a failing scene,
@@ -122,14 +137,16 @@ step_clang_format() {
 }
 
 echo "[test] $(nproc) cores, CI=${CI:-false}, repo $REPO_ROOT"
+rm -rf "$RESULTS" # this run's results only
 run_step "setup" step_setup
 run_step "native tests (ctest)" step_ctest
 run_step "native tests (ASan+UBSan)" step_ctest_sanitized
 run_step "bindings and tools (pytest)" step_pytest_bindings
 run_step "add-on in Blender 3.4" step_blender_34
-run_step "add-on in bpy 5.0" step_bpy_50
+run_step "add-on in bpy 5.2" step_bpy_52
 run_step "viewport in Blender 3.4 (Xvfb)" step_viewport_34
 run_step "package: build, libraries, install" step_package
+run_step "package in bpy 4.2-5.3 (smoke tier)" step_versions
 run_step "farm on a local Dask cluster" step_farm
 run_step "performance suite, quick" step_bench_smoke
 run_step "lint: ruff check" step_ruff_check

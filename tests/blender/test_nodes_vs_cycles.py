@@ -168,6 +168,13 @@ WHITTED_BOUNDS = {}
 IMAGE_BOUND = 1e-3
 VALUE_BOUND = 2e-4
 PROCEDURAL_BOUND = 2e-5  # hashed textures, value for value (Cycles' own float rounding)
+# The Noise Texture's Color output evaluates its second and third channels at the point
+# moved by a seed offset of 100 to 200 on each axis, where a float's spacing is 1.5e-5:
+# one rounding of p * scale + offset taken differently (a fused multiply-add, say)
+# moves the value by that times the noise's slope (up to about 2). Cycles 5.2 differs
+# from Whitted by up to 3.1e-5 there (4D, 2.4e-5 3D, 1.8e-5 2D with no distortion) and
+# by at most 1.1e-6 on the Fac outputs (near the origin); Cycles 5.0 by 8.2e-6.
+OFFSET_NOISE_BOUND = 5e-5
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
@@ -185,6 +192,8 @@ def test_whitted_matches_cycles(case, empty_scene, tmp_path, native):
     bound = WHITTED_BOUNDS.get(case.name, IMAGE_BOUND if case.image else VALUE_BOUND)
     if case.procedural:  # constant over each pixel: no allowance for Cycles' offset
         bound, slope = PROCEDURAL_BOUND, np.zeros_like(slope)
+        if case.name.startswith("noise_") and case.name.endswith("_color"):
+            bound = OFFSET_NOISE_BOUND
     # float32 on both sides: the bound is relative where values are large (tangent).
     excess = error - (bound * np.maximum(1.0, np.abs(cycles)) + 0.02 * slope)
     # Pixels on a discontinuity of the node (a step far above the image's typical

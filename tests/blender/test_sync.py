@@ -181,6 +181,14 @@ def _scatter_more(scene):
     mesh.update()
 
 
+# Blender 5.3's depsgraph flags an object's geometry as updated when a material or an
+# image it uses changes (is_updated_geometry on the Object; 5.2 flags shading only;
+# seen with bpy 5.3.0). The sync then exports the object's mesh again, as Cycles' sync
+# does on that flag: the mesh is the same, so only the time differs.
+SHADING_EDIT_FLAGS_GEOMETRY = bpy.app.version >= (5, 3, 0)
+SHADING_MESHES = {"meshes"} if SHADING_EDIT_FLAGS_GEOMETRY else set()
+
+
 def _within(kind, report):
     """Whether `report` did no more than an edit of `kind` needs."""
     exported = {
@@ -192,8 +200,8 @@ def _within(kind, report):
     allowed = {
         "transform": set(),
         "geometry": {"meshes"},
-        "material": {"materials"},
-        "texture": {"textures", "materials"},
+        "material": {"materials", *SHADING_MESHES},
+        "texture": {"textures", "materials", *SHADING_MESHES},
         "light": {"lights"},
         "world": set(),
         "nothing": set(),
@@ -269,7 +277,8 @@ def test_camera_and_world_edits_keep_the_top_level_bvh(native, scene, live):
     live.edit(
         lambda: setattr(scene.world.node_tree.nodes["Background"].inputs[1], "default_value", 2.0)
     )
-    live.edit(lambda: _base_color("Glass", (0.9, 0.9, 1.0, 1.0)))
+    if not SHADING_EDIT_FLAGS_GEOMETRY:  # there the Glass sphere's mesh is exported again
+        live.edit(lambda: _base_color("Glass", (0.9, 0.9, 1.0, 1.0)))
     render(native, live.sync, scene)
     assert live.sync.scene.top_level_builds == builds
 

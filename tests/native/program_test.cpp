@@ -89,7 +89,7 @@ TEST(Program, ValidationNamesTheFirstProblem) {
   expect_invalid({{Op::kMath, 0, 2}}, "out register 2 out of range");
   expect_invalid({{Op::kMath, 0, 0, 5}}, "operand a register 5 out of range");
   expect_invalid({{Op::kMath, 0, 0}, {Op::kMath, 41, 0}}, "instruction 1 (MATH): mode 41");
-  expect_invalid({{Op::kVectorMath, 29, 0}}, "mode 29");
+  expect_invalid({{Op::kVectorMath, 30, 0}}, "mode 30");
   expect_invalid({{Op::kMix, 19, 0}}, "mode 19");
   expect_invalid({{Op::kInput, 11, 0}}, "mode 11 is not an input");
   expect_invalid({{Op::kImage, 0, 0, kU, kU, kU, kU, 1}}, "texture slot 1 out of range", 2, {},

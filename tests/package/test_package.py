@@ -1,7 +1,8 @@
-"""The installable package (scripts/package.py): what its compiled module needs, that
-it loads with the system's Embree and TBB hidden, and that it installs into fresh
-user profiles of Blender 3.4 and the bpy 5.0 module and renders the demo exactly as
-the development install does.
+"""The installable package (scripts/package.py): what its compiled modules need, that
+each loads with the system's Embree and TBB hidden in its own CPython, and that it
+installs into fresh user profiles of Blender 3.4 and the bpy 5.2 module and renders
+the demo exactly as the development install does (tests/package/test_versions.py:
+the other versions).
 
     .venv/bin/python -m pytest tests/package -q
 
@@ -16,52 +17,18 @@ import re
 import subprocess
 import textwrap
 import zipfile
-from pathlib import Path
 
 import numpy as np
-import OpenEXR
 import pytest
+from conftest import RENDER_SCENES, REPO_ROOT, read_exr, run
 from whitted_tools.blender import blender_command, bpy_command
+from whitted_tools.blenders import MODULE_PYTHONS, blender
 from whitted_tools.cli import load_script
 
-REPO_ROOT = Path(__file__).resolve().parents[2]
-VENV_PYTHON = REPO_ROOT / ".venv" / "bin" / "python"
-RENDER_DEMO = Path(__file__).with_name("render_demo.py")
 RESOLUTION = ("160", "120")
 SYSTEM_PYTHON = "/usr/bin/python3"
 
 BASE_SYSTEM_LIBRARIES = load_script("package").BASE_SYSTEM_LIBRARIES
-
-
-def run(command, env=None, timeout=600):
-    result = subprocess.run(
-        command, env=env, capture_output=True, text=True, timeout=timeout, check=False
-    )
-    assert result.returncode == 0, (
-        f"{' '.join(map(str, command))} exited {result.returncode}\n"
-        f"--- stdout\n{result.stdout[-4000:]}\n--- stderr\n{result.stderr[-4000:]}"
-    )
-    return result.stdout
-
-
-@pytest.fixture(scope="session")
-def package_zip(tmp_path_factory):
-    dist = tmp_path_factory.mktemp("dist")
-    run([str(VENV_PYTHON), str(REPO_ROOT / "scripts" / "package.py"), "--dist", str(dist)])
-    zips = list(dist.iterdir())
-    assert len(zips) == 1 and zips[0].suffix == ".zip", zips
-    return zips[0]
-
-
-@pytest.fixture(scope="session")
-def extracted(package_zip, tmp_path_factory):
-    folder = tmp_path_factory.mktemp("extracted")
-    with zipfile.ZipFile(package_zip) as archive:
-        for info in archive.infolist():
-            archive.extract(info, folder)
-            # zipfile drops permissions; the loader does not need x, but keep them.
-            os.chmod(folder / info.filename, info.external_attr >> 16 & 0o777 or 0o644)
-    return folder / "whitted"
 
 
 def elf_files(package_dir):
@@ -83,7 +50,12 @@ def test_zip_layout(package_zip):
     assert {name.split("/")[0] for name in names} == {"whitted"}
     for required in ("whitted/__init__.py", "whitted/blender_manifest.toml", "whitted/LICENSE"):
         assert required in names
-    assert any(re.fullmatch(r"whitted/whitted_native.*\.so", name) for name in names)
+    modules = [name for name in names if re.fullmatch(r"whitted/whitted_native.*\.so", name)]
+    # One module per CPython a supported Blender embeds, and the libraries once.
+    tags = [python.replace(".", "") for python in MODULE_PYTHONS]
+    assert modules == [f"whitted/whitted_native.cpython-{t}-x86_64-linux-gnu.so" for t in tags]
+    libembree = [name for name in names if "libembree3" in name and name.endswith(".so.3")]
+    assert len(libembree) == 1, libembree
     assert not [name for name in names if "__pycache__" in name or name.endswith(".pyc")]
 
 
@@ -164,16 +136,51 @@ def _namespace_prefix():
     return ["sudo", "-n", "unshare", "-m"]
 
 
-def test_module_loads_with_system_embree_and_tbb_hidden(extracted, tmp_path):
+def built_pythons():
+    """{"3.11": interpreter, ...}: the interpreters the build made a module for (the
+    CMake cache's WHITTED_PYTHON_EXECUTABLES, which scripts/setup.sh sets)."""
+    cache = (REPO_ROOT / "build" / "CMakeCache.txt").read_text()
+    line = re.search(r"^WHITTED_PYTHON_EXECUTABLES:STRING=(.*)$", cache, re.M).group(1)
+    found = {}
+    for interpreter in line.split(";"):
+        version = run([interpreter, "-c", "import sys; print(*sys.version_info[:2], sep='.')"])
+        found[version.strip()] = interpreter
+    return found
+
+
+@pytest.fixture(scope="session")
+def numpy_pythons(tmp_path_factory):
+    """{"3.10": python, ...}: for each CPython the package carries, an interpreter of
+    it that has numpy (a throw-away venv where the build's own has none)."""
+    pythons = {}
+    for version, interpreter in built_pythons().items():
+        has_numpy = subprocess.run(
+            [interpreter, "-c", "import numpy"], capture_output=True, check=False
+        ).returncode
+        if has_numpy == 0:
+            pythons[version] = interpreter
+            continue
+        venv = tmp_path_factory.mktemp(f"numpy-{version}")
+        run([interpreter, "-m", "venv", venv])
+        run([venv / "bin" / "python", "-m", "pip", "install", "-q", "numpy"])
+        pythons[version] = str(venv / "bin" / "python")
+    assert sorted(pythons) == sorted(MODULE_PYTHONS), pythons
+    return pythons
+
+
+@pytest.mark.parametrize("python", MODULE_PYTHONS)
+def test_module_loads_with_system_embree_and_tbb_hidden(python, extracted, numpy_pythons, tmp_path):
     """In a private mount namespace the system's Embree and TBB files are replaced by
-    /dev/null (so any attempt to load them fails); Debian's plain python3 (no Blender,
-    nothing else preloaded) imports the packaged module and renders a triangle."""
-    module_file = next(extracted.glob("whitted_native*.so"))
+    /dev/null (so any attempt to load them fails); a plain CPython of each version the
+    package carries (no Blender, nothing else preloaded) imports the packaged module of
+    its own ABI and renders a triangle."""
+    tag = python.replace(".", "")
+    module_file = next(extracted.glob(f"whitted_native.cpython-{tag}-*.so"))
     hidden = [_system_library(n) for n in ("libembree3.so.3", "libtbb.so.12", "libtbbmalloc.so.2")]
     script = tmp_path / "check.py"
     script.write_text(HIDDEN_CHECK)
     mounts = " && ".join(f"mount --bind /dev/null {path}" for path in hidden)
-    check = f"exec {SYSTEM_PYTHON} {script} {extracted} {module_file}"
+    check = f"exec {numpy_pythons[python]} {script} {extracted} {module_file}"
     shell = f"mount --make-rprivate / && {mounts} && {check}"
     output = run([*_namespace_prefix(), "sh", "-c", shell])
     print(output)
@@ -192,36 +199,32 @@ def _render(command, env, blend, output, report):
     run(
         [
             *command,
-            "--blend",
-            str(blend),
-            "--output",
-            str(output),
+            "--scene",
+            blend,
+            output,
             "--resolution",
             *RESOLUTION,
             "--report",
-            str(report),
+            report,
         ],
         env=env,
     )
-    with OpenEXR.File(str(output)) as exr:
-        pixels = exr.channels()["RGBA"].pixels.copy()
-    return pixels, json.loads(report.read_text())
+    return read_exr(output), json.loads(report.read_text())
 
 
-BLENDER_34 = blender_command(RENDER_DEMO)
-BPY_50 = bpy_command(RENDER_DEMO)
-
-
-@pytest.mark.parametrize("target", ["blender-3.4", "bpy-5.0"])
-def test_installed_package_renders_like_the_development_install(target, package_zip, tmp_path):
-    command = BLENDER_34 if target == "blender-3.4" else BPY_50
-    blend = tmp_path / "demo.blend"
+@pytest.mark.parametrize("label", ["3.4", "5.2"])
+def test_installed_package_renders_like_the_development_install(label, package_zip, tmp_path):
+    """Blender 3.4 (add-on, legacy install) and bpy 5.2 (extension): the package's
+    render of the demo is the development install's to the bit."""
+    entry = blender(label)
     demo = REPO_ROOT / "scripts" / "demo_scene.py"
-    demo_args = ["--save", blend, "--no-render"]
-    if target == "blender-3.4":
-        run(blender_command(demo, *demo_args))
+    blend = tmp_path / "demo.blend"
+    if entry.is_module:
+        command = bpy_command(RENDER_SCENES, python=entry.venv_python)
+        run(bpy_command(demo, "--save", blend, "--no-render", python=entry.venv_python))
     else:
-        run(bpy_command(demo, *demo_args))
+        command = blender_command(RENDER_SCENES)
+        run(blender_command(demo, "--save", blend, "--no-render"))
     reference, dev = _render(
         command, dict(os.environ), blend, tmp_path / "dev.exr", tmp_path / "dev.json"
     )
@@ -229,23 +232,23 @@ def test_installed_package_renders_like_the_development_install(target, package_
 
     profile = tmp_path / "profile"
     env = dict(os.environ)
-    if target == "blender-3.4":
+    if entry.is_module:
+        env["BLENDER_USER_RESOURCES"] = str(profile)
+        # Blender's Cycles (Embree 4, Blender's TBB) renders first in the same process.
+        extra = ["--install", str(package_zip), "--cycles-first"]
+    else:
         env.update(
             BLENDER_USER_SCRIPTS=str(profile / "scripts"),
             BLENDER_USER_CONFIG=str(profile / "config"),
         )
         extra = ["--install", str(package_zip)]
-    else:
-        env["BLENDER_USER_RESOURCES"] = str(profile)
-        # Blender's Cycles (Embree 4, Blender's TBB) renders first in the same process.
-        extra = ["--install", str(package_zip), "--cycles-first"]
     pixels, installed = _render(
         [*command, *extra], env, blend, tmp_path / "pkg.exr", tmp_path / "pkg.json"
     )
     print(json.dumps(installed, indent=1))
     assert installed["native_file"].startswith(str(profile)), installed
     assert not installed["dev_addon_loaded"], "the development add-on was imported too"
-    if target == "bpy-5.0":
+    if entry.is_module:
         assert installed["module"] == "bl_ext.user_default.whitted"
         mapped = installed["mapped"]
         assert any(p.endswith("libembree4.so.4") for p in mapped), "Cycles did not load Embree 4"

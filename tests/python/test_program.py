@@ -59,11 +59,14 @@ def test_operation_lists_agree_with_the_python_compiler():
 
 
 def test_operation_lists_follow_blenders_enums():
-    # Blender 5.0's identifiers; 3.4 has the same ones in the same order, minus the new.
+    # Blender 5.2's identifiers; 3.4 has the same ones in the same order, minus the new
+    # (Math FLOORED_MODULO from 4.x, Vector Math ROUND from 5.1).
     assert wn.MATH_OPS[:5] == ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD"]
     assert wn.MATH_OPS.index("FLOORED_MODULO") == wn.MATH_OPS.index("MODULO") + 1
     assert wn.MATH_OPS[-1] == "DEGREES" and len(wn.MATH_OPS) == 41
     assert wn.VECTOR_MATH_OPS.index("POWER") == 16 and wn.VECTOR_MATH_OPS[-1] == "TANGENT"
+    assert wn.VECTOR_MATH_OPS.index("ROUND") == wn.VECTOR_MATH_OPS.index("MAXIMUM") + 1
+    assert len(wn.VECTOR_MATH_OPS) == 30
     assert wn.MIX_BLEND.index("EXCLUSION") == 12 and len(wn.MIX_BLEND) == 19
     blender_34_math = [op for op in wn.MATH_OPS if op != "FLOORED_MODULO"]
     assert blender_34_math[24:26] == ["MODULO", "WRAP"]

@@ -112,6 +112,23 @@ def enable_addon(*modules):
             sys.exit(f"{Path(sys.argv[0]).name}: {problem}")
 
 
+def exit_process(code=0):
+    """End this Blender process with exit code `code`.
+
+    bpy 4.2 as a Python module crashes when its interpreter exits once an add-on has
+    registered classes, even after unregistering them (a segmentation fault: Blender's
+    SpaceType destructor, run by exit(), frees a Python class after the interpreter
+    has finished; seen with bpy 4.2.23, not with 4.5 and later). There the process
+    ends at once, its output flushed, so the exit code is the script's own."""
+    import bpy
+
+    if not bpy.app.binary_path and bpy.app.version < (4, 3, 0):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
+
+
 def factory_scene(*modules):
     """An empty factory scene with the add-ons enabled (default: Whitted): the start
     of every scene a script builds (a factory reset also disables add-ons)."""

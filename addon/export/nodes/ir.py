@@ -418,6 +418,8 @@ def vector_math_value(name, a, b, c, scale):
         return _per(math.cos, a)
     if name == "TANGENT":
         return _per(math.tan, a)
+    if name == "ROUND":
+        return _per(lambda x: math.floor(x + 0.5), a)
     raise ValueError(name)
 
 

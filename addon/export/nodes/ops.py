@@ -148,6 +148,7 @@ VECTOR_MATH_OPS = (
     "SIGN",
     "MINIMUM",
     "MAXIMUM",
+    "ROUND",  # Blender 5.1 and later
     "FLOOR",
     "CEIL",
     "FRACTION",

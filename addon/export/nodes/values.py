@@ -534,7 +534,7 @@ def _math_arity(name):
 
 _VECTOR_UNARY = {
     "NORMALIZE", "LENGTH", "ABSOLUTE", "SIGN", "FLOOR", "CEIL", "FRACTION", "SINE", "COSINE",
-    "TANGENT",
+    "TANGENT", "ROUND",
 }  # fmt: skip
 
 

@@ -135,7 +135,7 @@ inline constexpr std::array<std::string_view, 41> kMathOpNames = {
     "SINH",       "COSH",           "TANH",         "RADIANS",   "DEGREES"};
 static_assert(kMathOpNames.size() == static_cast<size_t>(MathOp::kDegrees) + 1);
 
-// ShaderNodeVectorMath.operation, in Blender 5.0's order (3.4 lacks POWER and SIGN).
+// ShaderNodeVectorMath.operation, in Blender 5.2's order (3.4 lacks POWER and SIGN, 5.0 ROUND).
 enum class VectorMathOp : uint32_t {
   kAdd,
   kSubtract,
@@ -157,6 +157,7 @@ enum class VectorMathOp : uint32_t {
   kSign,
   kMinimum,
   kMaximum,
+  kRound,  // Blender 5.1 and later
   kFloor,
   kCeil,
   kFraction,
@@ -167,12 +168,12 @@ enum class VectorMathOp : uint32_t {
   kCosine,
   kTangent,
 };
-inline constexpr std::array<std::string_view, 29> kVectorMathOpNames = {
+inline constexpr std::array<std::string_view, 30> kVectorMathOpNames = {
     "ADD",     "SUBTRACT", "MULTIPLY",  "DIVIDE",      "MULTIPLY_ADD", "CROSS_PRODUCT",
     "PROJECT", "REFLECT",  "REFRACT",   "FACEFORWARD", "DOT_PRODUCT",  "DISTANCE",
     "LENGTH",  "SCALE",    "NORMALIZE", "ABSOLUTE",    "POWER",        "SIGN",
-    "MINIMUM", "MAXIMUM",  "FLOOR",     "CEIL",        "FRACTION",     "MODULO",
-    "WRAP",    "SNAP",     "SINE",      "COSINE",      "TANGENT"};
+    "MINIMUM", "MAXIMUM",  "ROUND",     "FLOOR",       "CEIL",         "FRACTION",
+    "MODULO",  "WRAP",     "SNAP",      "SINE",        "COSINE",       "TANGENT"};
 static_assert(kVectorMathOpNames.size() == static_cast<size_t>(VectorMathOp::kTangent) + 1);
 
 // ShaderNodeMixRGB.blend_type (and ShaderNodeMix's), in Blender 5.0's order (3.4 lacks

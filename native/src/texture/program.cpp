@@ -347,6 +347,8 @@ vec4 vector_math(VectorMathOp op, const Vec3& a, const Vec3& b, const Vec3& c, f
       return vector(each(a, [](float x) { return std::cos(x); }));
     case VectorMathOp::kTangent:
       return vector(each(a, [](float x) { return std::tan(x); }));
+    case VectorMathOp::kRound:  // as the Math node's Round: halves away from -inf
+      return vector(glm::floor(a + 0.5f));
   }
   return vec4(0.0f);
 }

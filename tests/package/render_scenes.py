@@ -1,17 +1,19 @@
-"""Render the demo scene with Whitted to a float EXR, inside Blender 3.4 or the bpy 5.0
-module, from the development install or from a package installed into this process's
-(throw-away) user profile. Run by tests/package/test_package.py:
+"""Render saved scenes with Whitted to float EXRs, inside Blender 3.4 or a bpy module,
+from the development install or from a package installed into this process's
+(throw-away) user profile. Run by tests/package:
 
-    blender -b --factory-startup --python-exit-code 1 --python render_demo.py -- ARGS
-    .venv/bin/python render_demo.py ARGS
+    blender -b --factory-startup --python-exit-code 1 --python render_scenes.py -- ARGS
+    .venv-5.2/bin/python render_scenes.py ARGS
 
-ARGS: --blend DEMO.blend --output FILE.exr --resolution W H [--install ZIP]
-      [--cycles-first] [--report FILE.json]
+ARGS: --scene FILE.blend FILE.exr [--scene ...] --resolution W H [--install ZIP]
+      [--cycles-first] [--report FILE.json] [--keep-errors]
 
-DEMO.blend is the demo scene saved by `scripts/demo_scene.py --save FILE --no-render`
-in the same Blender: the renders compare one scene file. (Building the demo scene
+Each FILE.blend is a scene saved once (by Blender 3.4, or the demo saved by the same
+Blender): renders that are compared render one scene file. (Building the demo scene
 again in each bpy 5.0 process is not reproducible to the last bit: a few dozen of
 19,200 pixels differ between two builds, while renders of one saved file are equal.)
+--keep-errors: a render that fails is recorded in the report ("errors") instead of
+ending the script (the tests read what a Blender without a fitting module says).
 
 --install installs ZIP as a user add-on (3.4) or a user extension (4.2+) and enables
 it; without it the development install (`whitted`, linked by scripts/setup.sh) is
@@ -31,12 +33,12 @@ import bpy
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser()
-    parser.add_argument("--blend", required=True)
-    parser.add_argument("--output", required=True)
+    parser.add_argument("--scene", nargs=2, action="append", required=True)
     parser.add_argument("--resolution", nargs=2, type=int, default=(160, 120))
     parser.add_argument("--install")
     parser.add_argument("--cycles-first", action="store_true")
     parser.add_argument("--report")
+    parser.add_argument("--keep-errors", action="store_true")
     return parser.parse_args(argv)
 
 
@@ -80,17 +82,13 @@ def cycles_frame(path):
     bpy.ops.render.render(write_still=True)
 
 
-def main():
-    args = parse_args()
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    module = install(os.path.abspath(args.install)) if args.install else enable_development()
-    bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
+def render(blend, output, resolution, cycles_first):
+    bpy.ops.wm.open_mainfile(filepath=os.path.abspath(blend))
     scene = bpy.context.scene
-    output = os.path.abspath(args.output)
-    if args.cycles_first:
+    if cycles_first:
         cycles_frame(output + ".cycles.png")
     scene.render.engine = "WHITTED"
-    scene.render.resolution_x, scene.render.resolution_y = args.resolution
+    scene.render.resolution_x, scene.render.resolution_y = resolution
     scene.render.resolution_percentage = 100
     settings = scene.render.image_settings
     if hasattr(settings, "media_type"):
@@ -100,19 +98,42 @@ def main():
     settings.exr_codec = "ZIP"
     scene.render.filepath = output
     bpy.ops.render.render(write_still=True)
-    native = sys.modules[module + ".whitted_native"]
+
+
+def main():
+    args = parse_args()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    module = install(os.path.abspath(args.install)) if args.install else enable_development()
+    errors = {}
+    for index, (blend, output) in enumerate(args.scene):
+        output = os.path.abspath(output)
+        try:
+            render(blend, output, args.resolution, args.cycles_first and index == 0)
+        except RuntimeError as error:  # the engine's ERROR report, raised by the operator
+            if not args.keep_errors:
+                raise
+            errors[blend] = str(error)
+            continue
+        print(f"render_scenes: wrote {output} with {module}", flush=True)
+    native = sys.modules.get(module + ".whitted_native")
     report = {
         "blender": bpy.app.version_string,
+        "python": f"{sys.version_info[0]}.{sys.version_info[1]}",
         "module": module,
         "addon_file": sys.modules[module].__file__,
-        "native_file": os.path.realpath(native.__file__),
+        "native_file": os.path.realpath(native.__file__) if native else None,
         "mapped": mapped_libraries(),
         "dev_addon_loaded": "whitted" in sys.modules and module != "whitted",
+        "errors": errors,
     }
     if args.report:
         with open(args.report, "w", encoding="utf-8") as out:
             json.dump(report, out, indent=1)
-    print(f"render_demo: wrote {output} with {module}", flush=True)
+    if not bpy.app.binary_path:
+        # A bpy module's venv has the tools (.pth); Blender 3.4's fresh profile has not.
+        from whitted_tools.blender import exit_process
+
+        exit_process(0)
 
 
 main()
