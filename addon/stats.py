@@ -142,7 +142,8 @@ def _rays_line(rays):
     return (
         f"{rays['total'] / 1e6:.2f} M rays (camera {rays['camera'] / 1e6:.2f}, shadow "
         f"{rays['shadow'] / 1e6:.2f}, reflection {rays['reflection'] / 1e6:.2f}, refraction "
-        f"{rays['refraction'] / 1e6:.2f}, transparent {rays['transparent'] / 1e6:.2f})"
+        f"{rays['refraction'] / 1e6:.2f}, glossy {rays['glossy'] / 1e6:.2f}, transparent "
+        f"{rays['transparent'] / 1e6:.2f})"
     )
 
 

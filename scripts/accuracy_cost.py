@@ -88,6 +88,11 @@ SWEEPS = (
         "Soft-shadow samples per axis (sized lights)",
         [(str(n), {"light_samples": n}) for n in (1, 2, 3, 4, 6)],
     ),
+    (
+        "glossy_samples",
+        "Glossy rays per axis (rough reflections)",
+        [(str(n), {"glossy_samples": n}) for n in (1, 2, 3, 4, 6)],
+    ),
     ("fresnel", "Fresnel", [(f, {"fresnel": f}) for f in ("OFF", "SCHLICK", "EXACT")]),
     (
         "cutoff",

@@ -59,6 +59,7 @@ PROGRAM_FIELDS = (
     "coat_shininess",
     "coat_ior",
     "diffuse_roughness",
+    "roughness",
 )
 
 
@@ -70,7 +71,7 @@ class MaterialData:
     specular: Color  # ks of the normalised Phong highlight
     shininess: float  # Phong exponent
     ambient: float  # weight of the ambient term ka * Ia * kd
-    reflectivity: Color  # weight of the mirror ray
+    reflectivity: Color  # weight of the mirror ray (or of the glossy lobe's rays)
     transmissivity: Color  # weight of the refracted ray
     ior: float
     emission: Color  # radiance added as is, W/(m^2 sr)
@@ -95,6 +96,15 @@ class MaterialData:
     # `diffuse_roughness`.
     diffuse_model: str = "LAMBERT"
     diffuse_roughness: float = 0.0
+    # Blender's roughness of the reflection lobe (`reflectivity`): up to 0.02 a mirror;
+    # above, GGX of alpha = roughness^2 for its rays and its lamp highlights. Only the
+    # Blender local model sets it (Lecture keeps the seed's mirror and Phong highlight).
+    roughness: float = 0.0
+    # Cycles' Multiscatter GGX distribution: the lobe keeps its facets' inter-reflections.
+    multiscatter: bool = False
+    # How the lobe's Smith masking and shadowing combine (native Masking's name): Cycles
+    # 4.0 on height-correlated, 3.x separable.
+    masking: str = "CORRELATED"
 
 
 @dataclass(frozen=True)
@@ -129,11 +139,13 @@ _BLACK = MaterialData(
 )
 
 
-def convert_material(material, warnings, programs=False):
+def convert_material(material, warnings, programs=False, local_model="BLENDER"):
     """Convert one material: the node mapping, or with the Whitted material
     panel's override on, its values (emission, alpha and textures still come
-    from the nodes). `programs`: whether the native module runs shader programs."""
-    exported = map_material(material, warnings, programs)
+    from the nodes). `programs`: whether the native module runs shader programs;
+    `local_model`: scene.whitted.local_model, BLENDER (the BSDFs' own lobes: glossy
+    reflection where they are rough) or LECTURE (the seed's mirror and Phong)."""
+    exported = map_material(material, warnings, programs, local_model)
     settings = material.whitted
     if not settings.use_override:
         return exported
@@ -147,18 +159,22 @@ def convert_material(material, warnings, programs=False):
         reflectivity=tuple(settings.reflectivity),
         transmissivity=tuple(settings.transmissivity),
         ior=settings.ior,
+        # The override's reflection is the seed's mirror, whatever the nodes' roughness.
+        roughness=0.0,
+        multiscatter=False,
     )
+    overridden = ("diffuse", "specular", "shininess", "reflectivity", "transmissivity", "ior")
     outputs = tuple(
         (name, register)
         for name, register in exported.outputs
-        if name not in ("diffuse", "specular", "shininess", "reflectivity", "transmissivity", "ior")
+        if name not in (*overridden, "roughness")
     )
     if exported.program is not None and not outputs:
         return replace(exported, data=data, program=None, outputs=())
     return replace(exported, data=data, outputs=outputs)
 
 
-def map_material(material, warnings, programs=False):
+def map_material(material, warnings, programs=False, local_model="BLENDER"):
     """The node mapping: a material's surface shader as Whitted parameters.
 
     Without nodes, the viewport display values are used. A material without a
@@ -173,7 +189,7 @@ def map_material(material, warnings, programs=False):
         return MaterialExport(_BLACK)
     found = []
     lowering = Lowering(owner, found)
-    closure = surface(lowering, output_node)
+    closure = surface(lowering, output_node, local_model=local_model)
     fields = finish(lowering, closure)
     exported = _fixed(fields, lowering)
     if exported is None and programs:
@@ -183,7 +199,9 @@ def map_material(material, warnings, programs=False):
         # with only what the fixed material shows, the rest at unlinked values.
         found = []
         lowering = Lowering(owner, found)
-        fields = finish(lowering, surface(lowering, output_node, legacy=True))
+        fields = finish(
+            lowering, surface(lowering, output_node, legacy=True, local_model=local_model)
+        )
         exported = _fixed(fields, lowering, approximate=True)
         _warn(
             found,
@@ -199,6 +217,8 @@ def map_material(material, warnings, programs=False):
             # 4.0-4.2 were not rendered here).
             model = "OREN_NAYAR_ENERGY"
         exported = replace(exported, data=replace(exported.data, diffuse_model=model))
+    if closure.multiscatter:
+        exported = replace(exported, data=replace(exported.data, multiscatter=True))
     return exported
 
 
@@ -304,6 +324,8 @@ def _material_data(values, **textures):
         coat_shininess=values["coat_shininess"][0],
         coat_ior=values["coat_ior"][0],
         diffuse_roughness=values["diffuse_roughness"][0],
+        roughness=values["roughness"][0],
+        masking="CORRELATED" if bpy.app.version >= (4, 0, 0) else "SEPARABLE",
         # Cycles 3.x adds every lobe of a closure on top of the others (the Principled's
         # specular and Clearcoat do not dim its diffuse); 4.0 on layers them.
         coat_layered=bpy.app.version >= (4, 0, 0),

@@ -18,6 +18,7 @@ class Quality:
     aa_threshold: float  # adaptive: split a square whose corners differ by more
     aa_depth: int  # adaptive: how many times a square may be split
     light_samples: int  # shadow feelers per axis of a sized light whose own setting is 0
+    glossy_samples: int  # rays per axis drawn from a rough reflection lobe
     fresnel: str  # OFF | SCHLICK | EXACT
     cutoff: float  # a secondary ray whose weight is below this is not traced
     texture_filter: str  # AUTHORED (each Image Texture node's) | CLOSEST
@@ -36,6 +37,7 @@ PRESETS = (
             aa_threshold=0.3,
             aa_depth=1,
             light_samples=1,
+            glossy_samples=1,
             fresnel="SCHLICK",
             cutoff=0.05,
             texture_filter="CLOSEST",
@@ -52,6 +54,7 @@ PRESETS = (
             aa_threshold=0.3,
             aa_depth=1,
             light_samples=2,
+            glossy_samples=2,
             fresnel="SCHLICK",
             cutoff=0.01,
             texture_filter="AUTHORED",
@@ -69,6 +72,7 @@ PRESETS = (
             aa_threshold=0.1,
             aa_depth=2,
             light_samples=4,
+            glossy_samples=3,
             fresnel="EXACT",
             cutoff=1.0 / 255.0,
             texture_filter="AUTHORED",
@@ -85,6 +89,7 @@ PRESETS = (
             aa_threshold=0.0,
             aa_depth=3,
             light_samples=6,
+            glossy_samples=6,
             fresnel="EXACT",
             # Not 0: without a cutoff a ray tree in glass doubles at every bounce
             # (2^16 rays per camera sample); a weight of 1/1000 is below 8-bit output.

@@ -82,6 +82,33 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         min=0,
         max=6,
     )
+    glossy_samples: IntProperty(
+        name="Glossy Samples",
+        description="Rays per axis (n x n) drawn from a rough surface's reflection lobe "
+        "where a ray first meets one (later glossy bounces of that ray send one each)",
+        default=2,
+        min=1,
+        max=16,
+    )
+    local_model: EnumProperty(
+        name="Local Model",
+        description="How a surface reflects light",
+        items=(
+            (
+                "BLENDER",
+                "Blender",
+                "The BSDFs as Cycles evaluates them: a rough metal's reflection is its "
+                "GGX lobe, blurred by glossy rays and lit by the same lobe",
+            ),
+            (
+                "LECTURE",
+                "Lecture",
+                "Phong shading and a perfect mirror, as Whitted's 1980 tracer and the "
+                "lecture write it (rough reflection fades into a Phong highlight)",
+            ),
+        ),
+        default="BLENDER",
+    )
     light_samples: IntProperty(
         name="Shadow Samples",
         description="Shadow feelers per axis (n x n) of a sized light (area, radius or "

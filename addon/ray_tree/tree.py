@@ -21,7 +21,7 @@ from ..viewport.camera import view_camera
 # the scene's size (the distance from the origin to the farthest ray point).
 MISS_LENGTH = 0.5
 # Ray kinds in the order the panel lists their counts.
-KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent")
+KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "glossy")
 
 
 @dataclass(frozen=True)

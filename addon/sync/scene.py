@@ -63,6 +63,7 @@ class SyncParams:
     light_samples: int  # feelers per axis of a sized light whose own setting is 0
     texture_filter: str  # AUTHORED | CLOSEST
     ambient_strength: float  # scales the world's ambient light
+    local_model: str = "BLENDER"  # scene.whitted.local_model: how materials are mapped
     # A view layer's UV pass is on: every mesh sends its active render UV map, not only
     # those whose textures read one.
     uv_pass: bool = False
@@ -74,6 +75,7 @@ class SyncParams:
             light_samples=quality.light_samples,
             texture_filter=quality.texture_filter,
             ambient_strength=scene.whitted.ambient_strength,
+            local_model=scene.whitted.local_model,
             uv_pass=any(layer.use_pass_uv for layer in scene.view_layers),
         )
 
@@ -201,6 +203,7 @@ class SceneSync:
             changes is None
             or params.texture_filter != self._params.texture_filter
             or params.uv_pass != self._params.uv_pass
+            or params.local_model != self._params.local_model
         ):
             return True
         # Objects added or given other materials list their materials' updates too;
@@ -221,11 +224,15 @@ class SceneSync:
             for block in depsgraph.ids
             if isinstance(block, bpy.types.Material)
         }
-        redo = changes is None or changes.node_groups
+        redo = (
+            changes is None or changes.node_groups or params.local_model != self._params.local_model
+        )
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
                 exported = replace(
-                    convert_material(material, warnings, programs=self._programs),
+                    convert_material(
+                        material, warnings, programs=self._programs, local_model=params.local_model
+                    ),
                     pass_index=material.pass_index,  # for the IndexMA pass
                 )
                 if exported != self._materials.get(name):

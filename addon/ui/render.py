@@ -33,6 +33,7 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         column = layout.column()
+        column.prop(settings, "local_model")
         column.prop(settings, "max_depth")
         column.prop(settings, "cutoff")
         column.prop(settings, "aa_mode")
@@ -42,6 +43,9 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         else:
             column.prop(settings, "aa_samples")
         column.prop(settings, "light_samples")
+        glossy = column.row()
+        glossy.active = settings.local_model == "BLENDER"
+        glossy.prop(settings, "glossy_samples")
         column.prop(settings, "fresnel")
         column.prop(settings, "glass_shadows")
         column.prop(settings, "texture_filter")

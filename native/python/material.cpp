@@ -40,6 +40,11 @@ void bind_material(py::module_& m) {
       .value("SMOOTH_SIDE", BumpShadowing::kSmoothSide)
       .value("CHIANG", BumpShadowing::kChiang)
       .value("MICROFACET", BumpShadowing::kMicrofacet);
+  py::enum_<Masking>(m, "Masking",
+                     "How a glossy lobe's Smith masking and shadowing combine: CORRELATED "
+                     "(height-correlated, Cycles 4.0 on) or SEPARABLE (G1_o G1_i, Cycles 3.x).")
+      .value("CORRELATED", Masking::kCorrelated)
+      .value("SEPARABLE", Masking::kSeparable);
   py::enum_<DiffuseModel>(m, "DiffuseModel",
                           "The shape of the diffuse lobe: LAMBERT; BURLEY (Burley's diffuse with "
                           "retro-reflection: Cycles 3.x's Principled BSDF), OREN_NAYAR (a rough "
@@ -57,13 +62,17 @@ void bind_material(py::module_& m) {
                        const std::map<std::string, int64_t>& outputs, float coat_specular,
                        float coat_reflectivity, float coat_shininess, float coat_ior,
                        bool coat_layered, bool valid_reflection, BumpShadowing bump_shadowing,
-                       DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index) {
+                       DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index,
+                       float roughness, bool multiscatter, Masking masking) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
                                             .shininess = shininess,
                                             .ambient = ambient,
                                             .reflectivity = reflectivity,
+                                            .roughness = roughness,
+                                            .multiscatter = multiscatter,
+                                            .masking = masking,
                                             .transmissivity = transmissivity,
                                             .ior = ior,
                                             .emission = emission,
@@ -98,13 +107,15 @@ void bind_material(py::module_& m) {
            py::arg("bump_shadowing") = defaults.bump_shadowing,
            py::arg("diffuse_model") = defaults.diffuse_model,
            py::arg("diffuse_roughness") = defaults.diffuse_roughness,
-           py::arg("pass_index") = defaults.pass_index,
+           py::arg("pass_index") = defaults.pass_index, py::arg("roughness") = defaults.roughness,
+           py::arg("multiscatter") = defaults.multiscatter, py::arg("masking") = defaults.masking,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
-           "coat_shininess, coat_ior, coat_normal, diffuse_roughness); the other fields keep the "
-           "constants given "
-           "here. coat_*: a clear layer on top whose highlight and mirror weights are scaled by "
+           "coat_shininess, coat_ior, coat_normal, diffuse_roughness, roughness); the other fields "
+           "keep the constants given here. roughness: Blender's roughness of the reflection "
+           "lobe (below 0.02 a mirror; above, GGX of alpha roughness^2, its rays glossy). coat_*: "
+           "a clear layer on top whose highlight and mirror weights are scaled by "
            "the dielectric Fresnel factor of coat_ior per hit; the rest lights the base (with "
            "coat_layered; without it the coat is added on top, as Cycles 3.x does).")
       .def_readonly("diffuse", &Material::diffuse)
@@ -112,6 +123,11 @@ void bind_material(py::module_& m) {
       .def_readonly("shininess", &Material::shininess)
       .def_readonly("ambient", &Material::ambient)
       .def_readonly("reflectivity", &Material::reflectivity)
+      .def_readonly("roughness", &Material::roughness)
+      .def_readonly("masking", &Material::masking)
+      .def_readonly("multiscatter", &Material::multiscatter,
+                    "Cycles' Multiscatter GGX: the glossy lobe keeps the energy its facets "
+                    "pass between them.")
       .def_readonly("transmissivity", &Material::transmissivity)
       .def_readonly("ior", &Material::ior)
       .def_readonly("emission", &Material::emission)

@@ -22,6 +22,8 @@ const char* kind_name(TreeRayKind kind) {
       return "tir";
     case TreeRayKind::kTransparent:
       return "transparent";
+    case TreeRayKind::kGlossy:
+      return "glossy";
   }
   return "camera";
 }

@@ -9,9 +9,9 @@ from whitted.export.material import MAX_SHININESS, convert_material, map_materia
 from whitted.export.texture import CheckerTextureSpec, ImageTextureSpec
 
 
-def convert(material, warnings):
-    """The Whitted parameters a material exports with."""
-    return convert_material(material, warnings).data
+def convert(material, warnings, local_model="BLENDER"):
+    """The Whitted parameters a material exports with in `local_model`."""
+    return convert_material(material, warnings, local_model=local_model).data
 
 
 def node_material(name, **inputs):
@@ -68,17 +68,32 @@ def test_polished_metal_is_a_tinted_mirror(warnings):
     )
 
 
-def test_rough_metal_moves_reflection_into_the_highlight(warnings):
+def test_rough_metal_moves_reflection_into_the_highlight_in_the_lecture_model(warnings):
     color = (0.9, 0.8, 0.7, 1.0)
     material = node_material("Metal", **{"Base Color": color, "Metallic": 1.0, "Roughness": 0.2})
     # sharp = 1 - 4 * 0.2 = 0.2 of the base colour is mirror, the rest highlight;
     # alpha = 0.04 -> Blinn exponent 2 / 0.0016 - 2 = 1248, Phong 1248 / 4.
     assert_material(
-        convert(material, warnings),
+        convert(material, warnings, local_model="LECTURE"),
         reflectivity=tuple(0.2 * c for c in color[:3]),
         specular=tuple(0.8 * c for c in color[:3]),
         shininess=312.0,
+        roughness=0.0,
     )
+
+
+def test_a_rough_metal_is_a_glossy_lobe_in_the_blender_model(warnings):
+    color = (0.9, 0.8, 0.7, 1.0)
+    material = node_material("Metal", **{"Base Color": color, "Metallic": 1.0, "Roughness": 0.2})
+    # All of the base colour is the GGX lobe's, for its rays and its lamp highlights.
+    assert_material(
+        convert(material, warnings),
+        reflectivity=color[:3],
+        specular=(0.0, 0.0, 0.0),
+        roughness=0.2,
+    )
+    # Blender 4.0 made Multiscatter GGX the Principled BSDF's default distribution.
+    assert convert(material, warnings).multiscatter == (bpy.app.version >= (4, 0, 0))
 
 
 def test_glass(warnings):
@@ -202,6 +217,7 @@ class FakeNode:
     name: str
     inputs: dict
     outputs: dict = field(default_factory=dict)
+    distribution: str = "GGX"  # a Principled BSDF's microfacet distribution
 
 
 @dataclass
@@ -269,9 +285,15 @@ F0 = {"3.x": 0.08 * 0.5, "4.x": (0.33 / 2.33) ** 2}
 @pytest.mark.parametrize(
     ("version", "inputs"), [("3.x", BLENDER_3_INPUTS), ("4.x", BLENDER_4_INPUTS)]
 )
-def test_principled_mapping_by_socket_name(version, inputs, warnings):
-    data = convert(fake_principled_material(inputs), warnings)
+@pytest.mark.parametrize("local_model", ["LECTURE", "BLENDER"])
+def test_principled_mapping_by_socket_name(version, inputs, local_model, warnings):
+    data = convert(fake_principled_material(inputs), warnings, local_model)
     base = (0.5, 0.4, 0.3)
+    # The metal part (0.25 of the base colour): in the Lecture model a mirror of its
+    # sharp share and a Phong highlight of the rest; in the Blender model all of it
+    # the GGX lobe's, of roughness 0.2.
+    lecture = local_model == "LECTURE"
+    metal_mirror, metal_highlight = (0.25 * 0.2, 0.25 * 0.8) if lecture else (0.25, 0.0)
     # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04). The
     # sharp part of the opaque dielectric share, 0.75 * 0.5, is a layer's mirror of the
     # IOR of F0; the highlight keeps the rest.
@@ -286,8 +308,9 @@ def test_principled_mapping_by_socket_name(version, inputs, warnings):
     assert_material(
         data,
         diffuse=tuple(0.75 * 0.5 * c for c in base),
-        reflectivity=tuple(0.25 * 0.2 * c for c in base),
-        specular=tuple(0.75 * F0[version] * kept + 0.25 * 0.8 * c for c in base),
+        reflectivity=tuple(metal_mirror * c for c in base),
+        specular=tuple(0.75 * F0[version] * kept + metal_highlight * c for c in base),
+        roughness=0.0 if lecture else 0.2,
         shininess=312.0,
         transmissivity=tuple(0.5 * 0.75 * c for c in base),
         ior=1.33,
@@ -405,16 +428,33 @@ def test_sharp_glossy_is_a_mirror(warnings):
     )
 
 
-def test_rough_glossy_is_a_highlight(warnings):
+def test_rough_glossy_is_a_highlight_in_the_lecture_model(warnings):
     material = node_material("Satin")
     surface_shader(material, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.7, 1.0), Roughness=0.5)
     # roughness 0.5: sharp = 0, alpha = 0.25 -> Phong exponent (2 / 0.0625 - 2) / 4.
     assert_material(
-        convert(material, warnings),
+        convert(material, warnings, local_model="LECTURE"),
         reflectivity=(0.0, 0.0, 0.0),
         specular=(0.9, 0.8, 0.7),
         shininess=7.5,
     )
+
+
+def test_rough_glossy_is_its_lobe_in_the_blender_model(warnings):
+    material = node_material("Satin")
+    node = surface_shader(
+        material, "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.7, 1.0), Roughness=0.5
+    )
+    node.distribution = "GGX"
+    assert_material(
+        convert(material, warnings),
+        reflectivity=(0.9, 0.8, 0.7),
+        specular=(0.0, 0.0, 0.0),
+        roughness=0.5,
+    )
+    assert not convert(material, warnings).multiscatter
+    node.distribution = "MULTI_GGX"
+    assert convert(material, warnings).multiscatter
 
 
 def test_glass_bsdf(warnings):

@@ -107,7 +107,8 @@ def test_code_rows_follow_the_contract():
 
 
 def test_textured_principled_emits_the_mapping_formulas():
-    # A textured Base Color with metallic 0.5: diffuse, specular and reflectivity vary.
+    # A textured Base Color with metallic 0.5: diffuse and reflectivity vary (the specular
+    # highlight is the dielectric part's, constant, in the Blender local model).
     material = new_material("Painted metal")
     tree = material.node_tree
     bsdf = principled(material)
@@ -118,8 +119,9 @@ def test_textured_principled_emits_the_mapping_formulas():
     tree.links.new(image.outputs["Color"], bsdf.inputs["Base Color"])
     exported = compile_material(material)
     outputs = dict(exported.outputs)
-    assert {"diffuse", "specular", "reflectivity"} <= outputs.keys()
+    assert {"diffuse", "reflectivity"} <= outputs.keys()
     assert "shininess" not in outputs  # roughness constant: folded
+    assert "roughness" not in outputs
     base = (0.2, 0.4, 0.6, 1.0)
     textures = {exported.textures[0].name: lambda vector, mode: base}
     registers = run(exported.program, uv_inputs(), textures)
@@ -131,7 +133,25 @@ def test_textured_principled_emits_the_mapping_formulas():
     constant_bsdf.inputs["Base Color"].default_value = base
     expected = convert_material(constant, []).data
     for field in ("diffuse", "specular", "reflectivity"):
-        assert registers[outputs[field]][:3] == pytest.approx(getattr(expected, field), rel=1e-6)
+        got = registers[outputs[field]][:3] if field in outputs else getattr(exported.data, field)
+        assert tuple(got) == pytest.approx(getattr(expected, field), rel=1e-6)
+    assert exported.data.roughness == pytest.approx(0.1)
+
+
+def test_graph_driven_roughness_of_a_metal_gives_a_roughness_output():
+    material = new_material("Rough metal map")
+    tree = material.node_tree
+    uv = tree.nodes.new("ShaderNodeTexCoord")
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(uv.outputs["UV"], separate.inputs[0])
+    bsdf = principled(material)
+    bsdf.inputs["Metallic"].default_value = 1.0
+    tree.links.new(separate.outputs["X"], bsdf.inputs["Roughness"])
+    exported = compile_material(material)
+    output = dict(exported.outputs)["roughness"]
+    for roughness in (0.0, 0.3, 1.0):
+        registers = run(exported.program, uv_inputs((roughness, 0.0, 0.0, 0.0)))
+        assert registers[output][0] == pytest.approx(roughness)
 
 
 def test_graph_driven_roughness_gives_a_shininess_output():

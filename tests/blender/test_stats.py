@@ -39,6 +39,7 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "aa_threshold": pytest.approx(0.3),
         "aa_depth": 3,
         "light_samples": 4,
+        "glossy_samples": 2,
         "fresnel": "EXACT",
         "cutoff": pytest.approx(1.0 / 255.0),
         "texture_filter": "AUTHORED",
@@ -50,7 +51,7 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
     assert rays["refraction"] > 0
     assert rays["shadow"] > rays["camera"]
     assert rays["transparent"] == 0  # nothing has alpha
-    kinds = ("camera", "shadow", "reflection", "refraction", "transparent")
+    kinds = ("camera", "shadow", "reflection", "refraction", "glossy", "transparent")
     assert rays["total"] == sum(rays[k] for k in kinds)
     assert stats["total_internal_reflections"] > 0  # light trapped in the glass sphere
     assert stats["depth_limited"] > 0

@@ -130,6 +130,12 @@ def _base_color(name, color):
     principled.inputs["Base Color"].default_value = color
 
 
+def _rough_metal(name, roughness):
+    principled = bpy.data.materials[name].node_tree.nodes["Principled BSDF"]
+    principled.inputs["Metallic"].default_value = 1.0
+    principled.inputs["Roughness"].default_value = roughness
+
+
 # (name, edit(scene), what the syncs of that edit may re-export at most)
 EDITS = (
     ("move", lambda s: setattr(s.objects["Cube"], "location", (2.0, -1.0, 0.9)), "transform"),
@@ -142,6 +148,14 @@ EDITS = (
     ("edit vertices", lambda s: _edit_vertices(s.objects["Cube"]), "geometry"),
     ("add modifier", lambda s: s.objects["Cylinder"].modifiers.new("Bevel", "BEVEL"), "geometry"),
     ("material colour", lambda s: _base_color("Checker 0", (0.1, 0.6, 0.2, 1.0)), "material"),
+    # A rough metal reflects glossily in the Blender local model, as a mirror and a Phong
+    # highlight in the Lecture model: switching re-exports it.
+    ("rough metal", lambda s: _rough_metal("Checker 0", 0.35), "material"),
+    (
+        "local model",
+        lambda s: (setattr(s.whitted, "local_model", "LECTURE"), s.update_tag()),
+        "material",
+    ),
     ("texture pixels", lambda s: _texture_pixels(), "texture"),
     ("swap texture", lambda s: _swap_texture(), "texture"),
     ("add object", _add_cube, "any"),

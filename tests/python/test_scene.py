@@ -282,7 +282,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
     off = {"name": "reflection", "on": False, "why": "no reflective or transmissive material"}
     assert off in pruned.stats()["effects"]
     assert [e["name"] for e in pruned.stats()["effects"]] == [
-        *("shadows", "reflection", "refraction", "translucency", "pruning")
+        *("shadows", "reflection", "glossy reflection", "refraction", "translucency", "pruning")
     ]
     assert plain.stats()["effects"] == [
         {"name": "analysis", "on": False, "why": "every effect on"},

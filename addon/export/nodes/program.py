@@ -27,6 +27,7 @@ FIELD_ORDER = (
     "coat_ior",
     "coat_normal",
     "diffuse_roughness",
+    "roughness",
 )
 
 

@@ -36,13 +36,21 @@ LINEAR_FIELDS = (
     "coat_specular",
     "coat_reflectivity",
 )
-WEIGHTED_FIELDS = ("shininess", "ior", "coat_shininess", "coat_ior", "diffuse_roughness")
+WEIGHTED_FIELDS = (
+    "shininess",
+    "ior",
+    "coat_shininess",
+    "coat_ior",
+    "diffuse_roughness",
+    "roughness",
+)
 DEFAULTS = {
     "shininess": 1.0,
     "ior": 1.45,
     "coat_shininess": 1.0,
     "coat_ior": 1.5,
     "diffuse_roughness": 0.0,
+    "roughness": 0.0,
 }
 
 # Phong exponents past this make highlights smaller than a pixel anyway.
@@ -119,6 +127,9 @@ class Closure:
     # The shape of its diffuse lobe where not Lambert's (native DiffuseModel's name:
     # "BURLEY", "OREN_NAYAR"), shaped by the field diffuse_roughness; None: Lambert's.
     diffuse_model: object = None
+    # Its glossy lobe is Cycles' Multiscatter GGX (the energy of the facets'
+    # inter-reflections kept).
+    multiscatter: bool = False
 
 
 class ShaderLowering:
@@ -127,12 +138,15 @@ class ShaderLowering:
     `legacy`: lower for a native module without the shader program: only what the
     fixed material can show varies (an Image or Checker texture on a diffuse colour,
     an image's alpha as coverage); every other linked input uses its unlinked value.
+    `local_model`: BLENDER gives a rough metal's reflection its glossy lobe (the field
+    `roughness`); LECTURE keeps the seed's mirror and Phong highlight.
     """
 
-    def __init__(self, c, legacy=False):
+    def __init__(self, c, legacy=False, local_model="BLENDER"):
         self.c = c
         self.b = c.b
         self.legacy = legacy
+        self.glossy = local_model == "BLENDER"
 
     def black(self):
         zero = self.b.const((0.0, 0.0, 0.0), COLOR)
@@ -220,6 +234,7 @@ class ShaderLowering:
         coat=False,
         coat_normal=None,
         diffuse_model=None,
+        multiscatter=False,
         **fields,
     ):
         base = self.black()
@@ -234,8 +249,10 @@ class ShaderLowering:
             "coat_ior": coverage if coat else self.b.f(0.0),
             # A diffuse lobe of another shape than Lambert's, by its roughness.
             "diffuse_roughness": coverage if diffuse_model else self.b.f(0.0),
+            # A glossy lobe, by its roughness.
+            "roughness": coverage if "roughness" in fields else self.b.f(0.0),
         }
-        return Closure(coverage, values, weights, normal, coat_normal, diffuse_model)
+        return Closure(coverage, values, weights, normal, coat_normal, diffuse_model, multiscatter)
 
     # --- combining -----------------------------------------------------------------
 
@@ -298,7 +315,8 @@ class ShaderLowering:
         model = a.diffuse_model or b.diffuse_model
         if a.diffuse_model and b.diffuse_model and a.diffuse_model != b.diffuse_model:
             self.c.warn(node, "combines two diffuse models; the first one is used")
-        return Closure(coverage, fields, weights, normal, coat_normal, model)
+        multiscatter = a.multiscatter or b.multiscatter
+        return Closure(coverage, fields, weights, normal, coat_normal, model, multiscatter)
 
 
 def _zero(expr):
@@ -407,6 +425,7 @@ def _principled(s, out):
         roughness=roughness,
         f0=highlight_f0,
         transmission=transmission,
+        glossy=s.glossy,
     )
     sheen = _sheen(s, out, base_other)
     if sheen is not None:
@@ -441,6 +460,7 @@ def _principled(s, out):
         coat=coat is not None,
         coat_normal=coat_normal,
         diffuse_model=diffuse_model,
+        multiscatter="roughness" in fields and node.distribution == "MULTI_GGX",
         **fields,
     )
 
@@ -594,18 +614,22 @@ def shininess_of(b, roughness):
     return b.clamp(b.sub(b.div(b.f(0.5), alpha2), b.f(0.5)), 1.0, MAX_SHININESS)
 
 
-def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=None):
+def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=None, glossy=False):
     """Principled-style parameters -> Whitted fields (Exprs); `f0` the dielectric
     reflectance at normal incidence (RGB, tint included). The formulas of the
-    constant mapping, emitted as ops where the inputs vary."""
+    constant mapping, emitted as ops where the inputs vary. `glossy` (the Blender
+    local model): the metal's reflection is its GGX lobe of this roughness (the field
+    `roughness`), for rays and lamps alike."""
     base_diffuse = base if base_diffuse is None else base_diffuse
     metallic = b.clamp01(metallic)
     roughness = b.clamp01(roughness)
     transmission = b.clamp01(transmission)
     one = b.f(1.0)
-    # A Whitted tracer cannot blur a reflection, so a metal's mirror fades out as
-    # roughness goes from 0 to 0.25, and the Phong highlight takes its place.
-    sharp = b.maximum(b.f(0.0), b.sub(one, b.mul(b.f(4.0), roughness)))
+    glossy = glossy and not _zero(metallic)
+    # Lecture model: a Whitted tracer cannot blur a reflection, so a metal's mirror
+    # fades out as roughness goes from 0 to 0.25, and the Phong highlight takes its
+    # place. Blender model: all of it is the lobe's, which the native core blurs.
+    sharp = one if glossy else b.maximum(b.f(0.0), b.sub(one, b.mul(b.f(4.0), roughness)))
     dielectric = b.sub(one, metallic)
     # Only what is neither metal nor glass scatters diffusely.
     diffuse_weight = b.mul(dielectric, b.sub(one, transmission))
@@ -621,6 +645,7 @@ def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=
         "shininess": shininess_of(b, roughness),
         "reflectivity": b.vmul(b.mul(metallic, sharp), base),
         "transmissivity": b.vmul(b.mul(transmission, dielectric), base),
+        **({"roughness": roughness} if glossy else {}),
     }
 
 
@@ -649,7 +674,8 @@ def _glossy(s, out):
     if anisotropy is not None and (
         source(anisotropy, out.scope)[0] is not None or anisotropy.default_value != 0.0
     ):
-        s.c.warn(node, "anisotropy is not supported; the highlight is round")
+        s.c.warn(node, "anisotropy is not supported; the lobe is round (isotropic)")
+    _warn_microfacet_distribution(s, node)
     # A glossy reflector of colour C is a metal of base colour C.
     fields = whitted_fields(
         b,
@@ -658,8 +684,20 @@ def _glossy(s, out):
         roughness=roughness,
         f0=b.const((0.0, 0.0, 0.0), COLOR),
         transmission=b.f(0.0),
+        glossy=s.glossy,
     )
-    return s.closure(normal=s.normal(out), highlight=True, **fields)
+    return s.closure(
+        normal=s.normal(out),
+        highlight=True,
+        multiscatter=s.glossy and node.distribution == "MULTI_GGX",
+        **fields,
+    )
+
+
+def _warn_microfacet_distribution(s, node):
+    """Whitted's glossy lobe is GGX's: say so where the node asks for another."""
+    if s.glossy and node.distribution in ("BECKMANN", "ASHIKHMIN_SHIRLEY"):
+        s.c.warn(node, f"the {node.distribution.title()} distribution is rendered as GGX")
 
 
 def _glass(s, out):
@@ -736,6 +774,7 @@ def _toon(s, out):
         roughness=roughness,
         f0=b.const((0.0, 0.0, 0.0), COLOR),
         transmission=b.f(0.0),
+        glossy=s.glossy,
     )
     return s.closure(normal=s.normal(out), highlight=True, **fields)
 
@@ -788,9 +827,9 @@ _SHADERS = {
 SUPPORTED_SHADERS = frozenset(_SHADERS)
 
 
-def surface(c, output_node, legacy=False):
+def surface(c, output_node, legacy=False, local_model="BLENDER"):
     """The closure of a material's active output (its Surface input)."""
-    lowering = ShaderLowering(c, legacy)
+    lowering = ShaderLowering(c, legacy, local_model)
     socket = output_node.inputs["Surface"]
     return lowering.shader(socket, ())
 

@@ -1,5 +1,6 @@
 #include "integrator/analysis.h"
 
+#include <string>
 #include <utility>
 
 #include "integrator/passes.h"
@@ -23,12 +24,14 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
     any_blocker |= (instance.visibility & kShadowRay) != 0;
   }
   bool reflective = false;
+  int glossy = 0;  // used materials whose reflection can be glossy
   bool transmissive = false;
   bool translucent = false;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     if (!used[m]) continue;
     const Material& mat = scene.materials[m];
     reflective |= mat.reflective() || mat.transmissive();
+    glossy += mat.glossy() ? 1 : 0;
     transmissive |= mat.transmissive();
     // Glass lets feelers through only when its shadows are tinted (settings.h).
     translucent |=
@@ -48,6 +51,11 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
          no_bounce    ? "maximum depth 0"
          : reflective ? "reflective or transmissive materials"
                       : "no reflective or transmissive material");
+  decide(effects, kGlossyEffect, glossy > 0 && !no_bounce, "glossy reflection",
+         no_bounce    ? "maximum depth 0"
+         : glossy > 0 ? std::to_string(glossy) + (glossy == 1 ? " material" : " materials") +
+                            " rough above 0.02"
+                      : "no material rougher than a mirror (roughness 0.02)");
   decide(effects, kRefractionEffect, transmissive && !no_bounce, "refraction",
          no_bounce      ? "maximum depth 0"
          : transmissive ? "transmissive materials"

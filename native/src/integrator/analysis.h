@@ -22,6 +22,9 @@ enum EffectBits : uint32_t {
                                   // behind the surface, no irradiance, the light's
                                   // contribution below the cutoff)
   kAllEffects = (1u << 5) - 1,
+  // Glossy rays from lobes rougher than a mirror (scene/microfacet.h). Read at run time
+  // in every kernel: not one of the sets the kernels are compiled for (kAllEffects).
+  kGlossyEffect = 1u << 5,
 };
 
 // One decision of the analysis: an effect's name, whether it is simulated, and why
@@ -35,8 +38,9 @@ struct EffectDecision {
 };
 
 struct Effects {
-  uint32_t bits = kAllEffects;
-  std::vector<EffectDecision> decisions;  // one per effect, in EffectBits order
+  uint32_t bits = kAllEffects | kGlossyEffect;
+  std::vector<EffectDecision> decisions;  // one per effect, in EffectBits order (glossy
+                                          // after reflection)
   bool has(uint32_t bit) const { return (bits & bit) != 0; }
 };
 

@@ -22,6 +22,7 @@ enum class TreeRayKind {
   kRefraction,               // the refracted ray, sigma_t
   kTotalInternalReflection,  // the mirror ray of a transmissive surface that could not refract
   kTransparent,              // straight on: behind a cut-out, or through a false interface
+  kGlossy,                   // a ray drawn from a glossy reflection lobe, its share of sigma_r
 };
 
 // Why a ray of the tree was not traced (or, for a shadow ray, not sent).

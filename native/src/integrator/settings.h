@@ -24,6 +24,12 @@ struct Settings {
   int width = 640;
   int height = 480;
   int max_depth = 5;  // secondary bounces allowed after the camera ray
+  // Distributed ray tracing's glossy rays (Cook et al. 1984): a glossy surface (a lobe
+  // rougher than a mirror, Material::glossy) met by a ray that has not yet been
+  // reflected glossily sends n x n rays drawn from its lobe, stratified; later glossy
+  // bounces of the same branch send one each (the ray tree would otherwise grow by n^2
+  // at every glossy bounce).
+  int glossy_samples = 2;
   AntiAliasing aa_mode = AntiAliasing::kRegular;
   int aa_samples = 1;         // per axis, regular and jittered: n x n samples
   float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)

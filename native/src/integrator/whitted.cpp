@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 #include <utility>
 
@@ -78,16 +79,19 @@ struct ShadingPoint {
   float phong_norm;    // (f+2)/(2pi), the normalisation of the Phong lobe
   Color multiscatter;  // kOrenNayarEnergy: the diffuse lobe's multiple scattering, per
                        // unit LightTerms::loss (0 for the other diffuse models)
+  float alpha;         // GGX alpha of the reflection lobe; 0: a mirror (microfacet.h)
+  Color energy;        // the lobe's multiple-scattering scale (Material::multiscatter), or 1
 };
 
 // One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
 // the pieces the sum, the passes and the inspector multiply out.
 struct LightTerms {
-  float lit;   // (1 - coat) * max(0, n.l): the light the base receives
-  float fade;  // diffuse_fade: kd/pi * fade + multiscatter * loss is the diffuse lobe
-  float loss;  // what a kOrenNayarEnergy lobe's single scattering loses of this light
-  float lobe;  // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
-  float coat;  // the coat's highlight
+  float lit;     // (1 - coat) * max(0, n.l): the light the base receives
+  float fade;    // diffuse_fade: kd/pi * fade + multiscatter * loss is the diffuse lobe
+  float loss;    // what a kOrenNayarEnergy lobe's single scattering loses of this light
+  float lobe;    // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
+  float coat;    // the coat's highlight
+  float glossy;  // (1 - coat) * the GGX lobe times (l.n): reflectivity * glossy is its share
 };
 
 // The split of weights: the weights of the secondary rays, Whitted's sigma_r and sigma_t,
@@ -320,7 +324,25 @@ class Kernel {
             ? surface.diffuse * oren_nayar_multiscatter(surface.diffuse, surface.diffuse_roughness,
                                                         glm::dot(ns, wo))
             : Color(0.0f);
-    return {it, surface, ng, ns, smooth, wo, coat, base, phong_norm, multiscatter};
+    // A lobe rougher than a mirror is GGX's, for lights and rays (microfacet.h).
+    const float alpha = surface.roughness * surface.roughness;
+    const bool glossy = alpha >= kMirrorAlpha && !is_black(surface.reflectivity);
+    const Color energy =
+        glossy && it.material->multiscatter
+            ? ggx_multiscatter_scale(surface.reflectivity, glm::dot(ns, wo), surface.roughness)
+            : Color(1.0f);
+    return {it,
+            surface,
+            ng,
+            ns,
+            smooth,
+            wo,
+            coat,
+            base,
+            phong_norm,
+            multiscatter,
+            glossy ? alpha : 0.0f,
+            energy};
   }
 
   // The split of weights: sigma_r and sigma_t of the secondary rays. The transmissive
@@ -359,9 +381,14 @@ class Kernel {
     return split;
   }
 
-  // The reflected term: sigma_r times what the mirror ray brings back.
+  // The reflected term: sigma_r times what the mirror ray brings back, or the mean of
+  // what rays drawn from a glossy lobe bring back.
   Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
                    const NodeState& state, RayCounts* counts) const {
+    if (p.alpha > 0.0f && !split.about_coat && !split.total_internal_reflection &&
+        (effects_ & kGlossyEffect) != 0) {
+      return glossy_reflection(p, split, state, counts);
+    }
     Vec3 r = reflect(ray.direction, split.about_coat ? p.coat.normal : p.ns);
     if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
     const TreeRayKind kind = split.total_internal_reflection ? TreeRayKind::kTotalInternalReflection
@@ -373,6 +400,65 @@ class Kernel {
       recorder_.reflected(state.depth, state.throughput, split.sigma_r, reflected);
     }
     return split.sigma_r * reflected;
+  }
+
+  // Distributed ray tracing's glossy reflection (Cook et al. 1984): n x n rays drawn
+  // from the GGX lobe (microfacet.h), one per stratum of [0, 1)^2, each weighing
+  // sigma_r * G2/G1 / n^2 (the lobe over its density). The strata are shifted by a hash
+  // of the hit (hit_shift), so every render of a scene draws the same rays and
+  // neighbouring samples different ones. A ray the lobe sends below the surface is lost,
+  // as light the single-scattering lobe does not return.
+  Color glossy_reflection(const ShadingPoint& p, const Split& split, const NodeState& state,
+                          RayCounts* counts) const {
+    const int n = state.glossy == 0 ? settings_.glossy_samples : 1;
+    const float share = 1.0f / static_cast<float>(n * n);
+    const glm::vec2 shift = hit_shift(p.it.position, state.depth);
+    Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
+    for (int k = 0; k < n * n; ++k) {
+      const float u1 = stratum(k % n, n, shift.x);
+      const float u2 = stratum(k / n, n, shift.y);
+      Vec3 wi;
+      float lobe = 0.0f;  // G2 / G1
+      if (!ggx_sample_reflection(p.ns, p.wo, p.alpha, u1, u2, &wi, &lobe, p.it.material->masking)) {
+        continue;
+      }
+      if (glm::dot(wi, p.ng) <= 0.0f) continue;  // below the surface itself
+      const Color weight = split.sigma_r * p.energy * (lobe * share);
+      const Color brought = branch(
+          spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, wi, kReflectionRay),
+          state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts,
+          /*glossy=*/true);
+      mean += (lobe * share) * p.energy * brought;
+    }
+    if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
+    return split.sigma_r * mean;
+  }
+
+  // Stratum `index` of `n` on [0, 1), shifted by `shift` and wrapped.
+  static float stratum(int index, int n, float shift) {
+    const float u = (static_cast<float>(index) + 0.5f) / static_cast<float>(n) + shift;
+    return u - std::floor(u);
+  }
+
+  // Two numbers in [0, 1) from a hit point's coordinates and the ray's depth: a hash of
+  // their bits (MurmurHash3's finaliser), the same on every thread and in every tile.
+  static glm::vec2 hit_shift(const Vec3& position, int depth) {
+    const auto mix = [](uint32_t h) {
+      h ^= h >> 16;
+      h *= 0x85ebca6bu;
+      h ^= h >> 13;
+      h *= 0xc2b2ae35u;
+      return h ^ (h >> 16);
+    };
+    uint32_t h = mix(static_cast<uint32_t>(depth) + 0x9e3779b9u);
+    for (const float c : {position.x, position.y, position.z}) {
+      uint32_t bits = 0;
+      std::memcpy(&bits, &c, sizeof bits);
+      h = mix(h ^ bits);
+    }
+    const uint32_t g = mix(h ^ 0x68bc21ebu);
+    // The top 24 bits: exact in a float, below 1.
+    return {static_cast<float>(h >> 8) * 0x1p-24f, static_cast<float>(g >> 8) * 0x1p-24f};
   }
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media
@@ -391,12 +477,14 @@ class Kernel {
 
   // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
   // the cutoff stops it; `bounce` is false for a ray that only continues straight on
-  // (`kind` names it for the inspector). The one place the ray tree branches.
+  // (`kind` names it for the inspector), `glossy` true for a ray drawn from a glossy
+  // lobe. The one place the ray tree branches.
   Color branch(const Ray& ray, const NodeState& state, const Color& weight,
                const MediumStack& media, bool bounce, [[maybe_unused]] TreeRayKind kind,
-               RayCounts* counts) const {
+               RayCounts* counts, bool glossy = false) const {
     NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
     if constexpr (kPasses) next.throughput = state.throughput * weight;
+    next.glossy = state.glossy + (glossy ? 1 : 0);
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
       if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kDepth);
@@ -409,7 +497,11 @@ class Kernel {
       if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
-    if (bounce && ray.kind == kReflectionRay) counts->reflection += 1;
+    if (glossy) {
+      counts->glossy += 1;
+    } else if (bounce && ray.kind == kReflectionRay) {
+      counts->reflection += 1;
+    }
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
     if constexpr (kRecord) {
       const RayTree::Scope scope(tree_, tree_->current, tree_->scale * weight, kind);
@@ -521,6 +613,9 @@ class Kernel {
     const Color brdf = surface.diffuse * (kInvPi * t.fade) + p.multiscatter * t.loss +
                        surface.specular * (p.phong_norm * t.lobe);
     out->unshadowed = (t.lit * brdf + Color(t.coat)) * ls.irradiance;
+    if (p.alpha > 0.0f) {
+      out->unshadowed += surface.reflectivity * p.energy * t.glossy * ls.irradiance;
+    }
     if constexpr (kRecord) record_light(node, p, t, ls);
     out->sends_feeler = shadow(p, light, ls, out->unshadowed, state, counts, &out->feeler);
   }
@@ -540,6 +635,7 @@ class Kernel {
           light_in;
       terms->specular +=
           (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
+      if (p.alpha > 0.0f) terms->specular += surface.reflectivity * p.energy * t.glossy * light_in;
     }
     return prepared.unshadowed * transmittance;
   }
@@ -594,8 +690,14 @@ class Kernel {
   // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
   static LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
     const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-    LightTerms t{p.base * std::max(0.0f, cos_l), 1.0f, 0.0f, phong_lobe(p, v_dot_r),
-                 coat_highlight(p.coat, p.wo, wi)};
+    LightTerms t{p.base * std::max(0.0f, cos_l),
+                 1.0f,
+                 0.0f,
+                 phong_lobe(p, v_dot_r),
+                 coat_highlight(p.coat, p.wo, wi),
+                 p.alpha > 0.0f
+                     ? p.base * ggx_reflection(p.ns, p.wo, wi, p.alpha, p.it.material->masking)
+                     : 0.0f};
     diffuse_fade(p, wi, cos_l, &t);
     return t;
   }
@@ -759,6 +861,7 @@ class Kernel {
     n.diffuse = arriving * (t.lit * kInvPi * t.fade) * p.surface.diffuse +
                 arriving * (t.lit * t.loss) * p.multiscatter;
     n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
+    if (p.alpha > 0.0f) n.specular += arriving * t.glossy * p.surface.reflectivity * p.energy;
     n.cut = TreeCut::kUnshadowed;
   }
   // A shadow ray that was sent: what got through, and the first surface in its way, if any.
@@ -816,6 +919,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   shadow += o.shadow;
   reflection += o.reflection;
   refraction += o.refraction;
+  glossy += o.glossy;
   transparent += o.transparent;
   total_internal_reflections += o.total_internal_reflections;
   depth_limited += o.depth_limited;

@@ -25,6 +25,7 @@ struct RayCounts {
   uint64_t shadow = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
+  uint64_t glossy = 0;                      // reflections drawn from a glossy lobe
   uint64_t transparent = 0;                 // continuations behind cut-outs (alpha < 1)
   uint64_t total_internal_reflections = 0;  // refracted rays that became reflections
   uint64_t depth_limited = 0;               // secondary rays not traced: maximum depth
@@ -38,7 +39,9 @@ struct RayCounts {
   uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
 
   RayCounts& operator+=(const RayCounts& o);
-  uint64_t total() const { return camera + shadow + reflection + refraction + transparent; }
+  uint64_t total() const {
+    return camera + shadow + reflection + refraction + glossy + transparent;
+  }
 };
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
@@ -53,6 +56,7 @@ struct NodeState {
   Color weight{1.0f};
   MediumStack media;
   Color throughput{1.0f};
+  int glossy = 0;  // glossy bounces on the way here (Settings::glossy_samples)
 };
 
 // Analyses the scene once, then traces only the effects the scene calls for

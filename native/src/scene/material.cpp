@@ -28,6 +28,8 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     throw std::invalid_argument("diffuse_roughness must be finite");
   }
   diffuse_roughness = std::clamp(diffuse_roughness, 0.0f, 1.0f);
+  if (!std::isfinite(roughness)) throw std::invalid_argument("roughness must be finite");
+  roughness = std::clamp(roughness, 0.0f, 1.0f);
   if (static_cast<uint32_t>(bump_shadowing) > static_cast<uint32_t>(BumpShadowing::kMicrofacet)) {
     throw std::invalid_argument("bump_shadowing is not a BumpShadowing");
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "scene/microfacet.h"
 #include "texture/program.h"
 
 namespace whitted {
@@ -33,13 +34,14 @@ enum Field : uint32_t {
   kCoatIorField,
   kCoatNormalField,
   kDiffuseRoughnessField,
+  kRoughnessField,
   kFieldCount,
 };
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "diffuse",        "specular",      "shininess",         "reflectivity",
     "transmissivity", "ior",           "emission",          "alpha",
     "normal",         "coat_specular", "coat_reflectivity", "coat_shininess",
-    "coat_ior",       "coat_normal",   "diffuse_roughness"};
+    "coat_ior",       "coat_normal",   "diffuse_roughness", "roughness"};
 
 // How a diffuse lobe shaded with a program's normal (a normal map, a bump) fades where
 // that normal leans towards a light the smooth surface turns away from: Cycles' bump
@@ -68,11 +70,20 @@ enum class DiffuseModel : uint32_t {
 // A material as the exporter describes it. Material's constructor checks it; these
 // defaults are a valid grey Lambertian material.
 struct MaterialParams {
-  Color diffuse{0.8f};         // albedo kd: the diffuse term is kd/pi * E
-  Color specular{0.0f};        // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
-  float shininess = 50.0f;     // Phong exponent f
-  float ambient = 1.0f;        // ka: the ambient term is ka * Ia * kd
-  Color reflectivity{0.0f};    // sigma_r before the Fresnel split (whitted.cpp)
+  Color diffuse{0.8f};       // albedo kd: the diffuse term is kd/pi * E
+  Color specular{0.0f};      // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
+  float shininess = 50.0f;   // Phong exponent f
+  float ambient = 1.0f;      // ka: the ambient term is ka * Ia * kd
+  Color reflectivity{0.0f};  // sigma_r before the Fresnel split (whitted.cpp)
+  // Blender's roughness of the reflection lobe: 0 (below 0.02) a mirror, as Whitted's;
+  // above, the GGX lobe of alpha = roughness^2 (scene/microfacet.h), whose rays are
+  // glossy and whose highlight lamps give of its colour, `reflectivity`. In [0, 1].
+  float roughness = 0.0f;
+  // Cycles' Multiscatter GGX: the lobe keeps the energy its facets pass between them
+  // (ggx_multiscatter_scale); false: GGX's single scattering.
+  bool multiscatter = false;
+  // How the lobe's masking and shadowing combine (Cycles 3.x: separable).
+  Masking masking = Masking::kCorrelated;
   Color transmissivity{0.0f};  // sigma_t before the Fresnel split
   float ior = 1.5f;            // index of refraction inside the surface (outside: 1)
   Color emission{0.0f};        // radiance added as is
@@ -104,7 +115,7 @@ struct MaterialParams {
   // for the constant above.
   std::shared_ptr<const Program> program{};
   std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1,
-                                              -1, -1, -1, -1, -1, -1, -1};
+                                              -1, -1, -1, -1, -1, -1, -1, -1};
 };
 
 struct Material : MaterialParams {
@@ -122,6 +133,12 @@ struct Material : MaterialParams {
 
   bool driven(Field field) const { return outputs[field] >= 0; }
   // Whether a hit may reflect or transmit: a program-driven weight may be non-zero.
+  // Whether its reflection can be glossy: a lobe rougher than a mirror, or one a program
+  // computes (glossy rays and GGX highlights: whitted.cpp).
+  bool glossy() const {
+    return (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
+           (!is_black(reflectivity) || driven(kReflectivityField));
+  }
   bool reflective() const {
     return !is_black(reflectivity) || driven(kReflectivityField) || coat_reflectivity > 0.0f ||
            driven(kCoatReflectivityField);

@@ -1,0 +1,174 @@
+#include "scene/microfacet.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace whitted {
+
+Frame::Frame(const Vec3& normal) : n(normal) {
+  // Any vector not parallel to n makes the tangent; the frame is orthonormal either way.
+  const Vec3 helper = std::fabs(n.x) > 0.9f ? Vec3(0.0f, 1.0f, 0.0f) : Vec3(1.0f, 0.0f, 0.0f);
+  t = glm::normalize(glm::cross(helper, n));
+  b = glm::cross(n, t);
+}
+
+float ggx_distribution(float cos_m, float alpha) {
+  if (cos_m <= 0.0f) return 0.0f;
+  const float a2 = alpha * alpha;
+  const float c2 = cos_m * cos_m;
+  const float d = c2 * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * d * d);
+}
+
+float ggx_lambda(float cos_theta, float alpha) {
+  const float c2 = cos_theta * cos_theta;
+  if (c2 <= 0.0f) return kInfinity;
+  // alpha^2 tan^2(theta), with tan^2 = (1 - cos^2) / cos^2.
+  const float a2t2 = alpha * alpha * std::max(0.0f, 1.0f - c2) / c2;
+  return 0.5f * (std::sqrt(1.0f + a2t2) - 1.0f);
+}
+
+namespace {
+
+// G2 over G1(wo), from the two directions' Lambdas.
+float masking_ratio(float lambda_o, float lambda_i, Masking masking) {
+  if (masking == Masking::kSeparable) return 1.0f / (1.0f + lambda_i);  // G1_i
+  return (1.0f + lambda_o) / (1.0f + lambda_o + lambda_i);
+}
+
+}  // namespace
+
+float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, Masking masking) {
+  const float cos_o = glm::dot(n, wo);
+  const float cos_i = glm::dot(n, wi);
+  if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
+  const Vec3 half = wo + wi;
+  const float length = glm::length(half);
+  if (!(length > 0.0f)) return 0.0f;
+  const float d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  // Smith's masking-shadowing (Heitz 2014): height-correlated as Cycles 4.0 on has it,
+  // or separable as Cycles 3.x.
+  const float lambda_o = ggx_lambda(cos_o, alpha);
+  const float g2 = masking_ratio(lambda_o, ggx_lambda(cos_i, alpha), masking) / (1.0f + lambda_o);
+  return d * g2 / (4.0f * cos_o);
+}
+
+bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
+                           float* weight, Masking masking) {
+  *weight = 0.0f;
+  const Frame frame(n);
+  const Vec3 v = frame.to_local(wo);
+  if (v.z <= 0.0f) return false;
+  // Heitz (2018): the view stretched to the hemisphere configuration, ...
+  const Vec3 vh = glm::normalize(Vec3(alpha * v.x, alpha * v.y, v.z));
+  const float lensq = vh.x * vh.x + vh.y * vh.y;
+  const Vec3 t1 = lensq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = glm::cross(vh, t1);
+  // ... a point on the disc of its visible projected area (the disc's lower half shrunk
+  // by the view's tilt), ...
+  const float r = std::sqrt(u1);
+  const float phi = 2.0f * kPi * u2;
+  const float p1 = r * std::cos(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+  // ... lifted to the hemisphere, and unstretched: the microfacet normal.
+  const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  const Vec3 m = glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
+  const Vec3 l = 2.0f * glm::dot(v, m) * m - v;  // the view mirrored about m
+  if (l.z <= 0.0f) return false;
+  *weight = masking_ratio(ggx_lambda(v.z, alpha), ggx_lambda(l.z, alpha), masking);
+  *wi = glm::normalize(frame.to_world(l));
+  return true;
+}
+
+namespace {
+
+constexpr int kTableSize = 32;  // roughness and cos_o, each in [0, 1], ends included
+
+// E(cos_o, roughness) on a grid, and E_avg(roughness): immutable once made.
+struct AlbedoTables {
+  std::array<float, kTableSize * kTableSize> albedo{};  // [roughness][cos_o]
+  std::array<float, kTableSize> average{};
+
+  AlbedoTables() {
+    constexpr int kStrata = 24;  // 24 x 24 stratified lobe samples per entry
+    for (int r = 0; r < kTableSize; ++r) {
+      const float roughness = static_cast<float>(r) / (kTableSize - 1);
+      const float alpha = std::max(roughness * roughness, 1e-4f);
+      double mean = 0.0;
+      for (int c = 0; c < kTableSize; ++c) {
+        const float cos_o = std::max(static_cast<float>(c) / (kTableSize - 1), 1e-3f);
+        const Vec3 wo(std::sqrt(1.0f - cos_o * cos_o), 0.0f, cos_o);
+        double sum = 0.0;
+        for (int i = 0; i < kStrata; ++i) {
+          for (int j = 0; j < kStrata; ++j) {
+            Vec3 wi;
+            float weight = 0.0f;
+            if (ggx_sample_reflection(Vec3(0, 0, 1), wo, alpha, (i + 0.5f) / kStrata,
+                                      (j + 0.5f) / kStrata, &wi, &weight)) {
+              sum += weight;
+            }
+          }
+        }
+        const float e = static_cast<float>(sum / (kStrata * kStrata));
+        albedo[static_cast<size_t>(r * kTableSize + c)] = e;
+        // E_avg = 2 * integral of E(mu) mu dmu, by the trapezoid rule over the grid.
+        const float weight = (c == 0 || c == kTableSize - 1) ? 0.5f : 1.0f;
+        mean += weight * e * (static_cast<float>(c) / (kTableSize - 1));
+      }
+      average[static_cast<size_t>(r)] = static_cast<float>(2.0 * mean / (kTableSize - 1));
+    }
+  }
+};
+
+const AlbedoTables& tables() {
+  static const AlbedoTables made;  // made once, by the first caller (thread-safe)
+  return made;
+}
+
+// Position of x in [0, 1] on the grid: the cell and the weight of its upper end.
+void cell(float x, int* index, float* t) {
+  const float g = std::clamp(x, 0.0f, 1.0f) * (kTableSize - 1);
+  *index = std::min(static_cast<int>(g), kTableSize - 2);
+  *t = g - static_cast<float>(*index);
+}
+
+}  // namespace
+
+float ggx_albedo(float cos_o, float roughness) {
+  int r = 0;
+  int c = 0;
+  float tr = 0.0f;
+  float tc = 0.0f;
+  cell(roughness, &r, &tr);
+  cell(cos_o, &c, &tc);
+  const auto& e = tables().albedo;
+  const auto at = [&](int i, int j) { return e[static_cast<size_t>(i * kTableSize + j)]; };
+  const float low = at(r, c) + tc * (at(r, c + 1) - at(r, c));
+  const float high = at(r + 1, c) + tc * (at(r + 1, c + 1) - at(r + 1, c));
+  return low + tr * (high - low);
+}
+
+float ggx_average_albedo(float roughness) {
+  int r = 0;
+  float t = 0.0f;
+  cell(roughness, &r, &t);
+  const auto& a = tables().average;
+  return a[static_cast<size_t>(r)] +
+         t * (a[static_cast<size_t>(r + 1)] - a[static_cast<size_t>(r)]);
+}
+
+Color ggx_multiscatter_scale(const Color& f, float cos_o, float roughness) {
+  const float e = std::max(ggx_albedo(cos_o, roughness), 1e-3f);
+  const float e_avg = ggx_average_albedo(roughness);
+  Color scale;
+  for (int k = 0; k < 3; ++k) {
+    const float fk = std::clamp(f[k], 0.0f, 1.0f);
+    const float f_ms = fk * e_avg / std::max(1.0f - fk * (1.0f - e_avg), 1e-6f);
+    scale[k] = 1.0f + f_ms * (1.0f - e) / e;
+  }
+  return scale;
+}
+
+}  // namespace whitted

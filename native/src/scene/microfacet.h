@@ -1,0 +1,71 @@
+// The GGX microfacet lobe as Blender's BSDFs define it (Walter et al., "Microfacet Models
+// for Refraction through Rough Surfaces", EGSR 2007): Blender's roughness r maps to
+// alpha = r^2 (Cycles does the mapping when it sets up the closure; here the exporter
+// sends alpha); Smith's height-correlated masking-shadowing, as Cycles evaluates it;
+// directions drawn from the visible normals (Heitz, "Sampling the GGX Distribution of
+// Visible Normals", JCGT 2018). One lobe serves lights and rays: a light sample reads
+// its value (eval), a glossy ray is drawn from it (sample), so direct light and one
+// specular bounce agree with Cycles'. Single scattering only (Cycles' Multiscatter GGX
+// adds the energy the facets' inter-reflections keep; docs/SUPPORT.md says how much).
+#pragma once
+
+#include "core/math.h"
+#include "core/ray.h"
+
+namespace whitted {
+
+// Below this alpha (roughness 0.02, as the issue's threshold) a lobe is a mirror: it is
+// traced as one exact reflection and lights give it no highlight.
+inline constexpr float kMirrorAlpha = 0.02f * 0.02f;
+
+// An orthonormal frame about unit normal n: local (x, y, z) -> world x*t + y*b + z*n.
+struct Frame {
+  Vec3 t;
+  Vec3 b;
+  Vec3 n;
+
+  explicit Frame(const Vec3& normal);
+  Vec3 to_local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+  Vec3 to_world(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+// GGX's normal distribution D(m) for cos_m = n.m of the microfacet normal m.
+float ggx_distribution(float cos_m, float alpha);
+
+// Smith's Lambda for a direction at cos_theta to the normal: G1 = 1 / (1 + Lambda).
+float ggx_lambda(float cos_theta, float alpha);
+
+// How Smith's masking (of the view) and shadowing (of the light) combine into G2:
+// height-correlated, 1 / (1 + Lambda_o + Lambda_i) (Cycles 4.0 on), or separable,
+// G1_o * G1_i (Cycles 3.x).
+enum class Masking { kCorrelated, kSeparable };
+
+// The reflection lobe for view wo and light wi (unit, about unit normal n) times
+// cos(wi): f * cos_i = D * G2 / (4 cos_o), without Fresnel or colour; 0 below either
+// horizon. A light sample of irradiance E (on a surface facing the light) adds
+// colour * this * E.
+float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
+                     Masking masking = Masking::kCorrelated);
+
+// A direction drawn from the reflection lobe for view wo about unit normal n, from the
+// two uniform numbers u1, u2 in [0, 1): wi = reflect(-wo, m) for m a visible normal.
+// *weight receives lobe value / pdf = G2 / G1(wo), in [0, 1] (without Fresnel or
+// colour). Returns false when wi falls below the surface (weight 0: the lobe's mass the
+// single-scattering model loses).
+bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
+                           float* weight, Masking masking = Masking::kCorrelated);
+
+// The energy the single-scattering lobe keeps: its directional albedo E for a view at
+// cos_o to the normal (Fresnel 1), from a 32 x 32 table over (roughness, cos_o) made
+// once from ggx_sample_reflection, read bilinearly; and E's cosine-weighted mean, E_avg.
+// Roughness is Blender's (alpha = roughness^2).
+float ggx_albedo(float cos_o, float roughness);
+float ggx_average_albedo(float roughness);
+
+// Multiple scattering between the facets, as an energy scale of the single-scattering
+// lobe of colour `f` (Kulla & Conty 2017; the albedo scaling of Cycles 4.x's
+// Multiscatter GGX): 1 + F_ms (1 - E) / E per channel, F_ms = f E_avg / (1 - f (1 -
+// E_avg)). A white lobe then returns all the light that reaches it.
+Color ggx_multiscatter_scale(const Color& f, float cos_o, float roughness);
+
+}  // namespace whitted

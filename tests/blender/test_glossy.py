@@ -1,0 +1,174 @@
+"""Glossy reflection in the Blender local model (the GGX lobe, native
+scene/microfacet.h) against Cycles: a lamp's highlight on a rough glossy surface pixel
+by pixel, and a rough metal reflecting its surroundings; the Lecture model keeps the
+seed's mirror and Phong highlight."""
+
+import bpy
+import numpy as np
+import pytest
+from cycles_scenes import render_rgba, set_cycles_direct_light
+from whitted_tools.material_scenes import sphere_under_sun
+
+
+def glossy_material(name, colour, roughness, distribution):
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    bsdf = tree.nodes.new("ShaderNodeBsdfGlossy")
+    bsdf.distribution = distribution
+    bsdf.inputs["Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    tree.links.new(bsdf.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    return material
+
+
+LOBES = [(r, d) for r in (0.3, 0.6, 1.0) for d in ("GGX", "MULTI_GGX")]
+
+
+@pytest.mark.parametrize(("roughness", "distribution"), LOBES)
+def test_a_suns_highlight_on_a_glossy_sphere_is_cycles(
+    roughness, distribution, empty_scene, tmp_path, native
+):
+    # A smooth sphere under a sun seen along a side, black world: every pixel has its own
+    # light and view angles, and Cycles' direct light from a sun of angle 0 is exact (no
+    # ray can hit the sun), so each pixel is compared with its own. Before the glossy lobe
+    # the highlight was a Phong lobe clamped at exponent 1 above roughness 0.76.
+    scene = empty_scene
+    material = glossy_material("Brushed", (0.9, 0.6, 0.3), roughness, distribution)
+    sphere_under_sun(scene, material, 48, segments=96, rings=48)
+    # Cycles 3.x evaluates Multiscatter GGX by a random walk: one per sample, so average.
+    stochastic = distribution == "MULTI_GGX" and bpy.app.version < (4, 0, 0)
+    set_cycles_direct_light(scene, samples=256 if stochastic else 1)
+    # No Russian roulette on faint light samples (3.x's default threshold 0.01 turns
+    # them into 0 or 0.01).
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 1
+    scene.whitted.max_depth = 1  # glossy rays see the black world: nothing
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    assert lit.sum() > 300
+    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
+    low, median, high = np.percentile(ratio, [5, 50, 95])
+    energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
+    print(
+        f"\nglossy {distribution} {roughness}: Whitted / Cycles {low:.4f} {median:.4f} "
+        f"{high:.4f} (5%, median, 95%), summed {energy:.4f}"
+    )
+    if stochastic:
+        # Whitted scales the single-scattering lobe by the energy it loses (Cycles 4.0
+        # on does so); 3.x's random walk spreads that energy in another shape. Only the
+        # sum is compared (docs/SUPPORT.md gives the figures).
+        assert 0.85 < energy < 1.15
+        return
+    assert 0.99 < median < 1.01
+    assert low > 0.98 and high < 1.02
+
+
+def metal_reflecting_surroundings(scene, material):
+    """A rough sphere of `material` on a checker-free grey floor lit by a sun, under a
+    uniform grey sky that lights no diffuse surface; the camera sees the sphere and
+    what its lobe reflects: the floor below, the sky above."""
+    from whitted_tools.material_scenes import add_camera, add_floor, add_sun, grey_world
+
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    grey_world(scene, 0.5)
+    add_floor(scene, size=12.0, albedo=0.6)
+    smooth_sphere_at(material)
+    add_camera(scene, (0.0, -4.0, 1.4), (0.0, 0.0, 1.0), lens=70.0)
+    add_sun(scene, rotation=(40.0, 0.0, 30.0), strength=2.0)
+    scene.whitted.ambient_strength = 0.0  # the sky lights no diffuse surface, as in Cycles
+
+
+def smooth_sphere_at(material):
+    from whitted_tools.material_scenes import smooth_sphere
+
+    return smooth_sphere("Ball", (0.0, 0.0, 1.0), 1.0, material, segments=64, rings=32)
+
+
+METALS = [("glossy", 0.15), ("glossy", 0.4), ("principled", 0.4), ("glossy", 1.0)]
+
+
+@pytest.mark.parametrize(("kind", "roughness"), METALS)
+def test_a_rough_metal_reflects_its_surroundings_as_cycles(
+    kind, roughness, empty_scene, tmp_path, native
+):
+    # Before glossy rays a metal of roughness 0.4 was black but for its highlights, and
+    # one of 0.15 a sharp mirror. Cycles: one glossy bounce, many samples (its noise is
+    # what the bound leaves room for); Whitted: the Final preset's glossy rays.
+    from whitted_tools.metrics import subject_figures
+
+    scene = empty_scene
+    colour = (1.0, 0.78, 0.34)  # gold
+    if kind == "glossy":
+        material = glossy_material("Gold", colour, roughness, "GGX")
+    else:
+        material = bpy.data.materials.new("Gold")
+        if bpy.app.version < (5, 0, 0):
+            material.use_nodes = True
+        bsdf = material.node_tree.nodes["Principled BSDF"]
+        bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+        bsdf.inputs["Metallic"].default_value = 1.0
+        bsdf.inputs["Roughness"].default_value = roughness
+    metal_reflecting_surroundings(scene, material)
+    set_cycles_direct_light(scene, samples=512)
+    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 3
+    scene.whitted.glossy_samples = 6
+    scene.whitted.max_depth = 1
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
+    # The sphere's pixels: those nearer than the floor's, by the floor's distance... the
+    # floor covers the rest of the frame, so take the disc the sphere projects to.
+    height, width = ball.shape
+    ys, xs = np.mgrid[0:height, 0:width]
+    centre = (width / 2.0 - 0.5, height / 2.0 - 0.5)
+    ball &= (xs - centre[0]) ** 2 + (ys - centre[1]) ** 2 < (0.3 * width) ** 2
+    value, ratio = subject_figures(whitted, cycles, ball)
+    print(f"\n{kind} metal {roughness}: SSIM {value:.4f}, luminance ratio {ratio:.4f}")
+    # Measured: 0.995 to 1.010 in 3.4 and 5.2 (the Principled metal's rim, brightened
+    # towards white by Cycles' Fresnel, is a few pixels of the disc); SSIM 0.94-0.97,
+    # Cycles' own noise at 512 samples most of the difference.
+    assert abs(ratio - 1.0) < 0.05
+    assert value > 0.9
+
+
+def test_the_demo_has_no_rough_metal_and_renders_the_same_in_both_models(
+    demo_scene_module, empty_scene, render_pixels
+):
+    # What calls for no glossy reflection renders as the seed does: the Blender model
+    # changes only rough reflections.
+    scene = demo_scene_module.build_demo_scene(empty_scene)
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.render.resolution_percentage = 100
+    blender_model = render_pixels(scene)
+    scene.whitted.local_model = "LECTURE"
+    lecture = render_pixels(scene)
+    assert np.array_equal(blender_model, lecture)
+
+
+def test_the_lecture_model_keeps_the_seeds_mirror_and_phong_highlight(
+    empty_scene, render_pixels, tmp_path, monkeypatch
+):
+    # A rough metal: glossy rays in the Blender model, none in the Lecture model, whose
+    # image is the Phong highlight and the faded mirror of before.
+    import json
+
+    material = glossy_material("Gold", (1.0, 0.78, 0.34), 0.4, "GGX")
+    metal_reflecting_surroundings(empty_scene, material)
+    stats_path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(stats_path))
+    glossy = render_pixels(empty_scene)
+    glossy_rays = json.loads(stats_path.read_text())["rays"]["glossy"]
+    empty_scene.whitted.local_model = "LECTURE"
+    lecture = render_pixels(empty_scene)
+    lecture_rays = json.loads(stats_path.read_text())["rays"]["glossy"]
+    assert glossy_rays > 0 and lecture_rays == 0
+    assert not np.array_equal(glossy, lecture)

@@ -1,0 +1,208 @@
+// Glossy reflection (distributed ray tracing over the GGX lobe, scene/microfacet.h) in
+// the integrator: the highlight a lamp gives is the lobe evaluated, a white lobe in a
+// white world gains no energy, a lobe tending to a mirror gives the mirror's image, the
+// analysis reports it, and the pixels depend on neither threads nor tiles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "integrator/analysis.h"
+#include "integrator/render.h"
+#include "integrator/whitted.h"
+#include "scene/microfacet.h"
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::emitter;
+using testing::looking_down;
+using testing::quad;
+
+Material rough_metal(float roughness, Color colour = Color(1.0f)) {
+  Material m;
+  m.diffuse = Color(0.0f);
+  m.specular = Color(0.0f);
+  m.ambient = 0.0f;
+  m.reflectivity = colour;
+  m.roughness = roughness;
+  return m;
+}
+
+// A point lamp far from the mirror direction of a very rough metal still lights it, by
+// exactly the GGX lobe (the Phong lobe clamped at exponent 1 gave almost nothing there).
+TEST(Glossy, ALampsHighlightIsTheLobeEvaluated) {
+  for (const float roughness : {0.3f, 1.0f}) {
+    Scene scene;
+    add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), rough_metal(roughness, Color(0.9f)));
+    Light light;
+    light.color = Color(50.0f);
+    light.position = Vec3(-3.0f, 0.0f, 1.0f);  // low on the left
+    scene.set_light("light", light);
+    scene.set_background(Color(0.0f));
+    const auto compiled = scene.compile();
+    Settings settings;
+    settings.max_depth = 0;  // the lamp alone
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    // Seen from high on the left: the lamp is more than 90 degrees from the mirror
+    // direction of the view.
+    const Vec3 origin(-1.0f, 0.0f, 3.0f);
+    const Vec3 target(0.5f, 0.2f, 0.0f);
+    const Ray ray{origin, glm::normalize(target - origin), 0.0f, kInfinity};
+    const float got = integrator.trace(ray, NodeState{}, &counts).x;
+    const Vec3 n(0.0f, 0.0f, 1.0f);
+    const Vec3 wo = -ray.direction;
+    const Vec3 to_light = light.position - target;
+    const float d2 = glm::dot(to_light, to_light);
+    const Vec3 wi = to_light / std::sqrt(d2);
+    ASSERT_LT(glm::dot(wi, reflect(-wo, n)), 0.0f) << "the lamp is not far from the mirror";
+    // Irradiance on a surface facing the lamp: I / d^2.
+    const float expected = 0.9f * ggx_reflection(n, wo, wi, roughness * roughness) * 50.0f / d2;
+    EXPECT_GT(expected, 1e-3f) << roughness;
+    EXPECT_NEAR(got, expected, 1e-4f * expected + 1e-7f) << "roughness " << roughness;
+  }
+}
+
+// A white furnace for glossy rays: a white rough metal plane under a uniform white world
+// returns at most what arrives; single scattering loses more as roughness grows, and
+// Multiscatter GGX's energy scale gives it back.
+TEST(Glossy, AWhiteLobeInAWhiteWorldGainsNoEnergy) {
+  for (const bool multiscatter : {false, true}) {
+    for (const float roughness : {0.1f, 0.3f, 0.6f, 1.0f}) {
+      Scene scene;
+      Material white = rough_metal(roughness);
+      white.multiscatter = multiscatter;
+      add_object(&scene, "floor", quad(-1000, 1000, -1000, 1000, 0), white);
+      scene.set_background(Color(1.0f));
+      scene.camera = looking_down(Vec3(0.0f, 0.0f, 3.0f), 2.0f);
+      const auto compiled = scene.compile();
+      Settings settings;
+      settings.glossy_samples = 8;
+      settings.cutoff = 0.0f;
+      const WhittedIntegrator integrator(*compiled, settings);
+      RayCounts counts;
+      double sum = 0.0;
+      const int n = 16;
+      for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+          const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
+          const Color c = integrator.trace(ray, NodeState{}, &counts);
+          ASSERT_TRUE(is_finite(c));
+          // Each sample of a single-scattering lobe weighs G2/G1 <= 1; the energy scale
+          // makes them up to 1/E (1 on average).
+          const float bound = multiscatter ? 1.0f / ggx_albedo(-ray.direction.z, roughness) : 1.0f;
+          EXPECT_LE(max_component(c), bound + 1e-5f) << roughness;
+          EXPECT_GE(c.x, 0.0f);
+          sum += c.x;
+        }
+      }
+      const double mean = sum / (n * n);
+      // Single scattering keeps 0.99 at roughness 0.1, 0.43 at 1 (measured here).
+      const double least = multiscatter ? 0.97 : roughness <= 0.3f ? 0.9 : 0.4;
+      EXPECT_GT(mean, least) << "roughness " << roughness << " multiscatter " << multiscatter;
+      if (multiscatter) EXPECT_LT(mean, 1.02) << "roughness " << roughness;
+      EXPECT_LE(counts.glossy, static_cast<uint64_t>(n * n * 64));
+      EXPECT_GT(counts.glossy, static_cast<uint64_t>(n * n * 32));
+      EXPECT_EQ(counts.reflection, 0u);
+    }
+  }
+}
+
+// Roughness towards 0: the glossy image of an emitter tends to the mirror's.
+TEST(Glossy, ALobeTendingToAMirrorGivesTheMirrorsImage) {
+  const auto render = [](float roughness) {
+    Scene scene;
+    add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), rough_metal(roughness, Color(0.8f)));
+    add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f), emitter(Color(3.0f)));
+    scene.set_background(Color(0.1f));
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 1.0f), 1.0f);
+    const auto compiled = scene.compile();
+    Settings settings;
+    settings.glossy_samples = 4;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    std::vector<float> image;
+    const int n = 32;
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        image.push_back(integrator
+                            .trace(scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n),
+                                   NodeState{}, &counts)
+                            .x);
+      }
+    }
+    return image;
+  };
+  const std::vector<float> mirror = render(0.0f);
+  double previous = 1e9;
+  for (const float roughness : {0.4f, 0.2f, 0.1f, 0.04f}) {
+    const std::vector<float> glossy = render(roughness);
+    double difference = 0.0;
+    for (size_t i = 0; i < mirror.size(); ++i) difference += std::fabs(glossy[i] - mirror[i]);
+    difference /= static_cast<double>(mirror.size());
+    EXPECT_LT(difference, previous) << "roughness " << roughness;
+    previous = difference;
+  }
+  EXPECT_LT(previous, 0.05);
+}
+
+TEST(Glossy, TheAnalysisNamesTheGlossyMaterials) {
+  Scene scene;
+  add_object(&scene, "rough", quad(-1, 1, -1, 1, 0), rough_metal(0.5f));
+  add_object(&scene, "mirror", quad(2, 3, -1, 1, 0), rough_metal(0.0f));
+  const auto compiled = scene.compile();
+  const Effects effects = analyse(*compiled, Settings{});
+  EXPECT_TRUE(effects.has(kGlossyEffect));
+  bool named = false;
+  for (const EffectDecision& d : effects.decisions) {
+    if (d.name == "glossy reflection") {
+      named = true;
+      EXPECT_TRUE(d.on);
+      EXPECT_EQ(d.why, "1 material rough above 0.02");
+    }
+  }
+  EXPECT_TRUE(named);
+  Scene plain;
+  add_object(&plain, "mirror", quad(2, 3, -1, 1, 0), rough_metal(0.01f));
+  EXPECT_FALSE(analyse(*plain.compile(), Settings{}).has(kGlossyEffect));
+}
+
+std::vector<float> render_job(const Scene& scene, Settings settings) {
+  RenderJob job(scene, settings, scene.camera);
+  job.start();
+  while (!job.wait(1.0)) {
+  }
+  return job.film().pixels();
+}
+
+// Glossy rays are drawn from a hash of the hit, never from a thread's state: the same
+// pixels on any thread count and tile size.
+TEST(Glossy, ThePixelsDependOnNeitherThreadsNorTiles) {
+  Scene scene;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), rough_metal(0.35f, Color(0.8f)));
+  add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f), emitter(Color(3.0f)));
+  Light light;
+  light.color = Color(20.0f);
+  light.position = Vec3(1.0f, 1.0f, 3.0f);
+  scene.set_light("light", light);
+  scene.set_background(Color(0.2f));
+  scene.camera = looking_down(Vec3(0.3f, 0.0f, 1.5f), 1.0f);
+  Settings settings;
+  settings.width = 41;
+  settings.height = 29;
+  settings.aa_samples = 2;
+  settings.glossy_samples = 3;
+  settings.threads = 1;
+  settings.tile_size = 64;
+  const std::vector<float> reference = render_job(scene, settings);
+  for (auto [threads, tile] : {std::pair{2, 5}, std::pair{3, 16}}) {
+    settings.threads = threads;
+    settings.tile_size = tile;
+    EXPECT_TRUE(render_job(scene, settings) == reference) << threads << " threads, tile " << tile;
+  }
+}
+
+}  // namespace
+}  // namespace whitted

@@ -1,0 +1,127 @@
+// The GGX lobe against its defining integrals: D's projected area is one, the sampled
+// directions carry the lobe's own albedo, no energy is gained at any angle, grazing
+// views stay finite, and the lobe tends to the mirror as alpha tends to 0.
+#include "scene/microfacet.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace whitted {
+namespace {
+
+const Vec3 kNormal{0.0f, 0.0f, 1.0f};
+
+Vec3 direction(float cos_theta, float phi) {
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+// The integral of f(w) over the upper hemisphere, midpoint rule in (cos_theta, phi).
+template <class F>
+double hemisphere(F f, int n = 1024) {
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const float c = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
+    for (int j = 0; j < n; ++j) {
+      const float phi = 2.0f * kPi * (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
+      sum += f(direction(c, phi));
+    }
+  }
+  return sum * 2.0 * kPi / (static_cast<double>(n) * n);
+}
+
+// The mean weight of n x n stratified samples of the lobe: its directional albedo.
+double sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      Vec3 wi;
+      float weight = 0.0f;
+      const float u1 = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
+      const float u2 = (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
+      if (ggx_sample_reflection(kNormal, wo, alpha, u1, u2, &wi, &weight)) sum += weight;
+    }
+  }
+  return sum / (static_cast<double>(n) * n);
+}
+
+TEST(Microfacet, TheDistributionsProjectedAreaIsOne) {
+  for (const float alpha : {0.05f, 0.2f, 0.5f, 1.0f}) {
+    const double area =
+        hemisphere([&](const Vec3& m) { return ggx_distribution(m.z, alpha) * m.z; }, 2048);
+    EXPECT_NEAR(area, 1.0, alpha < 0.1f ? 2e-2 : 2e-3) << "alpha " << alpha;
+  }
+}
+
+TEST(Microfacet, SampledWeightsCarryTheEvaluatedLobesAlbedo) {
+  for (const float alpha : {0.1f, 0.3f, 0.6f, 1.0f}) {
+    for (const float cos_o : {0.95f, 0.6f, 0.2f}) {
+      const Vec3 wo = direction(cos_o, 0.3f);
+      const double evaluated =
+          hemisphere([&](const Vec3& wi) { return ggx_reflection(kNormal, wo, wi, alpha); });
+      const double sampled = sampled_albedo(wo, alpha);
+      EXPECT_NEAR(sampled, evaluated, 0.01 * evaluated + 1e-3)
+          << "alpha " << alpha << " cos_o " << cos_o;
+    }
+  }
+}
+
+TEST(Microfacet, AWhiteLobeGainsNoEnergyAtAnyAngle) {
+  // A white furnace for one bounce: what a unit white lobe returns of a uniform world.
+  for (const float alpha : {0.001f, 0.05f, 0.3f, 1.0f}) {
+    for (const float cos_o : {1.0f, 0.5f, 0.1f, 0.01f}) {
+      const double albedo = sampled_albedo(direction(cos_o, 1.0f), alpha, 64);
+      EXPECT_LE(albedo, 1.0 + 1e-6) << "alpha " << alpha << " cos_o " << cos_o;
+      EXPECT_GE(albedo, 0.0);
+      // Nearly smooth lobes lose almost nothing, except at grazing views.
+      if (alpha <= 0.05f && cos_o >= 0.5f) EXPECT_GT(albedo, 0.97) << alpha;
+    }
+  }
+}
+
+TEST(Microfacet, GrazingAndBackfacingDirectionsGiveFiniteNonNegativeWeights) {
+  for (const float alpha : {1e-4f, 0.02f, 0.5f, 1.0f}) {
+    for (const float cos_o : {1e-6f, 1e-3f, 0.0f, -0.2f}) {
+      const Vec3 wo = direction(cos_o, 0.7f);
+      for (const float u : {0.0f, 0.25f, 0.999999f}) {
+        Vec3 wi(0.0f);
+        float weight = -1.0f;
+        const bool above = ggx_sample_reflection(kNormal, wo, alpha, u, 1.0f - u, &wi, &weight);
+        EXPECT_TRUE(std::isfinite(weight));
+        EXPECT_GE(weight, 0.0f);
+        EXPECT_LE(weight, 1.0f);
+        if (above) {
+          EXPECT_TRUE(is_finite(wi));
+          EXPECT_GT(wi.z, 0.0f);
+        }
+        const float value = ggx_reflection(kNormal, wo, direction(std::fabs(cos_o), 2.0f), alpha);
+        EXPECT_TRUE(std::isfinite(value));
+        EXPECT_GE(value, 0.0f);
+      }
+    }
+  }
+}
+
+TEST(Microfacet, TheLobeTendsToTheMirrorAsAlphaTendsToZero) {
+  const Vec3 wo = direction(0.6f, 0.4f);
+  const Vec3 mirror = reflect(-wo, kNormal);
+  float previous = -1.0f;
+  for (const float alpha : {0.3f, 0.1f, 0.03f, 0.01f, 0.001f}) {
+    float worst = 1.0f;  // the smallest cosine to the mirror direction over the samples
+    for (int k = 0; k < 16; ++k) {
+      Vec3 wi;
+      float weight = 0.0f;
+      const float u = (static_cast<float>(k) + 0.5f) / 16.0f;
+      const bool above = ggx_sample_reflection(kNormal, wo, alpha, u, 0.37f, &wi, &weight);
+      if (alpha < 0.05f) ASSERT_TRUE(above) << alpha;  // only wide lobes reach below
+      if (above) worst = std::min(worst, glm::dot(wi, mirror));
+    }
+    EXPECT_GE(worst, previous - 1e-6f) << "alpha " << alpha;
+    previous = worst;
+  }
+  EXPECT_GT(previous, 0.9999f);
+}
+
+}  // namespace
+}  // namespace whitted
