@@ -60,6 +60,7 @@ PROGRAM_FIELDS = (
     "coat_ior",
     "diffuse_roughness",
     "roughness",
+    "coat_roughness",
 )
 
 
@@ -83,6 +84,8 @@ class MaterialData:
     coat_reflectivity: float = 0.0
     coat_shininess: float = 1000.0
     coat_ior: float = 1.5
+    # Its reflection's roughness as `roughness` (Blender local model only).
+    coat_roughness: float = 0.0
     # The coat takes its share from the layers beneath (Cycles 4.0 on); Cycles 3.x's
     # Principled adds its specular and Clearcoat on top.
     coat_layered: bool = True
@@ -159,15 +162,31 @@ def convert_material(material, warnings, programs=False, local_model="BLENDER"):
         reflectivity=tuple(settings.reflectivity),
         transmissivity=tuple(settings.transmissivity),
         ior=settings.ior,
-        # The override's reflection is the seed's mirror, whatever the nodes' roughness.
+        # The override is the seed's material: its reflection is a mirror and it has no
+        # coat, whatever the nodes' roughness and specular layer.
         roughness=0.0,
         multiscatter=False,
+        coat_specular=0.0,
+        coat_reflectivity=0.0,
+        coat_roughness=0.0,
     )
-    overridden = ("diffuse", "specular", "shininess", "reflectivity", "transmissivity", "ior")
+    overridden = (
+        "diffuse",
+        "specular",
+        "shininess",
+        "reflectivity",
+        "transmissivity",
+        "ior",
+        "roughness",
+        "coat_specular",
+        "coat_reflectivity",
+        "coat_shininess",
+        "coat_ior",
+        "coat_normal",
+        "coat_roughness",
+    )
     outputs = tuple(
-        (name, register)
-        for name, register in exported.outputs
-        if name not in (*overridden, "roughness")
+        (name, register) for name, register in exported.outputs if name not in overridden
     )
     if exported.program is not None and not outputs:
         return replace(exported, data=data, program=None, outputs=())
@@ -323,6 +342,7 @@ def _material_data(values, **textures):
         coat_reflectivity=values["coat_reflectivity"][0],
         coat_shininess=values["coat_shininess"][0],
         coat_ior=values["coat_ior"][0],
+        coat_roughness=values["coat_roughness"][0],
         diffuse_roughness=values["diffuse_roughness"][0],
         roughness=values["roughness"][0],
         masking="CORRELATED" if bpy.app.version >= (4, 0, 0) else "SEPARABLE",

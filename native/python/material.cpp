@@ -63,7 +63,7 @@ void bind_material(py::module_& m) {
                        float coat_reflectivity, float coat_shininess, float coat_ior,
                        bool coat_layered, bool valid_reflection, BumpShadowing bump_shadowing,
                        DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index,
-                       float roughness, bool multiscatter, Masking masking) {
+                       float roughness, bool multiscatter, Masking masking, float coat_roughness) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
@@ -82,6 +82,7 @@ void bind_material(py::module_& m) {
                                             .coat_reflectivity = coat_reflectivity,
                                             .coat_shininess = coat_shininess,
                                             .coat_ior = coat_ior,
+                                            .coat_roughness = coat_roughness,
                                             .coat_layered = coat_layered,
                                             .valid_reflection = valid_reflection,
                                             .bump_shadowing = bump_shadowing,
@@ -109,6 +110,7 @@ void bind_material(py::module_& m) {
            py::arg("diffuse_roughness") = defaults.diffuse_roughness,
            py::arg("pass_index") = defaults.pass_index, py::arg("roughness") = defaults.roughness,
            py::arg("multiscatter") = defaults.multiscatter, py::arg("masking") = defaults.masking,
+           py::arg("coat_roughness") = defaults.coat_roughness,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
@@ -136,6 +138,7 @@ void bind_material(py::module_& m) {
       .def_readonly("coat_reflectivity", &Material::coat_reflectivity)
       .def_readonly("coat_shininess", &Material::coat_shininess)
       .def_readonly("coat_ior", &Material::coat_ior)
+      .def_readonly("coat_roughness", &Material::coat_roughness)
       .def_readonly("coat_layered", &Material::coat_layered)
       .def_readonly("valid_reflection", &Material::valid_reflection,
                     "Cycles 3.x: turn a program's normal so the view's mirror stays above "

@@ -140,12 +140,18 @@ def test_a_rough_metal_reflects_its_surroundings_as_cycles(
     assert value > 0.9
 
 
-def test_the_demo_has_no_rough_metal_and_renders_the_same_in_both_models(
+def test_a_scene_without_rough_reflection_renders_the_same_in_both_models(
     demo_scene_module, empty_scene, render_pixels
 ):
     # What calls for no glossy reflection renders as the seed does: the Blender model
-    # changes only rough reflections.
+    # changes only rough reflections. The demo's mirror, glass and checker floor have
+    # none; its blue cube and green cylinder have the Principled BSDF's default rough
+    # specular layer, taken off here.
     scene = demo_scene_module.build_demo_scene(empty_scene)
+    for name in ("Diffuse Blue", "Diffuse Green"):
+        bsdf = bpy.data.materials[name].node_tree.nodes["Principled BSDF"]
+        level = "Specular IOR Level" if "Specular IOR Level" in bsdf.inputs else "Specular"
+        bsdf.inputs[level].default_value = 0.0
     scene.render.resolution_x, scene.render.resolution_y = 64, 48
     scene.render.resolution_percentage = 100
     blender_model = render_pixels(scene)
@@ -172,3 +178,69 @@ def test_the_lecture_model_keeps_the_seeds_mirror_and_phong_highlight(
     lecture_rays = json.loads(stats_path.read_text())["rays"]["glossy"]
     assert glossy_rays > 0 and lecture_rays == 0
     assert not np.array_equal(glossy, lecture)
+
+
+def principled(name, base, roughness, specular=0.5):
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*base, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    level = "Specular IOR Level" if "Specular IOR Level" in bsdf.inputs else "Specular"
+    bsdf.inputs[level].default_value = specular
+    bsdf.inputs["IOR"].default_value = 1.5
+    return material
+
+
+@pytest.mark.parametrize("roughness", [0.2, 0.5])
+def test_rough_plastic_under_a_sun_as_cycles(roughness, empty_scene, tmp_path, native):
+    # The Principled BSDF's dielectric specular layer over its diffuse base, rough: in
+    # the Blender model a GGX lobe weighted by the Fresnel factor at the view, on top.
+    scene = empty_scene
+    sphere_under_sun(scene, principled("Plastic", (0.5, 0.4, 0.3), roughness), 48, 96, 48)
+    set_cycles_direct_light(scene, samples=1)
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 1
+    scene.whitted.max_depth = 1
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-2)
+    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
+    low, median, high = np.percentile(ratio, [5, 50, 95])
+    energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
+    print(
+        f"\nplastic {roughness}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}, "
+        f"summed {energy:.4f}"
+    )
+    assert 0.95 < energy < 1.05
+
+
+@pytest.mark.parametrize("roughness", [0.2, 0.5])
+def test_rough_black_plastic_reflects_the_sky_as_cycles(roughness, empty_scene, tmp_path, native):
+    # Black plastic under a grey sky that lights nothing diffuse: all it shows is its
+    # specular layer's reflection of the sky (shadowed sides of real glTF files were
+    # black where Cycles shows this).
+    from whitted_tools.material_scenes import grey_world, side_camera, smooth_sphere
+
+    scene = empty_scene
+    scene.render.resolution_x = scene.render.resolution_y = 32
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    grey_world(scene, 0.5)
+    smooth_sphere("Ball", (0.0, 0.0, 0.0), 1.0, principled("Black", (0.0, 0.0, 0.0), roughness))
+    side_camera(scene, 2.2)
+    set_cycles_direct_light(scene, samples=256)
+    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 2
+    scene.whitted.glossy_samples = 6
+    scene.whitted.max_depth = 1
+    scene.whitted.ambient_strength = 0.0
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
+    energy = whitted[ball][:, 0].sum() / cycles[ball][:, 0].sum()
+    centre = whitted[16, 16, 0] / cycles[16, 16, 0]
+    print(f"\nblack plastic {roughness}: summed Whitted / Cycles {energy:.4f}, centre {centre:.4f}")
+    assert 0.9 < energy < 1.1

@@ -38,15 +38,23 @@ def assert_material(data, **expected):
         assert getattr(data, key) == pytest.approx(value, rel=1e-5, abs=1e-6), key
 
 
-def test_default_principled_is_a_grey_dielectric(warnings):
-    data = convert(node_material("Default"), warnings)
+@pytest.mark.parametrize("local_model", ["LECTURE", "BLENDER"])
+def test_default_principled_is_a_grey_dielectric(local_model, warnings):
+    data = convert(node_material("Default"), warnings, local_model)
     # roughness 0.5 -> alpha 0.25 -> Blinn exponent 2 / 0.0625 - 2 = 30, Phong 30 / 4;
-    # specular 0.5 -> 0.08 * 0.5 = 0.04; too rough for a mirror (no layer).
-    assert_material(data, coat_specular=0.0, coat_reflectivity=0.0)
+    # specular 0.5 -> 0.08 * 0.5 = 0.04. Lecture: too rough for a mirror (no layer), a
+    # Phong highlight. Blender: all of it a clear layer of the IOR of that F0 and of the
+    # roughness, its GGX lobe weighted per hit by the facets' Fresnel factors.
+    if local_model == "LECTURE":
+        assert_material(data, coat_specular=0.0, coat_reflectivity=0.0, specular=(0.04,) * 3)
+    else:
+        assert_material(
+            data, coat_specular=0.0, coat_reflectivity=1.0, coat_roughness=0.5, specular=(0,) * 3
+        )
+        assert data.coat_ior == pytest.approx(1.5)  # (1 + sqrt(0.04)) / (1 - sqrt(0.04))
     assert_material(
         data,
         diffuse=(0.8, 0.8, 0.8),
-        specular=(0.04, 0.04, 0.04),
         shininess=7.5,
         ambient=1.0,
         reflectivity=(0.0, 0.0, 0.0),
@@ -296,14 +304,17 @@ def test_principled_mapping_by_socket_name(version, inputs, local_model, warning
     metal_mirror, metal_highlight = (0.25 * 0.2, 0.25 * 0.8) if lecture else (0.25, 0.0)
     # metallic 0.25, transmission 0.5, roughness 0.2 (sharp = 0.2, alpha = 0.04). The
     # sharp part of the opaque dielectric share, 0.75 * 0.5, is a layer's mirror of the
-    # IOR of F0; the highlight keeps the rest.
-    kept = 1.0 - 0.5 * 0.2
+    # IOR of F0 (Lecture; in the Blender model all of it, the layer's GGX lobe); the
+    # highlight keeps the rest.
+    sharp = 0.2 if lecture else 1.0
+    kept = 1.0 - 0.5 * sharp
     assert_material(
         data,
-        coat_reflectivity=0.375 * 0.2,
+        coat_reflectivity=0.375 * sharp,
         coat_specular=0.0,
         coat_ior={"3.x": 1.5, "4.x": 1.33}[version],
         coat_shininess=312.0,  # (2 / 0.04^2 - 2) / 4
+        coat_roughness=0.0 if lecture else 0.2,
     )
     assert_material(
         data,
@@ -342,9 +353,12 @@ def test_principled_specular_tint(version, inputs, tint, warnings):
 
 def test_principled_coat(warnings):
     # 3.x: Cycles' clearcoat lobe is a quarter of Clearcoat, IOR 1.5; roughness 0.03
-    # (the default when absent) -> sharp 0.88 of it a mirror, the rest a highlight.
-    data = convert(fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), warnings)
-    plain = convert(fake_principled_material(BLENDER_3_INPUTS), [])
+    # (the default when absent) -> sharp 0.88 of it a mirror, the rest a highlight (the
+    # Lecture model; the Blender model below).
+    data = convert(
+        fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), warnings, "LECTURE"
+    )
+    plain = convert(fake_principled_material(BLENDER_3_INPUTS), [], "LECTURE")
     assert_material(
         data,
         coat_reflectivity=0.125 * 0.88,
@@ -359,8 +373,11 @@ def test_principled_coat(warnings):
     assert warnings == [
         "Whitted: material 'Fake', node 'Principled BSDF': 'Clearcoat' is approximated: a "
         "Phong highlight and a mirror of the coat's roughness, weighted by its Fresnel "
-        "factor (docs/SUPPORT.md)"
+        "factor at the view (docs/SUPPORT.md)"
     ]
+    # The Blender model: all of the coat is its GGX lobe, of its roughness.
+    glossy = convert(fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), [])
+    assert_material(glossy, coat_reflectivity=0.125, coat_specular=0.0, coat_roughness=0.03)
     # 4.x: Coat Weight, IOR and Tint; what lies beneath is seen through the tint.
     inputs = {
         **BLENDER_4_INPUTS,
@@ -369,8 +386,8 @@ def test_principled_coat(warnings):
         "Coat IOR": 1.3,
         "Coat Tint": (0.5, 1.0, 1.0, 1.0),
     }
-    data = convert(fake_principled_material(inputs), [])
-    plain = convert(fake_principled_material(BLENDER_4_INPUTS), [])
+    data = convert(fake_principled_material(inputs), [], "LECTURE")
+    plain = convert(fake_principled_material(BLENDER_4_INPUTS), [], "LECTURE")
     assert_material(
         data,
         coat_reflectivity=0.5 * 0.6,

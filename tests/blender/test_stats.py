@@ -138,8 +138,14 @@ def test_each_render_states_what_it_simulated_and_skipped(
         for socket in ("Metallic", "Transmission Weight", "Transmission"):
             if socket in principled.inputs:
                 principled.inputs[socket].default_value = 0.0
-        # A sharp dielectric still mirrors its surroundings (Fresnel-weighted).
-        principled.inputs["Roughness"].default_value = 0.5
+    # And no specular layer anywhere: a dielectric's, sharp or (in the Blender local
+    # model) rough, reflects its surroundings, Fresnel-weighted.
+    for material in bpy.data.materials:
+        for node in material.node_tree.nodes if material.node_tree else ():
+            if node.bl_idname == "ShaderNodeBsdfPrincipled":
+                for socket in ("Specular IOR Level", "Specular"):
+                    if socket in node.inputs:
+                        node.inputs[socket].default_value = 0.0
     render_pixels(demo)
     stats = json.loads(path.read_text())
     refraction = {"name": "refraction", "on": False, "why": "no transmissive material"}

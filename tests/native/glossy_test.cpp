@@ -88,7 +88,10 @@ TEST(Glossy, AWhiteLobeInAWhiteWorldGainsNoEnergy) {
       for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) {
           const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
-          const Color c = integrator.trace(ray, NodeState{}, &counts);
+          NodeState sample;
+          sample.seed =
+              hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0u);  // as the sampler
+          const Color c = integrator.trace(ray, sample, &counts);
           ASSERT_TRUE(is_finite(c));
           // Each sample of a single-scattering lobe weighs G2/G1 <= 1; the energy scale
           // makes them up to 1/E (1 on average).
@@ -127,10 +130,10 @@ TEST(Glossy, ALobeTendingToAMirrorGivesTheMirrorsImage) {
     const int n = 32;
     for (int y = 0; y < n; ++y) {
       for (int x = 0; x < n; ++x) {
-        image.push_back(integrator
-                            .trace(scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n),
-                                   NodeState{}, &counts)
-                            .x);
+        NodeState sample;
+        sample.seed = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0u);
+        const Ray ray = scene.camera.generate_ray((x + 0.5f) / n, (y + 0.5f) / n);
+        image.push_back(integrator.trace(ray, sample, &counts).x);
       }
     }
     return image;
@@ -146,6 +149,41 @@ TEST(Glossy, ALobeTendingToAMirrorGivesTheMirrorsImage) {
     previous = difference;
   }
   EXPECT_LT(previous, 0.05);
+}
+
+// A rough clear coat (plastic's specular layer): its lobe, weighted by the Fresnel factor
+// (4% at normal incidence), reflects the world. Split over 6 x 6 rays, each ray's share
+// is below the cutoff; the lobe's is not, so all are traced (each used to be cut).
+TEST(Glossy, ARoughCoatReflectsTheWorldThoughEachRayIsBelowTheCutoff) {
+  for (const float roughness : {0.0f, 0.5f}) {
+    Scene scene;
+    Material plastic;
+    plastic.diffuse = Color(0.0f);
+    plastic.ambient = 0.0f;
+    plastic.coat_reflectivity = 1.0f;
+    plastic.coat_ior = 1.5f;
+    plastic.coat_roughness = roughness;
+    add_object(&scene, "floor", quad(-100, 100, -100, 100, 0), plastic);
+    scene.set_background(Color(0.5f));
+    const auto compiled = scene.compile();
+    Settings settings;
+    settings.glossy_samples = 6;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    const Ray ray{Vec3(0.0f, 0.0f, 2.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    const float got = integrator.trace(ray, NodeState{}, &counts).x;
+    // ((1.5 - 1) / (1.5 + 1))^2 = 0.04 of the world's 0.5; the rough lobe keeps less of
+    // it (single scattering, its facets' Fresnel factors; 36 rays of one sample). Cut, it
+    // gave 0.
+    if (roughness > 0.0f) {
+      EXPECT_GT(got, 0.014f);
+      EXPECT_LT(got, 0.021f);
+    } else {
+      EXPECT_NEAR(got, 0.02f, 1e-6f);
+    }
+    EXPECT_EQ(counts.cutoff_skipped, 0u);
+    if (roughness > 0.0f) EXPECT_GE(counts.glossy, 25u);  // the rest fell below the surface
+  }
 }
 
 TEST(Glossy, TheAnalysisNamesTheGlossyMaterials) {

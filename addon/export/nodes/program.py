@@ -28,6 +28,7 @@ FIELD_ORDER = (
     "coat_normal",
     "diffuse_roughness",
     "roughness",
+    "coat_roughness",
 )
 
 

@@ -43,6 +43,7 @@ WEIGHTED_FIELDS = (
     "coat_ior",
     "diffuse_roughness",
     "roughness",
+    "coat_roughness",
 )
 DEFAULTS = {
     "shininess": 1.0,
@@ -51,6 +52,7 @@ DEFAULTS = {
     "coat_ior": 1.5,
     "diffuse_roughness": 0.0,
     "roughness": 0.0,
+    "coat_roughness": 0.0,
 }
 
 # Phong exponents past this make highlights smaller than a pixel anyway.
@@ -247,6 +249,7 @@ class ShaderLowering:
             "ior": coverage if refracts else self.b.f(0.0),
             "coat_shininess": coverage if coat else self.b.f(0.0),
             "coat_ior": coverage if coat else self.b.f(0.0),
+            "coat_roughness": coverage if coat else self.b.f(0.0),
             # A diffuse lobe of another shape than Lambert's, by its roughness.
             "diffuse_roughness": coverage if diffuse_model else self.b.f(0.0),
             # A glossy lobe, by its roughness.
@@ -415,7 +418,7 @@ def _principled(s, out):
         if coat is not None:
             # The highlight keeps the glass part's share and the rough one's.
             opaque = b.sub(b.f(1.0), transmission)
-            kept = b.sub(b.f(1.0), b.mul(opaque, _sharpness(b, roughness)))
+            kept = b.sub(b.f(1.0), b.mul(opaque, _sharpness(b, roughness, s.glossy)))
             highlight_f0 = b.vmul(b.mul(f0, kept), tint)
     fields = whitted_fields(
         b,
@@ -489,17 +492,23 @@ def _coat(s, out):
         ior = s.scalar(out, COAT_INPUTS["ior"], 1.5)
         tint = s.color(out, COAT_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0), textured=False)
         beneath = b.vlerp(weight, b.const((1.0, 1.0, 1.0), COLOR), tint)
+    shape = (
+        "a GGX lobe of the coat's roughness"
+        if s.glossy
+        else "a Phong highlight and a mirror of the coat's roughness"
+    )
     s.c.warn(
         node,
-        f"'{weight_socket.name}' is approximated: a Phong highlight and a mirror of the "
-        "coat's roughness, weighted by its Fresnel factor (docs/SUPPORT.md)",
+        f"'{weight_socket.name}' is approximated: {shape}, weighted by its Fresnel factor "
+        "at the view (docs/SUPPORT.md)",
     )
-    sharp = b.maximum(b.f(0.0), b.sub(b.f(1.0), b.mul(b.f(4.0), roughness)))
+    sharp = _sharpness(b, roughness, s.glossy)
     fields = {
         "coat_specular": b.mul(weight, b.sub(b.f(1.0), sharp)),
         "coat_reflectivity": b.mul(weight, sharp),
         "coat_shininess": shininess_of(b, roughness),
         "coat_ior": ior,
+        **({"coat_roughness": roughness} if s.glossy else {}),
     }
     return fields, beneath, s.normal(out, COAT_INPUTS["normal"])
 
@@ -518,7 +527,7 @@ def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
     if not (tint.is_const and all(v == 1.0 for v in tint.value[:3])):
         return None
     opaque = b.mul(b.sub(b.f(1.0), metallic), b.sub(b.f(1.0), transmission))
-    sharp = _sharpness(b, roughness)
+    sharp = _sharpness(b, roughness, s.glossy)
     if _zero(opaque) or _zero(f0) or _zero(sharp):
         return None
     # n = (1 + sqrt(F0)) / (1 - sqrt(F0)), F0 kept below 1.
@@ -528,13 +537,17 @@ def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
         "coat_reflectivity": b.mul(opaque, sharp),
         "coat_shininess": shininess_of(b, b.clamp01(roughness)),
         "coat_ior": b.div(b.add(b.f(1.0), root), b.sub(b.f(1.0), root)),
+        **({"coat_roughness": b.clamp01(roughness)} if s.glossy else {}),
     }
     return layer, b.const((1.0, 1.0, 1.0), COLOR), s.normal(out)
 
 
-def _sharpness(b, roughness):
-    """The mirror's share of a specular lobe: 1 - 4 roughness, at least 0 (Whitted
-    cannot blur a reflection, so the mirror fades into the highlight by 0.25)."""
+def _sharpness(b, roughness, glossy=False):
+    """The share of a specular lobe that is the layer's reflection: in the Lecture model
+    1 - 4 roughness, at least 0 (a mirror cannot be blurred, so it fades into the Phong
+    highlight by 0.25); in the Blender model (`glossy`) all of it, its GGX lobe."""
+    if glossy:
+        return b.f(1.0)
     return b.maximum(b.f(0.0), b.sub(b.f(1.0), b.mul(b.f(4.0), b.clamp01(roughness))))
 
 

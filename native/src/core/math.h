@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -64,6 +65,24 @@ inline float fresnel_exact(float cos_i, float eta) {
   const float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
   const float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
   return 0.5f * (rs * rs + rp * rp);
+}
+
+// A hash of three integers (a PCG-style integer mix): the one source of the numbers that
+// place samples (jitter, glossy strata), so that an image depends only on its pixels'
+// samples, never on tiles, threads or the scene's scale.
+inline uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
+  uint32_t h = a * 0x8da6b343u ^ b * 0xd8163841u ^ c * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+// The top 24 bits of h as a float in [0, 1) (exact).
+inline float unit_float(uint32_t h) {
+  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
 }
 
 inline float smoothstep01(float t) {

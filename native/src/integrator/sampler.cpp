@@ -2,21 +2,32 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <optional>
 
 namespace whitted {
 namespace {
 
-// A hash of (x, y, i) to [0, 1) (a PCG-style integer mix): jitter that depends only on
-// the pixel and the sample, so images do not depend on tiles or threads.
+// A hash of (x, y, i) to [0, 1): jitter that depends only on the pixel and the sample,
+// so images do not depend on tiles or threads.
 float hash01(uint32_t x, uint32_t y, uint32_t i) {
-  uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ i * 0xcb1ab31fu;
-  h ^= h >> 16;
-  h *= 0x7feb352du;
-  h ^= h >> 15;
-  h *= 0x846ca68bu;
-  h ^= h >> 16;
-  return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+  return unit_float(hash3(x, y, i));
+}
+
+// The seed of grid sample k of pixel (x, y) (NodeState::seed).
+uint32_t grid_seed(int x, int y, int k) {
+  return hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y),
+               0x9e37u + static_cast<uint32_t>(k));
+}
+
+// The seed of a camera sample (NodeState::seed) at film position (px, py), in pixels:
+// its bits, hashed.
+uint32_t film_seed(float px, float py) {
+  uint32_t a = 0;
+  uint32_t b = 0;
+  std::memcpy(&a, &px, sizeof a);
+  std::memcpy(&b, &py, sizeof b);
+  return hash3(a, b, 0x5eedu);
 }
 
 // Where packets stop paying: at about one instance in view per 500 pixels. Callgrind's
@@ -89,7 +100,7 @@ Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>*
 
 Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
                                   SampleRecord* record) const {
-  return shade(grid_ray(x, y, k), nullptr, counts, record);
+  return shade(grid_ray(x, y, k), nullptr, counts, record, grid_seed(x, y, k));
 }
 
 int CameraSampler::block_width() const {
@@ -139,7 +150,7 @@ const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
 }
 
 Sample CameraSampler::point(float px, float py, RayCounts* counts, SampleRecord* record) const {
-  return shade(camera_ray(px, py), nullptr, counts, record);
+  return shade(camera_ray(px, py), nullptr, counts, record, film_seed(px, py));
 }
 
 Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -164,8 +175,9 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
   for (int k = 0; k < samples; ++k) {
     const size_t i = offset + static_cast<size_t>(k);
     const Hit* hit = hits != nullptr && hits->found[i] != 0 ? &hits->hits[i] : nullptr;
-    const Sample s = shade(hits != nullptr ? hits->rays[i] : grid_ray(x, y, k), hit, counts,
-                           record != nullptr ? &sample_record.emplace() : nullptr);
+    const Sample s =
+        shade(hits != nullptr ? hits->rays[i] : grid_ray(x, y, k), hit, counts,
+              record != nullptr ? &sample_record.emplace() : nullptr, grid_seed(x, y, k));
     sum.radiance += s.radiance;
     sum.alpha += s.alpha;
     if (record != nullptr) {
@@ -234,12 +246,14 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 }
 
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
-                            SampleRecord* record) const {
+                            SampleRecord* record, uint32_t seed) const {
   counts->camera += 1;
   float alpha = 1.0f;
+  NodeState root = root_;
+  root.seed = seed;
   const Color c = first != nullptr
-                      ? integrator_.trace_from(ray, *first, root_, counts, &alpha, record)
-                      : integrator_.trace(ray, root_, counts, &alpha, record);
+                      ? integrator_.trace_from(ray, *first, root, counts, &alpha, record)
+                      : integrator_.trace(ray, root, counts, &alpha, record);
   if (!is_finite(c)) {
     counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
     if (record != nullptr) *record = SampleRecord{};

@@ -96,7 +96,9 @@ class CameraSampler {
   Ray grid_ray(int x, int y, int k) const;
   Ray camera_ray(float px, float py) const;
   // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
-  Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record) const;
+  // `seed`: the sample's (NodeState::seed), from its pixel and index or film position.
+  Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record,
+               uint32_t seed) const;
 
   const WhittedIntegrator& integrator_;
   const Settings& settings_;

@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <type_traits>
 #include <utility>
 
@@ -27,7 +26,18 @@ struct Coat {
   float mirror = 0.0f;     // weight of its mirror reflection
   float cover = 0.0f;      // highlight + mirror: the share it takes from the base
   float shininess = 1.0f;
+  float alpha = 0.0f;             // GGX alpha of its mirror's lobe; 0: a mirror (microfacet.h)
   Vec3 normal{0.0f, 0.0f, 1.0f};  // facing the ray
+  float eta = 1.0f;               // 1 / its IOR
+  float fresnel = 0.0f;           // its Fresnel factor at the view and its normal
+
+  // What its rough lobe's share becomes for a facet of normal m: the Fresnel factor
+  // at the facet over the one at the layer's normal that `mirror` holds (a rough
+  // dielectric reflects by its facets' Fresnel factors, lower at grazing views).
+  float facet_scale(const Vec3& wo, const Vec3& m) const {
+    if (!(fresnel > 0.0f)) return 0.0f;
+    return fresnel_exact(std::max(0.0f, glm::dot(wo, m)), eta) / fresnel;
+  }
 };
 
 Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering) {
@@ -36,25 +46,39 @@ Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool 
   if (!(weight > 0.0f)) return coat;
   coat.normal = entering ? surface.coat_normal : -surface.coat_normal;
   if (glm::dot(coat.normal, ng) <= 0.0f) coat.normal = ng;  // as the base's normal
-  const float f = fresnel_exact(glm::dot(wo, coat.normal), 1.0f / surface.coat_ior);
+  coat.eta = 1.0f / surface.coat_ior;
+  const float f = fresnel_exact(glm::dot(wo, coat.normal), coat.eta);
+  coat.fresnel = f;
   const float scale = f / std::max(weight, 1.0f);  // weights beyond 1 cover all
   coat.highlight = std::max(surface.coat_specular, 0.0f) * scale;
   coat.mirror = std::max(surface.coat_reflectivity, 0.0f) * scale;
   coat.cover = coat.highlight + coat.mirror;
   coat.shininess = surface.coat_shininess;
+  const float alpha = surface.coat_roughness * surface.coat_roughness;
+  coat.alpha = alpha >= kMirrorAlpha && coat.mirror > 0.0f ? alpha : 0.0f;
   return coat;
 }
 
 // The coat's highlight for light arriving from wi, per unit irradiance: the normalised
-// Phong lobe ks*(f+2)/(2pi)*(v.r)^f*(l.n) about the coat's normal.
-float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi) {
-  if (coat.highlight <= 0.0f) return 0.0f;
+// Phong lobe ks*(f+2)/(2pi)*(v.r)^f*(l.n) about the coat's normal, and a rough mirror's
+// GGX lobe (times its weight) evaluated.
+float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {
+  float glossy = 0.0f;
+  if (coat.alpha > 0.0f) {
+    const Vec3 half = wo + wi;
+    const float length = glm::length(half);
+    if (length > 0.0f) {
+      glossy = coat.mirror * coat.facet_scale(wo, half / length) *
+               ggx_reflection(coat.normal, wo, wi, coat.alpha, masking);
+    }
+  }
+  if (coat.highlight <= 0.0f) return glossy;
   const float cos_l = glm::dot(coat.normal, wi);
   if (cos_l <= 0.0f) return 0.0f;
   const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-wi, coat.normal)));
   if (v_dot_r <= 0.0f && coat.shininess > 0.0f) return 0.0f;  // what powf's +0 makes of it
-  return coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
-         std::pow(v_dot_r, coat.shininess) * cos_l;
+  return glossy + coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
+                      std::pow(v_dot_r, coat.shininess) * cos_l;
 }
 
 // The interface step's answer: what lies beyond a transmissive surface for the refracted
@@ -385,9 +409,15 @@ class Kernel {
   // what rays drawn from a glossy lobe bring back.
   Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
                    const NodeState& state, RayCounts* counts) const {
-    if (p.alpha > 0.0f && !split.about_coat && !split.total_internal_reflection &&
-        (effects_ & kGlossyEffect) != 0) {
-      return glossy_reflection(p, split, state, counts);
+    if ((effects_ & kGlossyEffect) != 0 && !split.total_internal_reflection) {
+      // The one reflection follows the lobe that gives it most of its weight.
+      if (split.about_coat && p.coat.alpha > 0.0f) {
+        return glossy_reflection(p, split, Lobe{p.coat.normal, p.coat.alpha, Color(1.0f), &p.coat},
+                                 state, counts);
+      }
+      if (!split.about_coat && p.alpha > 0.0f) {
+        return glossy_reflection(p, split, Lobe{p.ns, p.alpha, p.energy}, state, counts);
+      }
     }
     Vec3 r = reflect(ray.direction, split.about_coat ? p.coat.normal : p.ns);
     if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
@@ -405,30 +435,42 @@ class Kernel {
   // Distributed ray tracing's glossy reflection (Cook et al. 1984): n x n rays drawn
   // from the GGX lobe (microfacet.h), one per stratum of [0, 1)^2, each weighing
   // sigma_r * G2/G1 / n^2 (the lobe over its density). The strata are shifted by a hash
-  // of the hit (hit_shift), so every render of a scene draws the same rays and
-  // neighbouring samples different ones. A ray the lobe sends below the surface is lost,
-  // as light the single-scattering lobe does not return.
-  Color glossy_reflection(const ShadingPoint& p, const Split& split, const NodeState& state,
-                          RayCounts* counts) const {
+  // of the camera sample's seed (NodeState::seed), so every render of a scene draws the
+  // same rays, whatever its scale, and neighbouring samples different ones. A ray the lobe sends
+  // below the surface is lost, as light the single-scattering lobe does not return.
+  struct Lobe {
+    Vec3 normal;                // facing the ray
+    float alpha;                // GGX alpha
+    Color energy;               // its multiple-scattering scale, or 1
+    const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
+  };
+  Color glossy_reflection(const ShadingPoint& p, const Split& split, const Lobe& lobe_of,
+                          const NodeState& state, RayCounts* counts) const {
     const int n = state.glossy == 0 ? settings_.glossy_samples : 1;
     const float share = 1.0f / static_cast<float>(n * n);
-    const glm::vec2 shift = hit_shift(p.it.position, state.depth);
+    // Cranley-Patterson shift of the strata: the branch's seed, per depth.
+    const uint32_t h = hash3(state.seed, static_cast<uint32_t>(state.depth), 0x6c6fu);
+    const glm::vec2 shift(unit_float(h), unit_float(hash3(h, 0x9e3779b9u, 0x7f4au)));
     Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
     for (int k = 0; k < n * n; ++k) {
       const float u1 = stratum(k % n, n, shift.x);
       const float u2 = stratum(k / n, n, shift.y);
       Vec3 wi;
       float lobe = 0.0f;  // G2 / G1
-      if (!ggx_sample_reflection(p.ns, p.wo, p.alpha, u1, u2, &wi, &lobe, p.it.material->masking)) {
+      if (!ggx_sample_reflection(lobe_of.normal, p.wo, lobe_of.alpha, u1, u2, &wi, &lobe,
+                                 p.it.material->masking)) {
         continue;
       }
       if (glm::dot(wi, p.ng) <= 0.0f) continue;  // below the surface itself
-      const Color weight = split.sigma_r * p.energy * (lobe * share);
+      if (lobe_of.coat != nullptr) {
+        lobe *= lobe_of.coat->facet_scale(p.wo, glm::normalize(p.wo + wi));
+      }
+      const Color weight = split.sigma_r * lobe_of.energy * lobe;
       const Color brought = branch(
           spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, wi, kReflectionRay),
           state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts,
-          /*glossy=*/true);
-      mean += (lobe * share) * p.energy * brought;
+          /*glossy=*/true, share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu));
+      mean += (lobe * share) * lobe_of.energy * brought;
     }
     if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
     return split.sigma_r * mean;
@@ -438,27 +480,6 @@ class Kernel {
   static float stratum(int index, int n, float shift) {
     const float u = (static_cast<float>(index) + 0.5f) / static_cast<float>(n) + shift;
     return u - std::floor(u);
-  }
-
-  // Two numbers in [0, 1) from a hit point's coordinates and the ray's depth: a hash of
-  // their bits (MurmurHash3's finaliser), the same on every thread and in every tile.
-  static glm::vec2 hit_shift(const Vec3& position, int depth) {
-    const auto mix = [](uint32_t h) {
-      h ^= h >> 16;
-      h *= 0x85ebca6bu;
-      h ^= h >> 13;
-      h *= 0xc2b2ae35u;
-      return h ^ (h >> 16);
-    };
-    uint32_t h = mix(static_cast<uint32_t>(depth) + 0x9e3779b9u);
-    for (const float c : {position.x, position.y, position.z}) {
-      uint32_t bits = 0;
-      std::memcpy(&bits, &c, sizeof bits);
-      h = mix(h ^ bits);
-    }
-    const uint32_t g = mix(h ^ 0x68bc21ebu);
-    // The top 24 bits: exact in a float, below 1.
-    return {static_cast<float>(h >> 8) * 0x1p-24f, static_cast<float>(g >> 8) * 0x1p-24f};
   }
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media
@@ -481,19 +502,24 @@ class Kernel {
   // lobe. The one place the ray tree branches.
   Color branch(const Ray& ray, const NodeState& state, const Color& weight,
                const MediumStack& media, bool bounce, [[maybe_unused]] TreeRayKind kind,
-               RayCounts* counts, bool glossy = false) const {
+               RayCounts* counts, bool glossy = false, float share = 1.0f,
+               uint32_t seed = 0) const {
+    // A glossy ray is one of several that share its lobe: its NodeState::weight is the
+    // lobe's (what the cutoff compares: each of n rays below it may sum above it), its
+    // share of the sample 1/n of that.
     NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
-    if constexpr (kPasses) next.throughput = state.throughput * weight;
+    if constexpr (kPasses) next.throughput = state.throughput * weight * share;
     next.glossy = state.glossy + (glossy ? 1 : 0);
+    next.seed = glossy ? seed : state.seed;
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
-      if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kDepth);
+      if constexpr (kRecord) record_cut(ray, next, kind, weight * share, TreeCut::kDepth);
       if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
     if (max_component(next.weight) < settings_.cutoff) {
       counts->cutoff_skipped += 1;  // its contribution could no longer show
-      if constexpr (kRecord) record_cut(ray, next, kind, weight, TreeCut::kCutoff);
+      if constexpr (kRecord) record_cut(ray, next, kind, weight * share, TreeCut::kCutoff);
       if constexpr (kPasses) recorder_.cut(next.throughput);
       return Color(0.0f);
     }
@@ -504,7 +530,7 @@ class Kernel {
     }
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
     if constexpr (kRecord) {
-      const RayTree::Scope scope(tree_, tree_->current, tree_->scale * weight, kind);
+      const RayTree::Scope scope(tree_, tree_->current, tree_->scale * (weight * share), kind);
       return trace(ray, next, counts, nullptr);
     }
     return trace(ray, next, counts, nullptr);
@@ -694,7 +720,7 @@ class Kernel {
                  1.0f,
                  0.0f,
                  phong_lobe(p, v_dot_r),
-                 coat_highlight(p.coat, p.wo, wi),
+                 coat_highlight(p.coat, p.wo, wi, p.it.material->masking),
                  p.alpha > 0.0f
                      ? p.base * ggx_reflection(p.ns, p.wo, wi, p.alpha, p.it.material->masking)
                      : 0.0f};

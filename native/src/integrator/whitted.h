@@ -45,7 +45,8 @@ struct RayCounts {
 };
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
-// product of the sigma_r/sigma_t along the way), and the media it is inside.
+// product of the sigma_r/sigma_t along the way; for a ray drawn from a glossy lobe, the
+// whole lobe's, which its n^2 rays share), and the media it is inside.
 // `throughput` is that weight times the coverage of the cut-outs on the way: kept only
 // by the kernels that record passes (elsewhere it stays 1). Named for the node of the
 // ray tree it describes, beside NodeTerms (passes.h), what that node adds: a Whitted
@@ -57,6 +58,9 @@ struct NodeState {
   MediumStack media;
   Color throughput{1.0f};
   int glossy = 0;  // glossy bounces on the way here (Settings::glossy_samples)
+  // Where the strata of glossy rays start: the camera sample's seed (sampler.cpp), mixed
+  // at each glossy bounce with the ray's index, so each branch has its own.
+  uint32_t seed = 0;
 };
 
 // Analyses the scene once, then traces only the effects the scene calls for

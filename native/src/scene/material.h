@@ -35,13 +35,15 @@ enum Field : uint32_t {
   kCoatNormalField,
   kDiffuseRoughnessField,
   kRoughnessField,
+  kCoatRoughnessField,
   kFieldCount,
 };
 inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
     "diffuse",        "specular",      "shininess",         "reflectivity",
     "transmissivity", "ior",           "emission",          "alpha",
     "normal",         "coat_specular", "coat_reflectivity", "coat_shininess",
-    "coat_ior",       "coat_normal",   "diffuse_roughness", "roughness"};
+    "coat_ior",       "coat_normal",   "diffuse_roughness", "roughness",
+    "coat_roughness"};
 
 // How a diffuse lobe shaded with a program's normal (a normal map, a bump) fades where
 // that normal leans towards a light the smooth surface turns away from: Cycles' bump
@@ -97,6 +99,9 @@ struct MaterialParams {
   float coat_reflectivity = 0.0f;  // weight of its mirror reflection
   float coat_shininess = 1000.0f;  // Phong exponent of its highlight
   float coat_ior = 1.5f;           // index of refraction of the coat (outside: 1)
+  // Blender's roughness of the coat's reflection: as `roughness` for the base, a mirror
+  // up to 0.02, above it the GGX lobe of its mirror weight (glossy rays, GGX highlights).
+  float coat_roughness = 0.0f;
   // Whether what the coat reflects is taken from the light the layers beneath receive
   // (Cycles 4.0 on); false: the coat is added on top of them, as Cycles 3.x's Principled
   // BSDF adds its specular and Clearcoat lobes to its diffuse one.
@@ -114,7 +119,7 @@ struct MaterialParams {
   // Fields a program computes per hit: the register holding each after the program, -1
   // for the constant above.
   std::shared_ptr<const Program> program{};
-  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1,
+  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1, -1,
                                               -1, -1, -1, -1, -1, -1, -1, -1};
 };
 
@@ -136,8 +141,12 @@ struct Material : MaterialParams {
   // Whether its reflection can be glossy: a lobe rougher than a mirror, or one a program
   // computes (glossy rays and GGX highlights: whitted.cpp).
   bool glossy() const {
-    return (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
-           (!is_black(reflectivity) || driven(kReflectivityField));
+    const bool base = (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
+                      (!is_black(reflectivity) || driven(kReflectivityField));
+    const bool coat =
+        (coat_roughness * coat_roughness >= kMirrorAlpha || driven(kCoatRoughnessField)) &&
+        (coat_reflectivity > 0.0f || driven(kCoatReflectivityField));
+    return base || coat;
   }
   bool reflective() const {
     return !is_black(reflectivity) || driven(kReflectivityField) || coat_reflectivity > 0.0f ||

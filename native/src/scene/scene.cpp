@@ -79,7 +79,8 @@ SurfaceParams constant_surface(const Material& m) {
   return {m.diffuse,        m.specular,      m.shininess,         m.reflectivity,
           m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
           Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
-          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness};
+          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness,
+          m.coat_roughness};
 }
 
 // The Light Path inputs of a program (and 0 for any other mode).
@@ -725,6 +726,10 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     if (m.driven(kRoughnessField)) {
       const float roughness = field(kRoughnessField).x;  // NaN: the material's own
       if (!std::isnan(roughness)) out.roughness = std::clamp(roughness, 0.0f, 1.0f);
+    }
+    if (m.driven(kCoatRoughnessField)) {
+      const float roughness = field(kCoatRoughnessField).x;
+      if (!std::isnan(roughness)) out.coat_roughness = std::clamp(roughness, 0.0f, 1.0f);
     }
   }
   out.alpha = clamp_alpha(out.alpha);

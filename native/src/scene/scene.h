@@ -95,6 +95,7 @@ struct SurfaceParams {
   Vec3 coat_normal;         // as `normal`: the interpolated normal unless a program drives it
   float diffuse_roughness;  // shapes a DiffuseModel::kBurley lobe; in [0, 1]
   float roughness;          // Blender's roughness of the reflection lobe, in [0, 1]
+  float coat_roughness;     // the coat's, likewise
 };
 
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
