@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "integrator/analysis.h"
 #include "integrator/render.h"
 #include "integrator/whitted.h"
@@ -183,6 +185,47 @@ TEST(Glossy, ARoughCoatReflectsTheWorldThoughEachRayIsBelowTheCutoff) {
     }
     EXPECT_EQ(counts.cutoff_skipped, 0u);
     if (roughness > 0.0f) EXPECT_GE(counts.glossy, 25u);  // the rest fell below the surface
+  }
+}
+
+// Frosted glass: a rough slab seen from above against a white world passes at most what
+// arrives, blurs (its rays are glossy ones), and a camera inside it looking out past the
+// critical angle gets finite, non-negative values from facets that totally reflect.
+TEST(Glossy, FrostedGlassTransmitsNoMoreThanArrivesAndStaysFiniteInside) {
+  for (const float roughness : {0.0f, 0.3f, 0.8f}) {
+    Scene scene;
+    Material glass = testing::clear(1.5f);
+    glass.roughness = roughness;
+    // A slab between z = -0.5 and 0.5: its top faces up, its bottom down.
+    add_object(&scene, "top", quad(-50, 50, -50, 50, 0.5f), glass);
+    add_object(&scene, "bottom", quad(-50, 50, -50, 50, -0.5f), glass,
+               glm::rotate(glm::mat4(1.0f), kPi, Vec3(1.0f, 0.0f, 0.0f)));
+    scene.set_background(Color(1.0f));
+    const auto compiled = scene.compile();
+    Settings settings;
+    settings.glossy_samples = 4;
+    settings.max_depth = 8;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    NodeState from_above;
+    from_above.seed = 7;
+    const Ray down{Vec3(0.1f, 0.2f, 3.0f), glm::normalize(Vec3(0.05f, 0.0f, -1.0f)), 0.0f,
+                   kInfinity};
+    const Color c = integrator.trace(down, from_above, &counts);
+    ASSERT_TRUE(is_finite(c));
+    EXPECT_LE(max_component(c), 1.0f + 1e-5f) << roughness;
+    EXPECT_GT(c.x, roughness > 0.5f ? 0.3f : 0.8f) << roughness;
+    if (roughness > 0.0f) EXPECT_GT(counts.glossy, 0u);
+    // Inside, looking out at 60 degrees (past the critical angle of 41.8): a smooth
+    // slab reflects it all; rough facets let some out.
+    NodeState inside;
+    inside.media = integrator.media_at(Vec3(0.0f));
+    inside.seed = 11;
+    const Ray out{Vec3(0.0f), glm::normalize(Vec3(std::sqrt(3.0f), 0.0f, 1.0f)), 0.0f, kInfinity};
+    const Color d = integrator.trace(out, inside, &counts);
+    ASSERT_TRUE(is_finite(d)) << roughness;
+    EXPECT_GE(d.x, 0.0f);
+    EXPECT_LE(max_component(d), 1.0f + 1e-5f);
   }
 }
 

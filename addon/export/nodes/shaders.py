@@ -638,7 +638,8 @@ def whitted_fields(b, base, metallic, roughness, f0, transmission, base_diffuse=
     roughness = b.clamp01(roughness)
     transmission = b.clamp01(transmission)
     one = b.f(1.0)
-    glossy = glossy and not _zero(metallic)
+    # The lobe of the metal's reflection and of the glass's reflection and refraction.
+    glossy = glossy and not (_zero(metallic) and _zero(transmission))
     # Lecture model: a Whitted tracer cannot blur a reflection, so a metal's mirror
     # fades out as roughness goes from 0 to 0.25, and the Phong highlight takes its
     # place. Blender model: all of it is the lobe's, which the native core blurs.
@@ -727,6 +728,7 @@ def _glass(s, out):
         roughness=roughness,
         f0=b.vmul(f0, b.const((1.0, 1.0, 1.0), COLOR)),
         transmission=b.f(1.0),
+        glossy=s.glossy,
     )
     return s.closure(normal=s.normal(out), highlight=True, refracts=True, ior=ior, **fields)
 

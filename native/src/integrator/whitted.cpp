@@ -290,7 +290,7 @@ class Kernel {
       radiance += reflection(ray, p, split, state, counts);
     }
     if (split.refracts && !is_black(split.sigma_t)) {
-      radiance += transmission(p, split, beyond.media, state, counts);
+      radiance += transmission(p, split, beyond, state, counts);
     }
     return radiance;
   }
@@ -350,7 +350,8 @@ class Kernel {
             : Color(0.0f);
     // A lobe rougher than a mirror is GGX's, for lights and rays (microfacet.h).
     const float alpha = surface.roughness * surface.roughness;
-    const bool glossy = alpha >= kMirrorAlpha && !is_black(surface.reflectivity);
+    const bool glossy = alpha >= kMirrorAlpha &&
+                        (!is_black(surface.reflectivity) || !is_black(surface.transmissivity));
     const Color energy =
         glossy && it.material->multiscatter
             ? ggx_multiscatter_scale(surface.reflectivity, glm::dot(ns, wo), surface.roughness)
@@ -484,16 +485,63 @@ class Kernel {
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media
   // beyond.
-  Color transmission(const ShadingPoint& p, const Split& split, const MediumStack& media,
+  Color transmission(const ShadingPoint& p, const Split& split, const Crossing& beyond,
                      const NodeState& state, RayCounts* counts) const {
-    const Color refracted =
-        branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, split.refracted,
-                         kRefractionRay),
-               state, split.sigma_t, media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
+    if (p.alpha > 0.0f && (effects_ & kGlossyEffect) != 0) {
+      return rough_transmission(p, split, beyond, state, counts);
+    }
+    const Color refracted = branch(
+        spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, split.refracted,
+                  kRefractionRay),
+        state, split.sigma_t, beyond.media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
     if constexpr (kPasses) {
       recorder_.refracted(state.depth, state.throughput, split.sigma_t, refracted);
     }
     return split.sigma_t * refracted;
+  }
+
+  // Frosted glass: the refracted term from n x n visible normals of the GGX lobe (as
+  // glossy_reflection's), the view refracted through each (Walter et al. 2007), weighing
+  // sigma_t * G2/G1 times its facet's Fresnel transmittance over the one sigma_t holds.
+  // Where a facet totally reflects the view (inside the glass, past its critical angle),
+  // its ray reflects about it and stays in the medium.
+  Color rough_transmission(const ShadingPoint& p, const Split& split, const Crossing& beyond,
+                           const NodeState& state, RayCounts* counts) const {
+    const int n = state.glossy == 0 ? settings_.glossy_samples : 1;
+    const float share = 1.0f / static_cast<float>(n * n);
+    const uint32_t h = hash3(state.seed, static_cast<uint32_t>(state.depth), 0x7472u);
+    const glm::vec2 shift(unit_float(h), unit_float(hash3(h, 0x9e3779b9u, 0x7f4au)));
+    const float cos_o = glm::dot(p.ns, p.wo);
+    const bool fresnel = settings_.fresnel != Fresnel::kOff;
+    const float kept = fresnel ? 1.0f - fresnel_exact(cos_o, beyond.eta) : 1.0f;
+    Color mean(0.0f);
+    for (int k = 0; k < n * n; ++k) {
+      Vec3 m;
+      if (!ggx_sample_normal(p.ns, p.wo, p.alpha, stratum(k % n, n, shift.x),
+                             stratum(k / n, n, shift.y), &m)) {
+        continue;
+      }
+      Vec3 t;
+      const bool through = refract(-p.wo, m, beyond.eta, &t) && glm::dot(t, p.ng) < 0.0f;
+      if (!through) {
+        t = reflect(-p.wo, m);  // total internal reflection at this facet
+        if (glm::dot(t, p.ng) <= 0.0f) continue;
+      }
+      float lobe =
+          ggx_transmission_weight(cos_o, glm::dot(p.ns, t), p.alpha, p.it.material->masking);
+      if (through && fresnel && kept > 0.0f) {
+        lobe *= (1.0f - fresnel_exact(std::max(0.0f, glm::dot(p.wo, m)), beyond.eta)) / kept;
+      }
+      const Color brought =
+          branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, t,
+                           through ? kRefractionRay : kReflectionRay),
+                 state, split.sigma_t * lobe, through ? beyond.media : state.media, /*bounce=*/true,
+                 TreeRayKind::kGlossy, counts, /*glossy=*/true, share,
+                 hash3(state.seed, static_cast<uint32_t>(k), 0x7463u));
+      mean += (lobe * share) * brought;
+    }
+    if constexpr (kPasses) recorder_.refracted(state.depth, state.throughput, split.sigma_t, mean);
+    return split.sigma_t * mean;
   }
 
   // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or

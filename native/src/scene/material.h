@@ -142,7 +142,7 @@ struct Material : MaterialParams {
   // computes (glossy rays and GGX highlights: whitted.cpp).
   bool glossy() const {
     const bool base = (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
-                      (!is_black(reflectivity) || driven(kReflectivityField));
+                      (!is_black(reflectivity) || driven(kReflectivityField) || transmissive());
     const bool coat =
         (coat_roughness * coat_roughness >= kMirrorAlpha || driven(kCoatRoughnessField)) &&
         (coat_reflectivity > 0.0f || driven(kCoatReflectivityField));

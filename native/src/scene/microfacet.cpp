@@ -37,6 +37,25 @@ float masking_ratio(float lambda_o, float lambda_i, Masking masking) {
   return (1.0f + lambda_o) / (1.0f + lambda_o + lambda_i);
 }
 
+// Heitz (2018): a visible normal for the local view v (z up) of a lobe of this alpha.
+Vec3 visible_normal(const Vec3& v, float alpha, float u1, float u2) {
+  // The view stretched to the hemisphere configuration, ...
+  const Vec3 vh = glm::normalize(Vec3(alpha * v.x, alpha * v.y, v.z));
+  const float lensq = vh.x * vh.x + vh.y * vh.y;
+  const Vec3 t1 = lensq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : Vec3(1, 0, 0);
+  const Vec3 t2 = glm::cross(vh, t1);
+  // ... a point on the disc of its visible projected area (the disc's lower half shrunk
+  // by the view's tilt), ...
+  const float r = std::sqrt(u1);
+  const float phi = 2.0f * kPi * u2;
+  const float p1 = r * std::cos(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+  // ... lifted to the hemisphere, and unstretched: the microfacet normal.
+  const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  return glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
+}
+
 }  // namespace
 
 float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, Masking masking) {
@@ -54,27 +73,25 @@ float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
   return d * g2 / (4.0f * cos_o);
 }
 
+bool ggx_sample_normal(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* m) {
+  const Frame frame(n);
+  const Vec3 v = frame.to_local(wo);
+  if (v.z <= 0.0f) return false;
+  *m = glm::normalize(frame.to_world(visible_normal(v, alpha, u1, u2)));
+  return true;
+}
+
+float ggx_transmission_weight(float cos_o, float cos_t, float alpha, Masking masking) {
+  return masking_ratio(ggx_lambda(cos_o, alpha), ggx_lambda(std::fabs(cos_t), alpha), masking);
+}
+
 bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
                            float* weight, Masking masking) {
   *weight = 0.0f;
   const Frame frame(n);
   const Vec3 v = frame.to_local(wo);
   if (v.z <= 0.0f) return false;
-  // Heitz (2018): the view stretched to the hemisphere configuration, ...
-  const Vec3 vh = glm::normalize(Vec3(alpha * v.x, alpha * v.y, v.z));
-  const float lensq = vh.x * vh.x + vh.y * vh.y;
-  const Vec3 t1 = lensq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : Vec3(1, 0, 0);
-  const Vec3 t2 = glm::cross(vh, t1);
-  // ... a point on the disc of its visible projected area (the disc's lower half shrunk
-  // by the view's tilt), ...
-  const float r = std::sqrt(u1);
-  const float phi = 2.0f * kPi * u2;
-  const float p1 = r * std::cos(phi);
-  const float s = 0.5f * (1.0f + vh.z);
-  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
-  // ... lifted to the hemisphere, and unstretched: the microfacet normal.
-  const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-  const Vec3 m = glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
+  const Vec3 m = visible_normal(v, alpha, u1, u2);
   const Vec3 l = 2.0f * glm::dot(v, m) * m - v;  // the view mirrored about m
   if (l.z <= 0.0f) return false;
   *weight = masking_ratio(ggx_lambda(v.z, alpha), ggx_lambda(l.z, alpha), masking);

@@ -55,6 +55,16 @@ float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
 bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
                            float* weight, Masking masking = Masking::kCorrelated);
 
+// A visible microfacet normal for view wo about unit normal n (Heitz 2018), from u1, u2
+// in [0, 1): what ggx_sample_reflection mirrors the view about, and what a rough
+// dielectric refracts it through. False when wo is below the surface.
+bool ggx_sample_normal(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* m);
+
+// A refracted direction's weight, G2 / G1(wo) with the masking of the transmitted
+// direction on the far side (cos_t = its cosine to n, negative): Walter et al.'s BTDF
+// over the density of visible normals, the Fresnel factor and Jacobian aside.
+float ggx_transmission_weight(float cos_o, float cos_t, float alpha, Masking masking);
+
 // The energy the single-scattering lobe keeps: its directional albedo E for a view at
 // cos_o to the normal (Fresnel 1), from a 32 x 32 table over (roughness, cos_o) made
 // once from ggx_sample_reflection, read bilinearly; and E's cosine-weighted mean, E_avg.
