@@ -53,7 +53,8 @@ void bind_material(py::module_& m) {
       .value("LAMBERT", DiffuseModel::kLambert)
       .value("BURLEY", DiffuseModel::kBurley)
       .value("OREN_NAYAR", DiffuseModel::kOrenNayar)
-      .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy);
+      .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy)
+      .value("VELVET", DiffuseModel::kVelvet);
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
                        Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,

@@ -304,3 +304,37 @@ def test_frosted_glass_as_cycles(roughness, empty_scene, tmp_path, native):
     assert abs(ratio - 1.0) < 0.1
     assert value > 0.84
     assert frosted_error < clear_error
+
+
+@pytest.mark.parametrize("sigma", [0.3, 1.0])
+def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
+    # Blender 3.x's Velvet BSDF, 4.x's Sheen BSDF (Ashikhmin): Ashikhmin's velvet lobe of
+    # its sigma; it was read as Lambert (up to 1.9x too bright) with the sigma dropped.
+    material = bpy.data.materials.new("Velvet")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    if bpy.app.version < (4, 0, 0):
+        velvet = tree.nodes.new("ShaderNodeBsdfVelvet")
+        velvet.inputs["Sigma"].default_value = sigma
+    else:
+        velvet = tree.nodes.new("ShaderNodeBsdfSheen")
+        velvet.distribution = "ASHIKHMIN"
+        velvet.inputs["Roughness"].default_value = sigma
+    velvet.inputs["Color"].default_value = (0.6, 0.2, 0.3, 1.0)
+    tree.links.new(velvet.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    sphere_under_sun(empty_scene, material, 48, segments=96, rings=48)
+    set_cycles_direct_light(empty_scene, samples=1)
+    empty_scene.cycles.light_sampling_threshold = 0.0
+    empty_scene.whitted.aa_samples = 1
+    empty_scene.whitted.max_depth = 1
+    cycles = render_rgba(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    assert lit.sum() > 300
+    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
+    low, median, high = np.percentile(ratio, [5, 50, 95])
+    print(f"\nvelvet {sigma}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
+    assert 0.99 < median < 1.01
+    assert low > 0.97 and high < 1.03

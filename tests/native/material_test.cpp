@@ -34,7 +34,7 @@ TEST(Material, ConstructorRefusesWhatCannotBeAMaterial) {
   EXPECT_EQ(refusal({.alpha = nan}), "alpha must be finite");
   EXPECT_EQ(refusal({.coat_shininess = inf}), "coat values must be finite");
   EXPECT_EQ(refusal({.coat_ior = -1.0f}), "coat_ior must be positive");
-  EXPECT_EQ(refusal({.diffuse_model = static_cast<DiffuseModel>(4)}),
+  EXPECT_EQ(refusal({.diffuse_model = static_cast<DiffuseModel>(5)}),
             "diffuse_model is not a DiffuseModel");
   EXPECT_EQ(refusal({.diffuse_roughness = nan}), "diffuse_roughness must be finite");
   MaterialParams driven;

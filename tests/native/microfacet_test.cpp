@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+#include "scene/material.h"
+
 namespace whitted {
 namespace {
 
@@ -121,6 +123,29 @@ TEST(Microfacet, TheLobeTendsToTheMirrorAsAlphaTendsToZero) {
     previous = worst;
   }
   EXPECT_GT(previous, 0.9999f);
+}
+
+}  // namespace
+}  // namespace whitted
+
+namespace whitted {
+namespace {
+
+// Ashikhmin's velvet shape (material.h): finite and non-negative at every angle, grazing
+// included, and nothing from behind the surface.
+TEST(Velvet, TheShapeIsFiniteAndNonNegativeAndNothingFromBehind) {
+  for (const float sigma : {0.0f, 0.3f, 1.0f}) {
+    for (const float cos_l : {-0.2f, 0.0f, 1e-6f, 0.3f, 1.0f}) {
+      for (const float cos_v : {-0.2f, 0.0f, 1e-6f, 0.5f, 1.0f}) {
+        for (const float l_dot_v : {-1.0f, -0.5f, 0.0f, 0.9f, 1.0f}) {
+          const float shape = velvet_diffuse(cos_l, cos_v, l_dot_v, sigma);
+          EXPECT_TRUE(std::isfinite(shape)) << cos_l << " " << cos_v << " " << l_dot_v;
+          EXPECT_GE(shape, 0.0f);
+          if (cos_l <= 0.0f || cos_v <= 0.0f) EXPECT_EQ(shape, 0.0f);
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

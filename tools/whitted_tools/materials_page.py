@@ -25,19 +25,18 @@ THIRD_PARTY = [
     {
         "scene": "box_textured",
         "file": "glTF2/BoxTextured-glTF/BoxTextured.gltf",
-        "differs": "3.4: the glTF default roughness 1 on a dielectric. Cycles 3.x's "
-        "Burley diffuse (retro-reflection) is modelled since 9993313 (ratio 0.855 -> "
-        "0.946); what is left is likely its GGX lobe at roughness 1 added on top, whose "
-        "Fresnel factor rises towards grazing angles where Whitted's Phong lobe of "
-        "exponent 1 keeps F0. 5.0 (Lambert, layered GGX) matches.",
+        "differs": "The glTF default roughness 1 on a dielectric: its specular layer is "
+        "a GGX lobe of roughness 1 since the Blender local model (issue 29; 3.4's ratio "
+        "0.946 -> 0.987, 5.0's 0.981 -> 0.955 while the layer dimmed the base by its "
+        "Fresnel factor at the view, 1.000 with the layer's albedo). Before: Cycles 3.x's "
+        "Burley diffuse since 9993313 (0.855 -> 0.946).",
     },
     {
         "scene": "clearcoat_test",
         "file": "glTF2/ClearCoat-glTF/ClearCoatTest.gltf",
-        "differs": "KHR_materials_clearcoat as Principled Coat: a rough coat does not blur "
-        "what it mirrors, and the coat's highlight is Phong, not GGX (the ratio's gap "
-        "was not split further between these; the Phong exponent fix of c43f207 took "
-        "3.4's from 0.804 to 0.844); the 'Coating Only' "
+        "differs": "KHR_materials_clearcoat as Principled Coat: the coat is a GGX lobe of "
+        "its roughness, blurring what it mirrors, since the Blender local model (issue "
+        "29: 3.4's ratio 0.844 -> 0.988, 5.0's 0.866 -> 0.984); the 'Coating Only' "
         "column (black, roughness 0.03) mirrors the floor as Cycles does since the "
         "dielectric specular layer (docs/SUPPORT.md; before, it was black).",
     },
@@ -45,14 +44,14 @@ THIRD_PARTY = [
         "scene": "texture_transform",
         "file": "glTF2/textureTransform/TextureTransformTest.gltf",
         "differs": "KHR_texture_transform (a Mapping node) renders as Cycles does; it was "
-        "falsely warned as not supported. 3.4's ratio: the added GGX lobe at roughness "
-        "1, as box_textured.",
+        "falsely warned as not supported. The rough specular layer as box_textured's "
+        "(3.4's ratio 0.954 -> 0.986).",
     },
     {
         "scene": "two_cylinder_engine",
         "file": "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
-        "differs": "3.4: as box_textured (rough dielectrics). A few zero-area triangles "
-        "are skipped, with a warning.",
+        "differs": "Rough dielectrics, as box_textured (3.4's ratio 0.969 -> 0.992, 5.0's "
+        "0.996 -> 0.999). A few zero-area triangles are skipped, with a warning.",
     },
     {
         "scene": "specular_glossiness_box",
@@ -70,11 +69,10 @@ THIRD_PARTY = [
         "scene": "duck_dae",
         "file": "Collada/duck.dae",
         "differs": "3.4 only (5.0 has no Collada importer). The importer makes a Principled "
-        "of Metallic 0.5, Roughness 0.5: the metal half is a Phong lobe against Cycles' "
-        "GGX lobe, whose long tails light most of the body where the Phong lobe has "
-        "fallen to almost nothing; Whitted is darker over the whole body. The ratio was "
-        "0.692; Burley's diffuse (9993313) made it 0.697, the Phong exponent as a "
-        "quarter of the Blinn one (c43f207: a lobe twice as wide) 0.825.",
+        "of Metallic 0.5, Roughness 0.5: its metal half and specular layer are GGX "
+        "lobes since the Blender local model (issue 29; ratio 0.825 -> 0.994). Before, "
+        "Phong lobes: 0.692, Burley's diffuse (9993313) 0.697, the Phong exponent as a "
+        "quarter of the Blinn one (c43f207) 0.825.",
     },
 ]
 

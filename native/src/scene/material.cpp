@@ -20,8 +20,7 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
   }
   if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
-  if (static_cast<uint32_t>(diffuse_model) >
-      static_cast<uint32_t>(DiffuseModel::kOrenNayarEnergy)) {
+  if (static_cast<uint32_t>(diffuse_model) > static_cast<uint32_t>(DiffuseModel::kVelvet)) {
     throw std::invalid_argument("diffuse_model is not a DiffuseModel");
   }
   if (!std::isfinite(diffuse_roughness)) {

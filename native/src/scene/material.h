@@ -67,6 +67,8 @@ enum class DiffuseModel : uint32_t {
   kOrenNayarEnergy,  // the same plus the multiple scattering Cycles 4.3+ adds to keep
                      // its energy (oren_nayar_multiscatter), also for the Principled
                      // BSDF's Diffuse Roughness
+  kVelvet,           // Ashikhmin's velvet (velvet_diffuse): the Velvet BSDF (3.x) and the
+                     // Sheen BSDF's Ashikhmin distribution (4.x+), its sigma the roughness
 };
 
 // A material as the exporter describes it. Material's constructor checks it; these
@@ -191,6 +193,29 @@ inline float burley_diffuse(float cos_l, float cos_v, float l_dot_v, float rough
   const float retro = roughness * (1.0f + l_dot_v);
   return (1.0f - 0.5f * f_l) * (1.0f - 0.5f * f_v) +
          retro * (f_l + f_v + f_l * f_v * (retro - 1.0f));
+}
+
+// The shape of a kVelvet lobe, relative to Lambert's: Ashikhmin's velvet distribution
+// D = exp(-cot^2(h) / sigma^2) / (pi sigma^2 sin^4(h)) with the shadowing
+// G = min(1, 2 (n.h)(n.v)/(v.h), 2 (n.h)(n.l)/(v.h)), whose f cos_l = D G / (4 cos_v), as
+// Cycles evaluates its velvet closure (sigma at least 0.01). From cos_l = n.l, cos_v = n.v
+// and l_dot_v = l.v: |l + v| = sqrt(2 + 2 l.v), n.h = (n.l + n.v)/|l + v|,
+// v.h = (1 + l.v)/|l + v|. Returns pi f / 1, what multiplies kd/pi.
+inline float velvet_diffuse(float cos_l, float cos_v, float l_dot_v, float sigma) {
+  if (cos_l <= 0.0f || cos_v <= 0.0f) return 0.0f;
+  const float length = std::sqrt(std::max(2.0f + 2.0f * l_dot_v, 0.0f));
+  if (!(length > 0.0f)) return 0.0f;
+  const float cos_nh = (cos_l + cos_v) / length;
+  const float cos_ho = std::fabs(1.0f + l_dot_v) / length;
+  if (!(std::fabs(cos_nh) < 1.0f - 1e-5f && cos_ho > 1e-5f)) return 0.0f;
+  const float ratio = std::max(cos_nh / cos_ho, 1e-5f);
+  const float g = std::min(1.0f, 2.0f * std::min(ratio * cos_v, ratio * cos_l));
+  const float sin2 = 1.0f - cos_nh * cos_nh;
+  const float s = std::max(sigma, 0.01f);
+  const float inv_s2 = 1.0f / (s * s);
+  const float d = std::exp(-(cos_nh * cos_nh / sin2) * inv_s2) * inv_s2 * kInvPi / (sin2 * sin2);
+  // f cos_l = D G / (4 cos_v); Lambert's is cos_l / pi.
+  return kPi * 0.25f * d * g / (cos_v * cos_l);
 }
 
 // The shape of a kOrenNayar diffuse lobe (Fujii's "improved Oren-Nayar" form, as Cycles'
