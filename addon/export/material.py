@@ -289,14 +289,8 @@ def _fixed(fields, lowering, approximate=False):
 def _programmed(fields, lowering, bump_shadowing):
     program, outputs = emit(fields)
     values = {name: evaluate(fields[name], _stand_in) for name in PROGRAM_FIELDS}
-    # Cycles 3.x lifts every BSDF's normal that way (ensure_valid_reflection); 4.x+ only
-    # its specular lobes' (not modelled).
     mapped = "normal" in outputs
-    data = replace(
-        _material_data(values),
-        valid_reflection=mapped and bpy.app.version < (4, 0, 0),
-        bump_shadowing=bump_shadowing if mapped else "NONE",
-    )
+    data = replace(_material_data(values), bump_shadowing=bump_shadowing if mapped else "NONE")
     textures = tuple(lowering.textures[name] for name in program.textures)
     needs = lowering.needs
     return MaterialExport(
@@ -349,6 +343,10 @@ def _material_data(values, **textures):
         # Cycles 3.x adds every lobe of a closure on top of the others (the Principled's
         # specular and Clearcoat do not dim its diffuse); 4.0 on layers them.
         coat_layered=bpy.app.version >= (4, 0, 0),
+        # Cycles 3.x lifts every BSDF's normal, the interpolated one too, where the view's
+        # mirror would fall below the surface (ensure_valid_reflection); 4.x+ only its
+        # specular lobes' (not modelled).
+        valid_reflection=bpy.app.version < (4, 0, 0),
         **textures,
     )
 

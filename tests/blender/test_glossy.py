@@ -338,3 +338,56 @@ def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
     print(f"\nvelvet {sigma}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
     assert 0.99 < median < 1.01
     assert low > 0.97 and high < 1.03
+
+
+def test_tilted_custom_normals_at_a_grazing_view_as_cycles(empty_scene, tmp_path, native):
+    # Blender 3.x's Cycles turns every closure's shading normal, the interpolated one
+    # too, towards the geometric normal where the view's mirror would fall below the
+    # surface (ensure_valid_reflection); Whitted did so only for normals a graph
+    # computes, so a plane whose custom normals lean away from a grazing view rendered
+    # flat where Cycles 3.4 shows a gradient. 4.x+ lifts specular lobes only (a Diffuse
+    # BSDF keeps its normal there, as Whitted does).
+    import bmesh
+    from whitted_tools.material_scenes import add_camera, add_sun, black_world
+
+    scene = empty_scene
+    scene.render.resolution_x, scene.render.resolution_y = 48, 32
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    black_world(scene)
+    mesh = bpy.data.meshes.new("Tilted")
+    built = bmesh.new()
+    bmesh.ops.create_grid(built, x_segments=8, y_segments=8, size=2.0)
+    built.to_mesh(mesh)
+    built.free()
+    if bpy.app.version < (4, 1, 0):
+        mesh.use_auto_smooth = True
+    lean = np.array([0.8, 0.0, 0.6])  # leaning away from a camera on the -x side
+    mesh.normals_split_custom_set_from_vertices([tuple(lean)] * len(mesh.vertices))
+    material = bpy.data.materials.new("Matte")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    tree.links.new(diffuse.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    mesh.materials.append(material)
+    plane = bpy.data.objects.new("Tilted", mesh)
+    scene.collection.objects.link(plane)
+    add_camera(scene, (-6.0, 0.0, 0.8), (0.0, 0.0, 0.0), lens=35.0)
+    add_sun(scene, rotation=(30.0, 0.0, 90.0), strength=3.0)
+    set_cycles_direct_light(scene, samples=1)
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 1
+    scene.whitted.max_depth = 0
+    scene.whitted.ambient_strength = 0.0
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    assert lit.sum() > 100
+    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
+    low, median, high = np.percentile(ratio, [2, 50, 98])
+    print(f"\ntilted normals: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
+    assert 0.98 < median < 1.02
+    assert low > 0.95 and high < 1.05

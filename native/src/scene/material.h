@@ -108,10 +108,10 @@ struct MaterialParams {
   // (Cycles 4.0 on); false: the coat is added on top of them, as Cycles 3.x's Principled
   // BSDF adds its specular and Clearcoat lobes to its diffuse one.
   bool coat_layered = true;
-  // Cycles 3.x: a program's normal (a normal map, a bump) is turned towards the
-  // geometric normal just enough that the view's mirror direction stays above the
-  // surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for specular
-  // lobes only, and Whitted then not at all).
+  // Cycles 3.x: the shading normal (a program's, or the interpolated one) is turned
+  // towards the geometric normal just enough that the view's mirror direction stays
+  // above the surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for
+  // specular lobes only, and Whitted then not at all).
   bool valid_reflection = false;
   BumpShadowing bump_shadowing = BumpShadowing::kNone;  // for a program's normal
   DiffuseModel diffuse_model = DiffuseModel::kLambert;

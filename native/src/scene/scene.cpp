@@ -636,6 +636,14 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
   SurfaceParams out = material_constants[it.material_index];
   out.normal = it.shading_normal;
   out.coat_normal = it.shading_normal;
+  if (m.valid_reflection && !m.driven(kNormalField)) {
+    // Cycles 3.x lifts the interpolated normal too (every closure's), on the side the
+    // ray comes from, where the view's mirror would fall below the surface.
+    const float side = glm::dot(ray.direction, it.geometric_normal) > 0.0f ? -1.0f : 1.0f;
+    out.normal = side * valid_reflection(side * it.geometric_normal, -ray.direction,
+                                         side * it.shading_normal);
+    out.coat_normal = out.normal;
+  }
   if (m.diffuse_texture_index < 0 && m.alpha_texture_index < 0 && !m.program) return out;
   out.alpha = m.alpha;  // clamped once textures and program have applied
   if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
