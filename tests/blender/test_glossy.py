@@ -24,6 +24,20 @@ def glossy_material(name, colour, roughness, distribution):
     return material
 
 
+def render_both(scene, tmp_path):
+    """(Cycles' render, Whitted's) of `scene`, float32 RGBA."""
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    return cycles, whitted
+
+
+def lit_ratio(cycles, whitted, darkest):
+    """Whitted / Cycles (red channel) over the pixels both cover and Cycles shows above
+    `darkest`."""
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > darkest)
+    return lit, whitted[lit][:, 0] / cycles[lit][:, 0]
+
+
 LOBES = [(r, d) for r in (0.3, 0.6, 1.0) for d in ("GGX", "MULTI_GGX")]
 
 
@@ -46,11 +60,9 @@ def test_a_suns_highlight_on_a_glossy_sphere_is_cycles(
     scene.cycles.light_sampling_threshold = 0.0
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 1  # glossy rays see the black world: nothing
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    cycles, whitted = render_both(scene, tmp_path)
+    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
     assert lit.sum() > 300
-    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
     low, median, high = np.percentile(ratio, [5, 50, 95])
     energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
     print(
@@ -203,10 +215,8 @@ def test_rough_plastic_under_a_sun_as_cycles(roughness, empty_scene, tmp_path, n
     scene.cycles.light_sampling_threshold = 0.0
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 1
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-2)
-    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
+    cycles, whitted = render_both(scene, tmp_path)
+    lit, ratio = lit_ratio(cycles, whitted, 1e-2)
     low, median, high = np.percentile(ratio, [5, 50, 95])
     energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
     print(
@@ -329,11 +339,9 @@ def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
     empty_scene.cycles.light_sampling_threshold = 0.0
     empty_scene.whitted.aa_samples = 1
     empty_scene.whitted.max_depth = 1
-    cycles = render_rgba(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    cycles, whitted = render_both(empty_scene, tmp_path)
+    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
     assert lit.sum() > 300
-    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
     low, median, high = np.percentile(ratio, [5, 50, 95])
     print(f"\nvelvet {sigma}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
     assert 0.99 < median < 1.01
@@ -382,11 +390,9 @@ def test_tilted_custom_normals_at_a_grazing_view_as_cycles(empty_scene, tmp_path
     scene.whitted.aa_samples = 1
     scene.whitted.max_depth = 0
     scene.whitted.ambient_strength = 0.0
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 1e-3)
+    cycles, whitted = render_both(scene, tmp_path)
+    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
     assert lit.sum() > 100
-    ratio = whitted[lit][:, 0] / cycles[lit][:, 0]
     low, median, high = np.percentile(ratio, [2, 50, 98])
     print(f"\ntilted normals: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
     assert 0.98 < median < 1.02

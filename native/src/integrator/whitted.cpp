@@ -461,32 +461,27 @@ class Kernel {
     return split.sigma_r * reflected;
   }
 
-  // Distributed ray tracing's glossy reflection (Cook et al. 1984): n x n rays drawn
-  // from the GGX lobe (microfacet.h), one per stratum of [0, 1)^2, each weighing
-  // sigma_r * G2/G1 / n^2 (the lobe over its density). The strata are shifted by a hash
-  // of the camera sample's seed (NodeState::seed), so every render of a scene draws the
-  // same rays, whatever its scale, and neighbouring samples different ones. A ray the lobe sends
-  // below the surface is lost, as light the single-scattering lobe does not return.
   struct Lobe {
     Vec3 normal;                // facing the ray
     float alpha;                // GGX alpha
     Color energy;               // its multiple-scattering scale, or 1
     const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
   };
+  // Distributed ray tracing's glossy reflection (Cook et al. 1984): n x n rays drawn
+  // from the GGX lobe (microfacet.h), one per stratum of [0, 1)^2, each weighing
+  // sigma_r * G2/G1 / n^2 (the lobe over its density). The strata are shifted by a hash
+  // of the camera sample's seed (NodeState::seed), so every render of a scene draws the
+  // same rays, whatever its scale, and neighbouring samples different ones. A ray the lobe sends
+  // below the surface is lost, as light the single-scattering lobe does not return.
   Color glossy_reflection(const ShadingPoint& p, const Split& split, const Lobe& lobe_of,
                           const NodeState& state, RayCounts* counts) const {
-    const int n = state.glossy == 0 ? settings_.glossy_samples : 1;
-    const float share = 1.0f / static_cast<float>(n * n);
-    // Cranley-Patterson shift of the strata: the branch's seed, per depth.
-    const uint32_t h = hash3(state.seed, static_cast<uint32_t>(state.depth), 0x6c6fu);
-    const glm::vec2 shift(unit_float(h), unit_float(hash3(h, 0x9e3779b9u, 0x7f4au)));
+    const Strata strata(state, settings_.glossy_samples, 0x6c6fu);
     Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
-    for (int k = 0; k < n * n; ++k) {
-      const float u1 = stratum(k % n, n, shift.x);
-      const float u2 = stratum(k / n, n, shift.y);
+    for (int k = 0; k < strata.count(); ++k) {
+      const glm::vec2 u = strata.point(k);
       Vec3 wi;
       float lobe = 0.0f;  // G2 / G1
-      if (!ggx_sample_reflection(lobe_of.normal, p.wo, lobe_of.alpha, u1, u2, &wi, &lobe,
+      if (!ggx_sample_reflection(lobe_of.normal, p.wo, lobe_of.alpha, u.x, u.y, &wi, &lobe,
                                  p.it.material->masking)) {
         continue;
       }
@@ -498,18 +493,34 @@ class Kernel {
       const Color brought = branch(
           spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, wi, kReflectionRay),
           state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts,
-          /*glossy=*/true, share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu));
-      mean += (lobe * share) * lobe_of.energy * brought;
+          /*glossy=*/true, strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu));
+      mean += (lobe * strata.share) * lobe_of.energy * brought;
     }
     if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
     return split.sigma_r * mean;
   }
 
-  // Stratum `index` of `n` on [0, 1), shifted by `shift` and wrapped.
-  static float stratum(int index, int n, float shift) {
-    const float u = (static_cast<float>(index) + 0.5f) / static_cast<float>(n) + shift;
-    return u - std::floor(u);
-  }
+  // The n x n strata of [0, 1)^2 a glossy lobe's rays are drawn from: n = Glossy Samples
+  // at a branch's first glossy hit, 1 after; shifted (Cranley-Patterson) by a hash of the
+  // branch's seed and depth, `salt` telling the lobes of one hit apart.
+  struct Strata {
+    int n;
+    float share;  // 1 / n^2: each ray's share of the lobe
+    glm::vec2 shift;
+
+    Strata(const NodeState& state, int samples, uint32_t salt)
+        : n(state.glossy == 0 ? samples : 1), share(1.0f / static_cast<float>(n * n)) {
+      const uint32_t h = hash3(state.seed, static_cast<uint32_t>(state.depth), salt);
+      shift = glm::vec2(unit_float(h), unit_float(hash3(h, 0x9e3779b9u, 0x7f4au)));
+    }
+    int count() const { return n * n; }
+    // Stratum k's centre, shifted and wrapped.
+    glm::vec2 point(int k) const {
+      return {wrap((static_cast<float>(k % n) + 0.5f) / static_cast<float>(n) + shift.x),
+              wrap((static_cast<float>(k / n) + 0.5f) / static_cast<float>(n) + shift.y)};
+    }
+    static float wrap(float u) { return u - std::floor(u); }
+  };
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media
   // beyond.
@@ -535,18 +546,15 @@ class Kernel {
   // its ray reflects about it and stays in the medium.
   Color rough_transmission(const ShadingPoint& p, const Split& split, const Crossing& beyond,
                            const NodeState& state, RayCounts* counts) const {
-    const int n = state.glossy == 0 ? settings_.glossy_samples : 1;
-    const float share = 1.0f / static_cast<float>(n * n);
-    const uint32_t h = hash3(state.seed, static_cast<uint32_t>(state.depth), 0x7472u);
-    const glm::vec2 shift(unit_float(h), unit_float(hash3(h, 0x9e3779b9u, 0x7f4au)));
+    const Strata strata(state, settings_.glossy_samples, 0x7472u);
     const float cos_o = glm::dot(p.ns, p.wo);
     const bool fresnel = settings_.fresnel != Fresnel::kOff;
     const float kept = fresnel ? 1.0f - fresnel_exact(cos_o, beyond.eta) : 1.0f;
     Color mean(0.0f);
-    for (int k = 0; k < n * n; ++k) {
+    for (int k = 0; k < strata.count(); ++k) {
       Vec3 m;
-      if (!ggx_sample_normal(p.ns, p.wo, p.alpha, stratum(k % n, n, shift.x),
-                             stratum(k / n, n, shift.y), &m)) {
+      const glm::vec2 u = strata.point(k);
+      if (!ggx_sample_normal(p.ns, p.wo, p.alpha, u.x, u.y, &m)) {
         continue;
       }
       Vec3 t;
@@ -564,9 +572,9 @@ class Kernel {
           branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, t,
                            through ? kRefractionRay : kReflectionRay),
                  state, split.sigma_t * lobe, through ? beyond.media : state.media, /*bounce=*/true,
-                 TreeRayKind::kGlossy, counts, /*glossy=*/true, share,
+                 TreeRayKind::kGlossy, counts, /*glossy=*/true, strata.share,
                  hash3(state.seed, static_cast<uint32_t>(k), 0x7463u));
-      mean += (lobe * share) * brought;
+      mean += (lobe * strata.share) * brought;
     }
     if constexpr (kPasses) recorder_.refracted(state.depth, state.throughput, split.sigma_t, mean);
     return split.sigma_t * mean;
