@@ -18,6 +18,7 @@ def native_settings(native, scene, width, height, film, quality=None):
         transparent_background=film.transparent_background,
         max_depth=quality.max_depth,
         glossy_samples=quality.glossy_samples,
+        emitter_samples=quality.emitter_samples,
         aa_mode=getattr(native.AntiAliasing, quality.aa_mode),
         aa_samples=quality.aa_samples,
         aa_threshold=quality.aa_threshold,

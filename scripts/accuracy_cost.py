@@ -93,6 +93,11 @@ SWEEPS = (
         "Glossy rays per axis (rough reflections)",
         [(str(n), {"glossy_samples": n}) for n in (1, 2, 3, 4, 6)],
     ),
+    (
+        "emitter_samples",
+        "Emitter feelers per axis (emissive meshes)",
+        [(str(n), {"emitter_samples": n}) for n in (1, 2, 3, 4, 6)],
+    ),
     ("fresnel", "Fresnel", [(f, {"fresnel": f}) for f in ("OFF", "SCHLICK", "EXACT")]),
     (
         "cutoff",

@@ -108,6 +108,9 @@ class MaterialData:
     # How the lobe's Smith masking and shadowing combine (native Masking's name): Cycles
     # 4.0 on height-correlated, 3.x separable.
     masking: str = "CORRELATED"
+    # Which sides of the meshes it covers light the scene as emissive meshes (native
+    # EmissionSampling's name): Cycles' Emission Sampling (_emission_sampling).
+    emission_sampling: str = "BOTH"
 
 
 @dataclass(frozen=True)
@@ -238,7 +241,23 @@ def map_material(material, warnings, programs=False, local_model="BLENDER"):
         exported = replace(exported, data=replace(exported.data, diffuse_model=model))
     if closure.multiscatter:
         exported = replace(exported, data=replace(exported.data, multiscatter=True))
-    return exported
+    sampling = _emission_sampling(material)
+    return replace(exported, data=replace(exported.data, emission_sampling=sampling))
+
+
+def _emission_sampling(material):
+    """Which sides of an emissive mesh feelers sample, from Cycles' setting: 4.0+'s
+    Material > Settings > Emission Sampling (material.cycles.emission_sampling: None,
+    Auto, Front, Back, Front and Back), 3.x's Multiple Importance
+    (material.cycles.sample_as_light: both sides or none); both sides where the Cycles
+    add-on that holds them is off. Auto samples both sides: Cycles then skips emission
+    it estimates weak (at most 0.5) and lets its diffuse rays find it, which Whitted
+    does not trace, so Whitted samples every emitter it has (docs/SUPPORT.md)."""
+    settings = getattr(material, "cycles", None)
+    sampling = getattr(settings, "emission_sampling", None)
+    if sampling is not None:
+        return {"NONE": "NONE", "FRONT": "FRONT", "BACK": "BACK"}.get(sampling, "BOTH")
+    return "BOTH" if getattr(settings, "sample_as_light", True) else "NONE"
 
 
 def _fixed(fields, lowering, approximate=False):

@@ -19,6 +19,7 @@ class Quality:
     aa_depth: int  # adaptive: how many times a square may be split
     light_samples: int  # shadow feelers per axis of a sized light whose own setting is 0
     glossy_samples: int  # rays per axis drawn from a rough reflection lobe
+    emitter_samples: int  # feelers per axis to the emissive meshes from a shading point
     fresnel: str  # OFF | SCHLICK | EXACT
     cutoff: float  # a secondary ray whose weight is below this is not traced
     texture_filter: str  # AUTHORED (each Image Texture node's) | CLOSEST
@@ -38,6 +39,7 @@ PRESETS = (
             aa_depth=1,
             light_samples=1,
             glossy_samples=1,
+            emitter_samples=1,
             fresnel="SCHLICK",
             cutoff=0.05,
             texture_filter="CLOSEST",
@@ -46,7 +48,7 @@ PRESETS = (
     (
         "PREVIEW",
         "Preview",
-        "Adaptive anti-aliasing (one split), four bounces, 2x2 shadow feelers",
+        "Adaptive anti-aliasing (one split), four bounces, 2x2 shadow and emitter feelers",
         Quality(
             max_depth=4,
             aa_mode="ADAPTIVE",
@@ -55,6 +57,7 @@ PRESETS = (
             aa_depth=1,
             light_samples=2,
             glossy_samples=2,
+            emitter_samples=2,
             fresnel="SCHLICK",
             cutoff=0.01,
             texture_filter="AUTHORED",
@@ -64,7 +67,7 @@ PRESETS = (
         "FINAL",
         "Final",
         "Adaptive anti-aliasing (two splits, threshold 0.1), eight bounces, 4x4 shadow "
-        "feelers, exact Fresnel",
+        "and emitter feelers, exact Fresnel",
         Quality(
             max_depth=8,
             aa_mode="ADAPTIVE",
@@ -73,6 +76,7 @@ PRESETS = (
             aa_depth=2,
             light_samples=4,
             glossy_samples=3,
+            emitter_samples=4,
             fresnel="EXACT",
             cutoff=1.0 / 255.0,
             texture_filter="AUTHORED",
@@ -81,7 +85,7 @@ PRESETS = (
     (
         "REFERENCE",
         "Reference",
-        "6x6 jittered samples per pixel, 16 bounces, 6x6 shadow feelers, cutoff 0.001",
+        "6x6 jittered samples per pixel, 16 bounces, 6x6 shadow and emitter feelers, cutoff 0.001",
         Quality(
             max_depth=16,
             aa_mode="JITTERED",
@@ -90,6 +94,7 @@ PRESETS = (
             aa_depth=3,
             light_samples=6,
             glossy_samples=6,
+            emitter_samples=6,
             fresnel="EXACT",
             # Not 0: without a cutoff a ray tree in glass doubles at every bounce
             # (2^16 rays per camera sample); a weight of 1/1000 is below 8-bit output.

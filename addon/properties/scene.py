@@ -90,6 +90,14 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         min=1,
         max=16,
     )
+    emitter_samples: IntProperty(
+        name="Emitter Samples",
+        description="Shadow feelers per axis (n x n) from each shading point to the emissive "
+        "meshes, picked by emitted power (one after a glossy bounce)",
+        default=2,
+        min=1,
+        max=16,
+    )
     local_model: EnumProperty(
         name="Local Model",
         description="How a surface reflects light",

@@ -28,6 +28,7 @@ def native_material(native, material):
     fields["bump_shadowing"] = getattr(native.BumpShadowing, material.data.bump_shadowing)
     fields["diffuse_model"] = getattr(native.DiffuseModel, material.data.diffuse_model)
     fields["masking"] = getattr(native.Masking, material.data.masking)
+    fields["emission_sampling"] = getattr(native.EmissionSampling, material.data.emission_sampling)
     if material.program is not None:
         fields["program"] = native_program(native, material.program)
         fields["outputs"] = dict(material.outputs)

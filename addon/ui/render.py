@@ -46,6 +46,7 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         glossy = column.row()
         glossy.active = settings.local_model == "BLENDER"
         glossy.prop(settings, "glossy_samples")
+        column.prop(settings, "emitter_samples")
         column.prop(settings, "fresnel")
         column.prop(settings, "glass_shadows")
         column.prop(settings, "texture_filter")

@@ -55,6 +55,13 @@ void bind_material(py::module_& m) {
       .value("OREN_NAYAR", DiffuseModel::kOrenNayar)
       .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy)
       .value("VELVET", DiffuseModel::kVelvet);
+  py::enum_<EmissionSampling>(m, "EmissionSampling",
+                              "Which sides of an emissive mesh light the scene as a light "
+                              "(Cycles' Emission Sampling): NONE, FRONT, BACK or BOTH.")
+      .value("NONE", EmissionSampling::kNone)
+      .value("FRONT", EmissionSampling::kFront)
+      .value("BACK", EmissionSampling::kBack)
+      .value("BOTH", EmissionSampling::kBoth);
   py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
       .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
                        Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,
@@ -64,7 +71,8 @@ void bind_material(py::module_& m) {
                        float coat_reflectivity, float coat_shininess, float coat_ior,
                        bool coat_layered, bool valid_reflection, BumpShadowing bump_shadowing,
                        DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index,
-                       float roughness, bool multiscatter, Masking masking, float coat_roughness) {
+                       float roughness, bool multiscatter, Masking masking, float coat_roughness,
+                       EmissionSampling emission_sampling) {
              // Material's constructor checks the values (std::invalid_argument: ValueError).
              return Material(MaterialParams{.diffuse = diffuse,
                                             .specular = specular,
@@ -77,6 +85,7 @@ void bind_material(py::module_& m) {
                                             .transmissivity = transmissivity,
                                             .ior = ior,
                                             .emission = emission,
+                                            .emission_sampling = emission_sampling,
                                             .alpha = alpha,
                                             .pass_index = pass_index,
                                             .coat_specular = coat_specular,
@@ -112,6 +121,7 @@ void bind_material(py::module_& m) {
            py::arg("pass_index") = defaults.pass_index, py::arg("roughness") = defaults.roughness,
            py::arg("multiscatter") = defaults.multiscatter, py::arg("masking") = defaults.masking,
            py::arg("coat_roughness") = defaults.coat_roughness,
+           py::arg("emission_sampling") = defaults.emission_sampling,
            "program: a Program computing some fields per hit; outputs: field name -> register "
            "holding it after the program (diffuse, specular, shininess, reflectivity, "
            "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
@@ -135,6 +145,8 @@ void bind_material(py::module_& m) {
       .def_readonly("ior", &Material::ior)
       .def_readonly("emission", &Material::emission)
       .def_readonly("alpha", &Material::alpha)
+      .def_readonly("emission_sampling", &Material::emission_sampling,
+                    "Which sides of the meshes it covers light the scene as a light.")
       .def_readonly("coat_specular", &Material::coat_specular)
       .def_readonly("coat_reflectivity", &Material::coat_reflectivity)
       .def_readonly("coat_shininess", &Material::coat_shininess)

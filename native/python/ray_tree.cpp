@@ -78,6 +78,7 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     ray["object"] = name_at(instances, node.instance);
     ray["material"] = name_at(scene.material_names, node.material);
     ray["light"] = name_at(scene.light_names, node.light);
+    ray["emitter"] = name_at(instances, node.emitter);  // a feeler to an emissive mesh
     ray["weight"] = list3(node.weight);
     ray["contribution"] = list3(node.contribution());
     ray["cut"] = cut_name(node.cut);

@@ -43,6 +43,7 @@ def test_presets_are_ordered_and_stated():
         assert cheaper.cutoff >= dearer.cutoff
         assert cheaper.light_samples <= dearer.light_samples
         assert cheaper.glossy_samples <= dearer.glossy_samples
+        assert cheaper.emitter_samples <= dearer.emitter_samples
 
 
 @pytest.mark.parametrize("key", [key for key, _, _, _ in PRESETS])
@@ -52,7 +53,15 @@ def test_apply_preset_operator_sets_every_control(empty_scene, key):
     assert bpy.ops.whitted.apply_preset(preset=key) == {"FINISHED"}
     assert matching_preset(empty_scene.whitted) == key
     values = quality_of(empty_scene.whitted)
-    names = ("max_depth", "aa_mode", "aa_samples", "aa_depth", "light_samples", "glossy_samples")
+    names = (
+        "max_depth",
+        "aa_mode",
+        "aa_samples",
+        "aa_depth",
+        "light_samples",
+        "glossy_samples",
+        "emitter_samples",
+    )
     for name in names:
         assert getattr(values, name) == getattr(preset(key), name)
     assert values.cutoff == pytest.approx(preset(key).cutoff)
@@ -69,6 +78,7 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
         aa_depth=2,
         light_samples=5,
         glossy_samples=4,
+        emitter_samples=3,
         fresnel="SCHLICK",
         cutoff=0.02,
         texture_filter="CLOSEST",
@@ -82,6 +92,7 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
     assert settings.aa_threshold == pytest.approx(0.2)
     assert settings.aa_depth == 2
     assert settings.glossy_samples == 4
+    assert settings.emitter_samples == 3
     assert settings.fresnel == native.Fresnel.SCHLICK
     assert settings.cutoff == pytest.approx(0.02)
     # Not a quality control but a look: glass casts a full shadow unless tinted.

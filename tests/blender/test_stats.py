@@ -40,6 +40,7 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "aa_depth": 3,
         "light_samples": 4,
         "glossy_samples": 2,
+        "emitter_samples": 2,
         "fresnel": "EXACT",
         "cutoff": pytest.approx(1.0 / 255.0),
         "texture_filter": "AUTHORED",
@@ -159,7 +160,10 @@ def test_each_render_states_what_it_simulated_and_skipped(
     assert stats["rays"]["reflection"] == 0
     assert stats["rays"]["refraction"] == 0
     line = whitted.stats.effects_line(stats)
-    assert "skipped: reflection (no reflective or transmissive material)" in line
+    assert (
+        "skipped: emissive meshes as lights (no mesh emits with its Emission Sampling on), "
+        "reflection (no reflective or transmissive material)" in line
+    )
     assert "shadows (lights cast shadows)" in line
     # Points facing away from one of the two lights send it no feeler.
     assert stats["shadow_rays_skipped"]["backfacing"] > 0

@@ -21,6 +21,7 @@ using testing::add_object;
 using testing::emitter;
 using testing::looking_down;
 using testing::quad;
+using testing::render_pixels;
 
 Material rough_metal(float roughness, Color colour = Color(1.0f)) {
   Material m;
@@ -250,14 +251,6 @@ TEST(Glossy, TheAnalysisNamesTheGlossyMaterials) {
   EXPECT_FALSE(analyse(*plain.compile(), Settings{}).has(kGlossyEffect));
 }
 
-std::vector<float> render_job(const Scene& scene, Settings settings) {
-  RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
-  return job.film().pixels();
-}
-
 // Glossy rays are drawn from a hash of the hit, never from a thread's state: the same
 // pixels on any thread count and tile size.
 TEST(Glossy, ThePixelsDependOnNeitherThreadsNorTiles) {
@@ -277,11 +270,12 @@ TEST(Glossy, ThePixelsDependOnNeitherThreadsNorTiles) {
   settings.glossy_samples = 3;
   settings.threads = 1;
   settings.tile_size = 64;
-  const std::vector<float> reference = render_job(scene, settings);
+  const std::vector<float> reference = render_pixels(scene, settings);
   for (auto [threads, tile] : {std::pair{2, 5}, std::pair{3, 16}}) {
     settings.threads = threads;
     settings.tile_size = tile;
-    EXPECT_TRUE(render_job(scene, settings) == reference) << threads << " threads, tile " << tile;
+    EXPECT_TRUE(render_pixels(scene, settings) == reference)
+        << threads << " threads, tile " << tile;
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "integrator/render.h"
 #include "scene/scene.h"
 
 namespace whitted::testing {
@@ -25,11 +26,23 @@ inline void add_object(Scene* scene, const std::string& name, Mesh mesh, const M
   scene->set_instance(name, Instance{name, to_world, {name}});
 }
 
-inline Material emitter(Color radiance) {
+// The pixels of a whole render of `scene` from its camera, waited for.
+inline std::vector<float> render_pixels(const Scene& scene, const Settings& settings) {
+  RenderJob job(scene, settings, scene.camera);
+  job.start();
+  while (!job.wait(1.0)) {
+  }
+  return job.film().pixels();
+}
+
+// A surface that shows `radiance` to the rays meeting it and, with `sampling`, lights the
+// scene as an emissive mesh (None: a marker the tests look for, lighting nothing).
+inline Material emitter(Color radiance, EmissionSampling sampling = EmissionSampling::kNone) {
   Material m;
   m.diffuse = Color(0.0f);
   m.ambient = 0.0f;
   m.emission = radiance;
+  m.emission_sampling = sampling;
   return m;
 }
 

@@ -60,11 +60,50 @@ def test_rows_run_bottom_to_top_like_blenders_render_result():
     scene = lit_floor_scene()
     scene.remove_light("key")
     scene.set_mesh("marker", *quad(-10, 10, -10, 0, 0.5))  # covers the lower half (y < 0)
-    scene.set_material("glow", wn.Material(diffuse=(0, 0, 0), ambient=0, emission=(1, 0, 0)))
+    # A marker: its emission shows, it lights nothing (the floor stays black).
+    glow = wn.Material(
+        diffuse=(0, 0, 0),
+        ambient=0,
+        emission=(1, 0, 0),
+        emission_sampling=wn.EmissionSampling.NONE,
+    )
+    scene.set_material("glow", glow)
     scene.set_instance("marker", "marker", np.eye(4), ["glow"])
     image = finish(wn.RenderJob(scene, wn.Settings(width=8, height=8)))
     assert np.all(image[:4, :, 0] == 1.0)  # first rows: the bottom of the picture
     assert np.all(image[4:, :, 0] == 0.0)
+
+
+def test_an_emissive_mesh_lights_the_floor_and_the_report_names_it():
+    scene = lit_floor_scene()
+    scene.remove_light("key")
+    scene.set_mesh("panel", *quad(-1, 1, -1, 1, 2))
+    for sampling in ("NONE", "BOTH"):
+        glow = wn.Material(
+            diffuse=(0, 0, 0),
+            ambient=0,
+            emission=(3, 3, 3),
+            emission_sampling=getattr(wn.EmissionSampling, sampling),
+        )
+        assert glow.emission_sampling == getattr(wn.EmissionSampling, sampling)
+        scene.set_material("glow", glow)
+        scene.set_instance("panel", "panel", np.eye(4), ["glow"], visibility=wn.Visibility.SHADOW)
+        job = wn.RenderJob(scene, wn.Settings(width=8, height=8, emitter_samples=3))
+        image = finish(job)
+        decision = next(
+            e for e in job.stats()["effects"] if e["name"] == "emissive meshes as lights"
+        )
+        if sampling == "NONE":
+            assert np.all(image[..., 0] == 0.0)
+            assert decision == {
+                "name": "emissive meshes as lights",
+                "on": False,
+                "why": "no mesh emits with its Emission Sampling on",
+            }
+        else:
+            assert np.all(image[..., 0] > 0.0)
+            assert decision["on"] and decision["why"] == "1 object, 2 triangles"
+            assert job.stats()["rays"]["shadow"] > 0
 
 
 def test_replacing_one_light_changes_only_its_contribution():
@@ -282,7 +321,13 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
     off = {"name": "reflection", "on": False, "why": "no reflective or transmissive material"}
     assert off in pruned.stats()["effects"]
     assert [e["name"] for e in pruned.stats()["effects"]] == [
-        *("shadows", "reflection", "glossy reflection", "refraction", "translucency", "pruning")
+        "shadows",
+        "emissive meshes as lights",
+        "reflection",
+        "glossy reflection",
+        "refraction",
+        "translucency",
+        "pruning",
     ]
     assert plain.stats()["effects"] == [
         {"name": "analysis", "on": False, "why": "every effect on"},

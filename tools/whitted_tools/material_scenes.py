@@ -178,3 +178,53 @@ def frame_subject(scene):
     floor.location.z = low[2] - 0.01 * radius  # not coplanar with a flat model
     add_sun(scene)
     black_world(scene)
+
+
+def emission_material(name, strength, colour=(1.0, 1.0, 1.0)):
+    """An Emission shader of `colour` times `strength`: that radiance, W/(m^2 sr), seen
+    from either side."""
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    nodes.clear()
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (*colour, 1.0)
+    emission.inputs["Strength"].default_value = strength
+    output = nodes.new("ShaderNodeOutputMaterial")
+    material.node_tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    return material
+
+
+def emissive_panel(name, location, size, material, cuts=0):
+    """A square plane of `size` m facing down (its front, the side its normal points
+    to, towards -Z) at `location`, of `material`; `cuts` subdivisions per side make it
+    2 (cuts + 1)^2 triangles (a screen or sign of many small emitters)."""
+    bpy.ops.mesh.primitive_grid_add(
+        x_subdivisions=cuts + 1, y_subdivisions=cuts + 1, size=size, location=location
+    )
+    panel = bpy.context.active_object
+    panel.name = name
+    panel.rotation_euler = (math.pi, 0.0, 0.0)
+    panel.data.materials.append(material)
+    return panel
+
+
+def panel_room(scene, sphere_material=None, cuts=0, strength=6.0):
+    """A Lambertian floor lit only by a 1 m emissive panel 2 m above it, facing down
+    (`cuts`: emissive_panel's), on a black world, at 64 x 48 pixels; `sphere_material`
+    puts a sphere between them. Whitted: 2 x 2 samples, 4 x 4 emitter feelers."""
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    black_world(scene)
+    add_floor(scene, size=8.0, albedo=0.8)
+    panel = emissive_panel("Panel", (0.0, 0.0, 2.0), 1.0, emission_material("Glow", strength), cuts)
+    if sphere_material is not None:
+        smooth_sphere("Ball", (0.3, 0.0, 0.6), 0.5, sphere_material, segments=64, rings=32)
+    add_camera(scene, (0.0, -5.0, 3.0), (0.0, 0.0, 0.6), lens=32.0)
+    scene.whitted.ambient_strength = 0.0
+    scene.whitted.aa_samples = 2
+    scene.whitted.emitter_samples = 4
+    return panel

@@ -4,9 +4,21 @@
 #include <utility>
 
 #include "integrator/passes.h"
+#include "scene/mesh_light.h"
 
 namespace whitted {
 namespace {
+
+// 4096 -> "4,096", as the report writes counts.
+std::string thousands(size_t n) {
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
 
 void decide(Effects* effects, uint32_t bit, bool on, std::string name, std::string why) {
   if (!on) effects->bits &= ~bit;
@@ -37,12 +49,20 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
     translucent |=
         mat.cut_out() || (settings.glass_shadows == GlassShadows::kTinted && mat.transmissive());
   }
-  bool casting = false;
+  bool casting = !scene.mesh_lights->empty();  // an emissive mesh's feelers are shadowed
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
   decide(effects, kShadowEffect, casting && any_blocker, "shadows",
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
                        : "nothing is visible to shadow rays");
+  const MeshLights& emitters = *scene.mesh_lights;
+  const size_t objects = emitters.objects();
+  const size_t triangles = emitters.triangles().size();
+  decide(effects, kEmitterEffect, !emitters.empty(), "emissive meshes as lights",
+         emitters.empty()
+             ? "no mesh emits with its Emission Sampling on"
+             : std::to_string(objects) + (objects == 1 ? " object, " : " objects, ") +
+                   thousands(triangles) + (triangles == 1 ? " triangle" : " triangles"));
   // At maximum depth 0 no mirror or refracted ray is traced, unless the Cut Weight pass
   // asks: then the kernel reaches them to count what the depth cuts (and adds nothing).
   const bool cut_weight = (settings.passes & pass_bit(FilmPass::kCutWeight)) != 0;

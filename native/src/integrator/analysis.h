@@ -25,6 +25,8 @@ enum EffectBits : uint32_t {
   // Glossy rays from lobes rougher than a mirror (scene/microfacet.h). Read at run time
   // in every kernel: not one of the sets the kernels are compiled for (kAllEffects).
   kGlossyEffect = 1u << 5,
+  // Feelers to emissive meshes (scene/mesh_light.h), read at run time likewise.
+  kEmitterEffect = 1u << 6,
 };
 
 // One decision of the analysis: an effect's name, whether it is simulated, and why
@@ -38,9 +40,9 @@ struct EffectDecision {
 };
 
 struct Effects {
-  uint32_t bits = kAllEffects | kGlossyEffect;
+  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect;
   std::vector<EffectDecision> decisions;  // one per effect, in EffectBits order (glossy
-                                          // after reflection)
+                                          // after reflection, emitters after shadows)
   bool has(uint32_t bit) const { return (bits & bit) != 0; }
 };
 

@@ -47,7 +47,8 @@ struct RayTreeNode {
   Vec3 end{0.0f};         // where it ended, when `hit`
   int32_t instance = -1;  // CompiledScene::instances index of what it hit or was blocked by
   int32_t material = -1;  // CompiledScene::materials index of that surface
-  int32_t light = -1;     // shadow rays: CompiledScene::lights index
+  int32_t light = -1;     // shadow rays to a lamp: CompiledScene::lights index
+  int32_t emitter = -1;   // shadow rays to an emissive mesh: CompiledScene::instances index
   // Its share of the pixel: a ray's radiance times `weight` is what it brings to the pixel
   // (the product of the anti-aliasing weight, the coverage of cut-outs in front and the
   // sigma_r / sigma_t of every surface on the way).

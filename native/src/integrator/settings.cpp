@@ -27,6 +27,7 @@ void Settings::validate() const {
   check_range("width * height", int64_t{width} * height, 1, int64_t{1} << 28);
   check_range("max_depth", max_depth, 0, 256);
   check_range("glossy_samples", glossy_samples, 1, 16);
+  check_range("emitter_samples", emitter_samples, 1, 16);
   check_range("aa_samples", aa_samples, 1, 64);
   check_range("aa_depth", aa_depth, 0, 6);
   if (!(aa_threshold >= 0.0f && aa_threshold <= 3.0f)) {

@@ -30,6 +30,10 @@ struct Settings {
   // bounces of the same branch send one each (the ray tree would otherwise grow by n^2
   // at every glossy bounce).
   int glossy_samples = 2;
+  // Feelers to the emissive meshes (scene/mesh_light.h) from each shading point: n x n,
+  // stratified over the power table and the triangles, at a branch's first glossy
+  // bounce and before it; one after, as glossy rays.
+  int emitter_samples = 2;
   AntiAliasing aa_mode = AntiAliasing::kRegular;
   int aa_samples = 1;         // per axis, regular and jittered: n x n samples
   float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)

@@ -61,6 +61,10 @@ struct NodeState {
   // Where the strata of glossy rays start: the camera sample's seed (sampler.cpp), mixed
   // at each glossy bounce with the ray's index, so each branch has its own.
   uint32_t seed = 0;
+  // A ray drawn from a glossy lobe: its density there per unit solid angle, times its
+  // lobe's rays per emitter feeler, for the MIS weight of the emission it meets
+  // (whitted.cpp); 0 for every other ray, which counts emission whole.
+  float mis = 0.0f;
 };
 
 // Analyses the scene once, then traces only the effects the scene calls for

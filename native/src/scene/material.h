@@ -71,6 +71,11 @@ enum class DiffuseModel : uint32_t {
                      // Sheen BSDF's Ashikhmin distribution (4.x+), its sigma the roughness
 };
 
+// Which sides of an emissive mesh shadow feelers sample as a light (Cycles' Emission
+// Sampling; scene/mesh_light.h): front is the side its faces' normals point to. A side
+// not sampled still shows its emission to the rays that see it.
+enum class EmissionSampling : uint32_t { kNone, kFront, kBack, kBoth };
+
 // A material as the exporter describes it. Material's constructor checks it; these
 // defaults are a valid grey Lambertian material.
 struct MaterialParams {
@@ -91,9 +96,11 @@ struct MaterialParams {
   Color transmissivity{0.0f};  // sigma_t before the Fresnel split
   float ior = 1.5f;            // index of refraction inside the surface (outside: 1)
   Color emission{0.0f};        // radiance added as is
-  float alpha = 1.0f;          // coverage: 1 opaque, 0 invisible (cut-outs)
-  int32_t priority = 0;        // nested dielectrics: the higher owns overlaps (medium.h)
-  int32_t pass_index = 0;      // Blender's material Pass Index (the IndexMA pass)
+  // Which sides of the meshes it covers light the scene (scene/mesh_light.h).
+  EmissionSampling emission_sampling = EmissionSampling::kBoth;
+  float alpha = 1.0f;      // coverage: 1 opaque, 0 invisible (cut-outs)
+  int32_t priority = 0;    // nested dielectrics: the higher owns overlaps (medium.h)
+  int32_t pass_index = 0;  // Blender's material Pass Index (the IndexMA pass)
   // The coat: a clear dielectric layer over everything above. At a hit it reflects its
   // weights times the dielectric Fresnel factor of coat_ior at its own normal, and what
   // lies beneath receives the rest (whitted.cpp, Coat).

@@ -73,6 +73,17 @@ float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
   return d * g2 / (4.0f * cos_o);
 }
 
+float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha) {
+  const float cos_o = glm::dot(n, wo);
+  const float cos_i = glm::dot(n, wi);
+  if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
+  const Vec3 half = wo + wi;
+  const float length = glm::length(half);
+  if (!(length > 0.0f)) return 0.0f;
+  const float d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  return d / ((1.0f + ggx_lambda(cos_o, alpha)) * 4.0f * cos_o);
+}
+
 bool ggx_sample_normal(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* m) {
   const Frame frame(n);
   const Vec3 v = frame.to_local(wo);

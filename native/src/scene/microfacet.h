@@ -55,6 +55,12 @@ float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
 bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
                            float* weight, Masking masking = Masking::kCorrelated);
 
+// The density, per unit solid angle, with which ggx_sample_reflection draws wi for view
+// wo: the visible normals' density over the reflection's Jacobian, G1(wo) D(m) / (4 cos_o)
+// for m the half vector; 0 below either horizon. What multiple importance sampling
+// weighs a glossy ray against a light's feeler with (whitted.cpp).
+float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha);
+
 // A visible microfacet normal for view wo about unit normal n (Heitz 2018), from u1, u2
 // in [0, 1): what ggx_sample_reflection mirrors the view about, and what a rough
 // dielectric refracts it through. False when wo is below the surface.

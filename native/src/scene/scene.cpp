@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "core/limits.h"
+#include "scene/mesh_light.h"
 
 namespace whitted {
 namespace {
@@ -358,6 +359,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     if (built_top_level != nullptr) *built_top_level = true;
   }
   compiled->accel = state_.accel;
+  compiled->mesh_lights = MeshLights::build(*compiled);
   state_.snapshot = compiled;
   return compiled;
 }

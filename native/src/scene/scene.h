@@ -20,6 +20,8 @@
 
 namespace whitted {
 
+class MeshLights;
+
 // A mesh together with its BVH; built once when the mesh is set, shared by instances.
 struct MeshEntry {
   MeshEntry(std::shared_ptr<AccelDevice> device, Mesh m)
@@ -132,6 +134,8 @@ struct CompiledScene {
   std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
+  // The emissive meshes shadow feelers sample (scene/mesh_light.h); never null.
+  std::shared_ptr<const MeshLights> mesh_lights;
   Color background{0.0f};  // where there is no world program
   Color ambient{0.0f};
   // The world: a program whose register `world_output` is the radiance of a ray that
