@@ -4,6 +4,8 @@
              checkerboard, lit by a sphere light (soft shadows): deep refraction
     diffuse  matte boxes and spheres on an image-textured floor under an area
              light and a sun with an angle: soft shadows, textures, no mirrors
+    distributed  the diffuse scene lit by an emissive panel and the sun, its balls
+             rough gold, rough plastic and frosted glass: glossy rays, emitter feelers
 
     blender -b --factory-startup --python scripts/cost_scenes.py -- \\
         --scene glass --save out/glass.blend
@@ -19,7 +21,11 @@ from whitted_tools import bench_scenes
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
 
-BUILDERS = {"glass": bench_scenes.build_glass_scene, "diffuse": bench_scenes.build_diffuse_scene}
+BUILDERS = {
+    "glass": bench_scenes.build_glass_scene,
+    "diffuse": bench_scenes.build_diffuse_scene,
+    "distributed": bench_scenes.build_distributed_scene,
+}
 
 
 def main():

@@ -14,12 +14,14 @@ def _rgb(values):
 
 
 def _ray_label(ray):
-    what = ray["object"] or ("background" if ray["kind"] != "shadow" else ray["light"])
+    what = ray["object"] or "background"
     if ray["kind"] == "shadow":
         state = {True: "blocked", False: "lit", None: ray["cut"]}[ray["blocked"]]
         if ray["blocked"] and ray["object"]:
             state = f"blocked by {ray['object']}"
-        return f"shadow -> {ray['light']}: {state}"
+        # A lamp, or an emissive mesh (the object it is a light of).
+        source = ray["light"] or ray.get("emitter")
+        return f"shadow -> {source}: {state}"
     if ray["cut"]:
         return f"{ray['kind']}: cut ({ray['cut']})"
     return f"{ray['kind']} -> {what}"

@@ -105,3 +105,24 @@ def test_pixels_outside_the_image_are_refused_with_a_report(demo):
     with pytest.raises(RuntimeError, match="outside"):
         bpy.ops.whitted.inspect_ray_tree(x=WIDTH, y=0)
     assert demo.whitted.last_ray_tree == ""
+
+
+def test_a_floor_pixel_under_an_emissive_panel_has_feelers_naming_it(empty_scene, render_pixels):
+    # Emissive meshes are lights: the inspector shows their feelers, each naming the
+    # mesh it samples, and the contributions still sum to the rendered pixel.
+    from whitted.ui.ray_tree import _ray_label
+    from whitted_tools.material_scenes import panel_room
+
+    scene = empty_scene
+    panel_room(scene)
+    scene.render.engine = "WHITTED"
+    pixels = render_pixels(scene)
+    x, y = 32, 8  # the floor, near the bottom of the frame
+    tree = _inspect(x, y)
+    feelers = [r for r in tree["rays"] if r["kind"] == "shadow"]
+    assert len(feelers) == 4 * 4 * 4  # 2 x 2 camera samples, 4 x 4 emitter feelers each
+    assert all(r["emitter"] == "Panel" and r["light"] is None for r in feelers)
+    assert _ray_label(feelers[0]).startswith("shadow -> Panel: ")
+    total = np.sum([r["contribution"] for r in tree["rays"]], axis=0)
+    np.testing.assert_allclose(total, pixels[y, x, :3], rtol=1e-5, atol=1e-6)
+    assert pixels[y, x, 0] > 0.0

@@ -382,6 +382,30 @@ def build_diffuse_scene(scene):
     return scene
 
 
+def build_distributed_scene(scene):
+    """The diffuse scene's floor and sun, its area light replaced by an emissive panel,
+    its matte balls by a rough gold metal, a rough plastic and a frosted glass ball:
+    glossy rays, rough refraction and emitter feelers (MIS) where a scene calls for
+    them (issue 29)."""
+    from whitted_tools.material_scenes import emission_material, emissive_panel
+
+    build_diffuse_scene(scene)
+    bpy.data.objects.remove(bpy.data.objects["Area Light"])
+    looks = (
+        ("Rough Gold", (1.0, 0.78, 0.34), {("Metallic",): 1.0, ("Roughness",): 0.35}),
+        ("Rough Plastic", (0.1, 0.1, 0.5), {("Roughness",): 0.3}),
+        ("Frosted", (1.0, 1.0, 1.0), {TRANSMISSION: 1.0, ("IOR",): 1.5, ("Roughness",): 0.2}),
+    )
+    for index, (name, colour, inputs) in enumerate(looks):
+        ball = bpy.data.objects[f"Ball {index}"]
+        ball.data.materials[0] = principled_material(name, colour, inputs)
+    panel = emissive_panel("Panel", (-1.0, 0.5, 3.5), 2.0, emission_material("Panel Glow", 8.0))
+    # Out of the camera's sight, as a light panel often is: seen edge-on its radiance of
+    # 8 would make a few pixels' sampling the whole error against the reference.
+    panel.visible_camera = False
+    return scene
+
+
 def glass_material(name, ior):
     return principled_material(
         name,

@@ -732,8 +732,6 @@ class Kernel {
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
       const int samples = light.sample_count();
-      // A single feeler, or those of different lights, trace faster one at a time
-      // (docs/notes/performance_reading.md); the inspector records each sample alone.
       const Feeler feeler{light.cast_shadows, samples,
                           static_cast<int32_t>(&light - scene_.lights.data()), -1};
       const auto draw = [&](int s) {
@@ -816,6 +814,8 @@ class Kernel {
       out.sample.wi = d / dist;
       out.sample.distance = dist;
       if (!triangle.lights(-out.sample.wi)) return out;  // a side it does not light
+      // Behind the surface it adds nothing: its emission (a program's, perhaps) unread.
+      if (glm::dot(p.ns, out.sample.wi) <= 0.0f) return out;
       const float cos_e = std::fabs(glm::dot(out.sample.wi, triangle.normal));
       const Ray towards{p.it.shadow_origin, out.sample.wi, 0.0f, dist, 0u};
       const Color radiance = emitted(scene_, triangle, s.barycentric, towards, context(state));
