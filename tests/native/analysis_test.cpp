@@ -56,9 +56,7 @@ Result render(const Scene& scene, bool analysis, float cutoff = 1.0f / 255.0f) {
   settings.feeler_pruning = analysis;
   settings.cutoff = cutoff;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return {job.film().pixels(), job.stats()};
 }
 

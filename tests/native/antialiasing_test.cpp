@@ -32,9 +32,7 @@ Result render(const Scene& scene, Settings settings) {
   settings.width = 40;
   settings.height = 40;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return {job.film().pixels(), job.film().cost(), job.stats()};
 }
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "integrator/render.h"
+#include "scene_builders.h"
 
 namespace whitted {
 namespace {
@@ -150,9 +151,7 @@ TEST(Fuzz, RandomScenesNeverCrashOrProduceNonFinitePixels) {
     settings.cutoff = f.pick(2) ? 0.0f : 1.0f / 255.0f;
     settings.threads = 1;
     RenderJob job(scene, settings, scene.camera);
-    job.start();
-    while (!job.wait(1.0)) {
-    }
+    testing::run_to_end(job);
     for (float v : job.film().pixels()) ASSERT_TRUE(std::isfinite(v)) << "iteration " << iteration;
     ++rendered;
   }

@@ -130,9 +130,7 @@ std::vector<float> render_sphere(Mesh mesh) {
   settings.width = 48;
   settings.height = 48;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return job.film().pixels();
 }
 

@@ -28,12 +28,6 @@ Settings small(uint32_t passes) {
   return s;
 }
 
-void run(RenderJob& job) {
-  job.start();
-  while (!job.wait(1.0)) {
-  }
-}
-
 // The largest |Combined - recombined| over the pixels' RGB.
 float recombination_error(const Film& film) {
   const auto& p = [&film](FilmPass pass) -> const std::vector<float>& { return film.pass(pass); };
@@ -62,7 +56,7 @@ TEST(Passes, LightPassesRecombineToCombined) {
     Settings settings = small(kLightPasses);
     settings.aa_mode = mode;
     RenderJob job(scene, settings, scene.camera);
-    run(job);
+    testing::run_to_end(job);
     EXPECT_LT(recombination_error(job.film()), 1e-4f);
     // Every component is somewhere in the picture.
     for (const FilmPass pass :
@@ -78,11 +72,11 @@ TEST(Passes, ProgressiveLastPassHasTheSamePasses) {
   const Scene scene = glass_and_mirror_scene();
   Settings settings = small(kAllPasses);
   RenderJob whole(scene, settings, scene.camera);
-  run(whole);
+  testing::run_to_end(whole);
   settings.progressive = true;
   settings.packets = false;
   RenderJob progressive(scene, settings, scene.camera);
-  run(progressive);
+  testing::run_to_end(progressive);
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
     const std::vector<float>& a = whole.film().pass(pass);
@@ -99,9 +93,9 @@ TEST(Passes, ProgressiveLastPassHasTheSamePasses) {
 TEST(Passes, DoNotChangeCombined) {
   const Scene scene = glass_and_mirror_scene();
   RenderJob plain(scene, small(0), scene.camera);
-  run(plain);
+  testing::run_to_end(plain);
   RenderJob with(scene, small(kAllPasses), scene.camera);
-  run(with);
+  testing::run_to_end(with);
   EXPECT_TRUE(plain.film().pixels() == with.film().pixels());
   EXPECT_TRUE(plain.film().cost() == with.film().cost());
 }
@@ -114,13 +108,13 @@ TEST(Passes, EachGroupAloneGivesWhatEveryPassGives) {
   Settings settings = small(kAllPasses);
   settings.cutoff = 0.3f;
   RenderJob every(scene, settings, scene.camera);
-  run(every);
+  testing::run_to_end(every);
   for (const uint32_t group :
        {pass_bit(FilmPass::kDepth), kDataPasses, kLightPasses, pass_bit(FilmPass::kContributions),
         pass_bit(FilmPass::kCutWeight)}) {
     settings.passes = group;
     RenderJob alone(scene, settings, scene.camera);
-    run(alone);
+    testing::run_to_end(alone);
     for (size_t p = 0; p < kFilmPassCount; ++p) {
       const auto pass = static_cast<FilmPass>(p);
       if ((group & pass_bit(pass)) == 0) continue;
@@ -142,7 +136,7 @@ TEST(Passes, ContributionsSumToCombinedAndCutWeightGrowsAsDepthFalls) {
     settings.cutoff = 0.0f;
     settings.contribution_depth = 2;
     RenderJob job(scene, settings, scene.camera);
-    run(job);
+    testing::run_to_end(job);
     const Film& film = job.film();
     ASSERT_EQ(film.pass_channels(FilmPass::kContributions), 9);
     const std::vector<float>& bins = film.pass(FilmPass::kContributions);
@@ -181,7 +175,7 @@ TEST(Passes, DataPassesOfAPlaneSeenFromAbove) {
   settings.mist_falloff = 1.0f;
   settings.aa_samples = 1;  // mist is a mean of samples, position the first sample's
   RenderJob job(scene, settings, scene.camera);
-  run(job);
+  testing::run_to_end(job);
   const Film& film = job.film();
   for (size_t i = 0; i < film.pixels().size() / 4; ++i) {
     EXPECT_NEAR(film.pass(FilmPass::kDepth)[i], 4.0f, 1e-4f);

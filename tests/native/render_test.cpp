@@ -18,9 +18,7 @@ using testing::quad;
 
 std::vector<float> render(const Scene& scene, Settings settings) {
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return job.film().pixels();
 }
 
@@ -47,9 +45,7 @@ TEST(Render, EveryTileIsReportedOnceAndProgressReachesOne) {
   settings.height = 30;
   settings.tile_size = 16;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   int pixels = 0;
   for (const Tile& t : job.take_finished_tiles()) pixels += t.width * t.height;
   EXPECT_EQ(pixels, 50 * 30);
@@ -309,9 +305,7 @@ TEST(Render, ReplayNeedsAFinishedRenderRecordedWithResults) {
   EXPECT_THROW(RenderJob{ReplayOf{unstarted}}, std::logic_error);
   for (auto [stride, results] : {std::pair{0u, false}, std::pair{1u, false}}) {
     RenderJob job(scene, settings, scene.camera, stride, results);
-    job.start();
-    while (!job.wait(1.0)) {
-    }
+    testing::run_to_end(job);
     EXPECT_THROW(RenderJob{ReplayOf{job}}, std::logic_error) << stride;
   }
 }

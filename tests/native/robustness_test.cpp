@@ -257,9 +257,7 @@ std::vector<float> render_image(const Scene& scene, int threads = 2, int tile = 
   settings.threads = threads;
   settings.tile_size = tile;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return job.film().pixels();
 }
 

@@ -26,12 +26,17 @@ inline void add_object(Scene* scene, const std::string& name, Mesh mesh, const M
   scene->set_instance(name, Instance{name, to_world, {name}});
 }
 
-// The pixels of a whole render of `scene` from its camera, waited for.
-inline std::vector<float> render_pixels(const Scene& scene, const Settings& settings) {
-  RenderJob job(scene, settings, scene.camera);
+// Starts a render and waits for its end.
+inline void run_to_end(RenderJob& job) {
   job.start();
   while (!job.wait(1.0)) {
   }
+}
+
+// The pixels of a whole render of `scene` from its camera, waited for.
+inline std::vector<float> render_pixels(const Scene& scene, const Settings& settings) {
+  RenderJob job(scene, settings, scene.camera);
+  run_to_end(job);
   return job.film().pixels();
 }
 

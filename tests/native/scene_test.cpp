@@ -34,9 +34,7 @@ std::vector<float> render(const Scene& scene) {
   settings.width = 12;
   settings.height = 10;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   return job.film().pixels();
 }
 

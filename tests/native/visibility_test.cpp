@@ -85,9 +85,7 @@ TEST(Visibility, TransparentFilmAndBorder) {
   settings.border[2] = 12;
   settings.border[3] = 7;
   RenderJob job(scene, settings, scene.camera);
-  job.start();
-  while (!job.wait(1.0)) {
-  }
+  testing::run_to_end(job);
   const std::vector<float>& px = job.film().pixels();
   for (int y = 0; y < 10; ++y) {
     for (int x = 0; x < 20; ++x) {
