@@ -26,7 +26,6 @@ from pathlib import Path
 import bpy
 
 # isort: split
-import numpy as np
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import page_parser, script_args
 from whitted_tools.material_scenes import (
@@ -34,17 +33,18 @@ from whitted_tools.material_scenes import (
     add_floor,
     add_sun,
     emission_material,
+    glass_bsdf_material,
     grey_world,
     lambert_material,
     panel_room,
+    principled_sphere_material,
     smooth_sphere,
 )
 from whitted_tools.metrics import subject_figures
 from whitted_tools.pages import command_line, machine_lines, num, relative_link, table, write_page
-from whitted_tools.render import render_exr
+from whitted_tools.render import render_exr, save_side_by_side
 
 CYCLES_SAMPLES = 512
-GAP = 4
 
 
 def parse_args():
@@ -53,31 +53,6 @@ def parse_args():
 
 
 # --- the scenes: each builds itself and says how to turn its effect off ---------------
-
-
-def _principled(name, base, roughness, metallic=0.0):
-    material = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*base, 1.0)
-    bsdf.inputs["Metallic"].default_value = metallic
-    bsdf.inputs["Roughness"].default_value = roughness
-    return material
-
-
-def _glass(roughness):
-    material = bpy.data.materials.new("Frosted")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
-    glass = tree.nodes.new("ShaderNodeBsdfGlass")
-    glass.distribution = "GGX"
-    glass.inputs["Roughness"].default_value = roughness
-    glass.inputs["IOR"].default_value = 1.5
-    tree.links.new(glass.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    return material
 
 
 def _sphere_on_floor(scene, material):
@@ -106,15 +81,17 @@ def emitters(scene, on):
 
 
 def scene_rough_gold(scene):
-    _sphere_on_floor(scene, _principled("Gold", (1.0, 0.78, 0.34), 0.4, metallic=1.0))
+    _sphere_on_floor(
+        scene, principled_sphere_material("Gold", (1.0, 0.78, 0.34), 0.4, metallic=1.0)
+    )
 
 
 def scene_rough_plastic(scene):
-    _sphere_on_floor(scene, _principled("Plastic", (0.05, 0.05, 0.3), 0.3))
+    _sphere_on_floor(scene, principled_sphere_material("Plastic", (0.05, 0.05, 0.3), 0.3))
 
 
 def scene_frosted_glass(scene):
-    _sphere_on_floor(scene, _glass(0.25))
+    _sphere_on_floor(scene, glass_bsdf_material("Frosted", 0.25))
 
 
 def scene_panel_light(scene):
@@ -129,7 +106,7 @@ def scene_neon_sign(scene):
 
 
 def scene_metal_under_panel(scene):
-    panel_room(scene, _principled("Metal", (0.9, 0.9, 0.9), 0.3, metallic=1.0))
+    panel_room(scene, principled_sphere_material("Metal", (0.9, 0.9, 0.9), 0.3, metallic=1.0))
 
 
 # (name, build, the effect's name in the report, what turns it on and off, how off)
@@ -193,22 +170,6 @@ def set_engines(scene):
     whitted.emitter_samples = 4
 
 
-def save_pair(whitted, cycles, path):
-    height, width, _ = whitted.shape
-    pair = np.ones((height, 2 * width + GAP, 4), dtype=np.float32)
-    for offset, image in ((0, whitted), (width + GAP, cycles)):
-        alpha = image[..., 3:4]
-        pair[:, offset : offset + width, :3] = image[..., :3] + (1.0 - alpha) * 0.18
-    out = bpy.data.images.new("pair", pair.shape[1], height, float_buffer=True)
-    try:
-        out.pixels.foreach_set(pair.reshape(-1))
-        settings = bpy.context.scene.render.image_settings
-        settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
-        out.save_render(path, scene=bpy.context.scene)
-    finally:
-        bpy.data.images.remove(out)
-
-
 def timed_whitted(scene, path, stats_path):
     """Whitted's render of `scene` and the engine's total time (its statistics)."""
     image = render_exr(scene, path, engine="WHITTED")
@@ -234,7 +195,7 @@ def render_scene(entry, image_dir, repeats):
         alone = render_exr(scene, os.path.join(work, "subject.exr"), engine="WHITTED")
         floor.hide_render = False
         ssim, ratio = subject_figures(whitted, cycles, alone[..., 3] > 0.99)
-        save_pair(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
+        save_side_by_side(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
         # On and off alternating, so a change in the machine's load hits both alike.
         on, off = [], []
         for _ in range(repeats):

@@ -54,10 +54,9 @@ from whitted_tools.materials_page import (
     write_markdown,
 )
 from whitted_tools.metrics import subject_figures
-from whitted_tools.render import render_exr
+from whitted_tools.render import render_exr, save_side_by_side
 
 WIDTH, HEIGHT = 240, 180
-GAP = 4
 
 
 def parse_args():
@@ -382,28 +381,6 @@ def set_engines(scene):
     whitted.max_depth = 8
 
 
-def save_pair(whitted, cycles, path):
-    height, width, _ = whitted.shape
-    pair = np.ones((height, 2 * width + GAP, 4), dtype=np.float32)
-    for offset, image in ((0, whitted), (width + GAP, cycles)):
-        alpha = image[..., 3:4]
-        # Over a mid grey, so the cut-outs show.
-        pair[:, offset : offset + width, :3] = image[..., :3] + (1.0 - alpha) * 0.18
-    out = bpy.data.images.new("pair", pair.shape[1], height, float_buffer=True)
-    try:
-        out.pixels.foreach_set(pair.reshape(-1))
-        out.filepath_raw = path
-        out.file_format = "PNG"
-        scene = bpy.context.scene
-        settings = scene.render.image_settings
-        settings.file_format = "PNG"
-        settings.color_mode = "RGB"
-        settings.color_depth = "8"
-        out.save_render(path, scene=scene)
-    finally:
-        bpy.data.images.remove(out)
-
-
 def render_scene(name, build, image_dir):
     with tempfile.TemporaryDirectory() as work:
         scene = factory_scene()
@@ -420,7 +397,7 @@ def render_scene(name, build, image_dir):
             floor.hide_render = False
             subject = alone[..., 3] > 0.99
         ssim, ratio = subject_figures(whitted, cycles, subject)
-        save_pair(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
+        save_side_by_side(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
     passed = ssim >= TARGET_SSIM and TARGET_RATIO[0] <= ratio <= TARGET_RATIO[1]
     print(f"gallery_materials: {name}: SSIM {ssim:.3f}, ratio {ratio:.3f}, passed {passed}")
     return {"scene": name, "ssim": ssim, "ratio": ratio, "passed": passed}

@@ -7,7 +7,11 @@ import bpy
 import numpy as np
 import pytest
 from cycles_scenes import render_rgba, set_cycles_direct_light
-from whitted_tools.material_scenes import sphere_under_sun
+from whitted_tools.material_scenes import (
+    glass_bsdf_material,
+    principled_sphere_material,
+    sphere_under_sun,
+)
 
 
 def glossy_material(name, colour, roughness, distribution):
@@ -192,25 +196,14 @@ def test_the_lecture_model_keeps_the_seeds_mirror_and_phong_highlight(
     assert not np.array_equal(glossy, lecture)
 
 
-def principled(name, base, roughness, specular=0.5):
-    material = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (*base, 1.0)
-    bsdf.inputs["Roughness"].default_value = roughness
-    level = "Specular IOR Level" if "Specular IOR Level" in bsdf.inputs else "Specular"
-    bsdf.inputs[level].default_value = specular
-    bsdf.inputs["IOR"].default_value = 1.5
-    return material
-
-
 @pytest.mark.parametrize("roughness", [0.2, 0.5])
 def test_rough_plastic_under_a_sun_as_cycles(roughness, empty_scene, tmp_path, native):
     # The Principled BSDF's dielectric specular layer over its diffuse base, rough: in
     # the Blender model a GGX lobe weighted by the Fresnel factor at the view, on top.
     scene = empty_scene
-    sphere_under_sun(scene, principled("Plastic", (0.5, 0.4, 0.3), roughness), 48, 96, 48)
+    sphere_under_sun(
+        scene, principled_sphere_material("Plastic", (0.5, 0.4, 0.3), roughness), 48, 96, 48
+    )
     set_cycles_direct_light(scene, samples=1)
     scene.cycles.light_sampling_threshold = 0.0
     scene.whitted.aa_samples = 1
@@ -238,7 +231,12 @@ def test_rough_black_plastic_reflects_the_sky_as_cycles(roughness, empty_scene, 
     scene.render.resolution_percentage = 100
     scene.render.film_transparent = True
     grey_world(scene, 0.5)
-    smooth_sphere("Ball", (0.0, 0.0, 0.0), 1.0, principled("Black", (0.0, 0.0, 0.0), roughness))
+    smooth_sphere(
+        "Ball",
+        (0.0, 0.0, 0.0),
+        1.0,
+        principled_sphere_material("Black", (0.0, 0.0, 0.0), roughness),
+    )
     side_camera(scene, 2.2)
     set_cycles_direct_light(scene, samples=256)
     scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
@@ -263,16 +261,7 @@ def test_frosted_glass_as_cycles(roughness, empty_scene, tmp_path, native):
     from whitted_tools.metrics import subject_figures
 
     scene = empty_scene
-    material = bpy.data.materials.new("Frosted")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
-    glass = tree.nodes.new("ShaderNodeBsdfGlass")
-    glass.distribution = "GGX"
-    glass.inputs["Roughness"].default_value = roughness
-    glass.inputs["IOR"].default_value = 1.5
-    tree.links.new(glass.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    material = glass_bsdf_material("Frosted", roughness)
     metal_reflecting_surroundings(scene, material)
     set_cycles_direct_light(scene, samples=512)
     cycles_settings = scene.cycles

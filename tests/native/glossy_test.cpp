@@ -121,7 +121,9 @@ TEST(Glossy, ALobeTendingToAMirrorGivesTheMirrorsImage) {
   const auto render = [](float roughness) {
     Scene scene;
     add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), rough_metal(roughness, Color(0.8f)));
-    add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f), emitter(Color(3.0f)));
+    // An emissive panel: its feelers and their MIS weights are drawn the same way.
+    add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f),
+               emitter(Color(3.0f), EmissionSampling::kBoth));
     scene.set_background(Color(0.1f));
     scene.camera = looking_down(Vec3(0.0f, 0.0f, 1.0f), 1.0f);
     const auto compiled = scene.compile();
@@ -251,12 +253,14 @@ TEST(Glossy, TheAnalysisNamesTheGlossyMaterials) {
   EXPECT_FALSE(analyse(*plain.compile(), Settings{}).has(kGlossyEffect));
 }
 
-// Glossy rays are drawn from a hash of the hit, never from a thread's state: the same
-// pixels on any thread count and tile size.
+// Glossy rays and emitter feelers are drawn from a hash of the camera sample, never from
+// a thread's state: the same pixels on any thread count and tile size.
 TEST(Glossy, ThePixelsDependOnNeitherThreadsNorTiles) {
   Scene scene;
   add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), rough_metal(0.35f, Color(0.8f)));
-  add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f), emitter(Color(3.0f)));
+  // An emissive panel: its feelers and their MIS weights are drawn the same way.
+  add_object(&scene, "panel", quad(-0.5f, 0.5f, -0.5f, 0.5f, 2.0f),
+             emitter(Color(3.0f), EmissionSampling::kBoth));
   Light light;
   light.color = Color(20.0f);
   light.position = Vec3(1.0f, 1.0f, 3.0f);

@@ -1,7 +1,8 @@
 // Emissive meshes as lights (scene/mesh_light.h): the irradiance their feelers gather is
 // the analytic one, each Emission Sampling side lights only its side, a glossy surface
 // reflecting an emitter counts its light once (MIS), and the hard cases (a degenerate or
-// dark emitter, a camera inside one) stay finite and reported.
+// dark emitter, a camera inside one) stay finite and reported. Threads and tiles change
+// no pixel: glossy_test.cpp's ThePixelsDependOnNeitherThreadsNorTiles has a panel.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,9 +19,7 @@ namespace {
 
 using testing::add_object;
 using testing::emitter;
-using testing::looking_down;
 using testing::quad;
-using testing::render_pixels;
 
 Material white_floor() {
   Material m;
@@ -207,27 +206,6 @@ TEST(MeshLight, ACameraInsideAClosedEmitterSeesItAndLightsTheFloor) {
   EXPECT_FLOAT_EQ(seen.x, L);
   const float floor = floor_radiance(scene, settings, 16, eye);
   EXPECT_NEAR(floor, 0.8f * L, 0.02f * 0.8f * L);
-}
-
-// Feelers are drawn from a hash of the camera sample, never a thread's state: the same
-// pixels on any thread count and tile size.
-TEST(MeshLight, ThePixelsDependOnNeitherThreadsNorTiles) {
-  Scene scene = panel_scene(EmissionSampling::kBoth, 0.4f, 1.0f);
-  scene.camera = looking_down(Vec3(0.3f, 0.1f, 2.5f), 1.5f);
-  Settings settings;
-  settings.width = 37;
-  settings.height = 23;
-  settings.aa_samples = 2;
-  settings.emitter_samples = 2;
-  settings.threads = 1;
-  settings.tile_size = 64;
-  const std::vector<float> reference = render_pixels(scene, settings);
-  for (auto [threads, tile] : {std::pair{2, 5}, std::pair{3, 16}}) {
-    settings.threads = threads;
-    settings.tile_size = tile;
-    EXPECT_TRUE(render_pixels(scene, settings) == reference)
-        << threads << " threads, tile " << tile;
-  }
 }
 
 }  // namespace

@@ -228,3 +228,34 @@ def panel_room(scene, sphere_material=None, cuts=0, strength=6.0):
     scene.whitted.aa_samples = 2
     scene.whitted.emitter_samples = 4
     return panel
+
+
+def principled_sphere_material(name, base, roughness, metallic=0.0, specular=0.5):
+    """A Principled BSDF of `base` colour, `roughness`, `metallic` and specular level
+    `specular` (3.x Specular, 4.x+ Specular IOR Level), IOR 1.5."""
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*base, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Metallic"].default_value = metallic
+    level = "Specular IOR Level" if "Specular IOR Level" in bsdf.inputs else "Specular"
+    bsdf.inputs[level].default_value = specular
+    bsdf.inputs["IOR"].default_value = 1.5
+    return material
+
+
+def glass_bsdf_material(name, roughness, ior=1.5):
+    """A Glass BSDF (GGX) of `roughness` and `ior`: frosted glass above roughness 0."""
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    glass = tree.nodes.new("ShaderNodeBsdfGlass")
+    glass.distribution = "GGX"
+    glass.inputs["Roughness"].default_value = roughness
+    glass.inputs["IOR"].default_value = ior
+    tree.links.new(glass.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    return material

@@ -50,3 +50,23 @@ def use_multilayer_exr(image_settings):
         image_settings.media_type = "MULTI_LAYER_IMAGE"
     image_settings.file_format = "OPEN_EXR_MULTILAYER"
     image_settings.color_depth = "32"
+
+
+def save_side_by_side(left, right, path, gap=4, grey=0.18):
+    """Two linear RGBA renders of one size side by side in an 8-bit PNG at `path`
+    (Whitted left, Cycles right, in the galleries), each over a mid grey where its film
+    is transparent, so cut-outs show; `gap` pixels of white between them."""
+    height, width, _ = left.shape
+    pair = np.ones((height, 2 * width + gap, 4), dtype=np.float32)
+    for offset, image in ((0, left), (width + gap, right)):
+        alpha = image[..., 3:4]
+        pair[:, offset : offset + width, :3] = image[..., :3] + (1.0 - alpha) * grey
+    out = bpy.data.images.new("pair", pair.shape[1], height, float_buffer=True)
+    try:
+        out.pixels.foreach_set(pair.reshape(-1))
+        scene = bpy.context.scene
+        settings = scene.render.image_settings
+        settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
+        out.save_render(path, scene=scene)
+    finally:
+        bpy.data.images.remove(out)

@@ -56,16 +56,27 @@ Vec3 visible_normal(const Vec3& v, float alpha, float u1, float u2) {
   return glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
 }
 
+// A reflection's cosines to the normal, of the view and the light, and GGX's D of its
+// half vector; false below either horizon or for opposite directions (no half vector).
+bool reflection_geometry(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, float* cos_o,
+                         float* cos_i, float* d) {
+  *cos_o = glm::dot(n, wo);
+  *cos_i = glm::dot(n, wi);
+  if (*cos_o <= 0.0f || *cos_i <= 0.0f) return false;
+  const Vec3 half = wo + wi;
+  const float length = glm::length(half);
+  if (!(length > 0.0f)) return false;
+  *d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  return true;
+}
+
 }  // namespace
 
 float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, Masking masking) {
-  const float cos_o = glm::dot(n, wo);
-  const float cos_i = glm::dot(n, wi);
-  if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
-  const Vec3 half = wo + wi;
-  const float length = glm::length(half);
-  if (!(length > 0.0f)) return 0.0f;
-  const float d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  float cos_o = 0.0f;
+  float cos_i = 0.0f;
+  float d = 0.0f;
+  if (!reflection_geometry(n, wo, wi, alpha, &cos_o, &cos_i, &d)) return 0.0f;
   // Smith's masking-shadowing (Heitz 2014): height-correlated as Cycles 4.0 on has it,
   // or separable as Cycles 3.x.
   const float lambda_o = ggx_lambda(cos_o, alpha);
@@ -74,13 +85,10 @@ float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
 }
 
 float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha) {
-  const float cos_o = glm::dot(n, wo);
-  const float cos_i = glm::dot(n, wi);
-  if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
-  const Vec3 half = wo + wi;
-  const float length = glm::length(half);
-  if (!(length > 0.0f)) return 0.0f;
-  const float d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  float cos_o = 0.0f;
+  float cos_i = 0.0f;
+  float d = 0.0f;
+  if (!reflection_geometry(n, wo, wi, alpha, &cos_o, &cos_i, &d)) return 0.0f;
   return d / ((1.0f + ggx_lambda(cos_o, alpha)) * 4.0f * cos_o);
 }
 
