@@ -538,10 +538,11 @@ class Kernel {
   };
   // Distributed ray tracing's glossy reflection (Cook et al. 1984): n x n rays drawn
   // from the GGX lobe (microfacet.h), one per stratum of [0, 1)^2, each weighing
-  // sigma_r * G2/G1 / n^2 (the lobe over its density). The strata are shifted by a hash
-  // of the camera sample's seed (NodeState::seed), so every render of a scene draws the
-  // same rays, whatever its scale, and neighbouring samples different ones. A ray the lobe sends
-  // below the surface is lost, as light the single-scattering lobe does not return.
+  // sigma_r * G2/G1 / n^2 (the lobe over its density). Each stratum's point is placed by a
+  // hash of the camera sample's seed (NodeState::seed; Strata), so every render of a
+  // scene draws the same rays, whatever its scale, and neighbouring samples different
+  // ones. A ray the lobe sends below the surface is lost, as light the single-scattering
+  // lobe does not return.
   Color glossy_reflection(const ShadingPoint& p, const Split& split, const Lobe& lobe_of,
                           const NodeState& state, RayCounts* counts) const {
     const Strata strata(state, settings_.glossy_samples, 0x6c6fu);
