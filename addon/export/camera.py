@@ -12,6 +12,21 @@ from . import ExportError
 
 
 @dataclass(frozen=True)
+class LensData:
+    """A thin lens: Blender's Depth of Field as Cycles reads it (its blender/camera.cpp)."""
+
+    aperture_radius: float = 0.0  # scene units (m at unit scale 1); 0: a pinhole
+    focus_distance: float = 1.0  # of the plane in focus, along the view axis
+    blades: int = 0  # a polygonal aperture of this many sides; below 3 a disc
+    rotation: float = 0.0  # of the polygon, radians
+    ratio: float = 1.0  # anamorphic bokeh: the aperture's width over this
+    fstop: float = 0.0  # what the artist set, for the report; 0 without depth of field
+
+
+PINHOLE = LensData()
+
+
+@dataclass(frozen=True)
 class CameraData:
     width: int  # final image size in pixels (resolution times percentage)
     height: int
@@ -20,6 +35,7 @@ class CameraData:
     window: tuple[float, float, float, float]  # (xmin, xmax, ymin, ymax), shift included
     clip_start: float
     clip_end: float
+    lens: LensData = PINHOLE
 
 
 def convert_camera(camera_object, render, warnings):
@@ -63,6 +79,39 @@ def convert_camera(camera_object, render, warnings):
         window=_window(camera, fitted_extent, width, height, render),
         clip_start=camera.clip_start,
         clip_end=camera.clip_end,
+        lens=_lens(camera_object, projection),
+    )
+
+
+def _lens(camera_object, projection):
+    """The camera's Depth of Field as a thin lens, as Cycles sets it up: the aperture's
+    radius is the focal length (mm, to m) over twice the f-number (an orthographic
+    camera's 1 / (2 f), in scene units); the focus distance is the focus object's
+    depth along the view axis when there is one, else Focus Distance."""
+    camera = camera_object.data
+    dof = camera.dof
+    if not dof.use_dof:
+        return PINHOLE
+    fstop = max(dof.aperture_fstop, 1e-5)
+    if projection == "ORTHOGRAPHIC":
+        radius = 1.0 / (2.0 * fstop)
+    else:
+        radius = camera.lens * 1e-3 / (2.0 * fstop)
+    focus = dof.focus_distance
+    if dof.focus_object is not None:
+        view = np.array(camera_object.matrix_world)[:3, 2]
+        view = view / np.linalg.norm(view)
+        offset = np.array(dof.focus_object.matrix_world.translation) - np.array(
+            camera_object.matrix_world.translation
+        )
+        focus = abs(float(view @ offset))
+    return LensData(
+        aperture_radius=radius,
+        focus_distance=max(focus, 1e-5),
+        blades=dof.aperture_blades,
+        rotation=dof.aperture_rotation,
+        ratio=dof.aperture_ratio,
+        fstop=dof.aperture_fstop,
     )
 
 

@@ -8,17 +8,25 @@ from dataclasses import asdict
 
 import numpy as np
 
+from ..export.camera import PINHOLE
 from ..export.texture import CheckerTextureSpec
 
 
 def native_camera(native, camera):
     """export.camera.CameraData or viewport.camera.ViewCamera as a native.Camera."""
+    # A viewport's ViewCamera has no lens: a pinhole (its camera view too: SUPPORT.md).
+    lens = getattr(camera, "lens", PINHOLE)
     return native.Camera(
         to_world=np.asarray(camera.to_world, dtype=np.float64),
         projection=getattr(native.Projection, camera.projection),
         window=camera.window,
         clip_start=camera.clip_start,
         clip_end=camera.clip_end,
+        aperture_radius=lens.aperture_radius,
+        focus_distance=lens.focus_distance,
+        aperture_blades=lens.blades,
+        aperture_rotation=lens.rotation,
+        aperture_ratio=lens.ratio,
     )
 
 

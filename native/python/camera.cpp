@@ -1,5 +1,8 @@
 #include "scene/camera.h"
 
+#include <cmath>
+#include <stdexcept>
+
 #include "bindings.h"
 
 namespace whitted::python {
@@ -40,18 +43,37 @@ void bind_camera(py::module_& m) {
 
   py::class_<Camera>(m, "Camera", "Looks down its local -Z with +Y up (Blender's convention).")
       .def(py::init([](const py::object& to_world, Projection projection,
-                       std::array<float, 4> window, float clip_start, float clip_end) {
+                       std::array<float, 4> window, float clip_start, float clip_end,
+                       float aperture_radius, float focus_distance, int aperture_blades,
+                       float aperture_rotation, float aperture_ratio) {
              Camera c;
              if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
              c.projection = projection;
              std::copy(window.begin(), window.end(), c.window);
              c.clip_start = clip_start;
              c.clip_end = clip_end;
+             const bool finite = std::isfinite(aperture_radius) && std::isfinite(focus_distance) &&
+                                 std::isfinite(aperture_rotation) && std::isfinite(aperture_ratio);
+             if (!finite || aperture_radius < 0.0f || !(focus_distance > 0.0f) ||
+                 !(aperture_ratio > 0.0f)) {
+               throw std::invalid_argument(
+                   "the lens needs a finite aperture radius >= 0, focus distance > 0 and "
+                   "aperture ratio > 0");
+             }
+             c.lens = Lens{aperture_radius, focus_distance, aperture_blades, aperture_rotation,
+                           aperture_ratio};
              return c;
            }),
            py::arg("to_world") = py::none(), py::arg("projection") = Projection::kPerspective,
            py::arg("window") = std::array<float, 4>{-0.5f, 0.5f, -0.5f, 0.5f},
-           py::arg("clip_start") = 0.1f, py::arg("clip_end") = 1000.0f)
+           py::arg("clip_start") = 0.1f, py::arg("clip_end") = 1000.0f,
+           py::arg("aperture_radius") = 0.0f, py::arg("focus_distance") = 1.0f,
+           py::arg("aperture_blades") = 0, py::arg("aperture_rotation") = 0.0f,
+           py::arg("aperture_ratio") = 1.0f,
+           "aperture_radius (world units; 0: a pinhole), focus_distance (of the plane in "
+           "focus, along the view axis), aperture_blades (a polygon; below 3 a disc), "
+           "aperture_rotation (radians), aperture_ratio (anamorphic: the aperture's width "
+           "over it): a thin lens, as Cycles' depth of field.")
       .def_property(
           "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
           [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },
@@ -66,7 +88,10 @@ void bind_camera(py::module_& m) {
           "(xmin, xmax, ymin, ymax) on the plane at distance 1 (perspective) or in camera "
           "units (orthographic).")
       .def_readwrite("clip_start", &Camera::clip_start)
-      .def_readwrite("clip_end", &Camera::clip_end);
+      .def_readwrite("clip_end", &Camera::clip_end)
+      .def_property_readonly("aperture_radius", [](const Camera& c) { return c.lens.radius; })
+      .def_property_readonly("focus_distance",
+                             [](const Camera& c) { return c.lens.focus_distance; });
 }
 
 }  // namespace whitted::python

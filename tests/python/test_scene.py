@@ -327,6 +327,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "glossy reflection",
         "refraction",
         "translucency",
+        "depth of field",
         "pruning",
     ]
     assert plain.stats()["effects"] == [

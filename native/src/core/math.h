@@ -85,6 +85,21 @@ inline float unit_float(uint32_t h) {
   return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
 }
 
+// Shirley and Chiu's concentric map of (x, y) in [-1, 1]^2 to the unit disc, as polar
+// (r, phi): equal areas stay equal (stratified squares give stratified disc points).
+inline void concentric_disc(float x, float y, float* r, float* phi) {
+  *r = 0.0f;
+  *phi = 0.0f;
+  if (x == 0.0f && y == 0.0f) return;
+  if (std::fabs(x) > std::fabs(y)) {
+    *r = x;
+    *phi = 0.25f * kPi * (y / x);
+  } else {
+    *r = y;
+    *phi = 0.5f * kPi - 0.25f * kPi * (x / y);
+  }
+}
+
 inline float smoothstep01(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);

@@ -1,5 +1,6 @@
 #include "integrator/analysis.h"
 
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -85,12 +86,24 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
                      : "no material lets shadow feelers through");
 }
 
+// "0.0250": a length as the report writes it, in scene units.
+std::string length_text(float value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", static_cast<double>(value));
+  return text;
+}
+
 }  // namespace
 
-Effects analyse(const CompiledScene& scene, const Settings& settings) {
+Effects analyse(const CompiledScene& scene, const Settings& settings, const Camera& camera) {
   Effects effects;
   if (settings.analysis) {
     analyse_scene(scene, settings, &effects);
+    effects.decisions.push_back(
+        {"depth of field", camera.lens.blurs(),
+         camera.lens.blurs() ? "aperture radius " + length_text(camera.lens.radius) +
+                                   ", in focus at " + length_text(camera.lens.focus_distance)
+                             : "a pinhole camera (Depth of Field off, or no aperture)"});
   } else {
     effects.decisions.push_back({"analysis", false, "every effect on"});
   }

@@ -48,6 +48,8 @@ struct Effects {
 
 // With settings.analysis off, every effect is on; pruning follows settings.feeler_pruning
 // (both off: the plain Whitted tracer the benchmark compares against).
-Effects analyse(const CompiledScene& scene, const Settings& settings);
+// The camera's depth of field is named too (simulated wherever its lens has an aperture).
+Effects analyse(const CompiledScene& scene, const Settings& settings,
+                const Camera& camera = Camera{});
 
 }  // namespace whitted

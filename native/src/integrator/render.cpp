@@ -78,7 +78,7 @@ void RenderJob::describe_scene() {
   stats_.instances = scene_->instances.size();
   stats_.degenerate_instances = scene_->degenerate_instances;
   stats_.lights = scene_->lights.size();
-  const WhittedIntegrator integrator(*scene_, settings_);
+  const WhittedIntegrator integrator(*scene_, settings_, camera_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().decisions;
   const PacketChoice packets = choose_packets(*scene_, camera_, settings_);

@@ -150,7 +150,7 @@ const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
 }
 
 Sample CameraSampler::point(float px, float py, RayCounts* counts, SampleRecord* record) const {
-  return shade(camera_ray(px, py), nullptr, counts, record, film_seed(px, py));
+  return shade(camera_ray(px, py, film_lens(px, py)), nullptr, counts, record, film_seed(px, py));
 }
 
 Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -206,13 +206,28 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
     du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h);
     dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h + 1);
   }
-  return camera_ray(static_cast<float>(x) + (static_cast<float>(i) + du) * cell,
-                    static_cast<float>(y) + (static_cast<float>(j) + dv) * cell);
+  const float px = static_cast<float>(x) + (static_cast<float>(i) + du) * cell;
+  const float py = static_cast<float>(y) + (static_cast<float>(j) + dv) * cell;
+  if (!frame_.camera.lens.blurs()) return camera_ray(px, py, glm::vec2(0.5f));
+  // The lens stratified with the pixel's samples: sample (i, j) takes the aperture's
+  // stratum (j, i) (transposed, so a sample's place in the pixel and on the lens do not
+  // go together), jittered by a hash of the pixel and the sample.
+  const auto h =
+      hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x1e45u + static_cast<uint32_t>(k));
+  const glm::vec2 lens((static_cast<float>(j) + unit_float(h)) * cell,
+                       (static_cast<float>(i) + unit_float(hash3(h, 0x6b43u, 0x2f1du))) * cell);
+  return camera_ray(px, py, lens);
 }
 
-Ray CameraSampler::camera_ray(float px, float py) const {
+Ray CameraSampler::camera_ray(float px, float py, glm::vec2 lens) const {
   return frame_.generate_ray(px / static_cast<float>(settings_.width),
-                             py / static_cast<float>(settings_.height));
+                             py / static_cast<float>(settings_.height), lens);
+}
+
+glm::vec2 CameraSampler::film_lens(float px, float py) const {
+  if (!frame_.camera.lens.blurs()) return glm::vec2(0.5f);
+  const uint32_t h = hash3(film_seed(px, py), 0x1e45u, 0x2f1du);
+  return {unit_float(h), unit_float(hash3(h, 0x6b43u, 0x2f1du))};
 }
 
 Sample CameraSampler::pixel_adaptive(int x, int y, RayCounts* counts, std::vector<float>* weights,

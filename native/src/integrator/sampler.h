@@ -94,7 +94,11 @@ class CameraSampler {
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
   Ray grid_ray(int x, int y, int k) const;
-  Ray camera_ray(float px, float py) const;
+  // The camera ray through film position (px, py), in pixels, from aperture sample `lens`.
+  Ray camera_ray(float px, float py, glm::vec2 lens) const;
+  // An aperture sample for a film position that is no grid sample (adaptive
+  // anti-aliasing's corners): a hash of the position.
+  glm::vec2 film_lens(float px, float py) const;
   // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
   // `seed`: the sample's (NodeState::seed), from its pixel and index or film position.
   Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record,

@@ -1230,7 +1230,7 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
     : scene_(scene),
       settings_(settings),
       camera_(camera),
-      effects_(analyse(scene, settings)),
+      effects_(analyse(scene, settings, camera)),
       trace_(tree != nullptr        ? &Kernel<kRuntimeEffects, true, NoRecorder>::run
              : settings.passes != 0 ? &Kernel<kRuntimeEffects, false, PassRecorder>::run
                                     : kRenderKernels[effects_.bits & kAllEffects]),

@@ -1,11 +1,38 @@
 #include "scene/camera.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glm/mat3x3.hpp>
 
 namespace whitted {
 
-Ray Camera::generate_ray(float sx, float sy) const {
-  return CameraFrame(*this).generate_ray(sx, sy);
+Ray Camera::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
+  return CameraFrame(*this).generate_ray(sx, sy, lens_sample);
+}
+
+glm::vec2 Lens::aperture_point(glm::vec2 u) const {
+  glm::vec2 point(0.0f);
+  if (blades < 3) {
+    float r = 0.0f;
+    float phi = 0.0f;
+    concentric_disc(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, &r, &phi);
+    point = glm::vec2(r * std::cos(phi), r * std::sin(phi));
+  } else {
+    // u.x picks one of the polygon's triangles about its centre and, rescaled, the
+    // distance from the centre (sqrt: uniform over area); u.y the place along its edge.
+    const float sides = static_cast<float>(blades);
+    const float scaled = u.x * sides;
+    const float side = std::min(std::floor(scaled), sides - 1.0f);
+    const float along = std::sqrt(scaled - side);
+    const float step = 2.0f * kPi / sides;
+    const float a0 = rotation + side * step;
+    const glm::vec2 c0(std::cos(a0), std::sin(a0));
+    const glm::vec2 c1(std::cos(a0 + step), std::sin(a0 + step));
+    point = along * ((1.0f - u.y) * c0 + u.y * c1);
+  }
+  point.x /= ratio;  // anamorphic: narrower (ratio > 1) or wider
+  return radius * point;
 }
 
 CameraFrame::CameraFrame(const Camera& c)
@@ -15,7 +42,7 @@ CameraFrame::CameraFrame(const Camera& c)
       back(glm::normalize(Vec3(c.to_world[2]))),
       position(c.to_world[3]) {}
 
-Ray CameraFrame::generate_ray(float sx, float sy) const {
+Ray CameraFrame::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
   const float* window = camera.window;
   const float x = window[0] + sx * (window[1] - window[0]);
   const float y = window[2] + sy * (window[3] - window[2]);
@@ -35,6 +62,21 @@ Ray CameraFrame::generate_ray(float sx, float sy) const {
     ray.t_min = camera.clip_start;
     ray.t_max = camera.clip_end;
   }
+  if (!camera.lens.blurs()) return ray;
+  // The thin lens: from a point of the aperture through where the pinhole ray meets the
+  // plane in focus (focus_distance along the view axis); clip distances stay depths.
+  const float depth = glm::dot(ray.direction, -back);  // per unit of the ray's length
+  const Vec3 focus = ray.origin + ray.direction * (camera.lens.focus_distance / depth);
+  const glm::vec2 offset = camera.lens.aperture_point(lens_sample);
+  const Vec3 origin = ray.origin + offset.x * right + offset.y * up;
+  const Vec3 d = focus - origin;
+  const float length = glm::length(d);
+  ray.origin = origin;
+  ray.direction = d / length;
+  // Both projections' rays now leave the camera's plane (depth 0).
+  const float per_depth = 1.0f / glm::dot(ray.direction, -back);
+  ray.t_min = camera.clip_start * per_depth;
+  ray.t_max = camera.clip_end * per_depth;
   return ray;
 }
 

@@ -2,12 +2,28 @@
 #pragma once
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 
 #include "core/ray.h"
 
 namespace whitted {
 
 enum class Projection { kPerspective, kOrthographic };
+
+// A thin lens: depth of field as Cycles' camera models it. Rays leave a point of the
+// aperture and pass through the point of the plane in focus the pinhole ray meets.
+struct Lens {
+  float radius = 0.0f;          // of the aperture, world units; 0: a pinhole (no blur)
+  float focus_distance = 1.0f;  // of the plane in focus, along the view axis
+  int blades = 0;               // a regular polygon of this many sides; below 3 a disc
+  float rotation = 0.0f;        // of the polygon, radians
+  float ratio = 1.0f;           // anamorphic bokeh: the aperture's width over this
+
+  bool blurs() const { return radius > 0.0f; }
+  // The point of the aperture for (u, v) in [0, 1)^2, in units of the camera's right
+  // and up axes: the disc (or polygon) of `radius`, area-preserving.
+  glm::vec2 aperture_point(glm::vec2 u) const;
+};
 
 struct Camera {
   // Camera to world. The camera looks down its local -Z with +Y up (Blender's convention).
@@ -18,16 +34,18 @@ struct Camera {
   float window[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
   float clip_start = 0.1f;
   float clip_end = 1000.0f;
+  Lens lens;
 
-  // (sx, sy) in [0,1]^2 with (0,0) the bottom-left corner of the image.
-  Ray generate_ray(float sx, float sy) const;
+  // (sx, sy) in [0,1]^2 with (0,0) the bottom-left corner of the image; `lens` the
+  // aperture sample (Lens::aperture_point), ignored by a pinhole.
+  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f)) const;
 };
 
 // What a camera's rays are made from, taken from it once for the many rays of a render:
 // Camera::generate_ray makes one per ray, a sampler one per render.
 struct CameraFrame {
   explicit CameraFrame(const Camera& camera);
-  Ray generate_ray(float sx, float sy) const;
+  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f)) const;
 
   const Camera& camera;
   // Blender ignores the camera's scale: the unit axes of its rotation.

@@ -35,20 +35,10 @@ void disc_offset(const Light& light, int index, float* a, float* b) {
   float u = 0.0f;
   float v = 0.0f;
   stratum(light, index, &u, &v);
-  // Shirley's concentric map keeps the strata equal in area on the disk.
-  const float x = 2.0f * u - 1.0f;
-  const float y = 2.0f * v - 1.0f;
+  // The concentric map keeps the strata equal in area on the disk.
   float r = 0.0f;
   float phi = 0.0f;
-  if (x == 0.0f && y == 0.0f) {
-    r = 0.0f;
-  } else if (std::fabs(x) > std::fabs(y)) {
-    r = x;
-    phi = 0.25f * kPi * (y / x);
-  } else {
-    r = y;
-    phi = 0.5f * kPi - 0.25f * kPi * (x / y);
-  }
+  concentric_disc(2.0f * u - 1.0f, 2.0f * v - 1.0f, &r, &phi);
   *a = 0.5f * r * std::cos(phi);
   *b = 0.5f * r * std::sin(phi);
 }
