@@ -55,10 +55,7 @@ void CryptomatteFilm::trace_pixel(const CompiledScene& scene, const Camera& came
         }
         if (a > 0.0f) {
           const CryptomatteIds& ids = scene.instances[it.instance].cryptomatte;
-          const MeshEntry& mesh = *scene.instances[it.instance].mesh;
-          const size_t slot = mesh.mesh.material_slots.empty()
-                                  ? 0
-                                  : static_cast<size_t>(mesh.mesh.material_slots[it.primitive]);
+          const size_t slot = scene.instances[it.instance].mesh->mesh.slot(it.primitive);
           const float material = slot < ids.materials.size() ? ids.materials[slot] : 0.0f;
           const float share = behind * a;
           weights[0].push_back({ids.object, share});

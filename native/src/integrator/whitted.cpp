@@ -546,6 +546,8 @@ class Kernel {
   Color glossy_reflection(const ShadingPoint& p, const Split& split, const Lobe& lobe_of,
                           const NodeState& state, RayCounts* counts) const {
     const Strata strata(state, settings_.glossy_samples, 0x6c6fu);
+    // Rays per emitter feeler, for each ray's MIS density (0: no emitters to weigh).
+    const float per_feeler = emitters_on() ? rays_per_feeler(state) : 0.0f;
     Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
     for (int k = 0; k < strata.count(); ++k) {
       const glm::vec2 u = strata.point(k);
@@ -561,10 +563,9 @@ class Kernel {
       }
       const Color weight = split.sigma_r * lobe_of.energy * lobe;
       // Its density, for the MIS weight of the emission it may meet (emission_weight).
-      const float mis =
-          emitters_on()
-              ? rays_per_feeler(state) * ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha)
-              : 0.0f;
+      const float mis = per_feeler > 0.0f ? per_feeler * ggx_reflection_pdf(lobe_of.normal, p.wo,
+                                                                            wi, lobe_of.alpha)
+                                          : 0.0f;
       const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu), mis};
       const Color brought = branch(
           spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, wi, kReflectionRay),

@@ -38,6 +38,10 @@ struct Mesh {
   // The shading normals at the three corners of triangle `primitive`, as stored (not
   // renormalised; a zero one stands for the face normal); false, and nothing written, when
   // the mesh is flat.
+  // The material slot of triangle `primitive`.
+  size_t slot(uint32_t primitive) const {
+    return material_slots.empty() ? 0 : static_cast<size_t>(material_slots[primitive]);
+  }
   bool corner_normals(uint32_t primitive, Vec3* n0, Vec3* n1, Vec3* n2) const {
     if (!normals.empty()) {
       const float* n = &normals[9 * size_t{primitive}];

@@ -9,11 +9,6 @@
 namespace whitted {
 namespace {
 
-// to_world * (p, 1): the same arithmetic as CompiledScene::interaction's points.
-Vec3 to_world(const glm::mat4& m, const Vec3& p) {
-  return (Vec3(m[0]) * p.x + Vec3(m[1]) * p.y) + (Vec3(m[2]) * p.z + Vec3(m[3]));
-}
-
 // The power a triangle's emission stands for, per unit area: the mean of its channels
 // (a saturated colour is not nearly dark, as its luminance would make it).
 float strength(const Color& emission) {
@@ -37,12 +32,7 @@ bool may_emit(const Material& m) {
 
 Color emitted(const CompiledScene& scene, const EmissiveTriangle& triangle,
               const glm::vec2& barycentric, const Ray& ray, const RayContext& context) {
-  const CompiledScene::Instance& instance = scene.instances[triangle.instance];
-  const Mesh& mesh = instance.mesh->mesh;
-  const size_t slot = mesh.material_slots.empty()
-                          ? 0
-                          : static_cast<size_t>(mesh.material_slots[triangle.primitive]);
-  const uint32_t material = slot < instance.materials.size() ? instance.materials[slot] : 0;
+  const uint32_t material = scene.material_index(triangle.instance, triangle.primitive);
   if (constant_emission(scene.materials[material])) {
     const SurfaceParams& constants = scene.material_constants[material];
     return constants.emission * constants.alpha;
@@ -83,9 +73,7 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
     std::vector<double> driven_area(scene.materials.size(), 0.0);
     std::vector<uint32_t> material_of;
     for (uint32_t p = 0; p < count; ++p) {
-      const size_t slot =
-          mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[p]);
-      const uint32_t mi = slot < instance.materials.size() ? instance.materials[slot] : 0;
+      const uint32_t mi = scene.material_index(i, p);
       const Material& material = scene.materials[mi];
       if (!may_emit(material)) continue;
       const uint32_t* tri = &mesh.triangles[3 * size_t{p}];
@@ -93,9 +81,9 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
       const Vec3 a = mesh.vertex(tri[0]);
       const Vec3 b = mesh.vertex(tri[1]);
       const Vec3 c = mesh.vertex(tri[2]);
-      t.p0 = to_world(instance.to_world, a);
-      t.e1 = to_world(instance.to_world, b) - t.p0;
-      t.e2 = to_world(instance.to_world, c) - t.p0;
+      t.p0 = transform_point(instance.to_world, a);
+      t.e1 = transform_point(instance.to_world, b) - t.p0;
+      t.e2 = transform_point(instance.to_world, c) - t.p0;
       const Vec3 across = glm::cross(t.e1, t.e2);
       t.area = 0.5f * glm::length(across);
       // The front side as interaction() finds it: the object-space winding's normal

@@ -50,12 +50,6 @@ bool safely_invertible(const glm::mat4& m) {
   return std::fabs(glm::determinant(linear)) > 0.0f;
 }
 
-// to_world * (p, 1) without the fourth row, in glm's order of operations, (m0 x + m1 y) +
-// (m2 z + m3), so the point is glm's to the bit.
-Vec3 transform_point(const glm::mat4& m, const Vec3& p) {
-  return (Vec3(m[0]) * p.x + Vec3(m[1]) * p.y) + (Vec3(m[2]) * p.z + Vec3(m[3]));
-}
-
 // The barycentric blend of a corner layer (`width` floats a corner) at a point of triangle
 // `primitive`; barycentric holds the weights of corners 1 and 2.
 glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uint32_t primitive,
@@ -417,9 +411,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
       if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
     }
   }
-  const size_t slot =
-      mesh.material_slots.empty() ? 0 : static_cast<size_t>(mesh.material_slots[hit.primitive]);
-  const uint32_t index = slot < instance.materials.size() ? instance.materials[slot] : 0;
+  const uint32_t index = material_index(hit.instance, hit.primitive);
   out.material = &materials[index];
   out.material_index = index;
   out.holdout = instance.holdout;

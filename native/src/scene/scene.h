@@ -22,6 +22,12 @@ namespace whitted {
 
 class MeshLights;
 
+// to_world * (p, 1) without the fourth row, in glm's order of operations, (m0 x + m1 y) +
+// (m2 z + m3), so the point is glm's to the bit.
+inline Vec3 transform_point(const glm::mat4& m, const Vec3& p) {
+  return (Vec3(m[0]) * p.x + Vec3(m[1]) * p.y) + (Vec3(m[2]) * p.z + Vec3(m[3]));
+}
+
 // A mesh together with its BVH; built once when the mesh is set, shared by instances.
 struct MeshEntry {
   MeshEntry(std::shared_ptr<AccelDevice> device, Mesh m)
@@ -148,6 +154,12 @@ struct CompiledScene {
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
 
   size_t triangle_count() const;
+  // The `materials` index of an instance's triangle (its slot's, 0 past the slots).
+  uint32_t material_index(uint32_t instance, uint32_t primitive) const {
+    const Instance& in = instances[instance];
+    const size_t slot = in.mesh->mesh.slot(primitive);
+    return slot < in.materials.size() ? in.materials[slot] : 0;
+  }
   Interaction interaction(const Ray& ray, const Hit& hit) const;
   // Texture coordinates at a hit; computed only for textured materials.
   TexturePoint texture_point(const Interaction& it) const;
