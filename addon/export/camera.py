@@ -4,6 +4,7 @@ Axes: Blender's camera looks down its local -Z with +Y up, which is also the
 native camera's convention, so no axis change is needed.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,15 +28,31 @@ PINHOLE = LensData()
 
 
 @dataclass(frozen=True)
+class PanoramaData:
+    """A panoramic camera's projection as Cycles reads it (its blender/camera.cpp)."""
+
+    type: str  # Blender's panorama_type: EQUIRECTANGULAR, MIRRORBALL, FISHEYE_...
+    longitude_latitude: tuple[float, float, float, float]  # radians: lon min, max, lat min, max
+    fisheye_fov: float  # radians
+    fisheye_lens: float  # mm
+    sensor: tuple[float, float]  # mm, the sensor fitted to the image's aspect
+    polynomial: tuple[float, float, float, float, float]  # k0..k4
+    cylinder: tuple[float, float, float, float]  # radians, then heights over the radius
+
+
+@dataclass(frozen=True)
 class CameraData:
     width: int  # final image size in pixels (resolution times percentage)
     height: int
     to_world: np.ndarray  # float64[4,4] row-major camera to world, scale removed
-    projection: str  # "PERSPECTIVE" or "ORTHOGRAPHIC"
-    window: tuple[float, float, float, float]  # (xmin, xmax, ymin, ymax), shift included
+    projection: str  # "PERSPECTIVE", "ORTHOGRAPHIC" or "PANORAMIC"
+    # (xmin, xmax, ymin, ymax), shift included: on the plane at distance 1, in camera
+    # units (orthographic), or of the panorama's [0, 1]^2 (panoramic).
+    window: tuple[float, float, float, float]
     clip_start: float
     clip_end: float
     lens: LensData = PINHOLE
+    panorama: PanoramaData | None = None  # a PANORAMIC camera's projection
 
 
 def convert_camera(camera_object, render, warnings):
@@ -51,39 +68,91 @@ def convert_camera(camera_object, render, warnings):
             f"(its type is {camera_object.type})"
         )
     camera = camera_object.data
-
-    # Blender's final size: resolution times percentage, rounded down like Blender does.
-    width = render.resolution_x * render.resolution_percentage // 100
-    height = render.resolution_y * render.resolution_percentage // 100
-
-    if camera.type == "ORTHO":
-        projection = "ORTHOGRAPHIC"
-        # ortho_scale is the extent, in camera units, of the fitted image side.
-        fitted_extent = camera.ortho_scale
+    width, height = image_size(render)
+    projection = projection_of(camera)
+    panorama = None
+    if projection == "PANORAMIC":
+        panorama = panorama_data(camera, width, height, render)
+        # Cycles' panoramic viewplane: the projection's [0, 1]^2, moved by the shift.
+        window = (camera.shift_x, 1.0 + camera.shift_x, camera.shift_y, 1.0 + camera.shift_y)
     else:
-        if camera.type != "PERSP":
-            warnings.append(
-                f"Whitted: camera '{camera_object.name}' is {camera.type}, which Whitted does "
-                "not support; rendering it as a perspective camera"
-            )
-        projection = "PERSPECTIVE"
-        # The sensor side (mm) over the focal length (mm) is the fitted image side on
-        # the plane at distance 1.
-        fitted_extent = _sensor_size(camera) / camera.lens
+        if projection == "ORTHOGRAPHIC":
+            # ortho_scale is the extent, in camera units, of the fitted image side.
+            fitted_extent = camera.ortho_scale
+        else:
+            # The sensor side (mm) over the focal length (mm) is the fitted image side on
+            # the plane at distance 1.
+            fitted_extent = _sensor_size(camera) / camera.lens
+        window = _window(camera, fitted_extent, width, height, render)
 
     return CameraData(
         width=width,
         height=height,
         to_world=_without_scale(camera_object),
         projection=projection,
-        window=_window(camera, fitted_extent, width, height, render),
+        window=window,
         clip_start=camera.clip_start,
         clip_end=camera.clip_end,
-        lens=_lens(camera_object, projection),
+        lens=lens_data(camera_object, projection),
+        panorama=panorama,
     )
 
 
-def _lens(camera_object, projection):
+def image_size(render):
+    """Blender's final image size: resolution times percentage, rounded down as Blender
+    rounds it."""
+    return (
+        render.resolution_x * render.resolution_percentage // 100,
+        render.resolution_y * render.resolution_percentage // 100,
+    )
+
+
+def projection_of(camera):
+    """The native projection of a camera's data: PERSPECTIVE, ORTHOGRAPHIC or PANORAMIC."""
+    return {"ORTHO": "ORTHOGRAPHIC", "PANO": "PANORAMIC"}.get(camera.type, "PERSPECTIVE")
+
+
+def panorama_settings(camera):
+    """Where a camera's panorama settings live: on the camera from Blender 4.0, on its
+    Cycles settings (camera.cycles) before."""
+    return camera if hasattr(camera, "panorama_type") else camera.cycles
+
+
+def panorama_data(camera, width, height, render):
+    """The panoramic projection of `camera` (a PANO camera's data). Angles are radians
+    as Blender stores them; the fisheyes' sensor is fitted to the image's aspect as
+    Cycles fits it (the sensor width, or height with Vertical fit, spans that side)."""
+    settings = panorama_settings(camera)
+    x_ratio, y_ratio = _aspect_ratios(width, height, render)
+    if _horizontal_fit(camera, width, height, render):
+        sensor = (_sensor_size(camera), _sensor_size(camera) * y_ratio / x_ratio)
+    else:
+        sensor = (_sensor_size(camera) * x_ratio / y_ratio, _sensor_size(camera))
+    # Blender 5.0 added the central cylindrical projection; before, its defaults.
+    radius = max(getattr(settings, "central_cylindrical_radius", 1.0), 1e-6)
+    cylinder = (
+        getattr(settings, "central_cylindrical_range_u_min", -math.pi),
+        getattr(settings, "central_cylindrical_range_u_max", math.pi),
+        getattr(settings, "central_cylindrical_range_v_min", -1.0) / radius,
+        getattr(settings, "central_cylindrical_range_v_max", 1.0) / radius,
+    )
+    return PanoramaData(
+        type=settings.panorama_type,
+        longitude_latitude=(
+            settings.longitude_min,
+            settings.longitude_max,
+            settings.latitude_min,
+            settings.latitude_max,
+        ),
+        fisheye_fov=settings.fisheye_fov,
+        fisheye_lens=settings.fisheye_lens,
+        sensor=sensor,
+        polynomial=tuple(getattr(settings, f"fisheye_polynomial_k{i}") for i in range(5)),
+        cylinder=cylinder,
+    )
+
+
+def lens_data(camera_object, projection):
     """The camera's Depth of Field as a thin lens, as Cycles sets it up: the aperture's
     radius is the focal length (mm, to m) over twice the f-number (an orthographic
     camera's 1 / (2 f), in scene units); the focus distance is the focus object's

@@ -8,6 +8,7 @@ from bpy.props import IntProperty
 
 from ..export import ExportError
 from ..native import load_native
+from ..viewport.session import region_camera
 from .draw import BLOCKED, COLOURS
 from .tree import PixelView, dumps, inspect_pixel, loads, segments
 
@@ -90,14 +91,14 @@ class WHITTED_OT_inspect_ray_tree(bpy.types.Operator):
         mx = event.mouse_x - region.x
         my = event.mouse_y - region.y
         if area.type == "VIEW_3D":
-            view3d = area.spaces.active.region_3d
+            space = area.spaces.active
             self.x, self.y = mx, my
             view = PixelView(
                 width=region.width,
                 height=region.height,
-                view_matrix=view3d.view_matrix.copy(),
-                window_matrix=view3d.window_matrix.copy(),
-                is_perspective=view3d.is_perspective,
+                camera=region_camera(
+                    context.scene, space, space.region_3d, region.width, region.height
+                ),
             )
             return self._inspect(context, view)
         # The Image Editor shows the frame over [0, 1]^2 of its view.

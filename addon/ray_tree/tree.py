@@ -15,7 +15,6 @@ from ..settings import native_settings
 from ..sync.frame import sync_frame
 from ..sync.native_data import native_camera
 from ..sync.scene import SceneSync, SyncParams
-from ..viewport.camera import view_camera
 
 # Where a ray that hits nothing is drawn to: this far along its direction, in units of
 # the scene's size (the distance from the origin to the farthest ray point).
@@ -26,14 +25,12 @@ KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "
 
 @dataclass(frozen=True)
 class PixelView:
-    """A 3D view to inspect instead of the scene camera: its region's size in pixels,
-    its matrices and whether it is a perspective view."""
+    """A 3D view to inspect instead of the scene camera: its region's size in pixels
+    and the camera it renders through (viewport.session.region_camera)."""
 
     width: int
     height: int
-    view_matrix: object
-    window_matrix: object
-    is_perspective: bool
+    camera: object  # a viewport.camera.ViewCamera
 
 
 def inspect_pixel(depsgraph, native, x, y, sample=-1, view=None):
@@ -56,8 +53,7 @@ def inspect_pixel(depsgraph, native, x, y, sample=-1, view=None):
             transparent_background=scene.render.film_transparent,
         )
         settings = native_settings(native, scene, view.width, view.height, film, quality)
-        camera = view_camera(view.view_matrix, view.window_matrix, view.is_perspective)
-        job = native.RenderJob(sync.scene, settings, camera=native_camera(native, camera))
+        job = native.RenderJob(sync.scene, settings, camera=native_camera(native, view.camera))
         source = {"source": "viewport", "width": view.width, "height": view.height}
     tree = job.inspect(x, y, sample)
     names = _object_names(depsgraph, {ray["object"] for ray in tree["rays"]} - {None})

@@ -14,8 +14,8 @@ from ..export.texture import CheckerTextureSpec
 
 def native_camera(native, camera):
     """export.camera.CameraData or viewport.camera.ViewCamera as a native.Camera."""
-    # A viewport's ViewCamera has no lens: a pinhole (its camera view too: SUPPORT.md).
     lens = getattr(camera, "lens", PINHOLE)
+    panorama = getattr(camera, "panorama", None)
     return native.Camera(
         to_world=np.asarray(camera.to_world, dtype=np.float64),
         projection=getattr(native.Projection, camera.projection),
@@ -27,7 +27,15 @@ def native_camera(native, camera):
         aperture_blades=lens.blades,
         aperture_rotation=lens.rotation,
         aperture_ratio=lens.ratio,
+        panorama=None if panorama is None else native_panorama(native, panorama),
     )
+
+
+def native_panorama(native, panorama):
+    # export.camera.PanoramaData as a native.Panorama.
+    fields = asdict(panorama)
+    fields["type"] = getattr(native.PanoramaType, panorama.type)
+    return native.Panorama(**fields)
 
 
 def native_material(native, material):

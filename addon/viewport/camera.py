@@ -9,9 +9,11 @@ so they are tested without Blender.
 Axes: the view looks down its local -Z with +Y up, as the native camera does.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
+
+from ..export.camera import PINHOLE, LensData, PanoramaData
 
 
 @dataclass(frozen=True)
@@ -19,10 +21,14 @@ class ViewCamera:
     """The fields of whitted_native.Camera, as tuples so that two views compare."""
 
     to_world: tuple  # 4x4 row-major, view to world, orthonormal axes
-    projection: str  # PERSPECTIVE | ORTHOGRAPHIC
+    projection: str  # PERSPECTIVE | ORTHOGRAPHIC | PANORAMIC
     window: tuple[float, float, float, float]  # (xmin, xmax, ymin, ymax)
     clip_start: float
     clip_end: float
+    # Looking through a camera (camera view): its depth of field and panorama, as
+    # Cycles' viewport shows them; elsewhere a pinhole.
+    lens: LensData = PINHOLE
+    panorama: PanoramaData | None = None
 
 
 def view_camera(view_matrix, window_matrix, is_perspective):
@@ -74,6 +80,25 @@ def view_camera(view_matrix, window_matrix, is_perspective):
         clip_start=float(near),
         clip_end=float(far),
     )
+
+
+def through_camera(view, lens, panorama=None, frame=None, size=None, shift=(0.0, 0.0)):
+    """`view` (a ViewCamera of a camera view) with the camera's depth of field `lens`
+    and, for a panoramic camera, its projection `panorama`: its [0, 1]^2, moved by the
+    lens `shift` (as in a render), spans the camera frame `frame` (region pixels, as
+    camera_frame gives) of an image of `size` (width, height) pixels."""
+    if panorama is None:
+        return replace(view, lens=lens)
+    fx0, fy0, fx1, fy1 = frame
+    width, height = size
+    sx, sy = shift
+    window = (
+        -fx0 / (fx1 - fx0) + sx,
+        (width - fx0) / (fx1 - fx0) + sx,
+        -fy0 / (fy1 - fy0) + sy,
+        (height - fy0) / (fy1 - fy0) + sy,
+    )
+    return replace(view, projection="PANORAMIC", window=window, lens=lens, panorama=panorama)
 
 
 def camera_frame(perspective_matrix, corners_world, width, height):

@@ -20,13 +20,14 @@ import bpy
 
 from .. import memory
 from ..export import ExportError
+from ..export.camera import image_size, lens_data, panorama_data, projection_of
 from ..export.film import FilmData
 from ..properties.presets import preset
 from ..result import MAX_CONTRIBUTION_DEPTH, mist_of, viewport_display
 from ..settings import native_settings
 from ..sync import SceneSync, SyncParams
 from ..sync.native_data import native_camera
-from .camera import ViewCamera, border_pixels, camera_frame, view_camera
+from .camera import ViewCamera, border_pixels, camera_frame, through_camera, view_camera
 from .display import Display
 from .log import ViewportLog
 
@@ -306,6 +307,30 @@ def _quality(scene):
     return preset(scene.whitted.viewport_preset)
 
 
+def region_camera(scene, space, view, width, height):
+    """The ViewCamera a 3D view (`space`, its region data `view`) renders through at
+    width x height pixels: its own matrices; in camera view also the camera's depth of
+    field and, for a panoramic camera, its projection over the camera frame (as Cycles'
+    viewport shows them)."""
+    camera = view_camera(view.view_matrix, view.window_matrix, view.is_perspective)
+    if view.view_perspective != "CAMERA":
+        return camera
+    camera_object = space.camera if space.use_local_camera else scene.camera
+    if camera_object is None or camera_object.type != "CAMERA":
+        return camera
+    data = camera_object.data
+    projection = projection_of(data)
+    lens = lens_data(camera_object, projection)
+    if projection != "PANORAMIC":
+        return through_camera(camera, lens)
+    corners = [camera_object.matrix_world @ corner for corner in data.view_frame(scene=scene)]
+    frame = camera_frame(view.perspective_matrix, corners, width, height)
+    panorama = panorama_data(data, *image_size(scene.render), scene.render)
+    return through_camera(
+        camera, lens, panorama, frame, (width, height), (data.shift_x, data.shift_y)
+    )
+
+
 def _view_setup(context, scene, pixel_size):
     region = context.region
     view = context.region_data
@@ -314,7 +339,7 @@ def _view_setup(context, scene, pixel_size):
     # resolution; the texture is stretched back over the region.
     width = max(1, region.width // pixel_size)
     height = max(1, region.height // pixel_size)
-    camera = view_camera(view.view_matrix, view.window_matrix, view.is_perspective)
+    camera = region_camera(scene, space, view, width, height)
     border = None
     render = scene.render
     fractions = None

@@ -40,6 +40,7 @@ struct RayTree;
 namespace whitted::python {
 
 void bind_camera(py::module_& m);
+void bind_panorama(py::module_& m);
 void bind_light(py::module_& m);
 void bind_material(py::module_& m);
 void bind_program(py::module_& m);

@@ -1,6 +1,7 @@
 #include "scene/camera.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "bindings.h"
@@ -39,13 +40,15 @@ py::array_t<double> matrix_to_numpy(const glm::mat4& m) {
 void bind_camera(py::module_& m) {
   py::enum_<Projection>(m, "Projection")
       .value("PERSPECTIVE", Projection::kPerspective)
-      .value("ORTHOGRAPHIC", Projection::kOrthographic);
+      .value("ORTHOGRAPHIC", Projection::kOrthographic)
+      .value("PANORAMIC", Projection::kPanoramic);
 
   py::class_<Camera>(m, "Camera", "Looks down its local -Z with +Y up (Blender's convention).")
       .def(py::init([](const py::object& to_world, Projection projection,
                        std::array<float, 4> window, float clip_start, float clip_end,
                        float aperture_radius, float focus_distance, int aperture_blades,
-                       float aperture_rotation, float aperture_ratio) {
+                       float aperture_rotation, float aperture_ratio,
+                       const std::optional<Panorama>& panorama) {
              Camera c;
              if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
              c.projection = projection;
@@ -62,6 +65,11 @@ void bind_camera(py::module_& m) {
              }
              c.lens = Lens{aperture_radius, focus_distance, aperture_blades, aperture_rotation,
                            aperture_ratio};
+             if ((projection == Projection::kPanoramic) != panorama.has_value()) {
+               throw std::invalid_argument(
+                   "a panorama is given with, and only with, the PANORAMIC projection");
+             }
+             if (panorama) c.panorama = *panorama;
              return c;
            }),
            py::arg("to_world") = py::none(), py::arg("projection") = Projection::kPerspective,
@@ -69,11 +77,12 @@ void bind_camera(py::module_& m) {
            py::arg("clip_start") = 0.1f, py::arg("clip_end") = 1000.0f,
            py::arg("aperture_radius") = 0.0f, py::arg("focus_distance") = 1.0f,
            py::arg("aperture_blades") = 0, py::arg("aperture_rotation") = 0.0f,
-           py::arg("aperture_ratio") = 1.0f,
+           py::arg("aperture_ratio") = 1.0f, py::arg("panorama") = py::none(),
            "aperture_radius (world units; 0: a pinhole), focus_distance (of the plane in "
            "focus, along the view axis), aperture_blades (a polygon; below 3 a disc), "
            "aperture_rotation (radians), aperture_ratio (anamorphic: the aperture's width "
-           "over it): a thin lens, as Cycles' depth of field.")
+           "over it): a thin lens, as Cycles' depth of field. panorama: the projection of a "
+           "PANORAMIC camera, whose window spans the panorama's [0, 1]^2 (shift added).")
       .def_property(
           "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
           [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },

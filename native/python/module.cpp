@@ -3,6 +3,7 @@
 
 PYBIND11_MODULE(whitted_native, m) {
   m.doc() = "Whitted: a native Whitted (1980) ray tracer on Embree.";
+  whitted::python::bind_panorama(m);
   whitted::python::bind_camera(m);
   whitted::python::bind_light(m);
   whitted::python::bind_program(m);

@@ -116,12 +116,14 @@ def test_to_world_without_scale_and_clip_range(empty_scene, warnings):
     assert (camera.clip_start, camera.clip_end) == pytest.approx((0.25, 250.0))
 
 
-def test_panoramic_camera_warns(empty_scene, warnings):
+def test_panoramic_camera_is_converted_without_warnings(empty_scene, warnings):
+    # It used to render as a perspective camera, with a warning (tests/blender/test_panorama.py
+    # compares each panorama type with Cycles).
     add_camera(empty_scene, 64, 64, type="PANO")
     camera = convert(empty_scene, warnings)
-    assert camera.projection == "PERSPECTIVE"
-    assert len(warnings) == 1
-    assert "PANO" in warnings[0]
+    assert camera.projection == "PANORAMIC"
+    assert camera.panorama is not None
+    assert warnings == []
 
 
 def test_no_camera_is_an_export_error(empty_scene, warnings):

@@ -4,6 +4,7 @@ camera (Object.calc_matrix_camera, what the viewport's camera view uses) must gi
 the same window, clip range and placement as the F12 camera exporter."""
 
 import math
+from types import SimpleNamespace
 
 import bpy
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 from mathutils import Matrix
 from whitted.export.camera import convert_camera
 from whitted.viewport.camera import border_pixels, camera_frame, view_camera
+from whitted.viewport.session import region_camera
 
 
 @pytest.fixture
@@ -93,3 +95,40 @@ def test_camera_frame_and_border_in_region_pixels(camera, empty_scene):
     assert frame == pytest.approx((0.0, 0.0, 320.0, 200.0), abs=1e-3)
     assert border_pixels(frame, (0.25, 0.5, 0.75, 1.0), 320, 200) == (80, 100, 240, 200)
     assert border_pixels(frame, (1.0, 1.0, 1.0, 1.0), 320, 200) is None
+
+
+def _camera_view(obj, scene, width, height):
+    """A 3D view looking through `obj` exactly (no zoom, no offset), as region data."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    window = obj.calc_matrix_camera(depsgraph, x=width, y=height, scale_x=1.0, scale_y=1.0)
+    view = obj.matrix_world.inverted()
+    return SimpleNamespace(
+        view_matrix=view,
+        window_matrix=window,
+        perspective_matrix=window @ view,
+        is_perspective=True,
+        view_perspective="CAMERA",
+    )
+
+
+@pytest.mark.parametrize("kind", ["PERSP", "PANO"])
+def test_the_camera_view_shows_the_cameras_lens_and_panorama(camera, empty_scene, kind):
+    # As Cycles' viewport: through the camera, its depth of field and its panorama; the
+    # same camera as F12's when the view fits the camera frame to the region.
+    camera.data.type = kind
+    camera.data.dof.use_dof = True
+    camera.data.dof.aperture_fstop = 1.4
+    camera.data.shift_x = 0.05
+    bpy.context.view_layer.update()
+    expected = convert_camera(camera, empty_scene.render, [])
+    space = SimpleNamespace(camera=None, use_local_camera=False)
+    view = _camera_view(camera, empty_scene, 320, 200)
+    got = region_camera(empty_scene, space, view, 320, 200)
+    assert got.lens == expected.lens and got.lens.aperture_radius > 0.0
+    assert got.projection == expected.projection
+    assert got.panorama == expected.panorama
+    np.testing.assert_allclose(got.window, expected.window, rtol=1e-4, atol=1e-4)
+    # Outside camera view: the view's own pinhole.
+    view.view_perspective = "PERSP"
+    outside = region_camera(empty_scene, space, view, 320, 200)
+    assert outside.lens.aperture_radius == 0.0 and outside.panorama is None

@@ -337,3 +337,40 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
     # A zero coefficient is never traced, with the analysis or without.
     assert pruned.stats()["rays"]["reflection"] == plain.stats()["rays"]["reflection"] == 0
     assert set(pruned.stats()["shadow_rays_skipped"]) == {"backfacing", "unlit", "cutoff"}
+
+
+def test_a_panorama_is_bound_with_its_projection():
+    fisheye = wn.Panorama(type=wn.PanoramaType.FISHEYE_EQUIDISTANT, fisheye_fov=math.pi)
+    # The centre looks down the view axis; the rim of a 180-degree fisheye at 90 degrees;
+    # outside the circle there is no direction.
+    assert fisheye.direction(0.5, 0.5) == pytest.approx((0.0, 0.0, -1.0), abs=1e-6)
+    assert fisheye.direction(0.5, 1.0) == pytest.approx((0.0, 1.0, 0.0), abs=1e-6)
+    assert fisheye.direction(0.0, 0.0) is None
+    camera = wn.Camera(
+        projection=wn.Projection.PANORAMIC, window=(0.0, 1.0, 0.0, 1.0), panorama=fisheye
+    )
+    assert camera.projection == wn.Projection.PANORAMIC
+    with pytest.raises(ValueError, match="PANORAMIC"):
+        wn.Camera(panorama=fisheye)  # a perspective camera with a panorama
+    with pytest.raises(ValueError, match="PANORAMIC"):
+        wn.Camera(projection=wn.Projection.PANORAMIC)
+    with pytest.raises(ValueError, match="sensor"):
+        wn.Panorama(sensor=(0.0, 24.0))
+
+
+def test_outside_a_fisheyes_circle_is_opaque_black():
+    # As Cycles: the corners of a square fisheye image see nothing and cover the pixel.
+    scene = lit_floor_scene()
+    to_world = np.eye(4)
+    to_world[2, 3] = 5.0
+    scene.camera = wn.Camera(
+        to_world=to_world,
+        projection=wn.Projection.PANORAMIC,
+        window=(0.0, 1.0, 0.0, 1.0),
+        panorama=wn.Panorama(type=wn.PanoramaType.FISHEYE_EQUIDISTANT),
+        clip_end=1e4,
+    )
+    settings = wn.Settings(width=16, height=16, aa_samples=1, transparent_background=True)
+    image = finish(wn.RenderJob(scene, settings))
+    assert image[0, 0].tolist() == [0.0, 0.0, 0.0, 1.0]
+    assert image[8, 8, 0] > 0.1  # the floor under the camera, lit

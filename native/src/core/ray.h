@@ -26,6 +26,10 @@ enum RayKind : uint32_t {
   // instance seen by shadow rays carries one of these two bits (Scene::compile).
   kOpaqueShadowRay = 1u << 4,
   kTranslucentShadowRay = 1u << 5,
+  // A camera ray where there is none: an image point outside a fisheye's circle. It
+  // is traced as nothing (no instance's mask matches it) and shades as opaque black,
+  // as Cycles shows it.
+  kNoRay = 0,
 };
 
 struct Ray {

@@ -78,14 +78,17 @@ PassRecorder::PassRecorder(const CompiledScene& scene, const Settings& settings,
 void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& surface,
                                   const Vec3& normal, float share) const {
   if (!data_) return;
-  // Distances from the camera: along its view axis (Depth), and from its position
-  // (Mist, as Cycles; an orthographic camera has no position, so the view axis).
+  // Distances from the camera: along its view axis (Depth; a panorama has none, so from
+  // its position, as Cycles), and from its position (Mist, as Cycles; an orthographic
+  // camera has no position, so the view axis).
   const Vec3 eye(camera_.to_world[3]);
   const Vec3 forward = -glm::normalize(Vec3(camera_.to_world[2]));
-  const float z = glm::dot(it.position - eye, forward);
+  const float z = camera_.projection == Projection::kPanoramic
+                      ? glm::length(it.position - eye)
+                      : glm::dot(it.position - eye, forward);
   if ((settings_.passes & pass_bit(FilmPass::kMist)) != 0) {
     const float distance =
-        camera_.projection == Projection::kPerspective ? glm::length(it.position - eye) : z;
+        camera_.projection != Projection::kOrthographic ? glm::length(it.position - eye) : z;
     // Mist: 0 at the start distance, 1 at start + depth, shaped by the falloff exponent;
     // what the film shows is 1 - the sum of (1 - mist) * coverage.
     const float reach =

@@ -46,6 +46,7 @@ Ray CameraFrame::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
   const float* window = camera.window;
   const float x = window[0] + sx * (window[1] - window[0]);
   const float y = window[2] + sy * (window[3] - window[2]);
+  if (camera.projection == Projection::kPanoramic) return panoramic_ray(x, y, lens_sample);
   Ray ray;
   ray.kind = kCameraRay;
   if (camera.projection == Projection::kPerspective) {
@@ -77,6 +78,40 @@ Ray CameraFrame::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
   const float per_depth = 1.0f / glm::dot(ray.direction, -back);
   ray.t_min = camera.clip_start * per_depth;
   ray.t_max = camera.clip_end * per_depth;
+  return ray;
+}
+
+Ray CameraFrame::panoramic_ray(float u, float v, glm::vec2 lens_sample) const {
+  Ray ray;
+  Vec3 d;
+  if (!camera.panorama.direction(u, v, &d)) {
+    ray.kind = kNoRay;
+    ray.origin = position;
+    ray.t_max = 0.0f;
+    return ray;
+  }
+  ray.kind = kCameraRay;
+  Vec3 origin(0.0f);
+  if (camera.lens.blurs()) {
+    // A thin lens across each ray, as Cycles: the aperture spans the plane at right angles
+    // to the ray, oriented by the projection's own +X axis; the ray passes through its
+    // point at focus_distance along itself.
+    const Vec3 axis = camera.panorama.to_camera(Vec3(1.0f, 0.0f, 0.0f));
+    Vec3 across = axis - glm::dot(axis, d) * d;
+    const float length = glm::length(across);
+    // Along the axis itself (never the camera's Y) any perpendicular will do.
+    across =
+        length > 1e-6f ? across / length : glm::normalize(glm::cross(d, Vec3(0.0f, 1.0f, 0.0f)));
+    const Vec3 other = camera.panorama.handedness() * glm::cross(d, across);
+    const glm::vec2 offset = camera.lens.aperture_point(lens_sample);
+    origin = offset.x * across + offset.y * other;
+    d = glm::normalize(camera.lens.focus_distance * d - origin);
+  }
+  // Camera frame to world; clip distances are measured along the ray (Cycles' panoramas).
+  ray.origin = position + origin.x * right + origin.y * up + origin.z * back;
+  ray.direction = glm::normalize(d.x * right + d.y * up + d.z * back);
+  ray.t_min = camera.clip_start;
+  ray.t_max = camera.clip_end;
   return ray;
 }
 

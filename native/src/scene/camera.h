@@ -5,10 +5,11 @@
 #include <glm/vec2.hpp>
 
 #include "core/ray.h"
+#include "scene/panorama.h"
 
 namespace whitted {
 
-enum class Projection { kPerspective, kOrthographic };
+enum class Projection { kPerspective, kOrthographic, kPanoramic };
 
 // A thin lens: depth of field as Cycles' camera models it. Rays leave a point of the
 // aperture and pass through the point of the plane in focus the pinhole ray meets.
@@ -30,14 +31,17 @@ struct Camera {
   glm::mat4 to_world{1.0f};
   Projection projection = Projection::kPerspective;
   // Image rectangle (xmin, xmax, ymin, ymax): on the plane at distance 1 for perspective,
-  // in camera units for orthographic. Lens shift is already included.
+  // in camera units for orthographic, of the panorama's [0, 1]^2 for panoramic (Cycles'
+  // viewplane). Lens shift is already included.
   float window[4] = {-0.5f, 0.5f, -0.5f, 0.5f};
   float clip_start = 0.1f;
   float clip_end = 1000.0f;
   Lens lens;
+  Panorama panorama;  // the projection of a kPanoramic camera
 
   // (sx, sy) in [0,1]^2 with (0,0) the bottom-left corner of the image; `lens` the
-  // aperture sample (Lens::aperture_point), ignored by a pinhole.
+  // aperture sample (Lens::aperture_point), ignored by a pinhole. Where a panorama covers
+  // no direction the ray's kind is kNoRay: it sees nothing (opaque black, as Cycles).
   Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f)) const;
 };
 
@@ -53,6 +57,10 @@ struct CameraFrame {
   Vec3 up;
   Vec3 back;
   Vec3 position;
+
+ private:
+  // The ray of a kPanoramic camera through window point (u, v).
+  Ray panoramic_ray(float u, float v, glm::vec2 lens) const;
 };
 
 }  // namespace whitted
