@@ -64,7 +64,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         passes = render_result.enabled_passes(depsgraph.view_layer)
         try:
             native = load_native()
-            frame = sync_frame(depsgraph, native, quality)
+            frame = sync_frame(depsgraph, native, quality, engine=None if self.is_preview else self)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
             render_result.configure(frame.settings, scene, depsgraph.view_layer, passes)

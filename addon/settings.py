@@ -3,11 +3,12 @@
 from .properties.presets import quality_of
 
 
-def native_settings(native, scene, width, height, film, quality=None):
+def native_settings(native, scene, width, height, film, quality=None, shutter=0.0):
     """whitted_native.Settings for `scene` at `width` x `height` pixels.
 
     `film` is export.film.FilmData (border, transparent sky); `quality` is a
-    properties.presets.Quality, by default the one scene.whitted holds.
+    properties.presets.Quality, by default the one scene.whitted holds; `shutter` the
+    motion blur's, in frames, for the report (0: off, as in the viewport).
     """
     whitted = scene.whitted
     quality = quality or quality_of(whitted)
@@ -29,4 +30,5 @@ def native_settings(native, scene, width, height, film, quality=None):
         # Blender's thread setting (Auto = all cores, or the -t command-line value).
         threads=scene.render.threads,
         tile_size=whitted.tile_size,
+        shutter=shutter,
     )

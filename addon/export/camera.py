@@ -53,6 +53,7 @@ class CameraData:
     clip_end: float
     lens: LensData = PINHOLE
     panorama: PanoramaData | None = None  # a PANORAMIC camera's projection
+    motion: tuple = ()  # its to_world over the shutter (export/motion.py), () when still
 
 
 def convert_camera(camera_object, render, warnings):
@@ -70,6 +71,11 @@ def convert_camera(camera_object, render, warnings):
     camera = camera_object.data
     width, height = image_size(render)
     projection = projection_of(camera)
+    if camera.type not in {"PERSP", "ORTHO", "PANO"}:  # 5.x's CUSTOM (an OSL camera)
+        warnings.append(
+            f"Whitted: camera '{camera_object.name}' is {camera.type}, which Whitted does "
+            "not support; rendering it as a perspective camera"
+        )
     panorama = None
     if projection == "PANORAMIC":
         panorama = panorama_data(camera, width, height, render)
@@ -88,7 +94,7 @@ def convert_camera(camera_object, render, warnings):
     return CameraData(
         width=width,
         height=height,
-        to_world=_without_scale(camera_object),
+        to_world=without_scale(camera_object),
         projection=projection,
         window=window,
         clip_start=camera.clip_start,
@@ -223,9 +229,11 @@ def _window(camera, fitted_extent, width, height, render):
     return (-half_x + dx, half_x + dx, -half_y + dy, half_y + dy)
 
 
-def _without_scale(camera_object):
-    # Object scale would stretch the rays; Cycles clears it from the camera matrix too.
-    matrix = np.array(camera_object.matrix_world, dtype=np.float64)
+def without_scale(camera_object, matrix_world=None):
+    """The camera's matrix_world (or `matrix_world`, the camera's at another time)
+    without its scale: scale would stretch the rays; Cycles clears it too."""
+    source = camera_object.matrix_world if matrix_world is None else matrix_world
+    matrix = np.array(source, dtype=np.float64)
     scale = np.linalg.norm(matrix[:3, :3], axis=0)
     if not np.all(scale > 0.0):
         raise ExportError(f"Whitted: camera '{camera_object.name}' has a zero scale")

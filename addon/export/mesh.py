@@ -100,6 +100,8 @@ class InstanceData:
     # (object id, asset id, (material id per slot)): its Cryptomatte ids (cryptomatte.py);
     # None when the view layer writes no Cryptomatte.
     cryptomatte: tuple | None = None
+    # Its transforms over the shutter (export/motion.py MotionData), () when still.
+    motion: tuple = ()
 
 
 @dataclass(frozen=True)

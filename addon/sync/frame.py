@@ -1,11 +1,12 @@
 """A final frame (F12, a material preview, a probe) set up from empty: the scene
 synced, the scene camera, the film and the native settings."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import memory
 from ..export.camera import convert_camera
 from ..export.film import FilmData, convert_film
+from ..export.motion import sample_motion, shutter_of
 from ..properties.presets import quality_of
 from ..settings import native_settings
 from .native_data import native_camera
@@ -23,6 +24,7 @@ class Frame:
     settings: object  # whitted_native.Settings
     warnings: list  # what could not be exported as authored
     memory: memory.MemoryEstimate  # what the render was estimated to need
+    motion: object = None  # export.motion.MotionData of a motion-blurred frame, else None
 
     def job(self, native, settings=None, **kwargs):
         """A native RenderJob of this frame (with other `settings` if given)."""
@@ -31,20 +33,41 @@ class Frame:
         )
 
 
-def sync_frame(depsgraph, native, quality=None):
+def sync_frame(depsgraph, native, quality=None, engine=None):
     """The Frame of the evaluated depsgraph at properties.presets.Quality `quality`
-    (by default scene.whitted's). Raises export.ExportError when the scene cannot be
-    rendered (a render that would not fit in memory among them: memory.py), and the
-    native module's ValueError when it refuses data."""
+    (by default scene.whitted's). With the RenderEngine `engine` that owns the depsgraph
+    (F12, a farm frame) and Render > Motion Blur on, what moves within the shutter is
+    sampled first (export/motion.py), the scene evaluated at sub-frames and put back.
+    Raises export.ExportError when the scene cannot be rendered (a render that would
+    not fit in memory among them: memory.py), and the native module's ValueError when
+    it refuses data."""
     scene = depsgraph.scene
     quality = quality or quality_of(scene.whitted)
+    shutter = shutter_of(scene) if engine is not None else None
+    # Before anything is read: frame_set evaluates the depsgraph again.
+    motion = sample_motion(engine, depsgraph, shutter) if shutter is not None else None
+    scene = depsgraph.scene
     camera_warnings = []
     camera = convert_camera(scene.camera, scene.render, camera_warnings)
+    if motion is not None and motion.camera:
+        camera = replace(camera, motion=motion.camera)
     # Before anything large is allocated.
     needed = memory.check(depsgraph, camera.width * camera.height)
     sync = SceneSync(native)
-    report = sync.sync(depsgraph, SyncParams.of(scene, quality))
+    report = sync.sync(depsgraph, replace(SyncParams.of(scene, quality), motion=motion))
     warnings = list(sync.warnings) + camera_warnings
+    if motion is not None and motion.unmatched:
+        names = ", ".join(motion.unmatched[:3]) + ("..." if len(motion.unmatched) > 3 else "")
+        warnings.append(
+            f"Whitted: {len(motion.unmatched)} object(s) are not there for the whole shutter "
+            f"({names}); they render where the frame puts them, without motion blur"
+        )
+    if motion is not None and motion.deforming:
+        names = ", ".join(motion.deforming[:3]) + ("..." if len(motion.deforming) > 3 else "")
+        warnings.append(
+            f"Whitted: {len(motion.deforming)} object(s) deform within the shutter ({names}); "
+            "their movement blurs, their deformation does not (not simulated yet)"
+        )
     if sync.light_count == 0:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
     film = convert_film(scene.render, camera.width, camera.height)
@@ -55,7 +78,16 @@ def sync_frame(depsgraph, native, quality=None):
         width=camera.width,
         height=camera.height,
         film=film,
-        settings=native_settings(native, scene, camera.width, camera.height, film, quality),
+        settings=native_settings(
+            native,
+            scene,
+            camera.width,
+            camera.height,
+            film,
+            quality,
+            shutter=0.0 if shutter is None else shutter.close - shutter.open,
+        ),
         warnings=warnings,
         memory=needed,
+        motion=motion,
     )

@@ -28,6 +28,7 @@ def native_camera(native, camera):
         aperture_rotation=lens.rotation,
         aperture_ratio=lens.ratio,
         panorama=None if panorama is None else native_panorama(native, panorama),
+        motion=list(getattr(camera, "motion", ())),
     )
 
 
@@ -99,6 +100,7 @@ def set_instance(native, scene, instance):
         list(instance.materials),
         visibility=_native_visibility(native, instance.visibility),
         holdout=instance.holdout,
+        motion=list(instance.motion),
         **extra,
     )
 

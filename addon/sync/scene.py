@@ -24,7 +24,7 @@ its own compiled snapshot, so the native scene may change under it.
 """
 
 import time
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from types import SimpleNamespace
 
 import bpy
@@ -67,6 +67,9 @@ class SyncParams:
     # A view layer's UV pass is on: every mesh sends its active render UV map, not only
     # those whose textures read one.
     uv_pass: bool = False
+    # What moves within the shutter (export/motion.py MotionData; F12 with motion blur
+    # on), None otherwise: the instances it names carry their transforms over it.
+    motion: object = field(default=None, compare=False)
 
     @classmethod
     def of(cls, scene, quality):
@@ -326,7 +329,7 @@ class SceneSync:
                     self._sync_geometry(object_instance, key, changes, in_place, report, warnings)
                 if self._geometry[key].has_triangles:
                     instance = instance_data(object_instance, key, view_layer, self._info)
-                    instances[instance.name] = instance
+                    instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
                 name = instance_name(object_instance)
@@ -398,7 +401,8 @@ class SceneSync:
                 if known is None or not is_renderable_mesh(alone):
                     gone.add(name)  # hidden from renders (or never had triangles)
                 else:
-                    instances[name] = instance_data(alone, known.mesh, view_layer, self._info)
+                    instance = instance_data(alone, known.mesh, view_layer, self._info)
+                    instances[name] = _with_motion(instance, params.motion)
             elif role == _LIGHT:
                 light = None
                 if not obj.original.hide_render:
@@ -490,6 +494,13 @@ def _alone(obj):
         matrix_world=obj.matrix_world,
         show_self=True,
     )
+
+
+def _with_motion(instance, motion):
+    # The instance with its transforms over the shutter, when it moves within it.
+    if motion is None or instance.name not in motion.objects:
+        return instance
+    return replace(instance, motion=motion.objects[instance.name])
 
 
 def _same_instance(a, b):

@@ -24,6 +24,10 @@ def _ray_label(ray):
         return f"shadow -> {source}: {state}"
     if ray["cut"]:
         return f"{ray['kind']}: cut ({ray['cut']})"
+    if ray["kind"] == "camera":
+        # Where the sample left the lens, and when in the shutter (distributed ray tracing).
+        x, y, z = ray["origin"]
+        return f"camera from ({x:.3g}, {y:.3g}, {z:.3g}) at t={ray.get('time', 0.0):.2f} -> {what}"
     return f"{ray['kind']} -> {what}"
 
 

@@ -44,45 +44,58 @@ void bind_camera(py::module_& m) {
       .value("PANORAMIC", Projection::kPanoramic);
 
   py::class_<Camera>(m, "Camera", "Looks down its local -Z with +Y up (Blender's convention).")
-      .def(py::init([](const py::object& to_world, Projection projection,
-                       std::array<float, 4> window, float clip_start, float clip_end,
-                       float aperture_radius, float focus_distance, int aperture_blades,
-                       float aperture_rotation, float aperture_ratio,
-                       const std::optional<Panorama>& panorama) {
-             Camera c;
-             if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
-             c.projection = projection;
-             std::copy(window.begin(), window.end(), c.window);
-             c.clip_start = clip_start;
-             c.clip_end = clip_end;
-             const bool finite = std::isfinite(aperture_radius) && std::isfinite(focus_distance) &&
-                                 std::isfinite(aperture_rotation) && std::isfinite(aperture_ratio);
-             if (!finite || aperture_radius < 0.0f || !(focus_distance > 0.0f) ||
-                 !(aperture_ratio > 0.0f)) {
-               throw std::invalid_argument(
-                   "the lens needs a finite aperture radius >= 0, focus distance > 0 and "
-                   "aperture ratio > 0");
-             }
-             c.lens = Lens{aperture_radius, focus_distance, aperture_blades, aperture_rotation,
-                           aperture_ratio};
-             if ((projection == Projection::kPanoramic) != panorama.has_value()) {
-               throw std::invalid_argument(
-                   "a panorama is given with, and only with, the PANORAMIC projection");
-             }
-             if (panorama) c.panorama = *panorama;
-             return c;
-           }),
+      .def(py::init(
+               [](const py::object& to_world, Projection projection, std::array<float, 4> window,
+                  float clip_start, float clip_end, float aperture_radius, float focus_distance,
+                  int aperture_blades, float aperture_rotation, float aperture_ratio,
+                  const std::optional<Panorama>& panorama, const std::vector<py::object>& motion) {
+                 Camera c;
+                 if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
+                 c.projection = projection;
+                 std::copy(window.begin(), window.end(), c.window);
+                 c.clip_start = clip_start;
+                 c.clip_end = clip_end;
+                 const bool finite =
+                     std::isfinite(aperture_radius) && std::isfinite(focus_distance) &&
+                     std::isfinite(aperture_rotation) && std::isfinite(aperture_ratio);
+                 if (!finite || aperture_radius < 0.0f || !(focus_distance > 0.0f) ||
+                     !(aperture_ratio > 0.0f)) {
+                   throw std::invalid_argument(
+                       "the lens needs a finite aperture radius >= 0, focus distance > 0 and "
+                       "aperture ratio > 0");
+                 }
+                 c.lens = Lens{aperture_radius, focus_distance, aperture_blades, aperture_rotation,
+                               aperture_ratio};
+                 if ((projection == Projection::kPanoramic) != panorama.has_value()) {
+                   throw std::invalid_argument(
+                       "a panorama is given with, and only with, the PANORAMIC projection");
+                 }
+                 if (panorama) c.panorama = *panorama;
+                 if (motion.size() > 1) {
+                   std::vector<glm::mat4> samples;
+                   for (const py::object& m : motion) samples.push_back(matrix_from_numpy(m));
+                   for (const glm::mat4& m : samples) {
+                     if (!is_finite(m)) throw std::invalid_argument("camera motion must be finite");
+                   }
+                   auto moving = std::make_shared<const TransformMotion>(samples);
+                   if (moving->moves()) c.motion = std::move(moving);
+                 }
+                 return c;
+               }),
            py::arg("to_world") = py::none(), py::arg("projection") = Projection::kPerspective,
            py::arg("window") = std::array<float, 4>{-0.5f, 0.5f, -0.5f, 0.5f},
            py::arg("clip_start") = 0.1f, py::arg("clip_end") = 1000.0f,
            py::arg("aperture_radius") = 0.0f, py::arg("focus_distance") = 1.0f,
            py::arg("aperture_blades") = 0, py::arg("aperture_rotation") = 0.0f,
            py::arg("aperture_ratio") = 1.0f, py::arg("panorama") = py::none(),
+           py::arg("motion") = std::vector<py::object>{},
            "aperture_radius (world units; 0: a pinhole), focus_distance (of the plane in "
            "focus, along the view axis), aperture_blades (a polygon; below 3 a disc), "
            "aperture_rotation (radians), aperture_ratio (anamorphic: the aperture's width "
            "over it): a thin lens, as Cycles' depth of field. panorama: the projection of a "
-           "PANORAMIC camera, whose window spans the panorama's [0, 1]^2 (shift added).")
+           "PANORAMIC camera, whose window spans the panorama's [0, 1]^2 (shift added). "
+           "motion: its to_world (4x4 row-major, unit axes) at evenly spaced times over the "
+           "shutter (motion blur; [] when it stays put).")
       .def_property(
           "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
           [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },
@@ -99,6 +112,7 @@ void bind_camera(py::module_& m) {
       .def_readwrite("clip_start", &Camera::clip_start)
       .def_readwrite("clip_end", &Camera::clip_end)
       .def_property_readonly("aperture_radius", [](const Camera& c) { return c.lens.radius; })
+      .def_property_readonly("moves", [](const Camera& c) { return c.motion != nullptr; })
       .def_property_readonly("focus_distance",
                              [](const Camera& c) { return c.lens.focus_distance; });
 }

@@ -72,6 +72,7 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     ray["sample"] = node.sample;
     ray["origin"] = list3(node.origin);
     ray["direction"] = list3(node.direction);
+    ray["time"] = node.time;
     // A feeler ends at its light sample (none for the sun) or on what blocks it.
     const bool ends = node.hit || (feeler && node.end != Vec3(0.0f));
     ray["end"] = ends ? py::object(list3(node.end)) : py::none();

@@ -177,7 +177,7 @@ void bind_render(py::module_& m) {
                        bool progressive, int start_pixel_size, GlassShadows glass_shadows,
                        const std::vector<std::string>& passes, int contribution_depth,
                        float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
-                       int emitter_samples) {
+                       int emitter_samples, float shutter) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -205,6 +205,7 @@ void bind_render(py::module_& m) {
              s.mist_falloff = mist[2];
              s.glossy_samples = glossy_samples;
              s.emitter_samples = emitter_samples;
+             s.shutter = shutter;
              s.validate();
              return s;
            }),
@@ -219,7 +220,7 @@ void bind_render(py::module_& m) {
            py::arg("passes") = std::vector<std::string>{}, py::arg("contribution_depth") = 3,
            py::arg("pass_alpha_threshold") = 0.5f,
            py::arg("mist") = std::array<float, 3>{5.0f, 25.0f, 2.0f}, py::arg("glossy_samples") = 2,
-           py::arg("emitter_samples") = 2,
+           py::arg("emitter_samples") = 2, py::arg("shutter") = 0.0f,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -230,12 +231,14 @@ void bind_render(py::module_& m) {
            "first surface at least this opaque; mist: (start, depth, falloff exponent); "
            "glossy_samples: n, for n x n rays drawn from a glossy lobe at a branch's first "
            "glossy bounce (one at later ones); emitter_samples: n, for n x n feelers to the "
-           "emissive meshes from a shading point (one after a glossy bounce).")
+           "emissive meshes from a shading point (one after a glossy bounce); shutter: Render > "
+           "Motion Blur's, in frames, for the report (0: motion blur off).")
       .def_readwrite("width", &Settings::width)
       .def_readwrite("height", &Settings::height)
       .def_readwrite("max_depth", &Settings::max_depth)
       .def_readwrite("glossy_samples", &Settings::glossy_samples)
       .def_readwrite("emitter_samples", &Settings::emitter_samples)
+      .def_readwrite("shutter", &Settings::shutter)
       .def_readwrite("aa_samples", &Settings::aa_samples)
       .def_readwrite("threads", &Settings::threads)
       .def_readwrite("tile_size", &Settings::tile_size)

@@ -195,9 +195,11 @@ void bind_scene(py::module_& m) {
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
              std::vector<std::string> materials, uint32_t visibility, bool holdout,
              const std::optional<std::array<float, 9>>& info,
-             const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte) {
+             const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte,
+             const std::vector<py::object>& motion) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
+            for (const py::object& m : motion) instance.motion.push_back(matrix_from_numpy(m));
             if (info) {
               const std::array<float, 9>& i = *info;
               for (float v : i) {
@@ -218,12 +220,15 @@ void bind_scene(py::module_& m) {
           py::arg("materials") = std::vector<std::string>{},
           py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
           py::arg("info") = py::none(), py::arg("cryptomatte") = py::none(),
+          py::arg("motion") = std::vector<py::object>{},
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: Visibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
           "Object Info node reads, (x, y, z location, random, pass index, r, g, b, a colour) "
           "(None: the transform's location, random 0, index 0, white); cryptomatte: its "
-          "Cryptomatte ids (object, asset, [material per slot]), floats (None: none).")
+          "Cryptomatte ids (object, asset, [material per slot]), floats (None: none); motion: "
+          "its transforms (4x4 row-major) at evenly spaced times over the shutter, from its "
+          "opening to its closing (motion blur; [] when it does not move).")
       .def(
           "set_world",
           [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output) {

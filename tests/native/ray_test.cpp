@@ -94,7 +94,7 @@ TEST(Ray, SpawnedRaysNeverReHitTheirOwnTriangle) {
       for (const Vec3& d : {reflect(ray.direction, facing), ray.direction, light_dir}) {
         Hit again;
         ++rays;
-        if (tlas.intersect(spawn_ray(x, error, ng, d, kReflectionRay), &again) &&
+        if (tlas.intersect(spawn_ray(x, error, ng, 0.0f, d, kReflectionRay), &again) &&
             again.primitive == i) {
           ++self_hits;
         }

@@ -328,6 +328,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "refraction",
         "translucency",
         "depth of field",
+        "motion blur",
         "pruning",
     ]
     assert plain.stats()["effects"] == [

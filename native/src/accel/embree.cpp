@@ -57,7 +57,7 @@ void to_embree(const Ray& ray, RTCRay* r) {
   r->dir_z = ray.direction.z;
   r->tnear = ray.t_min;
   r->tfar = ray.t_max;
-  r->time = 0.0f;
+  r->time = ray.time;
   r->mask = ray.kind;
   r->id = 0;
   r->flags = 0;
@@ -137,9 +137,20 @@ SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
     rtcSetGeometryInstancedScene(geometry, as_scene(instances[i].mesh->handle()));
     // Ray masks implement per-kind visibility: a ray sees an instance when the masks meet.
     rtcSetGeometryMask(geometry, instances[i].visibility);
-    // glm matrices are column-major 4x4: exactly RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR.
-    rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
-                            glm::value_ptr(instances[i].to_world));
+    // glm matrices are column-major 4x4: exactly RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR. A
+    // moving instance has one per time step; Embree blends neighbouring steps linearly
+    // at the ray's time (TransformMotion::at does the same for the hit's shading).
+    if (instances[i].motion) {
+      const std::vector<glm::mat4>& steps = instances[i].motion->steps();
+      rtcSetGeometryTimeStepCount(geometry, static_cast<unsigned>(steps.size()));
+      for (size_t step = 0; step < steps.size(); ++step) {
+        rtcSetGeometryTransform(geometry, static_cast<unsigned>(step),
+                                RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, glm::value_ptr(steps[step]));
+      }
+    } else {
+      rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
+                              glm::value_ptr(instances[i].to_world));
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(scene, geometry, static_cast<unsigned>(i));
     rtcReleaseGeometry(geometry);
@@ -199,7 +210,7 @@ void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
     packet->dir_z[i] = ray.direction.z;
     packet->tnear[i] = ray.t_min;
     packet->tfar[i] = ray.t_max;
-    packet->time[i] = 0.0f;
+    packet->time[i] = ray.time;
     packet->mask[i] = ray.kind;
     packet->id[i] = 0;
     packet->flags[i] = 0;

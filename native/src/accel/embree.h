@@ -12,6 +12,7 @@
 
 #include "core/ray.h"
 #include "scene/mesh.h"
+#include "scene/motion.h"
 
 namespace whitted {
 
@@ -83,6 +84,8 @@ struct AccelInstance {
   std::shared_ptr<const MeshAccel> mesh;
   glm::mat4 to_world;
   uint32_t visibility;  // RayKind bits of the rays that see it
+  // Its steps over the shutter (null: still), blended linearly at each ray's time.
+  std::shared_ptr<const TransformMotion> motion;
 };
 
 // The top-level BVH. Immutable once built; queries are thread-safe.

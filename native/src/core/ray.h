@@ -38,6 +38,9 @@ struct Ray {
   float t_min = 0.0f;
   float t_max = kInfinity;
   uint32_t kind = kAllRayKinds;  // one RayKind for traced rays
+  // When in the shutter the ray travels, 0 (open) to 1 (closed): a camera sample's
+  // time, kept by every ray of its tree (motion blur; 0 where nothing moves).
+  float time = 0.0f;
 };
 
 // Rounding error bounds (Higham; pbrt-v4 util/float.h): n float operations in a row are
@@ -89,11 +92,12 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& error, const Vec3& n) {
 // The one place secondary rays (reflection, refraction, shadow, and the continuation
 // behind a cut-out) are made. `p` is a surface point with error bound `error`; `ng` is
 // the unit geometric normal; the origin is pushed to the side of `ng` that `direction`
-// leaves towards. `t_max` bounds the ray (a shadow feeler stops before its light).
-inline Ray spawn_ray(const Vec3& p, const Vec3& error, const Vec3& ng, const Vec3& direction,
-                     RayKind kind, float t_max = kInfinity) {
+// leaves towards. `time` is the ray's that met the surface (a ray tree lives at one
+// moment of the shutter). `t_max` bounds the ray (a shadow feeler stops before its light).
+inline Ray spawn_ray(const Vec3& p, const Vec3& error, const Vec3& ng, float time,
+                     const Vec3& direction, RayKind kind, float t_max = kInfinity) {
   const Vec3 side = glm::dot(direction, ng) >= 0.0f ? ng : -ng;
-  return Ray{offset_ray_origin(p, error, side), direction, 0.0f, t_max, kind};
+  return Ray{offset_ray_origin(p, error, side), direction, 0.0f, t_max, kind, time};
 }
 
 }  // namespace whitted

@@ -93,6 +93,24 @@ std::string length_text(float value) {
   return text;
 }
 
+// Whether anything moves within the shutter, and what.
+EffectDecision motion_blur(const CompiledScene& scene, const Settings& settings,
+                           const Camera& camera) {
+  if (!(settings.shutter > 0.0f)) {
+    return {"motion blur", false,
+            "Render > Motion Blur off, a zero shutter, or the viewport (as in Cycles)"};
+  }
+  size_t moving = 0;
+  for (const CompiledScene::Instance& instance : scene.instances)
+    moving += instance.motion != nullptr;
+  const std::string shutter = "shutter " + length_text(settings.shutter) + " frames";
+  if (moving == 0 && !camera.motion)
+    return {"motion blur", false, "nothing moves within the " + shutter};
+  std::string what = thousands(moving) + (moving == 1 ? " moving object" : " moving objects");
+  if (camera.motion) what = moving == 0 ? "the camera moves" : what + " and the camera";
+  return {"motion blur", true, what + ", " + shutter};
+}
+
 }  // namespace
 
 Effects analyse(const CompiledScene& scene, const Settings& settings, const Camera& camera) {
@@ -104,6 +122,7 @@ Effects analyse(const CompiledScene& scene, const Settings& settings, const Came
          camera.lens.blurs() ? "aperture radius " + length_text(camera.lens.radius) +
                                    ", in focus at " + length_text(camera.lens.focus_distance)
                              : "a pinhole camera (Depth of Field off, or no aperture)"});
+    effects.decisions.push_back(motion_blur(scene, settings, camera));
   } else {
     effects.decisions.push_back({"analysis", false, "every effect on"});
   }

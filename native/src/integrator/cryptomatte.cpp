@@ -66,7 +66,7 @@ void CryptomatteFilm::trace_pixel(const CompiledScene& scene, const Camera& came
         if (behind <= 0.0f) break;
         const float left = ray.t_max - glm::length(it.position - ray.origin);
         if (!(left > 0.0f)) break;
-        ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+        ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, ray.direction,
                         RayKind(ray.kind), left);
       }
     }

@@ -38,11 +38,12 @@ enum class TreeCut {
 
 struct RayTreeNode {
   TreeRayKind kind = TreeRayKind::kCamera;
-  int depth = 0;    // bounces from the camera (continuations keep their ray's depth)
-  int parent = -1;  // the node whose surface spawned it; -1 for a camera ray
-  int sample = 0;   // the camera sample it belongs to
-  Vec3 origin{0.0f};
+  int depth = 0;      // bounces from the camera (continuations keep their ray's depth)
+  int parent = -1;    // the node whose surface spawned it; -1 for a camera ray
+  int sample = 0;     // the camera sample it belongs to
+  Vec3 origin{0.0f};  // a camera ray's: its point on the lens (the camera's, for a pinhole)
   Vec3 direction{0.0f};
+  float time = 0.0f;      // in the shutter, 0 to 1 (motion blur; 0 where nothing moves)
   bool hit = false;       // the ray ended on a surface (for a shadow ray: on a blocker)
   Vec3 end{0.0f};         // where it ended, when `hit`
   int32_t instance = -1;  // CompiledScene::instances index of what it hit or was blocked by

@@ -94,11 +94,14 @@ class CameraSampler {
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
   Ray grid_ray(int x, int y, int k) const;
-  // The camera ray through film position (px, py), in pixels, from aperture sample `lens`.
-  Ray camera_ray(float px, float py, glm::vec2 lens) const;
+  // The camera ray through film position (px, py), in pixels, from aperture sample `lens`
+  // at shutter time `time`.
+  Ray camera_ray(float px, float py, glm::vec2 lens, float time) const;
   // An aperture sample for a film position that is no grid sample (adaptive
   // anti-aliasing's corners): a hash of the position.
   glm::vec2 film_lens(float px, float py) const;
+  // Its shutter time likewise (0 when nothing moves).
+  float film_time(float px, float py) const;
   // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
   // `seed`: the sample's (NodeState::seed), from its pixel and index or film position.
   Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record,
@@ -109,6 +112,9 @@ class CameraSampler {
   const Camera& camera_;
   const CameraFrame frame_;  // camera_'s, made once: not per camera ray
   const bool packets_;       // choose_packets' answer, made once per render
+  // Whether the camera or an instance moves within the shutter: camera samples then
+  // spread over it (motion blur), else all are at time 0.
+  const bool moves_;
   // Where every camera ray starts (depth 0, weight 1, inside the camera's media), made
   // once: not copied per camera ray.
   const NodeState root_;

@@ -34,6 +34,10 @@ struct Settings {
   // stratified over the power table and the triangles, at a branch's first glossy
   // bounce and before it; one after, as glossy rays.
   int emitter_samples = 2;
+  // Render > Motion Blur's shutter, in frames, for the report; 0 when motion blur is off
+  // (or the render is the viewport's, as in Cycles). What moves comes with the scene
+  // (Instance::motion, Camera::motion).
+  float shutter = 0.0f;
   AntiAliasing aa_mode = AntiAliasing::kRegular;
   int aa_samples = 1;         // per axis, regular and jittered: n x n samples
   float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)

@@ -319,7 +319,7 @@ class Kernel {
       // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
       const float left = r.t_max - glm::length(it.position - r.origin);
       if (!(left > 0.0f)) break;
-      r = spawn_ray(it.position, it.position_error, it.geometric_normal, r.direction,
+      r = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, r.direction,
                     RayKind(r.kind), left);
       counts->transparent += 1;
     }
@@ -378,8 +378,8 @@ class Kernel {
   Color pass_through(const Ray& ray, const Interaction& it, const NodeState& state,
                      const MediumStack& media, RayCounts* counts) const {
     counts->transparent += 1;
-    return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
-                            RayKind(ray.kind)),
+    return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, it.time,
+                            ray.direction, RayKind(ray.kind)),
                   state, Color(1.0f), media, /*bounce=*/false, TreeRayKind::kTransparent, counts);
   }
 
@@ -521,9 +521,10 @@ class Kernel {
     if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
     const TreeRayKind kind = split.total_internal_reflection ? TreeRayKind::kTotalInternalReflection
                                                              : TreeRayKind::kReflection;
-    const Color reflected = branch(
-        spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, r, kReflectionRay),
-        state, split.sigma_r, state.media, /*bounce=*/true, kind, counts);
+    const Color reflected =
+        branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, r,
+                         kReflectionRay),
+               state, split.sigma_r, state.media, /*bounce=*/true, kind, counts);
     if constexpr (kPasses) {
       recorder_.reflected(state.depth, state.throughput, split.sigma_r, reflected);
     }
@@ -567,9 +568,10 @@ class Kernel {
                                                                             wi, lobe_of.alpha)
                                           : 0.0f;
       const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu), mis};
-      const Color brought = branch(
-          spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, wi, kReflectionRay),
-          state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts, &drawn);
+      const Color brought =
+          branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, wi,
+                           kReflectionRay),
+                 state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts, &drawn);
       mean += (lobe * strata.share) * lobe_of.energy * brought;
     }
     if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
@@ -614,8 +616,8 @@ class Kernel {
       return rough_transmission(p, split, beyond, state, counts);
     }
     const Color refracted = branch(
-        spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, split.refracted,
-                  kRefractionRay),
+        spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time,
+                  split.refracted, kRefractionRay),
         state, split.sigma_t, beyond.media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
     if constexpr (kPasses) {
       recorder_.refracted(state.depth, state.throughput, split.sigma_t, refracted);
@@ -655,7 +657,7 @@ class Kernel {
       // No feeler reaches an emitter through glass: what these rays meet counts whole.
       const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x7463u), 0.0f};
       const Color brought =
-          branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, t,
+          branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, t,
                            through ? kRefractionRay : kReflectionRay),
                  state, split.sigma_t * lobe, through ? beyond.media : state.media, /*bounce=*/true,
                  TreeRayKind::kGlossy, counts, &drawn);
@@ -826,7 +828,7 @@ class Kernel {
       // Behind the surface it adds nothing: its emission (a program's, perhaps) unread.
       if (glm::dot(p.ns, out.sample.wi) <= 0.0f) return out;
       const float cos_e = std::fabs(glm::dot(out.sample.wi, triangle.normal));
-      const Ray towards{p.it.shadow_origin, out.sample.wi, 0.0f, dist, 0u};
+      const Ray towards{p.it.shadow_origin, out.sample.wi, 0.0f, dist, 0u, p.it.time};
       const Color radiance = emitted(scene_, triangle, s.barycentric, towards, context(state));
       out.sample.irradiance = radiance * (cos_e * strata.share / (dist2 * s.density));
       if (rays.count > 0.0f) {
@@ -1045,7 +1047,8 @@ class Kernel {
     // Stop the shadow ray just short of the light sample.
     const float t_max =
         std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kShadowRayShortening);
-    *ray = spawn_ray(p.it.shadow_origin, p.it.position_error, p.ng, ls.wi, kShadowRay, t_max);
+    *ray = spawn_ray(p.it.shadow_origin, p.it.position_error, p.ng, p.it.time, ls.wi, kShadowRay,
+                     t_max);
     return true;
   }
 
@@ -1080,7 +1083,7 @@ class Kernel {
       if (is_black(transmittance)) return transmittance;
       const float remaining = ray.t_max - glm::length(it.position - ray.origin);
       if (!(remaining > 0.0f)) return transmittance;
-      ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+      ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, ray.direction,
                       kTranslucentShadowRay, remaining);
       counts->shadow += 1;
     }
@@ -1111,6 +1114,7 @@ class Kernel {
     node.depth = state.depth;
     node.origin = ray.origin;
     node.direction = ray.direction;
+    node.time = ray.time;
     node.weight = tree_->scale * share;
     return tree_->add(node, parent);
   }
@@ -1140,6 +1144,7 @@ class Kernel {
     node.depth = state.depth;
     node.origin = it.shadow_origin;
     node.direction = ls.wi;
+    node.time = it.time;
     node.light = drawing.feeler.light;
     node.emitter = drawing.feeler.emitter;
     node.weight = tree_->scale;
@@ -1266,7 +1271,7 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
         enclosing.push_back(it.material_index);
       }
     }
-    ray = spawn_ray(it.position, it.position_error, it.geometric_normal, ray.direction,
+    ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, ray.direction,
                     kRefractionRay);
   }
   MediumStack media;

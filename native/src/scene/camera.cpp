@@ -7,8 +7,8 @@
 
 namespace whitted {
 
-Ray Camera::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
-  return CameraFrame(*this).generate_ray(sx, sy, lens_sample);
+Ray Camera::generate_ray(float sx, float sy, glm::vec2 lens_sample, float time) const {
+  return CameraFrame(*this).generate_ray(sx, sy, lens_sample, time);
 }
 
 glm::vec2 Lens::aperture_point(glm::vec2 u) const {
@@ -35,14 +35,26 @@ glm::vec2 Lens::aperture_point(glm::vec2 u) const {
   return radius * point;
 }
 
-CameraFrame::CameraFrame(const Camera& c)
-    : camera(c),
-      right(glm::normalize(Vec3(c.to_world[0]))),
-      up(glm::normalize(Vec3(c.to_world[1]))),
-      back(glm::normalize(Vec3(c.to_world[2]))),
-      position(c.to_world[3]) {}
+CameraFrame::CameraFrame(const Camera& c) : CameraFrame(c, c.to_world) {}
 
-Ray CameraFrame::generate_ray(float sx, float sy, glm::vec2 lens_sample) const {
+CameraFrame::CameraFrame(const Camera& c, const glm::mat4& to_world)
+    : camera(c),
+      right(glm::normalize(Vec3(to_world[0]))),
+      up(glm::normalize(Vec3(to_world[1]))),
+      back(glm::normalize(Vec3(to_world[2]))),
+      position(to_world[3]) {}
+
+Ray CameraFrame::generate_ray(float sx, float sy, glm::vec2 lens_sample, float time) const {
+  // A moving camera is where the sample's time puts it (its motion blended as Embree
+  // blends an instance's), its axes normalised again.
+  Ray ray = camera.motion
+                ? CameraFrame(camera, camera.motion->at(time)).ray_here(sx, sy, lens_sample)
+                : ray_here(sx, sy, lens_sample);
+  ray.time = time;
+  return ray;
+}
+
+Ray CameraFrame::ray_here(float sx, float sy, glm::vec2 lens_sample) const {
   const float* window = camera.window;
   const float x = window[0] + sx * (window[1] - window[0]);
   const float y = window[2] + sy * (window[3] - window[2]);

@@ -4,7 +4,10 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 
+#include <memory>
+
 #include "core/ray.h"
+#include "scene/motion.h"
 #include "scene/panorama.h"
 
 namespace whitted {
@@ -38,18 +41,23 @@ struct Camera {
   float clip_end = 1000.0f;
   Lens lens;
   Panorama panorama;  // the projection of a kPanoramic camera
+  // Its to_world over the shutter (motion blur; scale removed); null when it stays put.
+  std::shared_ptr<const TransformMotion> motion;
 
   // (sx, sy) in [0,1]^2 with (0,0) the bottom-left corner of the image; `lens` the
   // aperture sample (Lens::aperture_point), ignored by a pinhole. Where a panorama covers
   // no direction the ray's kind is kNoRay: it sees nothing (opaque black, as Cycles).
-  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f)) const;
+  // `time` in [0, 1] places a moving camera in its shutter; the ray carries it.
+  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f), float time = 0.0f) const;
 };
 
 // What a camera's rays are made from, taken from it once for the many rays of a render:
 // Camera::generate_ray makes one per ray, a sampler one per render.
 struct CameraFrame {
   explicit CameraFrame(const Camera& camera);
-  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f)) const;
+  // The camera placed at `to_world` (a moving camera at one moment of its shutter).
+  CameraFrame(const Camera& camera, const glm::mat4& to_world);
+  Ray generate_ray(float sx, float sy, glm::vec2 lens = glm::vec2(0.5f), float time = 0.0f) const;
 
   const Camera& camera;
   // Blender ignores the camera's scale: the unit axes of its rotation.
@@ -59,6 +67,8 @@ struct CameraFrame {
   Vec3 position;
 
  private:
+  // The ray through (sx, sy) from these axes, whatever the time.
+  Ray ray_here(float sx, float sy, glm::vec2 lens) const;
   // The ray of a kPanoramic camera through window point (u, v).
   Ray panoramic_ray(float u, float v, glm::vec2 lens) const;
 };

@@ -81,14 +81,14 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
       const Vec3 a = mesh.vertex(tri[0]);
       const Vec3 b = mesh.vertex(tri[1]);
       const Vec3 c = mesh.vertex(tri[2]);
-      t.p0 = transform_point(instance.to_world, a);
-      t.e1 = transform_point(instance.to_world, b) - t.p0;
-      t.e2 = transform_point(instance.to_world, c) - t.p0;
+      t.p0 = transform_point(instance.placement.to_world, a);
+      t.e1 = transform_point(instance.placement.to_world, b) - t.p0;
+      t.e2 = transform_point(instance.placement.to_world, c) - t.p0;
       const Vec3 across = glm::cross(t.e1, t.e2);
       t.area = 0.5f * glm::length(across);
       // The front side as interaction() finds it: the object-space winding's normal
       // carried by the normal matrix (a mirroring transform keeps the outside out).
-      const Vec3 front = instance.normal_to_world * glm::cross(b - a, c - a);
+      const Vec3 front = instance.placement.normal_to_world * glm::cross(b - a, c - a);
       const float front_length = glm::length(front);
       if (!(t.area > 0.0f) || !std::isfinite(t.area) || !(front_length > 0.0f) ||
           !std::isfinite(front_length)) {

@@ -19,15 +19,6 @@ void erase_or_throw(Map* map, const std::string& name, const char* kind) {
   }
 }
 
-bool is_finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) {
-      if (!std::isfinite(m[c][r])) return false;
-    }
-  }
-  return true;
-}
-
 // Embree traces an instance by moving the ray into object space with the inverse
 // transform; a singular or near-singular transform (an object scaled to zero), or one
 // absurdly far away, would make that ray invalid, which Embree's assertions turn into an
@@ -151,7 +142,9 @@ void Scene::set_mesh(const std::string& name, Mesh mesh) {
 }
 
 void Scene::set_instance(const std::string& name, Instance instance) {
-  if (!is_finite(instance.to_world)) {
+  bool finite = is_finite(instance.to_world);
+  for (const glm::mat4& m : instance.motion) finite = finite && is_finite(m);
+  if (!finite) {
     throw std::invalid_argument("instance '" + name + "' has a NaN or infinite transform");
   }
   std::lock_guard lock(mutex_);
@@ -307,10 +300,15 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     }
     CompiledScene::Instance out;
     out.mesh = mesh->second;
-    out.to_world = instance.to_world;
-    out.normal_to_world = glm::transpose(glm::inverse(glm::mat3(instance.to_world)));
-    for (int c = 0; c < 3; ++c) out.abs_linear[c] = glm::abs(Vec3(instance.to_world[c]));
-    out.abs_translation = glm::abs(Vec3(instance.to_world[3]));
+    out.placement = Placement::of(instance.to_world);
+    // Motion whose every sample can be inverted (Embree inverts the blend); a sample of
+    // zero scale (an object shrinking to nothing) leaves it at the frame's transform.
+    bool invertible = true;
+    for (const glm::mat4& m : instance.motion) invertible = invertible && safely_invertible(m);
+    if (invertible && instance.motion.size() > 1) {
+      auto motion = std::make_shared<const TransformMotion>(instance.motion);
+      if (motion->moves()) out.motion = std::move(motion);
+    }
     out.holdout = instance.holdout;
     out.visibility = instance.visibility;
     out.info = instance.info;
@@ -341,9 +339,10 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
       mask |= translucent ? kTranslucentShadowRay : kOpaqueShadowRay;
     }
     // Aliasing pointer: the mesh BVH, keeping its whole entry (the arrays) alive.
-    accel_instances.push_back(
-        {std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel), out.to_world, mask});
+    accel_instances.push_back({std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel),
+                               out.placement.to_world, mask, out.motion});
     masks.push_back(mask);
+    compiled->moves = compiled->moves || out.motion != nullptr;
     compiled->instances.push_back(std::move(out));
   }
   if (!state_.accel || masks != state_.accel_masks) {
@@ -358,6 +357,15 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
   return compiled;
 }
 
+Placement Placement::of(const glm::mat4& to_world) {
+  Placement p;
+  p.to_world = to_world;
+  p.normal_to_world = glm::transpose(glm::inverse(glm::mat3(to_world)));
+  for (int c = 0; c < 3; ++c) p.abs_linear[c] = glm::abs(Vec3(to_world[c]));
+  p.abs_translation = glm::abs(Vec3(to_world[3]));
+  return p;
+}
+
 size_t CompiledScene::triangle_count() const {
   size_t n = 0;
   for (const Instance& instance : instances) n += instance.mesh->mesh.triangle_count();
@@ -367,6 +375,10 @@ size_t CompiledScene::triangle_count() const {
 Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   const Instance& instance = instances[hit.instance];
   const Mesh& mesh = instance.mesh->mesh;
+  // A moving instance is where the ray's time puts it, blended as Embree blends it.
+  Placement moved;
+  if (instance.motion) moved = Placement::of(instance.motion->at(ray.time));
+  const Placement& at = instance.motion ? moved : instance.placement;
   const uint32_t* tri = &mesh.triangles[3 * size_t{hit.primitive}];
   const Vec3 p0 = mesh.vertex(tri[0]);
   const Vec3 p1 = mesh.vertex(tri[1]);
@@ -376,18 +388,19 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   // The point from barycentrics on the triangle, not origin + t*direction: its error is
   // a few ulps of the coordinates, which is what the ray-origin offset assumes.
   const Vec3 local = w0 * p0 + hit.u * p1 + hit.v * p2;
-  out.position = transform_point(instance.to_world, local);
+  out.position = transform_point(at.to_world, local);
   // Error of the object-space point, carried through the transform (pbrt-v4 Transform):
-  // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|).
+  // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|). A moving instance's blended transform
+  // may differ from Embree's by the blend's rounding (two operations an element): gamma5.
   const Vec3 local_error = barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
-  const Vec3 world_error =
-      (1.0f + gamma(3)) * (instance.abs_linear * local_error) +
-      gamma(3) * (instance.abs_linear * glm::abs(local) + instance.abs_translation);
+  const float g = instance.motion ? gamma(5) : gamma(3);
+  const Vec3 world_error = (1.0f + g) * (at.abs_linear * local_error) +
+                           g * (at.abs_linear * glm::abs(local) + at.abs_translation);
   // Embree's intersector computes with all coordinates at once (relative to the ray
   // origin), so its error scales with the largest of them: use the largest bound on
   // every axis. A flat triangle exactly on a coordinate plane then still gets an offset.
   out.position_error = Vec3(max_component(world_error));
-  Vec3 ng = instance.normal_to_world * glm::cross(p1 - p0, p2 - p0);
+  Vec3 ng = at.normal_to_world * glm::cross(p1 - p0, p2 - p0);
   const float ng_length = glm::length(ng);
   // A degenerate (zero-area) triangle has no normal; face the ray instead.
   out.geometric_normal =
@@ -396,7 +409,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   out.shadow_origin = out.position;
   Vec3 n0, n1, n2;
   if (mesh.corner_normals(hit.primitive, &n0, &n1, &n2)) {
-    const Vec3 world = instance.normal_to_world * (w0 * n0 + hit.u * n1 + hit.v * n2);
+    const Vec3 world = at.normal_to_world * (w0 * n0 + hit.u * n1 + hit.v * n2);
     const float length = glm::length(world);
     if (length > 0.0f && std::isfinite(length)) {
       out.shading_normal = world / length;
@@ -407,7 +420,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
         return -below * normal;
       };
       const Vec3 lifted = local + w0 * lift(p0, n0) + hit.u * lift(p1, n1) + hit.v * lift(p2, n2);
-      const Vec3 world_lifted = transform_point(instance.to_world, lifted);
+      const Vec3 world_lifted = transform_point(at.to_world, lifted);
       if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
     }
   }
@@ -419,6 +432,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   out.primitive = hit.primitive;
   out.local_position = local;
   out.barycentric = glm::vec2(hit.u, hit.v);
+  out.time = ray.time;
   return out;
 }
 
@@ -488,7 +502,7 @@ struct SurfaceHit {
         return glm::vec4(hit.backfacing ? 1.0f : 0.0f);
       case kInputObjectSpaceNormal: {
         // Normals go back to object space by the transpose of the linear part.
-        const Vec3 n = glm::transpose(glm::mat3(instance.to_world)) * hit.normal;
+        const Vec3 n = glm::transpose(glm::mat3(instance.placement.to_world)) * hit.normal;
         const float length = glm::length(n);
         return vec(length > 0.0f ? n / length : n);
       }
@@ -604,7 +618,7 @@ Interaction moved(const CompiledScene& scene, const Interaction& it, const Vec3&
   const Vec3 e1 = mesh.vertex(tri[1]) - p0;
   const Vec3 e2 = mesh.vertex(tri[2]) - p0;
   // The inverse of the linear part is the transpose of its inverse transpose.
-  const Vec3 local = glm::transpose(instance.normal_to_world) * offset;
+  const Vec3 local = glm::transpose(instance.placement.normal_to_world) * offset;
   const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
   const float b1 = glm::dot(local, e1), b2 = glm::dot(local, e2);
   const float det = d11 * d22 - d12 * d12;
@@ -655,8 +669,8 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     hit.incoming = -ray.direction;
     hit.backfacing = glm::dot(ray.direction, it.geometric_normal) > 0.0f;
     hit.normal = hit.backfacing ? -it.shading_normal : it.shading_normal;
-    hit.to_world = glm::mat3(instance.to_world);
-    hit.normal_to_world = instance.normal_to_world;
+    hit.to_world = glm::mat3(instance.placement.to_world);
+    hit.normal_to_world = instance.placement.normal_to_world;
     hit.images = m.program_images.data();
     const SurfaceHit source{*this, it, ray, context, hit};
     Inputs inputs;

@@ -16,6 +16,7 @@
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/mesh.h"
+#include "scene/motion.h"
 #include "scene/texture.h"
 
 namespace whitted {
@@ -62,6 +63,9 @@ struct Instance {
   bool holdout = false;                // camera rays that meet it give colour 0, alpha 0
   InstanceInfo info;
   CryptomatteIds cryptomatte;
+  // Its transform over the shutter (motion blur), sampled at evenly spaced times from its
+  // opening to its closing; empty (or all one transform) when it does not move.
+  std::vector<glm::mat4> motion;
 };
 
 // Where a ray met a surface, in world space.
@@ -82,6 +86,7 @@ struct Interaction {
   uint32_t primitive;
   Vec3 local_position;    // object space
   glm::vec2 barycentric;  // weights of the triangle's vertices 1 and 2
+  float time;             // of the ray that met it, in the shutter (Ray::time)
 };
 
 // Every Whitted field of a material at one hit, textures and program applied: what the
@@ -115,15 +120,24 @@ struct RayContext {
 
 // What a render reads: resolved, immutable, safe to share between threads. The camera is
 // not part of it (a render takes its own), so moving the camera recompiles nothing.
+// Where an instance is at one moment: its transform and what hits carried through it
+// read, made once per transform.
+struct Placement {
+  glm::mat4 to_world{1.0f};
+  glm::mat3 normal_to_world{1.0f};  // inverse transpose of the linear part
+  // |linear part| and |translation|, element by element: the error bound of every hit
+  // point carried through to_world reads them (interaction).
+  glm::mat3 abs_linear{1.0f};
+  Vec3 abs_translation{0.0f};
+  static Placement of(const glm::mat4& to_world);
+};
+
 struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
-    glm::mat4 to_world;
-    glm::mat3 normal_to_world;  // inverse transpose of the linear part
-    // |linear part| and |translation|, element by element: the error bound of every hit
-    // point carried through to_world reads them (interaction), so they are made once.
-    glm::mat3 abs_linear;
-    Vec3 abs_translation;
+    Placement placement;  // at the shutter's opening (the frame's, without motion blur)
+    // Its motion over the shutter; null when it does not move.
+    std::shared_ptr<const TransformMotion> motion;
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
     uint32_t visibility;  // RayKind bits
@@ -132,6 +146,7 @@ struct CompiledScene {
     CryptomatteIds cryptomatte;
   };
   std::vector<Instance> instances;
+  bool moves = false;               // whether any instance moves within the shutter
   std::vector<Material> materials;  // index 0 is the default material
   // By material: its fields as constants, alpha clamped, normals unset; surface() starts
   // from these, so a material without textures or program costs a copy per hit.

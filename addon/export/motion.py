@@ -1,0 +1,146 @@
+"""Motion blur as plain data: the shutter Render > Motion Blur sets, and the transforms
+of the objects and the camera that move within it, read as Cycles reads them (its
+blender/sync.cpp sync_motion): the scene evaluated at sub-frames through
+RenderEngine.frame_set, then put back at the frame.
+
+Times: Blender frames (fractional). The native side takes each transform list as
+evenly spaced samples from the shutter's opening (time 0) to its closing (time 1)."""
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .camera import without_scale
+from .instance import instance_name
+from .mesh import is_renderable_mesh
+
+# Cycles' object Motion Steps s give 2^s + 1 samples (2 << (s - 1), plus the frame
+# itself); the samples of fewer steps are a subset of those of more. Capped at s = 5
+# (33 sub-frame evaluations of the whole scene).
+MAX_MOTION_STEPS = 5
+
+
+@dataclass(frozen=True)
+class Shutter:
+    """When the shutter is open, in frames: Render > Motion Blur's Shutter (in frames)
+    placed by its Position (Start: from the frame on, Center: around it, End: up to it)."""
+
+    open: float
+    close: float
+    samples: int  # evaluations over it, evenly spaced, both ends included (odd)
+
+    def times(self):
+        step = (self.close - self.open) / (self.samples - 1)
+        return [self.open + i * step for i in range(self.samples)]
+
+
+@dataclass(frozen=True)
+class MotionData:
+    """What moves within the shutter: each moving mesh instance's transforms and the
+    camera's, as nested tuples (row-major 4x4) at Shutter.times()."""
+
+    shutter: Shutter
+    objects: dict = field(default_factory=dict)  # instance name -> transforms
+    camera: tuple = ()  # the scene camera's to_world (scale removed), or () if still
+    # Objects that showed up at some sub-frames and not others (hidden or shown by
+    # keys, instanced by an animated count): each is rendered where the frame puts it.
+    unmatched: tuple = ()
+    # Objects whose mesh deforms (armature, shape keys, modifiers) with Deformation
+    # motion blur on: their transforms blur, their deformation does not (not yet).
+    deforming: tuple = ()
+
+    def moving_count(self):
+        return len(self.objects) + (1 if self.camera else 0)
+
+
+def motion_position(scene):
+    """START, CENTER or END: Render > Motion Blur > Position (scene.cycles' in 3.x)."""
+    position = getattr(scene.render, "motion_blur_position", None)
+    if position is None:
+        position = scene.cycles.motion_blur_position
+    return position
+
+
+def shutter_of(scene):
+    """The Shutter of Blender `scene` at its current frame, or None when motion blur is
+    off or the shutter does not open (a zero shutter: the static frame)."""
+    render = scene.render
+    length = render.motion_blur_shutter
+    if not render.use_motion_blur or not length > 0.0:
+        return None
+    frame = scene.frame_current + scene.frame_subframe
+    start = {"START": frame, "END": frame - length}.get(motion_position(scene), frame - length / 2)
+    steps = 1
+    for obj in scene.objects:
+        settings = getattr(obj, "cycles", None)
+        if settings is not None and settings.use_motion_blur and obj.type in {"MESH", "CAMERA"}:
+            steps = max(steps, min(settings.motion_steps, MAX_MOTION_STEPS))
+    return Shutter(open=start, close=start + length, samples=(2 << (steps - 1)) + 1)
+
+
+def _blurs(obj):
+    # Object Properties > Motion Blur, per object (Cycles' setting; on by default), as
+    # the artist set it on the original.
+    settings = getattr(obj.original, "cycles", None)
+    return settings is None or settings.use_motion_blur
+
+
+def _matrix(m):
+    return tuple(tuple(float(x) for x in row) for row in m)
+
+
+def sample_motion(engine, depsgraph, shutter):
+    """MotionData of `depsgraph` (a render's, owned by `engine`) over `shutter`: the scene
+    evaluated at each of its times (RenderEngine.frame_set), then set back to the frame
+    it was at. Objects whose Motion Blur is off, and objects that do not move, are left
+    out. Every moving object is sampled at all the shutter's times (the most Motion
+    Steps of any object's), where Cycles samples each at its own steps' subset."""
+    scene = depsgraph.scene
+    frame, subframe = scene.frame_current, scene.frame_subframe
+    times = shutter.times()
+    seen = {}
+    cameras = []
+    camera = scene.camera
+    # The camera as the depsgraph evaluates it at each time (the scene's camera pointer
+    # may be the original object, which sub-frames do not move).
+    camera_name = camera.original.name_full if camera is not None and _blurs(camera) else None
+    try:
+        for index, time in enumerate(times):
+            whole = math.floor(time)
+            engine.frame_set(int(whole), time - whole)
+            for object_instance in depsgraph.object_instances:
+                obj = object_instance.object
+                if is_renderable_mesh(object_instance) and _blurs(obj):
+                    name = instance_name(object_instance)
+                    samples = seen.setdefault(name, [None] * len(times))
+                    samples[index] = np.array(object_instance.matrix_world, dtype=np.float64)
+                elif (
+                    obj.type == "CAMERA"
+                    and not object_instance.is_instance
+                    and obj.original.name_full == camera_name
+                ):
+                    cameras.append(without_scale(obj, object_instance.matrix_world))
+    finally:
+        engine.frame_set(frame, subframe)
+    objects = {}
+    unmatched = []
+    for name, samples in seen.items():
+        if any(m is None for m in samples):
+            unmatched.append(name)
+            continue
+        if any(not np.array_equal(m, samples[0]) for m in samples):
+            objects[name] = tuple(_matrix(m) for m in samples)
+    still = len(cameras) < len(times) or all(np.array_equal(m, cameras[0]) for m in cameras)
+    camera_motion = () if still else tuple(_matrix(m) for m in cameras)
+    deforming = tuple(
+        sorted(
+            obj.name
+            for obj in scene.objects
+            if obj.type == "MESH"
+            and _blurs(obj)
+            and getattr(obj.cycles, "use_deform_motion", False)
+            and obj.original.is_deform_modified(scene.original, "RENDER")
+        )
+    )
+    return MotionData(shutter, objects, camera_motion, tuple(sorted(unmatched)), deforming)

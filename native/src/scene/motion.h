@@ -1,0 +1,36 @@
+// Motion within the shutter: a transform (an object's, the camera's) sampled at evenly
+// spaced times from the shutter's opening (time 0) to its closing (time 1), as Blender
+// evaluates the scene at sub-frames.
+#pragma once
+
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+namespace whitted {
+
+class TransformMotion {
+ public:
+  // `samples`: at least one transform, sample i at time i / (n - 1). Between samples the
+  // motion is decomposed (translation and scale-shear blended linearly, the rotation
+  // along its great arc, as Cycles blends them) and the samples subdivided until no step
+  // turns by more than kMaxStepAngle: Embree then blends neighbouring steps' matrices
+  // linearly, which shrinks a turning object by 1 - cos(angle / 2) at most mid-step.
+  explicit TransformMotion(const std::vector<glm::mat4>& samples);
+  static constexpr float kMaxStepAngle = 0.07f;  // radians (4 degrees): shrinks 0.06%
+  static constexpr size_t kMaxSteps = 129;       // Embree 3's limit on time steps
+
+  // Evenly spaced over the shutter, for Embree (rtcSetGeometryTimeStepCount).
+  const std::vector<glm::mat4>& steps() const { return steps_; }
+  // The transform at `time` in [0, 1], blended as Embree blends the steps (its time
+  // segment and fraction, then (1 - f) a + f b element by element).
+  glm::mat4 at(float time) const;
+  // Whether any step differs from the first.
+  bool moves() const { return moves_; }
+
+ private:
+  std::vector<glm::mat4> steps_;
+  bool moves_ = false;
+};
+
+}  // namespace whitted
