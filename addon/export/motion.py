@@ -46,8 +46,11 @@ class MotionData:
     # Objects that showed up at some sub-frames and not others (hidden or shown by
     # keys, instanced by an animated count): each is rendered where the frame puts it.
     unmatched: tuple = ()
-    # Objects whose mesh deforms (armature, shape keys, modifiers) with Deformation
-    # motion blur on: their transforms blur, their deformation does not (not yet).
+    # Deforming objects (armature, shape keys, modifiers; Object > Motion Blur >
+    # Deformation on): by object name, float32[N,3] object-space positions at each time.
+    deformations: dict = field(default_factory=dict)
+    # Deforming objects whose vertex count changes within the shutter: their transforms
+    # blur, their deformation cannot (as in Cycles).
     deforming: tuple = ()
 
     def moving_count(self):
@@ -95,7 +98,8 @@ def sample_motion(engine, depsgraph, shutter):
     evaluated at each of its times (RenderEngine.frame_set), then set back to the frame
     it was at. Objects whose Motion Blur is off, and objects that do not move, are left
     out. Every moving object is sampled at all the shutter's times (the most Motion
-    Steps of any object's), where Cycles samples each at its own steps' subset."""
+    Steps of any object's), where Cycles samples each at its own steps' subset. A
+    deforming object's vertex positions are read at each time too."""
     scene = depsgraph.scene
     frame, subframe = scene.frame_current, scene.frame_subframe
     times = shutter.times()
@@ -105,6 +109,15 @@ def sample_motion(engine, depsgraph, shutter):
     # The camera as the depsgraph evaluates it at each time (the scene's camera pointer
     # may be the original object, which sub-frames do not move).
     camera_name = camera.original.name_full if camera is not None and _blurs(camera) else None
+    deforming = {
+        obj.original.name_full
+        for obj in scene.objects
+        if obj.type == "MESH"
+        and _blurs(obj)
+        and getattr(obj.original.cycles, "use_deform_motion", False)
+        and obj.original.is_deform_modified(scene.original, "RENDER")
+    }
+    shapes = {name: [None] * len(times) for name in deforming}
     try:
         for index, time in enumerate(times):
             whole = math.floor(time)
@@ -115,6 +128,8 @@ def sample_motion(engine, depsgraph, shutter):
                     name = instance_name(object_instance)
                     samples = seen.setdefault(name, [None] * len(times))
                     samples[index] = np.array(object_instance.matrix_world, dtype=np.float64)
+                    if name in shapes and not object_instance.is_instance:
+                        shapes[name][index] = _positions(obj)
                 elif (
                     obj.type == "CAMERA"
                     and not object_instance.is_instance
@@ -133,14 +148,31 @@ def sample_motion(engine, depsgraph, shutter):
             objects[name] = tuple(_matrix(m) for m in samples)
     still = len(cameras) < len(times) or all(np.array_equal(m, cameras[0]) for m in cameras)
     camera_motion = () if still else tuple(_matrix(m) for m in cameras)
-    deforming = tuple(
-        sorted(
-            obj.name
-            for obj in scene.objects
-            if obj.type == "MESH"
-            and _blurs(obj)
-            and getattr(obj.cycles, "use_deform_motion", False)
-            and obj.original.is_deform_modified(scene.original, "RENDER")
-        )
+    deformations = {}
+    changing = []
+    for name, steps in shapes.items():
+        if any(p is None for p in steps):
+            continue  # not there for the whole shutter: unmatched says so
+        if any(len(p) != len(steps[0]) for p in steps):
+            changing.append(name)
+        elif any(not np.array_equal(p, steps[0]) for p in steps):
+            deformations[name] = tuple(steps)
+    return MotionData(
+        shutter,
+        objects,
+        camera_motion,
+        tuple(sorted(unmatched)),
+        deformations,
+        tuple(sorted(changing)),
     )
-    return MotionData(shutter, objects, camera_motion, tuple(sorted(unmatched)), deforming)
+
+
+def _positions(obj):
+    # The evaluated mesh's vertex positions, object space, float32[N,3].
+    mesh = obj.to_mesh()
+    try:
+        positions = np.empty((len(mesh.vertices), 3), dtype=np.float32)
+        mesh.vertices.foreach_get("co", positions.reshape(-1))
+    finally:
+        obj.to_mesh_clear()
+    return positions

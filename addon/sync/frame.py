@@ -65,8 +65,8 @@ def sync_frame(depsgraph, native, quality=None, engine=None):
     if motion is not None and motion.deforming:
         names = ", ".join(motion.deforming[:3]) + ("..." if len(motion.deforming) > 3 else "")
         warnings.append(
-            f"Whitted: {len(motion.deforming)} object(s) deform within the shutter ({names}); "
-            "their movement blurs, their deformation does not (not simulated yet)"
+            f"Whitted: {len(motion.deforming)} object(s) change their vertex count within the "
+            f"shutter ({names}); their movement blurs, their deformation cannot (as in Cycles)"
         )
     if sync.light_count == 0:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")

@@ -326,7 +326,9 @@ class SceneSync:
                 key = keys.key(object_instance)
                 if key not in seen_geometry:
                     seen_geometry.add(key)
-                    self._sync_geometry(object_instance, key, changes, in_place, report, warnings)
+                    self._sync_geometry(
+                        object_instance, key, changes, in_place, report, warnings, params.motion
+                    )
                 if self._geometry[key].has_triangles:
                     instance = instance_data(object_instance, key, view_layer, self._info)
                     instances[instance.name] = _with_motion(instance, params.motion)
@@ -356,7 +358,9 @@ class SceneSync:
         self._walked_uv_maps = dict(self._uv_maps)
         self._walked_needs = (dict(self._needs), self._info)
 
-    def _sync_geometry(self, object_instance, key, changes, in_place, report, warnings):
+    def _sync_geometry(
+        self, object_instance, key, changes, in_place, report, warnings, motion=None
+    ):
         obj = object_instance.object
         uv_map = object_uv_map(obj, self._uv_maps)
         needs = object_needs(obj, self._needs, warnings)
@@ -377,6 +381,8 @@ class SceneSync:
             in_place=in_place,
             needs=needs,
         )
+        if mesh is not None and motion is not None and not object_instance.is_instance:
+            _deform(mesh, motion, obj, warnings)
         if mesh is not None:
             self.scene.set_mesh(key, mesh)
             report.meshes += 1
@@ -494,6 +500,22 @@ def _alone(obj):
         matrix_world=obj.matrix_world,
         show_self=True,
     )
+
+
+def _deform(mesh, motion, obj, warnings):
+    # Deformation motion blur on native `mesh` of object `obj`, when it deforms within
+    # the shutter and its exported vertices are its evaluated ones (no vertex dropped as
+    # unusable).
+    steps = motion.deformations.get(obj.original.name_full)
+    if steps is None:
+        return
+    if len(steps[0]) != mesh.vertex_count:
+        warnings.append(
+            f"Whitted: object '{obj.name}': its deformation does not blur (vertices were "
+            "dropped as unusable)"
+        )
+        return
+    mesh.set_motion(list(steps))
 
 
 def _with_motion(instance, motion):

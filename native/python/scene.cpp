@@ -153,6 +153,28 @@ void bind_scene(py::module_& m) {
            "list of float32[M,3,2]); attributes: list of float32[M,3,4] corner RGBA; "
            "tangents: list of float32[M,3,4], one per UV set (object-space xyz tangent, w "
            "the bitangent sign).")
+      .def(
+          "set_motion",
+          [](Mesh& mesh, const std::vector<FloatArray>& steps) {
+            const auto n = static_cast<py::ssize_t>(mesh.vertex_count());
+            std::vector<std::vector<float>> motion;
+            for (const FloatArray& step : steps) {
+              require_shape(step, "each motion step", {n, 3});
+              std::vector<float> positions(step.data(), step.data() + 3 * n);
+              for (float v : positions) {
+                if (!std::isfinite(v))
+                  throw std::invalid_argument("motion positions must be finite");
+              }
+              positions.push_back(0.0f);  // Embree reads one float past the last vertex
+              motion.push_back(std::move(positions));
+            }
+            if (motion.size() == 1) motion.clear();  // one step: no motion
+            mesh.motion_positions = std::move(motion);
+          },
+          py::arg("steps"),
+          "Deformation motion blur: its positions (float32[N,3] each, as the mesh's) at "
+          "evenly spaced times from the shutter's opening to its closing.")
+      .def_property_readonly("deforms", &Mesh::deforms)
       .def_property_readonly("vertex_count", &Mesh::vertex_count)
       .def_property_readonly("triangle_count", &Mesh::triangle_count);
 

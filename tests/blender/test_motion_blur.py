@@ -250,3 +250,30 @@ def test_the_exporter_reads_what_moves(empty_scene):
     bpy.data.objects["Cube"].cycles.use_motion_blur = False  # Object > Motion Blur off
     motion = sample_motion(ViewLayerEngine(), bpy.context.evaluated_depsgraph_get(), shutter)
     assert motion.objects == {}
+
+
+def test_a_deforming_mesh_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # A shape key leaning the cube's top 2 m along X between frames 0 and 2 (its value
+    # keyed linearly): within the shutter the top sweeps 0.5 m, the bottom stays.
+    stats_path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(stats_path))
+    cube = cube_crossing(empty_scene, travel=0.0, turn=0.0)
+    cube.animation_data_clear()
+    cube.shape_key_add(name="Basis")
+    lean = cube.shape_key_add(name="Lean")
+    for vertex in lean.data:
+        if vertex.co.z > 0.0:
+            vertex.co.x += 2.0
+    for frame, value in ((0, 0.0), (2, 1.0)):
+        lean.value = value
+        lean.keyframe_insert("value", frame=frame)
+    _linear(cube.data.shape_keys)
+    empty_scene.frame_set(1)
+    (value, ratio), sharp_value, error, sharp_error = _compare(
+        empty_scene, tmp_path, "deforming cube"
+    )
+    assert value > 0.99 and value > sharp_value + 0.01
+    assert error < 0.5 * sharp_error
+    assert abs(ratio - 1.0) < 0.02
+    decision = _decision(stats_path)
+    assert decision["on"] and decision["why"] == "1 deforming object, shutter 0.5 frames"

@@ -108,8 +108,19 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Shared buffers: Embree reads the mesh's own arrays (positions are padded by one float).
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                             mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
+  if (mesh.deforms()) {
+    // Deformation motion blur: one vertex buffer per time step, blended at the ray's time.
+    const auto steps = static_cast<unsigned>(mesh.motion_positions.size());
+    rtcSetGeometryTimeStepCount(geometry, steps);
+    for (unsigned step = 0; step < steps; ++step) {
+      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
+                                 mesh.motion_positions[step].data(), 0, 3 * sizeof(float),
+                                 mesh.vertex_count());
+    }
+  } else {
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                               mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
+  }
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                              mesh.triangles.data(), 0, 3 * sizeof(uint32_t), mesh.triangle_count());
   rtcCommitGeometry(geometry);

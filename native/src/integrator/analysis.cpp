@@ -101,13 +101,25 @@ EffectDecision motion_blur(const CompiledScene& scene, const Settings& settings,
             "Render > Motion Blur off, a zero shutter, or the viewport (as in Cycles)"};
   }
   size_t moving = 0;
-  for (const CompiledScene::Instance& instance : scene.instances)
+  size_t deforming = 0;
+  for (const CompiledScene::Instance& instance : scene.instances) {
     moving += instance.motion != nullptr;
+    deforming += instance.mesh->mesh.deforms();
+  }
   const std::string shutter = "shutter " + length_text(settings.shutter) + " frames";
-  if (moving == 0 && !camera.motion)
+  if (moving == 0 && deforming == 0 && !camera.motion) {
     return {"motion blur", false, "nothing moves within the " + shutter};
-  std::string what = thousands(moving) + (moving == 1 ? " moving object" : " moving objects");
-  if (camera.motion) what = moving == 0 ? "the camera moves" : what + " and the camera";
+  }
+  std::vector<std::string> parts;
+  if (moving > 0)
+    parts.push_back(thousands(moving) + (moving == 1 ? " moving object" : " moving objects"));
+  if (deforming > 0) {
+    parts.push_back(thousands(deforming) +
+                    (deforming == 1 ? " deforming object" : " deforming objects"));
+  }
+  std::string what;
+  for (size_t i = 0; i < parts.size(); ++i) what += (i > 0 ? ", " : "") + parts[i];
+  if (camera.motion) what = what.empty() ? "the camera moves" : what + " and the camera";
   return {"motion blur", true, what + ", " + shutter};
 }
 

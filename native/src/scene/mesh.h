@@ -27,11 +27,27 @@ struct Mesh {
   // Blender's automatic texture space: generated = (p - location + size) / (2 size).
   Vec3 texspace_location{0.0f};
   Vec3 texspace_size{1.0f};
+  // Deformation motion blur: its positions at evenly spaced times from the shutter's
+  // opening to its closing, each laid out as `positions` (padding included); empty when
+  // it does not deform. Embree blends neighbouring steps linearly, as vertex_at does.
+  std::vector<std::vector<float>> motion_positions;
 
   size_t vertex_count() const { return positions.size() / 3; }  // the padding float rounds off
   size_t triangle_count() const { return triangles.size() / 3; }
   Vec3 vertex(uint32_t i) const {
     return {positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
+  }
+  bool deforms() const { return !motion_positions.empty(); }
+  // Vertex i at shutter time `time` in [0, 1] (vertex(i) when it does not deform).
+  Vec3 vertex_at(uint32_t i, float time) const {
+    if (motion_positions.empty()) return vertex(i);
+    const auto segments = static_cast<float>(motion_positions.size() - 1);
+    const float x = std::clamp(time, 0.0f, 1.0f) * segments;
+    const auto k = static_cast<size_t>(std::clamp(std::floor(x), 0.0f, segments - 1.0f));
+    const float f = x - static_cast<float>(k);
+    const float* a = &motion_positions[k][3 * size_t{i}];
+    const float* b = &motion_positions[k + 1][3 * size_t{i}];
+    return (1.0f - f) * Vec3(a[0], a[1], a[2]) + f * Vec3(b[0], b[1], b[2]);
   }
   // Whether triangles carry shading normals (smooth shading) rather than their face normal.
   bool has_normals() const { return !normals.empty() || !vertex_normals.empty(); }

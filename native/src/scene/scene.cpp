@@ -342,7 +342,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     accel_instances.push_back({std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel),
                                out.placement.to_world, mask, out.motion});
     masks.push_back(mask);
-    compiled->moves = compiled->moves || out.motion != nullptr;
+    compiled->moves = compiled->moves || out.motion != nullptr || out.mesh->mesh.deforms();
     compiled->instances.push_back(std::move(out));
   }
   if (!state_.accel || masks != state_.accel_masks) {
@@ -380,9 +380,10 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   if (instance.motion) moved = Placement::of(instance.motion->at(ray.time));
   const Placement& at = instance.motion ? moved : instance.placement;
   const uint32_t* tri = &mesh.triangles[3 * size_t{hit.primitive}];
-  const Vec3 p0 = mesh.vertex(tri[0]);
-  const Vec3 p1 = mesh.vertex(tri[1]);
-  const Vec3 p2 = mesh.vertex(tri[2]);
+  // A deforming mesh's triangle where the ray's time puts it.
+  const Vec3 p0 = mesh.vertex_at(tri[0], ray.time);
+  const Vec3 p1 = mesh.vertex_at(tri[1], ray.time);
+  const Vec3 p2 = mesh.vertex_at(tri[2], ray.time);
   const float w0 = 1.0f - hit.u - hit.v;
   Interaction out;
   // The point from barycentrics on the triangle, not origin + t*direction: its error is
@@ -391,9 +392,11 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   out.position = transform_point(at.to_world, local);
   // Error of the object-space point, carried through the transform (pbrt-v4 Transform):
   // |M| e (1 + gamma3) + gamma3 (|M| |p| + |t|). A moving instance's blended transform
-  // may differ from Embree's by the blend's rounding (two operations an element): gamma5.
-  const Vec3 local_error = barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
+  // may differ from Embree's by the blend's rounding (two operations an element): gamma5;
+  // a deforming triangle's blended corners likewise (the local bound at gamma(9)).
   const float g = instance.motion ? gamma(5) : gamma(3);
+  const Vec3 local_error = (mesh.deforms() ? gamma(9) / gamma(7) : 1.0f) *
+                           barycentric_error(p0, p1, p2, w0, hit.u, hit.v);
   const Vec3 world_error = (1.0f + g) * (at.abs_linear * local_error) +
                            g * (at.abs_linear * glm::abs(local) + at.abs_translation);
   // Embree's intersector computes with all coordinates at once (relative to the ray

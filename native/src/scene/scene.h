@@ -146,7 +146,7 @@ struct CompiledScene {
     CryptomatteIds cryptomatte;
   };
   std::vector<Instance> instances;
-  bool moves = false;               // whether any instance moves within the shutter
+  bool moves = false;               // whether any instance moves or deforms within the shutter
   std::vector<Material> materials;  // index 0 is the default material
   // By material: its fields as constants, alpha clamped, normals unset; surface() starts
   // from these, so a material without textures or program costs a copy per hit.
