@@ -94,11 +94,18 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       frame_(camera),
       packets_(packets),
       moves_(camera.motion != nullptr || integrator.scene().moves),
+      distributed_(moves_ || camera.lens.blurs()),
       root_{0, Color(1.0f), camera_media} {}
 
 Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>* weights,
                             SampleRecord* record, const FirstHits* block) const {
-  return settings_.aa_mode == AntiAliasing::kAdaptive
+  // Whitted's adaptive subdivision splits where a square's corners differ; when camera
+  // samples spread over the lens or the shutter, corners differ by that spread's noise
+  // as much as by edges, and a smooth blur gets its four corners alone. Such cameras
+  // take the jittered grid instead, the lens and shutter stratified over it (against
+  // Cycles, a motion-blurred cube at the Final preset: SSIM 0.976 adaptive, 0.988 on
+  // the 3 x 3 grid; tests/blender/test_motion_blur.py).
+  return settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_
              ? pixel_adaptive(x, y, counts, weights, record)
              : pixel_grid(x, y, counts, weights, record, block);
 }

@@ -115,6 +115,9 @@ class CameraSampler {
   // Whether the camera or an instance moves within the shutter: camera samples then
   // spread over it (motion blur), else all are at time 0.
   const bool moves_;
+  // Whether camera samples spread over the lens or the shutter: adaptive anti-aliasing
+  // then takes the jittered grid (pixel()).
+  const bool distributed_;
   // Where every camera ray starts (depth 0, weight 1, inside the camera's media), made
   // once: not copied per camera ray.
   const NodeState root_;
