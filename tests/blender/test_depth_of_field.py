@@ -10,34 +10,7 @@ import numpy as np
 import pytest
 from cycles_scenes import render_rgba, set_cycles_direct_light
 from whitted.export.camera import PINHOLE, convert_camera
-from whitted_tools.material_scenes import (
-    add_camera,
-    add_floor,
-    add_sun,
-    black_world,
-    lambert_material,
-    smooth_sphere,
-)
-
-
-def balls_in_a_row(scene):
-    """Three diffuse balls at 3, 5 and 8 m from a camera that looks along them, on a
-    floor under a sun: near, in focus and far."""
-    scene.render.resolution_x, scene.render.resolution_y = 96, 64
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
-    add_floor(scene, size=40.0, albedo=0.5)
-    for name, y, albedo in (("Near", 3.0, 0.8), ("Middle", 5.0, 0.5), ("Far", 8.0, 0.3)):
-        smooth_sphere(name, (0.9 * (y - 5.0), y, 0.5), 0.5, lambert_material(name, albedo))
-    add_camera(scene, (0.0, 0.0, 1.0), (0.0, 5.0, 0.5), lens=50.0)
-    add_sun(scene, rotation=(40.0, 0.0, 30.0), strength=3.0)
-    scene.whitted.ambient_strength = 0.0
-    camera = scene.camera.data
-    camera.dof.use_dof = True
-    camera.dof.aperture_fstop = 0.5
-    camera.dof.focus_object = bpy.data.objects["Middle"]
+from whitted_tools.camera_scenes import balls_in_a_row
 
 
 def test_the_lens_is_read_as_cycles_reads_it(empty_scene):

@@ -10,65 +10,8 @@ import bpy
 import numpy as np
 import pytest
 from cycles_scenes import render_rgba, set_cycles_direct_light
-from whitted_tools.material_scenes import (
-    add_camera,
-    add_floor,
-    add_sun,
-    black_world,
-    lambert_material,
-)
+from whitted_tools.camera_scenes import cube_crossing, linear_keys
 from whitted_tools.metrics import subject_figures
-
-
-def _linear(obj):
-    # Linear keys, so Whitted and Cycles sample one path (the default is Bezier, which
-    # both would follow too; linear makes the test's expectations plain).
-    action = obj.animation_data.action
-    if bpy.app.version < (5, 0, 0):
-        curves = action.fcurves
-    else:
-        curves = [
-            curve
-            for layer in action.layers
-            for strip in layer.strips
-            for bag in strip.channelbags
-            for curve in bag.fcurves
-        ]
-    for curve in curves:
-        for key in curve.keyframe_points:
-            key.interpolation = "LINEAR"
-
-
-def cube_crossing(scene, travel=4.0, turn=180.0, floor_albedo=0.5):
-    """A diffuse cube on a floor under a sun, moving `travel` m along X and turning
-    `turn` degrees about Z between frames 0 and 2; the scene at frame 1, motion blur on
-    (the default shutter: 0.5 frames around the frame)."""
-    scene.render.resolution_x, scene.render.resolution_y = 96, 64
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
-    add_floor(scene, size=20.0, albedo=floor_albedo)
-    mesh = bpy.data.meshes.new("Cube")
-    h = 0.5
-    corners = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]
-    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    mesh.from_pydata(corners, [], faces)
-    mesh.materials.append(lambert_material("Cube", 0.8))
-    cube = bpy.data.objects.new("Cube", mesh)
-    scene.collection.objects.link(cube)
-    for frame, x, angle in ((0, -travel / 2, 0.0), (2, travel / 2, math.radians(turn))):
-        cube.location = (x, 0.0, 0.5)
-        cube.rotation_euler.z = angle
-        cube.keyframe_insert("location", frame=frame)
-        cube.keyframe_insert("rotation_euler", frame=frame)
-    _linear(cube)
-    add_camera(scene, (0.0, -6.0, 3.0), (0.0, 0.0, 0.5), lens=35.0)
-    add_sun(scene, rotation=(40.0, 0.0, 30.0), strength=3.0)
-    scene.whitted.ambient_strength = 0.0
-    scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    return cube
 
 
 def _compare(scene, tmp_path, label):
@@ -131,7 +74,7 @@ def test_a_moving_camera_as_cycles(empty_scene, tmp_path, monkeypatch):
     for frame, x in ((0, -1.0), (2, 1.0)):
         camera.location.x = x
         camera.keyframe_insert("location", frame=frame)
-    _linear(camera)
+    linear_keys(camera)
     empty_scene.frame_set(1)
     (value, ratio), sharp_value, error, sharp_error = _compare(
         empty_scene, tmp_path, "moving camera"
@@ -267,7 +210,7 @@ def test_a_deforming_mesh_as_cycles(empty_scene, tmp_path, monkeypatch):
     for frame, value in ((0, 0.0), (2, 1.0)):
         lean.value = value
         lean.keyframe_insert("value", frame=frame)
-    _linear(cube.data.shape_keys)
+    linear_keys(cube.data.shape_keys)
     empty_scene.frame_set(1)
     (value, ratio), sharp_value, error, sharp_error = _compare(
         empty_scene, tmp_path, "deforming cube"

@@ -1,4 +1,4 @@
-"""The Whitted Rendered viewport in a real window: --mode compare | edits | stop.
+"""The Whitted Rendered viewport in a real window: --mode compare | dof | edits | stop.
 
 compare: the converged camera view, and an F12 render at the camera frame's size.
 edits:   converged screenshots before and after each of: move the cube, recolour it,
@@ -20,7 +20,7 @@ import driver
 
 
 def add_arguments(parser):
-    parser.add_argument("--mode", choices=("compare", "edits", "stop"), required=True)
+    parser.add_argument("--mode", choices=("compare", "dof", "edits", "stop"), required=True)
 
 
 def start(h):
@@ -55,6 +55,25 @@ def compare(h):
     h.render_still("whitted_f12", scene.render.resolution_x, scene.render.resolution_y)
     yield from enter_rendered(h)
     yield from h.screenshot("whitted_rendered")
+
+
+def dof(h):
+    """The camera view with the camera's depth of field (as Cycles' viewport shows it),
+    beside F12 renders with and without it."""
+    yield from start(h)
+    scene = bpy.context.scene
+    camera = scene.camera
+    width, height = scene.render.resolution_x, scene.render.resolution_y
+    h.step("F12 renders, sharp and with depth of field")
+    h.render_still("whitted_f12_sharp", width, height)
+    camera.data.dof.use_dof = True
+    camera.data.dof.aperture_fstop = 0.05
+    # In focus 2 m in front of the scene's centre: the whole scene blurs, the far side
+    # most.
+    camera.data.dof.focus_distance = max(0.5, camera.matrix_world.translation.length - 2.0)
+    h.render_still("whitted_f12_dof", width, height)
+    yield from enter_rendered(h)
+    yield from h.screenshot("whitted_dof")
 
 
 def edit(h, name, change):
@@ -129,7 +148,7 @@ def stop(h):
 
 def scenario(h):
     mode = h.args.mode
-    yield from {"compare": compare, "edits": edits, "stop": stop}[mode](h)
+    yield from {"compare": compare, "dof": dof, "edits": edits, "stop": stop}[mode](h)
 
 
 driver.main(scenario, add_arguments)
