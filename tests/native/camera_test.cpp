@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -94,6 +95,30 @@ TEST(Camera, TheAperturesShapesKeepTheirBoundsAndCentre) {
       EXPECT_LE(widest, 1.0f / ratio + 1e-5f);  // anamorphic: narrower by the ratio
       EXPECT_GT(widest, 0.8f / ratio);
     }
+  }
+}
+
+// Cycles places a polygon's corners half a step either side of the rotation: at rotation
+// 0 a square aperture (4 blades) has upright edges, at x = +-cos(45 degrees) of its
+// radius, and a triangle has an edge facing +x at x = cos(60 degrees) = 0.5.
+TEST(Camera, ThePolygonFacesAsCyclesTurnsIt) {
+  for (const auto [blades, edge, far] :
+       {std::tuple{4, 0.70711f, 0.70711f}, std::tuple{3, 0.5f, 1.0f}}) {
+    Lens lens;
+    lens.radius = 1.0f;
+    lens.blades = blades;
+    float right = -1.0f;
+    float left = 1.0f;
+    const int n = 96;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j <= n; ++j) {
+        const glm::vec2 p = lens.aperture_point({(i + 0.5f) / n, static_cast<float>(j) / n});
+        right = std::max(right, p.x);
+        left = std::min(left, p.x);
+      }
+    }
+    EXPECT_NEAR(right, edge, 1e-2f) << blades;  // an edge faces +x (to the grid of samples)
+    EXPECT_NEAR(-left, far, 1e-2f) << blades;   // a corner (triangle) or edge (square) -x
   }
 }
 

@@ -21,12 +21,14 @@ glm::vec2 Lens::aperture_point(glm::vec2 u) const {
   } else {
     // u.x picks one of the polygon's triangles about its centre and, rescaled, the
     // distance from the centre (sqrt: uniform over area); u.y the place along its edge.
+    // Its corners sit half a step either side of `rotation` (+ k steps), as Cycles'
+    // regular_polygon_sample places them: at rotation 0 a square's edges are upright.
     const float sides = static_cast<float>(blades);
     const float scaled = u.x * sides;
     const float side = std::min(std::floor(scaled), sides - 1.0f);
     const float along = std::sqrt(scaled - side);
     const float step = 2.0f * kPi / sides;
-    const float a0 = rotation + side * step;
+    const float a0 = rotation + (side - 0.5f) * step;
     const glm::vec2 c0(std::cos(a0), std::sin(a0));
     const glm::vec2 c1(std::cos(a0 + step), std::sin(a0 + step));
     point = along * ((1.0f - u.y) * c0 + u.y * c1);
