@@ -5,6 +5,7 @@
 // any threads and tiles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -137,6 +138,27 @@ TEST(Panorama, APanoramaDependsOnNeitherThreadsNorTiles) {
     settings.threads = threads;
     settings.tile_size = tile;
     EXPECT_TRUE(testing::render_pixels(scene, settings) == reference) << threads;
+  }
+}
+
+TEST(Panorama, EveryImagePointComesBackFromItsDirection) {
+  for (PanoramaType type : {PanoramaType::kEquirectangular, PanoramaType::kEquiangularCubemapFace,
+                            PanoramaType::kMirrorBall, PanoramaType::kFisheyeEquidistant,
+                            PanoramaType::kFisheyeEquisolid, PanoramaType::kFisheyeLensPolynomial,
+                            PanoramaType::kCentralCylindrical}) {
+    Panorama p;
+    p.type = type;
+    p.fisheye_fov = 3.0f;
+    // Blender's default polynomial fisheye (a real lens's fit), radius in mm.
+    const float k[5] = {-1.1735e-5f, -0.019588f, 1.0018e-5f, -2.7814e-6f, 0.0f};
+    std::copy(k, k + 5, p.polynomial);
+    for (glm::vec2 uv : {glm::vec2(0.3f, 0.6f), glm::vec2(0.55f, 0.45f), glm::vec2(0.7f, 0.2f)}) {
+      Vec3 d;
+      if (!p.direction(uv.x, uv.y, &d)) continue;  // outside a fisheye's circle
+      const glm::vec2 back = p.image_point(d);
+      EXPECT_NEAR(back.x, uv.x, 2e-4f) << static_cast<int>(type);
+      EXPECT_NEAR(back.y, uv.y, 2e-4f) << static_cast<int>(type);
+    }
   }
 }
 

@@ -25,6 +25,63 @@ Vec3 Panorama::to_camera(const Vec3& d) const {
   return {-d.y, d.z, -d.x};
 }
 
+glm::vec2 Panorama::image_point(const Vec3& local) const {
+  // Camera frame back to the projection's (to_camera's inverse).
+  const Vec3 d = type == PanoramaType::kMirrorBall ? Vec3(local.x, local.z, local.y)
+                                                   : Vec3(-local.z, -local.x, local.y);
+  const float across = std::sqrt(d.y * d.y + d.z * d.z);  // off the projection's axis
+  // The unit direction of (d.y, d.z) in the image plane (image x is -d.y, y is d.z).
+  const glm::vec2 side = across > 0.0f ? glm::vec2(-d.y, d.z) / across : glm::vec2(0.0f);
+  switch (type) {
+    case PanoramaType::kEquirectangular: {
+      const float longitude = -std::atan2(d.y, d.x);
+      const float latitude = 0.5f * kPi - std::acos(std::clamp(d.z, -1.0f, 1.0f));
+      return {(longitude - longitude_min) / (longitude_max - longitude_min),
+              (latitude - latitude_min) / (latitude_max - latitude_min)};
+    }
+    case PanoramaType::kEquiangularCubemapFace:
+      return {0.5f - std::atan2(d.y, d.x) * 2.0f / kPi, std::atan2(d.z, d.x) * 2.0f / kPi + 0.5f};
+    case PanoramaType::kMirrorBall: {
+      // The ball's normal halfway between the view direction (0, -1, 0) reversed and d.
+      Vec3 n = d - Vec3(0.0f, 1.0f, 0.0f);
+      const float length = glm::length(n);
+      if (length > 0.0f) n /= length;
+      return {0.5f * (n.x + 1.0f), 0.5f * (n.z + 1.0f)};
+    }
+    case PanoramaType::kFisheyeEquidistant: {
+      const float r = std::atan2(across, d.x) / fisheye_fov;  // of the image's half width
+      return glm::vec2(0.5f) + r * side;
+    }
+    case PanoramaType::kFisheyeEquisolid: {
+      const float theta = std::acos(std::clamp(d.x, -1.0f, 1.0f));
+      const float r = 2.0f * fisheye_lens * std::sin(0.5f * theta);  // mm on the sensor
+      return {0.5f + r * side.x / sensor_width, 0.5f + r * side.y / sensor_height};
+    }
+    case PanoramaType::kFisheyeLensPolynomial: {
+      // theta = -(k0 + k1 r + ... + k4 r^4) solved for r from the linear guess.
+      const float theta = -std::acos(std::clamp(d.x, -1.0f, 1.0f));
+      const float* k = polynomial;
+      float r = k[1] != 0.0f ? (theta - k[0]) / k[1] : 0.0f;
+      for (int i = 0; i < 20; ++i) {
+        const float f = theta - (k[0] + r * (k[1] + r * (k[2] + r * (k[3] + r * k[4]))));
+        const float df = k[1] + r * (2.0f * k[2] + r * (3.0f * k[3] + r * 4.0f * k[4]));
+        if (df == 0.0f) break;
+        const float step = f / df;
+        r += step;
+        if (std::fabs(step) < 1e-6f) break;
+      }
+      return {0.5f + r * side.x / sensor_width, 0.5f + r * side.y / sensor_height};
+    }
+    case PanoramaType::kCentralCylindrical: {
+      const float longitude = -std::atan2(d.y, d.x);
+      const float height = d.z / std::sqrt(d.x * d.x + d.y * d.y);
+      return {(longitude - cylinder_u_min) / (cylinder_u_max - cylinder_u_min),
+              (height - cylinder_v_min) / (cylinder_v_max - cylinder_v_min)};
+    }
+  }
+  return glm::vec2(0.5f);
+}
+
 bool Panorama::direction(float u, float v, Vec3* local) const {
   Vec3 d(0.0f);
   switch (type) {

@@ -3,6 +3,8 @@
 // them; these are written from its formulas).
 #pragma once
 
+#include <glm/vec2.hpp>
+
 #include "core/math.h"
 
 namespace whitted {
@@ -40,6 +42,10 @@ struct Panorama {
   // (u, v): [0, 1]^2 spans the image from its bottom-left corner (lens shift added). False
   // where the projection covers no direction (outside a fisheye's or the ball's circle).
   bool direction(float u, float v, Vec3* local) const;
+  // The image point (u, v) that looks along unit camera-frame direction `local`: the
+  // inverse of direction() (what Cycles' Window texture coordinate reads for panoramas);
+  // for the polynomial fisheye found by Newton's method, as Cycles finds it.
+  glm::vec2 image_point(const Vec3& local) const;
   // The projection's own frame (Cycles' panorama space: +X its centre, +Z up) to the
   // camera's; the mirror ball looks down its -Y. Its determinant (+1 or -1) orients the
   // aperture: a thin lens on a panorama spans the plane across each ray.

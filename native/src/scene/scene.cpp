@@ -535,6 +535,13 @@ struct SurfaceHit {
   Vec3 window() const {
     const Camera& camera = *context.camera;
     Vec3 p = camera_space();
+    if (camera.projection == Projection::kPanoramic) {
+      // The panorama's own [0,1]^2 point looking at the hit (Cycles' camera_world_to_ndc:
+      // no shift).
+      const float length = glm::length(p);
+      const glm::vec2 uv = camera.panorama.image_point(length > 0.0f ? p / length : p);
+      return {uv.x, uv.y, 0.0f};
+    }
     if (camera.projection == Projection::kPerspective) {
       const float depth = -p.z;
       p = depth != 0.0f ? p / depth : Vec3(0.0f);
