@@ -57,13 +57,13 @@ def sync_frame(depsgraph, native, quality=None, engine=None):
     report = sync.sync(depsgraph, replace(SyncParams.of(scene, quality), motion=motion))
     warnings = list(sync.warnings) + camera_warnings
     if motion is not None and motion.unmatched:
-        names = ", ".join(motion.unmatched[:3]) + ("..." if len(motion.unmatched) > 3 else "")
+        names = _first_names(motion.unmatched)
         warnings.append(
             f"Whitted: {len(motion.unmatched)} object(s) are not there for the whole shutter "
             f"({names}); they render where the frame puts them, without motion blur"
         )
     if motion is not None and motion.deforming:
-        names = ", ".join(motion.deforming[:3]) + ("..." if len(motion.deforming) > 3 else "")
+        names = _first_names(motion.deforming)
         warnings.append(
             f"Whitted: {len(motion.deforming)} object(s) change their vertex count within the "
             f"shutter ({names}); their movement blurs, their deformation cannot (as in Cycles)"
@@ -91,3 +91,8 @@ def sync_frame(depsgraph, native, quality=None, engine=None):
         memory=needed,
         motion=motion,
     )
+
+
+def _first_names(names):
+    # A warning's list of objects: the first three, then "..." if there are more.
+    return ", ".join(names[:3]) + ("..." if len(names) > 3 else "")

@@ -25,6 +25,7 @@ import numpy as np
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 from whitted_tools.material_scenes import lambert_material
+from whitted_tools.metrics import subject_figures
 
 WIDTH, HEIGHT = 64, 48
 ALBEDO = 0.8
@@ -293,6 +294,22 @@ def render_rgba(scene, engine, path):
     finally:
         bpy.data.images.remove(image)
     return pixels.reshape(height, width, 4)
+
+
+def effect_figures(label, image, sharp, cycles):
+    """An effect's render `image` and the same scene's with it off (`sharp`) against
+    Cycles' `cycles` (linear RGBA): (SSIM, luminance ratio) of `image`, the SSIM of
+    `sharp`, and each one's mean absolute difference from Cycles (linear RGB); printed
+    under `label`."""
+    value, ratio = subject_figures(image, cycles)
+    sharp_value, _ = subject_figures(sharp, cycles)
+    error = float(np.abs(image[..., :3] - cycles[..., :3]).mean())
+    sharp_error = float(np.abs(sharp[..., :3] - cycles[..., :3]).mean())
+    print(
+        f"\n{label}: SSIM {value:.4f} (sharp {sharp_value:.4f}), ratio {ratio:.4f}, "
+        f"mean difference {error:.5f} (sharp {sharp_error:.5f})"
+    )
+    return (value, ratio), sharp_value, error, sharp_error
 
 
 def render_both(scene, case, directory):

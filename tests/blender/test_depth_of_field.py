@@ -8,7 +8,7 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import render_rgba, set_cycles_direct_light
+from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
 from whitted.export.camera import PINHOLE, convert_camera
 from whitted_tools.camera_scenes import balls_in_a_row
 
@@ -32,7 +32,6 @@ def test_the_lens_is_read_as_cycles_reads_it(empty_scene):
 
 def test_depth_of_field_as_cycles(empty_scene, tmp_path, native, monkeypatch):
     # Before, everything was sharp and nothing said why.
-    from whitted_tools.metrics import subject_figures
 
     stats_path = tmp_path / "stats.json"
     monkeypatch.setenv("WHITTED_STATS", str(stats_path))
@@ -50,21 +49,14 @@ def test_depth_of_field_as_cycles(empty_scene, tmp_path, native, monkeypatch):
     assert decision["on"] and decision["why"].startswith("aperture radius 0.05, in focus at ")
     scene.camera.data.dof.use_dof = False
     sharp = render_rgba(scene, "WHITTED", str(tmp_path / "sharp.exr"))
-    value, ratio = subject_figures(whitted, cycles)
-    sharp_value, _ = subject_figures(sharp, cycles)
-
-    def error(image):  # mean absolute difference from Cycles, linear RGB
-        return float(np.abs(image[..., :3] - cycles[..., :3]).mean())
-
-    print(
-        f"\ndepth of field: SSIM {value:.4f} (sharp {sharp_value:.4f}), ratio {ratio:.4f}, "
-        f"mean difference {error(whitted):.5f} (sharp {error(sharp):.5f})"
+    (value, ratio), sharp_value, error, sharp_error = effect_figures(
+        "depth of field", whitted, sharp, cycles
     )
     # Measured in 3.4 and 5.2: SSIM 0.995 against the sharp render's 0.980, the mean
     # difference 0.0011 against 0.0015 (the rest is the pixel filters: Cycles'
     # Blackman-Harris of width 1.5 against Whitted's box).
     assert value > 0.99 and value > sharp_value + 0.01
-    assert error(whitted) < 0.85 * error(sharp)
+    assert error < 0.85 * sharp_error
     assert abs(ratio - 1.0) < 0.05
     stats = json.loads(stats_path.read_text())
     decision = next(e for e in stats["effects"] if e["name"] == "depth of field")
@@ -90,17 +82,13 @@ def test_a_polygonal_aperture_is_turned_as_cycles_turns_it(empty_scene, tmp_path
     # puts them.
     from whitted_tools.material_scenes import (
         add_camera,
-        black_world,
+        dark_stage,
         emission_material,
         smooth_sphere,
     )
 
     scene = empty_scene
-    scene.render.resolution_x = scene.render.resolution_y = 64
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
+    dark_stage(scene, 64, 64)
     smooth_sphere("Glow", (0.0, 20.0, 0.0), 0.8, emission_material("Glow", 20.0))
     add_camera(scene, (0.0, 0.0, 0.0), (0.0, 1.0, 0.0), lens=50.0)
     dof = scene.camera.data.dof

@@ -9,7 +9,7 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import render_rgba, set_cycles_direct_light
+from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
 from whitted_tools.camera_scenes import cube_crossing, linear_keys
 from whitted_tools.metrics import subject_figures
 
@@ -30,19 +30,7 @@ def _compare(scene, tmp_path, label):
     sharp = render_rgba(scene, "WHITTED", str(tmp_path / "sharp.exr"))
     scene.render.use_motion_blur = True
     render_rgba(scene, "WHITTED", str(tmp_path / "again.exr"))
-
-    def error(image):  # mean absolute difference from Cycles, linear RGB
-        return float(np.abs(image[..., :3] - cycles[..., :3]).mean())
-
-    (value, ratio), sharp_value = (
-        subject_figures(blurred, cycles),
-        subject_figures(sharp, cycles)[0],
-    )
-    print(
-        f"\n{label}: SSIM {value:.4f} (sharp {sharp_value:.4f}), ratio {ratio:.4f}, "
-        f"mean difference {error(blurred):.5f} (sharp {error(sharp):.5f})"
-    )
-    return (value, ratio), sharp_value, error(blurred), error(sharp)
+    return effect_figures(label, blurred, sharp, cycles)
 
 
 def _decision(path):

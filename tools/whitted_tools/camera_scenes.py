@@ -10,7 +10,7 @@ from whitted_tools.material_scenes import (
     add_camera,
     add_floor,
     add_sun,
-    black_world,
+    dark_stage,
     lambert_material,
     smooth_sphere,
 )
@@ -19,11 +19,7 @@ from whitted_tools.material_scenes import (
 def balls_in_a_row(scene):
     """Three diffuse balls at 3, 5 and 8 m from a camera that looks along them, on a
     floor under a sun: near, in focus and far."""
-    scene.render.resolution_x, scene.render.resolution_y = 96, 64
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
+    dark_stage(scene, 96, 64)
     add_floor(scene, size=40.0, albedo=0.5)
     for name, y, albedo in (("Near", 3.0, 0.8), ("Middle", 5.0, 0.5), ("Far", 8.0, 0.3)):
         smooth_sphere(name, (0.9 * (y - 5.0), y, 0.5), 0.5, lambert_material(name, albedo))
@@ -59,11 +55,7 @@ def cube_crossing(scene, travel=4.0, turn=180.0, floor_albedo=0.5):
     """A diffuse cube on a floor under a sun, moving `travel` m along X and turning
     `turn` degrees about Z between frames 0 and 2; the scene at frame 1, motion blur on
     (the default shutter: 0.5 frames around the frame)."""
-    scene.render.resolution_x, scene.render.resolution_y = 96, 64
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
+    dark_stage(scene, 96, 64)
     add_floor(scene, size=20.0, albedo=floor_albedo)
     mesh = bpy.data.meshes.new("Cube")
     h = 0.5

@@ -25,11 +25,7 @@ def sphere_under_sun(scene, material, size, segments=48, rings=24):
     W/m^2, no angular size) on a black world, seen side-on (side_camera, 2.2 m wide) at
     size x size pixels on a transparent film, Standard view: each pixel sees its own
     angles of light and view, for comparing lobes with Cycles pixel by pixel."""
-    scene.render.resolution_x = scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
+    dark_stage(scene, size, size)
     smooth_sphere("Ball", (0.0, 0.0, 0.0), 1.0, material, segments, rings)
     side_camera(scene, 2.2)
     add_sun(scene, rotation=(45.0, 0.0, -40.0), strength=3.0)
@@ -66,6 +62,16 @@ def _world(scene, name, color):
     world.cycles_visibility.diffuse = False
     scene.world = world
     return world
+
+
+def dark_stage(scene, width, height):
+    """`width` x `height` pixels at 100%, a transparent film, the Standard view (linear
+    renders compare as they are) and a black world: where the comparison scenes start."""
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    black_world(scene)
 
 
 def black_world(scene):
@@ -214,11 +220,7 @@ def panel_room(scene, sphere_material=None, cuts=0, strength=6.0):
     """A Lambertian floor lit only by a 1 m emissive panel 2 m above it, facing down
     (`cuts`: emissive_panel's), on a black world, at 64 x 48 pixels; `sphere_material`
     puts a sphere between them. Whitted: 2 x 2 samples, 4 x 4 emitter feelers."""
-    scene.render.resolution_x, scene.render.resolution_y = 64, 48
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    black_world(scene)
+    dark_stage(scene, 64, 48)
     add_floor(scene, size=8.0, albedo=0.8)
     panel = emissive_panel("Panel", (0.0, 0.0, 2.0), 1.0, emission_material("Glow", strength), cuts)
     if sphere_material is not None:

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "scene/motion.h"
 
 namespace whitted {
 
@@ -41,10 +42,7 @@ struct Mesh {
   // Vertex i at shutter time `time` in [0, 1] (vertex(i) when it does not deform).
   Vec3 vertex_at(uint32_t i, float time) const {
     if (motion_positions.empty()) return vertex(i);
-    const auto segments = static_cast<float>(motion_positions.size() - 1);
-    const float x = std::clamp(time, 0.0f, 1.0f) * segments;
-    const auto k = static_cast<size_t>(std::clamp(std::floor(x), 0.0f, segments - 1.0f));
-    const float f = x - static_cast<float>(k);
+    const auto [k, f] = time_segment(time, motion_positions.size());
     const float* a = &motion_positions[k][3 * size_t{i}];
     const float* b = &motion_positions[k + 1][3 * size_t{i}];
     return (1.0f - f) * Vec3(a[0], a[1], a[2]) + f * Vec3(b[0], b[1], b[2]);

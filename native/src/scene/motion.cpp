@@ -101,10 +101,7 @@ TransformMotion::TransformMotion(const std::vector<glm::mat4>& samples) {
 
 glm::mat4 TransformMotion::at(float time) const {
   if (steps_.size() == 1) return steps_.front();
-  const auto segments = static_cast<float>(steps_.size() - 1);
-  const float x = std::clamp(time, 0.0f, 1.0f) * segments;
-  const auto i = static_cast<size_t>(std::clamp(std::floor(x), 0.0f, segments - 1.0f));
-  const float f = x - static_cast<float>(i);
+  const auto [i, f] = time_segment(time, steps_.size());
   return (1.0f - f) * steps_[i] + f * steps_[i + 1];
 }
 

@@ -3,11 +3,28 @@
 // evaluates the scene at sub-frames.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 
 namespace whitted {
+
+// Where `time` in [0, 1] falls among `steps` (at least 2) evenly spaced time steps, as
+// Embree finds it for a blend: the step before it, and the fraction of the way to the
+// next. TransformMotion::at and Mesh::vertex_at blend with it.
+struct TimeSegment {
+  size_t step;
+  float fraction;
+};
+inline TimeSegment time_segment(float time, size_t steps) {
+  const auto segments = static_cast<float>(steps - 1);
+  const float x = std::clamp(time, 0.0f, 1.0f) * segments;
+  const auto step = static_cast<size_t>(std::clamp(std::floor(x), 0.0f, segments - 1.0f));
+  return {step, x - static_cast<float>(step)};
+}
 
 class TransformMotion {
  public:
