@@ -64,7 +64,8 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         passes = render_result.enabled_passes(depsgraph.view_layer)
         try:
             native = load_native()
-            frame = sync_frame(depsgraph, native, quality, engine=None if self.is_preview else self)
+            frame_set = None if self.is_preview else self.frame_set
+            frame = sync_frame(depsgraph, native, quality, frame_set=frame_set)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
             render_result.configure(frame.settings, scene, depsgraph.view_layer, passes)

@@ -21,9 +21,8 @@ from dataclasses import dataclass
 
 from . import estimate_model as model
 from .export.mesh import copied_for_normals, mesh_instances
+from .export.motion import scene_frame_set
 from .properties.presets import PRESETS
-from .settings import native_settings
-from .sync import SyncParams
 from .sync.frame import sync_frame
 
 REFERENCE = "REFERENCE"  # the preset the errors are measured against
@@ -78,7 +77,6 @@ class Probe:
 def estimate_presets(depsgraph, native):
     """(Probe, [Estimate per preset], the memory.MemoryEstimate of the full render) for
     the evaluated depsgraph's scene. Raises what sync.frame.sync_frame raises."""
-    scene = depsgraph.scene
     frame, export_seconds = _export(depsgraph, native)
     xmin, ymin, xmax, ymax = frame.film.region
     pixels = (xmax - xmin) * (ymax - ymin)
@@ -87,10 +85,7 @@ def estimate_presets(depsgraph, native):
     startup, compile_seconds = _startup_seconds(native, frame)
     probes = {}  # preset key -> (stats, rays per second, probe pixels' RGB)
     for key, _, _, quality in PRESETS:
-        # Soft-shadow samples and the texture filter are part of the scene: sync
-        # them for this preset.
-        frame.sync.sync(depsgraph, SyncParams.of(scene, quality))
-        settings = native_settings(native, scene, frame.width, frame.height, frame.film, quality)
+        settings = frame.at_quality(depsgraph, native, quality)
         settings.tile_size = model.PROBE_TILE_SIZE
         settings.probe_stride = stride
         probes[key] = _probe(native, frame, settings, startup)
@@ -185,7 +180,7 @@ def _export(depsgraph, native):
     while not seconds or (len(seconds) < FIXED_REPEATS and sum(seconds) < FIXED_BUDGET_SECONDS):
         frame = None  # the previous export's native scene goes before the next is made
         started = time.perf_counter()
-        frame = sync_frame(depsgraph, native)
+        frame = sync_frame(depsgraph, native, frame_set=scene_frame_set(depsgraph.scene))
         seconds.append(time.perf_counter() - started)
     return frame, statistics.median(seconds)
 

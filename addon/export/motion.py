@@ -93,13 +93,26 @@ def _matrix(m):
     return tuple(tuple(float(x) for x in row) for row in m)
 
 
-def sample_motion(engine, depsgraph, shutter):
-    """MotionData of `depsgraph` (a render's, owned by `engine`) over `shutter`: the scene
-    evaluated at each of its times (RenderEngine.frame_set), then set back to the frame
-    it was at. Objects whose Motion Blur is off, and objects that do not move, are left
-    out. Every moving object is sampled at all the shutter's times (the most Motion
-    Steps of any object's), where Cycles samples each at its own steps' subset. A
-    deforming object's vertex positions are read at each time too."""
+def scene_frame_set(scene):
+    """frame_set(frame, subframe) for the operators that show what F12 would (the
+    Estimate, the ray-tree inspector), which own no render's depsgraph: Blender `scene`
+    (an original) set to the time, which evaluates the view layer's depsgraph there
+    (context.evaluated_depsgraph_get()'s). sample_motion sets it back to its frame."""
+
+    def frame_set(frame, subframe):
+        scene.frame_set(frame, subframe=subframe)
+
+    return frame_set
+
+
+def sample_motion(frame_set, depsgraph, shutter):
+    """MotionData of `depsgraph` over `shutter`: the scene evaluated at each of its times
+    by `frame_set(frame, subframe)` (a render's RenderEngine.frame_set, or
+    scene_frame_set's), then set back to the frame it was at. Objects whose Motion Blur
+    is off, and objects that do not move, are left out. Every moving object is sampled
+    at all the shutter's times (the most Motion Steps of any object's), where Cycles
+    samples each at its own steps' subset. A deforming object's vertex positions are
+    read at each time too."""
     scene = depsgraph.scene
     frame, subframe = scene.frame_current, scene.frame_subframe
     times = shutter.times()
@@ -121,7 +134,7 @@ def sample_motion(engine, depsgraph, shutter):
     try:
         for index, time in enumerate(times):
             whole = math.floor(time)
-            engine.frame_set(int(whole), time - whole)
+            frame_set(int(whole), time - whole)
             for object_instance in depsgraph.object_instances:
                 obj = object_instance.object
                 if is_renderable_mesh(object_instance) and _blurs(obj):
@@ -137,7 +150,7 @@ def sample_motion(engine, depsgraph, shutter):
                 ):
                     cameras.append(without_scale(obj, object_instance.matrix_world))
     finally:
-        engine.frame_set(frame, subframe)
+        frame_set(frame, subframe)
     objects = {}
     unmatched = []
     for name, samples in seen.items():

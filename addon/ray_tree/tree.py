@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ..export.film import FilmData
 from ..export.instance import instance_name
+from ..export.motion import scene_frame_set
 from ..properties.presets import preset
 from ..settings import native_settings
 from ..sync.frame import sync_frame
@@ -41,7 +42,7 @@ def inspect_pixel(depsgraph, native, x, y, sample=-1, view=None):
     ValueError for a sample the anti-aliasing mode does not have."""
     scene = depsgraph.scene
     if view is None:
-        frame = sync_frame(depsgraph, native)
+        frame = sync_frame(depsgraph, native, frame_set=scene_frame_set(scene))
         job = frame.job(native)
         source = {"source": "render", "width": frame.width, "height": frame.height}
     else:

@@ -26,6 +26,22 @@ class Frame:
     memory: memory.MemoryEstimate  # what the render was estimated to need
     motion: object = None  # export.motion.MotionData of a motion-blurred frame, else None
 
+    def at_quality(self, depsgraph, native, quality):
+        """Native Settings of this frame at another Quality, the scene synced again for
+        it (soft-shadow samples and the texture filter are part of the scene), what it
+        sampled of the shutter kept."""
+        scene = depsgraph.scene
+        self.sync.sync(depsgraph, replace(SyncParams.of(scene, quality), motion=self.motion))
+        return native_settings(
+            native,
+            scene,
+            self.width,
+            self.height,
+            self.film,
+            quality,
+            shutter=self.settings.shutter,
+        )
+
     def job(self, native, settings=None, **kwargs):
         """A native RenderJob of this frame (with other `settings` if given)."""
         return native.RenderJob(
@@ -33,19 +49,21 @@ class Frame:
         )
 
 
-def sync_frame(depsgraph, native, quality=None, engine=None):
+def sync_frame(depsgraph, native, quality=None, frame_set=None):
     """The Frame of the evaluated depsgraph at properties.presets.Quality `quality`
-    (by default scene.whitted's). With the RenderEngine `engine` that owns the depsgraph
-    (F12, a farm frame) and Render > Motion Blur on, what moves within the shutter is
-    sampled first (export/motion.py), the scene evaluated at sub-frames and put back.
+    (by default scene.whitted's). Given `frame_set(frame, subframe)`, which evaluates
+    the depsgraph at another time (the render's RenderEngine.frame_set for F12 and a
+    farm frame; export.motion.scene_frame_set for the operators that stand for F12),
+    and with Render > Motion Blur on, what moves within the shutter is sampled first
+    (export/motion.py), the scene evaluated at sub-frames and put back.
     Raises export.ExportError when the scene cannot be rendered (a render that would
     not fit in memory among them: memory.py), and the native module's ValueError when
     it refuses data."""
     scene = depsgraph.scene
     quality = quality or quality_of(scene.whitted)
-    shutter = shutter_of(scene) if engine is not None else None
+    shutter = shutter_of(scene) if frame_set is not None else None
     # Before anything is read: frame_set evaluates the depsgraph again.
-    motion = sample_motion(engine, depsgraph, shutter) if shutter is not None else None
+    motion = sample_motion(frame_set, depsgraph, shutter) if shutter is not None else None
     scene = depsgraph.scene
     camera_warnings = []
     camera = convert_camera(scene.camera, scene.render, camera_warnings)

@@ -9,8 +9,6 @@ import numpy as np
 import pytest
 from whitted.estimate import REFERENCE, _render, copy_seconds
 from whitted.properties.presets import PRESETS, preset
-from whitted.settings import native_settings
-from whitted.sync import SyncParams
 from whitted.sync.frame import sync_frame
 
 WIDTH, HEIGHT = 160, 120
@@ -77,8 +75,7 @@ def test_a_probe_traces_the_full_renders_pixels(demo, native):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     frame = sync_frame(depsgraph, native)
     quality = preset("PREVIEW")  # adaptive: splits depend on the pixel's own corners only
-    frame.sync.sync(depsgraph, SyncParams.of(demo, quality))
-    settings = native_settings(native, demo, WIDTH, HEIGHT, frame.film, quality)
+    settings = frame.at_quality(depsgraph, native, quality)
     full = frame.job(native, settings)
     _render(full)
     settings.tile_size = 8

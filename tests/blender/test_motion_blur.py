@@ -148,20 +148,16 @@ def test_an_object_appearing_mid_shutter_renders_where_the_frame_puts_it(
     assert stats["nonfinite_samples"] == 0
     # What the exporter saw: the cube missing from some sub-frames, so left unblurred
     # (sync_frame warns with these names).
-    from whitted.export.motion import sample_motion, shutter_of
-
-    class ViewLayerEngine:  # RenderEngine.frame_set's part, on the view layer's depsgraph
-        def frame_set(self, frame, subframe):
-            empty_scene.frame_set(frame, subframe=subframe)
+    from whitted.export.motion import sample_motion, scene_frame_set, shutter_of
 
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    motion = sample_motion(ViewLayerEngine(), depsgraph, shutter_of(empty_scene))
+    motion = sample_motion(scene_frame_set(empty_scene), depsgraph, shutter_of(empty_scene))
     assert motion.unmatched == ("Cube",) and "Cube" not in motion.objects
     assert empty_scene.frame_current == 1 and empty_scene.frame_subframe == 0.0
 
 
 def test_the_exporter_reads_what_moves(empty_scene):
-    from whitted.export.motion import sample_motion, shutter_of
+    from whitted.export.motion import sample_motion, scene_frame_set, shutter_of
 
     cube_crossing(empty_scene)
     shutter = shutter_of(empty_scene)
@@ -169,18 +165,44 @@ def test_the_exporter_reads_what_moves(empty_scene):
     bpy.data.objects["Cube"].cycles.motion_steps = 3
     assert shutter_of(empty_scene).samples == 9
 
-    class ViewLayerEngine:
-        def frame_set(self, frame, subframe):
-            empty_scene.frame_set(frame, subframe=subframe)
-
-    motion = sample_motion(ViewLayerEngine(), bpy.context.evaluated_depsgraph_get(), shutter)
+    frame_set = scene_frame_set(empty_scene)
+    motion = sample_motion(frame_set, bpy.context.evaluated_depsgraph_get(), shutter)
     samples = motion.objects["Cube"]
     # Linear keys: 4 m over 2 frames, so -0.5, 0, +0.5 at frames 0.75, 1, 1.25.
     assert [row[0][3] for row in samples] == pytest.approx([-0.5, 0.0, 0.5], abs=1e-6)
     assert motion.camera == () and motion.unmatched == () and motion.deforming == ()
     bpy.data.objects["Cube"].cycles.use_motion_blur = False  # Object > Motion Blur off
-    motion = sample_motion(ViewLayerEngine(), bpy.context.evaluated_depsgraph_get(), shutter)
+    motion = sample_motion(frame_set, bpy.context.evaluated_depsgraph_get(), shutter)
     assert motion.objects == {}
+
+
+def test_the_inspector_and_the_estimate_see_the_blur_f12_renders(
+    empty_scene, tmp_path, monkeypatch
+):
+    # The ray-tree inspector and the Estimate own no render, so they evaluate the
+    # sub-frames through the scene (export.motion.scene_frame_set), and put it back.
+    stats_path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(stats_path))
+    cube = cube_crossing(empty_scene)
+    whitted = empty_scene.whitted
+    bpy.ops.whitted.apply_preset(preset="FINAL")
+    assert bpy.ops.whitted.inspect_ray_tree(x=48, y=24) == {"FINISHED"}
+    tree = json.loads(whitted.last_ray_tree)
+    times = [ray["time"] for ray in tree["rays"] if ray["kind"] == "camera"]
+    # Final's 3 x 3 samples (a jittered grid once the camera's samples are spread over
+    # the shutter), each at its own time of its own ninth of the shutter.
+    assert len(times) == 9 and len(set(times)) == 9 and all(0.0 <= t < 1.0 for t in times)
+    assert empty_scene.frame_current == 1 and empty_scene.frame_subframe == 0.0
+    assert tuple(cube.location) == pytest.approx((0.0, 0.0, 0.5))
+    assert bpy.ops.whitted.estimate() == {"FINISHED"}
+    predicted = {e.preset: e.rays_per_pixel for e in whitted.estimates}
+    assert empty_scene.frame_current == 1 and empty_scene.frame_subframe == 0.0
+    render_rgba(empty_scene, "WHITTED", str(tmp_path / "final.exr"))
+    stats = json.loads(stats_path.read_text())
+    actual = stats["rays"]["total"] / stats["pixels"]
+    # The probe is a sample of the full render's own pixels.
+    print(f"\nFinal, motion blur: {predicted['FINAL']:.2f} rays/px predicted, {actual:.2f} traced")
+    assert predicted["FINAL"] == pytest.approx(actual, rel=0.05)
 
 
 def test_a_deforming_mesh_as_cycles(empty_scene, tmp_path, monkeypatch):
