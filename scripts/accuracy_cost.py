@@ -63,7 +63,8 @@ SWEEPS = (
     ("max_depth", "Max depth", [(str(d), {"max_depth": d}) for d in (0, 1, 2, 3, 4, 6, 8, 12, 16)]),
     (
         "aa_grid",
-        "Anti-aliasing: regular and jittered grids (samples per axis)",
+        "Anti-aliasing: regular and jittered grids (camera samples per axis, each at its "
+        "own point of the pixel, the lens and the shutter)",
         [(f"regular {n}", {"aa_mode": "REGULAR", "aa_samples": n}) for n in (1, 2, 3, 4, 6)]
         + [(f"jittered {n}", {"aa_mode": "JITTERED", "aa_samples": n}) for n in (2, 4, 6)],
     ),

@@ -6,6 +6,8 @@
              light and a sun with an angle: soft shadows, textures, no mirrors
     distributed  the diffuse scene lit by an emissive panel and the sun, its balls
              rough gold, rough plastic and frosted glass: glossy rays, emitter feelers
+    camera   the diffuse scene through a lens at f/1.4, one ball moving within the
+             shutter: depth of field and motion blur (lens and shutter samples)
 
     blender -b --factory-startup --python scripts/cost_scenes.py -- \\
         --scene glass --save out/glass.blend
@@ -25,6 +27,7 @@ BUILDERS = {
     "glass": bench_scenes.build_glass_scene,
     "diffuse": bench_scenes.build_diffuse_scene,
     "distributed": bench_scenes.build_distributed_scene,
+    "camera": bench_scenes.build_camera_scene,
 }
 
 

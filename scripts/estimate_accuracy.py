@@ -13,9 +13,9 @@ and its tracing, and the display error against the Reference render
         [--out docs/notes/estimate_accuracy.md]
 
 Writes a Markdown page (a table, the time, rays and error figures; docs/ACCURACY_COST.md
-links to it) and prints it. --standard-scenes DIR builds the six scenes of
+links to it) and prints it. --standard-scenes DIR builds the seven scenes of
 docs/notes/estimate_accuracy.md into DIR first (STANDARD_SCENES: whitted_tools.
-bench_scenes' demo, glass, diffuse, glass8, 1,000 instances and 300,000 triangles, as
+bench_scenes' demo, glass, diffuse, camera (depth of field and motion blur), glass8, 1,000 instances and 300,000 triangles, as
 scripts/perf_scenes.py and scripts/cost_scenes.py save them) and measures them after
 any FILE.blend given; --third-party NAME ... adds the material gallery's scenes of
 real models (whitted_tools.materials_page.THIRD_PARTY), which nothing was tuned on.
@@ -54,6 +54,7 @@ STANDARD_SCENES = (
     ("demo", bench_scenes.build_demo, {}, bench_scenes.DEFAULT_MAX_DEPTH),
     ("glass", bench_scenes.build_glass_scene, None, None),
     ("diffuse", bench_scenes.build_diffuse_scene, None, None),
+    ("camera", bench_scenes.build_camera_scene, None, None),
     ("glass8", bench_scenes.build_glass8, {}, bench_scenes.GLASS8_MAX_DEPTH),
     (
         "instances",

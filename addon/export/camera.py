@@ -54,6 +54,10 @@ class CameraData:
     lens: LensData = PINHOLE
     panorama: PanoramaData | None = None  # a PANORAMIC camera's projection
     motion: tuple = ()  # its to_world over the shutter (export/motion.py), () when still
+    # When in the shutter its samples are taken (export/motion.py Shutter): the Shutter
+    # Curve's openness, () for a box; the rolling shutter's Duration, or None.
+    shutter_curve: tuple = ()
+    rolling_shutter: float | None = None
 
 
 def convert_camera(camera_object, render, warnings):
@@ -75,6 +79,11 @@ def convert_camera(camera_object, render, warnings):
         warnings.append(
             f"Whitted: camera '{camera_object.name}' is {camera.type}, which Whitted does "
             "not support; rendering it as a perspective camera"
+        )
+    if render.use_multiview:
+        warnings.append(
+            "Whitted: Stereoscopy (Output > Views) is on; Whitted renders one view, from "
+            f"camera '{camera_object.name}' itself"
         )
     panorama = None
     if projection == "PANORAMIC":

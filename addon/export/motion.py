@@ -15,6 +15,9 @@ from .camera import without_scale
 from .instance import instance_name
 from .mesh import is_renderable_mesh
 
+# The Shutter Curve is read at this many evenly spaced times (Cycles' table size).
+SHUTTER_CURVE_SAMPLES = 256
+
 # Cycles' object Motion Steps s give 2^s + 1 samples (2 << (s - 1), plus the frame
 # itself); the samples of fewer steps are a subset of those of more. Capped at s = 5
 # (33 sub-frame evaluations of the whole scene).
@@ -29,6 +32,12 @@ class Shutter:
     open: float
     close: float
     samples: int  # evaluations over it, evenly spaced, both ends included (odd)
+    # How open it is at SHUTTER_CURVE_SAMPLES evenly spaced times (Render > Motion Blur >
+    # Shutter Curve); () for a box, the curve's default.
+    curve: tuple = ()
+    # Cycles' Rolling Shutter (Render > Motion Blur, scene.cycles): its Duration in [0, 1]
+    # when the rows are read from the top, None for a global shutter.
+    rolling: float | None = None
 
     def times(self):
         step = (self.close - self.open) / (self.samples - 1)
@@ -79,7 +88,32 @@ def shutter_of(scene):
         settings = getattr(obj, "cycles", None)
         if settings is not None and settings.use_motion_blur and obj.type in {"MESH", "CAMERA"}:
             steps = max(steps, min(settings.motion_steps, MAX_MOTION_STEPS))
-    return Shutter(open=start, close=start + length, samples=(2 << (steps - 1)) + 1)
+    return Shutter(
+        open=start,
+        close=start + length,
+        samples=(2 << (steps - 1)) + 1,
+        curve=shutter_curve(render.motion_blur_shutter_curve),
+        rolling=_rolling_shutter(scene),
+    )
+
+
+def shutter_curve(mapping):
+    """Render > Motion Blur > Shutter Curve (a CurveMapping over the shutter's time, both
+    in [0, 1]) at SHUTTER_CURVE_SAMPLES evenly spaced times; () when it is flat (a box:
+    the default)."""
+    mapping.initialize()  # its evaluation table, which a file just read may lack
+    curve = mapping.curves[0]
+    last = SHUTTER_CURVE_SAMPLES - 1
+    values = tuple(mapping.evaluate(curve, i / last) for i in range(SHUTTER_CURVE_SAMPLES))
+    return () if max(values) == min(values) else values
+
+
+def _rolling_shutter(scene):
+    # Cycles' setting (scene.cycles in 3.x and 5.x): "TOP" reads the rows from the top.
+    settings = getattr(scene, "cycles", None)
+    if settings is None or getattr(settings, "rolling_shutter_type", "NONE") != "TOP":
+        return None
+    return float(settings.rolling_shutter_duration)
 
 
 def _blurs(obj):

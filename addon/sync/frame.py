@@ -67,8 +67,13 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
     scene = depsgraph.scene
     camera_warnings = []
     camera = convert_camera(scene.camera, scene.render, camera_warnings)
-    if motion is not None and motion.camera:
-        camera = replace(camera, motion=motion.camera)
+    if motion is not None:
+        camera = replace(
+            camera,
+            motion=motion.camera,
+            shutter_curve=shutter.curve,
+            rolling_shutter=shutter.rolling,
+        )
     # Before anything large is allocated.
     needed = memory.check(depsgraph, camera.width * camera.height)
     sync = SceneSync(native)

@@ -16,6 +16,7 @@ def native_camera(native, camera):
     """export.camera.CameraData or viewport.camera.ViewCamera as a native.Camera."""
     lens = getattr(camera, "lens", PINHOLE)
     panorama = getattr(camera, "panorama", None)
+    rolling = getattr(camera, "rolling_shutter", None)
     return native.Camera(
         to_world=np.asarray(camera.to_world, dtype=np.float64),
         projection=getattr(native.Projection, camera.projection),
@@ -29,6 +30,8 @@ def native_camera(native, camera):
         aperture_ratio=lens.ratio,
         panorama=None if panorama is None else native_panorama(native, panorama),
         motion=list(getattr(camera, "motion", ())),
+        shutter_curve=list(getattr(camera, "shutter_curve", ())),
+        rolling_shutter=-1.0 if rolling is None else rolling,
     )
 
 

@@ -48,7 +48,8 @@ void bind_camera(py::module_& m) {
                [](const py::object& to_world, Projection projection, std::array<float, 4> window,
                   float clip_start, float clip_end, float aperture_radius, float focus_distance,
                   int aperture_blades, float aperture_rotation, float aperture_ratio,
-                  const std::optional<Panorama>& panorama, const std::vector<py::object>& motion) {
+                  const std::optional<Panorama>& panorama, const std::vector<py::object>& motion,
+                  const std::vector<float>& shutter_curve, float rolling_shutter) {
                  Camera c;
                  if (!to_world.is_none()) c.to_world = matrix_from_numpy(to_world);
                  c.projection = projection;
@@ -80,6 +81,10 @@ void bind_camera(py::module_& m) {
                    auto moving = std::make_shared<const TransformMotion>(samples);
                    if (moving->moves()) c.motion = std::move(moving);
                  }
+                 if (!std::isfinite(rolling_shutter) || rolling_shutter > 1.0f) {
+                   throw std::invalid_argument("rolling_shutter is a duration in [0, 1], or < 0");
+                 }
+                 c.shutter = Shutter(shutter_curve, rolling_shutter);
                  return c;
                }),
            py::arg("to_world") = py::none(), py::arg("projection") = Projection::kPerspective,
@@ -89,13 +94,17 @@ void bind_camera(py::module_& m) {
            py::arg("aperture_blades") = 0, py::arg("aperture_rotation") = 0.0f,
            py::arg("aperture_ratio") = 1.0f, py::arg("panorama") = py::none(),
            py::arg("motion") = std::vector<py::object>{},
+           py::arg("shutter_curve") = std::vector<float>{}, py::arg("rolling_shutter") = -1.0f,
            "aperture_radius (world units; 0: a pinhole), focus_distance (of the plane in "
            "focus, along the view axis), aperture_blades (a polygon; below 3 a disc), "
            "aperture_rotation (radians), aperture_ratio (anamorphic: the aperture's width "
            "over it): a thin lens, as Cycles' depth of field. panorama: the projection of a "
            "PANORAMIC camera, whose window spans the panorama's [0, 1]^2 (shift added). "
            "motion: its to_world (4x4 row-major, unit axes) at evenly spaced times over the "
-           "shutter (motion blur; [] when it stays put).")
+           "shutter (motion blur; [] when it stays put). shutter_curve: how open the shutter "
+           "is at evenly spaced times over it ([] or all equal: a box). rolling_shutter: "
+           "Cycles' rolling shutter Duration in [0, 1] (rows read from the top), or < 0 "
+           "for a global shutter.")
       .def_property(
           "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
           [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },
@@ -113,6 +122,8 @@ void bind_camera(py::module_& m) {
       .def_readwrite("clip_end", &Camera::clip_end)
       .def_property_readonly("aperture_radius", [](const Camera& c) { return c.lens.radius; })
       .def_property_readonly("moves", [](const Camera& c) { return c.motion != nullptr; })
+      .def_property_readonly("shutter_box", [](const Camera& c) { return c.shutter.box(); })
+      .def_property_readonly("rolling_shutter", [](const Camera& c) { return c.shutter.rolling(); })
       .def_property_readonly("focus_distance",
                              [](const Camera& c) { return c.lens.focus_distance; });
 }

@@ -126,6 +126,13 @@ def test_panoramic_camera_is_converted_without_warnings(empty_scene, warnings):
     assert warnings == []
 
 
+def test_stereoscopy_is_rendered_as_one_view_and_said(empty_scene, warnings):
+    add_camera(empty_scene, 64, 64)
+    empty_scene.render.use_multiview = True
+    convert(empty_scene, warnings)
+    assert len(warnings) == 1 and "renders one view" in warnings[0]
+
+
 def test_no_camera_is_an_export_error(empty_scene, warnings):
     with pytest.raises(ExportError, match="Whitted: the scene has no camera"):
         convert_camera(None, empty_scene.render, warnings)

@@ -31,11 +31,11 @@ Material white_floor() {
 // The radiance a Lambertian floor of albedo 0.8 sends back at the origin, traced from the
 // side (under the panel), as the mean of `n` camera samples' seeds.
 float floor_radiance(const Scene& scene, const Settings& settings, int n = 1,
-                     const Vec3& origin = Vec3(0.0f, -3.0f, 0.3f)) {
+                     const Vec3& origin = Vec3(0.0f, -3.0f, 0.3f), float time = 0.0f) {
   const auto compiled = scene.compile();
   const WhittedIntegrator integrator(*compiled, settings);
   RayCounts counts;
-  const Ray ray{origin, glm::normalize(-origin), 0.0f, kInfinity, kCameraRay};
+  const Ray ray{origin, glm::normalize(-origin), 0.0f, kInfinity, kCameraRay, time};
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     NodeState state;
@@ -80,6 +80,39 @@ TEST(MeshLight, APanelLightsTheFloorBelowItAsTheConfigurationFactorSays) {
   settings.emitter_samples = 1;
   EXPECT_NEAR(floor_radiance(panel_scene(EmissionSampling::kBoth), settings, 256), expected,
               0.03f * expected);
+}
+
+// A panel moving within the shutter (motion blur) lights the floor from where the
+// shading point's time puts it: its feelers aim at it there, as the rays that meet it do.
+TEST(MeshLight, AMovingPanelLightsFromWhereTheTimePutsIt) {
+  Settings settings;
+  settings.emitter_samples = 8;
+  const glm::mat4 away = glm::translate(glm::mat4(1.0f), Vec3(1.5f, 0.0f, 0.0f));
+  const Vec3 eye(0.0f, -3.0f, 0.3f);
+  // The panel placed at `to_world`, moving over the shutter by `motion` if given.
+  const auto placed = [&](const glm::mat4& to_world, const std::vector<glm::mat4>& motion) {
+    Scene scene = panel_scene(EmissionSampling::kBoth);
+    Instance panel{"panel", to_world, {"panel"}};
+    panel.motion = motion;
+    scene.set_instance("panel", panel);
+    return scene;
+  };
+  const Scene moving = placed(glm::mat4(1.0f), {glm::mat4(1.0f), away});
+  for (const float time : {0.0f, 0.5f, 1.0f}) {
+    const glm::mat4 there = glm::translate(glm::mat4(1.0f), Vec3(1.5f * time, 0.0f, 0.0f));
+    const float still = floor_radiance(placed(there, {}), settings, 1, eye);
+    EXPECT_NEAR(floor_radiance(moving, settings, 1, eye, time), still, 1e-4f * still) << time;
+  }
+  // A deforming panel likewise, its vertices moved instead of its transform.
+  Scene deforming = panel_scene(EmissionSampling::kBoth);
+  Mesh panel = quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.0f);
+  std::vector<float> shifted = panel.positions;
+  for (size_t v = 0; v < panel.vertex_count(); ++v) shifted[3 * v] += 1.5f;
+  panel.motion_positions = {panel.positions, shifted};
+  deforming.set_mesh("panel", panel);
+  const float far = floor_radiance(placed(away, {}), settings, 1, eye);
+  EXPECT_NEAR(floor_radiance(deforming, settings, 1, eye, 1.0f), far, 1e-4f * far);
+  EXPECT_LT(far, 0.5f * floor_radiance(placed(glm::mat4(1.0f), {}), settings, 1, eye));
 }
 
 TEST(MeshLight, AnOccluderCastsItsShadow) {

@@ -43,6 +43,42 @@ TEST(TransformMotion, StillSamplesMakeNoMotion) {
   EXPECT_EQ(still.at(0.7f), m);
 }
 
+TEST(Shutter, ABoxOrAFlatCurveDrawsEveryTimeAlike) {
+  for (const Shutter& box : {Shutter(), Shutter({1.0f, 1.0f, 1.0f}, -1.0f),
+                             Shutter({0.0f, 0.0f}, -1.0f), Shutter({2.0f}, -1.0f)}) {
+    EXPECT_TRUE(box.box());
+    for (float u : {0.0f, 0.3f, 0.999f}) EXPECT_EQ(box.time(u, 5, 10), u);
+  }
+}
+
+TEST(Shutter, ACurveDrawsTimesInProportionToItsOpening) {
+  // Opening linearly from shut to open: the cumulative opening is t^2, so the time of a
+  // uniform u is sqrt(u).
+  std::vector<float> ramp(256);
+  for (size_t i = 0; i < ramp.size(); ++i) ramp[i] = static_cast<float>(i) / 255.0f;
+  const Shutter opening(ramp, -1.0f);
+  EXPECT_FALSE(opening.box());
+  for (float u = 0.0f; u < 1.0f; u += 0.01f) {
+    EXPECT_NEAR(opening.time(u, 0, 1), std::sqrt(u), 2e-3f) << u;
+  }
+  // Shut for the first half: no time is drawn there.
+  const Shutter late({0.0f, 0.0f, 0.0f, 1.0f, 1.0f}, -1.0f);
+  EXPECT_GE(late.time(0.0f, 0, 1), 0.5f);
+  EXPECT_NEAR(late.time(0.5f, 0, 1), 0.8125f, 1e-6f);  // half of the open area is past 0.8125
+}
+
+TEST(Shutter, ARollingShutterReadsRowsFromTheTop) {
+  const Shutter rolling({}, 0.0f);
+  EXPECT_TRUE(rolling.rolling());
+  // Row 0 is the bottom of 10 rows: read last; the top row first; u plays no part.
+  EXPECT_NEAR(rolling.time(0.2f, 0, 10), 1.0f, 1e-6f);
+  EXPECT_NEAR(rolling.time(0.7f, 9, 10), 0.1f, 1e-6f);
+  // A Duration of 1 keeps the whole blur: every row over the whole shutter.
+  EXPECT_NEAR(Shutter({}, 1.0f).time(0.3f, 0, 10), 0.3f, 1e-6f);
+  // Between: (u - 0.5) d + (read - 0.5) (1 - d) + 0.5, as Cycles blends them.
+  EXPECT_NEAR(Shutter({}, 0.25f).time(0.9f, 5, 10), 0.4f * 0.25f + 0.0f + 0.5f, 1e-6f);
+}
+
 Scene moving_blocker(const std::vector<glm::mat4>& motion) {
   Scene scene = testing::occluder_over_floor(2.0f);
   Instance blocker{"blocker", glm::mat4(1.0f), {"blocker"}};

@@ -375,3 +375,14 @@ def test_outside_a_fisheyes_circle_is_opaque_black():
     image = finish(wn.RenderJob(scene, settings))
     assert image[0, 0].tolist() == [0.0, 0.0, 0.0, 1.0]
     assert image[8, 8, 0] > 0.1  # the floor under the camera, lit
+
+
+def test_the_shutter_is_bound_with_the_camera():
+    # A flat curve is a box; a rolling shutter's Duration is a share of the shutter.
+    assert wn.Camera(shutter_curve=[0.5, 0.5, 0.5]).shutter_box
+    ramp = wn.Camera(shutter_curve=[0.0, 0.5, 1.0], rolling_shutter=0.1)
+    assert not ramp.shutter_box and ramp.rolling_shutter
+    assert not wn.Camera().rolling_shutter
+    for duration in (1.5, math.nan):
+        with pytest.raises(ValueError, match="rolling_shutter"):
+            wn.Camera(rolling_shutter=duration)

@@ -31,6 +31,7 @@ import bpy
 import bmesh
 import numpy as np
 
+from whitted_tools.camera_scenes import linear_keys
 from whitted_tools import demo_scene
 from whitted_tools.scenes import (
     SPECULAR,
@@ -403,6 +404,27 @@ def build_distributed_scene(scene):
     # Out of the camera's sight, as a light panel often is: seen edge-on its radiance of
     # 8 would make a few pixels' sampling the whole error against the reference.
     panel.visible_camera = False
+    return scene
+
+
+def build_camera_scene(scene):
+    """The diffuse scene through a lens focused on its green ball at f/1.4, its orange
+    ball moving 0.6 m along X within Render > Motion Blur's shutter (half a frame
+    around frame 1): depth of field and motion blur, the camera's samples spread over
+    the lens and the shutter (issue 30)."""
+    build_diffuse_scene(scene)
+    camera = scene.camera.data
+    camera.dof.use_dof = True
+    camera.dof.aperture_fstop = 1.4
+    camera.dof.focus_object = bpy.data.objects["Ball 1"]
+    ball = bpy.data.objects["Ball 0"]
+    start = ball.location.copy()
+    for frame, shift in ((0, 0.0), (2, 2.4)):
+        ball.location = (start.x + shift, start.y, start.z)
+        ball.keyframe_insert("location", frame=frame)
+    linear_keys(ball)
+    scene.frame_set(1)
+    scene.render.use_motion_blur = True
     return scene
 
 

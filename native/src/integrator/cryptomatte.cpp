@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/ray.h"
+#include "integrator/sampler.h"
 
 namespace whitted {
 namespace {
@@ -35,14 +36,18 @@ void CryptomatteFilm::trace_pixel(const CompiledScene& scene, const Camera& came
   const int n = samples_per_axis_;
   std::array<std::vector<std::array<float, 2>>, kCryptomatteKinds> weights;
   const RayContext context{&camera, 0};
+  const bool moves = scene.moves || camera.motion != nullptr;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const float px =
           static_cast<float>(x) + (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
       const float py =
           static_cast<float>(y) + (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
-      Ray ray =
-          camera.generate_ray(px / static_cast<float>(width_), py / static_cast<float>(height_));
+      // On the lens and in the shutter as the image's samples are (depth of field and
+      // motion blur spread an object's coverage as they spread its colour).
+      const LensTime at = lens_and_time(camera, moves, x, y, j * n + i, n, height_);
+      Ray ray = camera.generate_ray(px / static_cast<float>(width_),
+                                    py / static_cast<float>(height_), at.lens, at.time);
       float behind = 1.0f;  // the share of the sample not yet covered
       for (int layer = 0; behind > 0.0f; ++layer) {
         Hit hit;

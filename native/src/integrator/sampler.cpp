@@ -221,29 +221,30 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
   }
   const float px = static_cast<float>(x) + (static_cast<float>(i) + du) * cell;
   const float py = static_cast<float>(y) + (static_cast<float>(j) + dv) * cell;
+  const LensTime at = lens_and_time(camera_, moves_, x, y, k, n, settings_.height);
+  return camera_ray(px, py, at.lens, at.time);
+}
+
+LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height) {
+  LensTime out;
   const auto samples = static_cast<uint32_t>(n * n);
   const auto pixel = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x1e45u);
-  // The shutter stratified apart from the film and the lens as the lens is (below): its
-  // n^2 intervals in the order of another permutation chosen by the pixel.
-  float time = 0.0f;
-  if (moves_) {
+  const auto sample = static_cast<uint32_t>(k);
+  if (moves) {
     const uint32_t order = hash3(pixel, 0x7a3du, 0x51edu);
-    time = (static_cast<float>(permuted(static_cast<uint32_t>(k), samples, order)) +
-            unit_float(hash3(order, static_cast<uint32_t>(k), 0x3c6fu))) /
-           static_cast<float>(samples);
+    const float u = (static_cast<float>(permuted(sample, samples, order)) +
+                     unit_float(hash3(order, sample, 0x3c6fu))) /
+                    static_cast<float>(samples);
+    out.time = camera.shutter.time(u, y, height);
   }
-  if (!frame_.camera.lens.blurs()) return camera_ray(px, py, glm::vec2(0.5f), time);
-  // The lens stratified apart from the pixel: sample k takes the aperture's stratum of a
-  // permutation chosen by the pixel, jittered by a hash of the pixel and the sample. A
-  // fixed pairing (sample (i, j) with stratum (j, i) in every pixel) covers only n^2 of
-  // the n^4 joint cells of film and lens, the same in every pixel, and blurs wrongly:
-  // against Cycles, a panorama's defocus erred 0.006 where this errs less than 0.001.
-  const uint32_t stratum = permuted(static_cast<uint32_t>(k), samples, pixel);
-  const auto h = hash3(pixel, static_cast<uint32_t>(k), 0x2f1du);
-  const glm::vec2 lens(
-      (static_cast<float>(stratum % n) + unit_float(h)) * cell,
-      (static_cast<float>(stratum / n) + unit_float(hash3(h, 0x6b43u, 0x2f1du))) * cell);
-  return camera_ray(px, py, lens, time);
+  if (!camera.lens.blurs()) return out;
+  const float cell = 1.0f / static_cast<float>(n);
+  const uint32_t stratum = permuted(sample, samples, pixel);
+  const auto h = hash3(pixel, sample, 0x2f1du);
+  out.lens =
+      glm::vec2((static_cast<float>(stratum % n) + unit_float(h)) * cell,
+                (static_cast<float>(stratum / n) + unit_float(hash3(h, 0x6b43u, 0x2f1du))) * cell);
+  return out;
 }
 
 Ray CameraSampler::camera_ray(float px, float py, glm::vec2 lens, float time) const {
@@ -253,7 +254,8 @@ Ray CameraSampler::camera_ray(float px, float py, glm::vec2 lens, float time) co
 
 float CameraSampler::film_time(float px, float py) const {
   if (!moves_) return 0.0f;
-  return unit_float(hash3(film_seed(px, py), 0x7a3du, 0x51edu));
+  const float u = unit_float(hash3(film_seed(px, py), 0x7a3du, 0x51edu));
+  return camera_.shutter.time(u, static_cast<int>(std::floor(py)), settings_.height);
 }
 
 glm::vec2 CameraSampler::film_lens(float px, float py) const {

@@ -459,11 +459,12 @@ class Kernel {
     const MeshLights& lights = *scene_.mesh_lights;
     const int32_t index = lights.find(p.it.instance, p.it.primitive);
     if (index < 0) return 1.0f;
-    const EmissiveTriangle& triangle = lights.triangles()[static_cast<size_t>(index)];
+    const auto found = static_cast<uint32_t>(index);
+    const EmissiveTriangle triangle = lights.at(scene_, found, p.it.time);
     if (!triangle.lights(-ray.direction)) return 1.0f;
     const Vec3 d = p.it.position - ray.origin;
     const float cos_e = std::fabs(glm::dot(ray.direction, triangle.normal));
-    const float density = lights.density(static_cast<uint32_t>(index)) * glm::dot(d, d) / cos_e;
+    const float density = lights.density(found, triangle) * glm::dot(d, d) / cos_e;
     return power_heuristic(state.mis, density);
   }
 
@@ -810,8 +811,9 @@ class Kernel {
     const Strata strata(state, settings_.emitter_samples, 0x656du);
     const auto draw = [&](int k) {
       const glm::vec2 u = strata.point(k);
-      const MeshLights::Sample s = lights.sample(u.x, u.y);
-      const EmissiveTriangle& triangle = lights.triangles()[s.index];
+      // Where the emitter is at the shading point's time (a moving one's place then).
+      const MeshLights::Sample s = lights.sample(scene_, u.x, u.y, p.it.time);
+      const EmissiveTriangle& triangle = s.triangle;
       Drawing out{{true, strata.count(), -1, static_cast<int32_t>(triangle.instance)},
                   {Vec3(0.0f, 0.0f, 1.0f), 0.0f, Color(0.0f)},
                   1.0f};

@@ -43,6 +43,8 @@ struct Camera {
   Panorama panorama;  // the projection of a kPanoramic camera
   // Its to_world over the shutter (motion blur; scale removed); null when it stays put.
   std::shared_ptr<const TransformMotion> motion;
+  // When in the shutter each camera sample is taken (its curve, a rolling shutter).
+  Shutter shutter;
 
   // (sx, sy) in [0,1]^2 with (0,0) the bottom-left corner of the image; `lens` the
   // aperture sample (Lens::aperture_point), ignored by a pinhole. Where a panorama covers

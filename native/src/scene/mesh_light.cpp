@@ -28,6 +28,33 @@ bool may_emit(const Material& m) {
   return !is_black(m.emission) && m.alpha > 0.0f;
 }
 
+// The world-space corners of an instance's triangle `primitive` at shutter time `time`,
+// with its front normal as interaction() finds it (the object-space winding's normal
+// carried by the normal matrix: a mirroring transform keeps the outside out), its area
+// and unit normal; false for a degenerate triangle, which sends no light.
+bool place(const CompiledScene::Instance& instance, uint32_t primitive, float time,
+           EmissiveTriangle* t) {
+  const Mesh& mesh = instance.mesh->mesh;
+  const uint32_t* tri = &mesh.triangles[3 * size_t{primitive}];
+  const Vec3 a = mesh.vertex_at(tri[0], time);
+  const Vec3 b = mesh.vertex_at(tri[1], time);
+  const Vec3 c = mesh.vertex_at(tri[2], time);
+  const Placement moved =
+      instance.motion ? Placement::of(instance.motion->at(time)) : instance.placement;
+  t->p0 = transform_point(moved.to_world, a);
+  t->e1 = transform_point(moved.to_world, b) - t->p0;
+  t->e2 = transform_point(moved.to_world, c) - t->p0;
+  t->area = 0.5f * glm::length(glm::cross(t->e1, t->e2));
+  const Vec3 front = moved.normal_to_world * glm::cross(b - a, c - a);
+  const float front_length = glm::length(front);
+  if (!(t->area > 0.0f) || !std::isfinite(t->area) || !(front_length > 0.0f) ||
+      !std::isfinite(front_length)) {
+    return false;
+  }
+  t->normal = front / front_length;
+  return true;
+}
+
 }  // namespace
 
 Color emitted(const CompiledScene& scene, const EmissiveTriangle& triangle,
@@ -76,25 +103,9 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
       const uint32_t mi = scene.material_index(i, p);
       const Material& material = scene.materials[mi];
       if (!may_emit(material)) continue;
-      const uint32_t* tri = &mesh.triangles[3 * size_t{p}];
+      // Its power is measured where the shutter opens (the frame, without motion blur).
       EmissiveTriangle t;
-      const Vec3 a = mesh.vertex(tri[0]);
-      const Vec3 b = mesh.vertex(tri[1]);
-      const Vec3 c = mesh.vertex(tri[2]);
-      t.p0 = transform_point(instance.placement.to_world, a);
-      t.e1 = transform_point(instance.placement.to_world, b) - t.p0;
-      t.e2 = transform_point(instance.placement.to_world, c) - t.p0;
-      const Vec3 across = glm::cross(t.e1, t.e2);
-      t.area = 0.5f * glm::length(across);
-      // The front side as interaction() finds it: the object-space winding's normal
-      // carried by the normal matrix (a mirroring transform keeps the outside out).
-      const Vec3 front = instance.placement.normal_to_world * glm::cross(b - a, c - a);
-      const float front_length = glm::length(front);
-      if (!(t.area > 0.0f) || !std::isfinite(t.area) || !(front_length > 0.0f) ||
-          !std::isfinite(front_length)) {
-        continue;  // a degenerate triangle sends no light
-      }
-      t.normal = front / front_length;
+      if (!place(instance, p, 0.0f, &t)) continue;  // degenerate: it sends no light
       t.instance = i;
       t.primitive = p;
       t.sides = material.emission_sampling;
@@ -124,6 +135,7 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
     if (out->triangles_.size() > before) {
       out->first_[i] = first;
       out->objects_ += 1;
+      out->moves_ = out->moves_ || instance.motion != nullptr || mesh.deforms();
     } else {
       out->lookup_.resize(static_cast<size_t>(first));
     }
@@ -142,7 +154,8 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
   return out;
 }
 
-MeshLights::Sample MeshLights::sample(float u, float v) const {
+MeshLights::Sample MeshLights::sample(const CompiledScene& scene, float u, float v,
+                                      float time) const {
   const auto found = std::upper_bound(cdf_.begin(), cdf_.end(), u);
   const auto index =
       static_cast<uint32_t>(std::min<ptrdiff_t>(found - cdf_.begin(), cdf_.size() - 1));
@@ -152,8 +165,19 @@ MeshLights::Sample MeshLights::sample(float u, float v) const {
   const float w = width > 0.0f ? std::clamp((u - low) / width, 0.0f, 1.0f) : 0.5f;
   const float root = std::sqrt(w);
   const glm::vec2 barycentric(root * (1.0f - v), root * v);
-  const EmissiveTriangle& t = triangles_[index];
-  return {index, barycentric, t.p0 + barycentric.x * t.e1 + barycentric.y * t.e2, width / t.area};
+  const EmissiveTriangle t = at(scene, index, time);
+  return {t, barycentric, t.p0 + barycentric.x * t.e1 + barycentric.y * t.e2, width / t.area};
+}
+
+EmissiveTriangle MeshLights::at(const CompiledScene& scene, uint32_t index, float time) const {
+  const EmissiveTriangle& built = triangles_[index];
+  if (!moves_) return built;
+  const CompiledScene::Instance& instance = scene.instances[built.instance];
+  if (!instance.motion && !instance.mesh->mesh.deforms()) return built;
+  EmissiveTriangle moved = built;
+  // Degenerate at this time (squashed flat mid-shutter): it keeps its opening's place,
+  // a sample of which then finds nothing there and adds nothing.
+  return place(instance, built.primitive, time, &moved) ? moved : built;
 }
 
 int32_t MeshLights::find(uint32_t instance, uint32_t primitive) const {
@@ -161,9 +185,9 @@ int32_t MeshLights::find(uint32_t instance, uint32_t primitive) const {
   return lookup_[static_cast<size_t>(first_[instance]) + primitive];
 }
 
-float MeshLights::density(uint32_t index) const {
+float MeshLights::density(uint32_t index, const EmissiveTriangle& triangle) const {
   const float low = index == 0 ? 0.0f : cdf_[index - 1];
-  return (cdf_[index] - low) / triangles_[index].area;
+  return (cdf_[index] - low) / triangle.area;
 }
 
 }  // namespace whitted

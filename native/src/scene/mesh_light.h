@@ -50,19 +50,24 @@ class MeshLights {
   static std::shared_ptr<const MeshLights> build(const CompiledScene& scene);
 
   struct Sample {
-    uint32_t index;         // into triangles()
-    glm::vec2 barycentric;  // weights of the triangle's vertices 1 and 2
-    Vec3 point;             // world space
-    float density;          // per unit area: the triangle's probability over its area
+    EmissiveTriangle triangle;  // where it is at the sample's time
+    glm::vec2 barycentric;      // weights of the triangle's vertices 1 and 2
+    Vec3 point;                 // world space
+    float density;              // per unit area: the triangle's probability over its area
   };
-  // The sample of two numbers in [0, 1): u picks a triangle by power (and, rescaled
-  // within its share, with v, the point: uniform over the triangle). Not on empty().
-  Sample sample(float u, float v) const;
+  // The sample of two numbers in [0, 1) at shutter time `time`: u picks a triangle by
+  // power (and, rescaled within its share, with v, the point: uniform over the triangle
+  // where it is at `time`). Not on empty().
+  Sample sample(const CompiledScene& scene, float u, float v, float time) const;
 
   // The index of the sampled triangle an instance's primitive is, or -1.
   int32_t find(uint32_t instance, uint32_t primitive) const;
-  // The density sample() draws a point of triangle `index` with, per unit area.
-  float density(uint32_t index) const;
+  // Triangle `index` where it is at shutter time `time`: a moving or deforming
+  // emitter's triangle moved there (its power share stays the shutter opening's), the
+  // others' as built.
+  EmissiveTriangle at(const CompiledScene& scene, uint32_t index, float time) const;
+  // The density sample() draws a point of triangle `index`, found at `triangle`, with.
+  float density(uint32_t index, const EmissiveTriangle& triangle) const;
 
   bool empty() const { return triangles_.empty(); }
   const std::vector<EmissiveTriangle>& triangles() const { return triangles_; }
@@ -75,6 +80,7 @@ class MeshLights {
   std::vector<int64_t> first_;
   std::vector<int32_t> lookup_;  // primitive -> triangle index, or -1
   size_t objects_ = 0;
+  bool moves_ = false;  // whether an emitting instance moves or deforms within the shutter
 };
 
 // The radiance a mesh light sends from `barycentric` on `triangle` along `ray` (which

@@ -105,4 +105,42 @@ glm::mat4 TransformMotion::at(float time) const {
   return (1.0f - f) * steps_[i] + f * steps_[i + 1];
 }
 
+Shutter::Shutter(const std::vector<float>& openness, float rolling_duration)
+    : rolling_(rolling_duration >= 0.0f), duration_(std::clamp(rolling_duration, 0.0f, 1.0f)) {
+  if (openness.size() < 2) return;
+  const auto open = [&](size_t i) {
+    return std::isfinite(openness[i]) ? std::max(0.0f, openness[i]) : 0.0f;
+  };
+  bool even = true;
+  for (size_t i = 1; i < openness.size(); ++i) even = even && open(i) == open(0);
+  if (even) return;
+  // The opening between neighbouring times, summed (trapezoids of the linear curve).
+  std::vector<double> sums(openness.size(), 0.0);
+  for (size_t i = 1; i < openness.size(); ++i) {
+    sums[i] = sums[i - 1] + 0.5 * (double{open(i - 1)} + double{open(i)});
+  }
+  const double total = sums.back();
+  if (!(total > 0.0)) return;  // never open: every time weighs the same
+  cdf_.reserve(sums.size());
+  for (double sum : sums) cdf_.push_back(static_cast<float>(sum / total));
+  cdf_.back() = 1.0f;
+}
+
+float Shutter::time(float u, int row, int height) const {
+  float t = u;
+  if (!cdf_.empty()) {
+    // The step whose share of the opening holds u (a shut step holds none), and the
+    // time within it in proportion.
+    const auto above = std::upper_bound(cdf_.begin() + 1, cdf_.end() - 1, u);
+    const auto i = static_cast<size_t>(above - cdf_.begin()) - 1;
+    const float width = cdf_[i + 1] - cdf_[i];
+    const float within = width > 0.0f ? std::clamp((u - cdf_[i]) / width, 0.0f, 1.0f) : 0.0f;
+    t = (static_cast<float>(i) + within) / static_cast<float>(cdf_.size() - 1);
+  }
+  if (!rolling_) return t;
+  // Read from the top: the top row at the opening, the bottom row at the close.
+  const float read = 1.0f - static_cast<float>(row) / static_cast<float>(std::max(1, height));
+  return (t - 0.5f) * duration_ + (read - 0.5f) * (1.0f - duration_) + 0.5f;
+}
+
 }  // namespace whitted

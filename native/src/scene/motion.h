@@ -50,4 +50,30 @@ class TransformMotion {
   bool moves_ = false;
 };
 
+// When within the shutter a camera sample is taken (Cycles' camera_sample): the time its
+// sampler draws uniformly, mapped through the inverse of the Shutter Curve's cumulative
+// opening (Render > Motion Blur: how open the shutter is over its time, so that every
+// sample weighs the same and an opening shutter's early times are drawn less often),
+// then, with Cycles' rolling shutter, moved towards the time its image row is read: the
+// top row at the opening, the bottom at the close, the Duration keeping that share of
+// the blur.
+class Shutter {
+ public:
+  Shutter() = default;  // a box shutter whose rows are all read at once
+  // `openness` at evenly spaced times from the opening to the close (negative values
+  // count as shut; all equal, or none open: a box); `rolling_duration` in [0, 1], or
+  // negative for a global shutter.
+  Shutter(const std::vector<float>& openness, float rolling_duration);
+  // The time in [0, 1] of a sample drawn at `u` in [0, 1) in the image row `row` from the
+  // bottom of `height` rows.
+  float time(float u, int row, int height) const;
+  bool box() const { return cdf_.empty(); }
+  bool rolling() const { return rolling_; }
+
+ private:
+  std::vector<float> cdf_;  // the opening summed up to each of the curve's times, to 1
+  bool rolling_ = false;
+  float duration_ = 0.0f;
+};
+
 }  // namespace whitted
