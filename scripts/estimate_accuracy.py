@@ -15,10 +15,11 @@ and its tracing, and the display error against the Reference render
 Writes a Markdown page (a table, the time, rays and error figures; docs/ACCURACY_COST.md
 links to it) and prints it. --standard-scenes DIR builds the seven scenes of
 docs/notes/estimate_accuracy.md into DIR first (STANDARD_SCENES: whitted_tools.
-bench_scenes' demo, glass, diffuse, camera (depth of field and motion blur), glass8, 1,000 instances and 300,000 triangles, as
-scripts/perf_scenes.py and scripts/cost_scenes.py save them) and measures them after
-any FILE.blend given; --third-party NAME ... adds the material gallery's scenes of
-real models (whitted_tools.materials_page.THIRD_PARTY), which nothing was tuned on.
+bench_scenes' demo, glass, diffuse, camera (depth of field and motion blur), glass8,
+1,000 instances and 300,000 triangles, as scripts/perf_scenes.py and
+scripts/cost_scenes.py save them) and measures them after any FILE.blend given;
+--third-party NAME ... adds the material gallery's scenes of real models
+(whitted_tools.materials_page.THIRD_PARTY), which nothing was tuned on.
 That page was made with
 
     blender -b --factory-startup --python scripts/estimate_accuracy.py -- \

@@ -36,6 +36,7 @@ from .nodes.program import emit
 from .nodes.shaders import MAX_SHININESS, finish, legacy_texture, phong_exponent, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
+from .unrendered import volume_warning
 
 __all__ = ["MAX_SHININESS", "MaterialData", "MaterialExport", "convert_material", "map_material"]
 
@@ -209,6 +210,9 @@ def map_material(material, warnings, programs=False, local_model="BLENDER"):
     if output_node is None or source(output_node.inputs["Surface"])[0] is None:
         _warn(warnings, f"Whitted: {owner} has no surface shader; it renders black, as in Cycles")
         return MaterialExport(_BLACK)
+    volume = volume_warning(owner, output_node)
+    if volume is not None:
+        _warn(warnings, volume)
     found = []
     lowering = Lowering(owner, found)
     closure = surface(lowering, output_node, local_model=local_model)

@@ -17,6 +17,7 @@ from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT, evaluate
 from .nodes.program import emit, run
 from .nodes.values import Lowering
+from .unrendered import volume_warning
 
 Color = tuple[float, float, float]
 
@@ -43,6 +44,12 @@ def convert_world(world, ambient_strength, warnings, programs=False):
         background = (0.0, 0.0, 0.0)
     elif uses_nodes(world):
         background = None
+        output_node = world.node_tree.get_output_node("CYCLES")
+        volume = (
+            None if output_node is None else volume_warning(f"world '{world.name}'", output_node)
+        )
+        if volume is not None:
+            warnings.append(volume)
         if programs:
             found = _programmed(world, warnings)
             if found is not None:

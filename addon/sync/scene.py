@@ -45,6 +45,7 @@ from ..export.mesh import (
     object_uv_map,
 )
 from ..export.texture import convert_textures
+from ..export.unrendered import unrendered_kinds, unrendered_warnings
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -318,8 +319,11 @@ class SceneSync:
         lights = {}
         roles = {}
         instanced_light_data = set()
+        unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
+            for kind in unrendered_kinds(object_instance):
+                unrendered.setdefault(kind, set()).add(obj.original.name)
             if object_instance.is_instance:
                 roles[object_instance.parent.original.name_full] = _INSTANCER
             if is_renderable_mesh(object_instance):
@@ -347,6 +351,7 @@ class SceneSync:
                 role = _OTHER
             if not object_instance.is_instance:
                 roles.setdefault(obj.original.name_full, role)
+        warnings.extend(unrendered_warnings(unrendered))
         self._set_instances(instances, report, replace_all=True)
         for key in self._geometry.keys() - seen_geometry:
             if self._geometry.pop(key).has_triangles:

@@ -31,8 +31,8 @@ import bpy
 import bmesh
 import numpy as np
 
-from whitted_tools.camera_scenes import linear_keys
 from whitted_tools import demo_scene
+from whitted_tools.camera_scenes import linear_keys
 from whitted_tools.scenes import (
     SPECULAR,
     TRANSMISSION,

@@ -1,0 +1,79 @@
+"""What a scene holds that Cycles renders and Whitted does not yet: found while the
+depsgraph is walked, so that nothing vanishes from the image without a report line
+naming it (the object, what it is, and why).
+
+Cycles renders, and Whitted skips:
+- Curves objects (the hair curves of Blender 3.3+) and point clouds (geometry nodes'
+  points, the Points object), as their own object types in the depsgraph;
+- particle hair drawn as Path (Blender's ParticleSystem of type Hair) on an object that
+  shows its particles;
+- volumes: Volume objects (OpenVDB) and the Volume output of a material or the world.
+A geometry-nodes curve on a mesh object reaches a render as an empty legacy curve,
+which Cycles skips too: it is not listed.
+"""
+
+from .nodes.graph import source
+
+# Object types the walk meets and does not export, with how the report names them.
+OBJECT_KINDS = {
+    "CURVES": "hair curves",
+    "POINTCLOUD": "point clouds",
+    "VOLUME": "volumes",
+}
+
+WHY = {
+    "hair curves": "Whitted does not trace curves yet",
+    "point clouds": "Whitted does not trace points yet",
+    "particle hair": "Whitted does not trace curves yet; the emitter renders without it",
+    "volumes": "Whitted does not render volumes (participating media are out of its scope)",
+}
+
+# At most this many names in a report line, then "...".
+MAX_NAMES = 3
+
+
+def unrendered_kinds(object_instance):
+    """The kinds (OBJECT_KINDS' phrases, or "particle hair") of what `object_instance`
+    of an evaluated depsgraph would show in Cycles and shows nothing of in Whitted."""
+    obj = object_instance.object
+    if obj.original.hide_render:
+        return []
+    kinds = []
+    kind = OBJECT_KINDS.get(obj.type)
+    if kind is not None:
+        kinds.append(kind)
+    if object_instance.show_particles and _has_path_hair(obj):
+        kinds.append("particle hair")
+    return kinds
+
+
+def _has_path_hair(obj):
+    # Particle systems of type Hair drawn as strands (Render As: Path); Object and
+    # Collection render types are instances, which the walk exports.
+    systems = getattr(obj, "particle_systems", ())
+    return any(
+        system.settings.type == "HAIR" and system.settings.render_type == "PATH"
+        for system in systems
+    )
+
+
+def unrendered_warnings(found):
+    """Report lines for `found`: kind -> the names of the objects (a set)."""
+    lines = []
+    for kind in sorted(found):
+        names = sorted(found[kind])
+        shown = ", ".join(f"'{name}'" for name in names[:MAX_NAMES])
+        more = "..." if len(names) > MAX_NAMES else ""
+        lines.append(
+            f"Whitted: {len(names)} object(s) with {kind} not rendered ({shown}{more}): {WHY[kind]}"
+        )
+    return lines
+
+
+def volume_warning(owner, output_node):
+    """A report line when the Volume input of a material's or world's output node
+    `output_node` is linked (`owner`: "material 'Smoke'"), else None."""
+    socket = output_node.inputs.get("Volume")
+    if socket is None or source(socket)[0] is None:  # reroutes followed, muted links not
+        return None
+    return f"Whitted: {owner} has a volume shader, which is not rendered: {WHY['volumes']}"

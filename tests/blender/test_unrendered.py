@@ -1,0 +1,87 @@
+"""Nothing vanishes silently (issue 31, part 4): what Cycles renders and Whitted does not
+yet (hair curves, point clouds, particle hair, volumes) is named in the report, with
+the object, what it is, and why (export/unrendered.py)."""
+
+import bpy
+import pytest
+from whitted.sync.frame import sync_frame
+from whitted_tools.scenes import add_object, cube_mesh
+
+
+@pytest.fixture
+def stage(empty_scene):
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    empty_scene.collection.objects.link(camera)
+    empty_scene.camera = camera
+    camera.location = (0.0, -6.0, 0.0)
+    camera.rotation_euler = (1.5708, 0.0, 0.0)
+    empty_scene.render.resolution_x = empty_scene.render.resolution_y = 16
+    return empty_scene
+
+
+def _warnings(native):
+    return sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
+
+
+def _hair(scene, name, render_type="PATH"):
+    emitter = add_object(scene.collection, name, cube_mesh(name, 1.0))
+    modifier = emitter.modifiers.new("Fur", "PARTICLE_SYSTEM")
+    settings = modifier.particle_system.settings
+    settings.type = "HAIR"
+    settings.count = 20
+    settings.render_type = render_type
+    if render_type == "OBJECT":
+        settings.instance_object = add_object(
+            scene.collection, f"{name} Bit", cube_mesh(f"{name} Bit", 0.1)
+        )
+    return emitter
+
+
+def test_each_kind_is_named_with_its_objects(stage, native):
+    add_object(stage.collection, "Strands", bpy.data.hair_curves.new("Strands"))
+    add_object(stage.collection, "Dust", bpy.data.pointclouds.new("Dust"))
+    add_object(stage.collection, "Smoke", bpy.data.volumes.new("Smoke"))
+    _hair(stage, "Furry")
+    add_object(stage.collection, "Plain", cube_mesh("Plain", 1.0))
+    warnings = _warnings(native)
+    expected = {
+        "hair curves": "'Strands'",
+        "point clouds": "'Dust'",
+        "volumes": "'Smoke'",
+        "particle hair": "'Furry'",
+    }
+    for kind, names in expected.items():
+        lines = [w for w in warnings if f"with {kind} not rendered ({names})" in w]
+        assert len(lines) == 1, (kind, warnings)
+    assert not any("Plain" in w for w in warnings)
+
+
+def test_hidden_objects_and_instanced_particles_are_not_listed(stage, native):
+    _hair(stage, "Scattered", render_type="OBJECT")  # particles as instances: rendered
+    hidden = add_object(
+        stage.collection, "Hidden Strands", bpy.data.hair_curves.new("Hidden Strands")
+    )
+    hidden.hide_render = True
+    assert not any("not rendered" in w for w in _warnings(native))
+
+
+def test_a_volume_shader_is_named(stage, native):
+    material = bpy.data.materials.new("Fog")
+    if bpy.app.version < (5, 0, 0):  # node trees by default from 5.0 on
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    volume = nodes.new("ShaderNodeVolumePrincipled")
+    output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    material.node_tree.links.new(volume.outputs[0], output.inputs["Volume"])
+    cube = add_object(stage.collection, "Box", cube_mesh("Box", 1.0))
+    cube.data.materials.append(material)
+    world = bpy.data.worlds.new("Hazy")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world_output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    haze = world.node_tree.nodes.new("ShaderNodeVolumeScatter")
+    world.node_tree.links.new(haze.outputs[0], world_output.inputs["Volume"])
+    stage.world = world
+    warnings = _warnings(native)
+    assert any("material 'Fog' has a volume shader, which is not rendered" in w for w in warnings)
+    assert any("world 'Hazy' has a volume shader" in w for w in warnings)
