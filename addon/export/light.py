@@ -62,6 +62,7 @@ class LightData:
     shape: str = "RECTANGLE"  # "RECTANGLE" or "ELLIPSE"
     radius: float = 0.0  # point and spot: sphere radius (world units)
     angle: float = 0.0  # sun: full apex angle of its cone of directions, radians
+    spread: float = math.pi  # area: the full angle its light spreads over, radians
     samples: int = 1  # feelers per axis: n x n for a sized light, 1 otherwise
     cast_shadows: bool = True
 
@@ -169,11 +170,6 @@ def _convert_light(name, light, position, unit_axes, scale, default_samples, war
         if area <= 0.0:
             warnings.append(f"Whitted: area light '{name}' has no area; skipped, as in Cycles")
             return None
-        if light.spread < math.pi:
-            warnings.append(
-                f"Whitted: area light '{name}' has a spread of "
-                f"{math.degrees(light.spread):.0f} degrees; Whitted emits over 180"
-            )
         # One-sided radiance L = P / (pi A) W/(m^2 sr) (P / (4 A) before 4.0), as
         # Cycles; with normalize off, L = P / pi whatever the size.
         watts_to_radiance = AREA_WATTS_TO_RADIANCE / (area if normalize else 1.0)
@@ -183,6 +179,7 @@ def _convert_light(name, light, position, unit_axes, scale, default_samples, war
             axis_u=tuple(unit_axes[:, 0]),
             axis_v=tuple(unit_axes[:, 1]),
             shape=shape,
+            spread=min(max(0.0, light.spread), math.pi),
             samples=_samples(light, default_samples, sized=True),
             **common,
         )

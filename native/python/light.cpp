@@ -21,7 +21,7 @@ void bind_light(py::module_& m) {
       .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
-                       bool spot_cosine_falloff) {
+                       bool spot_cosine_falloff, float spread) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -36,6 +36,7 @@ void bind_light(py::module_& m) {
                                       .shape = shape,
                                       .radius = radius,
                                       .angle = angle,
+                                      .spread = spread,
                                       .samples = samples,
                                       .cast_shadows = cast_shadows});
            }),
@@ -47,7 +48,8 @@ void bind_light(py::module_& m) {
            py::arg("shape") = defaults.shape, py::arg("samples") = defaults.samples,
            py::arg("cast_shadows") = defaults.cast_shadows, py::arg("radius") = defaults.radius,
            py::arg("angle") = defaults.angle,
-           py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff)
+           py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff,
+           py::arg("spread") = defaults.spread)
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)
@@ -55,6 +57,7 @@ void bind_light(py::module_& m) {
       .def_readonly("samples", &Light::samples)
       .def_readonly("radius", &Light::radius)
       .def_readonly("angle", &Light::angle)
+      .def_readonly("spread", &Light::spread)
       .def_readonly("spot_cosine_falloff", &Light::spot_cosine_falloff)
       .def_readonly("cast_shadows", &Light::cast_shadows);
 }

@@ -57,7 +57,7 @@ class Case:
 
 
 # Bounds for a light with a size (soft shadows).
-_SOFT = {"max_relative_rmse": 0.03, "max_profile_error": 0.1}
+SOFT = {"max_relative_rmse": 0.03, "max_profile_error": 0.1}
 
 # A spot above the scene, aimed at the origin from (1.5, -1, 3).
 _SPOT_ROTATION = (26.6, 0.0, 56.3)
@@ -69,7 +69,7 @@ CASES = (
         "POINT",
         (1.0, -1.0, 3.0),
         {"energy": 500.0, "shadow_soft_size": 0.5},
-        **_SOFT,
+        **SOFT,
     ),
     Case(
         "spot",
@@ -96,14 +96,14 @@ CASES = (
         (0.0, 0.0, 5.0),
         {"energy": 3.0, "angle": math.radians(10.0)},
         rotation=(30.0, 0.0, 30.0),
-        **_SOFT,
+        **SOFT,
     ),
     Case(
         "area_square",
         "AREA",
         (0.5, -0.5, 2.5),
         {"energy": 300.0, "shape": "SQUARE", "size": 1.0},
-        **_SOFT,
+        **SOFT,
     ),
     Case(
         "area_rectangle",
@@ -111,14 +111,14 @@ CASES = (
         (0.5, -0.5, 2.5),
         {"energy": 300.0, "shape": "RECTANGLE", "size": 1.5, "size_y": 0.5},
         rotation=(0.0, 0.0, 30.0),
-        **_SOFT,
+        **SOFT,
     ),
     Case(
         "area_disk",
         "AREA",
         (0.5, -0.5, 2.5),
         {"energy": 300.0, "shape": "DISK", "size": 1.0},
-        **_SOFT,
+        **SOFT,
     ),
     Case(
         "area_ellipse",
@@ -126,7 +126,7 @@ CASES = (
         (0.5, -0.5, 2.5),
         {"energy": 300.0, "shape": "ELLIPSE", "size": 1.5, "size_y": 0.6},
         rotation=(0.0, 0.0, -20.0),
-        **_SOFT,
+        **SOFT,
     ),
     # Blender 4.x+: `normalize` off. A point's intensity is then P / pi (radius 0)
     # or P r^2, a sun's irradiance S pi sin^2(angle / 2), an area's radiance P / pi.
@@ -142,7 +142,7 @@ CASES = (
         "POINT",
         (1.0, -1.0, 3.0),
         {"energy": 640.0, "shadow_soft_size": 0.25, "normalize": False},
-        **_SOFT,
+        **SOFT,
         requires=("normalize",),
     ),
     Case(
@@ -151,7 +151,7 @@ CASES = (
         (0.0, 0.0, 5.0),
         {"energy": 125.0, "angle": math.radians(10.0), "normalize": False},
         rotation=(30.0, 0.0, 30.0),
-        **_SOFT,
+        **SOFT,
         requires=("normalize",),
     ),
     Case(
@@ -159,7 +159,7 @@ CASES = (
         "AREA",
         (0.5, -0.5, 2.5),
         {"energy": 225.0, "shape": "RECTANGLE", "size": 1.5, "size_y": 0.5, "normalize": False},
-        **_SOFT,
+        **SOFT,
         requires=("normalize",),
     ),
 )

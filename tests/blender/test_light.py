@@ -142,10 +142,12 @@ def test_sun_angle(empty_scene, warnings):
     assert light.samples == DEFAULT_LIGHT_SAMPLES
 
 
-def test_area_spread_below_180_degrees_is_reported(empty_scene, warnings):
+def test_area_spread_is_exported(empty_scene, warnings):
+    # Rendered as Cycles' soft box (tests/blender/test_cycles_lights.py), no longer warned.
     add_light(empty_scene, "AREA", spread=math.radians(90.0))
-    assert len(convert(warnings)) == 1
-    assert "spread of 90 degrees" in warnings[0]
+    (light,) = convert(warnings)
+    assert light.spread == pytest.approx(math.radians(90.0))
+    assert warnings == []
 
 
 def test_area_of_size_zero_is_skipped(empty_scene, warnings):

@@ -73,6 +73,38 @@ TEST(Light, AreaLightFarAwayActsLikeAPointOfIntensityRadianceTimesArea) {
   }
 }
 
+// A small area light of Spread s sends towards angle a off its normal (tan h - tan a) /
+// (tan h - h) of a plain one's light, h = s / 2 (Cycles' soft box), none past h; summed
+// over the hemisphere its power is the plain light's.
+TEST(Light, AreaSpreadNarrowsTheLightAndKeepsItsPower) {
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(1.0f);
+  area.position = Vec3(0.0f, 0.0f, 1.0f);
+  area.direction = Vec3(0.0f, 0.0f, -1.0f);
+  area.size[0] = area.size[1] = 1e-3f;
+  const float h = 0.5f * 0.8f;  // a spread of 0.8 rad
+  Light narrow = area;
+  narrow.spread = 0.8f;
+  // Points on a sphere of radius 1 around the light, at angle a off its axis, facing it.
+  double plain_power = 0.0;
+  double narrow_power = 0.0;
+  const int rings = 2000;
+  for (int i = 0; i < rings; ++i) {
+    const float a = (static_cast<float>(i) + 0.5f) / static_cast<float>(rings) * 0.5f * kPi;
+    const Vec3 p = area.position + Vec3(std::sin(a), 0.0f, -std::cos(a));
+    const Vec3 n = glm::normalize(area.position - p);
+    const float plain = total_irradiance(area, p, n).x;
+    const float got = total_irradiance(narrow, p, n).x;
+    const float expected = std::max(0.0f, (std::tan(h) - std::tan(a)) / (std::tan(h) - h));
+    EXPECT_NEAR(got, plain * expected, 1e-3f * plain * (1.0f + expected)) << a;
+    const double ring = 2.0 * kPi * std::sin(a) * (0.5 * kPi / rings);  // solid angle
+    plain_power += plain * ring;
+    narrow_power += got * ring;
+  }
+  EXPECT_NEAR(narrow_power / plain_power, 1.0, 2e-3);
+}
+
 TEST(Light, SpotAtItsOwnCentreStaysFinite) {
   Light spot;
   spot.type = LightType::kSpot;
@@ -106,7 +138,8 @@ TEST(Light, ConstructorRefusesWhatCannotBeALight) {
   EXPECT_EQ(refusal({.direction = Vec3(0.0f)}), "light direction must not be zero");
   EXPECT_EQ(refusal({.spot_size = nan}), "light spot size, blend and area size must be finite");
   EXPECT_EQ(refusal({.size = {1.0f, inf}}), "light spot size, blend and area size must be finite");
-  EXPECT_EQ(refusal({.radius = inf}), "light radius and angle must be finite");
+  EXPECT_EQ(refusal({.radius = inf}), "light radius, angle and spread must be finite");
+  EXPECT_EQ(refusal({.spread = nan}), "light radius, angle and spread must be finite");
   EXPECT_EQ(refusal({.samples = 0}), "light samples must be between 1 and 64");
   EXPECT_EQ(refusal({.samples = kMaxLightSamples + 1}), "light samples must be between 1 and 64");
   EXPECT_EQ(refusal({.samples = kMaxLightSamples}), "");

@@ -247,7 +247,7 @@ def test_a_mesh_moves_into_the_scene_and_vertex_normals_shade_as_corner_normals(
         ({"color": (np.inf, 1, 1)}, "light colour, position and axes must be finite"),
         ({"direction": (0, 0, 0)}, "light direction must not be zero"),
         ({"spot_size": np.nan}, "light spot size, blend and area size must be finite"),
-        ({"radius": np.inf}, "light radius and angle must be finite"),
+        ({"radius": np.inf}, "light radius, angle and spread must be finite"),
         ({"samples": 65}, "light samples must be between 1 and 64"),
     ],
 )

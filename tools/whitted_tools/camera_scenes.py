@@ -17,12 +17,17 @@ from whitted_tools.material_scenes import (
 
 
 def balls_in_a_row(scene):
-    """Three diffuse balls at 3, 5 and 8 m from a camera that looks along them, on a
-    floor under a sun: near, in focus and far."""
+    """Three diffuse balls 3.5, 5 and 8 m down the view of a camera that looks along
+    them, on a floor under a sun: near (left), in focus (centre) and far (right), all in
+    the frame at 3:2 and 4:3."""
     dark_stage(scene, 96, 64)
     add_floor(scene, size=40.0, albedo=0.5)
-    for name, y, albedo in (("Near", 3.0, 0.8), ("Middle", 5.0, 0.5), ("Far", 8.0, 0.3)):
-        smooth_sphere(name, (0.9 * (y - 5.0), y, 0.5), 0.5, lambert_material(name, albedo))
+    for name, x, y, albedo in (
+        ("Near", -0.7, 3.5, 0.8),
+        ("Middle", 0.0, 5.0, 0.5),
+        ("Far", 1.0, 8.0, 0.3),
+    ):
+        smooth_sphere(name, (x, y, 0.5), 0.5, lambert_material(name, albedo))
     add_camera(scene, (0.0, 0.0, 1.0), (0.0, 5.0, 0.5), lens=50.0)
     add_sun(scene, rotation=(40.0, 0.0, 30.0), strength=3.0)
     scene.whitted.ambient_strength = 0.0

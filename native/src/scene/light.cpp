@@ -8,6 +8,10 @@
 namespace whitted {
 namespace {
 
+// The narrowest spread an area light takes (Cycles 4.x's; 3.x's is 1 degree): below it
+// the normalisation's float loses the light.
+constexpr float kMinSpread = 0.1f * kPi / 180.0f;
+
 void require_finite(bool finite, const char* what) {
   if (!finite) throw std::invalid_argument(std::string("light ") + what + " must be finite");
 }
@@ -21,6 +25,19 @@ float spot_falloff(const Light& light, const Vec3& to_point) {
   const float band = (1.0f - c0) * light.spot_blend;
   const float falloff = band > 0.0f ? smoothstep01((c - c0) / band) : 1.0f;
   return light.spot_cosine_falloff ? c * falloff : falloff;
+}
+
+// What an area light of Spread `spread` sends towards a direction `cos_l` off its normal,
+// relative to a plain (Lambertian) one, as Cycles models a soft box's grid: the share of
+// the light its slats let through, (tan h - tan a) / (tan h - h) with h the half spread,
+// normalised so that the light's power stays the same (at small h, 3 / h^3 is the limit
+// of that normalisation, kept where float's tan h - h loses its digits).
+float spread_attenuation(float spread, float cos_l) {
+  if (spread >= kPi) return 1.0f;
+  const float h = 0.5f * std::max(spread, kMinSpread);
+  const float tan_a = std::sqrt(std::max(0.0f, 1.0f - cos_l * cos_l)) / cos_l;
+  const float normalise = h > 0.05f ? 1.0f / (std::tan(h) - h) : 3.0f / (h * h * h);
+  return std::max(0.0f, (std::tan(h) - tan_a) * normalise);
 }
 
 // Centre of stratum `index` of an n x n grid, in [0, 1]^2.
@@ -70,7 +87,8 @@ Light::Light(const LightParams& params) : LightParams(params) {
   require_finite(std::isfinite(spot_size) && std::isfinite(spot_blend) && std::isfinite(size[0]) &&
                      std::isfinite(size[1]),
                  "spot size, blend and area size");
-  require_finite(std::isfinite(radius) && std::isfinite(angle), "radius and angle");
+  require_finite(std::isfinite(radius) && std::isfinite(angle) && std::isfinite(spread),
+                 "radius, angle and spread");
   if (glm::length(direction) == 0.0f) {
     throw std::invalid_argument("light direction must not be zero");
   }
@@ -86,6 +104,7 @@ Light::Light(const LightParams& params) : LightParams(params) {
   size[1] = std::max(0.0f, size[1]);
   radius = std::max(0.0f, radius);
   angle = std::clamp(angle, 0.0f, kPi);
+  spread = std::clamp(spread, 0.0f, kPi);
 }
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {
@@ -153,7 +172,10 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
     case LightType::kArea: {
       // A patch of area dA and radiance L gives E = L cos(theta_l) dA / r^2, one-sided.
       const float cos_l = glm::dot(glm::normalize(light.direction), -wi);
-      if (cos_l > 0.0f) irradiance = light.color * (cos_l * weight / dist2);
+      if (cos_l > 0.0f) {
+        irradiance =
+            light.color * (cos_l * weight * spread_attenuation(light.spread, cos_l) / dist2);
+      }
       break;
     }
     case LightType::kSun:

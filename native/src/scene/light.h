@@ -30,7 +30,10 @@ struct LightParams {
   AreaShape shape = AreaShape::kRectangle;
   float radius = 0.0f;  // point and spot: a sphere of this radius (soft shadows)
   float angle = 0.0f;   // sun: full apex angle of the sun's disc, radians
-  int samples = 1;      // per axis for sized lights: samples x samples feelers
+  // Area: the full angle its light spreads over, radians (pi: all of its side; less:
+  // a soft box's grid narrowing it, Cycles' Spread).
+  float spread = kPi;
+  int samples = 1;  // per axis for sized lights: samples x samples feelers
   bool cast_shadows = true;
 };
 
@@ -43,7 +46,7 @@ struct Light : LightParams {
   // axis, radius or angle; a zero direction; samples outside 1..kMaxLightSamples) and
   // clamps what has an obvious nearest light: negative colour to 0 (it emits nothing),
   // spot size to [0, pi], blend to [0, 1], negative sizes and radius to 0, the sun's
-  // angle to [0, pi]. The direction is normalised.
+  // angle and an area light's spread to [0, pi]. The direction is normalised.
   explicit Light(const LightParams& params);
 
   bool sized() const {
