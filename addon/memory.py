@@ -5,9 +5,9 @@ unique meshes) would otherwise run until the operating system kills Blender,
 and the artist's unsaved work with it. Before anything large is allocated, the
 memory a render needs is estimated from counts Blender already has (triangles
 of each distinct evaluated mesh, instances, texels of the images the materials
-use, pixels) and compared with the memory available (MemAvailable) or the budget
-set in the environment variable WHITTED_MEMORY_BUDGET (MiB, for farms that
-share machines).
+use, pixels, curve keys and points) and compared with the memory available
+(MemAvailable) or the budget set in the environment variable WHITTED_MEMORY_BUDGET
+(MiB, for farms that share machines).
 
 The costs are what Whitted adds beyond Blender's own memory, measured by
 scripts/bench_memory.py on the performance scenes (docs/MEMORY.md states how
@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import bpy
 
 from .export import ExportError
+from .export.curves import STRAND_TYPES, hair_keys, hair_systems
 from .preferences import memory_budget_mib
 
 MIB = 1024 * 1024
@@ -37,6 +38,9 @@ INSTANCE_BYTES = 800
 PIXEL_BYTES = 40
 # A texel: float RGBA read from Blender, then the native texture's copy.
 TEXEL_BYTES = 32
+# A curve key or a point: 16 B of keys (x, y, z, radius), Embree's curve BVH and the
+# export's temporaries. An upper guess, not yet measured by scripts/bench_memory.py.
+KEY_BYTES = 128
 
 
 @dataclass(frozen=True)
@@ -45,6 +49,7 @@ class MemoryEstimate:
     instances: int
     texels: int
     pixels: int
+    keys: int = 0  # curve keys and points: hair, Curves objects, point clouds
 
     @property
     def parts(self):
@@ -54,6 +59,7 @@ class MemoryEstimate:
             (f"{self.instances:,} instances", self.instances * INSTANCE_BYTES),
             (f"{self.texels:,} texels of textures", self.texels * TEXEL_BYTES),
             (f"{self.pixels:,} pixels", self.pixels * PIXEL_BYTES),
+            (f"{self.keys:,} curve keys and points", self.keys * KEY_BYTES),
         ]
         return sorted(parts, key=lambda part: -part[1])
 
@@ -70,9 +76,17 @@ def estimate(depsgraph, pixels):
     """
     triangles = 0
     instances = 0
+    keys = 0
     seen = set()
+    render = depsgraph.mode == "RENDER"
     for object_instance in depsgraph.object_instances:
         obj = object_instance.object
+        if obj.type in STRAND_TYPES and obj.data.as_pointer() not in seen:
+            seen.add(obj.data.as_pointer())
+            keys += len(obj.data.points)
+        if object_instance.show_particles and obj.type == "MESH" and obj.name not in seen:
+            seen.add(obj.name)
+            keys += sum(hair_keys(system, render) for system in hair_systems(obj, render))
         if obj.type != "MESH" or not object_instance.show_self:
             continue
         instances += 1
@@ -86,7 +100,7 @@ def estimate(depsgraph, pixels):
         for block in depsgraph.ids
         if isinstance(block, bpy.types.Image)
     )
-    return MemoryEstimate(triangles, instances, texels, pixels)
+    return MemoryEstimate(triangles, instances, texels, pixels, keys)
 
 
 def budget():

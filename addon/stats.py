@@ -46,6 +46,8 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         "settings": {"width": settings.width, "height": settings.height, **asdict(quality)},
         "threads": native_stats["threads"],
         "triangles": native_stats["triangles"],
+        "curve_segments": native_stats["curve_segments"],
+        "points": native_stats["points"],
         "instances": native_stats["instances"],
         "lights": native_stats["lights"],
         "cancelled": native_stats["cancelled"],

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import without_scale
+from .curves import STRAND_TYPES
 from .instance import instance_name
 from .mesh import is_renderable_mesh
 
@@ -171,7 +172,10 @@ def sample_motion(frame_set, depsgraph, shutter):
             frame_set(int(whole), time - whole)
             for object_instance in depsgraph.object_instances:
                 obj = object_instance.object
-                if is_renderable_mesh(object_instance) and _blurs(obj):
+                moving_kind = is_renderable_mesh(object_instance) or (
+                    obj.type in STRAND_TYPES and not obj.original.hide_render
+                )
+                if moving_kind and _blurs(obj):
                     name = instance_name(object_instance)
                     samples = seen.setdefault(name, [None] * len(times))
                     samples[index] = np.array(object_instance.matrix_world, dtype=np.float64)

@@ -2,29 +2,18 @@
 depsgraph is walked, so that nothing vanishes from the image without a report line
 naming it (the object, what it is, and why).
 
-Cycles renders, and Whitted skips:
-- Curves objects (the hair curves of Blender 3.3+) and point clouds (geometry nodes'
-  points, the Points object), as their own object types in the depsgraph;
-- particle hair drawn as Path (Blender's ParticleSystem of type Hair) on an object that
-  shows its particles;
-- volumes: Volume objects (OpenVDB) and the Volume output of a material or the world.
-A geometry-nodes curve on a mesh object reaches a render as an empty legacy curve,
-which Cycles skips too: it is not listed.
+Cycles renders, and Whitted skips: volumes, Volume objects (OpenVDB) and the Volume
+output of a material or the world. (Hair curves, point clouds and particle hair are
+rendered: export/curves.py. A geometry-nodes curve on a mesh object reaches a render
+as an empty legacy curve, which Cycles skips too: it is not listed.)
 """
 
 from .nodes.graph import source
 
 # Object types the walk meets and does not export, with how the report names them.
-OBJECT_KINDS = {
-    "CURVES": "hair curves",
-    "POINTCLOUD": "point clouds",
-    "VOLUME": "volumes",
-}
+OBJECT_KINDS = {"VOLUME": "volumes"}
 
 WHY = {
-    "hair curves": "Whitted does not trace curves yet",
-    "point clouds": "Whitted does not trace points yet",
-    "particle hair": "Whitted does not trace curves yet; the emitter renders without it",
     "volumes": "Whitted does not render volumes (participating media are out of its scope)",
 }
 
@@ -33,28 +22,13 @@ MAX_NAMES = 3
 
 
 def unrendered_kinds(object_instance):
-    """The kinds (OBJECT_KINDS' phrases, or "particle hair") of what `object_instance`
-    of an evaluated depsgraph would show in Cycles and shows nothing of in Whitted."""
+    """The kinds (OBJECT_KINDS' phrases) of what `object_instance` of an evaluated
+    depsgraph would show in Cycles and shows nothing of in Whitted."""
     obj = object_instance.object
     if obj.original.hide_render:
         return []
-    kinds = []
     kind = OBJECT_KINDS.get(obj.type)
-    if kind is not None:
-        kinds.append(kind)
-    if object_instance.show_particles and _has_path_hair(obj):
-        kinds.append("particle hair")
-    return kinds
-
-
-def _has_path_hair(obj):
-    # Particle systems of type Hair drawn as strands (Render As: Path); Object and
-    # Collection render types are instances, which the walk exports.
-    systems = getattr(obj, "particle_systems", ())
-    return any(
-        system.settings.type == "HAIR" and system.settings.render_type == "PATH"
-        for system in systems
-    )
+    return [] if kind is None else [kind]
 
 
 def unrendered_warnings(found):

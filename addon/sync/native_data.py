@@ -71,6 +71,16 @@ def native_light(native, light):
     return native.Light(**fields)
 
 
+def native_strands(native, data):
+    # export.curves.CurvesData or PointsData as a native.Mesh of no triangles.
+    mesh = native.Mesh(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32))
+    if hasattr(data, "counts"):
+        mesh.set_curves(data.keys, data.counts, data.slots, linear=data.linear)
+    else:
+        mesh.set_points(data.spheres, data.slots)
+    return mesh
+
+
 def native_mesh(native, mesh):
     # export.mesh.MeshData as a native.Mesh (a copy of its arrays).
     # The arrays shader programs read go only when some program reads them.

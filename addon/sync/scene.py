@@ -30,6 +30,7 @@ from types import SimpleNamespace
 import bpy
 import numpy as np
 
+from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.instance import instance_name
 from ..export.light import convert_light
 from ..export.material import convert_material
@@ -131,7 +132,7 @@ class SyncReport:
 
 @dataclass(frozen=True)
 class _Geometry:
-    has_triangles: bool
+    has_primitives: bool  # triangles, curves or points: something a ray can hit
     uv_map: str | None  # the UV map it was exported with
     sanitised: Sanitised
     needs: MeshNeeds = NO_NEEDS  # the UV sets, attributes and tangents it carries
@@ -333,7 +334,16 @@ class SceneSync:
                     self._sync_geometry(
                         object_instance, key, changes, in_place, report, warnings, params.motion
                     )
-                if self._geometry[key].has_triangles:
+                if self._geometry[key].has_primitives:
+                    instance = instance_data(object_instance, key, view_layer, self._info)
+                    instances[instance.name] = _with_motion(instance, params.motion)
+                role = _MESH
+            elif obj.type in STRAND_TYPES and not obj.original.hide_render:
+                key = keys.key(object_instance)
+                if key not in seen_geometry:
+                    seen_geometry.add(key)
+                    self._sync_strands(key, strands_data(obj, depsgraph.scene), report)
+                if self._geometry[key].has_primitives:
                     instance = instance_data(object_instance, key, view_layer, self._info)
                     instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
@@ -349,12 +359,27 @@ class SceneSync:
                 role = _LIGHT
             else:
                 role = _OTHER
+            if object_instance.show_particles and hair_systems(obj, render):
+                # Its particle hair: a geometry of its own, placed as the emitter is.
+                key = f"hair:{obj.original.name_full}"
+                if key not in seen_geometry:
+                    seen_geometry.add(key)
+                    self._sync_strands(
+                        key, particle_hair_data(obj, render, depsgraph.scene), report
+                    )
+                if self._geometry[key].has_primitives:
+                    # It moves as its emitter moves.
+                    emitter = instance_data(object_instance, key, view_layer, self._info)
+                    instance = replace(
+                        _with_motion(emitter, params.motion), name=f"{emitter.name} hair"
+                    )
+                    instances[instance.name] = instance
             if not object_instance.is_instance:
                 roles.setdefault(obj.original.name_full, role)
         warnings.extend(unrendered_warnings(unrendered))
         self._set_instances(instances, report, replace_all=True)
         for key in self._geometry.keys() - seen_geometry:
-            if self._geometry.pop(key).has_triangles:
+            if self._geometry.pop(key).has_primitives:
                 self.scene.remove_mesh(key)
                 report.removed += 1
         self._set_lights(lights, report, replace_all=True)
@@ -391,10 +416,22 @@ class SceneSync:
         if mesh is not None:
             self.scene.set_mesh(key, mesh)
             report.meshes += 1
-        elif known is not None and known.has_triangles:
+        elif known is not None and known.has_primitives:
             self.scene.remove_mesh(key)
             report.removed += 1
         self._geometry[key] = _Geometry(mesh is not None, uv_map, sanitised, needs)
+
+    def _sync_strands(self, key, data, report):
+        """Curves, points or particle hair (export/curves.py data, or None) as geometry
+        `key`: read in bulk, so set again at every walk."""
+        known = self._geometry.get(key)
+        if data is not None and len(data) > 0:
+            self.scene.set_mesh(key, native_data.native_strands(self._native, data))
+            report.meshes += 1
+        elif known is not None and known.has_primitives:
+            self.scene.remove_mesh(key)
+            report.removed += 1
+        self._geometry[key] = _Geometry(data is not None and len(data) > 0, None, Sanitised())
 
     def _update_objects(self, depsgraph, changes, params, report, warnings):
         """The objects listed in the updates, when each is a mesh shown as itself

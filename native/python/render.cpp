@@ -44,6 +44,8 @@ py::dict stats_dict(const RenderStats& s) {
   out["samples"] = s.samples;
   out["pixels"] = s.pixels;
   out["triangles"] = s.triangles;
+  out["curve_segments"] = s.curve_segments;
+  out["points"] = s.points;
   out["instances"] = s.instances;
   out["degenerate_instances"] = s.degenerate_instances;
   out["lights"] = s.lights;

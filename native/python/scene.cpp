@@ -174,9 +174,44 @@ void bind_scene(py::module_& m) {
           py::arg("steps"),
           "Deformation motion blur: its positions (float32[N,3] each, as the mesh's) at "
           "evenly spaced times from the shutter's opening to its closing.")
+      .def(
+          "set_curves",
+          [](Mesh& mesh, const FloatArray& keys, const UintArray& counts,
+             const std::optional<IntArray>& slots, bool linear) {
+            require_shape(keys, "keys", {-1, 4});
+            require_shape(counts, "counts", {-1});
+            if (slots) require_shape(*slots, "slots", {counts.shape(0)});
+            const int32_t* slot = slots ? slots->data() : nullptr;
+            py::gil_scoped_release release;
+            mesh.curves =
+                make_curves(keys.data(), static_cast<size_t>(keys.shape(0)), counts.data(),
+                            static_cast<size_t>(counts.shape(0)), slot, linear);
+          },
+          py::arg("keys"), py::arg("counts"), py::arg("slots") = py::none(),
+          py::arg("linear") = false,
+          "Strands (hair, curves) of the same object: keys float32[K,4] (x, y, z, radius, "
+          "object space), counts uint32[C] keys of each strand in order, slots int32[C] "
+          "material slot of each (None: slot 0). Traced as round Catmull-Rom tubes through "
+          "the keys, or with `linear` straight cones from key to key (round joints and "
+          "ends); strands of fewer than two keys are left out.")
+      .def(
+          "set_points",
+          [](Mesh& mesh, const FloatArray& spheres, const std::optional<IntArray>& slots) {
+            require_shape(spheres, "spheres", {-1, 4});
+            if (slots) require_shape(*slots, "slots", {spheres.shape(0)});
+            const int32_t* slot = slots ? slots->data() : nullptr;
+            py::gil_scoped_release release;
+            mesh.points = make_points(spheres.data(), static_cast<size_t>(spheres.shape(0)), slot);
+          },
+          py::arg("spheres"), py::arg("slots") = py::none(),
+          "Points (a point cloud) of the same object: spheres float32[P,4] (x, y, z, radius, "
+          "object space), slots int32[P] (None: slot 0).")
       .def_property_readonly("deforms", &Mesh::deforms)
       .def_property_readonly("vertex_count", &Mesh::vertex_count)
-      .def_property_readonly("triangle_count", &Mesh::triangle_count);
+      .def_property_readonly("triangle_count", &Mesh::triangle_count)
+      .def_property_readonly("curve_segment_count",
+                             [](const Mesh& mesh) { return mesh.curves.segment_count(); })
+      .def_property_readonly("point_count", [](const Mesh& mesh) { return mesh.points.count(); });
 
   py::class_<Scene>(m, "Scene",
                     "Meshes, instances, materials and lights keyed by name; setting a name "

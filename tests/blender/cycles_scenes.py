@@ -265,6 +265,18 @@ def set_cycles_direct_light(scene, samples=CYCLES_SAMPLES):
     cycles.filter_width = 0.01
 
 
+def box_filtered(scene, cycles_samples, whitted_samples):
+    """Both engines averaging over the pixel alike, for effects that spread samples over
+    it (the lens, the shutter, thin strands): Cycles at direct-light settings with
+    `cycles_samples` and a box filter one pixel wide, Whitted on a jittered grid of
+    `whitted_samples` per axis."""
+    set_cycles_direct_light(scene, samples=cycles_samples)
+    scene.cycles.pixel_filter_type = "BOX"
+    scene.cycles.filter_width = 1.0
+    scene.whitted.aa_mode = "JITTERED"
+    scene.whitted.aa_samples = whitted_samples
+
+
 def set_whitted_direct_light(scene):
     """Whitted: one sample at each pixel centre, no reflection or refraction rays."""
     scene.whitted.aa_samples = 1

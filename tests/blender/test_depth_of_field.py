@@ -8,7 +8,7 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
+from cycles_scenes import box_filtered, effect_figures, render_rgba, set_cycles_direct_light
 from whitted.export.camera import PINHOLE, convert_camera
 from whitted_tools.camera_scenes import balls_in_a_row
 
@@ -97,11 +97,7 @@ def test_a_polygonal_aperture_is_turned_as_cycles_turns_it(empty_scene, tmp_path
     dof.aperture_fstop = 0.05  # a 0.5 m radius: the bokeh ~20 pixels across
     dof.aperture_blades = 5
     dof.aperture_rotation = 0.3
-    set_cycles_direct_light(scene, samples=1024)
-    scene.cycles.pixel_filter_type = "BOX"
-    scene.cycles.filter_width = 1.0
-    scene.whitted.aa_mode = "JITTERED"
-    scene.whitted.aa_samples = 16
+    box_filtered(scene, cycles_samples=1024, whitted_samples=16)
     cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
     whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
     dof.aperture_rotation = 0.3 + math.pi / 5.0

@@ -1,6 +1,7 @@
 """Material export: the Principled BSDF (3.x and 4.x socket names), the other BSDFs,
 Mix Shader, textures as the mapping records them, and the Whitted override."""
 
+import math
 from dataclasses import dataclass, field
 
 import bpy
@@ -149,16 +150,42 @@ def test_reroute_between_shader_and_output_is_followed(warnings):
 
 def test_unsupported_shader_is_a_diffuse_of_its_colour_and_warns(warnings):
     # Not the viewport colour: the node's own colour input, as a Lambertian.
-    material = node_material("Hair")
+    material = node_material("Skin")
     material.diffuse_color = (0.3, 0.2, 0.1, 1.0)
-    shader = surface_shader(material, "ShaderNodeBsdfHair", Color=(0.6, 0.5, 0.4, 1.0))
+    kind = "ShaderNodeSubsurfaceScattering"
+    shader = surface_shader(material, kind, Color=(0.6, 0.5, 0.4, 1.0))
     data = convert(material, warnings)
     assert data.diffuse == pytest.approx((0.6, 0.5, 0.4))
     assert data.specular == (0.0, 0.0, 0.0)
     assert warnings == [
-        f"Whitted: material 'Hair', node '{shader.name}': shader 'ShaderNodeBsdfHair' is not "
+        f"Whitted: material 'Skin', node '{shader.name}': shader '{kind}' is not "
         "supported; approximated as a Diffuse BSDF of its 'Color'"
     ]
+
+
+def test_hair_shaders_are_the_diffuse_of_their_colour(warnings):
+    # Hair BSDF: its Color. Principled Hair: its Color, or the colour of the absorption
+    # its melanin or coefficient gives (export/nodes/shaders.py hair_colour).
+    material = node_material("Hair")
+    surface_shader(material, "ShaderNodeBsdfHair", Color=(0.6, 0.5, 0.4, 1.0))
+    assert convert(material, warnings).diffuse == pytest.approx((0.6, 0.5, 0.4))
+    assert "a Hair BSDF is approximated as a Lambertian diffuse" in warnings[0]
+    material = node_material("Auburn")
+    hair = surface_shader(material, "ShaderNodeBsdfHairPrincipled")
+    hair.parametrization = "MELANIN"
+    hair.inputs["Melanin"].default_value = 0.6
+    hair.inputs["Melanin Redness"].default_value = 0.8
+    red, green, blue = convert(material, warnings).diffuse
+    assert 0.0 < blue < green < red < 1.0  # reddish brown
+    # An absorption from a colour (Cycles' mapping) gives that colour back.
+    from whitted.export.nodes.shaders import HAIR_POLYNOMIAL, hair_colour
+
+    r = 0.3
+    poly = sum(c * r**k for k, c in enumerate(HAIR_POLYNOMIAL))
+    colour = (0.5, 0.3, 0.1)
+    sigma = tuple((math.log(c) / poly) ** 2 for c in colour)
+    back = hair_colour("ABSORPTION", {"Absorption Coefficient": sigma, "Radial Roughness": r})
+    assert back == pytest.approx(colour, rel=1e-6)
 
 
 def test_no_surface_shader_renders_black(warnings):
@@ -608,12 +635,12 @@ def test_mix_factor_from_image_alpha_over_transparent_is_an_alpha_texture(warnin
 def test_unsupported_node_in_both_mix_inputs_warns_once(warnings):
     material = node_material("Twice")
     mix, hair, _ = mix_shader(
-        material, 0.5, ("ShaderNodeBsdfHair", {}), ("ShaderNodeBsdfDiffuse", {})
+        material, 0.5, ("ShaderNodeSubsurfaceScattering", {}), ("ShaderNodeBsdfDiffuse", {})
     )
     material.node_tree.links.new(hair.outputs[0], mix.inputs[2])
     convert(material, warnings)
     assert len(warnings) == 1
-    assert "ShaderNodeBsdfHair" in warnings[0]
+    assert "ShaderNodeSubsurfaceScattering" in warnings[0]
 
 
 def test_empty_mix_input_is_black(warnings):

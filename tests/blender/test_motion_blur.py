@@ -9,7 +9,7 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
+from cycles_scenes import box_filtered, effect_figures, render_rgba, set_cycles_direct_light
 from whitted_tools.camera_scenes import cube_crossing, linear_keys
 from whitted_tools.material_scenes import (
     add_camera,
@@ -25,12 +25,8 @@ def _compare(scene, tmp_path, label):
     """Whitted's blurred and sharp frames against Cycles': ((SSIM, ratio) blurred, SSIM
     sharp, mean difference blurred, mean difference sharp), printed under `label`; the
     blurred frame rendered last (its statistics are the file's)."""
-    set_cycles_direct_light(scene, samples=256)
-    scene.cycles.pixel_filter_type = "BOX"  # over the pixel, as Whitted's grid
-    scene.cycles.filter_width = 1.0
+    box_filtered(scene, cycles_samples=256, whitted_samples=8)
     scene.cycles.light_sampling_threshold = 0.0
-    scene.whitted.aa_mode = "JITTERED"
-    scene.whitted.aa_samples = 8
     cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
     blurred = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
     scene.render.use_motion_blur = False
@@ -142,11 +138,7 @@ def test_the_shutter_curve_and_a_rolling_shutter_as_cycles(empty_scene, tmp_path
     # weigh more: the streak brightens towards its end), or read from the top row down
     # over the shutter (Cycles' rolling shutter, Duration 0.1: the cube leans).
     cube_crossing(empty_scene)
-    set_cycles_direct_light(empty_scene, samples=256)
-    empty_scene.cycles.pixel_filter_type = "BOX"
-    empty_scene.cycles.filter_width = 1.0
-    empty_scene.whitted.aa_mode = "JITTERED"
-    empty_scene.whitted.aa_samples = 8
+    box_filtered(empty_scene, cycles_samples=256, whitted_samples=8)
     mapping = empty_scene.render.motion_blur_shutter_curve
     points = mapping.curves[0].points
 

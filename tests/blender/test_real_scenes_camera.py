@@ -9,7 +9,7 @@ from pathlib import Path
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
+from cycles_scenes import box_filtered, effect_figures, render_rgba
 from mathutils import Vector
 from whitted_tools.camera_scenes import linear_keys
 
@@ -49,11 +49,7 @@ def _set_up(path):
         linear_keys(obj)
     scene.frame_set(1)
     scene.render.use_motion_blur = True
-    set_cycles_direct_light(scene, samples=256)
-    scene.cycles.filter_width = 1.0
-    scene.cycles.pixel_filter_type = "BOX"
-    scene.whitted.aa_mode = "JITTERED"
-    scene.whitted.aa_samples = 8
+    box_filtered(scene, cycles_samples=256, whitted_samples=8)
     return scene
 
 

@@ -119,8 +119,9 @@ def background_world(name, color, strength=1.0):
     return world
 
 
-def ico_sphere_on_points(name, radius=1.0, subdivisions=1):
-    """A geometry-nodes tree that puts an ico sphere on every point of its input."""
+def geometry_nodes_tree(name):
+    """(an empty geometry-nodes tree with a Geometry input and output, its Group Input
+    node, its Group Output node)."""
     tree = bpy.data.node_groups.new(name, "GeometryNodeTree")
     if hasattr(tree, "interface"):  # Blender 4.0+
         tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
@@ -128,8 +129,12 @@ def ico_sphere_on_points(name, radius=1.0, subdivisions=1):
     else:
         tree.inputs.new("NodeSocketGeometry", "Geometry")
         tree.outputs.new("NodeSocketGeometry", "Geometry")
-    group_input = tree.nodes.new("NodeGroupInput")
-    group_output = tree.nodes.new("NodeGroupOutput")
+    return tree, tree.nodes.new("NodeGroupInput"), tree.nodes.new("NodeGroupOutput")
+
+
+def ico_sphere_on_points(name, radius=1.0, subdivisions=1):
+    """A geometry-nodes tree that puts an ico sphere on every point of its input."""
+    tree, group_input, group_output = geometry_nodes_tree(name)
     instance_on_points = tree.nodes.new("GeometryNodeInstanceOnPoints")
     ico_sphere = tree.nodes.new("GeometryNodeMeshIcoSphere")
     ico_sphere.inputs["Radius"].default_value = radius

@@ -20,6 +20,7 @@ For closures of coverage 1 and a constant factor this is exactly the previous
 mapping's blend of the Whitted parameters.
 """
 
+import math
 from dataclasses import dataclass, replace
 
 from . import ops
@@ -825,6 +826,67 @@ def _add_shader(s, out):
     return s.add(first, second, out.node)
 
 
+# Hair's absorption (Principled Hair BSDF): the coefficients per unit of eumelanin and
+# of pheomelanin (d'Eon et al. 2011, as Cycles uses them), and the polynomial in Radial
+# Roughness r by which Cycles turns a colour into an absorption, sigma = (ln(colour) /
+# poly(r))^2 (Chiang et al. 2016); its inverse gives the colour of an absorption.
+EUMELANIN = (0.506, 0.841, 1.653)
+PHEOMELANIN = (0.343, 0.733, 1.924)
+HAIR_POLYNOMIAL = (5.969, -0.215, 2.532, -10.73, 5.574, 0.245)
+
+
+def _hair_poly(r):
+    return sum(c * r**k for k, c in enumerate(HAIR_POLYNOMIAL))
+
+
+def hair_colour(parametrization, values):
+    """The colour a Principled Hair BSDF of `parametrization` (COLOR, MELANIN or
+    ABSORPTION) looks, from its input values (name -> constant): its Color, or the colour
+    whose absorption Cycles would take for its melanin (with Tint) or its Absorption
+    Coefficient, exp(-sqrt(sigma) poly(r))."""
+    if parametrization == "COLOR":
+        return tuple(values["Color"][:3])
+    r = values["Radial Roughness"]
+    if parametrization == "MELANIN":
+        amount = -math.log(max(1.0 - values["Melanin"], 1e-4))
+        redness = values["Melanin Redness"]
+        tint = [max(c, 1e-4) for c in values["Tint"][:3]]
+        sigma = [
+            amount * ((1.0 - redness) * e + redness * p) + (math.log(t) / _hair_poly(r)) ** 2
+            for e, p, t in zip(EUMELANIN, PHEOMELANIN, tint, strict=True)
+        ]
+    else:
+        sigma = [max(c, 0.0) for c in values["Absorption Coefficient"][:3]]
+    return tuple(math.exp(-math.sqrt(c) * _hair_poly(r)) for c in sigma)
+
+
+def _principled_hair(s, out):
+    node = out.node
+    parametrization = getattr(node, "parametrization", "COLOR")
+    if parametrization == "COLOR":
+        s.c.warn(
+            node, "a Principled Hair BSDF is approximated as a Lambertian diffuse of its Color"
+        )
+        return s.closure(diffuse=s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0)))
+    names = ("Melanin", "Melanin Redness", "Tint", "Absorption Coefficient", "Radial Roughness")
+    values = {}
+    for name in names:
+        socket = node.inputs.get(name)
+        if socket is None:
+            continue
+        if source(socket, out.scope)[0] is not None:
+            s.c.warn(node, f"input '{name}' is linked; Whitted uses its unlinked value")
+        value = socket.default_value
+        values[name] = tuple(value) if hasattr(value, "__len__") else float(value)
+    s.c.warn(
+        node,
+        f"a Principled Hair BSDF ({parametrization.lower()}) is approximated as a Lambertian "
+        "diffuse of the colour of its absorption",
+    )
+    colour = hair_colour(parametrization, values)
+    return s.closure(diffuse=s.b.const((*colour, 1.0), COLOR))
+
+
 _GLOSSY = (_glossy, {"Color", "Roughness", "Anisotropy", "Normal", "Weight"})
 _SHADERS = {
     "ShaderNodeBsdfPrincipled": (_principled, PRINCIPLED_READ | {"Weight"}),
@@ -842,6 +904,13 @@ _SHADERS = {
     "ShaderNodeBsdfVelvet": (_velvet, {"Color", "Sigma", "Normal", "Weight"}),
     "ShaderNodeBsdfSheen": (_velvet, {"Color", "Roughness", "Normal", "Weight"}),
     "ShaderNodeBsdfToon": (_toon, {"Color", "Size", "Smooth", "Normal", "Weight"}),
+    # Hair: its colour on a Lambertian diffuse (docs/SUPPORT.md).
+    "ShaderNodeBsdfHairPrincipled": (
+        _principled_hair,
+        {"Color", "Melanin", "Melanin Redness", "Tint", "Absorption Coefficient"}
+        | {"Radial Roughness", "Weight"},
+    ),
+    "ShaderNodeBsdfHair": (_lambert_of_color("a Hair BSDF"), {"Color", "Weight"}),
     "ShaderNodeEmission": (_emission, {"Color", "Strength", "Weight"}),
     "ShaderNodeHoldout": (_holdout, {"Weight"}),
     "ShaderNodeMixShader": (_mix_shader, {"Fac", "Factor", "Shader"}),

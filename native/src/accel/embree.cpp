@@ -106,26 +106,59 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
   // Robust mode: watertight-leaning intersectors, so rays do not slip through shared edges.
   rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-  RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
-  // Shared buffers: Embree reads the mesh's own arrays (positions are padded by one float).
-  if (mesh.deforms()) {
-    // Deformation motion blur: one vertex buffer per time step, blended at the ray's time.
-    const auto steps = static_cast<unsigned>(mesh.motion_positions.size());
-    rtcSetGeometryTimeStepCount(geometry, steps);
-    for (unsigned step = 0; step < steps; ++step) {
-      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
-                                 mesh.motion_positions[step].data(), 0, 3 * sizeof(float),
-                                 mesh.vertex_count());
+  if (mesh.triangle_count() > 0) {
+    RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Shared buffers: Embree reads the mesh's own arrays (positions are padded by one float).
+    if (mesh.deforms()) {
+      // Deformation motion blur: one vertex buffer per time step, blended at the ray's time.
+      const auto steps = static_cast<unsigned>(mesh.motion_positions.size());
+      rtcSetGeometryTimeStepCount(geometry, steps);
+      for (unsigned step = 0; step < steps; ++step) {
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
+                                   mesh.motion_positions[step].data(), 0, 3 * sizeof(float),
+                                   mesh.vertex_count());
+      }
+    } else {
+      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                 mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
     }
-  } else {
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                               mesh.positions.data(), 0, 3 * sizeof(float), mesh.vertex_count());
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               mesh.triangles.data(), 0, 3 * sizeof(uint32_t),
+                               mesh.triangle_count());
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(scene, geometry, kTriangleGeometry);
+    rtcReleaseGeometry(geometry);  // the scene holds its own reference
   }
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                             mesh.triangles.data(), 0, 3 * sizeof(uint32_t), mesh.triangle_count());
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometryByID(scene, geometry, 0);
-  rtcReleaseGeometry(geometry);  // the scene holds its own reference
+  if (mesh.curves.segment_count() > 0) {
+    // Round curves through the keys (x, y, z, radius): Catmull-Rom (Cycles' Thick), or
+    // linear (Thick Linear).
+    RTCGeometry curves =
+        rtcNewGeometry(d, mesh.curves.linear ? RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE
+                                             : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    rtcSetSharedGeometryBuffer(curves, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                               mesh.curves.keys.data(), 0, 4 * sizeof(float),
+                               mesh.curves.keys.size() / 4);
+    rtcSetSharedGeometryBuffer(curves, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT,
+                               mesh.curves.segments.data(), 0, sizeof(uint32_t),
+                               mesh.curves.segment_count());
+    rtcCommitGeometry(curves);
+    rtcAttachGeometryByID(scene, curves, kCurveGeometry);
+    rtcReleaseGeometry(curves);
+  }
+  if (mesh.points.count() > 0) {
+    RTCGeometry points = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    rtcSetSharedGeometryBuffer(points, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                               mesh.points.spheres.data(), 0, 4 * sizeof(float),
+                               mesh.points.count());
+    rtcCommitGeometry(points);
+    rtcAttachGeometryByID(scene, points, kPointGeometry);
+    rtcReleaseGeometry(points);
+  }
+  // Hits number a mesh's primitives in one space: triangles, then segments, then points.
+  base_[kTriangleGeometry] = 0;
+  base_[kCurveGeometry] = static_cast<uint32_t>(mesh.triangle_count());
+  base_[kPointGeometry] =
+      static_cast<uint32_t>(mesh.triangle_count() + mesh.curves.segment_count());
   rtcCommitScene(scene);
   scene_ = scene;
   device_->check("building a mesh BVH");
@@ -189,7 +222,7 @@ bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
   hit->instance = rh.hit.instID[0];
-  hit->primitive = rh.hit.primID;
+  hit->primitive = meshes_[hit->instance]->primitive(rh.hit.geomID, rh.hit.primID);
   return true;
 }
 
@@ -230,7 +263,8 @@ void to_embree_packet(const Ray* rays, int count, Packet* packet, int* valid) {
 
 // The first hits of up to K rays as one Embree packet (RTCRayHit4, 8 or 16).
 template <int K, class PacketHit, class Intersect>
-void intersect_k(RTCScene scene, const Ray* rays, int count, Hit* hits, Intersect intersect) {
+void intersect_k(RTCScene scene, const std::vector<std::shared_ptr<const MeshAccel>>& meshes,
+                 const Ray* rays, int count, Hit* hits, Intersect intersect) {
   alignas(64) int valid[K];
   PacketHit rh;
   to_embree_packet<K>(rays, count, &rh.ray, valid);
@@ -249,7 +283,7 @@ void intersect_k(RTCScene scene, const Ray* rays, int count, Hit* hits, Intersec
     hits[i].u = rh.hit.u[i];
     hits[i].v = rh.hit.v[i];
     hits[i].instance = rh.hit.instID[0][i];
-    hits[i].primitive = rh.hit.primID[i];
+    hits[i].primitive = meshes[hits[i].instance]->primitive(rh.hit.geomID[i], rh.hit.primID[i]);
   }
 }
 
@@ -260,11 +294,11 @@ void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
   // The narrowest packet that holds them: in a wider one the idle lanes would go through
   // every node test.
   if (count <= 4) {
-    intersect_k<4, RTCRayHit4>(as_scene(scene_), rays, count, hits, rtcIntersect4);
+    intersect_k<4, RTCRayHit4>(as_scene(scene_), meshes_, rays, count, hits, rtcIntersect4);
   } else if (count <= 8) {
-    intersect_k<8, RTCRayHit8>(as_scene(scene_), rays, count, hits, rtcIntersect8);
+    intersect_k<8, RTCRayHit8>(as_scene(scene_), meshes_, rays, count, hits, rtcIntersect8);
   } else {
-    intersect_k<16, RTCRayHit16>(as_scene(scene_), rays, count, hits, rtcIntersect16);
+    intersect_k<16, RTCRayHit16>(as_scene(scene_), meshes_, rays, count, hits, rtcIntersect16);
   }
 }
 

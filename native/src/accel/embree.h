@@ -18,10 +18,12 @@ namespace whitted {
 
 struct Hit {
   float t = kInfinity;  // infinite: no hit
-  float u = 0.0f;       // barycentric weight of vertex 1
-  float v = 0.0f;       // barycentric weight of vertex 2
+  // On a triangle, the barycentric weights of its vertices 1 and 2; on a curve segment, u
+  // is the way along it (0 to 1); on a point, nothing.
+  float u = 0.0f;
+  float v = 0.0f;
   uint32_t instance = 0;
-  uint32_t primitive = 0;
+  uint32_t primitive = 0;  // in the mesh's one index space (Mesh::kind)
 };
 
 // An Embree device with its own error state; one per Scene (no globals).
@@ -47,7 +49,8 @@ class AccelDevice {
   mutable ErrorMessage error_;
 };
 
-// A BVH over one mesh, in object space. Shares the mesh's arrays (the mesh must outlive it).
+// A BVH over one mesh, in object space: its triangles, curves and points, each an Embree
+// geometry of its own. Shares the mesh's arrays (the mesh must outlive it).
 class MeshAccel {
  public:
   MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh);
@@ -55,10 +58,18 @@ class MeshAccel {
   MeshAccel(const MeshAccel&) = delete;
   MeshAccel& operator=(const MeshAccel&) = delete;
   void* handle() const { return scene_; }
+  // The mesh's primitive index (Mesh::kind) of Embree's primitive `id` of geometry
+  // `geometry`.
+  uint32_t primitive(uint32_t geometry, uint32_t id) const { return base_[geometry] + id; }
+
+  static constexpr uint32_t kTriangleGeometry = 0;
+  static constexpr uint32_t kCurveGeometry = 1;
+  static constexpr uint32_t kPointGeometry = 2;
 
  private:
   std::shared_ptr<AccelDevice> device_;
   void* scene_ = nullptr;
+  uint32_t base_[3] = {0, 0, 0};  // by geometry: where its primitives start
 };
 
 // One query as the integrator made it: a closest-hit or an any-hit (occlusion) ray.

@@ -75,6 +75,10 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
 
 void RenderJob::describe_scene() {
   stats_.triangles = scene_->triangle_count();
+  for (const CompiledScene::Instance& instance : scene_->instances) {
+    stats_.curve_segments += instance.mesh->mesh.curves.segment_count();
+    stats_.points += instance.mesh->mesh.points.count();
+  }
   stats_.instances = scene_->instances.size();
   stats_.degenerate_instances = scene_->degenerate_instances;
   stats_.lights = scene_->lights.size();

@@ -31,6 +31,8 @@ struct RenderStats {
   uint64_t samples = 0;  // camera samples taken
   uint64_t pixels = 0;   // pixels finished (their last pass done)
   size_t triangles = 0;
+  size_t curve_segments = 0;  // of hair and curves
+  size_t points = 0;          // of point clouds
   size_t instances = 0;
   size_t degenerate_instances = 0;  // left out: (near) zero scale
   size_t lights = 0;

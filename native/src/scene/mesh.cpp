@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -21,16 +22,90 @@ std::vector<float> finite_copy(const float* values, size_t count) {
 }  // namespace
 
 Sphere bounding_sphere(const Mesh& mesh) {
-  const size_t n = mesh.vertex_count();
-  if (n == 0) return {};
-  Vec3 lower = mesh.vertex(0);
-  Vec3 upper = lower;
-  for (size_t i = 1; i < n; ++i) {
-    const Vec3 v = mesh.vertex(static_cast<uint32_t>(i));
-    lower = glm::min(lower, v);
-    upper = glm::max(upper, v);
-  }
+  Vec3 lower(std::numeric_limits<float>::max());
+  Vec3 upper(-std::numeric_limits<float>::max());
+  bool any = false;
+  const auto grow = [&](const Vec3& v, float radius) {
+    lower = glm::min(lower, v - radius);
+    upper = glm::max(upper, v + radius);
+    any = true;
+  };
+  for (size_t i = 0; i < mesh.vertex_count(); ++i)
+    grow(mesh.vertex(static_cast<uint32_t>(i)), 0.0f);
+  // A key's or a point's sphere (a Catmull-Rom curve stays within its keys' hull).
+  const auto spheres = [&](const std::vector<float>& xyzr) {
+    for (size_t i = 0; i + 3 < xyzr.size(); i += 4) {
+      grow(Vec3(xyzr[i], xyzr[i + 1], xyzr[i + 2]), xyzr[i + 3]);
+    }
+  };
+  spheres(mesh.curves.keys);
+  spheres(mesh.points.spheres);
+  if (!any) return {};
   return {0.5f * (lower + upper), 0.5f * glm::length(upper - lower)};
+}
+
+namespace {
+
+// A radius as Embree may take it: finite and not negative.
+float usable_radius(float r) {
+  return std::isfinite(r) && r > 0.0f ? r : 0.0f;
+}
+
+void require_finite_position(const float* xyz, const char* what, size_t index) {
+  if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])) {
+    throw std::invalid_argument(std::string(what) + " " + std::to_string(index) +
+                                " has a coordinate that is NaN or infinite");
+  }
+}
+
+}  // namespace
+
+Curves make_curves(const float* keys, size_t key_count, const uint32_t* counts, size_t strand_count,
+                   const int32_t* slots, bool linear) {
+  Curves out;
+  out.linear = linear;
+  // Catmull-Rom segments read a key before and after theirs: the ends are doubled.
+  const size_t doubled = linear ? 0 : 1;
+  size_t first = 0;
+  for (size_t c = 0; c < strand_count; ++c) {
+    const size_t n = counts[c];
+    if (first + n > key_count) {
+      throw std::invalid_argument("strand " + std::to_string(c) + " reads past the " +
+                                  std::to_string(key_count) + " keys");
+    }
+    if (n >= 2) {
+      // Its keys, the first and the last twice: segment j reads keys j .. j + 3 of these.
+      const auto start = static_cast<uint32_t>(out.keys.size() / 4);
+      for (size_t k = 0; k < n + 2 * doubled; ++k) {
+        const size_t key = first + std::clamp<size_t>(k, doubled, n - 1 + doubled) - doubled;
+        const float* xyzr = keys + 4 * key;
+        require_finite_position(xyzr, "strand", c);
+        out.keys.insert(out.keys.end(), {xyzr[0], xyzr[1], xyzr[2], usable_radius(xyzr[3])});
+      }
+      for (size_t j = 0; j + 1 < n; ++j) {
+        out.segments.push_back(start + static_cast<uint32_t>(j));
+        if (slots != nullptr) out.slots.push_back(std::max(slots[c], 0));
+      }
+    }
+    first += n;
+  }
+  if (out.keys.size() / 4 > UINT32_MAX) throw std::invalid_argument("too many curve keys");
+  return out;
+}
+
+Points make_points(const float* spheres, size_t count, const int32_t* slots) {
+  Points out;
+  out.spheres.reserve(4 * count);
+  for (size_t i = 0; i < count; ++i) {
+    const float* xyzr = spheres + 4 * i;
+    require_finite_position(xyzr, "point", i);
+    out.spheres.insert(out.spheres.end(), {xyzr[0], xyzr[1], xyzr[2], usable_radius(xyzr[3])});
+  }
+  if (slots != nullptr) {
+    out.slots.assign(slots, slots + count);
+    for (int32_t& s : out.slots) s = std::max(s, 0);
+  }
+  return out;
 }
 
 Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* triangles,

@@ -9,6 +9,30 @@
 
 namespace whitted {
 
+// Strands (hair, curves), traced as round tubes of the radius each key gives: Catmull-Rom
+// curves through their keys (Embree's round curves; Cycles' Thick), each strand's first
+// and last keys doubled so that a segment, which reads four keys, ends at them; or, when
+// `linear`, straight cones from key to key with round joints and ends (Cycles 5.x's Thick
+// Linear, which it takes for poly curves). A segment is the index of its first key.
+struct Curves {
+  std::vector<float> keys;         // x, y, z, radius per key (object space)
+  std::vector<uint32_t> segments;  // the first key of each segment
+  std::vector<int32_t> slots;      // material slot of each segment, or empty for slot 0
+  bool linear = false;
+  size_t segment_count() const { return segments.size(); }
+};
+
+// Points (a point cloud): spheres of a radius each.
+struct Points {
+  std::vector<float> spheres;  // x, y, z, radius per point (object space)
+  std::vector<int32_t> slots;  // material slot of each point, or empty for slot 0
+  size_t count() const { return spheres.size() / 4; }
+};
+
+// What a primitive index of a mesh is: its triangles come first, then its curves'
+// segments, then its points (one index space, as the hits Embree reports are numbered).
+enum class PrimitiveKind { kTriangle, kCurve, kPoint };
+
 struct Mesh {
   std::vector<float> positions;     // 3 per vertex, plus one float of padding Embree reads
   std::vector<uint32_t> triangles;  // 3 vertex indices per triangle
@@ -33,8 +57,20 @@ struct Mesh {
   // it does not deform. Embree blends neighbouring steps linearly, as vertex_at does.
   std::vector<std::vector<float>> motion_positions;
 
+  Curves curves;  // strands of the same object (its hair, a Curves object's)
+  Points points;  // spheres of the same object (a point cloud)
+
   size_t vertex_count() const { return positions.size() / 3; }  // the padding float rounds off
   size_t triangle_count() const { return triangles.size() / 3; }
+  // Triangles, curve segments and points: what a ray can hit.
+  size_t primitive_count() const {
+    return triangle_count() + curves.segment_count() + points.count();
+  }
+  PrimitiveKind kind(uint32_t primitive) const {
+    if (primitive < triangle_count()) return PrimitiveKind::kTriangle;
+    return primitive < triangle_count() + curves.segment_count() ? PrimitiveKind::kCurve
+                                                                 : PrimitiveKind::kPoint;
+  }
   Vec3 vertex(uint32_t i) const {
     return {positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
   }
@@ -54,7 +90,16 @@ struct Mesh {
   // the mesh is flat.
   // The material slot of triangle `primitive`.
   size_t slot(uint32_t primitive) const {
-    return material_slots.empty() ? 0 : static_cast<size_t>(material_slots[primitive]);
+    const size_t triangles_end = triangle_count();
+    if (primitive < triangles_end) {
+      return material_slots.empty() ? 0 : static_cast<size_t>(material_slots[primitive]);
+    }
+    const size_t curves_end = triangles_end + curves.segment_count();
+    if (primitive < curves_end) {
+      return curves.slots.empty() ? 0
+                                  : static_cast<size_t>(curves.slots[primitive - triangles_end]);
+    }
+    return points.slots.empty() ? 0 : static_cast<size_t>(points.slots[primitive - curves_end]);
   }
   bool corner_normals(uint32_t primitive, Vec3* n0, Vec3* n1, Vec3* n2) const {
     if (!normals.empty()) {
@@ -102,6 +147,17 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
                size_t triangle_count, const float* normals, const int32_t* material_slots,
                const float* uvs = nullptr, const float* vertex_normals = nullptr,
                const CornerLayers& layers = {});
+
+// Curves from `keys` (x, y, z, radius each) of strands of `counts[i]` keys each, in
+// order, and a material slot per strand (null: slot 0); Catmull-Rom or `linear`. Strands of fewer
+// than two keys are left out; a negative or non-finite radius is 0 (a strand with a non-finite
+// position throws std::invalid_argument, naming it).
+Curves make_curves(const float* keys, size_t key_count, const uint32_t* counts, size_t strand_count,
+                   const int32_t* slots, bool linear = false);
+// Points from `spheres` (x, y, z, radius each) and a slot per point (null: slot 0); a
+// negative or non-finite radius is 0 (such a point is invisible), a non-finite position
+// throws std::invalid_argument.
+Points make_points(const float* spheres, size_t count, const int32_t* slots);
 
 // Blender's smooth vertex normals of a polygon mesh: at each vertex, the sum of the face
 // normals around it, each weighted by the face's corner angle there, normalised (a vertex

@@ -78,6 +78,7 @@ Color emitted(const CompiledScene& scene, const EmissiveTriangle& triangle,
 std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) {
   auto out = std::make_shared<MeshLights>();
   out->first_.assign(scene.instances.size(), -1);
+  out->triangles_of_.assign(scene.instances.size(), 0);
   std::vector<double> power;
   // Programs may read the camera; at build time there is none: a default one stands in
   // (only the power estimate reads it, never a pixel).
@@ -92,6 +93,7 @@ std::shared_ptr<const MeshLights> MeshLights::build(const CompiledScene& scene) 
     if (!any) continue;
     const Mesh& mesh = instance.mesh->mesh;
     const size_t count = mesh.triangle_count();
+    out->triangles_of_[i] = static_cast<uint32_t>(count);
     const auto first = static_cast<int64_t>(out->lookup_.size());
     out->lookup_.resize(out->lookup_.size() + count, -1);
     const size_t before = out->triangles_.size();
@@ -182,6 +184,8 @@ EmissiveTriangle MeshLights::at(const CompiledScene& scene, uint32_t index, floa
 
 int32_t MeshLights::find(uint32_t instance, uint32_t primitive) const {
   if (instance >= first_.size() || first_[instance] < 0) return -1;
+  // Past its triangles (a curve or a point of the same mesh): not sampled.
+  if (primitive >= triangles_of_[instance]) return -1;
   return lookup_[static_cast<size_t>(first_[instance]) + primitive];
 }
 

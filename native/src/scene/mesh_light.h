@@ -78,7 +78,8 @@ class MeshLights {
   std::vector<float> cdf_;  // cdf_[i]: the probability of triangles 0..i; the last is 1
   // By instance: where its primitives start in `lookup_` (-1: none emit).
   std::vector<int64_t> first_;
-  std::vector<int32_t> lookup_;  // primitive -> triangle index, or -1
+  std::vector<int32_t> lookup_;         // primitive -> triangle index, or -1
+  std::vector<uint32_t> triangles_of_;  // by instance: its mesh's triangle count
   size_t objects_ = 0;
   bool moves_ = false;  // whether an emitting instance moves or deforms within the shutter
 };

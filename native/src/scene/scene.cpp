@@ -326,7 +326,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
       }
       out.materials.push_back(found->second);
     }
-    if (out.mesh->mesh.triangle_count() == 0) continue;  // nothing to hit
+    if (out.mesh->mesh.primitive_count() == 0) continue;  // nothing to hit
     if (!safely_invertible(instance.to_world)) {
       compiled->degenerate_instances += 1;
       continue;
@@ -372,6 +372,103 @@ size_t CompiledScene::triangle_count() const {
   return n;
 }
 
+namespace {
+
+// The centre and radius of a Catmull-Rom segment through keys k0..k3 (x, y, z, radius) at
+// u in [0, 1] (the uniform Catmull-Rom basis, as Embree evaluates it), and its tangent.
+struct CurvePoint {
+  Vec3 centre;
+  Vec3 tangent;
+  float radius;
+};
+CurvePoint catmull_rom(const float* k, float u) {
+  const float u2 = u * u, u3 = u2 * u;
+  // Weights of the four keys and their derivatives.
+  const float w[4] = {0.5f * (-u3 + 2.0f * u2 - u), 0.5f * (3.0f * u3 - 5.0f * u2 + 2.0f),
+                      0.5f * (-3.0f * u3 + 4.0f * u2 + u), 0.5f * (u3 - u2)};
+  const float d[4] = {0.5f * (-3.0f * u2 + 4.0f * u - 1.0f), 0.5f * (9.0f * u2 - 10.0f * u),
+                      0.5f * (-9.0f * u2 + 8.0f * u + 1.0f), 0.5f * (3.0f * u2 - 2.0f * u)};
+  CurvePoint out{Vec3(0.0f), Vec3(0.0f), 0.0f};
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 key(k[4 * i], k[4 * i + 1], k[4 * i + 2]);
+    out.centre += w[i] * key;
+    out.tangent += d[i] * key;
+    out.radius += w[i] * k[4 * i + 3];
+  }
+  return out;
+}
+
+}  // namespace
+
+void CompiledScene::identify(const Ray& ray, const Hit& hit, const Vec3& local,
+                             Interaction* out) const {
+  const uint32_t material = material_index(hit.instance, hit.primitive);
+  out->material = &materials[material];
+  out->material_index = material;
+  out->holdout = instances[hit.instance].holdout;
+  out->instance = hit.instance;
+  out->primitive = hit.primitive;
+  out->local_position = local;
+  out->barycentric = glm::vec2(hit.u, hit.v);
+  out->time = ray.time;
+}
+
+// A hit on a curve segment or a point: round surfaces, whose normal points from the axis
+// (or the centre) to the hit. The point is where the ray says (origin + t direction):
+// Embree's curve intersection is iterative and finds it within a small share of the
+// radius, so the offset that keeps secondary rays off the surface allows for 1e-3 of it
+// besides float rounding. Shading normal = geometric normal; no UVs or corner layers.
+Interaction CompiledScene::round_interaction(const Ray& ray, const Hit& hit,
+                                             const Placement& at) const {
+  const Instance& instance = instances[hit.instance];
+  const Mesh& mesh = instance.mesh->mesh;
+  Interaction out;
+  out.position = ray.origin + hit.t * ray.direction;
+  // Object space by the inverse of the linear part (the transpose of the normal matrix).
+  const Vec3 local = glm::transpose(at.normal_to_world) * (out.position - Vec3(at.to_world[3]));
+  Vec3 normal_local(0.0f);
+  float radius = 0.0f;
+  const auto index = static_cast<size_t>(hit.primitive);
+  if (mesh.kind(hit.primitive) == PrimitiveKind::kCurve) {
+    const size_t segment = index - mesh.triangle_count();
+    const float* keys = &mesh.curves.keys[4 * size_t{mesh.curves.segments[segment]}];
+    if (mesh.curves.linear) {
+      // A cone from key to key with round joints: the normal from the nearest axis point
+      // (u, clamped to the segment, gives it on the joints' spheres too).
+      const float u = std::clamp(hit.u, 0.0f, 1.0f);
+      const Vec3 a(keys[0], keys[1], keys[2]), b(keys[4], keys[5], keys[6]);
+      normal_local = local - ((1.0f - u) * a + u * b);
+      radius = (1.0f - u) * keys[3] + u * keys[7];
+    } else {
+      const CurvePoint c = catmull_rom(keys, hit.u);
+      const float tangent_length2 = glm::dot(c.tangent, c.tangent);
+      normal_local = local - c.centre;
+      if (tangent_length2 > 0.0f) {
+        normal_local -= glm::dot(normal_local, c.tangent) / tangent_length2 * c.tangent;
+      }
+      radius = c.radius;
+    }
+  } else {
+    const float* sphere =
+        &mesh.points.spheres[4 * (index - mesh.triangle_count() - mesh.curves.segment_count())];
+    normal_local = local - Vec3(sphere[0], sphere[1], sphere[2]);
+    radius = sphere[3];
+  }
+  const Vec3 ng = at.normal_to_world * normal_local;
+  const float ng_length = glm::length(ng);
+  out.geometric_normal =
+      ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
+  out.shading_normal = out.geometric_normal;
+  // Rounding of o + t d, and the intersector's own tolerance, in world units.
+  const float scale =
+      max_component(glm::abs(ray.origin)) + hit.t * max_component(glm::abs(ray.direction));
+  const float world_radius = radius * max_component(at.abs_linear * Vec3(1.0f));
+  out.position_error = Vec3(gamma(8) * scale + 1e-3f * world_radius);
+  out.shadow_origin = out.position;
+  identify(ray, hit, local, &out);
+  return out;
+}
+
 Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   const Instance& instance = instances[hit.instance];
   const Mesh& mesh = instance.mesh->mesh;
@@ -379,6 +476,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
   Placement moved;
   if (instance.motion) moved = Placement::of(instance.motion->at(ray.time));
   const Placement& at = instance.motion ? moved : instance.placement;
+  if (mesh.kind(hit.primitive) != PrimitiveKind::kTriangle) return round_interaction(ray, hit, at);
   const uint32_t* tri = &mesh.triangles[3 * size_t{hit.primitive}];
   // A deforming mesh's triangle where the ray's time puts it.
   const Vec3 p0 = mesh.vertex_at(tri[0], ray.time);
@@ -427,15 +525,7 @@ Interaction CompiledScene::interaction(const Ray& ray, const Hit& hit) const {
       if (is_finite(world_lifted)) out.shadow_origin = world_lifted;
     }
   }
-  const uint32_t index = material_index(hit.instance, hit.primitive);
-  out.material = &materials[index];
-  out.material_index = index;
-  out.holdout = instance.holdout;
-  out.instance = hit.instance;
-  out.primitive = hit.primitive;
-  out.local_position = local;
-  out.barycentric = glm::vec2(hit.u, hit.v);
-  out.time = ray.time;
+  identify(ray, hit, local, &out);
   return out;
 }
 
@@ -445,7 +535,7 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
   tp.object = it.local_position;
   tp.generated = (it.local_position - mesh.texspace_location + mesh.texspace_size) /
                  (2.0f * mesh.texspace_size);
-  if (!mesh.uvs.empty()) {
+  if (!mesh.uvs.empty() && mesh.kind(it.primitive) == PrimitiveKind::kTriangle) {
     tp.uv = glm::vec2(interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric));
   }
   return tp;
@@ -465,9 +555,12 @@ struct SurfaceHit {
     const CompiledScene::Instance& instance = scene.instances[it.instance];
     const Mesh& mesh = instance.mesh->mesh;
     const auto vec = [](const Vec3& v) { return glm::vec4(v, 0.0f); };
+    // Corner layers are a triangle's: a curve or a point reads 0 from them.
+    const bool triangle = mesh.kind(it.primitive) == PrimitiveKind::kTriangle;
     const auto layer = [&](const std::vector<std::vector<float>>& layers, size_t k, size_t width) {
-      return k < layers.size() ? interpolate_corners(layers[k], width, it.primitive, it.barycentric)
-                               : glm::vec4(0.0f);
+      return triangle && k < layers.size()
+                 ? interpolate_corners(layers[k], width, it.primitive, it.barycentric)
+                 : glm::vec4(0.0f);
     };
     if (mode >= kInputTangent && mode < kInputObjectNormal) {
       return layer(mesh.tangents, mode - kInputTangent, 4);
@@ -476,7 +569,7 @@ struct SurfaceHit {
       return layer(mesh.attributes, mode - kInputAttribute, 4);
     }
     if (mode >= kInputUvSet && mode < kInputAttribute) {
-      if (mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
+      if (triangle && mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
         return interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric);
       }
       return layer(mesh.uv_sets, mode - kInputUvSet, 2);
@@ -552,6 +645,11 @@ struct SurfaceHit {
   // The object-space normal a tangent-space normal map bends: the interpolated corner
   // normals, not normalised, or the face's normal on a flat mesh.
   Vec3 object_normal(const Mesh& mesh) const {
+    if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
+      // A curve's or a point's own round normal, back in object space.
+      const glm::mat3 linear(scene.instances[it.instance].placement.to_world);
+      return glm::transpose(linear) * it.geometric_normal;
+    }
     Vec3 n0, n1, n2;
     const float u = it.barycentric.x, v = it.barycentric.y;
     if (mesh.corner_normals(it.primitive, &n0, &n1, &n2))
@@ -623,6 +721,12 @@ void bump_offsets(const Interaction& it, const RayContext& context, ProgramHit* 
 Interaction moved(const CompiledScene& scene, const Interaction& it, const Vec3& offset) {
   const CompiledScene::Instance& instance = scene.instances[it.instance];
   const Mesh& mesh = instance.mesh->mesh;
+  if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
+    Interaction out = it;  // a round surface: moved along, its parameters kept
+    out.position += offset;
+    out.local_position += glm::transpose(instance.placement.normal_to_world) * offset;
+    return out;
+  }
   const uint32_t* tri = &mesh.triangles[3 * size_t{it.primitive}];
   const Vec3 p0 = mesh.vertex(tri[0]);
   const Vec3 e1 = mesh.vertex(tri[1]) - p0;

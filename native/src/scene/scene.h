@@ -176,6 +176,11 @@ struct CompiledScene {
     return slot < in.materials.size() ? in.materials[slot] : 0;
   }
   Interaction interaction(const Ray& ray, const Hit& hit) const;
+  // interaction() of a hit on a curve segment or a point, the instance placed `at`.
+  Interaction round_interaction(const Ray& ray, const Hit& hit, const Placement& at) const;
+  // What every interaction() says of its hit besides the geometry: the material, the
+  // instance and primitive, the object-space point `local`, the barycentrics, the time.
+  void identify(const Ray& ray, const Hit& hit, const Vec3& local, Interaction* out) const;
   // Texture coordinates at a hit; computed only for textured materials.
   TexturePoint texture_point(const Interaction& it) const;
   // The material's fields at a hit of `ray`: its constants, unless textures or a program

@@ -1,0 +1,198 @@
+// Curves (hair strands) and points (a point cloud) beside a mesh's triangles: a ray meets
+// a strand's round tube and a point's sphere where the geometry says, with a normal from
+// the axis or the centre; a lit strand shades without acne, its own shadow falls on its
+// far side; strands far thinner than a pixel, zero radii and degenerate segments stay
+// finite; materials follow each strand's slot; threads and tiles change no pixel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "integrator/whitted.h"
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::looking_down;
+using testing::quad;
+
+Material white() {
+  Material m;
+  m.ambient = 0.0f;
+  return m;
+}
+
+// A mesh holding only strands: `strands` of keys (x, y, z, radius).
+Mesh strands_mesh(const std::vector<std::vector<float>>& strands,
+                  const std::vector<int32_t>& slots = {}, bool linear = false) {
+  std::vector<float> keys;
+  std::vector<uint32_t> counts;
+  for (const std::vector<float>& s : strands) {
+    keys.insert(keys.end(), s.begin(), s.end());
+    counts.push_back(static_cast<uint32_t>(s.size() / 4));
+  }
+  Mesh mesh = make_mesh(nullptr, 0, nullptr, 0, nullptr, nullptr);
+  mesh.curves = make_curves(keys.data(), keys.size() / 4, counts.data(), counts.size(),
+                            slots.empty() ? nullptr : slots.data(), linear);
+  return mesh;
+}
+
+Mesh points_mesh(const std::vector<float>& spheres) {
+  Mesh mesh = make_mesh(nullptr, 0, nullptr, 0, nullptr, nullptr);
+  mesh.points = make_points(spheres.data(), spheres.size() / 4, nullptr);
+  return mesh;
+}
+
+// The first hit of a ray straight down from (x, y, 10).
+bool hit_from_above(const Scene& scene, float x, float y, Interaction* out) {
+  const auto compiled = scene.compile();
+  const Ray ray{Vec3(x, y, 10.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
+  Hit hit;
+  if (!compiled->accel->intersect(ray, &hit)) return false;
+  *out = compiled->interaction(ray, hit);
+  return true;
+}
+
+TEST(Curves, ARayMeetsAStrandsTubeWhereItIs) {
+  Scene scene;
+  // Along X at height 1, radius 0.1 (three keys: a straight Catmull-Rom line).
+  add_object(&scene, "hair", strands_mesh({{-1, 0, 1, 0.1f, 0, 0, 1, 0.1f, 1, 0, 1, 0.1f}}),
+             white());
+  Interaction it;
+  ASSERT_TRUE(hit_from_above(scene, 0.3f, 0.0f, &it));
+  EXPECT_NEAR(it.position.z, 1.1f, 1e-3f);  // the top of the tube
+  EXPECT_NEAR(it.geometric_normal.z, 1.0f, 1e-3f);
+  // Off the axis by half the radius: the tube's surface there, its normal leaning out.
+  ASSERT_TRUE(hit_from_above(scene, 0.3f, 0.05f, &it));
+  const float expected = 1.0f + std::sqrt(0.01f - 0.0025f);
+  EXPECT_NEAR(it.position.z, expected, 1e-3f);
+  EXPECT_NEAR(it.geometric_normal.y, 0.5f, 2e-2f);
+  EXPECT_GT(it.position_error.x, 0.0f);
+  // Beside it: nothing.
+  EXPECT_FALSE(hit_from_above(scene, 0.3f, 0.2f, &it));
+}
+
+// Linear strands (Cycles 5.x's Thick Linear) are cones with round joints and ends.
+TEST(Curves, ALinearStrandHasRoundEnds) {
+  Scene scene;
+  add_object(&scene, "hair",
+             strands_mesh({{-1, 0, 1, 0.1f, 0, 0, 1, 0.1f, 1, 0, 1, 0.1f}}, {}, true), white());
+  Interaction it;
+  ASSERT_TRUE(hit_from_above(scene, 0.3f, 0.0f, &it));
+  EXPECT_NEAR(it.position.z, 1.1f, 1e-4f);
+  EXPECT_NEAR(it.geometric_normal.z, 1.0f, 1e-4f);
+  // Past the last key by half the radius: its round end.
+  ASSERT_TRUE(hit_from_above(scene, 1.05f, 0.0f, &it));
+  EXPECT_NEAR(it.position.z, 1.0f + std::sqrt(0.01f - 0.0025f), 1e-4f);
+  EXPECT_NEAR(it.geometric_normal.x, 0.5f, 1e-3f);
+}
+
+TEST(Points, ARayMeetsAPointsSphere) {
+  Scene scene;
+  add_object(&scene, "dust", points_mesh({0, 0, 1, 0.25f, 2, 0, 1, 0.25f}), white());
+  Interaction it;
+  ASSERT_TRUE(hit_from_above(scene, 2.0f, 0.0f, &it));
+  EXPECT_NEAR(it.position.z, 1.25f, 1e-4f);
+  EXPECT_NEAR(it.geometric_normal.z, 1.0f, 1e-4f);
+  ASSERT_TRUE(hit_from_above(scene, 0.1f, 0.0f, &it));
+  EXPECT_NEAR(it.geometric_normal.x, 0.4f, 1e-3f);
+  EXPECT_FALSE(hit_from_above(scene, 1.0f, 0.0f, &it));
+}
+
+// A thick strand under a sun, seen from above: its lit top shades evenly (no speck of
+// self-shadow), and the floor under it shows its shadow.
+Scene lit_strand(float radius) {
+  Scene scene;
+  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), white());
+  add_object(&scene, "hair",
+             strands_mesh({{-2, 0, 0.5f, radius, 0, 0, 0.5f, radius, 2, 0, 0.5f, radius}}),
+             white());
+  Light sun;
+  sun.type = LightType::kSun;
+  sun.color = Color(3.0f);
+  sun.direction = Vec3(0.0f, 0.0f, -1.0f);
+  scene.set_light("sun", sun);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 0.6f);
+  return scene;
+}
+
+Settings small(int threads, int tile) {
+  Settings settings;
+  settings.width = 41;
+  settings.height = 41;
+  settings.aa_samples = 2;
+  settings.threads = threads;
+  settings.tile_size = tile;
+  return settings;
+}
+
+TEST(Curves, ALitStrandShadesWithoutAcneAndCastsItsShadow) {
+  const Scene scene = lit_strand(0.2f);
+  const std::vector<float> pixels = testing::render_pixels(scene, small(1, 64));
+  // The middle row crosses the strand (|y| < 0.2 of a window 1.2 wide: the middle 13
+  // rows); facing the sun, the tube's top is as bright as the floor beside it would be
+  // if unshadowed (0.8 / pi * 3 cos), and no pixel there is dark.
+  const int row = 20;
+  for (int x = 0; x < 41; ++x) {
+    const float v = pixels[4 * (row * 41 + x)];
+    EXPECT_NEAR(v, 0.8f / kPi * 3.0f, 0.01f) << x;
+  }
+  // Just outside the tube, the floor is in its shadow: dark.
+  Scene floor_only = lit_strand(0.2f);
+  Interaction it;
+  const auto compiled = floor_only.compile();
+  const Ray down{Vec3(0.0f, 0.25f, 3.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
+  Hit hit;
+  ASSERT_TRUE(compiled->accel->intersect(down, &hit));
+  it = compiled->interaction(down, hit);
+  EXPECT_NEAR(it.position.z, 0.0f, 1e-5f);  // the floor, beside the strand
+  const Ray up{Vec3(0.0f, 0.1f, 0.0f) + Vec3(0.0f, 0.0f, 1e-4f), Vec3(0.0f, 0.0f, 1.0f), 0.0f,
+               kInfinity, kShadowRay};
+  EXPECT_TRUE(compiled->accel->occluded(up));  // under the strand: shadowed
+}
+
+TEST(Curves, ThinZeroAndDegenerateStrandsStayFinite) {
+  Scene scene = lit_strand(1e-4f);  // far thinner than a pixel (0.03 wide)
+  add_object(&scene, "zero", strands_mesh({{-1, 1, 0.5f, 0, 1, 1, 0.5f, 0}}), white());
+  // Repeated keys (a zero-length segment), a strand of one key, a point of radius 0.
+  add_object(&scene, "degenerate",
+             strands_mesh({{0, -1, 0.5f, 0.05f, 0, -1, 0.5f, 0.05f}, {1, -1, 0.5f, 0.05f}}),
+             white());
+  add_object(&scene, "dot", points_mesh({0.5f, 0.5f, 0.5f, 0.0f}), white());
+  for (float v : testing::render_pixels(scene, small(2, 8))) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(Curves, EachStrandTakesItsSlotsMaterial) {
+  Scene scene;
+  Material red = white();
+  red.diffuse = Color(0.8f, 0.0f, 0.0f);
+  Material blue = white();
+  blue.diffuse = Color(0.0f, 0.0f, 0.8f);
+  scene.set_material("red", red);
+  scene.set_material("blue", blue);
+  scene.set_mesh("hair", strands_mesh({{-1, -0.5f, 1, 0.1f, 1, -0.5f, 1, 0.1f},
+                                       {-1, 0.5f, 1, 0.1f, 1, 0.5f, 1, 0.1f}},
+                                      {0, 1}));
+  scene.set_instance("hair", Instance{"hair", glm::mat4(1.0f), {"red", "blue"}});
+  const auto compiled = scene.compile();
+  for (const auto& [y, name] : {std::pair{-0.5f, "red"}, std::pair{0.5f, "blue"}}) {
+    const Ray ray{Vec3(0.0f, y, 10.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
+    Hit hit;
+    ASSERT_TRUE(compiled->accel->intersect(ray, &hit));
+    EXPECT_EQ(compiled->material_names[compiled->interaction(ray, hit).material_index], name);
+  }
+}
+
+TEST(Curves, ThreadsAndTilesChangeNoPixel) {
+  Scene scene = lit_strand(0.05f);
+  add_object(&scene, "dust", points_mesh({0.3f, 0.3f, 0.3f, 0.1f, -0.3f, 0.2f, 0.4f, 0.05f}),
+             white());
+  const std::vector<float> reference = testing::render_pixels(scene, small(1, 64));
+  for (auto [threads, tile] : {std::pair{2, 5}, std::pair{3, 16}}) {
+    EXPECT_TRUE(testing::render_pixels(scene, small(threads, tile)) == reference) << threads;
+  }
+}
+
+}  // namespace
+}  // namespace whitted
