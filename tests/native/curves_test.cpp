@@ -1,8 +1,10 @@
 // Curves (hair strands) and points (a point cloud) beside a mesh's triangles: a ray meets
-// a strand's round tube and a point's sphere where the geometry says, with a normal from
-// the axis or the centre; a lit strand shades without acne, its own shadow falls on its
-// far side; strands far thinner than a pixel, zero radii and degenerate segments stay
-// finite; materials follow each strand's slot; threads and tiles change no pixel.
+// a strand's round tube (Catmull-Rom, or linear with round ends) and a point's sphere
+// where the geometry says, with a normal from the axis or the centre; a lit strand shades
+// without acne, also lying half in a floor, and shadows the floor; strands far thinner
+// than a pixel, zero radii and degenerate segments stay finite; a strand shows through
+// glass and in a mirror; materials follow each strand's slot; threads and tiles change
+// no pixel.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -130,9 +132,9 @@ Settings small(int threads, int tile) {
 TEST(Curves, ALitStrandShadesWithoutAcneAndCastsItsShadow) {
   const Scene scene = lit_strand(0.2f);
   const std::vector<float> pixels = testing::render_pixels(scene, small(1, 64));
-  // The middle row crosses the strand (|y| < 0.2 of a window 1.2 wide: the middle 13
-  // rows); facing the sun, the tube's top is as bright as the floor beside it would be
-  // if unshadowed (0.8 / pi * 3 cos), and no pixel there is dark.
+  // The middle row runs along the strand's top (the view is 2.7 m across there, a row
+  // 0.07 m); facing the sun, the tube's top is about as bright as the unshadowed floor
+  // (0.8 / pi * 3), and no pixel there is dark.
   const int row = 20;
   for (int x = 0; x < 41; ++x) {
     const float v = pixels[4 * (row * 41 + x)];
@@ -182,6 +184,58 @@ TEST(Curves, EachStrandTakesItsSlotsMaterial) {
     ASSERT_TRUE(compiled->accel->intersect(ray, &hit));
     EXPECT_EQ(compiled->material_names[compiled->interaction(ray, hit).material_index], name);
   }
+}
+
+// A strand lying in the floor (its axis on the plane: half of it below): the half above
+// shades evenly under the sun, without specks of the floor's or its own shadow.
+TEST(Curves, AStrandCoincidentWithASurfaceShowsNoAcne) {
+  Scene scene;
+  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), white());
+  add_object(&scene, "hair", strands_mesh({{-2, 0, 0, 0.2f, 0, 0, 0, 0.2f, 2, 0, 0, 0.2f}}),
+             white());
+  Light sun;
+  sun.type = LightType::kSun;
+  sun.color = Color(3.0f);
+  sun.direction = glm::normalize(Vec3(0.0f, 0.3f, -1.0f));
+  scene.set_light("sun", sun);
+  // A narrow view (0.1 m across at the strand): every pixel of row 20 on its top.
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 0.01f);
+  const std::vector<float> pixels = testing::render_pixels(scene, small(2, 16));
+  // Row 20 runs along the strand's top: its normal faces up, lit at the sun's cosine.
+  const float expected = 0.8f / kPi * 3.0f * glm::dot(Vec3(0, 0, 1), -sun.direction);
+  for (int x = 0; x < 41; ++x) EXPECT_NEAR(pixels[4 * (20 * 41 + x)], expected, 0.01f) << x;
+}
+
+// Seen through glass and in a mirror, a glowing strand shows as it does directly: the
+// same recursion reaches it.
+TEST(Curves, AStrandShowsThroughGlassAndInAMirror) {
+  const auto centre = [](const Scene& scene) {
+    const std::vector<float> pixels = testing::render_pixels(scene, small(1, 64));
+    return pixels[4 * (20 * 41 + 20)];
+  };
+  const auto glowing = [](Vec3 at) {
+    Scene scene;
+    add_object(&scene, "hair",
+               strands_mesh({{at.x - 2, at.y, at.z, 0.2f, at.x, at.y, at.z, 0.2f, at.x + 2, at.y,
+                              at.z, 0.2f}}),
+               testing::emitter(Color(1.0f)));
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 0.01f);
+    return scene;
+  };
+  Scene direct = glowing(Vec3(0.0f));
+  EXPECT_NEAR(centre(direct), 1.0f, 1e-5f);
+  // Under a clear pane of index 1 (no bending, no Fresnel reflection head-on).
+  add_object(&direct, "pane", quad(-3, 3, -3, 3, 2.0f), testing::clear(1.0f));
+  EXPECT_NEAR(centre(direct), 1.0f, 1e-3f);
+  // Off to the side (y = 3), seen in a mirror at 45 degrees under the camera.
+  Scene mirrored = glowing(Vec3(0.0f, 3.0f, 0.0f));
+  Material mirror = white();
+  mirror.diffuse = Color(0.0f);
+  mirror.reflectivity = Color(1.0f);
+  const float corners[] = {-1, -1, 1, 1, -1, 1, 1, 1, -1, -1, 1, -1};
+  const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+  add_object(&mirrored, "mirror", make_mesh(corners, 4, triangles, 2, nullptr, nullptr), mirror);
+  EXPECT_NEAR(centre(mirrored), 1.0f, 1e-3f);
 }
 
 TEST(Curves, ThreadsAndTilesChangeNoPixel) {
