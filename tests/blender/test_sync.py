@@ -184,7 +184,33 @@ EDITS = (
         lambda s: setattr(s.objects["Point Light"].data, "shadow_soft_size", 0.5),
         "light",
     ),
+    # Hair and points (issue 31): added, edited and moved as the viewport sees them.
+    ("add hair", lambda s: _add_hair(s.objects["Cube"]), "any"),
+    ("hair length", lambda s: _hair_settings(s, "hair_length", 0.9), "any"),
+    ("hair children", lambda s: _hair_settings(s, "child_type", "SIMPLE"), "any"),
+    ("move hairy", lambda s: setattr(s.objects["Cube"], "location", (1.5, -1.0, 0.9)), "any"),
+    ("add points", lambda s: _add_points(s), "any"),
 )
+
+
+def _add_hair(obj):
+    obj.modifiers.new("Fur", "PARTICLE_SYSTEM")
+    settings = obj.particle_systems[0].settings
+    settings.type = "HAIR"
+    settings.count = 40
+    settings.hair_length = 0.5
+    settings.radius_scale = 0.05
+
+
+def _hair_settings(scene, name, value):
+    setattr(scene.objects["Cube"].particle_systems[0].settings, name, value)
+
+
+def _add_points(scene):
+    from whitted_tools.hair_scenes import point_cloud_modifier
+
+    plane = scene.objects.get("Added") or scene.objects["Cube Twin"]
+    point_cloud_modifier(plane, density=20.0, radius=0.1)
 
 
 def _scatter_more(scene):

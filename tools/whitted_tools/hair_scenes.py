@@ -98,20 +98,26 @@ def point_cloud(scene):
     stage(scene)
     plane = flat_square(scene, "Dusty", 1.0)
     plane.data.materials.append(lambert_material("Dust", 0.8))
+    point_cloud_modifier(plane, density=300.0, radius=0.03)
+    return plane
+
+
+def point_cloud_modifier(obj, density, radius):
+    """Geometry nodes on mesh object `obj` that replace it by points scattered over its
+    faces (`density` a square metre) of `radius`, lifted 0.1 m: a point cloud."""
     tree, group_input, output = geometry_nodes_tree("Scatter")
     nodes, links = tree.nodes, tree.links
     scatter = nodes.new("GeometryNodeDistributePointsOnFaces")
-    scatter.inputs["Density"].default_value = 300.0
-    radius = nodes.new("GeometryNodeSetPointRadius")
-    radius.inputs["Radius"].default_value = 0.03
+    scatter.inputs["Density"].default_value = density
+    set_radius = nodes.new("GeometryNodeSetPointRadius")
+    set_radius.inputs["Radius"].default_value = radius
     lift = nodes.new("GeometryNodeSetPosition")
     lift.inputs["Offset"].default_value = (0.0, 0.0, 0.1)
     links.new(group_input.outputs[0], scatter.inputs["Mesh"])
-    links.new(scatter.outputs["Points"], radius.inputs[0])
-    links.new(radius.outputs[0], lift.inputs["Geometry"])
+    links.new(scatter.outputs["Points"], set_radius.inputs[0])
+    links.new(set_radius.outputs[0], lift.inputs["Geometry"])
     links.new(lift.outputs["Geometry"], output.inputs[0])
-    plane.modifiers.new("Scatter", "NODES").node_group = tree
-    return plane
+    obj.modifiers.new("Scatter", "NODES").node_group = tree
 
 
 SCENES = {"particle hair": particle_hair, "curves": curves_object, "point cloud": point_cloud}
