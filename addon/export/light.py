@@ -18,7 +18,7 @@ the angle is 0). A light shines along its local -Z axis.
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import bpy
 import numpy as np
@@ -65,6 +65,10 @@ class LightData:
     spread: float = math.pi  # area: the full angle its light spreads over, radians
     samples: int = 1  # feelers per axis: n x n for a sized light, 1 otherwise
     cast_shadows: bool = True
+    # Its ray visibility (Object > Visibility > Ray Visibility, Cycles'): whether it
+    # lights diffuse surfaces and shows in glossy ones (highlights, glossy lobes).
+    diffuse: bool = True
+    glossy: bool = True
 
 
 def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
@@ -83,15 +87,29 @@ def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
             object_instance.matrix_world,
             warnings,
             default_samples,
+            rays=lamp_rays(obj, object_instance.parent if object_instance.is_instance else None),
         )
         if light is not None:
             lights.append(light)
     return lights
 
 
-def convert_light(name, light, matrix_world, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
+def lamp_rays(obj, instancer=None):
+    """(diffuse, glossy): whether light object `obj` lights diffuse surfaces and shows in
+    glossy ones (its Ray Visibility, which Cycles reads on the object since 3.0); an
+    instance needs its instancer's too, as in Cycles."""
+    owners = (obj,) if instancer is None else (obj, instancer)
+    return (
+        all(getattr(o, "visible_diffuse", True) for o in owners),
+        all(getattr(o, "visible_glossy", True) for o in owners),
+    )
+
+
+def convert_light(
+    name, light, matrix_world, warnings, default_samples=DEFAULT_LIGHT_SAMPLES, rays=(True, True)
+):
     """One light placed by `matrix_world` (object to world) as LightData, or None
-    (with a warning) when Whitted cannot render it."""
+    (with a warning) when Whitted cannot render it; `rays`: lamp_rays of its object."""
     matrix = np.array(matrix_world, dtype=np.float64)
     # The columns of the object-to-world matrix are the light's axes in world
     # space; their lengths are the object's scale.
@@ -100,9 +118,10 @@ def convert_light(name, light, matrix_world, warnings, default_samples=DEFAULT_L
     if not np.all(scale > 0.0):
         warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
         return None
-    return _convert_light(
+    data = _convert_light(
         name, light, matrix[:3, 3], axes / scale, scale, default_samples, warnings
     )
+    return None if data is None else replace(data, diffuse=rays[0], glossy=rays[1])
 
 
 def shadow_switch(light):

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.instance import instance_name
-from ..export.light import convert_light
+from ..export.light import convert_light, lamp_rays
 from ..export.material import convert_material
 from ..export.mesh import (
     NO_NEEDS,
@@ -349,8 +349,14 @@ class SceneSync:
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
                 name = instance_name(object_instance)
+                instancer = object_instance.parent if object_instance.is_instance else None
                 light = convert_light(
-                    name, obj.data, object_instance.matrix_world, warnings, params.light_samples
+                    name,
+                    obj.data,
+                    object_instance.matrix_world,
+                    warnings,
+                    params.light_samples,
+                    rays=lamp_rays(obj, instancer),
                 )
                 if light is not None:
                     lights[name] = light
@@ -455,7 +461,12 @@ class SceneSync:
                 light = None
                 if not obj.original.hide_render:
                     light = convert_light(
-                        name, obj.data, obj.matrix_world, warnings, params.light_samples
+                        name,
+                        obj.data,
+                        obj.matrix_world,
+                        warnings,
+                        params.light_samples,
+                        rays=lamp_rays(obj),
                     )
                 if light is None:
                     gone.add(name)

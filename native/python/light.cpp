@@ -21,7 +21,7 @@ void bind_light(py::module_& m) {
       .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
-                       bool spot_cosine_falloff, float spread) {
+                       bool spot_cosine_falloff, float spread, bool diffuse, bool glossy) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -38,7 +38,9 @@ void bind_light(py::module_& m) {
                                       .angle = angle,
                                       .spread = spread,
                                       .samples = samples,
-                                      .cast_shadows = cast_shadows});
+                                      .cast_shadows = cast_shadows,
+                                      .diffuse = diffuse,
+                                      .glossy = glossy});
            }),
            py::arg("type") = defaults.type, py::arg("color") = defaults.color,
            py::arg("position") = defaults.position, py::arg("direction") = defaults.direction,
@@ -49,7 +51,8 @@ void bind_light(py::module_& m) {
            py::arg("cast_shadows") = defaults.cast_shadows, py::arg("radius") = defaults.radius,
            py::arg("angle") = defaults.angle,
            py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff,
-           py::arg("spread") = defaults.spread)
+           py::arg("spread") = defaults.spread, py::arg("diffuse") = defaults.diffuse,
+           py::arg("glossy") = defaults.glossy)
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)
@@ -59,7 +62,9 @@ void bind_light(py::module_& m) {
       .def_readonly("angle", &Light::angle)
       .def_readonly("spread", &Light::spread)
       .def_readonly("spot_cosine_falloff", &Light::spot_cosine_falloff)
-      .def_readonly("cast_shadows", &Light::cast_shadows);
+      .def_readonly("cast_shadows", &Light::cast_shadows)
+      .def_readonly("diffuse", &Light::diffuse)
+      .def_readonly("glossy", &Light::glossy);
 }
 
 }  // namespace whitted::python

@@ -66,3 +66,22 @@ def test_an_area_lights_spread_matches_cycles(empty_scene, tmp_path, native, deg
     assert measured.mean_ratio == pytest.approx(1.0, abs=MEAN_RATIO_TOLERANCE)
     assert measured.relative_rmse < bound
     assert measured.profile_error < case.max_profile_error
+
+
+def test_a_lamp_hidden_from_diffuse_rays_lights_nothing_as_cycles(empty_scene, tmp_path, native):
+    # Object > Visibility > Ray Visibility > Diffuse off on the lamp: Cycles' diffuse
+    # surfaces get none of its light, and Whitted's neither (Light.diffuse). Before,
+    # Whitted lit them as if the switch were on.
+    case = cycles_scenes.CASES[0]  # the point light
+    lamp = cycles_scenes.build_scene(empty_scene, case)
+    lamp.visible_diffuse = False
+    cycles_scenes.set_whitted_direct_light(empty_scene)
+    cycles_scenes.set_cycles_direct_light(empty_scene)
+    whitted = cycles_scenes.render_exr(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    cycles = cycles_scenes.render_exr(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    print(f"\nDiffuse off: mean {whitted.mean():.2e} (Cycles {cycles.mean():.2e})")
+    assert whitted.max() == 0.0
+    assert cycles.mean() < 1e-4
+    lamp.visible_diffuse = True
+    lit = cycles_scenes.render_exr(empty_scene, "WHITTED", str(tmp_path / "lit.exr"))
+    assert lit.mean() > 0.01

@@ -61,6 +61,36 @@ TEST(Whitted, LambertianPlaneUnderPointLightMatchesInverseSquareCosineLaw) {
   EXPECT_EQ(counts.reflection + counts.refraction, 0u);
 }
 
+// A lamp's ray visibility (Cycles' Diffuse and Glossy): with Diffuse off it lights no
+// diffuse term, with Glossy off it leaves no highlight and the diffuse term as it was.
+TEST(Whitted, ALampsRayVisibilityHidesItsDiffuseOrSpecularTerms) {
+  const auto centre = [](bool diffuse, bool glossy, float specular) {
+    Scene scene;
+    Material shiny;
+    shiny.diffuse = Color(0.5f);
+    shiny.specular = Color(specular);
+    shiny.ambient = 0.0f;
+    add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), shiny);
+    Light light;
+    light.color = Color(50.0f);
+    light.position = Vec3(0.0f, 0.0f, 3.0f);
+    light.diffuse = diffuse;
+    light.glossy = glossy;
+    scene.set_light("light", light);
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 0.1f);
+    const auto compiled = scene.compile();
+    const WhittedIntegrator integrator(*compiled, Settings{});
+    RayCounts counts;
+    return integrator.trace(scene.camera.generate_ray(0.5f, 0.5f), NodeState{}, &counts).x;
+  };
+  const float diffuse_only = centre(true, true, 0.0f);
+  EXPECT_NEAR(diffuse_only, 0.5f / kPi * 50.0f / 9.0f, 1e-4f);
+  EXPECT_GT(centre(true, true, 0.5f), 1.5f * diffuse_only);  // the highlight under the lamp
+  EXPECT_EQ(centre(true, false, 0.5f), diffuse_only);        // Glossy off: no highlight
+  EXPECT_EQ(centre(false, true, 0.0f), 0.0f);                // Diffuse off: no diffuse light
+  EXPECT_GT(centre(false, true, 0.5f), 0.0f);                // ... but the highlight stays
+}
+
 TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
   const Scene scene = occluder_over_floor(1.0f);
   const auto compiled = scene.compile();

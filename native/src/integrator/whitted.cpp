@@ -739,8 +739,9 @@ class Kernel {
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
       const int samples = light.sample_count();
-      const Feeler feeler{light.cast_shadows, samples,
-                          static_cast<int32_t>(&light - scene_.lights.data()), -1};
+      const Feeler feeler{
+          light.cast_shadows, samples,     static_cast<int32_t>(&light - scene_.lights.data()), -1,
+          light.diffuse,      light.glossy};
       const auto draw = [&](int s) {
         return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
       };
@@ -766,6 +767,8 @@ class Kernel {
     int samples;
     int32_t light;
     int32_t emitter;
+    bool diffuse = true;  // its light's ray visibility (Light::diffuse, Light::glossy)
+    bool glossy = true;
   };
   // One sample of a light: its feeler, what arrives, and the MIS weight of its glossy share.
   struct Drawing {
@@ -889,6 +892,7 @@ class Kernel {
     if (out->dark) return;
     out->t = light_terms(p, ls.wi, cos_l);
     if (drawing.mis < 1.0f) weigh_glossy(p, ls.wi, drawing.mis, &out->t);
+    if (!drawing.feeler.diffuse || !drawing.feeler.glossy) unseen(drawing.feeler, &out->t);
     out->irradiance = ls.irradiance;
     const LightTerms& t = out->t;
     const SurfaceParams& surface = p.surface;
@@ -982,6 +986,13 @@ class Kernel {
                      : 0.0f};
     diffuse_fade(p, wi, cos_l, &t);
     return t;
+  }
+
+  // A lamp's terms its ray visibility hides: the diffuse ones when it lights no diffuse
+  // surface, the specular ones (Phong, coat, glossy) when no glossy one shows it.
+  static void unseen(const Feeler& feeler, LightTerms* t) {
+    if (!feeler.diffuse) t->fade = t->loss = 0.0f;
+    if (!feeler.glossy) t->lobe = t->coat = t->glossy = 0.0f;
   }
 
   // An emitter feeler's MIS weight (GlossyRays) on its glossy lobes' share of t: the

@@ -35,6 +35,10 @@ struct LightParams {
   float spread = kPi;
   int samples = 1;  // per axis for sized lights: samples x samples feelers
   bool cast_shadows = true;
+  // Its ray visibility (Cycles' Diffuse and Glossy): whether it lights the diffuse terms,
+  // and whether it shows in the specular ones (Phong highlight, coat, glossy lobes).
+  bool diffuse = true;
+  bool glossy = true;
 };
 
 // The samples per axis a sized light may ask for (64 x 64 feelers per shading point).
