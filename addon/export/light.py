@@ -69,6 +69,9 @@ class LightData:
     # lights diffuse surfaces and shows in glossy ones (highlights, glossy lobes).
     diffuse: bool = True
     glossy: bool = True
+    # Cycles' Max Bounces (light.cycles): it lights only what at most this many
+    # reflections and refractions reach.
+    max_bounces: int = 1024
 
 
 def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
@@ -121,7 +124,11 @@ def convert_light(
     data = _convert_light(
         name, light, matrix[:3, 3], axes / scale, scale, default_samples, warnings
     )
-    return None if data is None else replace(data, diffuse=rays[0], glossy=rays[1])
+    if data is None:
+        return None
+    cycles = getattr(light, "cycles", None)
+    bounces = getattr(cycles, "max_bounces", 1024) if cycles is not None else 1024
+    return replace(data, diffuse=rays[0], glossy=rays[1], max_bounces=bounces)
 
 
 def shadow_switch(light):

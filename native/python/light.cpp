@@ -21,7 +21,8 @@ void bind_light(py::module_& m) {
       .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
-                       bool spot_cosine_falloff, float spread, bool diffuse, bool glossy) {
+                       bool spot_cosine_falloff, float spread, bool diffuse, bool glossy,
+                       int max_bounces) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -40,7 +41,8 @@ void bind_light(py::module_& m) {
                                       .samples = samples,
                                       .cast_shadows = cast_shadows,
                                       .diffuse = diffuse,
-                                      .glossy = glossy});
+                                      .glossy = glossy,
+                                      .max_bounces = max_bounces});
            }),
            py::arg("type") = defaults.type, py::arg("color") = defaults.color,
            py::arg("position") = defaults.position, py::arg("direction") = defaults.direction,
@@ -52,7 +54,7 @@ void bind_light(py::module_& m) {
            py::arg("angle") = defaults.angle,
            py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff,
            py::arg("spread") = defaults.spread, py::arg("diffuse") = defaults.diffuse,
-           py::arg("glossy") = defaults.glossy)
+           py::arg("glossy") = defaults.glossy, py::arg("max_bounces") = defaults.max_bounces)
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)
@@ -64,7 +66,8 @@ void bind_light(py::module_& m) {
       .def_readonly("spot_cosine_falloff", &Light::spot_cosine_falloff)
       .def_readonly("cast_shadows", &Light::cast_shadows)
       .def_readonly("diffuse", &Light::diffuse)
-      .def_readonly("glossy", &Light::glossy);
+      .def_readonly("glossy", &Light::glossy)
+      .def_readonly("max_bounces", &Light::max_bounces);
 }
 
 }  // namespace whitted::python

@@ -142,6 +142,14 @@ def test_sun_angle(empty_scene, warnings):
     assert light.samples == DEFAULT_LIGHT_SAMPLES
 
 
+def test_ray_visibility_and_max_bounces_are_exported(empty_scene, warnings):
+    obj = add_light(empty_scene, "POINT")
+    obj.visible_glossy = False
+    obj.data.cycles.max_bounces = 2
+    (light,) = convert(warnings)
+    assert (light.diffuse, light.glossy, light.max_bounces) == (True, False, 2)
+
+
 def test_area_spread_is_exported(empty_scene, warnings):
     # Rendered as Cycles' soft box (tests/blender/test_cycles_lights.py), no longer warned.
     add_light(empty_scene, "AREA", spread=math.radians(90.0))

@@ -91,6 +91,43 @@ TEST(Whitted, ALampsRayVisibilityHidesItsDiffuseOrSpecularTerms) {
   EXPECT_GT(centre(false, true, 0.5f), 0.0f);                // ... but the highlight stays
 }
 
+// A lamp's Max Bounces: at 0 it lights what camera rays meet, not what a mirror shows
+// (the floor seen in it is one bounce away).
+TEST(Whitted, ALampsMaxBouncesLimitsTheBouncesItLights) {
+  const auto seen = [](int max_bounces, const Vec3& towards) {
+    Scene scene;
+    Material white;
+    white.ambient = 0.0f;
+    add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+    Material mirror;
+    mirror.diffuse = Color(0.0f);
+    mirror.ambient = 0.0f;
+    mirror.reflectivity = Color(1.0f);
+    // Upright in the plane x = 2, facing -x.
+    const float corners[] = {2, -2, 0, 2, -2, 3, 2, 2, 3, 2, 2, 0};
+    const uint32_t triangles[] = {0, 1, 2, 0, 2, 3};
+    add_object(&scene, "mirror", make_mesh(corners, 4, triangles, 2, nullptr, nullptr), mirror);
+    Light light;
+    light.color = Color(20.0f);
+    light.position = Vec3(0.0f, 0.0f, 3.0f);
+    light.max_bounces = max_bounces;
+    scene.set_light("light", light);
+    const auto compiled = scene.compile();
+    const WhittedIntegrator integrator(*compiled, Settings{});
+    RayCounts counts;
+    const Vec3 from(0.0f, 0.0f, 1.0f);
+    const Ray ray{from, glm::normalize(towards - from), 0.0f, kInfinity, kCameraRay};
+    return integrator.trace(ray, NodeState{}, &counts).x;
+  };
+  const Vec3 floor(0.0f, 0.0f, 0.0f);
+  const Vec3 mirror(2.0f, 0.0f, 0.5f);  // reflects to the floor under the lamp
+  const float lit = 0.8f / kPi * 20.0f / 9.0f;
+  EXPECT_NEAR(seen(0, floor), lit, 1e-4f);
+  EXPECT_EQ(seen(0, mirror), 0.0f);
+  EXPECT_NEAR(seen(1, mirror), lit, 1e-3f);
+  EXPECT_NEAR(seen(1024, mirror), lit, 1e-3f);
+}
+
 TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
   const Scene scene = occluder_over_floor(1.0f);
   const auto compiled = scene.compile();

@@ -738,6 +738,7 @@ class Kernel {
     if constexpr (kPasses) terms.ambient = phong;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
     for (const Light& light : scene_.lights) {
+      if (state.depth > light.max_bounces) continue;  // past its Max Bounces
       const int samples = light.sample_count();
       const Feeler feeler{
           light.cast_shadows, samples,     static_cast<int32_t>(&light - scene_.lights.data()), -1,

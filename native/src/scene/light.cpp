@@ -105,6 +105,7 @@ Light::Light(const LightParams& params) : LightParams(params) {
   radius = std::max(0.0f, radius);
   angle = std::clamp(angle, 0.0f, kPi);
   spread = std::clamp(spread, 0.0f, kPi);
+  max_bounces = std::max(max_bounces, 0);
 }
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {

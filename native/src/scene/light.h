@@ -39,6 +39,9 @@ struct LightParams {
   // and whether it shows in the specular ones (Phong highlight, coat, glossy lobes).
   bool diffuse = true;
   bool glossy = true;
+  // Cycles' Max Bounces: it lights only surfaces reached after at most this many
+  // bounces (a camera ray's hit has had none; each reflection or refraction is one).
+  int max_bounces = 1024;
 };
 
 // The samples per axis a sized light may ask for (64 x 64 feelers per shading point).
@@ -50,7 +53,8 @@ struct Light : LightParams {
   // axis, radius or angle; a zero direction; samples outside 1..kMaxLightSamples) and
   // clamps what has an obvious nearest light: negative colour to 0 (it emits nothing),
   // spot size to [0, pi], blend to [0, 1], negative sizes and radius to 0, the sun's
-  // angle and an area light's spread to [0, pi]. The direction is normalised.
+  // angle and an area light's spread to [0, pi], negative max bounces to 0. The direction
+  // is normalised.
   explicit Light(const LightParams& params);
 
   bool sized() const {
