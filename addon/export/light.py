@@ -126,8 +126,8 @@ def convert_light(
     )
     if data is None:
         return None
-    cycles = getattr(light, "cycles", None)
-    bounces = getattr(cycles, "max_bounces", 1024) if cycles is not None else 1024
+    # Cycles' Max Bounces (light.cycles), or LightData's default without Cycles' settings.
+    bounces = getattr(getattr(light, "cycles", None), "max_bounces", LightData.max_bounces)
     return replace(data, diffuse=rays[0], glossy=rays[1], max_bounces=bounces)
 
 

@@ -21,14 +21,11 @@ WHY = {
 MAX_NAMES = 3
 
 
-def unrendered_kinds(object_instance):
-    """The kinds (OBJECT_KINDS' phrases) of what `object_instance` of an evaluated
-    depsgraph would show in Cycles and shows nothing of in Whitted."""
+def unrendered_kind(object_instance):
+    """The kind (an OBJECT_KINDS phrase) of what `object_instance` of an evaluated
+    depsgraph would show in Cycles and shows nothing of in Whitted, or None."""
     obj = object_instance.object
-    if obj.original.hide_render:
-        return []
-    kind = OBJECT_KINDS.get(obj.type)
-    return [] if kind is None else [kind]
+    return None if obj.original.hide_render else OBJECT_KINDS.get(obj.type)
 
 
 def unrendered_warnings(found):

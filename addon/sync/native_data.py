@@ -9,6 +9,7 @@ from dataclasses import asdict
 import numpy as np
 
 from ..export.camera import PINHOLE
+from ..export.curves import CurvesData
 from ..export.texture import CheckerTextureSpec
 
 
@@ -74,7 +75,7 @@ def native_light(native, light):
 def native_strands(native, data):
     # export.curves.CurvesData or PointsData as a native.Mesh of no triangles.
     mesh = native.Mesh(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32))
-    if hasattr(data, "counts"):
+    if isinstance(data, CurvesData):
         mesh.set_curves(data.keys, data.counts, data.slots, linear=data.linear)
     else:
         mesh.set_points(data.spheres, data.slots)

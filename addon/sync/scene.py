@@ -46,7 +46,7 @@ from ..export.mesh import (
     object_uv_map,
 )
 from ..export.texture import convert_textures
-from ..export.unrendered import unrendered_kinds, unrendered_warnings
+from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -323,26 +323,24 @@ class SceneSync:
         unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
-            for kind in unrendered_kinds(object_instance):
+            kind = unrendered_kind(object_instance)
+            if kind is not None:
                 unrendered.setdefault(kind, set()).add(obj.original.name)
             if object_instance.is_instance:
                 roles[object_instance.parent.original.name_full] = _INSTANCER
-            if is_renderable_mesh(object_instance):
+            strands = obj.type in STRAND_TYPES and not obj.original.hide_render
+            if strands or is_renderable_mesh(object_instance):
+                # A mesh, or a Curves or point-cloud object: its geometry once, then each
+                # instance of it.
                 key = keys.key(object_instance)
                 if key not in seen_geometry:
                     seen_geometry.add(key)
-                    self._sync_geometry(
-                        object_instance, key, changes, in_place, report, warnings, params.motion
-                    )
-                if self._geometry[key].has_primitives:
-                    instance = instance_data(object_instance, key, view_layer, self._info)
-                    instances[instance.name] = _with_motion(instance, params.motion)
-                role = _MESH
-            elif obj.type in STRAND_TYPES and not obj.original.hide_render:
-                key = keys.key(object_instance)
-                if key not in seen_geometry:
-                    seen_geometry.add(key)
-                    self._sync_strands(key, strands_data(obj, depsgraph.scene), report)
+                    if strands:
+                        self._sync_strands(key, strands_data(obj, depsgraph.scene), report)
+                    else:
+                        self._sync_geometry(
+                            object_instance, key, changes, in_place, report, warnings, params.motion
+                        )
                 if self._geometry[key].has_primitives:
                     instance = instance_data(object_instance, key, view_layer, self._info)
                     instances[instance.name] = _with_motion(instance, params.motion)

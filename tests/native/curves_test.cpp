@@ -120,13 +120,7 @@ Scene lit_strand(float radius) {
 }
 
 Settings small(int threads, int tile) {
-  Settings settings;
-  settings.width = 41;
-  settings.height = 41;
-  settings.aa_samples = 2;
-  settings.threads = threads;
-  settings.tile_size = tile;
-  return settings;
+  return testing::small_render(41, 41, 2, threads, tile);
 }
 
 TEST(Curves, ALitStrandShadesWithoutAcneAndCastsItsShadow) {

@@ -88,13 +88,7 @@ Scene moving_blocker(const std::vector<glm::mat4>& motion) {
 }
 
 Settings small(int threads, int tile) {
-  Settings settings;
-  settings.width = 29;
-  settings.height = 23;
-  settings.aa_samples = 3;
-  settings.threads = threads;
-  settings.tile_size = tile;
-  return settings;
+  return testing::small_render(29, 23, 3, threads, tile);
 }
 
 TEST(MotionBlur, NothingMovingGivesTheStillFramesPixels) {

@@ -33,6 +33,18 @@ inline void run_to_end(RenderJob& job) {
   }
 }
 
+// Settings of a small render: `width` x `height` pixels, `samples` x `samples` regular
+// camera samples a pixel, on `threads` threads in tiles of `tile` pixels.
+inline Settings small_render(int width, int height, int samples, int threads, int tile) {
+  Settings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.aa_samples = samples;
+  settings.threads = threads;
+  settings.tile_size = tile;
+  return settings;
+}
+
 // The pixels of a whole render of `scene` from its camera, waited for.
 inline std::vector<float> render_pixels(const Scene& scene, const Settings& settings) {
   RenderJob job(scene, settings, scene.camera);
