@@ -24,6 +24,7 @@ import bpy
 import numpy as np
 
 from .instance import instance_name
+from .light_linking import ALL_SETS
 
 Vector = tuple[float, float, float]
 
@@ -72,6 +73,10 @@ class LightData:
     # Cycles' Max Bounces (light.cycles): it lights only what at most this many
     # reflections and refractions reach.
     max_bounces: int = 1024
+    # Light linking (export/light_linking.py): the receivers' light sets it lights, the
+    # blockers' shadow sets that cast its shadows, a bit per set.
+    light_sets: int = ALL_SETS
+    shadow_sets: int = ALL_SETS
 
 
 def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):

@@ -29,6 +29,7 @@ from .instance import (
     ray_visibility,
     writes_cryptomatte,
 )
+from .light_linking import NO_LINKS, UNLINKED
 
 # The tracer's default material: what an empty material slot renders with.
 # Blender names are never empty, so it cannot clash with a material's name.
@@ -102,6 +103,9 @@ class InstanceData:
     cryptomatte: tuple | None = None
     # Its transforms over the shutter (export/motion.py MotionData), () when still.
     motion: tuple = ()
+    # Light linking: (light set, shadow set, light sets it lights, shadow sets that
+    # block it), export/light_linking.py.
+    links: tuple = UNLINKED
 
 
 @dataclass(frozen=True)
@@ -274,12 +278,13 @@ def _own_geometry(obj, render):
     return obj.mode == "EDIT" or any(getattr(m, enabled) for m in obj.modifiers)
 
 
-def instance_data(object_instance, mesh, view_layer, info=()):
+def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):
     """InstanceData of a mesh instance placing geometry `mesh` (its key).
 
     `view_layer` is the depsgraph's evaluated view layer (holdout is per layer);
     `info` the names of the materials that read Object Info. An object with a pass
-    index sends its Object Info too, for the IndexOB pass."""
+    index sends its Object Info too, for the IndexOB pass. `links`: the scene's
+    light_linking.LightLinks."""
     materials = _slot_materials(object_instance.object)
     reads_info = any(m in info for m in materials) or object_instance.object.pass_index != 0
     return InstanceData(
@@ -294,6 +299,9 @@ def instance_data(object_instance, mesh, view_layer, info=()):
         cryptomatte=cryptomatte_ids(object_instance.object)
         if writes_cryptomatte(view_layer)
         else None,
+        links=links.of_object(
+            object_instance.object, object_instance.parent if object_instance.is_instance else None
+        ),
     )
 
 

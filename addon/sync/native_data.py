@@ -115,6 +115,7 @@ def set_instance(native, scene, instance):
         visibility=_native_visibility(native, instance.visibility),
         holdout=instance.holdout,
         motion=list(instance.motion),
+        links=instance.links,
         **extra,
     )
 

@@ -33,6 +33,7 @@ import numpy as np
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.instance import instance_name
 from ..export.light import convert_light, lamp_rays
+from ..export.light_linking import NO_LINKS, light_links
 from ..export.material import convert_material
 from ..export.mesh import (
     NO_NEEDS,
@@ -160,6 +161,7 @@ class SceneSync:
         self._roles = {}  # original object name -> _MESH | _LIGHT | _INSTANCER | _OTHER
         self._instanced_light_data = set()  # light data-blocks shown by instances
         self._world = None  # export.world.WorldData
+        self._links = NO_LINKS  # export.light_linking.LightLinks of the last sync
         self.warnings = []  # of the last sync: what could not be exported as authored
 
     @property
@@ -191,7 +193,16 @@ class SceneSync:
         self.warnings = warnings = []
         if self._materials_touched(changes, params):
             self._sync_materials(depsgraph, changes, params, report, warnings)
-        if self._needs_walk(changes, params) or (changes.scene and self._shown_changed(depsgraph)):
+        # Light linking is the whole scene's: when it changes, every instance may change.
+        links = light_links(depsgraph.objects)
+        relinked = links != self._links
+        self._links = links
+        warnings.extend(links.warnings())
+        if (
+            relinked
+            or self._needs_walk(changes, params)
+            or (changes.scene and self._shown_changed(depsgraph))
+        ):
             self._walk(depsgraph, changes, params, report, warnings)
         else:
             self._update_objects(depsgraph, changes, params, report, warnings)
@@ -342,7 +353,9 @@ class SceneSync:
                             object_instance, key, changes, in_place, report, warnings, params.motion
                         )
                 if self._geometry[key].has_primitives:
-                    instance = instance_data(object_instance, key, view_layer, self._info)
+                    instance = instance_data(
+                        object_instance, key, view_layer, self._info, self._links
+                    )
                     instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
@@ -357,7 +370,7 @@ class SceneSync:
                     rays=lamp_rays(obj, instancer),
                 )
                 if light is not None:
-                    lights[name] = light
+                    lights[name] = self._linked(light, obj)
                 if object_instance.is_instance:
                     instanced_light_data.add(obj.data.original.name_full)
                 role = _LIGHT
@@ -373,7 +386,9 @@ class SceneSync:
                     )
                 if self._geometry[key].has_primitives:
                     # It moves as its emitter moves.
-                    emitter = instance_data(object_instance, key, view_layer, self._info)
+                    emitter = instance_data(
+                        object_instance, key, view_layer, self._info, self._links
+                    )
                     instance = replace(
                         _with_motion(emitter, params.motion), name=f"{emitter.name} hair"
                     )
@@ -453,7 +468,7 @@ class SceneSync:
                 if known is None or not is_renderable_mesh(alone):
                     gone.add(name)  # hidden from renders (or never had triangles)
                 else:
-                    instance = instance_data(alone, known.mesh, view_layer, self._info)
+                    instance = instance_data(alone, known.mesh, view_layer, self._info, self._links)
                     instances[name] = _with_motion(instance, params.motion)
             elif role == _LIGHT:
                 light = None
@@ -469,7 +484,7 @@ class SceneSync:
                 if light is None:
                     gone.add(name)
                 else:
-                    lights[name] = light
+                    lights[name] = self._linked(light, obj)
         self._set_instances(instances, report, remove=gone & self._instances.keys())
         self._set_lights(lights, report, remove=gone & self._lights.keys())
 
@@ -486,6 +501,11 @@ class SceneSync:
             del self._instances[name]
             self.scene.remove_instance(name)
             report.removed += 1
+
+    def _linked(self, light, obj):
+        # LightData of light object `obj` with its masks as an emitter (light linking).
+        _, _, light_sets, shadow_sets = self._links.of_object(obj)
+        return replace(light, light_sets=light_sets, shadow_sets=shadow_sets)
 
     def _set_lights(self, lights, report, replace_all=False, remove=()):
         for name, light in lights.items():

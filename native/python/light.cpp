@@ -22,7 +22,7 @@ void bind_light(py::module_& m) {
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
                        bool spot_cosine_falloff, float spread, bool diffuse, bool glossy,
-                       int max_bounces) {
+                       int max_bounces, uint64_t light_sets, uint64_t shadow_sets) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -42,7 +42,9 @@ void bind_light(py::module_& m) {
                                       .cast_shadows = cast_shadows,
                                       .diffuse = diffuse,
                                       .glossy = glossy,
-                                      .max_bounces = max_bounces});
+                                      .max_bounces = max_bounces,
+                                      .light_sets = light_sets,
+                                      .shadow_sets = shadow_sets});
            }),
            py::arg("type") = defaults.type, py::arg("color") = defaults.color,
            py::arg("position") = defaults.position, py::arg("direction") = defaults.direction,
@@ -54,7 +56,11 @@ void bind_light(py::module_& m) {
            py::arg("angle") = defaults.angle,
            py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff,
            py::arg("spread") = defaults.spread, py::arg("diffuse") = defaults.diffuse,
-           py::arg("glossy") = defaults.glossy, py::arg("max_bounces") = defaults.max_bounces)
+           py::arg("glossy") = defaults.glossy, py::arg("max_bounces") = defaults.max_bounces,
+           py::arg("light_sets") = defaults.light_sets,
+           py::arg("shadow_sets") = defaults.shadow_sets,
+           "light_sets, shadow_sets: light linking, the receivers' light sets it lights and "
+           "the blockers' shadow sets that cast its shadows, a bit per set (all: no linking).")
       .def_readonly("type", &Light::type)
       .def_readonly("color", &Light::color)
       .def_readonly("position", &Light::position)
@@ -67,7 +73,9 @@ void bind_light(py::module_& m) {
       .def_readonly("cast_shadows", &Light::cast_shadows)
       .def_readonly("diffuse", &Light::diffuse)
       .def_readonly("glossy", &Light::glossy)
-      .def_readonly("max_bounces", &Light::max_bounces);
+      .def_readonly("max_bounces", &Light::max_bounces)
+      .def_readonly("light_sets", &Light::light_sets)
+      .def_readonly("shadow_sets", &Light::shadow_sets);
 }
 
 }  // namespace whitted::python

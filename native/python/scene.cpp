@@ -253,9 +253,15 @@ void bind_scene(py::module_& m) {
              std::vector<std::string> materials, uint32_t visibility, bool holdout,
              const std::optional<std::array<float, 9>>& info,
              const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte,
-             const std::vector<py::object>& motion) {
+             const std::vector<py::object>& motion,
+             const std::tuple<uint8_t, uint8_t, uint64_t, uint64_t>& links) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
+            const auto& [light_set, shadow_set, light_sets, shadow_sets] = links;
+            if (light_set >= kMaxLightSets || shadow_set >= kMaxLightSets) {
+              throw std::invalid_argument("a light or shadow set is 0 to 63");
+            }
+            instance.links = {light_set, shadow_set, light_sets, shadow_sets};
             for (const py::object& m : motion) instance.motion.push_back(matrix_from_numpy(m));
             if (info) {
               const std::array<float, 9>& i = *info;
@@ -278,6 +284,7 @@ void bind_scene(py::module_& m) {
           py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
           py::arg("info") = py::none(), py::arg("cryptomatte") = py::none(),
           py::arg("motion") = std::vector<py::object>{},
+          py::arg("links") = std::make_tuple(uint8_t{0}, uint8_t{0}, kAllLightSets, kAllLightSets),
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: Visibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
@@ -285,7 +292,9 @@ void bind_scene(py::module_& m) {
           "(None: the transform's location, random 0, index 0, white); cryptomatte: its "
           "Cryptomatte ids (object, asset, [material per slot]), floats (None: none); motion: "
           "its transforms (4x4 row-major) at evenly spaced times over the shutter, from its "
-          "opening to its closing (motion blur; [] when it does not move).")
+          "opening to its closing (motion blur; [] when it does not move); links: light linking, "
+          "(light set, shadow set, light sets it lights, shadow sets that block it) as "
+          "scene/light.h defines them.")
       .def(
           "set_world",
           [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output) {

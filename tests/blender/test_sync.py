@@ -191,6 +191,30 @@ EDITS = (
     ("move hairy", lambda s: setattr(s.objects["Cube"], "location", (1.5, -1.0, 0.9)), "any"),
     ("add points", lambda s: _add_points(s), "any"),
 )
+# Light linking and shadow linking (Blender 4.0+): linked, relinked and unlinked.
+if bpy.app.version >= (4, 0, 0):
+    EDITS += (
+        ("light linking", lambda s: _link(s, "receiver_collection", "INCLUDE"), "any"),
+        ("exclude instead", lambda s: _link_state(s, "receiver_collection", "EXCLUDE"), "any"),
+        ("shadow linking", lambda s: _link(s, "blocker_collection", "EXCLUDE"), "any"),
+        (
+            "unlink",
+            lambda s: setattr(s.objects["Point Light"].light_linking, "receiver_collection", None),
+            "any",
+        ),
+    )
+
+
+def _link(scene, kind, state):
+    collection = bpy.data.collections.new(f"Linked {kind}")
+    collection.objects.link(scene.objects["Cube"])
+    collection.collection_objects[0].light_linking.link_state = state
+    setattr(scene.objects["Point Light"].light_linking, kind, collection)
+
+
+def _link_state(scene, kind, state):
+    collection = getattr(scene.objects["Point Light"].light_linking, kind)
+    collection.collection_objects[0].light_linking.link_state = state
 
 
 def _add_hair(obj):

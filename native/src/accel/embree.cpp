@@ -63,6 +63,34 @@ void to_embree(const Ray& ray, RTCRay* r) {
   r->flags = 0;
 }
 
+// An occlusion query's context under shadow linking: Embree hands the filter a pointer
+// to `base`, the first member, for every hit it finds; hits on instances outside the
+// blockers are turned down and the walk goes on.
+struct BlockersContext {
+  RTCIntersectContext base;
+  Blockers blockers;
+};
+
+void skip_non_blockers(const RTCFilterFunctionNArguments* args) {
+  const Blockers& blockers = reinterpret_cast<const BlockersContext*>(args->context)->blockers;
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
+    if (((blockers.sets >> blockers.shadow_set[instance]) & 1u) == 0) args->valid[i] = 0;
+  }
+}
+
+// The context of an occlusion query: plain, or filtering by `blockers` when given.
+BlockersContext occlusion_context(const Blockers* blockers) {
+  BlockersContext context;
+  rtcInitIntersectContext(&context.base);
+  if (blockers != nullptr) {
+    context.blockers = *blockers;
+    context.base.filter = skip_non_blockers;
+  }
+  return context;
+}
+
 }  // namespace
 
 static_assert(sizeof(BareRays::Record) == sizeof(RTCRayHit) &&
@@ -104,7 +132,9 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
   RTCDevice d = as_device(device_->handle());
   RTCScene scene = rtcNewScene(d);
   // Robust mode: watertight-leaning intersectors, so rays do not slip through shared edges.
-  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  // The context filter serves shadow linking (skip_non_blockers): Embree checks for it on
+  // the scene whose geometry is hit, the mesh's, not the top level's alone.
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
   if (mesh.triangle_count() > 0) {
     RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -175,7 +205,8 @@ SceneAccel::SceneAccel(std::shared_ptr<AccelDevice> device,
   for (const AccelInstance& instance : instances) meshes_.push_back(instance.mesh);
   RTCDevice d = as_device(device_->handle());
   RTCScene scene = rtcNewScene(d);
-  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  // The context filter serves shadow linking (skip_non_blockers).
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   for (size_t i = 0; i < instances.size(); ++i) {
     RTCGeometry geometry = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(geometry, as_scene(instances[i].mesh->handle()));
@@ -226,13 +257,12 @@ bool SceneAccel::intersect(const Ray& ray, Hit* hit) const {
   return true;
 }
 
-bool SceneAccel::occluded(const Ray& ray) const {
+bool SceneAccel::occluded(const Ray& ray, const Blockers* blockers) const {
   if (!valid_for_embree(ray)) return false;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  BlockersContext context = occlusion_context(blockers);
   RTCRay r;
   to_embree(ray, &r);
-  rtcOccluded1(as_scene(scene_), &context, &r);
+  rtcOccluded1(as_scene(scene_), &context.base, &r);
   // Embree sets tfar to -inf when the ray is blocked.
   return r.tfar < 0.0f;
 }
@@ -302,22 +332,23 @@ void SceneAccel::intersect_packet(const Ray* rays, int count, Hit* hits) const {
   }
 }
 
-void SceneAccel::occluded_packet(const Ray* rays, int count, bool* blocked) const {
+void SceneAccel::occluded_packet(const Ray* rays, int count, bool* blocked,
+                                 const Blockers* blockers) const {
   static_assert(kPacketSize == 8, "the widest packet below is RTCRay8");
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  BlockersContext linked = occlusion_context(blockers);
+  RTCIntersectContext* context = &linked.base;
   // An inactive lane is left unblocked, as occluded() answers for a ray it cannot take.
   if (count <= 4) {
     alignas(16) int valid[4];
     RTCRay4 r;
     to_embree_packet<4>(rays, count, &r, valid);
-    rtcOccluded4(valid, as_scene(scene_), &context, &r);
+    rtcOccluded4(valid, as_scene(scene_), context, &r);
     for (int i = 0; i < count; ++i) blocked[i] = valid[i] != 0 && r.tfar[i] < 0.0f;
   } else {
     alignas(32) int valid[8];
     RTCRay8 r;
     to_embree_packet<8>(rays, count, &r, valid);
-    rtcOccluded8(valid, as_scene(scene_), &context, &r);
+    rtcOccluded8(valid, as_scene(scene_), context, &r);
     for (int i = 0; i < count; ++i) blocked[i] = valid[i] != 0 && r.tfar[i] < 0.0f;
   }
 }

@@ -99,6 +99,13 @@ struct AccelInstance {
   std::shared_ptr<const TransformMotion> motion;
 };
 
+// Shadow linking: what may block a shadow query, the instances whose shadow set (by
+// instance index) is among `sets` (bit s: set s).
+struct Blockers {
+  const uint8_t* shadow_set = nullptr;
+  uint64_t sets = ~uint64_t{0};
+};
+
 // The top-level BVH. Immutable once built; queries are thread-safe.
 class SceneAccel {
  public:
@@ -109,8 +116,9 @@ class SceneAccel {
 
   // Closest hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
   bool intersect(const Ray& ray, Hit* hit) const;
-  // Any hit in (ray.t_min, ray.t_max) among instances visible to ray.kind.
-  bool occluded(const Ray& ray) const;
+  // Any hit in (ray.t_min, ray.t_max) among instances visible to ray.kind (and, given
+  // `blockers`, among those it names).
+  bool occluded(const Ray& ray, const Blockers* blockers = nullptr) const;
   // Closest hits of up to kIntersectPacketSize coherent rays (camera rays) traced together
   // as one packet (Embree walks the BVH once for all lanes); a miss leaves hits[i].t
   // infinite. Up to 4 rays go as a 4-wide packet, up to 8 as an 8-wide one, more as a
@@ -124,7 +132,8 @@ class SceneAccel {
   // from nearby points, share most of their BVH walk. A packet of up to 4 rays is traced
   // 4 wide (rtcOccluded4), a larger one 8 wide.
   static constexpr int kPacketSize = 8;
-  void occluded_packet(const Ray* rays, int count, bool* blocked) const;
+  void occluded_packet(const Ray* rays, int count, bool* blocked,
+                       const Blockers* blockers = nullptr) const;
 
   // The benchmark baseline, in two steps so the conversion is not timed:
   // prepare_bare converts queries to Embree's layout, leaving out rays Embree cannot take

@@ -26,6 +26,46 @@ void decide(Effects* effects, uint32_t bit, bool on, std::string name, std::stri
   effects->decisions.push_back({std::move(name), on, std::move(why)});
 }
 
+// Hair, curves and point clouds (Mesh::curves, Mesh::points): named with their counts.
+EffectDecision strands(const CompiledScene& scene) {
+  size_t objects = 0;
+  size_t segments = 0;
+  size_t points = 0;
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    const Mesh& mesh = instance.mesh->mesh;
+    objects += mesh.curves.segment_count() + mesh.points.count() > 0;
+    segments += mesh.curves.segment_count();
+    points += mesh.points.count();
+  }
+  if (objects == 0) return {"hair and points", false, "no hair, curves or point cloud"};
+  return {"hair and points", true,
+          thousands(objects) + (objects == 1 ? " object: " : " objects: ") + thousands(segments) +
+              " curve segments, " + thousands(points) + " points"};
+}
+
+// Light linking and shadow linking (light.h): named when some emitter uses them.
+EffectDecision light_linking(const CompiledScene& scene) {
+  size_t lamps = 0;
+  size_t emitters = 0;
+  size_t receivers = 0;
+  for (const Light& light : scene.lights) {
+    lamps += light.light_sets != kAllLightSets || light.shadow_sets != kAllLightSets;
+  }
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    const InstanceLinks& links = instance.links;
+    emitters += links.light_sets != kAllLightSets || links.shadow_sets != kAllLightSets;
+    receivers += links.light_set != 0 || links.shadow_set != 0;
+  }
+  if (!scene.light_linking) {
+    return {"light linking", false, "no light or emissive object links receivers or blockers"};
+  }
+  return {"light linking", true,
+          thousands(lamps) + (lamps == 1 ? " light, " : " lights, ") + thousands(emitters) +
+              (emitters == 1 ? " emissive object" : " emissive objects") + " linked; " +
+              thousands(receivers) + (receivers == 1 ? " object" : " objects") +
+              " in light or shadow sets"};
+}
+
 // Which of shadows, reflection, refraction and translucency the scene can show.
 void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects* effects) {
   // Only materials some instance uses can contribute.
@@ -84,6 +124,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   decide(effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
+  effects->decisions.push_back(strands(scene));
+  effects->decisions.push_back(light_linking(scene));
 }
 
 // "0.0250": a length as the report writes it, in scene units.

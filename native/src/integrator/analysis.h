@@ -41,8 +41,9 @@ struct EffectDecision {
 
 struct Effects {
   uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect;
-  std::vector<EffectDecision> decisions;  // one per effect, in EffectBits order (glossy
-                                          // after reflection, emitters after shadows)
+  // One per effect, in EffectBits order (glossy after reflection, emitters after shadows),
+  // then what is named without a bit: hair and points, light linking, the camera's.
+  std::vector<EffectDecision> decisions;
   bool has(uint32_t bit) const { return (bits & bit) != 0; }
 };
 

@@ -32,13 +32,13 @@ bool RayLog::intersect(const SceneAccel& accel, const Ray& ray, Hit* hit) {
   return found;
 }
 
-bool RayLog::occluded(const SceneAccel& accel, const Ray& ray) {
+bool RayLog::occluded(const SceneAccel& accel, const Ray& ray, const Blockers* blockers) {
   if (source != nullptr) {
     check_answers(next_occlusion + 1, source->occlusion.size());
     return source->occlusion[next_occlusion++] != 0;
   }
   queries.push_back({ray, true});
-  const bool blocked = accel.occluded(ray);
+  const bool blocked = accel.occluded(ray, blockers);
   if (results) occlusion.push_back(blocked ? 1 : 0);
   return blocked;
 }
@@ -56,7 +56,8 @@ void RayLog::intersect_packet(const SceneAccel& accel, const Ray* rays, int coun
   if (results) hits.insert(hits.end(), out, out + n);
 }
 
-void RayLog::occluded_packet(const SceneAccel& accel, const Ray* rays, int count, bool* blocked) {
+void RayLog::occluded_packet(const SceneAccel& accel, const Ray* rays, int count, bool* blocked,
+                             const Blockers* blockers) {
   const auto n = static_cast<size_t>(count);
   if (source != nullptr) {
     check_answers(next_occlusion + n, source->occlusion.size());
@@ -64,7 +65,7 @@ void RayLog::occluded_packet(const SceneAccel& accel, const Ray* rays, int count
     return;
   }
   for (size_t i = 0; i < n; ++i) queries.push_back({rays[i], true});
-  accel.occluded_packet(rays, count, blocked);
+  accel.occluded_packet(rays, count, blocked, blockers);
   if (results) {
     for (size_t i = 0; i < n; ++i) occlusion.push_back(blocked[i] ? 1 : 0);
   }

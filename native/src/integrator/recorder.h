@@ -29,9 +29,10 @@ struct RayLog {
   bool active = false;
 
   bool intersect(const SceneAccel& accel, const Ray& ray, Hit* hit);
-  bool occluded(const SceneAccel& accel, const Ray& ray);
+  bool occluded(const SceneAccel& accel, const Ray& ray, const Blockers* blockers);
   void intersect_packet(const SceneAccel& accel, const Ray* rays, int count, Hit* hits);
-  void occluded_packet(const SceneAccel& accel, const Ray* rays, int count, bool* blocked);
+  void occluded_packet(const SceneAccel& accel, const Ray* rays, int count, bool* blocked,
+                       const Blockers* blockers);
   // The worker's next work item: recording, the next of the render's sequence (noted);
   // replaying, the next this worker took in the recording (SIZE_MAX after the last).
   size_t take_item(std::atomic<size_t>* next);

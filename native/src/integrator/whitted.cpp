@@ -233,16 +233,23 @@ class Kernel {
     if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
     return scene_.accel->intersect(ray, hit);
   }
-  bool occluded(const Ray& ray) const {
-    if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray);
-    return scene_.accel->occluded(ray);
+  bool occluded(const Ray& ray, const Blockers* blockers) const {
+    if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray, blockers);
+    return scene_.accel->occluded(ray, blockers);
   }
-  void occluded_packet(const Ray* rays, int count, bool* blocked) const {
+  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
     if (log_ != nullptr && log_->active) {
-      log_->occluded_packet(*scene_.accel, rays, count, blocked);
+      log_->occluded_packet(*scene_.accel, rays, count, blocked, blockers);
       return;
     }
-    scene_.accel->occluded_packet(rays, count, blocked);
+    scene_.accel->occluded_packet(rays, count, blocked, blockers);
+  }
+  // Shadow linking: the instances that may block a feeler of an emitter whose shadows
+  // the shadow sets `sets` cast (null: every instance), held in *storage.
+  const Blockers* blockers(uint64_t sets, Blockers* storage) const {
+    if (sets == kAllLightSets) return nullptr;
+    *storage = Blockers{scene_.shadow_sets.data(), sets};
+    return storage;
   }
 
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
@@ -380,7 +387,7 @@ class Kernel {
     counts->transparent += 1;
     return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, it.time,
                             ray.direction, RayKind(ray.kind)),
-                  state, Color(1.0f), media, /*bounce=*/false, TreeRayKind::kTransparent, counts);
+                  state, Color(1.0f), media, /*from=*/nullptr, TreeRayKind::kTransparent, counts);
   }
 
   // The hit as the local term and the split of weights read it: normals facing the ray,
@@ -453,9 +460,18 @@ class Kernel {
 
   // What a glossy ray counts of the emission it meets: its MIS weight against the
   // feelers that sample this side of this triangle (1 where none do, and for every other
-  // ray). The distance is from the ray's origin (behind a cut-out: from the cut-out).
+  // ray; 0 where light linking keeps the emitter from the surface the ray left). The
+  // distance is from the ray's origin (behind a cut-out: from the cut-out).
   float emission_weight(const Ray& ray, const ShadingPoint& p, const NodeState& state) const {
-    if (!(state.mis > 0.0f) || is_black(p.surface.emission) || !emitters_on()) return 1.0f;
+    if (is_black(p.surface.emission)) return 1.0f;
+    // Light linking: a bounce sees an emitter only if it lights the surface it left
+    // (camera rays see every one, as in Cycles).
+    if (scene_.light_linking && state.receiver >= 0 &&
+        !in_sets(scene_.instances[p.it.instance].links.light_sets,
+                 static_cast<uint32_t>(state.receiver))) {
+      return 0.0f;
+    }
+    if (!(state.mis > 0.0f) || !emitters_on()) return 1.0f;
     const MeshLights& lights = *scene_.mesh_lights;
     const int32_t index = lights.find(p.it.instance, p.it.primitive);
     if (index < 0) return 1.0f;
@@ -522,10 +538,9 @@ class Kernel {
     if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
     const TreeRayKind kind = split.total_internal_reflection ? TreeRayKind::kTotalInternalReflection
                                                              : TreeRayKind::kReflection;
-    const Color reflected =
-        branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, r,
-                         kReflectionRay),
-               state, split.sigma_r, state.media, /*bounce=*/true, kind, counts);
+    const Color reflected = branch(spawn_ray(p.it.position, p.it.position_error,
+                                             p.it.geometric_normal, p.it.time, r, kReflectionRay),
+                                   state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
     if constexpr (kPasses) {
       recorder_.reflected(state.depth, state.throughput, split.sigma_r, reflected);
     }
@@ -572,7 +587,7 @@ class Kernel {
       const Color brought =
           branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, wi,
                            kReflectionRay),
-                 state, weight, state.media, /*bounce=*/true, TreeRayKind::kGlossy, counts, &drawn);
+                 state, weight, state.media, /*from=*/&p.it, TreeRayKind::kGlossy, counts, &drawn);
       mean += (lobe * strata.share) * lobe_of.energy * brought;
     }
     if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
@@ -619,7 +634,7 @@ class Kernel {
     const Color refracted = branch(
         spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time,
                   split.refracted, kRefractionRay),
-        state, split.sigma_t, beyond.media, /*bounce=*/true, TreeRayKind::kRefraction, counts);
+        state, split.sigma_t, beyond.media, /*from=*/&p.it, TreeRayKind::kRefraction, counts);
     if constexpr (kPasses) {
       recorder_.refracted(state.depth, state.throughput, split.sigma_t, refracted);
     }
@@ -660,7 +675,7 @@ class Kernel {
       const Color brought =
           branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, t,
                            through ? kRefractionRay : kReflectionRay),
-                 state, split.sigma_t * lobe, through ? beyond.media : state.media, /*bounce=*/true,
+                 state, split.sigma_t * lobe, through ? beyond.media : state.media, /*from=*/&p.it,
                  TreeRayKind::kGlossy, counts, &drawn);
       mean += (lobe * strata.share) * brought;
     }
@@ -677,12 +692,13 @@ class Kernel {
   };
 
   // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
-  // the cutoff stops it; `bounce` is false for a ray that only continues straight on
-  // (`kind` names it for the inspector), `drawn` given for a ray drawn from a glossy
-  // lobe. The one place the ray tree branches.
+  // the cutoff stops it; `from` is the surface it bounces off, null for a ray that only
+  // continues straight on (`kind` names it for the inspector), `drawn` given for a ray
+  // drawn from a glossy lobe. The one place the ray tree branches.
   Color branch(const Ray& ray, const NodeState& state, const Color& weight,
-               const MediumStack& media, bool bounce, [[maybe_unused]] TreeRayKind kind,
+               const MediumStack& media, const Interaction* from, [[maybe_unused]] TreeRayKind kind,
                RayCounts* counts, const Drawn* drawn = nullptr) const {
+    const bool bounce = from != nullptr;
     // A glossy ray is one of several that share its lobe: its NodeState::weight is the
     // lobe's (what the cutoff compares: each of n rays below it may sum above it), its
     // share of the sample 1/n of that.
@@ -695,6 +711,8 @@ class Kernel {
     // A continuation straight on is still the same ray; a bounce of any other kind
     // counts the emission it meets whole.
     next.mis = glossy ? drawn->mis : (bounce ? 0.0f : state.mis);
+    // Light linking: what it meets is lit for the surface it left (emission_weight).
+    next.receiver = bounce ? scene_.instances[from->instance].links.light_set : state.receiver;
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
       if constexpr (kRecord) record_cut(ray, next, kind, weight * share, TreeCut::kDepth);
@@ -737,12 +755,18 @@ class Kernel {
     Color phong = p.base * p.it.material->ambient * scene_.ambient * surface.diffuse;
     if constexpr (kPasses) terms.ambient = phong;
     if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
+    const uint32_t receiver = scene_.instances[p.it.instance].links.light_set;
     for (const Light& light : scene_.lights) {
-      if (state.depth > light.max_bounces) continue;  // past its Max Bounces
+      if (state.depth > light.max_bounces) continue;       // past its Max Bounces
+      if (!in_sets(light.light_sets, receiver)) continue;  // not linked to this surface
       const int samples = light.sample_count();
-      const Feeler feeler{
-          light.cast_shadows, samples,     static_cast<int32_t>(&light - scene_.lights.data()), -1,
-          light.diffuse,      light.glossy};
+      const Feeler feeler{light.cast_shadows,
+                          samples,
+                          static_cast<int32_t>(&light - scene_.lights.data()),
+                          -1,
+                          light.diffuse,
+                          light.glossy,
+                          light.shadow_sets};
       const auto draw = [&](int s) {
         return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
       };
@@ -770,6 +794,7 @@ class Kernel {
     int32_t emitter;
     bool diffuse = true;  // its light's ray visibility (Light::diffuse, Light::glossy)
     bool glossy = true;
+    uint64_t shadow_sets = kAllLightSets;  // the shadow sets that block it (light.h)
   };
   // One sample of a light: its feeler, what arrives, and the MIS weight of its glossy share.
   struct Drawing {
@@ -813,14 +838,18 @@ class Kernel {
                                   Color* phong) const {
     const MeshLights& lights = *scene_.mesh_lights;
     const Strata strata(state, settings_.emitter_samples, 0x656du);
+    const uint32_t receiver = scene_.instances[p.it.instance].links.light_set;
     const auto draw = [&](int k) {
       const glm::vec2 u = strata.point(k);
       // Where the emitter is at the shading point's time (a moving one's place then).
       const MeshLights::Sample s = lights.sample(scene_, u.x, u.y, p.it.time);
       const EmissiveTriangle& triangle = s.triangle;
-      Drawing out{{true, strata.count(), -1, static_cast<int32_t>(triangle.instance)},
+      const InstanceLinks& links = scene_.instances[triangle.instance].links;
+      Drawing out{{true, strata.count(), -1, static_cast<int32_t>(triangle.instance), true, true,
+                   links.shadow_sets},
                   {Vec3(0.0f, 0.0f, 1.0f), 0.0f, Color(0.0f)},
                   1.0f};
+      if (!in_sets(links.light_sets, receiver)) return out;  // not linked to this surface
       // From where the feeler leaves (on a smooth mesh lifted off the facet, towards
       // the curved surface): measured from the facet, the feeler would reach past the
       // sample and the emitter would block its own light.
@@ -851,9 +880,10 @@ class Kernel {
   struct PreparedSample {
     LightTerms t;
     Color irradiance;
-    Color unshadowed;  // its share of the local term if all of it arrives
-    Ray feeler;        // the shadow ray, when `sends_feeler` (else all of it arrives)
-    bool dark;         // pruned: it adds nothing
+    Color unshadowed;      // its share of the local term if all of it arrives
+    Ray feeler;            // the shadow ray, when `sends_feeler` (else all of it arrives)
+    uint64_t shadow_sets;  // the shadow sets that may block it (Feeler::shadow_sets)
+    bool dark;             // pruned: it adds nothing
     bool sends_feeler;
   };
   // A batch's feelers fill at most one packet.
@@ -872,7 +902,10 @@ class Kernel {
     Color transmittance(1.0f);
     if (prepared.sends_feeler) {
       const Ray& ray = prepared.feeler;
-      transmittance = shadow_transmittance(ray, occluded(first_query(ray)), state, counts);
+      Blockers storage;
+      const Blockers* linked = blockers(prepared.shadow_sets, &storage);
+      transmittance =
+          shadow_transmittance(ray, occluded(first_query(ray), linked), linked, state, counts);
       if constexpr (kRecord) record_shadow(node, ray, transmittance);
     }
     return arrived(p, prepared, transmittance, terms);
@@ -884,6 +917,7 @@ class Kernel {
                                              const NodeState& state, RayCounts* counts,
                                              [[maybe_unused]] int node, PreparedSample* out) const {
     const LightSample& ls = drawing.sample;
+    out->shadow_sets = drawing.feeler.shadow_sets;
     // The shading normal decides whether a light is behind the (smooth) surface, not the
     // flat facet: gating on the facet draws stair-steps along the terminator of a coarse
     // smooth mesh.
@@ -934,13 +968,27 @@ class Kernel {
     std::array<Ray, kFeelerBatch> rays;
     std::array<bool, kFeelerBatch> blocked;
     int feelers = 0;
+    // One packet has one set of blockers: the emitters' feelers of a batch may differ
+    // under shadow linking, and then go one by one.
+    bool shared = true;
     for (int i = 0; i < n; ++i) {
       if (batch[i].sends_feeler) {
         rays[static_cast<size_t>(feelers++)] = first_query(batch[i].feeler);
+        shared = shared && batch[i].shadow_sets == batch[0].shadow_sets;
       }
     }
-    if (feelers == 1) blocked[0] = occluded(rays[0]);
-    if (feelers > 1) occluded_packet(rays.data(), feelers, blocked.data());
+    Blockers storage;
+    const Blockers* linked = blockers(batch[0].shadow_sets, &storage);
+    if (feelers == 1 || (feelers > 1 && !shared)) {
+      for (int i = 0, f = 0; i < n; ++i) {
+        if (!batch[i].sends_feeler) continue;
+        Blockers own;
+        blocked[static_cast<size_t>(f)] =
+            occluded(rays[static_cast<size_t>(f)], blockers(batch[i].shadow_sets, &own));
+        ++f;
+      }
+    }
+    if (feelers > 1 && shared) occluded_packet(rays.data(), feelers, blocked.data(), linked);
     int feeler = 0;
     for (int i = 0; i < n; ++i) {
       const PreparedSample& prepared = batch[i];
@@ -951,7 +999,9 @@ class Kernel {
       Color transmittance(1.0f);
       if (prepared.sends_feeler) {
         const bool first_blocked = blocked[static_cast<size_t>(feeler++)];
-        transmittance = shadow_transmittance(prepared.feeler, first_blocked, state, counts);
+        Blockers own;
+        transmittance = shadow_transmittance(prepared.feeler, first_blocked,
+                                             blockers(prepared.shadow_sets, &own), state, counts);
       }
       *phong += arrived(p, prepared, transmittance, terms);
     }
@@ -1075,10 +1125,10 @@ class Kernel {
   }
 
   // Fraction of light that reaches the end of a shadow ray whose first query answered
-  // `blocked`: 0 behind anything opaque; through a surface of coverage a, 1 - a passes
-  // (cut-outs), and of its covered part a*T with glass_shadows tinted (coloured shadows
-  // behind glass, transmissivity T), else none (settings.h).
-  Color shadow_transmittance(Ray ray, bool blocked, const NodeState& state,
+  // `blocked` (both among `linked`, null: every instance): 0 behind anything opaque; through a
+  // surface of coverage a, 1 - a passes (cut-outs), and of its covered part a*T with glass_shadows
+  // tinted (coloured shadows behind glass, transmissivity T), else none (settings.h).
+  Color shadow_transmittance(Ray ray, bool blocked, const Blockers* linked, const NodeState& state,
                              RayCounts* counts) const {
     counts->shadow += 1;
     if (blocked) return Color(0.0f);
@@ -1090,10 +1140,13 @@ class Kernel {
       Hit hit;
       if (!intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
-      const SurfaceParams surface = scene_.surface(it, ray, context(state));
-      const float a = surface.alpha;
-      const bool tinted = settings_.glass_shadows == GlassShadows::kTinted;
-      transmittance *= (1.0f - a) + a * (tinted ? surface.transmissivity : Color(0.0f));
+      // Under shadow linking, a surface that casts none of this light's shadows is passed.
+      if (linked == nullptr || in_sets(linked->sets, scene_.shadow_sets[hit.instance])) {
+        const SurfaceParams surface = scene_.surface(it, ray, context(state));
+        const float a = surface.alpha;
+        const bool tinted = settings_.glass_shadows == GlassShadows::kTinted;
+        transmittance *= (1.0f - a) + a * (tinted ? surface.transmissivity : Color(0.0f));
+      }
       if (is_black(transmittance)) return transmittance;
       const float remaining = ray.t_max - glm::length(it.position - ray.origin);
       if (!(remaining > 0.0f)) return transmittance;

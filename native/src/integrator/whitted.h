@@ -65,6 +65,9 @@ struct NodeState {
   // lobe's rays per emitter feeler, for the MIS weight of the emission it meets
   // (whitted.cpp); 0 for every other ray, which counts emission whole.
   float mis = 0.0f;
+  // Light linking: the light set of the surface this ray left, whose emitters it sees;
+  // -1 for a camera ray, which sees every emitter (as in Cycles).
+  int receiver = -1;
 };
 
 // Analyses the scene once, then traces only the effects the scene calls for

@@ -9,6 +9,16 @@
 namespace whitted {
 
 enum class LightType { kPoint, kSpot, kSun, kArea };
+
+// Light linking (Blender 4.0+, Object > Light Linking): every object is a receiver in one
+// light set and a blocker in one shadow set (0: named by no emitter's collection), and
+// every emitter, lamp or emissive mesh, lights a mask of light sets and is shadowed by a
+// mask of shadow sets. Blender's depsgraph rules, resolved by addon/export/light_linking.py.
+inline constexpr uint64_t kAllLightSets = ~uint64_t{0};
+inline constexpr int kMaxLightSets = 64;
+inline bool in_sets(uint64_t sets, uint32_t set) {
+  return ((sets >> set) & 1u) != 0;
+}
 enum class AreaShape { kRectangle, kEllipse };
 
 // A light as the exporter describes it, in the units Cycles uses. Light's constructor
@@ -42,6 +52,10 @@ struct LightParams {
   // Cycles' Max Bounces: it lights only surfaces reached after at most this many
   // bounces (a camera ray's hit has had none; each reflection or refraction is one).
   int max_bounces = 1024;
+  // Light linking: the receivers' light sets it lights, the blockers' shadow sets that
+  // cast its shadows (all: no linking).
+  uint64_t light_sets = kAllLightSets;
+  uint64_t shadow_sets = kAllLightSets;
 };
 
 // The samples per axis a sized light may ask for (64 x 64 feelers per shading point).

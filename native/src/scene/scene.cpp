@@ -284,6 +284,8 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     compiled->material_constants.push_back(constant_surface(material));
   }
   for (const auto& [name, light] : state_.lights) {
+    compiled->light_linking = compiled->light_linking || light.light_sets != kAllLightSets ||
+                              light.shadow_sets != kAllLightSets;
     compiled->lights.push_back(light);
     compiled->light_names.push_back(name);
   }
@@ -314,6 +316,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     out.info = instance.info;
     out.name = name;
     out.cryptomatte = instance.cryptomatte;
+    out.links = instance.links;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {
         out.materials.push_back(0);
@@ -342,6 +345,8 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     accel_instances.push_back({std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel),
                                out.placement.to_world, mask, out.motion});
     masks.push_back(mask);
+    compiled->shadow_sets.push_back(out.links.shadow_set);
+    compiled->light_linking = compiled->light_linking || out.links.linked();
     compiled->moves = compiled->moves || out.motion != nullptr || out.mesh->mesh.deforms();
     compiled->instances.push_back(std::move(out));
   }

@@ -55,6 +55,19 @@ struct CryptomatteIds {
   std::vector<float> materials;
 };
 
+// An instance's light linking (light.h): its sets as a receiver and a blocker, and, when
+// its material emits, the sets it lights and the shadow sets that cast its shadows.
+struct InstanceLinks {
+  uint8_t light_set = 0;
+  uint8_t shadow_set = 0;
+  uint64_t light_sets = kAllLightSets;
+  uint64_t shadow_sets = kAllLightSets;
+  bool linked() const {
+    return light_set != 0 || shadow_set != 0 || light_sets != kAllLightSets ||
+           shadow_sets != kAllLightSets;
+  }
+};
+
 struct Instance {
   std::string mesh;
   glm::mat4 to_world{1.0f};
@@ -66,6 +79,7 @@ struct Instance {
   // Its transform over the shutter (motion blur), sampled at evenly spaced times from its
   // opening to its closing; empty (or all one transform) when it does not move.
   std::vector<glm::mat4> motion;
+  InstanceLinks links;
 };
 
 // Where a ray met a surface, in world space.
@@ -144,6 +158,7 @@ struct CompiledScene {
     InstanceInfo info;
     std::string name;  // the Scene's key, for what reports name it (the inspector)
     CryptomatteIds cryptomatte;
+    InstanceLinks links;
   };
   std::vector<Instance> instances;
   bool moves = false;               // whether any instance moves or deforms within the shutter
@@ -167,6 +182,10 @@ struct CompiledScene {
   // Shared by successive snapshots while no mesh or instance changes.
   std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
+  // Light linking: whether any lamp or instance is linked (light.h), and each instance's
+  // shadow set, for the shadow queries of a light that only some sets block.
+  bool light_linking = false;
+  std::vector<uint8_t> shadow_sets;
 
   size_t triangle_count() const;
   // The `materials` index of an instance's triangle (its slot's, 0 past the slots).
