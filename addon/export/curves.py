@@ -13,6 +13,10 @@ the object's own space) read from the evaluated depsgraph, as Cycles reads them
   shapes it from the particle settings' root and tip (below).
 - Point clouds: the points and their `radius` attribute (Cycles' 0.01 where none).
 
+The curves' shape is the scene's (Render > Curves > Shape, `scene.cycles_curves`): Thick
+(round tubes), Ribbons (`flat`: ribbons facing each ray, shaded as tubes; Cycles' default)
+or, in 5.x, Thick Linear (`linear`), which 5.x also takes for poly curves.
+
 Units: Blender's scene units (metres), the radius a radius (Blender's root and tip
 "radius" of particle hair is halved, as Cycles halves it: the settings are diameters).
 """
@@ -43,6 +47,8 @@ class CurvesData:
     slots: np.ndarray
     # Straight from key to key (Cycles' Thick Linear), not Catmull-Rom through the keys.
     linear: bool = False
+    # Flat ribbons facing each ray, shaded as round tubes (Cycles' Ribbons), not tubes.
+    flat: bool = False
 
     def __len__(self):
         return len(self.counts)
@@ -82,9 +88,17 @@ def thick_linear(scene):
     return "THICK_LINEAR" in shapes, settings.shape == "THICK_LINEAR"
 
 
+def flat_curves(scene):
+    """Whether the scene's curve shape (Render > Curves > Shape) is Ribbons, Cycles'
+    default: strands as flat ribbons turned to face each ray."""
+    settings = getattr(scene, "cycles_curves", None)
+    return settings is not None and settings.shape == "RIBBONS"
+
+
 def curves_data(curves, scene=None):
     """CurvesData of an evaluated Curves data-block (a CURVES object's data). As Cycles
-    5.x, poly curves (by the first curve's type) are straight from point to point."""
+    5.x, poly curves (by the first curve's type) are straight from point to point, round
+    whatever the scene's shape; other curves take the scene's shape."""
     points = len(curves.points)
     count = len(curves.curves)
     positions = _attribute(curves, "position", "POINT", "FLOAT_VECTOR", points, 3)
@@ -109,6 +123,7 @@ def curves_data(curves, scene=None):
         counts=np.diff(offsets).astype(np.uint32),
         slots=np.zeros(count, dtype=np.int32) if slots is None else slots,
         linear=(poly and poly_straight) or shape_straight,
+        flat=not (poly and poly_straight) and scene is not None and flat_curves(scene),
     )
 
 
@@ -159,6 +174,7 @@ def particle_hair_data(obj, render, scene=None):
         counts=np.concatenate([p.counts for p in parts]),
         slots=np.concatenate([p.slots for p in parts]),
         linear=scene is not None and thick_linear(scene)[1],
+        flat=scene is not None and flat_curves(scene),
     )
 
 

@@ -76,7 +76,7 @@ def native_strands(native, data):
     # export.curves.CurvesData or PointsData as a native.Mesh of no triangles.
     mesh = native.Mesh(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32))
     if isinstance(data, CurvesData):
-        mesh.set_curves(data.keys, data.counts, data.slots, linear=data.linear)
+        mesh.set_curves(data.keys, data.counts, data.slots, linear=data.linear, flat=data.flat)
     else:
         mesh.set_points(data.spheres, data.slots)
     return mesh

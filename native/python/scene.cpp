@@ -177,7 +177,7 @@ void bind_scene(py::module_& m) {
       .def(
           "set_curves",
           [](Mesh& mesh, const FloatArray& keys, const UintArray& counts,
-             const std::optional<IntArray>& slots, bool linear) {
+             const std::optional<IntArray>& slots, bool linear, bool flat) {
             require_shape(keys, "keys", {-1, 4});
             require_shape(counts, "counts", {-1});
             if (slots) require_shape(*slots, "slots", {counts.shape(0)});
@@ -185,15 +185,17 @@ void bind_scene(py::module_& m) {
             py::gil_scoped_release release;
             mesh.curves =
                 make_curves(keys.data(), static_cast<size_t>(keys.shape(0)), counts.data(),
-                            static_cast<size_t>(counts.shape(0)), slot, linear);
+                            static_cast<size_t>(counts.shape(0)), slot, linear, flat);
           },
           py::arg("keys"), py::arg("counts"), py::arg("slots") = py::none(),
-          py::arg("linear") = false,
+          py::arg("linear") = false, py::arg("flat") = false,
           "Strands (hair, curves) of the same object: keys float32[K,4] (x, y, z, radius, "
           "object space), counts uint32[C] keys of each strand in order, slots int32[C] "
           "material slot of each (None: slot 0). Traced as round Catmull-Rom tubes through "
           "the keys, or with `linear` straight cones from key to key (round joints and "
-          "ends); strands of fewer than two keys are left out.")
+          "ends); with `flat`, the same curves as ribbons facing each ray, shaded as the "
+          "round tubes they stand for (Cycles' Ribbons); strands of fewer than two keys are "
+          "left out.")
       .def(
           "set_points",
           [](Mesh& mesh, const FloatArray& spheres, const std::optional<IntArray>& slots) {

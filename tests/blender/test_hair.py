@@ -1,14 +1,16 @@
 """Hair, curves and point clouds (issue 31): particle hair with children, a Curves object
 whose curves geometry nodes make, and a point cloud from Distribute Points on Faces,
 each traced as round tubes or spheres (export/curves.py, native Mesh curves and points)
-against Cycles' Thick curves; the report names none of them as not rendered."""
+against Cycles' Thick curves; the report names none of them as not rendered. Particle
+hair with Cycles' default shape, Ribbons, traced as flat curves against Cycles' Ribbons,
+closer to them than the same strands traced round."""
 
 import json
 
 import numpy as np
 import pytest
 from cycles_scenes import box_filtered, render_rgba
-from whitted_tools.hair_scenes import SCENES
+from whitted_tools.hair_scenes import SCENES, ribbon_hair
 from whitted_tools.metrics import subject_figures
 
 
@@ -48,3 +50,36 @@ def test_strands_and_points_as_cycles(empty_scene, tmp_path, monkeypatch, name):
     assert coverage == pytest.approx(1.0, abs=0.05)
     assert value > 0.95
     assert abs(ratio - 1.0) < 0.05
+
+
+def test_ribbons_as_cycles(empty_scene, tmp_path):
+    scene = empty_scene
+    ribbon_hair(scene)
+    box_filtered(scene, cycles_samples=128, whitted_samples=6)
+    floor = scene.objects["Floor"]
+
+    def render(engine, shape):
+        scene.cycles_curves.shape = shape
+        image = render_rgba(scene, engine, str(tmp_path / f"{engine}_{shape}.exr"))
+        floor.hide_render = True
+        alone = render_rgba(scene, engine, str(tmp_path / f"{engine}_{shape}_alone.exr"))
+        floor.hide_render = False
+        return image, alone
+
+    cycles, cycles_alone = render("CYCLES", "RIBBONS")
+    figures = {}
+    for shape in ("RIBBONS", "THICK"):  # Whitted's ribbons, and the same strands round
+        image, alone = render("WHITTED", shape)
+        assert np.isfinite(image).all()
+        value, ratio = subject_figures(image, cycles, alone[..., 3] > 0.5)
+        figures[shape] = value, ratio, alone[..., 3].mean()
+        print(
+            f"\nWhitted {shape} against Cycles' Ribbons: SSIM {value:.4f}, ratio {ratio:.4f}, "
+            f"coverage {alone[..., 3].mean():.4f} (Cycles {cycles_alone[..., 3].mean():.4f})"
+        )
+    value, ratio, coverage = figures["RIBBONS"]
+    assert coverage / cycles_alone[..., 3].mean() == pytest.approx(1.0, abs=0.01)
+    assert value > 0.985
+    assert abs(ratio - 1.0) < 0.025
+    # Traced round, the same strands are further from Cycles' ribbons.
+    assert figures["THICK"][0] < value - 0.01

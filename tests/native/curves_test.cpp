@@ -1,7 +1,8 @@
 // Curves (hair strands) and points (a point cloud) beside a mesh's triangles: a ray meets
 // a strand's round tube (Catmull-Rom, or linear with round ends) and a point's sphere
-// where the geometry says, with a normal from the axis or the centre; a lit strand shades
-// without acne, also lying half in a floor, and shadows the floor; strands far thinner
+// where the geometry says, with a normal from the axis or the centre; a flat strand (a
+// ribbon) faces the ray, shaded as a tube; a lit strand shades without acne, round or
+// flat, also lying half in a floor, and shadows the floor; strands far thinner
 // than a pixel, zero radii and degenerate segments stay finite; a strand shows through
 // glass and in a mirror; materials follow each strand's slot; threads and tiles change
 // no pixel.
@@ -27,7 +28,7 @@ Material white() {
 
 // A mesh holding only strands: `strands` of keys (x, y, z, radius).
 Mesh strands_mesh(const std::vector<std::vector<float>>& strands,
-                  const std::vector<int32_t>& slots = {}, bool linear = false) {
+                  const std::vector<int32_t>& slots = {}, bool linear = false, bool flat = false) {
   std::vector<float> keys;
   std::vector<uint32_t> counts;
   for (const std::vector<float>& s : strands) {
@@ -36,7 +37,7 @@ Mesh strands_mesh(const std::vector<std::vector<float>>& strands,
   }
   Mesh mesh = make_mesh(nullptr, 0, nullptr, 0, nullptr, nullptr);
   mesh.curves = make_curves(keys.data(), keys.size() / 4, counts.data(), counts.size(),
-                            slots.empty() ? nullptr : slots.data(), linear);
+                            slots.empty() ? nullptr : slots.data(), linear, flat);
   return mesh;
 }
 
@@ -88,6 +89,93 @@ TEST(Curves, ALinearStrandHasRoundEnds) {
   ASSERT_TRUE(hit_from_above(scene, 1.05f, 0.0f, &it));
   EXPECT_NEAR(it.position.z, 1.0f + std::sqrt(0.01f - 0.0025f), 1e-4f);
   EXPECT_NEAR(it.geometric_normal.x, 0.5f, 1e-3f);
+}
+
+// A flat strand (Cycles' Ribbons) is a ribbon through its axis turned to face the ray:
+// the hit lies at the axis's depth, the geometric normal is -d, and the shading normal is
+// the round tube's where its outline meets the hit (half the radius off the axis: leaning
+// out by 30 degrees, sin = 0.5).
+TEST(Curves, AFlatStrandFacesTheRayAndShadesAsATube) {
+  for (const bool linear : {false, true}) {
+    Scene scene;
+    add_object(&scene, "hair",
+               strands_mesh({{-1, 0, 1, 0.1f, 0, 0, 1, 0.1f, 1, 0, 1, 0.1f}}, {}, linear, true),
+               white());
+    Interaction it;
+    ASSERT_TRUE(hit_from_above(scene, 0.3f, 0.0f, &it)) << linear;
+    EXPECT_NEAR(it.position.z, 1.0f, 1e-4f);  // the axis's depth, not the tube's top
+    EXPECT_NEAR(it.geometric_normal.z, 1.0f, 1e-6f);
+    EXPECT_NEAR(it.shading_normal.z, 1.0f, 1e-4f);
+    EXPECT_NEAR(glm::length(it.shading_normal), 1.0f, 1e-5f);
+    for (const float y : {0.05f, -0.05f}) {
+      ASSERT_TRUE(hit_from_above(scene, 0.3f, y, &it)) << linear << " " << y;
+      EXPECT_NEAR(it.position.z, 1.0f, 1e-4f);
+      EXPECT_NEAR(it.geometric_normal.z, 1.0f, 1e-6f);
+      EXPECT_NEAR(it.shading_normal.y, y / 0.1f, 1e-3f);
+      EXPECT_NEAR(it.shading_normal.z, std::sqrt(0.75f), 1e-3f);
+    }
+    EXPECT_FALSE(hit_from_above(scene, 0.3f, 0.11f, &it));
+    // A ray at 60 degrees to the strand's normal plane still meets a ribbon facing it: the
+    // geometric normal is -d, the shading normal faces it (square to the strand).
+    const auto compiled = scene.compile();
+    const Vec3 d = glm::normalize(Vec3(0.0f, 1.0f, -0.6f));
+    const Ray ray{Vec3(0.3f, 0.0f, 1.0f) - 5.0f * d, d, 0.0f, kInfinity, kCameraRay};
+    Hit hit;
+    ASSERT_TRUE(compiled->accel->intersect(ray, &hit)) << linear;
+    it = compiled->interaction(ray, hit);
+    EXPECT_NEAR(glm::dot(it.geometric_normal, -d), 1.0f, 1e-5f);
+    EXPECT_GT(glm::dot(it.shading_normal, -d), 0.99f);
+    EXPECT_NEAR(it.shading_normal.x, 0.0f, 1e-4f);
+  }
+}
+
+// A ribbon's shadow feelers leave from the hit, as Cycles' do, and never meet the ribbon
+// they leave (Embree ignores it within twice its radius of their origin), wherever across
+// the ribbon the hit lies and whatever the light's direction but within 30 degrees of the
+// strand (there the ribbon further along lies in the way: a ribbon's own shadow, which
+// Cycles' ribbons show too); a feeler towards another strand beside it is still blocked.
+TEST(Curves, AFlatStrandsFeelersLeaveIt) {
+  Scene scene;
+  // A strand of five keys along X at height 1, radius 0.05.
+  add_object(&scene, "hair",
+             strands_mesh({{-1, 0,     1,    0.05f, -0.5f, 0,     1, 0.05f, 0, 0,
+                            1,  0.05f, 0.5f, 0,     1,     0.05f, 1, 0,     1, 0.05f}},
+                          {}, false, true),
+             white());
+  const auto compiled = scene.compile();
+  int feelers = 0;
+  for (float y = -0.04f; y <= 0.04f; y += 0.01f) {
+    for (float x = -0.6f; x <= 0.6f; x += 0.15f) {
+      const Ray down{Vec3(x, y, 10.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
+      Hit hit;
+      if (!compiled->accel->intersect(down, &hit)) continue;
+      const Interaction it = compiled->interaction(down, hit);
+      for (float theta = 0.05f; theta < kPi; theta += 0.2f) {
+        for (float phi = 0.0f; phi < 2.0f * kPi; phi += 0.3f) {
+          const Vec3 wi(std::cos(theta), std::sin(theta) * std::cos(phi),
+                        std::sin(theta) * std::sin(phi));
+          if (std::abs(wi.x) > std::cos(kPi / 6)) continue;
+          const Ray feeler = spawn_ray(it.shadow_origin, it.position_error, it.geometric_normal,
+                                       it.time, wi, kShadowRay);
+          EXPECT_FALSE(compiled->accel->occluded(feeler))
+              << x << " " << y << " towards " << wi.x << " " << wi.y << " " << wi.z;
+          ++feelers;
+        }
+      }
+    }
+  }
+  EXPECT_GT(feelers, 500);
+  // A second strand beside the first (y = 0.3): a feeler towards it is blocked.
+  add_object(&scene, "other",
+             strands_mesh({{-1, 0.3f, 1, 0.05f, 1, 0.3f, 1, 0.05f}}, {}, false, true), white());
+  const auto both = scene.compile();
+  const Ray down{Vec3(0.05f, 0.0f, 10.0f), Vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity, kCameraRay};
+  Hit hit;
+  ASSERT_TRUE(both->accel->intersect(down, &hit));
+  const Interaction it = both->interaction(down, hit);
+  EXPECT_TRUE(
+      both->accel->occluded(spawn_ray(it.shadow_origin, it.position_error, it.geometric_normal,
+                                      it.time, Vec3(0, 1, 0), kShadowRay)));
 }
 
 TEST(Points, ARayMeetsAPointsSphere) {
@@ -146,6 +234,43 @@ TEST(Curves, ALitStrandShadesWithoutAcneAndCastsItsShadow) {
   const Ray up{Vec3(0.0f, 0.1f, 0.0f) + Vec3(0.0f, 0.0f, 1e-4f), Vec3(0.0f, 0.0f, 1.0f), 0.0f,
                kInfinity, kShadowRay};
   EXPECT_TRUE(compiled->accel->occluded(up));  // under the strand: shadowed
+}
+
+// A ribbon lit by a sun from the side (45 degrees from the view, across the strand),
+// seen from above, the view (0.36 m across at the strand) within its 0.4 m width: each row
+// of pixels looks at one place across it and shades as the tube it stands for, by the
+// cosine of its bent normal: every pixel of a row alike (no speck of self-shadow), up to
+// the full 0.8/pi*3 where the normal faces the sun and 0 past the tube's terminator, one
+// rise and one fall between.
+TEST(Curves, ALitRibbonShadesAsATubeWithoutAcne) {
+  Scene scene;
+  add_object(&scene, "floor", quad(-5, 5, -5, 5, 0), white());
+  add_object(
+      &scene, "hair",
+      strands_mesh({{-2, 0, 0.5f, 0.2f, 0, 0, 0.5f, 0.2f, 2, 0, 0.5f, 0.2f}}, {}, false, true),
+      white());
+  Light sun;
+  sun.type = LightType::kSun;
+  sun.color = Color(3.0f);
+  sun.direction = -glm::normalize(Vec3(0.0f, 1.0f, 1.0f));
+  scene.set_light("sun", sun);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 0.04f);
+  const std::vector<float> pixels = testing::render_pixels(scene, small(2, 16));
+  std::vector<float> across;
+  for (int row = 0; row < 41; ++row) {
+    const float first = pixels[4 * (row * 41)];
+    for (int x = 1; x < 41; ++x) EXPECT_NEAR(pixels[4 * (row * 41 + x)], first, 1e-4f) << row;
+    across.push_back(first);
+  }
+  const float brightest = *std::max_element(across.begin(), across.end());
+  EXPECT_NEAR(brightest, 0.8f / kPi * 3.0f, 0.01f);
+  EXPECT_EQ(*std::min_element(across.begin(), across.end()), 0.0f);
+  int turns = 0;  // rises then falls (or falls then rises, by the image's row order)
+  for (size_t i = 2; i < across.size(); ++i) {
+    const float before = across[i - 1] - across[i - 2], after = across[i] - across[i - 1];
+    if ((before > 1e-4f && after < -1e-4f) || (before < -1e-4f && after > 1e-4f)) ++turns;
+  }
+  EXPECT_EQ(turns, 1);
 }
 
 TEST(Curves, ThinZeroAndDegenerateStrandsStayFinite) {

@@ -1,6 +1,8 @@
 """Hair, curves and point-cloud scenes, shared by their tests against Cycles
 (tests/blender/test_hair.py) and the hair benchmark (scripts/bench_hair.py)."""
 
+import math
+
 import bpy
 
 from whitted_tools.material_scenes import (
@@ -56,6 +58,19 @@ def particle_hair(scene, parents=200, children=10):
     settings.tip_radius = 0.4
     settings.radius_scale = 0.02
     settings.material = 2  # the Hair slot
+    return emitter
+
+
+def ribbon_hair(scene):
+    """particle_hair with Cycles' default curve shape, Ribbons, strands twice as thick
+    and the sun 20 degrees off the upright strands: ribbons there shade their own
+    strand further along (a feeler within 30 degrees of a strand meets it), round tubes
+    do not, so the two shapes render apart."""
+    emitter = particle_hair(scene)
+    emitter.particle_systems[0].settings.radius_scale = 0.04
+    bpy.data.objects["Sun"].rotation_euler = tuple(math.radians(a) for a in (20.0, 0.0, 25.0))
+    if hasattr(scene, "cycles_curves"):
+        scene.cycles_curves.shape = "RIBBONS"
     return emitter
 
 

@@ -160,11 +160,15 @@ MeshAccel::MeshAccel(std::shared_ptr<AccelDevice> device, const Mesh& mesh)
     rtcReleaseGeometry(geometry);  // the scene holds its own reference
   }
   if (mesh.curves.segment_count() > 0) {
-    // Round curves through the keys (x, y, z, radius): Catmull-Rom (Cycles' Thick), or
-    // linear (Thick Linear).
-    RTCGeometry curves =
-        rtcNewGeometry(d, mesh.curves.linear ? RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE
-                                             : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    // Curves through the keys (x, y, z, radius): Catmull-Rom (Cycles' Thick), or linear
+    // (Thick Linear); round, or flat ribbons facing the ray (Cycles' Ribbons), which Embree
+    // keeps from meeting a ray within twice their radius of its origin (scene.cpp).
+    const RTCGeometryType type =
+        mesh.curves.flat ? (mesh.curves.linear ? RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE
+                                               : RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE)
+                         : (mesh.curves.linear ? RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE
+                                               : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    RTCGeometry curves = rtcNewGeometry(d, type);
     rtcSetSharedGeometryBuffer(curves, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                mesh.curves.keys.data(), 0, 4 * sizeof(float),
                                mesh.curves.keys.size() / 4);

@@ -61,9 +61,10 @@ void require_finite_position(const float* xyz, const char* what, size_t index) {
 }  // namespace
 
 Curves make_curves(const float* keys, size_t key_count, const uint32_t* counts, size_t strand_count,
-                   const int32_t* slots, bool linear) {
+                   const int32_t* slots, bool linear, bool flat) {
   Curves out;
   out.linear = linear;
+  out.flat = flat;
   // Catmull-Rom segments read a key before and after theirs: the ends are doubled.
   const size_t doubled = linear ? 0 : 1;
   size_t first = 0;

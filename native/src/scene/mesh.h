@@ -13,12 +13,16 @@ namespace whitted {
 // curves through their keys (Embree's round curves; Cycles' Thick), each strand's first
 // and last keys doubled so that a segment, which reads four keys, ends at them; or, when
 // `linear`, straight cones from key to key with round joints and ends (Cycles 5.x's Thick
-// Linear, which it takes for poly curves). A segment is the index of its first key.
+// Linear, which it takes for poly curves). When `flat`, the same curves are ribbons of the
+// key's radius either side of the curve, turned to face each ray (Embree's flat curves;
+// Cycles' Ribbons), shaded with the normals of the round tube they stand for. A segment is
+// the index of its first key.
 struct Curves {
   std::vector<float> keys;         // x, y, z, radius per key (object space)
   std::vector<uint32_t> segments;  // the first key of each segment
   std::vector<int32_t> slots;      // material slot of each segment, or empty for slot 0
   bool linear = false;
+  bool flat = false;
   size_t segment_count() const { return segments.size(); }
 };
 
@@ -149,11 +153,11 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
                const CornerLayers& layers = {});
 
 // Curves from `keys` (x, y, z, radius each) of strands of `counts[i]` keys each, in
-// order, and a material slot per strand (null: slot 0); Catmull-Rom or `linear`. Strands of fewer
-// than two keys are left out; a negative or non-finite radius is 0 (a strand with a non-finite
-// position throws std::invalid_argument, naming it).
+// order, and a material slot per strand (null: slot 0); Catmull-Rom or `linear`, round or
+// `flat`. Strands of fewer than two keys are left out; a negative or non-finite radius is 0
+// (a strand with a non-finite position throws std::invalid_argument, naming it).
 Curves make_curves(const float* keys, size_t key_count, const uint32_t* counts, size_t strand_count,
-                   const int32_t* slots, bool linear = false);
+                   const int32_t* slots, bool linear = false, bool flat = false);
 // Points from `spheres` (x, y, z, radius each) and a slot per point (null: slot 0); a
 // negative or non-finite radius is 0 (such a point is invisible), a non-finite position
 // throws std::invalid_argument.

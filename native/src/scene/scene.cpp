@@ -403,6 +403,34 @@ CurvePoint catmull_rom(const float* k, float u) {
   return out;
 }
 
+// The centre, radius and tangent of a linear segment from key k0 to k1 at u, clamped to
+// the segment (beyond it lie the round joints).
+CurvePoint linear_point(const float* k, float u) {
+  const float w = std::clamp(u, 0.0f, 1.0f);
+  const Vec3 a(k[0], k[1], k[2]), b(k[4], k[5], k[6]);
+  return {(1.0f - w) * a + w * b, b - a, (1.0f - w) * k[3] + w * k[7]};
+}
+
+// The shading normal of a ribbon (a flat curve facing the ray, object space): the normal of
+// the round tube it stands for where the tube's outline, seen along the ray, meets the hit.
+// The hit lies `side` = its offset from the axis over the radius, -1 to 1, across the
+// ribbon (along B = T x -d); the tube's normal there is side B plus sqrt(1 - side^2) towards
+// the viewer (-d with its part along T taken out). Cycles' Ribbons shade so
+// (curve_shader_setup); the side is measured here from the hit, not read from Embree.
+Vec3 ribbon_normal(const CurvePoint& c, const Vec3& hit, const Vec3& direction) {
+  const float tangent_length = glm::length(c.tangent);
+  if (!(tangent_length > 0.0f)) return -direction;
+  const Vec3 t = c.tangent / tangent_length;
+  const Vec3 towards = -direction + glm::dot(direction, t) * t;  // -d across the axis
+  const float towards_length = glm::length(towards);
+  if (!(towards_length > 0.0f)) return -direction;  // looking along the strand
+  const Vec3 facing = towards / towards_length;
+  const Vec3 across = glm::cross(t, facing);
+  const float side =
+      c.radius > 0.0f ? std::clamp(glm::dot(hit - c.centre, across) / c.radius, -1.0f, 1.0f) : 0.0f;
+  return side * across + std::sqrt(std::max(1.0f - side * side, 0.0f)) * facing;
+}
+
 }  // namespace
 
 void CompiledScene::identify(const Ray& ray, const Hit& hit, const Vec3& local,
@@ -423,6 +451,11 @@ void CompiledScene::identify(const Ray& ray, const Hit& hit, const Vec3& local,
 // Embree's curve intersection is iterative and finds it within a small share of the
 // radius, so the offset that keeps secondary rays off the surface allows for 1e-3 of it
 // besides float rounding. Shading normal = geometric normal; no UVs or corner layers.
+// A flat curve (a ribbon) faces the ray: its geometric normal is -d, its shading normal
+// the round tube's (ribbon_normal), as Cycles' Ribbons. Rays leave it from the hit, as in
+// Cycles: Embree ignores a flat curve closer than twice its radius to a ray's origin, so
+// a ray never meets the ribbon it leaves but within 30 degrees of a straight strand (or
+// where a bent strand turns into its way): Cycles' ribbons self-shadow so too.
 Interaction CompiledScene::round_interaction(const Ray& ray, const Hit& hit,
                                              const Placement& at) const {
   const Instance& instance = instances[hit.instance];
@@ -430,28 +463,29 @@ Interaction CompiledScene::round_interaction(const Ray& ray, const Hit& hit,
   Interaction out;
   out.position = ray.origin + hit.t * ray.direction;
   // Object space by the inverse of the linear part (the transpose of the normal matrix).
-  const Vec3 local = glm::transpose(at.normal_to_world) * (out.position - Vec3(at.to_world[3]));
+  const glm::mat3 to_local = glm::transpose(at.normal_to_world);
+  const Vec3 local = to_local * (out.position - Vec3(at.to_world[3]));
   Vec3 normal_local(0.0f);
   float radius = 0.0f;
+  bool flat = false;
   const auto index = static_cast<size_t>(hit.primitive);
   if (mesh.kind(hit.primitive) == PrimitiveKind::kCurve) {
     const size_t segment = index - mesh.triangle_count();
     const float* keys = &mesh.curves.keys[4 * size_t{mesh.curves.segments[segment]}];
-    if (mesh.curves.linear) {
-      // A cone from key to key with round joints: the normal from the nearest axis point
-      // (u, clamped to the segment, gives it on the joints' spheres too).
-      const float u = std::clamp(hit.u, 0.0f, 1.0f);
-      const Vec3 a(keys[0], keys[1], keys[2]), b(keys[4], keys[5], keys[6]);
-      normal_local = local - ((1.0f - u) * a + u * b);
-      radius = (1.0f - u) * keys[3] + u * keys[7];
+    // Linear: a cone from key to key with round joints, the normal from the nearest axis
+    // point (u, clamped to the segment, gives it on the joints' spheres too). Catmull-Rom:
+    // from the axis point at u, square to the tangent.
+    const CurvePoint c = mesh.curves.linear ? linear_point(keys, hit.u) : catmull_rom(keys, hit.u);
+    radius = c.radius;
+    flat = mesh.curves.flat;
+    if (flat) {
+      normal_local = ribbon_normal(c, local, to_local * ray.direction);
     } else {
-      const CurvePoint c = catmull_rom(keys, hit.u);
-      const float tangent_length2 = glm::dot(c.tangent, c.tangent);
       normal_local = local - c.centre;
-      if (tangent_length2 > 0.0f) {
+      const float tangent_length2 = glm::dot(c.tangent, c.tangent);
+      if (!mesh.curves.linear && tangent_length2 > 0.0f) {
         normal_local -= glm::dot(normal_local, c.tangent) / tangent_length2 * c.tangent;
       }
-      radius = c.radius;
     }
   } else {
     const float* sphere =
@@ -459,11 +493,12 @@ Interaction CompiledScene::round_interaction(const Ray& ray, const Hit& hit,
     normal_local = local - Vec3(sphere[0], sphere[1], sphere[2]);
     radius = sphere[3];
   }
-  const Vec3 ng = at.normal_to_world * normal_local;
-  const float ng_length = glm::length(ng);
-  out.geometric_normal =
-      ng_length > 0.0f && std::isfinite(ng_length) ? ng / ng_length : -ray.direction;
-  out.shading_normal = out.geometric_normal;
+  const Vec3 facing = -glm::normalize(ray.direction);
+  const Vec3 n = at.normal_to_world * normal_local;
+  const float n_length = glm::length(n);
+  const Vec3 round = n_length > 0.0f && std::isfinite(n_length) ? n / n_length : facing;
+  out.geometric_normal = flat ? facing : round;
+  out.shading_normal = round;
   // Rounding of o + t d, and the intersector's own tolerance, in world units.
   const float scale =
       max_component(glm::abs(ray.origin)) + hit.t * max_component(glm::abs(ray.direction));
@@ -651,9 +686,9 @@ struct SurfaceHit {
   // normals, not normalised, or the face's normal on a flat mesh.
   Vec3 object_normal(const Mesh& mesh) const {
     if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
-      // A curve's or a point's own round normal, back in object space.
+      // A curve's or a point's own round normal (a ribbon's too), back in object space.
       const glm::mat3 linear(scene.instances[it.instance].placement.to_world);
-      return glm::transpose(linear) * it.geometric_normal;
+      return glm::transpose(linear) * it.shading_normal;
     }
     Vec3 n0, n1, n2;
     const float u = it.barycentric.x, v = it.barycentric.y;
@@ -763,7 +798,11 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
   SurfaceParams out = material_constants[it.material_index];
   out.normal = it.shading_normal;
   out.coat_normal = it.shading_normal;
-  if (m.valid_reflection && !m.driven(kNormalField)) {
+  // Not on curves, as Cycles: a ribbon's round normal leans far from its geometric
+  // normal (-d) by design, and a tube's is its geometric normal.
+  const bool lifts = m.valid_reflection &&
+                     instances[it.instance].mesh->mesh.kind(it.primitive) != PrimitiveKind::kCurve;
+  if (lifts && !m.driven(kNormalField)) {
     // Cycles 3.x lifts the interpolated normal too (every closure's), on the side the
     // ray comes from, where the view's mirror would fall below the surface.
     const float side = glm::dot(ray.direction, it.geometric_normal) > 0.0f ? -1.0f : 1.0f;
@@ -838,7 +877,7 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
       }
     };
     normal(kNormalField, &out.normal);
-    if (m.valid_reflection && m.driven(kNormalField)) {
+    if (lifts && m.driven(kNormalField)) {
       // On the side the ray comes from, as Cycles' shading frame is.
       const float side = hit.backfacing ? -1.0f : 1.0f;
       out.normal =
