@@ -39,8 +39,10 @@ PIXEL_BYTES = 40
 # A texel: float RGBA read from Blender, then the native texture's copy.
 TEXEL_BYTES = 32
 # A curve key or a point: 16 B of keys (x, y, z, radius), Embree's curve BVH and the
-# export's temporaries. An upper guess, not yet measured by scripts/bench_memory.py.
-KEY_BYTES = 128
+# export's temporaries (co_hair's keys as float64 before they are packed).
+# scripts/bench_memory.py's fur scene (900,000 keys) measured about 140-175 B a key
+# beyond the rest of its estimate (docs/MEMORY.md).
+KEY_BYTES = 160
 
 
 @dataclass(frozen=True)

@@ -1,11 +1,13 @@
-"""Benchmark (not a test): what hair costs. Particle hair on a 1 m plane (hair_scenes.
-particle_hair: `--parents` hairs with `--children` interpolated children each, 9 keys a
-strand), rendered by Whitted and Cycles at the same size in one Blender; prints the
-keys, Whitted's export (reading the keys through co_hair) and BVH times per million
-keys, its trace time and rays per second, and Cycles' total render time.
+"""Benchmark (not a test): what hair costs. The performance suite's furry character
+(scripts/perf_scenes.py --scene fur: a ball with `--parents` particle hairs of 20 children
+each, 9 keys a strand) rendered by Whitted and by Cycles, the same file in one Blender;
+writes the keys, Whitted's export (reading the keys through co_hair) and BVH times per
+million curve segments, its trace time and rays per second, and Cycles' total render time
+at direct-light settings, as a Markdown note for docs/PERFORMANCE.md (--notes).
 
     blender -b --factory-startup --python-exit-code 1 --python scripts/bench_hair.py -- \\
-        [--parents 5000] [--children 20] [--resolution 320 240] [--repeats 3]
+        [--parents 5000] [--resolution 480 270] [--repeats 3] \\
+        [--out docs/notes/hair_performance.md]
 """
 
 import argparse
@@ -17,25 +19,28 @@ import time
 from pathlib import Path
 
 import bpy
+from whitted_tools import bench_scenes
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
-from whitted_tools.hair_scenes import particle_hair
+from whitted_tools.pages import machine_lines
 from whitted_tools.render import render_exr
+
+CYCLES_SAMPLES = 16
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--parents", type=int, default=5000)
-    parser.add_argument("--children", type=int, default=20)
-    parser.add_argument("--resolution", nargs=2, type=int, default=(320, 240))
+    parser.add_argument("--parents", type=int, default=bench_scenes.FUR_PARENTS)
+    parser.add_argument("--resolution", nargs=2, type=int, default=(480, 270))
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", type=Path, help="the Markdown note to write")
     args = parser.parse_args(script_args())
-    scene = factory_scene()
-    particle_hair(scene, args.parents, args.children)
-    scene.render.resolution_x, scene.render.resolution_y = args.resolution
-    scene.cycles.samples = 16
+    started = time.perf_counter()
+    scene = bench_scenes.build_fur(factory_scene("whitted", "cycles"), args)
+    bench_scenes.configure(scene, args.resolution, bench_scenes.DEFAULT_MAX_DEPTH)
+    # Cycles at direct-light settings, as Whitted lights: no bounces, no denoising.
+    scene.cycles.samples = CYCLES_SAMPLES
     scene.cycles.max_bounces = 0
-    scene.cycles.use_denoising = False
     with tempfile.TemporaryDirectory() as work:
         stats_path = os.path.join(work, "stats.json")
         os.environ["WHITTED_STATS"] = stats_path
@@ -43,26 +48,59 @@ def main():
         for _ in range(args.repeats):
             render_exr(scene, os.path.join(work, "w.exr"), engine="WHITTED")
             whitted.append(json.loads(Path(stats_path).read_text(encoding="utf-8")))
-            started = time.perf_counter()
+            begun = time.perf_counter()
             render_exr(scene, os.path.join(work, "c.exr"), engine="CYCLES")
-            cycles.append(time.perf_counter() - started)
+            cycles.append(time.perf_counter() - begun)
     segments = whitted[0]["curve_segments"]
-    strands = args.parents * args.children
+    strands = args.parents * bench_scenes.FUR_CHILDREN
     keys = segments + strands  # a strand of k keys has k - 1 segments
 
     def median(what):
         return statistics.median(s["phases"][what] for s in whitted)
 
-    trace = median("trace")
+    export, bvh, trace, total = (median(p) for p in ("export", "mesh_bvh", "trace", "total"))
     rays = whitted[0]["rays"]["total"]
-    print(f"bench_hair: Blender {bpy.app.version_string}, {strands:,} strands, {keys:,} keys")
-    export, bvh = median("export"), median("mesh_bvh")
-    print(f"  export {export:.3f} s ({export / keys * 1e6:.2f} s per M keys)")
-    print(f"  mesh BVH {bvh:.3f} s ({bvh / segments * 1e6:.2f} s per M segments)")
-    print(
-        f"  trace {trace:.3f} s, {rays / trace / 1e6:.2f} M rays/s; total {median('total'):.3f} s"
+    per_million = 1e6 / segments
+    rows = [
+        ("Whitted: export (keys read with co_hair)", f"{export:.3f} s", export * per_million),
+        ("Whitted: mesh BVHs (Embree's curves)", f"{bvh:.3f} s", bvh * per_million),
+        ("Whitted: trace", f"{trace:.3f} s, {rays / trace / 1e6:.2f} M rays/s", None),
+        ("Whitted: whole render", f"{total:.3f} s", total * per_million),
+        (
+            f"Cycles, {CYCLES_SAMPLES} samples, no bounces: whole render",
+            f"{statistics.median(cycles):.3f} s",
+            statistics.median(cycles) * per_million,
+        ),
+    ]
+    command = (
+        "blender -b --factory-startup --python-exit-code 1 --python scripts/bench_hair.py -- "
+        f"--parents {args.parents} --resolution {args.resolution[0]} {args.resolution[1]} "
+        f"--repeats {args.repeats}" + (f" --out {args.out}" if args.out else "")
     )
-    print(f"  Cycles ({scene.cycles.samples} samples): {statistics.median(cycles):.3f} s total")
+    lines = [
+        "## Hair: a furry character",
+        "",
+        f"Generated by `{command}` in {(time.perf_counter() - started) / 60:.1f} min; do not "
+        f"edit by hand. Blender {bpy.app.version_string}; medians of {args.repeats} renders "
+        f"at {args.resolution[0]}x{args.resolution[1]}, Whitted at the suite's settings "
+        "(2x2 samples, depth 5), both engines on the same scene in one Blender.",
+        "",
+        *machine_lines(),
+        "",
+        f"The ball carries {strands:,} strands: {keys:,} keys, {segments:,} curve segments.",
+        "",
+        "| phase | time | per million curve segments |",
+        "|---|---:|---:|",
+        *(
+            f"| {what} | {time_text} | {'' if per is None else f'{per:.3f} s'} |"
+            for what, time_text, per in rows
+        ),
+        "",
+    ]
+    text = "\n".join(lines)
+    print(text)
+    if args.out is not None:
+        args.out.write_text(text, encoding="utf-8")
 
 
 if __name__ == "__main__":

@@ -2,10 +2,10 @@
 
     blender -b --factory-startup --python scripts/perf_scenes.py -- --scene NAME \\
         --resolution W H --save OUT.blend [--triangles N] [--depth D] [--instances N] \\
-        [--ico-subdivisions N]
+        [--ico-subdivisions N] [--parents N]
     .venv/bin/python scripts/perf_scenes.py --scene NAME ...            (bpy module)
 
-The scenes (demo, million, instances, glass8, triangles) and the settings they share
+The scenes (demo, million, instances, glass8, triangles, fur) and the settings they share
 are whitted_tools.bench_scenes'. The scene's custom properties "perf_scene" and
 "perf_mesh_triangles" (the triangles of the distinct meshes Whitted exports, each
 instanced mesh once) are saved with it.
@@ -25,6 +25,7 @@ BUILDERS = {
     "instances": bench_scenes.build_instances,
     "glass8": bench_scenes.build_glass8,
     "triangles": bench_scenes.build_triangles,
+    "fur": bench_scenes.build_fur,
 }
 
 
@@ -35,6 +36,7 @@ def parse_args():
     parser.add_argument("--save", required=True, help=".blend file to write")
     parser.add_argument("--triangles", type=int, help="million, triangles: triangle count")
     parser.add_argument("--instances", type=int, help="instances: instance count")
+    parser.add_argument("--parents", type=int, help="fur: parent hairs (20 children each)")
     parser.add_argument(
         "--ico-subdivisions",
         type=int,

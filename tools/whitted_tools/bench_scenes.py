@@ -11,6 +11,8 @@ benchmark's (scripts/bench_instances.py).
     glass8     overlapping glass spheres and slabs, max depth 8
     triangles  one torus of about `triangles` triangles (1k..10M) beside a mirror quad
                on a one-quad floor: the triangle-count scaling curve
+    fur        a furry character on the demo's stage: a ball with `parents` (default
+               5,000) particle hairs of 20 children each, 100,000 strands of 9 keys
     glass      (cost report) a 3 x 3 grid of glass spheres and a glass slab over the
                demo's checkerboard, lit by a sphere light (soft shadows): deep refraction
     diffuse    (cost report) matte spheres on an image-textured floor under an area
@@ -33,6 +35,7 @@ import numpy as np
 
 from whitted_tools import demo_scene
 from whitted_tools.camera_scenes import linear_keys
+from whitted_tools.hair_scenes import grow_fur
 from whitted_tools.scenes import (
     SPECULAR,
     TRANSMISSION,
@@ -55,6 +58,8 @@ ICO_SUBDIVISIONS = 6  # 20 * 4^(6 - 1) = 20,480 triangles (subdivision 1 is the 
 DEMO_OBJECTS = ("Glass Sphere", "Mirror Sphere", "Cube", "Cylinder")
 GLASS_IORS = (1.2, 1.33, 1.5, 1.33, 1.5, 1.8, 1.5, 1.8, 2.4)
 TEXTURE_SIZE = 64  # pixels per side of the cost report's floor image
+FUR_PARENTS = 5_000
+FUR_CHILDREN = 20
 
 
 # --- the performance suite ---------------------------------------------------------
@@ -151,6 +156,22 @@ def build_demo(scene, args):
     """The demo scene as scripts/demo.sh renders it."""
     del args
     return demo_scene.build_demo_scene(scene)
+
+
+def build_fur(scene, args):
+    """The demo's stage with a furry ball: args.parents hairs (FUR_PARENTS) of
+    FUR_CHILDREN children each."""
+    _demo_without_objects(scene)
+    ball = _add(
+        scene,
+        "Furry Ball",
+        dense_sphere_mesh("Furry Ball", 1.0, 20_000),
+        (0.0, 0.0, 1.0),
+        principled_material("Skin", (0.5, 0.3, 0.2), {}),
+    )
+    ball.data.materials.append(principled_material("Fur", (0.8, 0.6, 0.3), {}))
+    grow_fur(ball, args.parents or FUR_PARENTS, FUR_CHILDREN, length=0.3, radius_scale=0.01)
+    return scene
 
 
 def build_million(scene, args):

@@ -46,19 +46,27 @@ def particle_hair(scene, parents=200, children=10):
     emitter = flat_square(scene, "Furry", 1.0)
     emitter.data.materials.append(lambert_material("Skin", 0.3))
     emitter.data.materials.append(lambert_material("Hair", 0.8))
-    emitter.modifiers.new("Fur", "PARTICLE_SYSTEM")
-    settings = emitter.particle_systems[0].settings
+    grow_fur(emitter, parents, children, length=0.5, radius_scale=0.02)
+    return emitter
+
+
+def grow_fur(obj, parents, children, length, radius_scale):
+    """Particle hair on mesh object `obj`: `parents` straight hairs of `length` with
+    `children` interpolated children each, 9 keys a strand in renders, radius
+    `radius_scale` at the root to 0.4 of it at the tip, in the object's second material
+    slot."""
+    obj.modifiers.new("Fur", "PARTICLE_SYSTEM")
+    settings = obj.particle_systems[0].settings
     settings.type = "HAIR"
     settings.count = parents
-    settings.hair_length = 0.5
+    settings.hair_length = length
     settings.child_type = "INTERPOLATED"
     settings.rendered_child_count = children
     settings.render_step = 3
     settings.root_radius = 1.0
     settings.tip_radius = 0.4
-    settings.radius_scale = 0.02
-    settings.material = 2  # the Hair slot
-    return emitter
+    settings.radius_scale = radius_scale
+    settings.material = 2
 
 
 def ribbon_hair(scene):
