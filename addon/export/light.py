@@ -118,6 +118,8 @@ def convert_light(
 ):
     """One light placed by `matrix_world` (object to world) as LightData, or None
     (with a warning) when Whitted cannot render it; `rays`: lamp_rays of its object."""
+    if light.type == "AREA" and getattr(getattr(light, "cycles", None), "is_portal", False):
+        return None  # a portal only guides Cycles' sampling of the world; it emits nothing
     matrix = np.array(matrix_world, dtype=np.float64)
     # The columns of the object-to-world matrix are the light's axes in world
     # space; their lengths are the object's scale.
@@ -156,7 +158,8 @@ def _convert_light(name, light, position, unit_axes, scale, default_samples, war
         "direction": tuple(-unit_axes[:, 2]),
         "cast_shadows": getattr(owner, switch),
     }
-    color = _light_color(light)
+    shader = light_shader_factor(name, light, warnings)
+    color = tuple(c * f for c, f in zip(_light_color(light), shader, strict=True))
     # Blender 3.x always normalises; 4.x+ lets the artist turn it off.
     normalize = getattr(light, "normalize", True)
     if light.type in {"POINT", "SPOT"}:
@@ -224,6 +227,33 @@ def _samples(light, default_samples, sized):
     if not sized:
         return 1
     return light.whitted.samples or default_samples
+
+
+def light_shader_factor(name, light, warnings):
+    """What a light's node tree (Use Nodes; always on in 5.x) multiplies its colour by,
+    as Cycles reads it: the Emission node's Color x Strength feeding the active Light
+    Output. A tree that computes more (textures, IES, a mix) is not read: (1, 1, 1) and
+    a warning."""
+    tree = light.node_tree if getattr(light, "use_nodes", False) else None
+    if tree is None:
+        return (1.0, 1.0, 1.0)
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight"]
+    output = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
+    if output is None or not output.inputs["Surface"].is_linked:
+        return (0.0, 0.0, 0.0)  # nothing feeds the output: Cycles' light emits nothing
+    emission = output.inputs["Surface"].links[0].from_node
+    color, strength = (
+        (emission.inputs["Color"], emission.inputs["Strength"])
+        if emission.bl_idname == "ShaderNodeEmission"
+        else (None, None)
+    )
+    if color is None or color.is_linked or strength.is_linked:
+        warnings.append(
+            f"Whitted: light '{name}''s node tree is not read (only an Emission node's "
+            "Color and Strength are): it lights with its colour and power"
+        )
+        return (1.0, 1.0, 1.0)
+    return tuple(float(c) * strength.default_value for c in color.default_value[:3])
 
 
 def _light_color(light):

@@ -85,3 +85,45 @@ def test_a_lamp_hidden_from_diffuse_rays_lights_nothing_as_cycles(empty_scene, t
     lamp.visible_diffuse = True
     lit = cycles_scenes.render_exr(empty_scene, "WHITTED", str(tmp_path / "lit.exr"))
     assert lit.mean() > 0.01
+
+
+def test_a_lamps_emission_node_scales_it_as_cycles(empty_scene, tmp_path, native):
+    # The lamp's node tree (Use Nodes; always on in 5.x): Cycles multiplies its power by
+    # the Emission node's Color x Strength. Before, Whitted ignored the tree silently.
+    case = cycles_scenes.CASES[0]  # the point light
+    lamp = cycles_scenes.build_scene(empty_scene, case)
+    lamp.data.use_nodes = True
+    emission = next(n for n in lamp.data.node_tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 2.5
+    emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    cycles_scenes.set_whitted_direct_light(empty_scene)
+    cycles_scenes.set_cycles_direct_light(empty_scene)
+    whitted = cycles_scenes.render_exr(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    cycles = cycles_scenes.render_exr(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    lit = cycles.mean(axis=-1) > cycles_scenes.DARK
+    ratios = whitted[lit].mean(axis=0) / cycles[lit].mean(axis=0)
+    print(f"\nemission node: Whitted / Cycles per channel {ratios}")
+    assert ratios == pytest.approx([1.0, 1.0, 1.0], abs=MEAN_RATIO_TOLERANCE)
+
+
+def test_a_portal_emits_nothing_as_cycles(empty_scene, tmp_path, native):
+    # An area light marked Portal only guides Cycles' sampling of the world: with no
+    # world it lights nothing. Before, Whitted lit the scene with it as an area light.
+    case = next(c for c in cycles_scenes.CASES if c.type == "AREA")
+    lamp = cycles_scenes.build_scene(empty_scene, case)
+    lamp.data.cycles.is_portal = True
+    # A black world: Cycles 5.2 crashes rendering a portal with no world at all (seen
+    # with bpy 5.2.3: a segmentation fault in Cycles' render).
+    world = bpy.data.worlds.new("Black")
+    world.color = (0.0, 0.0, 0.0)
+    if world.node_tree is not None:
+        background = world.node_tree.nodes["Background"]
+        background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    empty_scene.world = world
+    cycles_scenes.set_whitted_direct_light(empty_scene)
+    cycles_scenes.set_cycles_direct_light(empty_scene)
+    whitted = cycles_scenes.render_exr(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    cycles = cycles_scenes.render_exr(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    print(f"\nportal: Whitted max {whitted.max():.2e}, Cycles mean {cycles.mean():.2e}")
+    assert whitted.max() == 0.0
+    assert cycles.mean() < 1e-4
