@@ -3,9 +3,11 @@ depsgraph is walked, so that nothing vanishes from the image without a report li
 naming it (the object, what it is, and why).
 
 Cycles renders, and Whitted skips: volumes, Volume objects (OpenVDB) and the Volume
-output of a material or the world. (Hair curves, point clouds and particle hair are
-rendered: export/curves.py. A geometry-nodes curve on a mesh object reaches a render
-as an empty legacy curve, which Cycles skips too: it is not listed.)
+output of a material or the world. Cycles renders otherwise, and Whitted as ordinary
+objects: shadow catchers (Object > Visibility > Shadow Catcher). (Hair curves, point
+clouds and particle hair are rendered: export/curves.py. A geometry-nodes curve on a
+mesh object reaches a render as an empty legacy curve, which Cycles skips too: it is not
+listed.)
 """
 
 from .nodes.graph import source
@@ -13,8 +15,15 @@ from .nodes.graph import source
 # Object types the walk meets and does not export, with how the report names them.
 OBJECT_KINDS = {"VOLUME": "volumes"}
 
+# What the report says of each kind's objects, and why.
+PHRASE = {
+    "volumes": "with volumes not rendered",
+    "shadow catchers": "set as shadow catchers, rendered as ordinary objects",
+}
 WHY = {
     "volumes": "Whitted does not render volumes (participating media are out of its scope)",
+    "shadow catchers": "Cycles shows only the shadows cast on them; Whitted has no shadow "
+    "catcher yet",
 }
 
 # At most this many names in a report line, then "...".
@@ -25,7 +34,11 @@ def unrendered_kind(object_instance):
     """The kind (an OBJECT_KINDS phrase) of what `object_instance` of an evaluated
     depsgraph would show in Cycles and shows nothing of in Whitted, or None."""
     obj = object_instance.object
-    return None if obj.original.hide_render else OBJECT_KINDS.get(obj.type)
+    if obj.original.hide_render:
+        return None
+    if getattr(obj.original, "is_shadow_catcher", False):
+        return "shadow catchers"
+    return OBJECT_KINDS.get(obj.type)
 
 
 def unrendered_warnings(found):
@@ -35,9 +48,7 @@ def unrendered_warnings(found):
         names = sorted(found[kind])
         shown = ", ".join(f"'{name}'" for name in names[:MAX_NAMES])
         more = "..." if len(names) > MAX_NAMES else ""
-        lines.append(
-            f"Whitted: {len(names)} object(s) with {kind} not rendered ({shown}{more}): {WHY[kind]}"
-        )
+        lines.append(f"Whitted: {len(names)} object(s) {PHRASE[kind]} ({shown}{more}): {WHY[kind]}")
     return lines
 
 

@@ -1,6 +1,7 @@
 """Nothing vanishes silently (issue 31, part 4): what Cycles renders and Whitted does not
-(volumes: objects, and a material's or the world's Volume output) is named in the
-report, with the object, what it is, and why (export/unrendered.py)."""
+(volumes: objects, and a material's or the world's Volume output), or renders otherwise
+(shadow catchers, as ordinary objects), is named in the report, with the object, what it
+is, and why (export/unrendered.py)."""
 
 import bpy
 import pytest
@@ -71,3 +72,17 @@ def test_a_volume_shader_is_named(stage, native):
     warnings = _warnings(native)
     assert any("material 'Fog' has a volume shader, which is not rendered" in w for w in warnings)
     assert any("world 'Hazy' has a volume shader" in w for w in warnings)
+
+
+def test_a_shadow_catcher_is_named(stage, native):
+    # Cycles shows only the shadows on a shadow catcher; Whitted renders it as an ordinary
+    # object, and says so once.
+    catcher = add_object(stage.collection, "Ground", cube_mesh("Ground", 1.0))
+    catcher.is_shadow_catcher = True
+    add_object(stage.collection, "Plain", cube_mesh("Plain", 1.0))
+    lines = [w for w in _warnings(native) if "shadow catcher" in w]
+    assert lines == [
+        "Whitted: 1 object(s) set as shadow catchers, rendered as ordinary objects "
+        "('Ground'): Cycles shows only the shadows cast on them; Whitted has no shadow "
+        "catcher yet"
+    ]
