@@ -55,7 +55,7 @@ def shown(entry):
                 )
     smoke = load(entry.label, "smoke")
     if smoke:
-        parts.append(f"sync and passes tests: {counts(smoke)}")
+        parts.append(f"sync, passes and light linking tests: {counts(smoke)}")
     return "; ".join(parts) or "not run"
 
 
@@ -68,7 +68,7 @@ def table():
     )
     how = {
         "full": "full: the whole in-Blender suite, and the package",
-        "smoke": "smoke: the package; the sync and passes tests",
+        "smoke": "smoke: the package; the sync, passes and light linking tests",
     }
     lines = [
         f"What the last run of `scripts/test.sh` showed ({when}; written by "

@@ -112,13 +112,20 @@ def test_the_render_matches_blender_34s(installed, scenes_34, scene):
 
 
 SMOKE = [entry for entry in MODULES if entry.tier == "smoke"]
-SMOKE_TESTS = ("tests/blender/test_sync.py", "tests/blender/test_passes.py")
+# The sync property test, the passes, and light linking against Cycles (4.0+ only, so
+# the smoke tier is where it runs beside 5.2).
+SMOKE_TESTS = (
+    "tests/blender/test_sync.py",
+    "tests/blender/test_passes.py",
+    "tests/blender/test_light_linking.py",
+)
 
 
 @pytest.mark.parametrize("entry", SMOKE, ids=[f"bpy-{e.label}" for e in SMOKE])
 def test_the_smoke_tiers_sync_and_passes_tests_pass(entry):
     """The development add-on (setup links it into that version's user folder) passes
-    the sync property test and the passes test in that Blender."""
+    the sync property test, the passes test and the light linking test in that
+    Blender."""
     python = _environment(entry)
     RESULTS.mkdir(parents=True, exist_ok=True)
     env = {**os.environ, "WHITTED_RESULTS": str(RESULTS / f"{entry.label}-smoke.json")}
