@@ -58,10 +58,9 @@ def scenes():
 def render_all(directory):
     """Inside Blender: render every scene into `directory` (EXR and statistics)."""
     import bpy
+    import whitted.result
     from whitted_tools.blender import factory_scene
     from whitted_tools.render import enable_every_pass, use_multilayer_exr
-
-    import whitted.result
 
     for index, (name, build) in enumerate(scenes().items()):
         scene = factory_scene()
