@@ -1,9 +1,7 @@
-"""Exporters: pure functions from evaluated Blender data to plain data.
-
-Each module has one public `convert_*` function; only scene.py builds native
-objects. A problem with one object becomes a warning string appended to the
-caller's `warnings` list; a problem that makes the render impossible raises
-ExportError.
+"""Exporters: pure functions from evaluated Blender data to plain data (dataclasses,
+numpy arrays), one module per concept; none of them builds native objects (the sync does:
+sync/native_data.py). A problem with one object becomes a warning string appended to the
+caller's `warnings` list; a problem that makes the render impossible raises ExportError.
 """
 
 

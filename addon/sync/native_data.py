@@ -1,7 +1,11 @@
 """Plain exported data (export/*.py) as whitted_native objects.
 
-The only place besides the engine's job that builds native objects; the
-module is passed in (native.py loads it), so this imports without it.
+Where every object of a native scene is built (meshes, strands, materials, programs,
+lights, cameras, textures, instances); the scene itself is SceneSync's
+(sync/scene.py), a render's settings settings.py's (the Estimate's probes
+estimate.py's), and each render's job its caller's (sync/frame.py,
+viewport/session.py, ray_tree/tree.py). The module is passed in
+(native.py loads it), so this imports without it.
 """
 
 from dataclasses import asdict

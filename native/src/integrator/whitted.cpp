@@ -227,8 +227,9 @@ class Kernel {
     }
   }
 
-  // Every query of the kernel goes through these three: to the log when recording or
-  // replaying (recorder.h), else straight to Embree.
+  // The kernel's queries go through these (and the camera rays' packets through
+  // WhittedIntegrator::intersect_packet): to the log when recording or replaying
+  // (recorder.h), else straight to Embree.
   bool intersect(const Ray& ray, Hit* hit) const {
     if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
     return scene_.accel->intersect(ray, hit);
