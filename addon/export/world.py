@@ -97,9 +97,9 @@ def _background_node_radiance(world, warnings):
 
 def _programmed(world, warnings):
     """(mean radiance, up-facing ambient radiance, ProgramData, output register,
-    textures) of a Background node
-    whose inputs vary by direction; None when they are constant or it is not a
-    Background node (then the constant path reads it)."""
+    textures) of a Background node whose inputs vary by direction; for a graph that
+    folds to a constant (an RGB node, maths on constants), (that radiance, None, None,
+    0, ()); None when it is not a Background node (then the constant path reads it)."""
     output_node = world.node_tree.get_output_node("CYCLES")
     if output_node is None:
         return None
@@ -113,10 +113,10 @@ def _programmed(world, warnings):
     color = lowering.value(node.inputs["Color"], found.scope, COLOR)
     strength = lowering.value(node.inputs["Strength"], found.scope, FLOAT)
     radiance = lowering.b.vmul(color, strength)
-    if radiance.is_const:
-        return None
     for message in messages:
         _warn(warnings, message)
+    if radiance.is_const:
+        return tuple(radiance.value[:3]), None, None, 0, ()
     program, outputs = emit({"emission": radiance})
     textures = tuple(lowering.textures[name] for name in program.textures)
     means = {spec.name: _mean_radiance(spec, warnings) for spec in textures}

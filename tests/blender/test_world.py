@@ -38,6 +38,21 @@ def test_linked_background_color_warns(warnings):
     assert "'Background'" in warnings[0]
 
 
+def test_a_background_colour_from_an_rgb_node_is_used(warnings):
+    # The graph folds to a constant: that constant is the background (it was dropped,
+    # with a "linked; uses its unlinked value" warning, before).
+    world = node_world((1.0, 0.0, 0.0), 2.0)
+    tree = world.node_tree
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.2, 0.4, 0.8, 1.0)
+    tree.links.new(rgb.outputs[0], tree.nodes["Background"].inputs["Color"])
+    converted = convert_world(world, 1.0, warnings, programs=True)
+    assert converted.background == pytest.approx((0.4, 0.8, 1.6))
+    assert converted.ambient == pytest.approx((0.4, 0.8, 1.6))
+    assert converted.program is None
+    assert warnings == []
+
+
 def test_world_without_nodes_uses_its_colour(warnings):
     if bpy.app.version >= (5, 0, 0):
         pytest.skip("Blender 5.0 worlds always use nodes")
