@@ -33,7 +33,7 @@ from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
 from .nodes.program import emit
-from .nodes.shaders import MAX_SHININESS, finish, legacy_texture, phong_exponent, surface
+from .nodes.shaders import MAX_SHININESS, finish, fixed_texture, phong_exponent, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
@@ -146,13 +146,13 @@ _BLACK = MaterialData(
 )
 
 
-def convert_material(material, warnings, programs=False, local_model="BLENDER"):
+def convert_material(material, warnings, local_model="BLENDER"):
     """Convert one material: the node mapping, or with the Whitted material
     panel's override on, its values (emission, alpha and textures still come
-    from the nodes). `programs`: whether the native module runs shader programs;
-    `local_model`: scene.whitted.local_model, BLENDER (the BSDFs' own lobes: glossy
-    reflection where they are rough) or LECTURE (the seed's mirror and Phong)."""
-    exported = map_material(material, warnings, programs, local_model)
+    from the nodes). `local_model`: scene.whitted.local_model, BLENDER (the BSDFs'
+    own lobes: glossy reflection where they are rough) or LECTURE (the seed's mirror
+    and Phong)."""
+    exported = map_material(material, warnings, local_model)
     settings = material.whitted
     if not settings.use_override:
         return exported
@@ -197,8 +197,10 @@ def convert_material(material, warnings, programs=False, local_model="BLENDER"):
     return replace(exported, data=data, outputs=outputs)
 
 
-def map_material(material, warnings, programs=False, local_model="BLENDER"):
-    """The node mapping: a material's surface shader as Whitted parameters.
+def map_material(material, warnings, local_model="BLENDER"):
+    """The node mapping: a material's surface shader as Whitted parameters: the fixed
+    native material where it shows the graph (constants, a texture on the diffuse
+    colour, an image's alpha), else a shader program.
 
     Without nodes, the viewport display values are used. A material without a
     surface shader renders black, as in Cycles.
@@ -218,22 +220,8 @@ def map_material(material, warnings, programs=False, local_model="BLENDER"):
     closure = surface(lowering, output_node, local_model=local_model)
     fields = finish(lowering, closure)
     exported = _fixed(fields, lowering)
-    if exported is None and programs:
-        exported = _programmed(fields, lowering, _bump_shadowing(material))
     if exported is None:
-        # The graph needs a program this native module cannot run: lower it again
-        # with only what the fixed material shows, the rest at unlinked values.
-        found = []
-        lowering = Lowering(owner, found)
-        fields = finish(
-            lowering, surface(lowering, output_node, legacy=True, local_model=local_model)
-        )
-        exported = _fixed(fields, lowering, approximate=True)
-        _warn(
-            found,
-            f"Whitted: {owner}: its node graph needs a shader program, which this build "
-            "of whitted_native cannot run; linked inputs use their unlinked values",
-        )
+        exported = _programmed(fields, lowering, _bump_shadowing(material))
     for message in found:
         _warn(warnings, message)
     if closure.diffuse_model is not None:
@@ -264,12 +252,10 @@ def _emission_sampling(material):
     return "BOTH" if getattr(settings, "sample_as_light", True) else "NONE"
 
 
-def _fixed(fields, lowering, approximate=False):
+def _fixed(fields, lowering):
     """The MaterialExport of fields the fixed native material can show (constants,
-    a texture on the diffuse colour, an image's alpha); None when it cannot. With
-    `approximate`, textures elsewhere count as white and other varying values as
-    their stand-ins, so there is always a result."""
-    if ("normal" in fields or "coat_normal" in fields) and not approximate:
+    a texture on the diffuse colour, an image's alpha); None when it cannot."""
+    if "normal" in fields or "coat_normal" in fields:
         return None
     textures = []
     values = {}
@@ -282,28 +268,20 @@ def _fixed(fields, lowering, approximate=False):
         if name == "diffuse":
             scale, texture = _scaled_texture(expr)
             if texture is not None:
-                spec = _legacy_spec(texture, lowering)
+                spec = _fixed_spec(texture, lowering)
                 textures.append(spec)
                 diffuse_texture = spec.name
                 values[name] = scale
                 continue
         if name == "alpha" and expr.op == ops.SWIZZLE and expr.mode == 3:
-            texture = legacy_texture(expr.args[0])
+            texture = fixed_texture(expr.args[0])
             if texture is not None and texture.op == ops.IMAGE:
-                spec = _legacy_spec(texture, lowering)
+                spec = _fixed_spec(texture, lowering)
                 textures.append(spec)
                 alpha_texture = spec.name
                 values[name] = (1.0,) * 4
                 continue
-        if not approximate:
-            return None
-        if name == "diffuse" and not diffuse_texture:
-            texture = _first_texture(expr)
-            if texture is not None:
-                spec = _legacy_spec(texture, lowering)
-                textures.append(spec)
-                diffuse_texture = spec.name
-        values[name] = evaluate(expr, _stand_in)
+        return None
     data = _material_data(values, diffuse_texture=diffuse_texture, alpha_texture=alpha_texture)
     unique = tuple({spec.name: spec for spec in textures}.values())
     return MaterialExport(data, unique)
@@ -375,8 +353,9 @@ def _material_data(values, **textures):
 
 
 def _stand_in(expr):
-    # The constant a varying value counts as without its program: textures white,
-    # everything the hit gives 0.
+    # The constant a program's varying value counts as in the material's own fields
+    # (what the inspector and the statistics read): textures white, everything the
+    # hit gives 0.
     if expr.op in (ops.IMAGE, ops.ENVIRONMENT, ops.CHECKER):
         return (1.0, 1.0, 1.0, 1.0)
     return (0.0, 0.0, 0.0, 0.0)
@@ -384,28 +363,17 @@ def _stand_in(expr):
 
 def _scaled_texture(expr):
     """(scale rgba, texture Expr) when `expr` is a fixed texture times a constant."""
-    if legacy_texture(expr) is not None:
+    if fixed_texture(expr) is not None:
         return (1.0, 1.0, 1.0, 1.0), expr
     if expr.op == ops.VECTOR_MATH and expr.mode == ops.vector_math_op("MULTIPLY"):
         a, b = expr.args[:2]
         for const, texture in ((a, b), (b, a)):
-            if const.is_const and legacy_texture(texture) is not None:
+            if const.is_const and fixed_texture(texture) is not None:
                 return const.value, texture
     return None, None
 
 
-def _first_texture(expr):
-    if legacy_texture(expr) is not None:
-        return expr
-    for arg in expr.args:
-        if arg is not None and not arg.is_const:
-            found = _first_texture(arg)
-            if found is not None:
-                return found
-    return None
-
-
-def _legacy_spec(texture, lowering):
+def _fixed_spec(texture, lowering):
     vector = texture.args[0]
     if vector.mode == ops.IN_GENERATED:
         coordinates, uv_map = "GENERATED", ""

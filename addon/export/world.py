@@ -1,8 +1,8 @@
 """The world: the background a missed ray sees, and the ambient light Ia.
 
 The Background node's Color and Strength may be driven by a graph (an
-Environment Texture of an HDRI, with its Mapping, say): then, when the native
-module runs shader programs, the world gets one (export/nodes), evaluated by
+Environment Texture of an HDRI, with its Mapping, say): then the world gets a
+shader program (export/nodes), evaluated by
 direction for every ray that misses; `background` is its mean over the sphere and
 the ambient light its cosine-weighted mean over the upper hemisphere (below).
 """
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .nodes import input_value, ops, surface_node, uses_nodes
+from .nodes import ops, surface_node, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT, evaluate
@@ -31,31 +31,28 @@ class WorldData:
     textures: tuple = ()  # ImageTextureSpec the program samples
 
 
-def convert_world(world, ambient_strength, warnings, programs=False):
+def convert_world(world, ambient_strength, warnings):
     """Convert the scene's world (None renders black, as in Cycles).
 
     `ambient_strength` (scene.whitted.ambient_strength) scales the ambient light
-    the world gives; 0 turns the ambient term off. `programs`: whether the native
-    module runs shader programs (for a graph-driven background).
+    the world gives; 0 turns the ambient term off.
     """
     program, output, textures = None, 0, ()
     sky = None  # the ambient's radiance when it differs from the background's
     if world is None:
         background = (0.0, 0.0, 0.0)
     elif uses_nodes(world):
-        background = None
         output_node = world.node_tree.get_output_node("CYCLES")
         volume = (
             None if output_node is None else volume_warning(f"world '{world.name}'", output_node)
         )
         if volume is not None:
             warnings.append(volume)
-        if programs:
-            found = _programmed(world, warnings)
-            if found is not None:
-                background, sky, program, output, textures = found
-        if background is None:
-            background = _background_node_radiance(world, warnings)
+        found = _programmed(world, warnings)
+        if found is not None:
+            background, sky, program, output, textures = found
+        else:
+            background = _other_surface(world, warnings)
     else:
         background = tuple(world.color)
     # A uniform sky of radiance L lights an open surface with irradiance pi*L, of
@@ -78,21 +75,17 @@ def lights_diffuse(world):
     return True if visibility is None else bool(visibility.diffuse)
 
 
-def _background_node_radiance(world, warnings):
-    owner = f"world '{world.name}'"
+def _other_surface(world, warnings):
+    """The radiance of a world whose surface is not a Background node: none without a
+    shader, else the world's viewport colour, warned."""
     node = surface_node(world.node_tree)
     if node is None:
         return (0.0, 0.0, 0.0)
-    if node.bl_idname != "ShaderNodeBackground":
-        warnings.append(
-            f"Whitted: {owner}: the surface shader '{node.name}' is not a Background node; "
-            "using the world's viewport colour"
-        )
-        return tuple(world.color)
-    color = input_value(node, ("Color",), (0.05, 0.05, 0.05, 1.0), owner, warnings)
-    strength = input_value(node, ("Strength",), 1.0, owner, warnings)
-    # The Background node emits Color * Strength as radiance.
-    return tuple(c * strength for c in color[:3])
+    warnings.append(
+        f"Whitted: world '{world.name}': the surface shader '{node.name}' is not a "
+        "Background node; using the world's viewport colour"
+    )
+    return tuple(world.color)
 
 
 def _programmed(world, warnings):

@@ -149,8 +149,6 @@ class SceneSync:
         self._materials = {}  # name -> export.material.MaterialExport
         self._uv_maps = {}  # material name -> the UV map its textures read
         self._walked_uv_maps = {}  # the UV maps the meshes were last exported for
-        # Whether the native module runs shader programs (docs/notes/shader_program.md).
-        self._programs = hasattr(native, "Program")
         self._needs = {}  # material name -> MeshNeeds its program reads
         self._info = frozenset()  # materials that read Object Info
         self._walked_needs = ({}, frozenset())  # (needs, info) of the last walk
@@ -246,9 +244,7 @@ class SceneSync:
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
                 exported = replace(
-                    convert_material(
-                        material, warnings, programs=self._programs, local_model=params.local_model
-                    ),
+                    convert_material(material, warnings, local_model=params.local_model),
                     pass_index=material.pass_index,  # for the IndexMA pass
                 )
                 if exported != self._materials.get(name):
@@ -522,9 +518,7 @@ class SceneSync:
     # --- world -------------------------------------------------------------------
 
     def _sync_world(self, blender_scene, params, report, warnings):
-        world = convert_world(
-            blender_scene.world, params.ambient_strength, warnings, programs=self._programs
-        )
+        world = convert_world(blender_scene.world, params.ambient_strength, warnings)
         if world != self._world:
             # The textures its program samples, before the program names them.
             new = {s.name: s for s in world.textures if s.name not in self._textures}
@@ -534,7 +528,7 @@ class SceneSync:
                 report.textures += 1
             self.scene.background = world.background
             self.scene.ambient = world.ambient
-            if self._programs and (world.program is not None or self._world is not None):
+            if world.program is not None or self._world is not None:
                 program = (
                     None
                     if world.program is None

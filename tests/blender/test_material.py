@@ -452,7 +452,7 @@ def test_diffuse_bsdf_is_lambert(warnings):
 def test_rough_diffuse_bsdf_is_oren_nayar(warnings):
     material = node_material("Rough")
     surface_shader(material, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.2, 0.1, 1.0), Roughness=0.5)
-    exported = map_material(material, warnings, programs=True)
+    exported = map_material(material, warnings)
     energy = bpy.app.version >= (4, 3, 0)  # Cycles 4.3 added its multiple scattering
     assert exported.data.diffuse_model == ("OREN_NAYAR_ENERGY" if energy else "OREN_NAYAR")
     assert exported.data.diffuse_roughness == pytest.approx(0.5)
@@ -722,9 +722,8 @@ def test_unsupported_texture_settings_warn(warnings):
     assert any("Cubic interpolation is not supported; Linear" in w for w in warnings)
 
 
-def test_graph_needing_a_program_falls_back_without_one(warnings):
-    # A Mapping node needs the shader program; a native module without one gets the
-    # unlinked colour, and the material says why.
+def test_graph_needing_a_program_gets_one(warnings):
+    # A Mapping node needs the shader program: the material gets one, reading the image.
     material = node_material("Smart", **{"Base Color": (0.1, 0.2, 0.3, 1.0)})
     tree = material.node_tree
     image = tree.nodes.new("ShaderNodeTexImage")
@@ -732,12 +731,9 @@ def test_graph_needing_a_program_falls_back_without_one(warnings):
     mapping = tree.nodes.new("ShaderNodeMapping")
     tree.links.new(mapping.outputs[0], image.inputs["Vector"])
     tree.links.new(image.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
-    exported = convert_material(material, warnings, programs=False)
-    assert exported.program is None and exported.textures == ()
-    assert exported.data.diffuse == pytest.approx((0.1, 0.2, 0.3))
-    assert any("needs a shader program" in w for w in warnings)
-    with_program = convert_material(material, [], programs=True)
+    with_program = convert_material(material, warnings)
     assert with_program.program is not None
+    assert warnings == []
     assert [t.image for t in with_program.textures] == [image.image]
 
 
@@ -828,7 +824,7 @@ def test_sheen_and_a_bumped_coat_need_a_program(warnings):
     tree.links.new(separate.outputs["X"], bump.inputs["Height"])
     coat_normal = next(s for s in bsdf.inputs if s.name in ("Coat Normal", "Clearcoat Normal"))
     tree.links.new(bump.outputs["Normal"], coat_normal)
-    exported = convert_material(material, warnings, programs=True)
+    exported = convert_material(material, warnings)
     outputs = dict(exported.outputs)
     # Sheen brightens the diffuse colour by the view angle; the coat's normal is bumped.
     assert set(outputs) == {"diffuse", "coat_normal"}

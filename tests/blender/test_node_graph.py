@@ -16,8 +16,8 @@ from whitted_tools.shader_graphs import (
 )
 
 
-def convert(material, warnings, programs=False):
-    return convert_material(material, warnings, programs=programs)
+def convert(material, warnings):
+    return convert_material(material, warnings)
 
 
 def test_textured_material_inside_a_group_is_a_diffuse_texture(warnings):
@@ -244,8 +244,7 @@ def test_unsupported_node_warns_once_by_name(warnings):
     assert any("'Roughness'" in w for w in warnings)
 
 
-@pytest.mark.parametrize("programs", [False, True])
-def test_alpha_mask_card_through_a_group(warnings, programs):
+def test_alpha_mask_card_through_a_group(warnings):
     image = bpy.data.images.new("leaf", 4, 4, alpha=True)
     tree, group_in, group_out = new_group(
         "Card",
@@ -261,7 +260,7 @@ def test_alpha_mask_card_through_a_group(warnings, programs):
     texture.image = image
     material.node_tree.links.new(texture.outputs["Alpha"], group.inputs["Alpha"])
     material.node_tree.links.new(group.outputs[0], output(material).inputs["Surface"])
-    exported = convert(material, warnings, programs)
+    exported = convert(material, warnings)
     assert exported.program is None
     assert exported.data.alpha_texture == exported.textures[0].name
     assert exported.data.alpha == 1.0

@@ -116,7 +116,7 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
     if case.name in NOT_RUN:
         pytest.skip("its inputs are not modelled by the Python reference")
     warnings = []
-    exported = convert_material(material, warnings, programs=True)
+    exported = convert_material(material, warnings)
     assert warnings == []
     depsgraph = bpy.context.evaluated_depsgraph_get()
     info = None

@@ -19,7 +19,7 @@ UV = (0.25, 0.75, 0.0, 0.0)
 
 
 def compile_material(material, warnings=None):
-    exported = convert_material(material, [] if warnings is None else warnings, programs=True)
+    exported = convert_material(material, [] if warnings is None else warnings)
     return exported
 
 

@@ -183,7 +183,7 @@ def test_mapped_box_projected_image_is_not_reported(warnings):
     mapping.inputs["Location"].default_value = (0.5, 0.0, 0.0)
     tree.links.new(tree.nodes.new("ShaderNodeUVMap").outputs["UV"], mapping.inputs["Vector"])
     tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
-    exported = convert_material(material, warnings, programs=True)
+    exported = convert_material(material, warnings)
     assert exported.program is not None
     assert warnings == []
 

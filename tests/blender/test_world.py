@@ -46,7 +46,7 @@ def test_a_background_colour_from_an_rgb_node_is_used(warnings):
     rgb = tree.nodes.new("ShaderNodeRGB")
     rgb.outputs[0].default_value = (0.2, 0.4, 0.8, 1.0)
     tree.links.new(rgb.outputs[0], tree.nodes["Background"].inputs["Color"])
-    converted = convert_world(world, 1.0, warnings, programs=True)
+    converted = convert_world(world, 1.0, warnings)
     assert converted.background == pytest.approx((0.4, 0.8, 1.6))
     assert converted.ambient == pytest.approx((0.4, 0.8, 1.6))
     assert converted.program is None
@@ -119,7 +119,7 @@ def test_environment_texture_becomes_a_world_program(warnings):
     image.pixels.foreach_set(pixels.reshape(-1))
     environment.image = image
     tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    exported = convert_world(world, 1.0, warnings, programs=True)
+    exported = convert_world(world, 1.0, warnings)
     program = exported.program
     assert [int(r[0]) for r in program.code] == [ops.INPUT, ops.ENVIRONMENT, ops.VECTOR_MATH]
     assert int(program.code[0][1]) == ops.IN_POSITION  # the ray's direction
@@ -129,8 +129,6 @@ def test_environment_texture_becomes_a_world_program(warnings):
     assert exported.background == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
     # The ambient: what a surface facing up receives, the bright upper half only.
     assert exported.ambient == pytest.approx((2.0, 2.0, 2.0), rel=1e-6)
-    # Without programs: the Background node's unlinked colour, as before.
-    assert convert_world(world, 1.0, [], programs=False).program is None
 
 
 def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(warnings):
@@ -148,7 +146,7 @@ def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(warnings):
     tree.links.new(coordinates.outputs["Generated"], separate.inputs[0])
     tree.links.new(separate.outputs["Z"], line.inputs[0])
     tree.links.new(line.outputs[0], tree.nodes["Background"].inputs["Strength"])
-    exported = convert_world(world, 0.5, warnings, programs=True)
+    exported = convert_world(world, 0.5, warnings)
     assert exported.program is not None
     # 24 x 24 cells, one direction at each centre: the quadrature's error is ~1e-4.
     assert exported.ambient == pytest.approx((0.5 * (a + 2.0 * b / 3.0),) * 3, rel=1e-3)

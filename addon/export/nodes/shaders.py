@@ -138,17 +138,13 @@ class Closure:
 class ShaderLowering:
     """Walks the shader tree of one material with a values.Lowering `c`.
 
-    `legacy`: lower for a native module without the shader program: only what the
-    fixed material can show varies (an Image or Checker texture on a diffuse colour,
-    an image's alpha as coverage); every other linked input uses its unlinked value.
     `local_model`: BLENDER gives a rough metal's reflection its glossy lobe (the field
     `roughness`); LECTURE keeps the seed's mirror and Phong highlight.
     """
 
-    def __init__(self, c, legacy=False, local_model="BLENDER"):
+    def __init__(self, c, local_model="BLENDER"):
         self.c = c
         self.b = c.b
-        self.legacy = legacy
         self.glossy = local_model == "BLENDER"
 
     def black(self):
@@ -195,31 +191,24 @@ class ShaderLowering:
 
     # --- inputs ------------------------------------------------------------------
 
-    def _input(self, output, names, kind, default, role=None):
+    def _input(self, output, names, kind, default):
         socket = find_socket(output.node.inputs, names)
         if socket is None:
             return self.b.const(default, kind) if kind != FLOAT else self.b.f(default)
-        expr = self.c.value(socket, output.scope, kind)
-        if self.legacy and not expr.is_const and not _legacy_ok(expr, role):
-            self.c.warn(
-                output.node,
-                f"input '{socket.name}' is linked; Whitted uses its unlinked value",
-            )
-            return self.c.default(socket, kind)
-        return expr
+        return self.c.value(socket, output.scope, kind)
 
-    def scalar(self, output, names, default, role=None):
-        return self._input(output, names, FLOAT, default, role)
+    def scalar(self, output, names, default):
+        return self._input(output, names, FLOAT, default)
 
-    def color(self, output, names, default, textured=True):
-        return self._input(output, names, COLOR, default, "color" if textured else None)
+    def color(self, output, names, default):
+        return self._input(output, names, COLOR, default)
 
     def normal(self, output, names=("Normal",)):
         socket = find_socket(output.node.inputs, names)
         fed = None if socket is None else source(socket, output.scope)[0]
         if fed is None:
             return None
-        if self.legacy or fed.node.bl_idname not in NORMAL_NODES:
+        if fed.node.bl_idname not in NORMAL_NODES:
             # Only a Normal Map or a Bump gives a normal.
             self.c.warn(output.node, f"input '{socket.name}' is linked; Whitted ignores it")
             return None
@@ -331,16 +320,7 @@ def _one(expr):
     return expr.is_const and expr.value[0] == 1.0
 
 
-def _legacy_ok(expr, role):
-    """Whether the fixed native material can show `expr` (see legacy_texture)."""
-    if role == "color":
-        return legacy_texture(expr) is not None
-    if role == "alpha":
-        return expr.op == ops.SWIZZLE and expr.mode == 3 and legacy_texture(expr.args[0])
-    return False
-
-
-def legacy_texture(expr):
+def fixed_texture(expr):
     """An IMAGE (flat) or CHECKER (constant colours and scale) op read at UV,
     Generated or Object coordinates: what the native ImageTexture and CheckerTexture
     compute by themselves. None otherwise."""
@@ -369,17 +349,7 @@ def _principled(s, out):
     transmission = b.clamp01(s.scalar(out, PRINCIPLED_INPUTS["transmission"], 0.0))
     ior = s.scalar(out, ("IOR",), 1.45)
     specular = s.scalar(out, PRINCIPLED_INPUTS["specular"], 0.5)
-    alpha = b.clamp01(s.scalar(out, ("Alpha",), 1.0, role="alpha"))
-    base_other = base
-    if legacy_texture(base) is not None:
-        if s.legacy:
-            base_other = b.const((1.0, 1.0, 1.0), COLOR)
-        if s.legacy and not (_zero(metallic) and _zero(transmission)):
-            s.c.warn(
-                node,
-                "a textured Base Color tints only the diffuse term; the metallic and "
-                "transmissive parts use white",
-            )
+    alpha = b.clamp01(s.scalar(out, ("Alpha",), 1.0))
     # Dielectric reflectance at normal incidence, F0 (the highlight's weight).
     specular_socket = find_socket(node.inputs, PRINCIPLED_INPUTS["specular"])
     level = b.maximum(b.f(0.0), specular)
@@ -395,24 +365,22 @@ def _principled(s, out):
         # colour over its luminance; white for black).
         tint = s.scalar(out, ("Specular Tint",), 0.0)
         white = b.const((1.0, 1.0, 1.0), COLOR)
-        if base_other.is_const:
-            r, g, bb = base_other.value[:3]
+        if base.is_const:
+            r, g, bb = base.value[:3]
             luminance = LUMINANCE[0] * r + LUMINANCE[1] * g + LUMINANCE[2] * bb
             hue = white
             if luminance > 0.0:
                 hue = b.const((r / luminance, g / luminance, bb / luminance))
         else:
-            hue = b.vdiv(base_other, b.maximum(b.luminance(base_other), b.f(1e-8)))
+            hue = b.vdiv(base, b.maximum(b.luminance(base), b.f(1e-8)))
         tint = b.vlerp(tint, white, hue)
     else:
         # 4.x: a colour that multiplies the dielectric reflection.
-        tint = s.color(out, ("Specular Tint",), (1.0, 1.0, 1.0, 1.0), textured=False)
+        tint = s.color(out, ("Specular Tint",), (1.0, 1.0, 1.0, 1.0))
     _warn_ignored_principled_inputs(s, out)
     coat = _coat(s, out)
     strength = s.scalar(out, ("Emission Strength",), 1.0)
-    emission_color = s.color(
-        out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0), textured=False
-    )
+    emission_color = s.color(out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0))
     highlight_f0 = b.vmul(f0, tint)
     if coat is None:
         coat = _specular_layer(s, out, f0, tint, metallic, roughness, transmission)
@@ -424,14 +392,14 @@ def _principled(s, out):
     fields = whitted_fields(
         b,
         base_diffuse=base,
-        base=base_other,
+        base=base,
         metallic=metallic,
         roughness=roughness,
         f0=highlight_f0,
         transmission=transmission,
         glossy=s.glossy,
     )
-    sheen = _sheen(s, out, base_other)
+    sheen = _sheen(s, out, base)
     if sheen is not None:
         fields["diffuse"] = b.vadd(fields["diffuse"], sheen)
     coat_normal = None
@@ -491,7 +459,7 @@ def _coat(s, out):
         beneath = b.const((1.0, 1.0, 1.0), COLOR)
     else:
         ior = s.scalar(out, COAT_INPUTS["ior"], 1.5)
-        tint = s.color(out, COAT_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0), textured=False)
+        tint = s.color(out, COAT_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0))
         beneath = b.vlerp(weight, b.const((1.0, 1.0, 1.0), COLOR), tint)
     shape = (
         "a GGX lobe of the coat's roughness"
@@ -564,9 +532,6 @@ def _sheen(s, out, base):
     weight = b.maximum(b.f(0.0), s.scalar(out, SHEEN_INPUTS["weight"], 0.0))
     if _zero(weight):
         return None
-    if s.legacy:
-        s.c.warn(node, f"'{weight_socket.name}' needs a shader program; it is ignored")
-        return None
     white = b.const((1.0, 1.0, 1.0), COLOR)
     tint_socket = find_socket(node.inputs, SHEEN_INPUTS["tint"])
     if tint_socket is not None and socket_type(tint_socket) in ("VALUE", "FLOAT"):
@@ -574,7 +539,7 @@ def _sheen(s, out, base):
         hue = b.vdiv(base, b.maximum(b.luminance(base), b.f(1e-8)))
         color = b.vlerp(s.scalar(out, SHEEN_INPUTS["tint"], 0.5), white, hue)
     else:
-        color = s.color(out, SHEEN_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0), textured=False)
+        color = s.color(out, SHEEN_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0))
     s.c.warn(
         node,
         f"'{weight_socket.name}' is approximated: the diffuse colour brightened towards "
@@ -682,7 +647,7 @@ def _diffuse(s, out):
 def _glossy(s, out):
     b = s.b
     node = out.node
-    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0), textured=False)
+    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
     # Blender 3.x's Sharp distribution is a perfect mirror whatever the roughness.
     roughness = b.f(0.0) if node.distribution == "SHARP" else s.scalar(out, ("Roughness",), 0.5)
     anisotropy = find_socket(node.inputs, ("Anisotropy",))
@@ -717,7 +682,7 @@ def _warn_microfacet_distribution(s, node):
 
 def _glass(s, out):
     b = s.b
-    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0))
     roughness = s.scalar(out, ("Roughness",), 0.0)
     ior = s.scalar(out, ("IOR",), 1.45)
     # A Principled BSDF of full transmission with a highlight of the IOR's F0.
@@ -735,7 +700,7 @@ def _glass(s, out):
 
 
 def _refraction(s, out):
-    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0))
     ior = s.scalar(out, ("IOR",), 1.45)
     # Refraction only: no highlight.
     return s.closure(normal=s.normal(out), refracts=True, transmissivity=color, ior=ior)
@@ -743,7 +708,7 @@ def _refraction(s, out):
 
 def _transparent(s, out):
     b = s.b
-    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0))
     # Transparent BSDF = coverage: light passes straight through, unbent, with
     # weight `color`. Whitted's alpha does that exactly for a grey colour.
     if color.is_const:
@@ -755,7 +720,7 @@ def _transparent(s, out):
 
 
 def _emission(s, out):
-    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0), textured=False)
+    color = s.color(out, ("Color",), (1.0, 1.0, 1.0, 1.0))
     strength = s.scalar(out, ("Strength",), 1.0)
     # Emission emits Color * Strength as radiance and reflects nothing.
     return s.closure(emission=s.b.vmul(color, strength))
@@ -796,7 +761,7 @@ def _toon(s, out):
         return _lambert_of_color("a diffuse Toon BSDF")(s, out)
     s.c.warn(node, "a glossy Toon BSDF is approximated as a Glossy BSDF of roughness Size")
     b = s.b
-    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0), textured=False)
+    color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
     roughness = s.scalar(out, ("Size",), 0.5)
     fields = whitted_fields(
         b,
@@ -815,7 +780,7 @@ def _mix_shader(s, out):
     shaders = [x for x in node.inputs if socket_type(x) == "SHADER"]
     first = s.shader(shaders[0], out.scope)
     second = s.shader(shaders[1], out.scope)
-    factor = s.b.clamp01(s.scalar(out, ("Fac", "Factor"), 0.5, role="alpha"))
+    factor = s.b.clamp01(s.scalar(out, ("Fac", "Factor"), 0.5))
     return s.mix(factor, first, second, node)
 
 
@@ -920,9 +885,9 @@ _SHADERS = {
 SUPPORTED_SHADERS = frozenset(_SHADERS)
 
 
-def surface(c, output_node, legacy=False, local_model="BLENDER"):
+def surface(c, output_node, local_model="BLENDER"):
     """The closure of a material's active output (its Surface input)."""
-    lowering = ShaderLowering(c, legacy, local_model)
+    lowering = ShaderLowering(c, local_model)
     socket = output_node.inputs["Surface"]
     return lowering.shader(socket, ())
 
