@@ -69,13 +69,14 @@ def child(count, resolution):
         with open(stats_path) as file:
             stats = json.load(file)
     peak_mib = peak_rss_mib()
-    from whitted.export.mesh import convert_meshes
+    from whitted.export.mesh import mesh_instances
+    from whitted_tools.bench_scenes import mesh_triangles
 
-    exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), [])
+    geometries = {key for _, key in mesh_instances(bpy.context.evaluated_depsgraph_get())}
     print(
         f"{RESULT_PREFIX} Blender {bpy.app.version_string}, instances={stats['instances']} "
-        f"exported_meshes={len(exported.meshes)} "
-        f"exported_triangles={sum(len(m.triangles) for m in exported.meshes)} "
+        f"geometries={len(geometries)} "
+        f"exported_triangles={mesh_triangles(scene)} "
         f"instanced_triangles={stats['triangles']} "
         f"render={stats['phases']['total']:.2f}s peak_rss={peak_mib:.0f} MiB",
         flush=True,

@@ -23,7 +23,6 @@ from dataclasses import dataclass, replace
 import bpy
 import numpy as np
 
-from .instance import instance_name
 from .light_linking import ALL_SETS
 
 Vector = tuple[float, float, float]
@@ -77,29 +76,6 @@ class LightData:
     # blockers' shadow sets that cast its shadows, a bit per set.
     light_sets: int = ALL_SETS
     shadow_sets: int = ALL_SETS
-
-
-def convert_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
-    """Every renderable light of the evaluated depsgraph, instances included.
-
-    `default_samples` (per axis) is used by a sized light whose own setting is 0
-    (the scene's `scene.whitted.light_samples`)."""
-    lights = []
-    for object_instance in depsgraph.object_instances:
-        obj = object_instance.object
-        if obj.type != "LIGHT" or obj.original.hide_render:
-            continue
-        light = convert_light(
-            instance_name(object_instance),
-            obj.data,
-            object_instance.matrix_world,
-            warnings,
-            default_samples,
-            rays=lamp_rays(obj, object_instance.parent if object_instance.is_instance else None),
-        )
-        if light is not None:
-            lights.append(light)
-    return lights
 
 
 def lamp_rays(obj, instancer=None):

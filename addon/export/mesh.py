@@ -16,7 +16,7 @@ blocks of `_BLOCK` triangles, so its temporaries stay a few megabytes however
 large the mesh.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -143,63 +143,6 @@ class Sanitised:
         if self.normals:
             parts.append(f"{self.normals} zero-length or NaN normal(s) set to the face normal")
         return "; ".join(parts)
-
-
-@dataclass(frozen=True)
-class MeshExport:
-    meshes: list  # MeshData, or what `convert_meshes`' `convert` made of each
-    instances: list[InstanceData]
-    sanitised: Sanitised = field(default_factory=Sanitised)  # totals over all meshes
-
-
-def convert_meshes(
-    depsgraph, warnings, uv_maps=None, convert=None, in_place=None, needs=None, info=()
-):
-    """Every renderable mesh-like object of the evaluated depsgraph, each distinct
-    geometry once, placed by one instance per object or instance.
-
-    `uv_maps` maps a material name to the UV map its textures read ("" for the
-    active render map); a mesh exports corner UVs when one of its materials is there.
-
-    `convert`, when given, is called with each MeshData as soon as it is read, and
-    MeshExport.meshes holds what it returns instead, so that the arrays of only one
-    mesh are alive at a time.
-
-    `needs` maps a material name to its MeshNeeds (what its shader program reads);
-    `info` names the materials that read Object Info (instances using one carry it).
-
-    `in_place` lets Blender < 4.1 meshes with auto smooth or custom normals be read
-    in place rather than copied by to_mesh() (see `_corner_normals_ready`); by
-    default only from a render depsgraph (F12): a viewport one may hold a mesh whose
-    GPU subdivision only to_mesh() applies.
-    """
-    if in_place is None:
-        in_place = depsgraph.mode == "RENDER"
-    uv_maps = uv_maps or {}
-    meshes = []
-    instances = []
-    exported = {}  # geometry key -> whether it has triangles
-    sanitised = Sanitised()
-    view_layer = depsgraph.view_layer_eval  # holdout is per view layer
-    for object_instance, key in mesh_instances(depsgraph):
-        obj = object_instance.object
-        if key not in exported:
-            converted, repaired = export_geometry(
-                obj,
-                key,
-                object_uv_map(obj, uv_maps),
-                warnings,
-                convert,
-                in_place,
-                object_needs(obj, needs or {}, warnings),
-            )
-            sanitised += repaired
-            exported[key] = converted is not None
-            if converted is not None:
-                meshes.append(converted)
-        if exported[key]:
-            instances.append(instance_data(object_instance, key, view_layer, info))
-    return MeshExport(meshes=meshes, instances=instances, sanitised=sanitised)
 
 
 def mesh_instances(depsgraph):

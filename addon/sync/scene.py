@@ -318,7 +318,7 @@ class SceneSync:
         report.walked = True
         render = depsgraph.mode == "RENDER"
         # Blender < 4.1 meshes with corner normals are read in place from a render
-        # depsgraph only (export/mesh.py convert_meshes).
+        # depsgraph only (export/mesh.py _corner_normals_ready).
         in_place = render
         view_layer = depsgraph.view_layer_eval
         keys = GeometryKeys(render)

@@ -4,10 +4,10 @@ import math
 
 import bpy
 import pytest
+from exported import exported_lights
 from whitted.export.light import (
     AREA_WATTS_TO_RADIANCE,
     DEFAULT_LIGHT_SAMPLES,
-    convert_lights,
     shadow_switch,
 )
 
@@ -23,7 +23,7 @@ def add_light(scene, light_type, name="Light", location=(0.0, 0.0, 0.0), **light
 
 
 def convert(warnings):
-    return convert_lights(bpy.context.evaluated_depsgraph_get(), warnings)
+    return exported_lights(bpy.context.evaluated_depsgraph_get(), warnings)
 
 
 def test_point_light_radiant_intensity(empty_scene, warnings):

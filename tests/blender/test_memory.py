@@ -5,8 +5,8 @@ import json
 
 import bpy
 import pytest
+from exported import exported_meshes
 from whitted import memory
-from whitted.export.mesh import convert_meshes
 
 
 @pytest.fixture
@@ -24,7 +24,7 @@ def test_estimate_counts_what_the_export_exports(demo):
     cylinder.modifiers.new("Subdivision", "SUBSURF").levels = 2
     depsgraph = bpy.context.evaluated_depsgraph_get()
     estimate = memory.estimate(depsgraph, 64 * 48)
-    exported = convert_meshes(depsgraph, [])
+    exported = exported_meshes(depsgraph, [])
     assert estimate.triangles == sum(len(mesh.triangles) for mesh in exported.meshes)
     assert estimate.instances == len(exported.instances)
     assert estimate.pixels == 64 * 48

@@ -9,8 +9,9 @@ import bpy
 import bmesh
 import numpy as np
 import pytest
+from exported import exported_meshes
 from mathutils import Vector
-from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish, convert_meshes
+from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, bmesh_mesh, ico_sphere_on_points, sphere_mesh
 
@@ -20,7 +21,7 @@ def cube_mesh(name="Cube"):
 
 
 def convert(warnings):
-    return convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
+    return exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
 
 
 def test_cube_triangles_and_per_face_materials(empty_scene, warnings):
@@ -205,7 +206,7 @@ def test_meshes_read_in_place_equal_their_copies(empty_scene, warnings):
 
     def convert_all(in_place):
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        exported = convert_meshes(depsgraph, warnings, {"Textured": "Map"}, in_place=in_place)
+        exported = exported_meshes(depsgraph, warnings, {"Textured": "Map"}, in_place=in_place)
         return {mesh.name: mesh for mesh in exported.meshes}
 
     copies = convert_all(in_place=False)
@@ -240,7 +241,7 @@ def test_a_mesh_in_edit_mode_is_read_with_its_edits(empty_scene, warnings):
             vertex.co.z += 10.0
         bmesh.update_edit_mesh(obj.data)
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        (data,) = convert_meshes(depsgraph, warnings, in_place=True).meshes
+        (data,) = exported_meshes(depsgraph, warnings, in_place=True).meshes
     finally:
         bpy.ops.object.mode_set(mode="OBJECT")
     assert data.positions[:, 2].min() == pytest.approx(9.0)
@@ -417,7 +418,7 @@ def test_every_instance_material_is_in_the_depsgraph(empty_scene, warnings):
     obj.material_slots[0].material = bpy.data.materials.new("Object")
 
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    exported = convert_meshes(depsgraph, warnings)
+    exported = exported_meshes(depsgraph, warnings)
     in_depsgraph = {m.name_full for m in depsgraph.ids if isinstance(m, bpy.types.Material)}
     used = {name for i in exported.instances for name in i.materials}
     assert used == {"InExcludedCollection", "Object"}

@@ -19,9 +19,9 @@ import bpy
 # Blender as a Python module makes bmesh importable only after bpy.
 import numpy as np
 import pytest
+from exported import exported_meshes
 from whitted.export.film import FilmData, convert_film
 from whitted.export.instance import RayVisibility
-from whitted.export.mesh import convert_meshes
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, cube_mesh, ico_sphere_on_points
 
@@ -113,7 +113,7 @@ def test_ray_visibility_is_read_from_the_object_and_its_instancer(scene, warning
     plain.visible_camera = False
     plain.visible_transmission = False
 
-    exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
+    exported = exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
     visibility = {i.name.split("/")[0]: i.visibility for i in exported.instances}
     # As in Cycles, an instance is seen only by rays that both it and its instancer allow.
     assert visibility["Instancer"] == RayVisibility(shadow=False, reflection=False)
@@ -128,7 +128,7 @@ def test_object_and_collection_holdout_are_exported(scene, warnings):
     link(scene, "In Holdout Collection", cube_mesh("B"), collection=masks)
     bpy.context.view_layer.layer_collection.children["Masks"].holdout = True
     link(scene, "Plain", cube_mesh("C"))
-    exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
+    exported = exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
     assert {i.name: i.holdout for i in exported.instances} == {
         "Object Holdout": True,
         "In Holdout Collection": True,
@@ -238,7 +238,7 @@ def test_shading_follows_custom_split_normals(scene, render_pixels, tilt_x):
 
 
 def corner_normals(scene, warnings):
-    (mesh,) = convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings).meshes
+    (mesh,) = exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings).meshes
     return mesh
 
 
@@ -291,7 +291,7 @@ def grid_points(count, extent):
 def test_ten_thousand_instances_share_one_mesh(scene, render_pixels, warnings):
     count = 10_000
     scatter(scene, grid_points(count, 1.8))
-    exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
+    exported = exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
     assert len(exported.meshes) == 1
     assert len(exported.instances) == count
     assert len({i.name for i in exported.instances}) == count

@@ -9,8 +9,9 @@ import math
 import bpy
 import numpy as np
 import pytest
+from exported import exported_meshes
 from whitted.export.material import convert_material
-from whitted.export.mesh import MeshNeeds, convert_meshes, object_info
+from whitted.export.mesh import MeshNeeds, object_info
 from whitted.export.nodes import ops
 from whitted.export.nodes.program import run
 from whitted_tools.shader_graphs import new_material, output, principled
@@ -342,7 +343,7 @@ def test_meshes_carry_what_the_programs_read(warnings):
         )
     }
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    (mesh,) = convert_meshes(depsgraph, warnings, needs=needs).meshes
+    (mesh,) = exported_meshes(depsgraph, warnings, needs=needs).meshes
     assert len(mesh.uv_sets) == 2 and mesh.uv_sets[0].shape == (2, 3, 2)
     np.testing.assert_allclose(mesh.uv_sets[1], 1.0 - mesh.uv_sets[0])
     paint, height = mesh.attributes
@@ -359,7 +360,7 @@ def test_meshes_carry_what_the_programs_read(warnings):
     np.testing.assert_allclose(tangent[..., 3], 1.0)
     assert warnings == []
     # Without needs, none of it.
-    (bare,) = convert_meshes(depsgraph, []).meshes
+    (bare,) = exported_meshes(depsgraph, []).meshes
     assert (bare.uv_sets, bare.attributes, bare.tangents) == ((), (), ())
 
 
@@ -367,7 +368,7 @@ def test_missing_attribute_reads_zero_and_warns(warnings):
     _plane, material = mesh_with_data()
     needs = {material.name: MeshNeeds(attributes=(("ATTRIBUTE", "nowhere"),))}
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    (mesh,) = convert_meshes(depsgraph, warnings, needs=needs).meshes
+    (mesh,) = exported_meshes(depsgraph, warnings, needs=needs).meshes
     np.testing.assert_array_equal(mesh.attributes[0], 0.0)
     assert "no attribute 'nowhere'" in warnings[0]
 
@@ -378,7 +379,7 @@ def test_object_info_of_an_instance(warnings):
     plane.pass_index = 7
     plane.color = (0.5, 0.25, 0.125, 1.0)
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    export = convert_meshes(depsgraph, warnings, info={material.name})
+    export = exported_meshes(depsgraph, warnings, info={material.name})
     (instance,) = export.instances
     location, random, index, color = (
         instance.info[:3],
@@ -391,11 +392,11 @@ def test_object_info_of_an_instance(warnings):
     assert index == 7.0
     assert color == pytest.approx((0.5, 0.25, 0.125, 1.0))
     # Read by no material, it is sent only for a pass index (the IndexOB pass).
-    (indexed,) = convert_meshes(depsgraph, warnings).instances
+    (indexed,) = exported_meshes(depsgraph, warnings).instances
     assert indexed.info[4] == 7.0
     plane.pass_index = 0
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    (bare,) = convert_meshes(depsgraph, warnings).instances
+    (bare,) = exported_meshes(depsgraph, warnings).instances
     assert bare.info is None
     # The same object gives the same random number every time.
     for again in depsgraph.object_instances:  # valid only while iterating

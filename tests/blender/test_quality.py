@@ -7,8 +7,8 @@ import json
 
 import bpy
 import pytest
+from exported import exported_lights
 from whitted.export.film import convert_film
-from whitted.export.light import convert_lights
 from whitted.export.texture import ImageTextureSpec, convert_textures
 from whitted.properties.presets import (
     PRESETS,
@@ -148,7 +148,7 @@ def test_scene_shadow_samples_are_the_default_of_sized_lights(empty_scene):
         empty_scene.collection.objects.link(bpy.data.objects.new(name, light))
     empty_scene.whitted.light_samples = 6
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    samples = {light.name: light.samples for light in convert_lights(depsgraph, [], 6)}
+    samples = {light.name: light.samples for light in exported_lights(depsgraph, [], 6)}
     assert samples == {"Default": 6, "Own": 3}
 
 

@@ -11,7 +11,8 @@ import json
 import bpy
 import numpy as np
 import pytest
-from whitted.export.mesh import MAX_COORDINATE, Sanitised, _sanitise, convert_meshes
+from exported import exported_meshes
+from whitted.export.mesh import MAX_COORDINATE, Sanitised, _sanitise
 from whitted_tools import hard_cases
 from whitted_tools.blender import factory_scene
 from whitted_tools.metrics import relative_rmse
@@ -192,7 +193,7 @@ def test_a_focus_distance_behind_at_or_in_front_of_the_clip_start(
 
 def test_bad_geometry_is_dropped_with_one_warning_per_object(empty_scene, warnings):
     hard_cases.degenerate_geometry(empty_scene)
-    exported = convert_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
+    exported = exported_meshes(bpy.context.evaluated_depsgraph_get(), warnings)
     counts = hard_cases.BROKEN_MESH_COUNTS
     assert exported.sanitised == Sanitised(**counts)
     (warning,) = warnings

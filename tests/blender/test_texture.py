@@ -13,8 +13,8 @@ import math
 import bpy
 import numpy as np
 import pytest
+from exported import exported_meshes
 from whitted.export.material import convert_material
-from whitted.export.mesh import convert_meshes
 from whitted.export.texture import MISSING_COLOR, image_pixels
 
 SIZE = 8  # render width and height in pixels
@@ -257,7 +257,7 @@ def test_named_uv_map_is_exported(lit_scene, warnings):
     flipped.data.foreach_set("uv", 1.0 - uvs)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     by_map = {
-        uv_map: convert_meshes(depsgraph, warnings, {"Decal": uv_map}).meshes[0].uvs
+        uv_map: exported_meshes(depsgraph, warnings, {"Decal": uv_map}).meshes[0].uvs
         for uv_map in ("", "Flipped", "Missing")
     }
     np.testing.assert_allclose(by_map["Flipped"], 1.0 - by_map[""])
@@ -266,7 +266,7 @@ def test_named_uv_map_is_exported(lit_scene, warnings):
         f"Whitted: object '{plane.name}' has no UV map 'Missing'; using the active render one"
     ]
     # Without a textured material, no UVs are exported.
-    assert convert_meshes(depsgraph, warnings).meshes[0].uvs is None
+    assert exported_meshes(depsgraph, warnings).meshes[0].uvs is None
 
 
 def cut_out_scene(scene, card_material):
