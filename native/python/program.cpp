@@ -1,4 +1,4 @@
-#include "texture/program.h"
+#include "shader/program.h"
 
 #include "bindings.h"
 

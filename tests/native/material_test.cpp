@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "integrator/lobes.h"
+
 namespace whitted {
 namespace {
 

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "integrator/lobes.h"
 #include "scene/material.h"
 
 namespace whitted {

@@ -1,13 +1,13 @@
 // The procedural textures against values Cycles rendered (Blender 5.0.1: an emission
 // plane whose colour is the node's output at one constant point), and the ops' modes.
-#include "texture/procedural.h"
+#include "shader/procedural.h"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 #include <vector>
 
-#include "texture/program.h"
+#include "shader/program.h"
 
 namespace whitted {
 namespace {

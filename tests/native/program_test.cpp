@@ -1,6 +1,6 @@
 // Shader programs: validation, and each op against Blender's own definitions, with values
 // worked out by hand.
-#include "texture/program.h"
+#include "shader/program.h"
 
 #include <gtest/gtest.h>
 

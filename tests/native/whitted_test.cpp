@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "integrator/lobes.h"
 #include "scene_builders.h"
 
 namespace whitted {

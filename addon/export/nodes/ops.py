@@ -1,5 +1,5 @@
 """The shader program's numbers (docs/notes/shader_program.md): op codes, input
-modes and the operation lists, mirrored by native/src/texture/ops.h.
+modes and the operation lists, mirrored by native/src/shader/ops.h.
 
 The operation lists are Blender 5.0's enums in their order; Blender 3.4's are
 subsets of them, so an operation is always looked up by its identifier.

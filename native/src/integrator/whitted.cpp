@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/limits.h"
+#include "integrator/lobes.h"
 #include "scene/mesh_light.h"
 
 namespace whitted {
@@ -17,100 +18,6 @@ using limits::kMaxTransparentLayers;
 // program's ior belongs to a hit, not to the volume behind it.
 float ior_of(const CompiledScene& scene, int32_t medium) {
   return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
-}
-
-// The coat of a hit as the ray sees it: a clear layer over the base whose reflectance is
-// its weights times the exact dielectric Fresnel factor of its IOR at its own normal; the
-// base beneath receives the rest, 1 - cover, of the light.
-struct Coat {
-  float highlight = 0.0f;  // weight of its Phong highlight
-  float mirror = 0.0f;     // weight of its mirror reflection
-  float cover = 0.0f;      // highlight + mirror: the share it takes from the base
-  float shininess = 1.0f;
-  float alpha = 0.0f;             // GGX alpha of its mirror's lobe; 0: a mirror (microfacet.h)
-  Vec3 normal{0.0f, 0.0f, 1.0f};  // facing the ray
-  float eta = 1.0f;               // 1 / its IOR
-  float fresnel = 0.0f;           // its Fresnel factor at the view and its normal
-
-  // What its rough lobe's share becomes for a facet of normal m: the Fresnel factor
-  // at the facet over the one at the layer's normal that `mirror` holds (a rough
-  // dielectric reflects by its facets' Fresnel factors, lower at grazing views).
-  float facet_scale(const Vec3& wo, const Vec3& m) const {
-    if (!(fresnel > 0.0f)) return 0.0f;
-    return fresnel_exact(std::max(0.0f, glm::dot(wo, m)), eta) / fresnel;
-  }
-};
-
-// The share of the light a rough dielectric layer reflects, its albedo: the mean of
-// G2/G1 times the facet's Fresnel factor over 3 x 3 fixed visible normals (Cycles takes
-// it from tables; 1 - albedo reaches the layers beneath). Lower than the Fresnel factor
-// at the layer's normal at grazing views, where that tends to 1.
-float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, Masking masking) {
-  constexpr int kSide = 3;
-  float sum = 0.0f;
-  for (int i = 0; i < kSide; ++i) {
-    for (int j = 0; j < kSide; ++j) {
-      Vec3 wi;
-      float weight = 0.0f;
-      if (!ggx_sample_reflection(n, wo, alpha, (i + 0.5f) / kSide, (j + 0.5f) / kSide, &wi, &weight,
-                                 masking)) {
-        continue;
-      }
-      sum += weight * fresnel_exact(std::max(0.0f, glm::dot(wo, glm::normalize(wo + wi))), eta);
-    }
-  }
-  return sum / (kSide * kSide);
-}
-
-Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering,
-             Masking masking) {
-  Coat coat;
-  const float weight = surface.coat_specular + surface.coat_reflectivity;
-  if (!(weight > 0.0f)) return coat;
-  coat.normal = entering ? surface.coat_normal : -surface.coat_normal;
-  if (glm::dot(coat.normal, ng) <= 0.0f) coat.normal = ng;  // as the base's normal
-  coat.eta = 1.0f / surface.coat_ior;
-  const float f = fresnel_exact(glm::dot(wo, coat.normal), coat.eta);
-  coat.fresnel = f;
-  const float scale = f / std::max(weight, 1.0f);  // weights beyond 1 cover all
-  coat.highlight = std::max(surface.coat_specular, 0.0f) * scale;
-  coat.mirror = std::max(surface.coat_reflectivity, 0.0f) * scale;
-  coat.cover = coat.highlight + coat.mirror;
-  coat.shininess = surface.coat_shininess;
-  const float alpha = surface.coat_roughness * surface.coat_roughness;
-  coat.alpha = alpha >= kMirrorAlpha && coat.mirror > 0.0f ? alpha : 0.0f;
-  if (coat.alpha > 0.0f && f > 0.0f) {
-    // What the rough mirror takes from the base: its albedo, not its Fresnel factor.
-    coat.cover =
-        coat.highlight +
-        coat.mirror * rough_layer_albedo(coat.normal, wo, coat.alpha, coat.eta, masking) / f;
-  }
-  return coat;
-}
-
-// A rough coat's mirror lobe for light arriving from wi: its GGX lobe evaluated, times
-// its weight and its facet's Fresnel factor; 0 for a sharp coat.
-float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {
-  if (!(coat.alpha > 0.0f)) return 0.0f;
-  const Vec3 half = wo + wi;
-  const float length = glm::length(half);
-  if (!(length > 0.0f)) return 0.0f;
-  return coat.mirror * coat.facet_scale(wo, half / length) *
-         ggx_reflection(coat.normal, wo, wi, coat.alpha, masking);
-}
-
-// The coat's highlight for light arriving from wi, per unit irradiance: the normalised
-// Phong lobe ks*(f+2)/(2pi)*(v.r)^f*(l.n) about the coat's normal, and a rough mirror's
-// lobe (coat_glossy).
-float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {
-  const float glossy = coat_glossy(coat, wo, wi, masking);
-  if (coat.highlight <= 0.0f) return glossy;
-  const float cos_l = glm::dot(coat.normal, wi);
-  if (cos_l <= 0.0f) return 0.0f;
-  const float v_dot_r = std::max(0.0f, glm::dot(wo, reflect(-wi, coat.normal)));
-  if (v_dot_r <= 0.0f && coat.shininess > 0.0f) return 0.0f;  // what powf's +0 makes of it
-  return glossy + coat.highlight * (coat.shininess + 2.0f) * (0.5f * kInvPi) *
-                      std::pow(v_dot_r, coat.shininess) * cos_l;
 }
 
 // The interface step's answer: what lies beyond a transmissive surface for the refracted

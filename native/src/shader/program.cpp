@@ -1,4 +1,4 @@
-#include "texture/program.h"
+#include "shader/program.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
-#include "texture/procedural.h"
+#include "shader/procedural.h"
 
 namespace whitted {
 namespace {

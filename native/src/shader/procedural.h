@@ -9,7 +9,7 @@
 #include <glm/vec4.hpp>
 
 #include "core/math.h"
-#include "texture/ops.h"
+#include "shader/ops.h"
 
 namespace whitted::procedural {
 

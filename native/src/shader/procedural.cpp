@@ -1,4 +1,4 @@
-#include "texture/procedural.h"
+#include "shader/procedural.h"
 
 #include <algorithm>
 #include <bit>

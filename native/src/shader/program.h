@@ -11,7 +11,7 @@
 
 #include "core/math.h"
 #include "scene/texture.h"
-#include "texture/ops.h"
+#include "shader/ops.h"
 
 namespace whitted {
 

@@ -31,7 +31,7 @@ enum class Op : uint32_t {
   kEnvironment = 19,
   kChecker = 20,
   kGradient = 21,
-  kNoise = 22,  // 22..26: the procedural textures (texture/procedural.h)
+  kNoise = 22,  // 22..26: the procedural textures (shader/procedural.h)
   kVoronoi = 23,
   kWave = 24,
   kMagic = 25,
