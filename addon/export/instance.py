@@ -1,9 +1,13 @@
-"""Names, ray visibility, holdout and Cryptomatte ids of the objects that the evaluated
-depsgraph yields."""
+"""The instances that place a geometry: for each object the evaluated depsgraph yields,
+its name, transform, material per slot, ray visibility, holdout, Object Info,
+Cryptomatte ids and light linking sets (InstanceData)."""
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from .. import cryptomatte
+from .light_linking import NO_LINKS, UNLINKED
 
 # Blender pads unused levels of DepsgraphObjectInstance.persistent_id with INT_MAX.
 _UNUSED_ID = 2**31 - 1
@@ -111,3 +115,116 @@ def _object_visibility(obj):
         reflection=obj.visible_glossy,
         refraction=obj.visible_transmission,
     )
+
+
+# The tracer's default material: what an empty material slot renders with.
+# Blender names are never empty, so it cannot clash with a material's name.
+DEFAULT_MATERIAL = ""
+
+
+@dataclass(frozen=True)
+class InstanceData:
+    name: str
+    mesh: str  # MeshData.name
+    transform: np.ndarray  # float64[4,4], row-major, object to world
+    materials: tuple[str, ...]  # material name per slot, DEFAULT_MATERIAL if empty
+    visibility: RayVisibility  # which rays see it
+    holdout: bool  # camera rays that hit it give colour 0 and alpha 0
+    # (location xyz, random, pass index, colour rgba) for Object Info; None when no
+    # material of the instance reads it.
+    info: tuple | None = None
+    # (object id, asset id, (material id per slot)): its Cryptomatte ids (cryptomatte.py);
+    # None when the view layer writes no Cryptomatte.
+    cryptomatte: tuple | None = None
+    # Its transforms over the shutter (export/motion.py MotionData), () when still.
+    motion: tuple = ()
+    # Light linking: (light set, shadow set, light sets it lights, shadow sets that
+    # block it), export/light_linking.py.
+    links: tuple = UNLINKED
+
+
+def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):
+    """InstanceData of a mesh instance placing geometry `mesh` (its key).
+
+    `view_layer` is the depsgraph's evaluated view layer (holdout is per layer);
+    `info` the names of the materials that read Object Info. An object with a pass
+    index sends its Object Info too, for the IndexOB pass. `links`: the scene's
+    light_linking.LightLinks."""
+    materials = slot_materials(object_instance.object)
+    reads_info = any(m in info for m in materials) or object_instance.object.pass_index != 0
+    return InstanceData(
+        name=instance_name(object_instance),
+        mesh=mesh,
+        # Valid only while iterating: copy it now.
+        transform=np.array(object_instance.matrix_world, dtype=np.float64),
+        materials=materials,
+        visibility=ray_visibility(object_instance),
+        holdout=is_holdout(object_instance, view_layer),
+        info=object_info(object_instance) if reads_info else None,
+        cryptomatte=cryptomatte_ids(object_instance.object)
+        if writes_cryptomatte(view_layer)
+        else None,
+        links=links.of_object(
+            object_instance.object, object_instance.parent if object_instance.is_instance else None
+        ),
+    )
+
+
+def object_info(object_instance):
+    """(location xyz, random, pass index, colour rgba): what Object Info gives, as
+    Cycles computes it: the instance's world location; its random id (an unsigned
+    32-bit hash) times 1 / 0xFFFFFFFF in float32, in [0, 1]; the object's pass index
+    and its colour (Object Properties > Viewport Display).
+
+    The depsgraph gives instances their `random_id` and real objects 0; Cycles then
+    hashes the object's name (hash_uint2(hash_string(name), 0), util/hash.h)."""
+    obj = object_instance.object
+    location = tuple(float(x) for x in object_instance.matrix_world.translation)
+    random_id = getattr(object_instance, "random_id", 0) & 0xFFFFFFFF
+    if random_id == 0:
+        random_id = _hash_uint2(_hash_string(obj.name), 0)
+    random = float(np.float32(np.float32(random_id) * np.float32(1.0 / 0xFFFFFFFF)))
+    return (*location, random, float(obj.pass_index), *(float(c) for c in obj.color))
+
+
+def _hash_string(text):
+    # Cycles' hash_string: i = i * 37 + c over the bytes, in uint32.
+    value = 0
+    for byte in text.encode():
+        value = (value * 37 + byte) & 0xFFFFFFFF
+    return value
+
+
+def _rot(x, k):
+    return ((x << k) | (x >> (32 - k))) & 0xFFFFFFFF
+
+
+def _hash_uint2(kx, ky):
+    # Bob Jenkins' lookup3 final mix of two words (Cycles' hash_uint2).
+    a = b = c = (0xDEADBEEF + (2 << 2) + 13) & 0xFFFFFFFF
+    b = (b + ky) & 0xFFFFFFFF
+    a = (a + kx) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 14)) & 0xFFFFFFFF
+    a ^= c
+    a = (a - _rot(c, 11)) & 0xFFFFFFFF
+    b ^= a
+    b = (b - _rot(a, 25)) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 16)) & 0xFFFFFFFF
+    a ^= c
+    a = (a - _rot(c, 4)) & 0xFFFFFFFF
+    b ^= a
+    b = (b - _rot(a, 14)) & 0xFFFFFFFF
+    c ^= b
+    c = (c - _rot(b, 24)) & 0xFFFFFFFF
+    return c
+
+
+def slot_materials(obj):
+    # The evaluated object's slots already resolve object- versus data-linked materials.
+    names = tuple(
+        slot.material.name_full if slot.material is not None else DEFAULT_MATERIAL
+        for slot in obj.material_slots
+    )
+    return names or (DEFAULT_MATERIAL,)

@@ -31,21 +31,14 @@ import bpy
 import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
-from ..export.instance import instance_name
+from ..export.geometry_key import GeometryKeys
+from ..export.instance import instance_data, instance_name
 from ..export.light import convert_light, lamp_rays
 from ..export.light_linking import NO_LINKS, light_links
 from ..export.material import convert_material
-from ..export.mesh import (
-    NO_NEEDS,
-    GeometryKeys,
-    MeshNeeds,
-    Sanitised,
-    export_geometry,
-    instance_data,
-    is_renderable_mesh,
-    object_needs,
-    object_uv_map,
-)
+from ..export.mesh import export_geometry, is_renderable_mesh
+from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
+from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.world import convert_world

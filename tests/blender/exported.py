@@ -6,16 +6,11 @@ walk hands each piece straight to the native scene)."""
 
 from dataclasses import dataclass, field
 
-from whitted.export.instance import instance_name
+from whitted.export.instance import instance_data, instance_name
 from whitted.export.light import DEFAULT_LIGHT_SAMPLES, convert_light, lamp_rays
-from whitted.export.mesh import (
-    Sanitised,
-    export_geometry,
-    instance_data,
-    mesh_instances,
-    object_needs,
-    object_uv_map,
-)
+from whitted.export.mesh import export_geometry, mesh_instances
+from whitted.export.mesh_layers import object_needs, object_uv_map
+from whitted.export.sanitise import Sanitised
 
 
 @dataclass(frozen=True)

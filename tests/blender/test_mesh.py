@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 from exported import exported_meshes
 from mathutils import Vector
-from whitted.export.mesh import DEFAULT_MATERIAL, Sanitised, _finish
+from whitted.export.instance import DEFAULT_MATERIAL
+from whitted.export.mesh import _finish
+from whitted.export.sanitise import Sanitised
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, bmesh_mesh, ico_sphere_on_points, sphere_mesh
 

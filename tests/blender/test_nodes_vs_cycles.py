@@ -14,8 +14,8 @@ import bpy
 import numpy as np
 import pytest
 from node_cases import CASES, SIZE, build_scene, render, set_cycles, uv_grid
+from whitted.export.instance import object_info
 from whitted.export.material import convert_material
-from whitted.export.mesh import object_info
 from whitted.export.nodes import ops
 from whitted.export.nodes.program import run
 

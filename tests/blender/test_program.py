@@ -10,8 +10,9 @@ import bpy
 import numpy as np
 import pytest
 from exported import exported_meshes
+from whitted.export.instance import object_info
 from whitted.export.material import convert_material
-from whitted.export.mesh import MeshNeeds, object_info
+from whitted.export.mesh_layers import MeshNeeds
 from whitted.export.nodes import ops
 from whitted.export.nodes.program import run
 from whitted_tools.shader_graphs import new_material, output, principled

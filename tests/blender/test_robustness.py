@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 import pytest
 from exported import exported_meshes
-from whitted.export.mesh import MAX_COORDINATE, Sanitised, _sanitise
+from whitted.export.sanitise import MAX_COORDINATE, Sanitised, sanitise
 from whitted_tools import hard_cases
 from whitted_tools.blender import factory_scene
 from whitted_tools.metrics import relative_rmse
@@ -222,7 +222,7 @@ def test_zero_length_and_nan_corner_normals_become_the_face_normal():
     normals = np.tile(np.array([0.0, 0.0, 1.0], dtype=np.float32), (3, 3, 1))
     normals[0, 1] = 0.0
     normals[1, 2] = np.nan
-    keep, sanitised = _sanitise(positions, corners, normals)
+    keep, sanitised = sanitise(positions, corners, normals)
     np.testing.assert_array_equal(keep, [True, True, False])
     assert sanitised == Sanitised(zero_area=1, normals=2)
     np.testing.assert_array_equal(normals[0, 1], (0.0, 0.0, 1.0))
