@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 from . import ops
 from .graph import socket_type, source
 from .ir import COLOR, FLOAT, VECTOR
-from .values import find_socket
+from .sockets import find_socket
 
 LINEAR_FIELDS = (
     "diffuse",

@@ -1,0 +1,195 @@
+"""The input nodes as Exprs: constants (Value, RGB), what a hit gives (Texture
+Coordinate, UV Map, Geometry, Light Path, Object Info, attributes and colour
+attributes), the view-dependent factors (Fresnel, Layer Weight) and Normal Map."""
+
+from . import ops
+from .graph import source
+from .ir import COLOR, FLOAT, VECTOR
+from .sockets import find_socket, output_name
+
+
+def _value(c, out):
+    return c.b.f(out.socket.default_value)
+
+
+def _rgb(c, out):
+    return c.b.const(tuple(out.socket.default_value), COLOR)
+
+
+def _uv_map(c, out):
+    return c.uv(out.node.uv_map)
+
+
+_TEX_COORD = {
+    "Generated": ops.IN_GENERATED,
+    "Normal": ops.IN_NORMAL,
+    "Object": ops.IN_OBJECT,
+    "Camera": ops.IN_CAMERA,
+    "Window": ops.IN_WINDOW,
+    "Reflection": ops.IN_REFLECTION,
+}
+
+
+def _tex_coord(c, out):
+    name = output_name(out)
+    if name == "UV":
+        return c.uv("")
+    if getattr(out.node, "object", None) is not None and name == "Object":
+        c.warn(out.node, "Object coordinates of another object are not supported; its own")
+    if name == "Normal" and not c.world:
+        # Cycles' Normal output is the shading normal in object space.
+        return c.hit(ops.IN_OBJECT_NORMAL)
+    if name == "Camera" and not c.world:
+        # INPUT 6 is Blender's camera space (looking down -Z); Cycles' Camera output
+        # looks down +Z.
+        flip = c.b.const((1.0, 1.0, -1.0), VECTOR)
+        return c.b.vmul(c.hit(ops.IN_CAMERA), flip, VECTOR)
+    return c.hit(_TEX_COORD[name])
+
+
+_GEOMETRY = {
+    "Position": (ops.IN_POSITION, VECTOR),
+    "Normal": (ops.IN_NORMAL, VECTOR),
+    "True Normal": (ops.IN_TRUE_NORMAL, VECTOR),
+    "Incoming": (ops.IN_INCOMING, VECTOR),
+    "Backfacing": (ops.IN_BACKFACING, FLOAT),
+}
+
+
+def _geometry(c, out):
+    entry = _GEOMETRY.get(output_name(out))
+    if entry is None:
+        c.warn(out.node, f"output '{output_name(out)}' is not supported; it gives 0")
+        return c.b.f(0.0)
+    return c.hit(entry[0], entry[1])
+
+
+_LIGHT_PATH = {
+    "Is Camera Ray": ops.IN_IS_CAMERA_RAY,
+    "Is Shadow Ray": ops.IN_IS_SHADOW_RAY,
+    "Is Diffuse Ray": ops.IN_IS_DIFFUSE_RAY,
+    "Is Glossy Ray": ops.IN_IS_REFLECTION_RAY,
+    "Is Singular Ray": ops.IN_IS_SINGULAR_RAY,
+    "Is Reflection Ray": ops.IN_IS_REFLECTION_RAY,
+    "Is Transmission Ray": ops.IN_IS_TRANSMISSION_RAY,
+    "Ray Depth": ops.IN_RAY_DEPTH,
+    # Every bounce of a Whitted tracer is singular: glossy and transmission depths
+    # are the ray depth, and no ray is diffuse or transparent.
+    "Glossy Depth": ops.IN_RAY_DEPTH,
+    "Transmission Depth": ops.IN_RAY_DEPTH,
+}
+
+
+def _light_path(c, out):
+    name = output_name(out)
+    mode = _LIGHT_PATH.get(name)
+    if mode is None:
+        if name not in ("Diffuse Depth", "Transparent Depth", "Is Volume Scatter Ray"):
+            c.warn(out.node, f"output '{name}' is not supported; it gives 0")
+        return c.b.f(0.0)
+    if name in ("Glossy Depth", "Transmission Depth"):
+        c.warn(out.node, f"'{name}' is approximated by the ray depth")
+    return c.hit(mode, FLOAT)
+
+
+def _object_info(c, out):
+    name = output_name(out)
+    c.needs.object_info = True
+    if name == "Location":
+        return c.hit(ops.IN_OBJECT_LOCATION)
+    if name == "Random":
+        return c.hit(ops.IN_OBJECT_RANDOM, FLOAT)
+    if name in ("Object Index", "Pass Index"):
+        return c.hit(ops.IN_OBJECT_INDEX, FLOAT)
+    if name == "Color":
+        return c.hit(ops.IN_OBJECT_COLOR, COLOR)
+    if name == "Alpha":
+        return c.b.swizzle(c.hit(ops.IN_OBJECT_COLOR, COLOR), 3)
+    c.warn(out.node, f"output '{name}' is not supported; it gives 0")
+    return c.b.f(0.0)
+
+
+def _attribute_value(c, out, key):
+    if c.world:
+        c.warn(out.node, "attributes are not available in the world; 0")
+        return c.b.f(0.0)
+    value = c.hit(ops.IN_ATTRIBUTE + c.needs.attribute(key), COLOR)
+    name = output_name(out)
+    if name == "Alpha":
+        return c.b.swizzle(value, 3)
+    if name in ("Fac", "Factor"):
+        # Float attributes are exported in all of rgb, so the mean is the value.
+        return c.b.average(value)
+    return value
+
+
+def _vertex_color(c, out):
+    return _attribute_value(c, out, ("COLOR", out.node.layer_name))
+
+
+def _attribute(c, out):
+    node = out.node
+    if node.attribute_type != "GEOMETRY":
+        c.warn(node, f"{node.attribute_type} attributes are not supported; 0")
+        return c.b.f(0.0)
+    return _attribute_value(c, out, ("ATTRIBUTE", node.attribute_name))
+
+
+def _fresnel(c, out):
+    ior = c.input(out, ("IOR",), FLOAT)
+    _warn_linked_normal(c, out)
+    return c.b.op(ops.FRESNEL, 0, (ior,), kind=FLOAT)
+
+
+def _layer_weight(c, out):
+    blend = c.input(out, ("Blend",), FLOAT)
+    _warn_linked_normal(c, out)
+    mode = 0 if output_name(out) == "Fresnel" else 1
+    return c.b.op(ops.LAYER_WEIGHT, mode, (blend,), kind=FLOAT)
+
+
+def _warn_linked_normal(c, out):
+    socket = find_socket(out.node.inputs, ("Normal",))
+    if socket is not None and source(socket, out.scope)[0] is not None:
+        c.warn(out.node, "a linked Normal is not supported; the shading normal is used")
+
+
+def _normal_map(c, out):
+    node = out.node
+    strength = c.input(out, ("Strength",), FLOAT)
+    color = c.input(out, ("Color",), COLOR)
+    space = node.space
+    if space in ("BLENDER_OBJECT", "BLENDER_WORLD"):
+        # Blender's own spaces are object/world with y and z negated (2c - 1 -> its
+        # negative: c -> 1 - c), as Cycles does.
+        one = c.b.const((0.0, 1.0, 1.0), COLOR)
+        sign = c.b.const((1.0, -1.0, -1.0), COLOR)
+        color = c.b.vadd(c.b.vmul(color, sign), one)
+        space = space.removeprefix("BLENDER_")
+    if space not in ops.NORMAL_MAP_SPACES:
+        c.warn(node, f"{space} normal maps are not supported; the shading normal is used")
+        return c.hit(ops.IN_NORMAL)
+    uv_set = 0
+    if space == "TANGENT":
+        uv_set = c.needs.uv_set(node.uv_map)
+        c.needs.tangents.add(uv_set)
+    return c.b.op(
+        ops.NORMAL_MAP, ops.NORMAL_MAP_SPACES.index(space), (strength, color), e=("set", uv_set),
+        kind=VECTOR,
+    )  # fmt: skip
+
+
+INPUT_NODES = {
+    "ShaderNodeValue": _value,
+    "ShaderNodeRGB": _rgb,
+    "ShaderNodeUVMap": _uv_map,
+    "ShaderNodeTexCoord": _tex_coord,
+    "ShaderNodeNewGeometry": _geometry,
+    "ShaderNodeLightPath": _light_path,
+    "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeVertexColor": _vertex_color,
+    "ShaderNodeAttribute": _attribute,
+    "ShaderNodeFresnel": _fresnel,
+    "ShaderNodeLayerWeight": _layer_weight,
+    "ShaderNodeNormalMap": _normal_map,
+}

@@ -1,0 +1,224 @@
+"""The texture nodes as Exprs: images and environments (native textures the program
+samples), and the procedural textures the program computes (Checker, Gradient, Noise,
+Voronoi, Wave, Magic, Brick), each at the coordinates its Vector input gives."""
+
+import bpy
+
+from ..texture import INTERPOLATIONS, ImageTextureSpec, image_texture_spec
+from . import ops
+from .graph import source
+from .ir import COLOR, FLOAT, VECTOR
+from .sockets import find_socket, output_name
+
+
+def _image(c, out):
+    node = out.node
+    spec = image_texture_spec(node, c.owner, c.warnings)
+    if spec is None:
+        c.warn(node, "no image; the input it feeds uses its unlinked value")
+        return None
+    # The program gives the coordinates; one native texture per image and sampling.
+    vector = _vector_input(c, out, default=None)
+    if vector is None:
+        vector = c.uv("")
+    projection = ops.IMAGE_PROJECTIONS.index(node.projection)
+    blend = c.b.f(getattr(node, "projection_blend", 0.0))
+    image = c.b.op(ops.IMAGE, projection, (vector, blend), e=c.texture(spec), kind=COLOR)
+    if output_name(out) == "Alpha":
+        return c.b.swizzle(image, 3)
+    return image
+
+
+def _vector_input(c, out, default):
+    socket = find_socket(out.node.inputs, ("Vector",))
+    if socket is None:
+        return default
+    output, _ = source(socket, out.scope)
+    if output is None:
+        return default
+    return c.value(socket, out.scope, VECTOR)
+
+
+def _environment(c, out):
+    node = out.node
+    if node.image is None:
+        c.warn(node, "no image; the input it feeds uses its unlinked value")
+        return None
+    interpolation = INTERPOLATIONS.get(node.interpolation, "LINEAR")
+    spec = ImageTextureSpec(node.image.original, interpolation, "REPEAT", "UV", "")
+    vector = _vector_input(c, out, default=None)
+    if vector is None:
+        vector = c.hit(ops.IN_POSITION)
+    projection = ops.ENVIRONMENT_PROJECTIONS.index(node.projection)
+    return c.b.op(ops.ENVIRONMENT, projection, (vector,), e=c.texture(spec), kind=COLOR)
+
+
+def _checker(c, out):
+    vector = _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
+    color1 = c.input(out, ("Color1",), COLOR)
+    color2 = c.input(out, ("Color2",), COLOR)
+    scale = c.input(out, ("Scale",), FLOAT)
+    checker = c.b.op(ops.CHECKER, 0, (vector, color1, color2, scale), kind=COLOR)
+    if output_name(out) in ("Fac", "Factor"):
+        return c.b.swizzle(checker, 3)
+    return checker
+
+
+def _gradient(c, out):
+    vector = _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
+    mode = ops.GRADIENT_TYPES.index(out.node.gradient_type)
+    return c.b.op(ops.GRADIENT, mode, (vector,), kind=FLOAT)
+
+
+def _texture_vector(c, out):
+    """A texture's Vector: its link, else the Generated coordinates (as Cycles)."""
+    return _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
+
+
+# Blender before 4.0 has one fractal of its own for the Noise Texture and the Wave's
+# detail: fBM of lacunarity 2, normalised, its roughness clamped to [0, 1]. Its Noise
+# node has no Lacunarity socket; the Wave node has nothing to tell, hence the version.
+_LEGACY_FRACTAL = bpy.app.version < (4, 0, 0)
+
+
+# Blender 5.0 hashes the 2D-4D Voronoi cells by their integer coordinates (PCG), 3.4 by
+# their float bits; nothing on the node tells (4.x is read as 3.4: not measured).
+_INTEGER_VORONOI_HASH = bpy.app.version >= (5, 0, 0)
+
+
+def _float_inputs(c, out, defaults):
+    """The node's FLOAT inputs by name; a disabled or missing one is its default."""
+    values = []
+    for name, default in defaults:
+        value = c.input(out, (name,), FLOAT)
+        values.append(c.b.f(default) if value is None else value)
+    return values
+
+
+def _noise(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    w, scale, detail, roughness, offset, gain, distortion = _float_inputs(
+        c,
+        out,
+        (("W", 0.0), ("Scale", 5.0), ("Detail", 2.0), ("Roughness", 0.5), ("Offset", 0.0),
+         ("Gain", 1.0), ("Distortion", 0.0)),
+    )  # fmt: skip
+    lacunarity = c.input(out, ("Lacunarity",), FLOAT)
+    if lacunarity is None:  # Blender 3.x: the legacy fractal
+        lacunarity = c.b.f(2.0)
+        roughness = c.b.clamp01(roughness)
+    mode = ops.DIMENSIONS.index(node.noise_dimensions)
+    mode |= ops.NOISE_TYPES.index(getattr(node, "noise_type", "FBM")) << 2
+    mode |= ops.NOISE_NORMALIZE if getattr(node, "normalize", True) else 0
+    color = output_name(out) == "Color"
+    mode |= ops.NOISE_COLOR if color else 0
+    first = c.b.pack(w, scale, detail, roughness)
+    second = c.b.pack(lacunarity, offset, gain, distortion)
+    noise = c.b.op(ops.NOISE, mode, (vector, first, second), kind=COLOR)
+    return noise if color else c.b.swizzle(noise, 3)
+
+
+def _voronoi(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    w, scale, detail, roughness, lacunarity, smoothness, exponent, randomness = _float_inputs(
+        c,
+        out,
+        (("W", 0.0), ("Scale", 5.0), ("Detail", 0.0), ("Roughness", 0.5), ("Lacunarity", 2.0),
+         ("Smoothness", 1.0), ("Exponent", 0.5), ("Randomness", 1.0)),
+    )  # fmt: skip
+    feature = node.feature
+    name = output_name(out)
+    # Each feature has its outputs: Distance and Radius a value, Position and W the
+    # feature point, Color its cell's; an output the feature lacks is 0 in Cycles.
+    wanted = {"Distance": "DISTANCE", "Color": "COLOR", "Position": "POSITION", "W": "POSITION"}
+    output = wanted.get(name, "DISTANCE")
+    has = {"DISTANCE_TO_EDGE": ("Distance",), "N_SPHERE_RADIUS": ("Radius",)}
+    if name not in has.get(feature, ("Distance", "Color", "Position", "W")):
+        return c.b.f(0.0)
+    mode = ops.DIMENSIONS.index(node.voronoi_dimensions)
+    mode |= ops.VORONOI_FEATURES.index(feature) << 2
+    mode |= ops.VORONOI_METRICS.index(node.distance) << 5
+    mode |= ops.NOISE_NORMALIZE if getattr(node, "normalize", False) else 0
+    mode |= ops.VORONOI_INTEGER_HASH if _INTEGER_VORONOI_HASH else 0
+    mode |= ops.VORONOI_OUTPUTS.index(output) << 9
+    first = c.b.pack(w, scale, detail, roughness)
+    second = c.b.pack(lacunarity, smoothness, exponent, randomness)
+    kind = {"COLOR": COLOR, "POSITION": VECTOR}.get(output, FLOAT)
+    voronoi = c.b.op(ops.VORONOI, mode, (vector, first, second), kind=kind)
+    return c.b.swizzle(voronoi, 3) if name == "W" else voronoi
+
+
+def _wave(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    scale, distortion, detail, detail_scale, roughness, phase = _float_inputs(
+        c,
+        out,
+        (("Scale", 5.0), ("Distortion", 0.0), ("Detail", 2.0), ("Detail Scale", 1.0),
+         ("Detail Roughness", 0.5), ("Phase Offset", 0.0)),
+    )  # fmt: skip
+    if _LEGACY_FRACTAL:
+        roughness = c.b.clamp01(roughness)
+    kind = ops.WAVE_TYPES.index(node.wave_type)
+    if kind == 0:
+        direction = ops.WAVE_BANDS_DIRECTIONS.index(node.bands_direction)
+    else:
+        direction = ops.WAVE_RINGS_DIRECTIONS.index(node.rings_direction)
+    mode = kind | direction << 1 | ops.WAVE_PROFILES.index(node.wave_profile) << 3
+    first = c.b.pack(scale, distortion, detail, detail_scale)
+    second = c.b.pack(roughness, phase, c.b.f(0.0))
+    wave = c.b.op(ops.WAVE, mode, (vector, first, second), kind=FLOAT)
+    if output_name(out) == "Color":
+        return c.b.pack(wave, wave, wave, c.b.f(1.0), kind=COLOR)
+    return wave
+
+
+def _magic(c, out):
+    vector = _texture_vector(c, out)
+    scale, distortion = _float_inputs(c, out, (("Scale", 5.0), ("Distortion", 1.0)))
+    depth = min(max(int(out.node.turbulence_depth), 0), 10)
+    magic = c.b.op(ops.MAGIC, depth, (vector, scale, distortion), kind=COLOR)
+    if output_name(out) == "Color":
+        return magic
+    return c.b.swizzle(magic, 3)
+
+
+def _brick(c, out):
+    node = out.node
+    vector = _texture_vector(c, out)
+    color1 = c.input(out, ("Color1",), COLOR)
+    color2 = c.input(out, ("Color2",), COLOR)
+    mortar_color = c.input(out, ("Mortar",), COLOR)
+    scale, size, smooth, bias, width, height = _float_inputs(
+        c,
+        out,
+        (("Scale", 5.0), ("Mortar Size", 0.02), ("Mortar Smooth", 0.1), ("Bias", 0.0),
+         ("Brick Width", 0.5), ("Row Height", 0.25)),
+    )  # fmt: skip
+    frequencies = (
+        min(max(node.offset_frequency, 0), 255) | min(max(node.squash_frequency, 0), 255) << 8
+    )
+    first = c.b.pack(scale, size, smooth, bias)
+    second = c.b.pack(width, height, c.b.f(node.offset), c.b.f(node.squash))
+    brick = c.b.op(ops.BRICK, frequencies, (vector, first, second), kind=VECTOR)
+    mortar = c.b.swizzle(brick, 1)
+    if output_name(out) != "Color":
+        return mortar
+    # Color1 to Color2 by the brick's tint, then to the mortar colour by the mortar.
+    bricks = c.b.vlerp(c.b.swizzle(brick, 0), color1, color2)
+    return c.b.vlerp(mortar, bricks, mortar_color)
+
+
+TEXTURE_NODES = {
+    "ShaderNodeTexImage": _image,
+    "ShaderNodeTexEnvironment": _environment,
+    "ShaderNodeTexChecker": _checker,
+    "ShaderNodeTexGradient": _gradient,
+    "ShaderNodeTexNoise": _noise,
+    "ShaderNodeTexVoronoi": _voronoi,
+    "ShaderNodeTexWave": _wave,
+    "ShaderNodeTexMagic": _magic,
+    "ShaderNodeTexBrick": _brick,
+}
