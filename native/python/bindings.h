@@ -5,12 +5,16 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <initializer_list>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <glm/mat4x4.hpp>
 
 #include "core/math.h"
+#include "integrator/passes.h"
 
 namespace py = pybind11;
 
@@ -34,12 +38,15 @@ struct type_caster<glm::vec3> {
 
 namespace whitted {
 struct CompiledScene;
+struct Mesh;
 struct RayTree;
 }  // namespace whitted
 
 namespace whitted::python {
 
 void bind_camera(py::module_& m);
+void bind_mesh(py::module_& m);
+void bind_settings(py::module_& m);
 void bind_panorama(py::module_& m);
 void bind_light(py::module_& m);
 void bind_material(py::module_& m);
@@ -54,6 +61,29 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene);
 // 4x4 row-major numpy matrices <-> glm (column-major) matrices.
 glm::mat4 matrix_from_numpy(const py::handle& h);
 py::array_t<double> matrix_to_numpy(const glm::mat4& m);
+
+// numpy arrays as the bindings take them: C-contiguous, converted to the type if need be.
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using UintArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+// Raises ValueError unless `a` has `shape` (-1: any length on that axis).
+void require_shape(const py::array& a, const char* name, std::initializer_list<py::ssize_t> shape);
+
+// A native Mesh checked and copied out of arrays (native/python/mesh.cpp: Mesh(...)).
+Mesh mesh_from_arrays(const FloatArray& positions, const UintArray& triangles,
+                      const std::optional<FloatArray>& normals,
+                      const std::optional<IntArray>& material_slots,
+                      const std::optional<FloatArray>& uvs,
+                      const std::optional<FloatArray>& vertex_normals,
+                      const std::vector<FloatArray>& uv_sets,
+                      const std::vector<FloatArray>& attributes,
+                      const std::vector<FloatArray>& tangents);
+
+// Film passes by their names (whitted_native.FILM_PASSES; native/python/settings.cpp).
+FilmPass film_pass(const std::string& name);
+uint32_t pass_bits(const std::vector<std::string>& names);
+std::vector<std::string> pass_names(uint32_t bits);
 
 // Raises ValueError unless every component of a colour/vector is finite.
 inline void require_finite(const Vec3& v, const char* what) {

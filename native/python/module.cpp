@@ -9,6 +9,8 @@ PYBIND11_MODULE(whitted_native, m) {
   whitted::python::bind_program(m);
   whitted::python::bind_material(m);
   whitted::python::bind_texture(m);
+  whitted::python::bind_mesh(m);
   whitted::python::bind_scene(m);
+  whitted::python::bind_settings(m);
   whitted::python::bind_render(m);
 }

@@ -1,0 +1,177 @@
+#include "integrator/settings.h"
+
+#include "bindings.h"
+#include "integrator/passes.h"
+
+namespace whitted::python {
+
+// A film pass by its name (whitted_native.FILM_PASSES).
+FilmPass film_pass(const std::string& name) {
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    if (kFilmPassNames[p] == name) return static_cast<FilmPass>(p);
+  }
+  throw std::invalid_argument("no film pass '" + name + "'");
+}
+
+uint32_t pass_bits(const std::vector<std::string>& names) {
+  uint32_t bits = 0;
+  for (const std::string& name : names) bits |= pass_bit(film_pass(name));
+  return bits;
+}
+
+std::vector<std::string> pass_names(uint32_t bits) {
+  std::vector<std::string> names;
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    if ((bits & pass_bit(static_cast<FilmPass>(p))) != 0) names.emplace_back(kFilmPassNames[p]);
+  }
+  return names;
+}
+
+void bind_settings(py::module_& m) {
+  std::vector<std::string> film_passes(kFilmPassNames.begin(), kFilmPassNames.end());
+  m.attr("FILM_PASSES") = film_passes;
+
+  py::enum_<AntiAliasing>(m, "AntiAliasing")
+      .value("REGULAR", AntiAliasing::kRegular)
+      .value("JITTERED", AntiAliasing::kJittered)
+      .value("ADAPTIVE", AntiAliasing::kAdaptive);
+
+  py::enum_<Fresnel>(m, "Fresnel")
+      .value("OFF", Fresnel::kOff)
+      .value("SCHLICK", Fresnel::kSchlick)
+      .value("EXACT", Fresnel::kExact);
+
+  py::enum_<GlassShadows>(m, "GlassShadows",
+                          "What a shadow feeler does at glass: OPAQUE stops (a full shadow, as "
+                          "Cycles and Whitted 1980); TINTED passes, times its transmissivity.")
+      .value("OPAQUE", GlassShadows::kOpaque)
+      .value("TINTED", GlassShadows::kTinted);
+
+  py::class_<Settings>(m, "Settings")
+      .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
+                       int tile_size, Fresnel fresnel, std::array<int, 4> border,
+                       bool transparent_background, float cutoff, AntiAliasing aa_mode,
+                       float aa_threshold, int aa_depth, bool analysis, bool feeler_pruning,
+                       bool progressive, int start_pixel_size, GlassShadows glass_shadows,
+                       const std::vector<std::string>& passes, int contribution_depth,
+                       float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
+                       int emitter_samples, float shutter) {
+             Settings s;
+             s.width = width;
+             s.height = height;
+             s.max_depth = max_depth;
+             s.aa_samples = aa_samples;
+             s.threads = threads;
+             s.tile_size = tile_size;
+             s.fresnel = fresnel;
+             std::copy(border.begin(), border.end(), s.border);
+             s.transparent_background = transparent_background;
+             s.cutoff = cutoff;
+             s.aa_mode = aa_mode;
+             s.aa_threshold = aa_threshold;
+             s.aa_depth = aa_depth;
+             s.analysis = analysis;
+             s.feeler_pruning = feeler_pruning;
+             s.progressive = progressive;
+             s.start_pixel_size = start_pixel_size;
+             s.glass_shadows = glass_shadows;
+             s.passes = pass_bits(passes);
+             s.contribution_depth = contribution_depth;
+             s.pass_alpha_threshold = pass_alpha_threshold;
+             s.mist_start = mist[0];
+             s.mist_depth = mist[1];
+             s.mist_falloff = mist[2];
+             s.glossy_samples = glossy_samples;
+             s.emitter_samples = emitter_samples;
+             s.shutter = shutter;
+             s.validate();
+             return s;
+           }),
+           py::arg("width") = 640, py::arg("height") = 480, py::arg("max_depth") = 5,
+           py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
+           py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
+           py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
+           py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
+           py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("feeler_pruning") = true,
+           py::arg("progressive") = false, py::arg("start_pixel_size") = 8,
+           py::arg("glass_shadows") = GlassShadows::kOpaque,
+           py::arg("passes") = std::vector<std::string>{}, py::arg("contribution_depth") = 3,
+           py::arg("pass_alpha_threshold") = 0.5f,
+           py::arg("mist") = std::array<float, 3>{5.0f, 25.0f, 2.0f}, py::arg("glossy_samples") = 2,
+           py::arg("emitter_samples") = 2, py::arg("shutter") = 0.0f,
+           "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
+           "bottom; all zero for the whole image. progressive: coarse previews from blocks "
+           "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
+           "per anti-aliasing sample (for the viewport). passes: names from FILM_PASSES "
+           "kept besides the image and the ray cost (docs/PASSES.md); contribution_depth: "
+           "the Contributions pass holds depths 0 .. contribution_depth - 1 apart and the "
+           "rest in one bin (1 to 8); pass_alpha_threshold: the data passes come from the "
+           "first surface at least this opaque; mist: (start, depth, falloff exponent); "
+           "glossy_samples: n, for n x n rays drawn from a glossy lobe at a branch's first "
+           "glossy bounce (one at later ones); emitter_samples: n, for n x n feelers to the "
+           "emissive meshes from a shading point (one after a glossy bounce); shutter: Render > "
+           "Motion Blur's, in frames, for the report (0: motion blur off).")
+      .def_readwrite("width", &Settings::width)
+      .def_readwrite("height", &Settings::height)
+      .def_readwrite("max_depth", &Settings::max_depth)
+      .def_readwrite("glossy_samples", &Settings::glossy_samples)
+      .def_readwrite("emitter_samples", &Settings::emitter_samples)
+      .def_readwrite("shutter", &Settings::shutter)
+      .def_readwrite("aa_samples", &Settings::aa_samples)
+      .def_readwrite("threads", &Settings::threads)
+      .def_readwrite("tile_size", &Settings::tile_size)
+      .def_readwrite("cryptomatte_kinds", &Settings::cryptomatte_kinds,
+                     "Cryptomatte kinds kept: bits 1 object, 2 material, 4 asset; 0: none.")
+      .def_readwrite("cryptomatte_depth", &Settings::cryptomatte_depth,
+                     "Cryptomatte ranks kept per pixel and kind (0 to 16).")
+      .def_readwrite("probe_stride", &Settings::probe_stride,
+                     "An estimate probe: trace one tile in every probe_stride^2, spread over "
+                     "the border, each pixel as the full render traces it; 1: every tile.")
+      .def_readwrite("fresnel", &Settings::fresnel)
+      .def_readwrite("glass_shadows", &Settings::glass_shadows)
+      .def_property_readonly(
+          "border",
+          [](const Settings& s) {
+            return std::array<int, 4>{s.border[0], s.border[1], s.border[2], s.border[3]};
+          })
+      .def_readwrite("transparent_background", &Settings::transparent_background)
+      .def_readwrite("cutoff", &Settings::cutoff)
+      .def_readwrite("aa_mode", &Settings::aa_mode)
+      .def_readwrite("aa_threshold", &Settings::aa_threshold)
+      .def_readwrite("aa_depth", &Settings::aa_depth)
+      .def_readwrite("packets", &Settings::packets,
+                     "Trace each pixel's camera rays as one Embree packet; off: one query "
+                     "per ray (a benchmark baseline).")
+      .def_readwrite("analysis", &Settings::analysis,
+                     "Trace only the effects the scene calls for (shadows, reflection, "
+                     "refraction, translucency); off: every effect on (a benchmark baseline).")
+      .def_readwrite("feeler_pruning", &Settings::feeler_pruning,
+                     "Skip shadow feelers that cannot show (light behind the surface, no "
+                     "irradiance, below the cutoff); off: a feeler to every light sample "
+                     "(a benchmark baseline).")
+      .def_readwrite("progressive", &Settings::progressive)
+      .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
+      .def_property(
+          "passes", [](const Settings& s) { return pass_names(s.passes); },
+          [](Settings& s, const std::vector<std::string>& names) { s.passes = pass_bits(names); })
+      .def_readwrite("contribution_depth", &Settings::contribution_depth)
+      .def_readwrite("pass_alpha_threshold", &Settings::pass_alpha_threshold)
+      .def_property(
+          "mist",
+          [](const Settings& s) {
+            return std::array<float, 3>{s.mist_start, s.mist_depth, s.mist_falloff};
+          },
+          [](Settings& s, std::array<float, 3> mist) {
+            s.mist_start = mist[0];
+            s.mist_depth = mist[1];
+            s.mist_falloff = mist[2];
+          })
+      .def_readwrite("worker_nice", &Settings::worker_nice,
+                     "The workers' niceness, 0 (normal) to 19 (lowest priority): the "
+                     "viewport renders below the interface's priority.")
+      .def_readwrite("fault_tile", &Settings::fault_tile,
+                     "A test hook: the worker that takes this tile index throws "
+                     "std::bad_alloc (MemoryError from wait()) before tracing it; -1: off.");
+}
+
+}  // namespace whitted::python
