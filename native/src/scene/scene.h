@@ -125,6 +125,10 @@ struct SurfaceParams {
   float coat_roughness;     // the coat's, likewise
 };
 
+// A material's fields before its textures and program: CompiledScene::material_constants
+// (scene/surface.cpp).
+SurfaceParams constant_surface(const Material& m);
+
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
 // the render's camera (camera and window coordinates) and the ray's depth in its tree.
 struct RayContext {

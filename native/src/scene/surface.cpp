@@ -1,0 +1,430 @@
+// A hit's Whitted fields: the material's constants, or its textures and shader program
+// run at the hit (CompiledScene::surface), and the world's radiance by direction.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/matrix.hpp>
+#include <variant>
+
+#include "core/limits.h"
+#include "scene/mesh_light.h"
+
+namespace whitted {
+namespace {
+
+// The barycentric blend of a corner layer (`width` floats a corner) at a point of triangle
+// `primitive`; barycentric holds the weights of corners 1 and 2.
+glm::vec4 interpolate_corners(const std::vector<float>& layer, size_t width, uint32_t primitive,
+                              glm::vec2 barycentric) {
+  const float* c = &layer[3 * width * size_t{primitive}];
+  const float w0 = 1.0f - barycentric.x - barycentric.y;
+  glm::vec4 out(0.0f);
+  for (size_t k = 0; k < width; ++k) {
+    out[static_cast<int>(k)] =
+        w0 * c[k] + barycentric.x * c[width + k] + barycentric.y * c[2 * width + k];
+  }
+  return out;
+}
+
+// Coverage as the integrator reads it: in [0, 1], NaN (from a program) opaque.
+float clamp_alpha(float alpha) {
+  return std::isnan(alpha) ? 1.0f : std::clamp(alpha, 0.0f, 1.0f);
+}
+
+// The Light Path inputs of a program (and 0 for any other mode).
+glm::vec4 light_path_input(uint32_t mode, const Ray& ray, const RayContext& context) {
+  const auto flag = [](bool on) { return glm::vec4(on ? 1.0f : 0.0f); };
+  switch (mode) {
+    case kInputIsCameraRay:
+      return flag(ray.kind == kCameraRay);
+    case kInputIsShadowRay:
+      return flag((ray.kind & (kShadowRay | kOpaqueShadowRay | kTranslucentShadowRay)) != 0);
+    case kInputIsReflectionRay:
+      return flag(ray.kind == kReflectionRay);
+    case kInputIsTransmissionRay:
+      return flag(ray.kind == kRefractionRay);
+    case kInputRayDepth:
+      return glm::vec4(static_cast<float>(context.depth));
+    case kInputIsSingularRay:
+      return flag(ray.kind != kCameraRay);  // every Whitted bounce is a perfect mirror or lens
+    default:                                // is diffuse ray: Whitted traces none
+      return glm::vec4(0.0f);
+  }
+}
+
+}  // namespace
+
+// A material's fields before its textures and program (declared in scene.h).
+SurfaceParams constant_surface(const Material& m) {
+  return {m.diffuse,        m.specular,      m.shininess,         m.reflectivity,
+          m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
+          Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
+          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness,
+          m.coat_roughness};
+}
+
+TexturePoint CompiledScene::texture_point(const Interaction& it) const {
+  const Mesh& mesh = instances[it.instance].mesh->mesh;
+  TexturePoint tp;
+  tp.object = it.local_position;
+  tp.generated = (it.local_position - mesh.texspace_location + mesh.texspace_size) /
+                 (2.0f * mesh.texspace_size);
+  if (!mesh.uvs.empty() && mesh.kind(it.primitive) == PrimitiveKind::kTriangle) {
+    tp.uv = glm::vec2(interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric));
+  }
+  return tp;
+}
+
+namespace {
+
+// Where a program reads a surface hit: the inputs it asks for, computed on demand.
+struct SurfaceHit {
+  const CompiledScene& scene;
+  const Interaction& it;
+  const Ray& ray;
+  const RayContext& context;
+  const ProgramHit& hit;
+
+  glm::vec4 input(uint32_t mode) const {
+    const CompiledScene::Instance& instance = scene.instances[it.instance];
+    const Mesh& mesh = instance.mesh->mesh;
+    const auto vec = [](const Vec3& v) { return glm::vec4(v, 0.0f); };
+    // Corner layers are a triangle's: a curve or a point reads 0 from them.
+    const bool triangle = mesh.kind(it.primitive) == PrimitiveKind::kTriangle;
+    const auto layer = [&](const std::vector<std::vector<float>>& layers, size_t k, size_t width) {
+      return triangle && k < layers.size()
+                 ? interpolate_corners(layers[k], width, it.primitive, it.barycentric)
+                 : glm::vec4(0.0f);
+    };
+    if (mode >= kInputTangent && mode < kInputObjectNormal) {
+      return layer(mesh.tangents, mode - kInputTangent, 4);
+    }
+    if (mode >= kInputAttribute && mode < kInputPublicEnd) {
+      return layer(mesh.attributes, mode - kInputAttribute, 4);
+    }
+    if (mode >= kInputUvSet && mode < kInputAttribute) {
+      if (triangle && mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
+        return interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric);
+      }
+      return layer(mesh.uv_sets, mode - kInputUvSet, 2);
+    }
+    switch (mode) {
+      case kInputPosition:
+        return vec(it.position);
+      case kInputNormal:
+        return vec(hit.normal);
+      case kInputTrueNormal:
+        return vec(hit.backfacing ? -it.geometric_normal : it.geometric_normal);
+      case kInputIncoming:
+        return vec(hit.incoming);
+      case kInputGenerated:
+        return vec((it.local_position - mesh.texspace_location + mesh.texspace_size) /
+                   (2.0f * mesh.texspace_size));
+      case kInputObject:
+        return vec(it.local_position);
+      case kInputCamera:
+        return vec(camera_space());
+      case kInputWindow:
+        return vec(window());
+      case kInputReflection:
+        return vec(2.0f * glm::dot(hit.normal, hit.incoming) * hit.normal - hit.incoming);
+      case kInputBackfacing:
+        return glm::vec4(hit.backfacing ? 1.0f : 0.0f);
+      case kInputObjectSpaceNormal: {
+        // Normals go back to object space by the transpose of the linear part.
+        const Vec3 n = glm::transpose(glm::mat3(instance.placement.to_world)) * hit.normal;
+        const float length = glm::length(n);
+        return vec(length > 0.0f ? n / length : n);
+      }
+      case kInputObjectLocation:
+        return vec(instance.info.location);
+      case kInputObjectRandom:
+        return glm::vec4(instance.info.random);
+      case kInputObjectIndex:
+        return glm::vec4(instance.info.pass_index);
+      case kInputObjectColor:
+        return instance.info.color;
+      case kInputObjectNormal:
+        return vec(object_normal(mesh));
+      default:
+        return light_path_input(mode, ray, context);
+    }
+  }
+
+  // The hit in the camera's frame (Blender ignores the camera's scale): looking down -Z.
+  Vec3 camera_space() const {
+    const glm::mat4& m = context.camera->to_world;
+    const Vec3 d = it.position - Vec3(m[3]);
+    return {glm::dot(d, glm::normalize(Vec3(m[0]))), glm::dot(d, glm::normalize(Vec3(m[1]))),
+            glm::dot(d, glm::normalize(Vec3(m[2])))};
+  }
+  // Where the hit lands in the camera's image, [0,1]^2 from its bottom-left corner.
+  Vec3 window() const {
+    const Camera& camera = *context.camera;
+    Vec3 p = camera_space();
+    if (camera.projection == Projection::kPanoramic) {
+      // The panorama's own [0,1]^2 point looking at the hit (Cycles' camera_world_to_ndc:
+      // no shift).
+      const float length = glm::length(p);
+      const glm::vec2 uv = camera.panorama.image_point(length > 0.0f ? p / length : p);
+      return {uv.x, uv.y, 0.0f};
+    }
+    if (camera.projection == Projection::kPerspective) {
+      const float depth = -p.z;
+      p = depth != 0.0f ? p / depth : Vec3(0.0f);
+    }
+    return {(p.x - camera.window[0]) / (camera.window[1] - camera.window[0]),
+            (p.y - camera.window[2]) / (camera.window[3] - camera.window[2]), 0.0f};
+  }
+  // The object-space normal a tangent-space normal map bends: the interpolated corner
+  // normals, not normalised, or the face's normal on a flat mesh.
+  Vec3 object_normal(const Mesh& mesh) const {
+    if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
+      // A curve's or a point's own round normal (a ribbon's too), back in object space.
+      const glm::mat3 linear(scene.instances[it.instance].placement.to_world);
+      return glm::transpose(linear) * it.shading_normal;
+    }
+    Vec3 n0, n1, n2;
+    const float u = it.barycentric.x, v = it.barycentric.y;
+    if (mesh.corner_normals(it.primitive, &n0, &n1, &n2))
+      return (1.0f - u - v) * n0 + u * n1 + v * n2;
+    const uint32_t* tri = &mesh.triangles[3 * size_t{it.primitive}];
+    const Vec3 p0 = mesh.vertex(tri[0]);
+    const Vec3 n = glm::cross(mesh.vertex(tri[1]) - p0, mesh.vertex(tri[2]) - p0);
+    const float length = glm::length(n);
+    return length > 0.0f ? n / length : n;
+  }
+};
+
+// `n` turned towards the geometric normal `ng` in their common plane just enough that
+// the mirror image of the unit view vector `wo` about it leaves the surface at least as
+// steeply as min(0.9 ng.wo, 0.01) (Cycles 3.x ensure_valid_reflection). With n' =
+// x X + z ng, x = sqrt(1 - z^2), the condition 2 (n'.wo) z - wo.z = t is a quadratic in
+// z^2; of its roots in (0, 1] the one whose reflection rises least (but rises) is taken.
+Vec3 valid_reflection(const Vec3& ng, const Vec3& wo, const Vec3& n) {
+  const float threshold = std::fmin(0.9f * glm::dot(ng, wo), 0.01f);
+  if (glm::dot(ng, 2.0f * glm::dot(n, wo) * n - wo) >= threshold) return n;
+  const Vec3 along = n - glm::dot(n, ng) * ng;
+  const float along_length = glm::length(along);
+  if (!(along_length > 0.0f)) return ng;
+  const Vec3 x_axis = along / along_length;
+  const float wx = glm::dot(wo, x_axis), wz = glm::dot(wo, ng);
+  const float a = wx * wx + wz * wz;
+  const float b = std::sqrt(std::fmax(wx * wx * (a - threshold * threshold), 0.0f));
+  const float c = wz * threshold + a;
+  const float z2[2] = {0.5f * (c + b) / a, 0.5f * (c - b) / a};
+  const auto usable = [](float v) { return v > 1e-5f && v <= 1.0f + 1e-5f; };
+  // The root's normal (x, z) and the height of its reflection.
+  const auto root = [&](float v) {
+    const float z = std::sqrt(std::fmax(v, 0.0f)), x = std::sqrt(std::fmax(1.0f - v, 0.0f));
+    return std::array<float, 3>{x, z, 2.0f * (x * wx + z * wz) * z - wz};
+  };
+  std::array<float, 3> chosen;
+  if (usable(z2[0]) && usable(z2[1])) {
+    const auto r1 = root(z2[0]), r2 = root(z2[1]);
+    const bool rises1 = r1[2] >= 1e-5f, rises2 = r2[2] >= 1e-5f;
+    chosen = rises1 && rises2 ? (r1[2] < r2[2] ? r1 : r2) : (r1[2] > r2[2] ? r1 : r2);
+  } else if (usable(z2[0]) || usable(z2[1])) {
+    chosen = root(usable(z2[0]) ? z2[0] : z2[1]);
+  } else {
+    return ng;
+  }
+  return chosen[0] * x_axis + chosen[1] * ng;
+}
+
+// How far the height of a Bump node is read from the hit: limits::kBumpStep of the hit's
+// distance from the camera (the Bump's result does not depend on the step to first order).
+// Two offsets along the surface (perpendicular to the geometric normal, a right-handed
+// frame with it) for the Bump node's differences.
+void bump_offsets(const Interaction& it, const RayContext& context, ProgramHit* hit) {
+  const Vec3& n = it.geometric_normal;
+  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  const Vec3 t(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  const Vec3 bitangent(b, sign + n.y * n.y * a, -n.y);
+  const float distance = glm::length(it.position - Vec3(context.camera->to_world[3]));
+  const float step = limits::kBumpStep * std::fmax(distance, limits::kBumpMinDistance);
+  hit->bump_dx = step * t;
+  hit->bump_dy = step * bitangent;
+}
+
+// The hit moved by `offset` (world, along its triangle's plane): position, object-space
+// point and barycentrics (outside the triangle they extrapolate its interpolation).
+Interaction moved(const CompiledScene& scene, const Interaction& it, const Vec3& offset) {
+  const CompiledScene::Instance& instance = scene.instances[it.instance];
+  const Mesh& mesh = instance.mesh->mesh;
+  if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
+    Interaction out = it;  // a round surface: moved along, its parameters kept
+    out.position += offset;
+    out.local_position += glm::transpose(instance.placement.normal_to_world) * offset;
+    return out;
+  }
+  const uint32_t* tri = &mesh.triangles[3 * size_t{it.primitive}];
+  const Vec3 p0 = mesh.vertex(tri[0]);
+  const Vec3 e1 = mesh.vertex(tri[1]) - p0;
+  const Vec3 e2 = mesh.vertex(tri[2]) - p0;
+  // The inverse of the linear part is the transpose of its inverse transpose.
+  const Vec3 local = glm::transpose(instance.placement.normal_to_world) * offset;
+  const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+  const float b1 = glm::dot(local, e1), b2 = glm::dot(local, e2);
+  const float det = d11 * d22 - d12 * d12;
+  Interaction out = it;
+  out.position += offset;
+  out.local_position += local;
+  if (det > 0.0f && std::isfinite(det)) {
+    out.barycentric += glm::vec2(d22 * b1 - d12 * b2, d11 * b2 - d12 * b1) / det;
+  }
+  return out;
+}
+
+// The register file of one evaluation lives here, on the stack, and is gone before the
+// integrator recurses.
+using Registers = std::array<glm::vec4, Program::kMaxRegisters + 1>;
+using Inputs = std::array<glm::vec4, Program::kMaxInputs>;
+
+}  // namespace
+
+SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
+                                     const RayContext& context) const {
+  const Material& m = *it.material;
+  SurfaceParams out = material_constants[it.material_index];
+  out.normal = it.shading_normal;
+  out.coat_normal = it.shading_normal;
+  // Not on curves, as Cycles: a ribbon's round normal leans far from its geometric
+  // normal (-d) by design, and a tube's is its geometric normal.
+  const bool lifts = m.valid_reflection &&
+                     instances[it.instance].mesh->mesh.kind(it.primitive) != PrimitiveKind::kCurve;
+  if (lifts && !m.driven(kNormalField)) {
+    // Cycles 3.x lifts the interpolated normal too (every closure's), on the side the
+    // ray comes from, where the view's mirror would fall below the surface.
+    const float side = glm::dot(ray.direction, it.geometric_normal) > 0.0f ? -1.0f : 1.0f;
+    out.normal = side * valid_reflection(side * it.geometric_normal, -ray.direction,
+                                         side * it.shading_normal);
+    out.coat_normal = out.normal;
+  }
+  if (m.diffuse_texture_index < 0 && m.alpha_texture_index < 0 && !m.program) return out;
+  out.alpha = m.alpha;  // clamped once textures and program have applied
+  if (m.diffuse_texture_index >= 0 || m.alpha_texture_index >= 0) {
+    const TexturePoint tp = texture_point(it);
+    if (m.diffuse_texture_index >= 0) {
+      out.diffuse *= Color(textures[m.diffuse_texture_index]->evaluate(tp));
+    }
+    if (m.alpha_texture_index >= 0) {
+      out.alpha *= textures[m.alpha_texture_index]->evaluate(tp).w;
+    }
+  }
+  if (m.program) {
+    const CompiledScene::Instance& instance = instances[it.instance];
+    ProgramHit hit;
+    hit.incoming = -ray.direction;
+    hit.backfacing = glm::dot(ray.direction, it.geometric_normal) > 0.0f;
+    hit.normal = hit.backfacing ? -it.shading_normal : it.shading_normal;
+    hit.to_world = glm::mat3(instance.placement.to_world);
+    hit.normal_to_world = instance.placement.normal_to_world;
+    hit.images = m.program_images.data();
+    const SurfaceHit source{*this, it, ray, context, hit};
+    Inputs inputs;
+    if (m.program->bumps()) {
+      bump_offsets(it, context, &hit);
+      const Interaction at_x = moved(*this, it, hit.bump_dx);
+      const Interaction at_y = moved(*this, it, hit.bump_dy);
+      const SurfaceHit source_x{*this, at_x, ray, context, hit};
+      const SurfaceHit source_y{*this, at_y, ray, context, hit};
+      for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+        const uint32_t mode = m.program->inputs()[i];
+        const uint32_t base = mode & ~(kInputBumpX | kInputBumpY);
+        inputs[i] = base == mode                ? source.input(mode)
+                    : (mode & kInputBumpX) != 0 ? source_x.input(base)
+                                                : source_y.input(base);
+      }
+    } else {
+      for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+        inputs[i] = source.input(m.program->inputs()[i]);
+      }
+    }
+    hit.inputs = inputs.data();
+    Registers r;
+    m.program->run(hit, r.data());
+    const auto field = [&](Field f) { return r[static_cast<size_t>(m.outputs[f])]; };
+    if (m.driven(kDiffuseField)) out.diffuse = Color(field(kDiffuseField));
+    if (m.driven(kSpecularField)) out.specular = Color(field(kSpecularField));
+    if (m.driven(kShininessField)) out.shininess = std::fmax(field(kShininessField).x, 0.0f);
+    if (m.driven(kReflectivityField)) out.reflectivity = Color(field(kReflectivityField));
+    if (m.driven(kTransmissivityField)) out.transmissivity = Color(field(kTransmissivityField));
+    if (m.driven(kIorField)) {
+      // An index that is not positive and finite keeps the material's own.
+      const float ior = field(kIorField).x;
+      if (ior > 0.0f && std::isfinite(ior)) out.ior = ior;
+    }
+    if (m.driven(kEmissionField)) out.emission = Color(field(kEmissionField));
+    if (m.driven(kAlphaField)) out.alpha = field(kAlphaField).x;
+    // A normal on the geometric normal's side, as the interpolated normal is: the
+    // integrator turns it towards the ray. A zero or non-finite one keeps `n`.
+    const auto normal = [&](Field f, Vec3* n) {
+      if (!m.driven(f)) return;
+      const Vec3 v(field(f));
+      const float length = glm::length(v);
+      if (length > 0.0f && std::isfinite(length)) {
+        *n = glm::dot(v, it.geometric_normal) < 0.0f ? -v / length : v / length;
+      }
+    };
+    normal(kNormalField, &out.normal);
+    if (lifts && m.driven(kNormalField)) {
+      // On the side the ray comes from, as Cycles' shading frame is.
+      const float side = hit.backfacing ? -1.0f : 1.0f;
+      out.normal =
+          side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.normal);
+    }
+    normal(kCoatNormalField, &out.coat_normal);
+    if (m.driven(kCoatSpecularField)) out.coat_specular = field(kCoatSpecularField).x;
+    if (m.driven(kCoatReflectivityField)) out.coat_reflectivity = field(kCoatReflectivityField).x;
+    if (m.driven(kCoatShininessField)) {
+      out.coat_shininess = std::fmax(field(kCoatShininessField).x, 0.0f);
+    }
+    if (m.driven(kCoatIorField)) {
+      const float ior = field(kCoatIorField).x;
+      if (ior > 0.0f && std::isfinite(ior)) out.coat_ior = ior;
+    }
+    if (m.driven(kDiffuseRoughnessField)) {
+      const float roughness = field(kDiffuseRoughnessField).x;  // NaN: the material's own
+      if (!std::isnan(roughness)) out.diffuse_roughness = std::clamp(roughness, 0.0f, 1.0f);
+    }
+    if (m.driven(kRoughnessField)) {
+      const float roughness = field(kRoughnessField).x;  // NaN: the material's own
+      if (!std::isnan(roughness)) out.roughness = std::clamp(roughness, 0.0f, 1.0f);
+    }
+    if (m.driven(kCoatRoughnessField)) {
+      const float roughness = field(kCoatRoughnessField).x;
+      if (!std::isnan(roughness)) out.coat_roughness = std::clamp(roughness, 0.0f, 1.0f);
+    }
+  }
+  out.alpha = clamp_alpha(out.alpha);
+  return out;
+}
+
+Color CompiledScene::world_radiance(const Ray& ray, const RayContext& context) const {
+  if (!world) return background;
+  ProgramHit hit;
+  hit.incoming = -ray.direction;
+  hit.normal = -ray.direction;
+  hit.images = world_images.data();
+  Inputs inputs;
+  for (size_t i = 0; i < world->inputs().size(); ++i) {
+    const uint32_t mode = world->inputs()[i];
+    const bool direction = mode == kInputPosition || mode == kInputNormal ||
+                           mode == kInputGenerated || mode == kInputObject;
+    inputs[i] = direction                ? glm::vec4(ray.direction, 0.0f)
+                : mode == kInputIncoming ? glm::vec4(hit.incoming, 0.0f)
+                                         : light_path_input(mode, ray, context);
+  }
+  hit.inputs = inputs.data();
+  Registers r;
+  world->run(hit, r.data());
+  return Color(r[world_output]);
+}
+
+}  // namespace whitted
