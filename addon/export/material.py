@@ -33,7 +33,8 @@ from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
 from .nodes.program import emit
-from .nodes.shaders import MAX_SHININESS, finish, fixed_texture, phong_exponent, surface
+from .nodes.shader_fields import MAX_SHININESS, phong_exponent
+from .nodes.shaders import finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
@@ -406,7 +407,7 @@ def _viewport_material(material):
 
 def _whitted_material(base_color, metallic, roughness, f0):
     """Principled-style parameters -> Whitted parameters (the formulas of
-    nodes/shaders.py `whitted_fields`, on plain floats)."""
+    nodes/shader_fields.py `whitted_fields`, on plain floats)."""
     metallic = _clamp(metallic, 0.0, 1.0)
     roughness = _clamp(roughness, 0.0, 1.0)
     sharp = max(0.0, 1.0 - 4.0 * roughness)

@@ -165,7 +165,7 @@ def test_unsupported_shader_is_a_diffuse_of_its_colour_and_warns(warnings):
 
 def test_hair_shaders_are_the_diffuse_of_their_colour(warnings):
     # Hair BSDF: its Color. Principled Hair: its Color, or the colour of the absorption
-    # its melanin or coefficient gives (export/nodes/shaders.py hair_colour).
+    # its melanin or coefficient gives (export/nodes/bsdfs.py hair_colour).
     material = node_material("Hair")
     surface_shader(material, "ShaderNodeBsdfHair", Color=(0.6, 0.5, 0.4, 1.0))
     assert convert(material, warnings).diffuse == pytest.approx((0.6, 0.5, 0.4))
@@ -178,7 +178,7 @@ def test_hair_shaders_are_the_diffuse_of_their_colour(warnings):
     red, green, blue = convert(material, warnings).diffuse
     assert 0.0 < blue < green < red < 1.0  # reddish brown
     # An absorption from a colour (Cycles' mapping) gives that colour back.
-    from whitted.export.nodes.shaders import HAIR_POLYNOMIAL, hair_colour
+    from whitted.export.nodes.bsdfs import HAIR_POLYNOMIAL, hair_colour
 
     r = 0.3
     poly = sum(c * r**k for k, c in enumerate(HAIR_POLYNOMIAL))
