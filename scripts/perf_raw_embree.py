@@ -43,6 +43,7 @@ import time
 import bpy
 from whitted_tools.cli import script_args
 from whitted_tools.native_job import run_job
+from whitted_tools.timing import paired_ratios
 
 
 def parse_args():
@@ -146,7 +147,9 @@ def main():
 
     def paired(top, bottom):
         """The median of the rounds' ratios top / bottom."""
-        return statistics.median(r[top] / r[bottom] for r in rounds)
+        return statistics.median(
+            paired_ratios([r[top] for r in rounds], [r[bottom] for r in rounds])
+        )
 
     result = {
         "blender": bpy.app.version_string,
