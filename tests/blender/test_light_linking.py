@@ -120,3 +120,35 @@ def test_an_emissive_panel_links_like_a_lamp_as_cycles(empty_scene, tmp_path, na
     stats = json.loads(stats_path.read_text())
     linking = next(e for e in stats["effects"] if e["name"] == "light linking")
     assert linking["why"].startswith("0 lights, 1 emissive object linked")
+
+
+def test_an_instance_takes_its_instancers_set_as_cycles(empty_scene, tmp_path, native):
+    # The box shown through a collection instance: the instancer (an empty) excluded from
+    # the lamp's light leaves the instanced box unlit, as Cycles reads the instancer's set.
+    case, lamp = lamp_scene(empty_scene)
+    blocker = bpy.data.objects["Blocker"]
+    shown = bpy.data.collections.new("Shown")
+    shown.objects.link(blocker)
+    empty_scene.collection.objects.unlink(blocker)
+    instancer = bpy.data.objects.new("Instancer", None)
+    instancer.instance_type = "COLLECTION"
+    instancer.instance_collection = shown
+    empty_scene.collection.objects.link(instancer)
+    lit, _ = both(empty_scene, tmp_path)
+    lamp.light_linking.receiver_collection = linking_collection(
+        "Not the instancer", [(instancer, "EXCLUDE")]
+    )
+    whitted, cycles = both(empty_scene, tmp_path)
+    # (cycles_scenes.compare finds the shadow row by the box's name in the scene.)
+    shown_lit = cycles.mean(axis=-1) > cycles_scenes.DARK
+    ratio = whitted[shown_lit].mean() / cycles[shown_lit].mean()
+    rmse = np.sqrt(np.mean((whitted - cycles) ** 2)) / cycles.mean()
+    darkened = (lit.mean(axis=-1) > cycles_scenes.DARK) & ~shown_lit
+    print(
+        f"\ninstancer excluded: mean ratio {ratio:.4f}, relative RMSE {rmse:.4f}; "
+        f"box pixels left dark {darkened.sum()}"
+    )
+    assert darkened.sum() > 50  # the box (91 pixels), lit before, dark in Cycles
+    assert whitted[darkened].max() == 0.0
+    assert ratio == pytest.approx(1.0, abs=0.02)
+    assert rmse < case.max_relative_rmse * 3
