@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 import bpy
 import numpy as np
 
+from .instance import instance_name
 from .light_linking import ALL_SETS
 
 Vector = tuple[float, float, float]
@@ -76,6 +77,21 @@ class LightData:
     # blockers' shadow sets that cast its shadows, a bit per set.
     light_sets: int = ALL_SETS
     shadow_sets: int = ALL_SETS
+
+
+def instance_light(object_instance, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
+    """LightData of a light object instance of the evaluated depsgraph (named by
+    instance_name, with its instancer's ray visibility), or None with a warning."""
+    obj = object_instance.object
+    instancer = object_instance.parent if object_instance.is_instance else None
+    return convert_light(
+        instance_name(object_instance),
+        obj.data,
+        object_instance.matrix_world,
+        warnings,
+        default_samples,
+        rays=lamp_rays(obj, instancer),
+    )
 
 
 def lamp_rays(obj, instancer=None):

@@ -32,8 +32,8 @@ import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.geometry_key import GeometryKeys
-from ..export.instance import instance_data, instance_name
-from ..export.light import convert_light, lamp_rays
+from ..export.instance import instance_data
+from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
 from ..export.material import convert_material
 from ..export.mesh import export_geometry, is_renderable_mesh
@@ -348,18 +348,9 @@ class SceneSync:
                     instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
-                name = instance_name(object_instance)
-                instancer = object_instance.parent if object_instance.is_instance else None
-                light = convert_light(
-                    name,
-                    obj.data,
-                    object_instance.matrix_world,
-                    warnings,
-                    params.light_samples,
-                    rays=lamp_rays(obj, instancer),
-                )
+                light = instance_light(object_instance, warnings, params.light_samples)
                 if light is not None:
-                    lights[name] = self._linked(light, obj)
+                    lights[light.name] = self._linked(light, obj)
                 if object_instance.is_instance:
                     instanced_light_data.add(obj.data.original.name_full)
                 role = _LIGHT
@@ -462,14 +453,7 @@ class SceneSync:
             elif role == _LIGHT:
                 light = None
                 if not obj.original.hide_render:
-                    light = convert_light(
-                        name,
-                        obj.data,
-                        obj.matrix_world,
-                        warnings,
-                        params.light_samples,
-                        rays=lamp_rays(obj),
-                    )
+                    light = instance_light(_alone(obj), warnings, params.light_samples)
                 if light is None:
                     gone.add(name)
                 else:

@@ -1,13 +1,13 @@
 """The exporters' output for a whole depsgraph, for the tests that check what the mesh
 and light exporters make of a scene: the production functions (export/mesh.py
-mesh_instances, export_geometry, instance_data; export/light.py convert_light,
-lamp_rays) composed as SceneSync's walk composes them, with the plain data kept (the
-walk hands each piece straight to the native scene)."""
+mesh_instances, export_geometry, instance_data; export/light.py instance_light)
+composed as SceneSync's walk composes them, with the plain data kept (the walk hands
+each piece straight to the native scene)."""
 
 from dataclasses import dataclass, field
 
-from whitted.export.instance import instance_data, instance_name
-from whitted.export.light import DEFAULT_LIGHT_SAMPLES, convert_light, lamp_rays
+from whitted.export.instance import instance_data
+from whitted.export.light import DEFAULT_LIGHT_SAMPLES, instance_light
 from whitted.export.mesh import export_geometry, mesh_instances
 from whitted.export.mesh_layers import object_needs, object_uv_map
 from whitted.export.sanitise import Sanitised
@@ -58,15 +58,7 @@ def exported_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
         obj = object_instance.object
         if obj.type != "LIGHT" or obj.original.hide_render:
             continue
-        instancer = object_instance.parent if object_instance.is_instance else None
-        light = convert_light(
-            instance_name(object_instance),
-            obj.data,
-            object_instance.matrix_world,
-            warnings,
-            default_samples,
-            rays=lamp_rays(obj, instancer),
-        )
+        light = instance_light(object_instance, warnings, default_samples)
         if light is not None:
             lights.append(light)
     return lights
