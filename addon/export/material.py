@@ -16,9 +16,7 @@ Each field then is, in order of preference:
    Image or Checker texture, an alpha from an image's alpha (`diffuse_texture`,
    `alpha_texture`);
 3. the output of the material's shader program (docs/notes/shader_program.md),
-   which the integrator runs per hit; only when the native module has one
-   (`programs`). Without it, the graph is lowered again with every other linked
-   input at its unlinked value, and the material says so once.
+   which the integrator runs per hit.
 
 The surface returns `alpha * shade + (1 - alpha) * (what lies behind)`, as the
 tracer does; see export/nodes/shaders.py for how shaders combine.

@@ -511,7 +511,7 @@ class SceneSync:
                     if world.program is None
                     else native_data.native_program(self._native, world.program)
                 )
-                self.scene.set_world(program, world.output)
+                self.scene.set_world(program, world.output, world.ambient_strength)
             self._world = world
             report.world = True
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 
 #include "core/math.h"
 #include "integrator/passes.h"
@@ -32,6 +33,22 @@ struct type_caster<glm::vec3> {
   }
   static handle cast(const glm::vec3& v, return_value_policy, handle) {
     return py::make_tuple(v.x, v.y, v.z).release();
+  }
+};
+// A shader program's registers (a value in all four, a vector or colour in xyz) as
+// 4-sequences of floats.
+template <>
+struct type_caster<glm::vec4> {
+  PYBIND11_TYPE_CASTER(glm::vec4, const_name("tuple[float, float, float, float]"));
+  bool load(handle src, bool) {
+    if (!isinstance<sequence>(src) || isinstance<str>(src)) return false;
+    auto seq = reinterpret_borrow<sequence>(src);
+    if (seq.size() != 4) return false;
+    for (size_t i = 0; i < 4; ++i) value[static_cast<int>(i)] = seq[i].cast<float>();
+    return true;
+  }
+  static handle cast(const glm::vec4& v, return_value_policy, handle) {
+    return py::make_tuple(v.x, v.y, v.z, v.w).release();
   }
 };
 }  // namespace pybind11::detail

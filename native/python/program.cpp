@@ -1,5 +1,10 @@
 #include "shader/program.h"
 
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "bindings.h"
 
 namespace whitted::python {
@@ -20,6 +25,24 @@ void bind_program(py::module_& m) {
   m.attr("MATH_OPS") = names(kMathOpNames);
   m.attr("VECTOR_MATH_OPS") = names(kVectorMathOpNames);
   m.attr("MIX_BLEND") = names(kMixBlendNames);
+  // The op table (shader/ops.h), indexed by op code: (name, register operands, reads hit).
+  py::list table;
+  for (const OpInfo& op : kOpTable) {
+    table.append(
+        py::make_tuple(py::str(op.name.data(), op.name.size()), op.operands, op.reads_hit));
+  }
+  m.attr("OPS") = table;
+
+  m.def(
+      "fold_op",
+      [](uint32_t op, uint32_t mode, const std::vector<std::optional<glm::vec4>>& operands,
+         std::vector<float> constants) {
+        return Program::fold(op, mode, operands, std::move(constants));
+      },
+      py::arg("op"), py::arg("mode"), py::arg("operands"), py::arg("constants"),
+      "The four floats of one op of constant operands (each a 4-sequence, or None: unused; "
+      "`constants` its COLOR_RAMP or CURVE table), computed by the program's own code; None "
+      "for an op that reads the hit. ValueError for an instruction a program would refuse.");
 
   py::class_<Program, std::shared_ptr<Program>>(
       m, "Program",
@@ -51,6 +74,44 @@ void bind_program(py::module_& m) {
            "every register's value before the first instruction; constants float32[C] (ramps, "
            "curves); textures: scene texture names, indexed by IMAGE/ENVIRONMENT's e. Checked "
            "here: ValueError names the first wrong instruction.")
+      .def(
+          "run",
+          [](const Program& program, const std::map<uint32_t, glm::vec4>& inputs,
+             const glm::vec3& incoming, const glm::vec3& normal, bool backfacing) {
+            for (size_t slot = 0; slot < program.textures().size(); ++slot) {
+              if (program.samples_image(slot)) {
+                throw std::invalid_argument("run() samples no images: render the program");
+              }
+            }
+            std::vector<glm::vec4> values;
+            for (uint32_t mode : program.inputs()) {
+              const auto found = inputs.find(mode);
+              if (found == inputs.end()) {
+                throw std::invalid_argument("input mode " + std::to_string(mode) + " is not given");
+              }
+              values.push_back(found->second);
+            }
+            ProgramHit hit;
+            hit.inputs = values.data();
+            hit.incoming = incoming;
+            hit.normal = normal;
+            hit.backfacing = backfacing;
+            std::vector<glm::vec4> registers(Program::kMaxRegisters + 1);
+            program.run(hit, registers.data());
+            py::array_t<float> out(
+                {static_cast<py::ssize_t>(program.register_count()), static_cast<py::ssize_t>(4)});
+            auto view = out.mutable_unchecked<2>();
+            for (size_t r = 0; r < program.register_count(); ++r) {
+              for (int k = 0; k < 4; ++k) view(r, k) = registers[r][k];
+            }
+            return out;
+          },
+          py::arg("inputs"), py::arg("incoming") = glm::vec3(0.0f, 0.0f, 1.0f),
+          py::arg("normal") = glm::vec3(0.0f, 0.0f, 1.0f), py::arg("backfacing") = false,
+          "The register file (float32[R, 4]) after running the program on one hit: `inputs` "
+          "maps each INPUT mode it reads to four floats; `incoming` and `normal` (unit) and "
+          "`backfacing` are what FRESNEL and LAYER_WEIGHT read. For tests and debugging; a "
+          "program that samples images is refused (ValueError).")
       .def_property_readonly("register_count", &Program::register_count)
       .def_property_readonly("instruction_count", &Program::instruction_count)
       .def_property_readonly("textures", &Program::textures);

@@ -105,12 +105,14 @@ void bind_scene(py::module_& m) {
           "scene/light.h defines them.")
       .def(
           "set_world",
-          [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output) {
-            s.set_world(program, output);
-          },
-          py::arg("program"), py::arg("output") = 0,
+          [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output,
+             float ambient_strength) { s.set_world(program, output, ambient_strength); },
+          py::arg("program"), py::arg("output") = 0, py::arg("ambient_strength") = 1.0f,
           "The world: rays that hit nothing see the program's register `output` (.xyz), "
-          "evaluated by their direction; None: the constant background.")
+          "evaluated by their direction; None: the constant background. With a program, the "
+          "ambient light Ia is ambient_strength times the program's radiance averaged over "
+          "the upper hemisphere with weight cos(theta)/pi (what a uniform sky's radiance "
+          "equals; 24 x 24 directions).")
       .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"))
       .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"))
       .def("set_texture", &Scene::set_texture, py::arg("name"), py::arg("texture"))
@@ -135,7 +137,8 @@ void bind_scene(py::module_& m) {
             require_finite(c, "ambient");
             s.set_ambient(c);
           },
-          "Ambient light Ia; a material's ambient term is ka * Ia * kd.")
+          "Ambient light Ia of a world without program; a material's ambient term is "
+          "ka * Ia * kd. Read: the Ia a render uses (with a world program, set_world's).")
       .def_property_readonly("mesh_count", &Scene::mesh_count)
       .def_property_readonly("instance_count", &Scene::instance_count)
       .def_property_readonly("mesh_build_seconds", &Scene::mesh_build_seconds,

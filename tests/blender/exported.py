@@ -2,7 +2,8 @@
 and light exporters make of a scene: the production functions (export/mesh.py
 mesh_instances, export_geometry, instance_data; export/light.py instance_light)
 composed as SceneSync's walk composes them, with the plain data kept (the walk hands
-each piece straight to the native scene)."""
+each piece straight to the native scene). And an exported shader program run by the
+native program on one hit (run_program)."""
 
 from dataclasses import dataclass, field
 
@@ -10,7 +11,10 @@ from whitted.export.instance import instance_data
 from whitted.export.light import DEFAULT_LIGHT_SAMPLES, instance_light
 from whitted.export.mesh import export_geometry, mesh_instances
 from whitted.export.mesh_layers import object_needs, object_uv_map
+from whitted.export.nodes import ops
 from whitted.export.sanitise import Sanitised
+from whitted.native import load_native
+from whitted.sync.native_data import native_program
 
 
 @dataclass(frozen=True)
@@ -62,3 +66,16 @@ def exported_lights(depsgraph, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
         if light is not None:
             lights.append(light)
     return lights
+
+
+def run_program(program, inputs):
+    """The registers (float32[R, 4]) after the native program runs exported ProgramData
+    `program` on one hit: `inputs` maps each INPUT mode it reads to four floats; FRESNEL
+    and LAYER_WEIGHT read the hit's IN_INCOMING, IN_NORMAL and IN_BACKFACING from them
+    (default: facing +Z, front)."""
+    up = (0.0, 0.0, 1.0, 0.0)
+    incoming = tuple(inputs.get(ops.IN_INCOMING, up))[:3]
+    normal = tuple(inputs.get(ops.IN_NORMAL, up))[:3]
+    backfacing = inputs.get(ops.IN_BACKFACING, (0.0,))[0] != 0.0
+    native = native_program(load_native(), program)
+    return native.run(dict(inputs), incoming, normal, backfacing)

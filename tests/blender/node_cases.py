@@ -23,8 +23,8 @@ class NodeCase:
     build: object  # function(tree, uv output socket) -> colour output socket
     family: str  # the docs' name for the node
     image: bool = False  # reads an image (bound 1e-3)
-    # A procedural texture read at pixel centres (_pixel_centres): compared value for
-    # value (bound 2e-5); the compiler's Python reference does not model it.
+    # A procedural texture read at pixel centres (_pixel_centres): the rendered image
+    # compared value for value (bound 2e-5).
     procedural: bool = False
 
 

@@ -2,26 +2,25 @@
 node's output, rendered by Cycles with one sample at each pixel centre and nothing
 lit, so Cycles' image is the node's value (tests/blender/node_cases.py).
 
-Checked here against the compiler's own reference: the material's program run in
-Python at each pixel's inputs (export/nodes/program.py `run`, the folding
-definitions of ir.py) must give Cycles' values. This checks the lowering (which
-op, which operands, which modes) and the definitions the native program mirrors.
-Cases reading images (sampling) and procedural textures are the native program's
-and are not run here.
+Checked here first at exact points: the material's program run by the native
+program on one hit (Program.run) at each pixel's inputs, offsets within Cycles'
+filter included, must give Cycles' values. This checks the lowering (which op,
+which operands, which modes) and the program's node maths, which the compiler's
+constant folding runs too. Cases reading images (sampling) and procedural textures
+are checked by the rendered comparison below only.
 """
 
 import bpy
 import numpy as np
 import pytest
+from exported import run_program
 from node_cases import CASES, SIZE, build_scene, render, set_cycles, uv_grid
 from whitted.export.instance import object_info
 from whitted.export.material import convert_material
 from whitted.export.nodes import ops
-from whitted.export.nodes.program import run
 
-# Cases whose reference needs inputs the Python run does not model.
-# (Cardinal and B-spline ramps have no Python definition: the native program's.)
-NOT_RUN = {"texture_coordinate_normal", "color_ramp_cardinal", "color_ramp_b_spline"}
+# Cases whose reference needs inputs pixel_inputs does not model.
+NOT_RUN = {"texture_coordinate_normal"}
 
 
 def pixel_inputs(u, v, info):
@@ -79,7 +78,7 @@ def reference_images(exported, info, offsets):
                 for index, (kind, _) in enumerate(exported.attributes):
                     value = color if kind == "COLOR" else (height, height, height, 1.0)
                     inputs[ops.IN_ATTRIBUTE + index] = value
-                images[k, row, column] = run(exported.program, inputs)[register][:3]
+                images[k, row, column] = run_program(exported.program, inputs)[register][:3]
     return images
 
 
@@ -94,7 +93,7 @@ def pixel_grid(exported, info, row, column, steps=9):
             for index, (kind, _) in enumerate(exported.attributes):
                 value = color if kind == "COLOR" else (height, height, height, 1.0)
                 inputs[ops.IN_ATTRIBUTE + index] = value
-            values.append(run(exported.program, inputs)[register][:3])
+            values.append(run_program(exported.program, inputs)[register][:3])
     return np.array(values).reshape(steps, steps, 3)
 
 
@@ -114,7 +113,7 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
     set_cycles(empty_scene)
     cycles = render(empty_scene, "CYCLES", str(tmp_path), case.name)
     if case.name in NOT_RUN:
-        pytest.skip("its inputs are not modelled by the Python reference")
+        pytest.skip("its inputs are not modelled by pixel_inputs")
     warnings = []
     exported = convert_material(material, warnings)
     assert warnings == []

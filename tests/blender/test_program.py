@@ -1,20 +1,19 @@
 """Lowering to shader programs (export/nodes/program.py) against the contract
 (docs/notes/shader_program.md), checked on the emitted arrays without rendering:
 which fields get outputs, constant folding, op and mode numbers, what the program
-reads from the mesh and the instance; and the Python reference run of each
-program against values computed here from Blender's definitions."""
+reads from the mesh and the instance; and each program run by the native program on
+one hit against values computed here from Blender's definitions."""
 
 import math
 
 import bpy
 import numpy as np
 import pytest
-from exported import exported_meshes
+from exported import exported_meshes, run_program
 from whitted.export.instance import object_info
 from whitted.export.material import convert_material
 from whitted.export.mesh_layers import MeshNeeds
 from whitted.export.nodes import ops
-from whitted.export.nodes.program import run
 from whitted_tools.shader_graphs import new_material, output, principled
 
 UV = (0.25, 0.75, 0.0, 0.0)
@@ -40,8 +39,8 @@ def ops_of(program):
     return [int(row[0]) for row in program.code]
 
 
-def run_field(exported, field, inputs, textures=None):
-    registers = run(exported.program, inputs, textures)
+def run_field(exported, field, inputs):
+    registers = run_program(exported.program, inputs)
     return registers[dict(exported.outputs)[field]]
 
 
@@ -108,25 +107,25 @@ def test_code_rows_follow_the_contract():
     assert dict(exported.outputs)["emission"] == out
 
 
-def test_textured_principled_emits_the_mapping_formulas():
-    # A textured Base Color with metallic 0.5: diffuse and reflectivity vary (the specular
-    # highlight is the dielectric part's, constant, in the Blender local model).
+def test_varying_principled_emits_the_mapping_formulas():
+    # A Base Color read from a colour attribute, metallic 0.5: diffuse and reflectivity
+    # vary (the specular highlight is the dielectric part's, constant, in the Blender
+    # local model).
     material = new_material("Painted metal")
     tree = material.node_tree
     bsdf = principled(material)
     bsdf.inputs["Metallic"].default_value = 0.5
     bsdf.inputs["Roughness"].default_value = 0.1
-    image = tree.nodes.new("ShaderNodeTexImage")
-    image.image = bpy.data.images.new("paint", 2, 2)
-    tree.links.new(image.outputs["Color"], bsdf.inputs["Base Color"])
+    attribute = tree.nodes.new("ShaderNodeAttribute")
+    attribute.attribute_name = "paint"
+    tree.links.new(attribute.outputs["Color"], bsdf.inputs["Base Color"])
     exported = compile_material(material)
     outputs = dict(exported.outputs)
     assert {"diffuse", "reflectivity"} <= outputs.keys()
     assert "shininess" not in outputs  # roughness constant: folded
     assert "roughness" not in outputs
     base = (0.2, 0.4, 0.6, 1.0)
-    textures = {exported.textures[0].name: lambda vector, mode: base}
-    registers = run(exported.program, uv_inputs(), textures)
+    registers = run_program(exported.program, {ops.IN_ATTRIBUTE: base})
     # The constant mapping of the same base colour gives the same numbers.
     constant = new_material("Constant metal")
     constant_bsdf = principled(constant)
@@ -152,7 +151,7 @@ def test_graph_driven_roughness_of_a_metal_gives_a_roughness_output():
     exported = compile_material(material)
     output = dict(exported.outputs)["roughness"]
     for roughness in (0.0, 0.3, 1.0):
-        registers = run(exported.program, uv_inputs((roughness, 0.0, 0.0, 0.0)))
+        registers = run_program(exported.program, uv_inputs((roughness, 0.0, 0.0, 0.0)))
         assert registers[output][0] == pytest.approx(roughness)
 
 
@@ -166,7 +165,7 @@ def test_graph_driven_roughness_gives_a_shininess_output():
     exported = compile_material(material)
     shininess = dict(exported.outputs)["shininess"]
     for roughness in (0.0, 0.05, 0.3, 1.0):
-        registers = run(exported.program, uv_inputs((roughness, 0.0, 0.0, 0.0)))
+        registers = run_program(exported.program, uv_inputs((roughness, 0.0, 0.0, 0.0)))
         constant = new_material("c")
         principled(constant).inputs["Roughness"].default_value = roughness
         expected = convert_material(constant, []).data.shininess

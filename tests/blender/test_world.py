@@ -3,6 +3,8 @@
 import bpy
 import pytest
 from whitted.export.world import convert_world
+from whitted.properties.presets import preset
+from whitted.sync import SceneSync, SyncParams
 
 
 def node_world(color, strength):
@@ -106,14 +108,22 @@ def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     assert pixels[4, 4, :3] == pytest.approx(surface, rel=1e-5, abs=1e-7)
 
 
-def test_environment_texture_becomes_a_world_program(warnings):
+def synced_ambient(scene, native):
+    """The ambient light Ia the native scene synced from `scene` renders with."""
+    sync = SceneSync(native)
+    sync.sync(bpy.context.evaluated_depsgraph_get(), SyncParams.of(scene, preset("PREVIEW")))
+    return sync.scene.ambient
+
+
+def test_environment_texture_becomes_a_world_program(empty_scene, native, warnings):
     import numpy as np
     from whitted.export.nodes import ops
 
     world = node_world((1.0, 1.0, 1.0), 2.0)
     tree = world.node_tree
     environment = tree.nodes.new("ShaderNodeTexEnvironment")
-    # Top half bright, bottom half dark (rows bottom to top): mean over the sphere 0.5.
+    environment.interpolation = "Closest"
+    # Top half bright, bottom half dark (rows bottom to top).
     image = bpy.data.images.new("sky", 4, 2, float_buffer=True)
     pixels = np.array([[0.0] * 4] * 4 + [[1.0] * 4] * 4, dtype=np.float32)
     image.pixels.foreach_set(pixels.reshape(-1))
@@ -125,13 +135,14 @@ def test_environment_texture_becomes_a_world_program(warnings):
     assert int(program.code[0][1]) == ops.IN_POSITION  # the ray's direction
     assert exported.textures[0].image == image
     assert exported.output == int(program.code[-1][2])
-    # Mean radiance over the sphere: half the solid angle at 2 (strength), half at 0.
-    assert exported.background == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
-    # The ambient: what a surface facing up receives, the bright upper half only.
-    assert exported.ambient == pytest.approx((2.0, 2.0, 2.0), rel=1e-6)
+    assert exported.ambient_strength == 1.0
+    # The ambient: what a surface facing up receives, the bright upper half only, at 2.
+    empty_scene.world = world
+    empty_scene.whitted.ambient_strength = 0.5
+    assert synced_ambient(empty_scene, native) == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
 
 
-def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(warnings):
+def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(empty_scene, native):
     # L = a + b z (z of the ray's direction, from Generated coordinates): over the
     # sphere its mean is a; weighted by cos(theta)/pi over z > 0, a + 2b/3.
     a, b = 0.3, 0.6
@@ -146,11 +157,14 @@ def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(warnings):
     tree.links.new(coordinates.outputs["Generated"], separate.inputs[0])
     tree.links.new(separate.outputs["Z"], line.inputs[0])
     tree.links.new(line.outputs[0], tree.nodes["Background"].inputs["Strength"])
-    exported = convert_world(world, 0.5, warnings)
-    assert exported.program is not None
+    empty_scene.world = world
+    empty_scene.whitted.ambient_strength = 0.5
     # 24 x 24 cells, one direction at each centre: the quadrature's error is ~1e-4.
-    assert exported.ambient == pytest.approx((0.5 * (a + 2.0 * b / 3.0),) * 3, rel=1e-3)
-    assert warnings == []
+    expected = (0.5 * (a + 2.0 * b / 3.0),) * 3
+    assert synced_ambient(empty_scene, native) == pytest.approx(expected, rel=1e-3)
+    # A world that does not light diffuse surfaces gives none.
+    world.cycles_visibility.diffuse = False
+    assert synced_ambient(empty_scene, native) == (0.0, 0.0, 0.0)
 
 
 def test_environment_background_matches_cycles_by_direction(empty_scene, tmp_path, native):

@@ -56,6 +56,36 @@ def test_operation_lists_agree_with_the_python_compiler():
     assert list(ops.MATH_OPS) == wn.MATH_OPS
     assert list(ops.VECTOR_MATH_OPS) == wn.VECTOR_MATH_OPS
     assert list(ops.MIX_BLEND) == wn.MIX_BLEND
+    # The op codes: the same names for the same numbers, none missing on either side.
+    assert {code: name for code, (name, _, _) in enumerate(wn.OPS)} == ops.OP_NAMES
+
+
+def test_fold_op_runs_the_programs_maths():
+    multiply_add = wn.MATH_OPS.index("MULTIPLY_ADD")
+    three = [(2.0,) * 4, (3.0,) * 4, (0.5,) * 4]
+    assert wn.fold_op(MATH, multiply_add, three, []) == (6.5,) * 4
+    # The same instruction run by a program gives the same floats (float32: 0.1 * 3).
+    registers = [[0.1] * 4, [3.0] * 4, [0.0] * 4, [0] * 4]
+    multiply = wn.MATH_OPS.index("MULTIPLY")
+    run = program([(MATH, multiply, 3, 0, 1, 2)], registers).run({})
+    folded = wn.fold_op(MATH, multiply, [(0.1,) * 4, (3.0,) * 4, None], [])
+    assert tuple(run[3]) == folded and folded[0] != 0.1 * 3.0
+    # A colour ramp's stops in the constants: (count, then position, r, g, b, a per stop).
+    ramp = [2, 0.0, 0, 0, 0, 1, 1.0, 1, 0.5, 0.25, 1]
+    assert wn.fold_op(15, 1, [(0.5,) * 4], ramp) == pytest.approx((0.5, 0.25, 0.125, 1.0))
+    # Ops that read the hit do not fold.
+    assert wn.fold_op(INPUT, 0, [], []) is None
+    assert wn.fold_op(IMAGE, 0, [(0.0,) * 4], []) is None
+    with pytest.raises(ValueError, match="not one of its modes"):
+        wn.fold_op(MATH, 99, three, [])
+
+
+def test_program_run_reads_the_given_inputs():
+    normalize = wn.VECTOR_MATH_OPS.index("NORMALIZE")
+    p = program([(INPUT, UV, 1), (VECTOR_MATH, normalize, 0, 1)], [0] * 8)
+    np.testing.assert_allclose(p.run({UV: (3.0, 4.0, 0.0, 0.0)})[0, :3], (0.6, 0.8, 0.0))
+    with pytest.raises(ValueError, match="input mode 64 is not given"):
+        p.run({})
 
 
 def test_operation_lists_follow_blenders_enums():
@@ -229,6 +259,22 @@ def test_world_program_gives_the_background_by_direction():
     scene.set_world(None, 0)  # back to the constant
     image = finish(wn.RenderJob(scene, wn.Settings(width=3, height=3)))
     np.testing.assert_array_equal(image[..., :3], 0.5)
+
+
+def test_world_program_gives_the_ambient_its_upward_mean():
+    # L = z of the direction: weighted by cos(theta)/pi over the upper hemisphere, the
+    # mean of cos(theta) is 2/3 (24 x 24 directions: within 1e-3).
+    swizzle = 7
+    scene = wn.Scene()
+    scene.ambient = (0.25, 0.25, 0.25)
+    assert scene.ambient == (0.25, 0.25, 0.25)  # without a program, the one set
+    z = program([(INPUT, 0, 1), (swizzle, 2, 0, 1)], [0] * 8)
+    scene.set_world(z, 0, ambient_strength=0.5)
+    np.testing.assert_allclose(scene.ambient, (0.5 * 2.0 / 3.0,) * 3, rtol=1e-3)
+    scene.set_world(z, 0, ambient_strength=0.0)  # a world that lights no diffuse surface
+    assert scene.ambient == (0.0, 0.0, 0.0)
+    scene.set_world(None, 0)
+    assert scene.ambient == (0.25, 0.25, 0.25)
 
 
 def test_uv_sets_attributes_and_instance_info_reach_input():

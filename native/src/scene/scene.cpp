@@ -2,6 +2,7 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <glm/matrix.hpp>
 #include <stdexcept>
 #include <variant>
@@ -154,7 +155,11 @@ void Scene::set_ambient(const Color& ambient) {
   state_.ambient = ambient;
   changed(false);
 }
-void Scene::set_world(std::shared_ptr<const Program> program, uint32_t output) {
+void Scene::set_world(std::shared_ptr<const Program> program, uint32_t output,
+                      float ambient_strength) {
+  if (!std::isfinite(ambient_strength)) {
+    throw std::invalid_argument("the world's ambient strength must be finite");
+  }
   if (program && output >= program->register_count()) {
     throw std::invalid_argument("world output register " + std::to_string(output) +
                                 " out of range (" + std::to_string(program->register_count()) +
@@ -163,6 +168,7 @@ void Scene::set_world(std::shared_ptr<const Program> program, uint32_t output) {
   std::lock_guard lock(mutex_);
   state_.world = std::move(program);
   state_.world_output = output;
+  state_.world_ambient_strength = ambient_strength;
   changed(false);
 }
 Color Scene::background() const {
@@ -170,8 +176,7 @@ Color Scene::background() const {
   return state_.background;
 }
 Color Scene::ambient() const {
-  std::lock_guard lock(mutex_);
-  return state_.ambient;
+  return compile()->ambient;
 }
 size_t Scene::mesh_count() const {
   std::lock_guard lock(mutex_);
@@ -201,6 +206,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     compiled->world = state_.world;
     compiled->world_output = state_.world_output;
     compiled->world_images = resolve_images(*state_.world, state_.textures, "the world");
+    compiled->ambient = state_.world_ambient_strength * compiled->world_upward_mean();
   }
   std::map<std::string, int32_t> texture_index;
   for (const auto& [name, texture] : state_.textures) {

@@ -177,6 +177,8 @@ struct CompiledScene {
   // The emissive meshes shadow feelers sample (scene/mesh_light.h); never null.
   std::shared_ptr<const MeshLights> mesh_lights;
   Color background{0.0f};  // where there is no world program
+  // Ia of the Phong ambient term: the scene's, or with a world program its strength
+  // times world_upward_mean().
   Color ambient{0.0f};
   // The world: a program whose register `world_output` is the radiance of a ray that
   // misses, by direction (null: `background`); its images resolved like a material's.
@@ -211,6 +213,11 @@ struct CompiledScene {
   SurfaceParams surface(const Interaction& it, const Ray& ray, const RayContext& context) const;
   // Radiance arriving along a ray that hits nothing.
   Color world_radiance(const Ray& ray, const RayContext& context) const;
+  // The world's radiance averaged over the upper hemisphere (+Z) with weight cos(theta)/pi:
+  // E/pi of a surface facing up, which a uniform sky's radiance equals. Quadrature over
+  // kAmbientCells^2 directions, each read as a diffuse ray one bounce deep sees it.
+  Color world_upward_mean() const;
+  static constexpr int kAmbientCells = 24;
 };
 
 // Every method may be called from any thread (Python calls some without the GIL): the
@@ -238,10 +245,14 @@ class Scene {
   void remove_texture(const std::string& name);
   void set_background(const Color& background);
   // The world program and the register holding its radiance (null: the background);
-  // throws std::invalid_argument for a register out of range.
-  void set_world(std::shared_ptr<const Program> program, uint32_t output);
+  // throws std::invalid_argument for a register out of range. With a program, the
+  // ambient light is `ambient_strength` times its upward mean (CompiledScene).
+  void set_world(std::shared_ptr<const Program> program, uint32_t output,
+                 float ambient_strength = 1.0f);
+  // The ambient light Ia of a world without program.
   void set_ambient(const Color& ambient);
   Color background() const;
+  // The ambient light a render uses: set_ambient's, or the world program's (compiles).
   Color ambient() const;
 
   Camera camera;
@@ -279,6 +290,7 @@ class Scene {
     Color ambient{0.0f};
     std::shared_ptr<const Program> world;
     uint32_t world_output = 0;
+    float world_ambient_strength = 1.0f;
     double mesh_build_seconds = 0.0;
     // The compile cache: the last snapshot (null once anything changed), and the
     // top-level BVH with the instance masks it was built with (null once geometry changed).

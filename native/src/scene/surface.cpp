@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <glm/matrix.hpp>
+#include <numbers>
 #include <variant>
+
+#include <glm/matrix.hpp>
 
 #include "core/limits.h"
 #include "scene/mesh_light.h"
@@ -406,25 +408,59 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
   return out;
 }
 
-Color CompiledScene::world_radiance(const Ray& ray, const RayContext& context) const {
-  if (!world) return background;
+namespace {
+
+// The world program's radiance towards unit `direction`, its Light Path inputs given by
+// `light_path(mode)`.
+template <class LightPath>
+Color run_world(const CompiledScene& scene, const Vec3& direction, const LightPath& light_path) {
   ProgramHit hit;
-  hit.incoming = -ray.direction;
-  hit.normal = -ray.direction;
-  hit.images = world_images.data();
+  hit.incoming = -direction;
+  hit.normal = -direction;
+  hit.images = scene.world_images.data();
   Inputs inputs;
-  for (size_t i = 0; i < world->inputs().size(); ++i) {
-    const uint32_t mode = world->inputs()[i];
-    const bool direction = mode == kInputPosition || mode == kInputNormal ||
-                           mode == kInputGenerated || mode == kInputObject;
-    inputs[i] = direction                ? glm::vec4(ray.direction, 0.0f)
+  for (size_t i = 0; i < scene.world->inputs().size(); ++i) {
+    const uint32_t mode = scene.world->inputs()[i];
+    const bool along = mode == kInputPosition || mode == kInputNormal || mode == kInputGenerated ||
+                       mode == kInputObject;
+    inputs[i] = along                    ? glm::vec4(direction, 0.0f)
                 : mode == kInputIncoming ? glm::vec4(hit.incoming, 0.0f)
-                                         : light_path_input(mode, ray, context);
+                                         : light_path(mode);
   }
   hit.inputs = inputs.data();
   Registers r;
-  world->run(hit, r.data());
-  return Color(r[world_output]);
+  scene.world->run(hit, r.data());
+  return Color(r[scene.world_output]);
+}
+
+}  // namespace
+
+Color CompiledScene::world_radiance(const Ray& ray, const RayContext& context) const {
+  if (!world) return background;
+  return run_world(*this, ray.direction,
+                   [&](uint32_t mode) { return light_path_input(mode, ray, context); });
+}
+
+Color CompiledScene::world_upward_mean() const {
+  if (!world) return background;
+  // Malley's method: the cells' centres of the unit square mapped onto the upper
+  // hemisphere with density cos(theta)/pi, so the plain mean is the weighted one. Each
+  // direction is read as a diffuse ray one bounce deep would see it.
+  const auto light_path = [](uint32_t mode) {
+    return glm::vec4(mode == kInputIsDiffuseRay || mode == kInputRayDepth ? 1.0f : 0.0f);
+  };
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < kAmbientCells; ++i) {
+    const double u1 = (i + 0.5) / kAmbientCells;
+    const double radius = std::sqrt(u1);
+    const double z = std::sqrt(1.0 - u1);
+    for (int j = 0; j < kAmbientCells; ++j) {
+      const double phi = 2.0 * std::numbers::pi * (j + 0.5) / kAmbientCells;
+      const Vec3 direction(radius * std::cos(phi), radius * std::sin(phi), z);
+      sum += glm::dvec3(run_world(*this, direction, light_path));
+    }
+  }
+  return Color(sum / static_cast<double>(kAmbientCells * kAmbientCells));
 }
 
 }  // namespace whitted

@@ -44,6 +44,55 @@ enum class Op : uint32_t {
   kBump = 32,
 };
 
+// What every layer knows of an op, defined here once: its name (the Python compiler's
+// constant, addon/export/nodes/ops.py, checked against this table by
+// tests/python/test_program.py), its register operands (columns a, b, c, d, then e),
+// and whether it reads the hit (its inputs, images, shading normal or bump offsets). An
+// op that does not is a function of its operands alone: the compiler folds it when they
+// are constants (Program::fold), with this same code, so a folded graph and a run one
+// give the same floats. Indexed by the op code; 0 is the compiler's CONST, a register
+// filled before the first instruction, never a row.
+struct OpInfo {
+  std::string_view name;
+  uint32_t operands;
+  bool reads_hit;
+};
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBump) + 1> kOpTable = {{
+    {"CONST", 0, false},
+    {"INPUT", 0, true},
+    {"MATH", 3, false},
+    {"VECTOR_MATH", 3, false},
+    {"MIX", 3, false},
+    {"MIX_VALUE", 3, false},
+    {"SEPARATE", 1, false},
+    {"SWIZZLE", 1, false},
+    {"COMBINE", 3, false},
+    {"HUE_SAT", 5, false},  // hue, saturation, value, factor, colour (in e)
+    {"GAMMA", 2, false},
+    {"BRIGHT_CONTRAST", 3, false},
+    {"INVERT", 2, false},
+    {"CLAMP", 3, false},
+    {"MAP_RANGE", 3, false},   // value, the four bounds packed, steps
+    {"COLOR_RAMP", 1, false},  // e: its stops' offset in the constants
+    {"CURVE", 2, false},       // e: its table's offset in the constants
+    {"MAPPING", 4, false},
+    {"IMAGE", 2, true},
+    {"ENVIRONMENT", 1, true},
+    {"CHECKER", 4, false},
+    {"GRADIENT", 1, false},
+    {"NOISE", 3, false},
+    {"VORONOI", 3, false},
+    {"WAVE", 3, false},
+    {"MAGIC", 3, false},
+    {"BRICK", 3, false},
+    {"FRESNEL", 2, true},
+    {"LAYER_WEIGHT", 2, true},
+    {"NORMAL_MAP", 2, true},
+    {"PACK", 4, false},
+    {"RGB_TO_BW", 1, false},
+    {"BUMP", 5, true},
+}};
+
 // The modes of op INPUT: what a hit offers a program.
 enum Input : uint32_t {
   kInputPosition = 0,

@@ -21,15 +21,8 @@ using namespace node_math;
 // ---------------------------------------------------------------------------------------
 // Validation.
 
-const char* op_name(uint32_t op) {
-  static constexpr const char* kNames[] = {
-      "?",        "INPUT",       "MATH",      "VECTOR_MATH", "MIX",          "MIX_VALUE",
-      "SEPARATE", "SWIZZLE",     "COMBINE",   "HUE_SAT",     "GAMMA",        "BRIGHT_CONTRAST",
-      "INVERT",   "CLAMP",       "MAP_RANGE", "COLOR_RAMP",  "CURVE",        "MAPPING",
-      "IMAGE",    "ENVIRONMENT", "CHECKER",   "GRADIENT",    "NOISE",        "VORONOI",
-      "WAVE",     "MAGIC",       "BRICK",     "FRESNEL",     "LAYER_WEIGHT", "NORMAL_MAP",
-      "PACK",     "RGB_TO_BW",   "BUMP"};
-  return op < std::size(kNames) ? kNames[op] : "?";
+std::string_view op_name(uint32_t op) {
+  return op < kOpTable.size() && op != 0 ? kOpTable[op].name : "?";
 }
 
 bool public_input(uint32_t mode) {
@@ -74,8 +67,8 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
     const uint32_t op = c[0];
     const uint32_t mode = c[1];
     const auto fail = [&](const std::string& what) {
-      throw std::invalid_argument("instruction " + std::to_string(row) + " (" + op_name(op) +
-                                  "): " + what);
+      throw std::invalid_argument("instruction " + std::to_string(row) + " (" +
+                                  std::string(op_name(op)) + "): " + what);
     };
     if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kBump)) {
       throw std::invalid_argument("instruction " + std::to_string(row) + ": unknown op " +
@@ -443,6 +436,39 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
     }
     r[s.out] = out;
   }
+}
+
+std::optional<vec4> Program::fold(uint32_t op, uint32_t mode,
+                                  std::span<const std::optional<vec4>> operands,
+                                  std::vector<float> constants) {
+  if (op == 0 || op >= kOpTable.size()) {
+    throw std::invalid_argument("unknown op " + std::to_string(op));
+  }
+  const OpInfo& info = kOpTable[op];
+  if (info.reads_hit) return std::nullopt;
+  if (operands.size() > info.operands) {
+    throw std::invalid_argument(std::string(info.name) + " takes " + std::to_string(info.operands) +
+                                " operands, not " + std::to_string(operands.size()));
+  }
+  // One instruction: the operands in registers 0.., the result in the register after.
+  std::vector<float> registers;
+  uint32_t row[kColumns] = {op, mode, 0, kUnused, kUnused, kUnused, kUnused, kUnused};
+  for (size_t i = 0; i < operands.size(); ++i) {
+    if (!operands[i]) continue;
+    row[3 + i] = static_cast<uint32_t>(registers.size() / 4);
+    registers.insert(registers.end(),
+                     {operands[i]->x, operands[i]->y, operands[i]->z, operands[i]->w});
+  }
+  const auto out = static_cast<uint32_t>(registers.size() / 4);
+  registers.insert(registers.end(), 4, 0.0f);
+  row[2] = out;
+  if (op == static_cast<uint32_t>(Op::kColorRamp) || op == static_cast<uint32_t>(Op::kCurve)) {
+    row[7] = 0;  // the table is the whole of `constants`
+  }
+  const Program program(row, 1, registers.data(), out + 1, std::move(constants), {});
+  std::vector<vec4> file(out + 2);  // and the zero register run() puts past the file
+  program.run(ProgramHit{}, file.data());
+  return file[out];
 }
 
 }  // namespace whitted

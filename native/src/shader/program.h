@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -57,6 +59,14 @@ class Program {
   // Runs the instructions; `registers` has room for kMaxRegisters + 1 values and holds
   // the register file afterwards.
   void run(const ProgramHit& hit, glm::vec4* registers) const;
+
+  // The constant compiler's folding: the value of one `op` (not one that reads the hit,
+  // kOpTable) of `operands` (one per register operand of the op, null: unused), its
+  // COLOR_RAMP or CURVE table in `constants`, computed by run() itself. nullopt for an
+  // op that reads the hit; std::invalid_argument for an instruction run() would refuse.
+  static std::optional<glm::vec4> fold(uint32_t op, uint32_t mode,
+                                       std::span<const std::optional<glm::vec4>> operands,
+                                       std::vector<float> constants);
 
  private:
   // An instruction as the interpreter reads it: unused register operands point at the
