@@ -37,13 +37,12 @@ import hashlib
 import json
 import math
 import os
-import statistics
 import time
 
 import bpy
 from whitted_tools.cli import script_args
 from whitted_tools.native_job import run_job
-from whitted_tools.timing import paired_ratios
+from whitted_tools.timing import median_or_none, paired_median
 
 
 def parse_args():
@@ -142,14 +141,11 @@ def main():
     single_image = image_sha256(single_job)
 
     def median(key):
-        values = [r[key] for r in rounds]
-        return None if None in values else statistics.median(values)
+        return median_or_none(r[key] for r in rounds)
 
     def paired(top, bottom):
         """The median of the rounds' ratios top / bottom."""
-        return statistics.median(
-            paired_ratios([r[top] for r in rounds], [r[bottom] for r in rounds])
-        )
+        return paired_median([r[top] for r in rounds], [r[bottom] for r in rounds])
 
     result = {
         "blender": bpy.app.version_string,

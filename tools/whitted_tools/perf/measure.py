@@ -3,7 +3,6 @@
 by configuration, figures the medians of the repeats."""
 
 import json
-import statistics
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -12,7 +11,7 @@ from whitted_tools import SCRIPTS
 from whitted_tools.blender import addon_env, blender_command, bpy_command, run_process
 from whitted_tools.pages import size_label
 from whitted_tools.perf.plan import MAIN_SCENES, Plan
-from whitted_tools.timing import progress
+from whitted_tools.timing import median_or_none, progress
 
 
 def build_scene(name, path, resolution, timeout, blender="blender", extra=()):
@@ -36,12 +35,7 @@ class Measurement:
 
     def median(self, getter):
         """Median over the repeats of getter(run); None when no run has the value."""
-        values = []
-        for run in self.runs:
-            value = getter(run)
-            if value is not None:
-                values.append(value)
-        return statistics.median(values) if values else None
+        return median_or_none(getter(run) for run in self.runs)
 
     def whitted(self, *keys):
         """Median of run["whitted"][keys[0]][keys[1]]..."""
