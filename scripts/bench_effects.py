@@ -31,8 +31,8 @@ import bpy
 
 # isort: split
 import numpy as np
-from whitted_tools.blender import blender_command, bpy_command, factory_scene, run_process
-from whitted_tools.cli import inside_blender_binary, script_args
+from whitted_tools.blender import factory_scene, run_for_json, same_blender_command
+from whitted_tools.cli import script_args
 from whitted_tools.demo_scene import DEMO_VARIANTS, build_demo_variant
 from whitted_tools.native_job import run_job
 from whitted_tools.pages import machine_lines, table, write_page
@@ -143,14 +143,11 @@ def run_child(args):
 
 
 def child_command(args, results, rotation, native):
-    script = Path(__file__).resolve()
-    child_args = [
+    return same_blender_command(
+        Path(__file__).resolve(),
         *("--resolution", *args.resolution, "--child", results, "--rotation", rotation),
         *(("--native", native) if native else ()),
-    ]
-    if inside_blender_binary():
-        return blender_command(script, *child_args, blender=bpy.app.binary_path)
-    return bpy_command(script, *child_args, python=sys.executable)
+    )
 
 
 def run_repetitions(args, folder):
@@ -161,12 +158,10 @@ def run_repetitions(args, folder):
         done = {}
         for index in range(len(builds)) if rotation % 2 == 0 else reversed(range(len(builds))):
             results = Path(folder) / f"{rotation}-{index}.json"
-            _, problem = run_process(
-                child_command(args, results, rotation, builds[index]), timeout=900
-            )
+            command = child_command(args, results, rotation, builds[index])
+            done[index], problem = run_for_json(command, results, timeout=900)
             if problem:
                 sys.exit(f"bench_effects.py: a repetition {problem}")
-            done[index] = json.loads(results.read_text(encoding="utf-8"))
         repetitions.append([done[index] for index in range(len(builds))])
     return repetitions
 
