@@ -31,13 +31,17 @@ def machine_lines():
     processors = sum(1 for line in cpuinfo if line.startswith("processor"))
     meminfo = Path("/proc/meminfo").read_text().split()
     memory_gib = int(meminfo[meminfo.index("MemTotal:") + 1]) / 1024 / 1024
-    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
     return [
         f"- CPU: {field_of('model name')}, {processors} logical processors "
         f"({field_of('cpu cores')} cores per package, {field_of('siblings')} siblings); "
         f"{memory_gib:.1f} GiB memory; {platform.system()} {platform.release()}",
-        f"- Load average when the page was written (1, 5, 15 min): {load}",
+        f"- Load average when the page was written (1, 5, 15 min): {load_text()}",
     ]
+
+
+def load_text(loads=None):
+    """The load average (1, 5, 15 min; default: now) as "0.52, 0.61, 0.70"."""
+    return ", ".join(f"{value:.2f}" for value in (loads or os.getloadavg()))
 
 
 def table(header, rows, align=None):
