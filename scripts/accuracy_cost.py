@@ -36,6 +36,7 @@ import OpenEXR
 from whitted_tools import REPO, SCRIPTS
 from whitted_tools.blender import blender_command, run_process
 from whitted_tools.metrics import error_figures
+from whitted_tools.pages import write_page
 from whitted_tools.plots import plt, save
 
 
@@ -384,9 +385,7 @@ def main():
             rows = measure(rendered, reference_name, runs)
             lines += scene_section(blend, rows, rendered, reference_name, image_dir, page_dir)
         print(f"accuracy_cost: {blend}: {len(rows)} runs", flush=True)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    print(f"accuracy_cost: wrote {args.out.resolve()}")
+    write_page(args.out, lines)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ import time
 
 from whitted_tools import REPO
 from whitted_tools.blender import blender_command, run_process
+from whitted_tools.pages import write_page
 
 REPO_ROOT = str(REPO)
 TIMEOUT = 900  # seconds a farm run, or one Blender, may take
@@ -88,17 +89,17 @@ def main():
         frame_bytes = os.path.getsize(os.path.join(folder, "out1", "0001.exr"))
     batch, round_trip, broadcast = scheduler_overhead()
     load = (load_before, os.getloadavg()[0])
-    write_page(
+    lines = page_lines(
         args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
     )
-    print(args.out)
+    write_page(args.out, lines)
 
 
-def write_page(
+def page_lines(
     args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
 ):
     width, height = args.size
-    lines = [
+    return [
         "# The farm: measured here, and at 100 machines on paper",
         "",
         "Made by `.venv/bin/python scripts/bench_farm.py` (how to use the farm: README,",
@@ -157,10 +158,7 @@ def write_page(
         "  the report, rewritten after every frame, lets a rerun resume.",
         "- **Start-up**: each task starts a Blender (seconds); for frames of seconds,",
         "  render several frames per task, or keep frames large (tiles for huge ones).",
-        "",
     ]
-    with open(args.out, "w", encoding="utf-8") as out:
-        out.write("\n".join(lines))
 
 
 if __name__ == "__main__":

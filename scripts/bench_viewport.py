@@ -29,7 +29,7 @@ import time
 from whitted_tools import REPO
 from whitted_tools.blender import blender_command, enable_addon, run_for_json
 from whitted_tools.cli import script_args
-from whitted_tools.pages import machine_lines
+from whitted_tools.pages import machine_lines, write_page
 from whitted_tools.perf.measure import build_scene
 
 SCENES = ("demo", "million", "instances")
@@ -300,11 +300,7 @@ def main():
         *sync_section(measured, repeats),
         *latency_section(latency),
     ]
-    path = os.path.abspath(args.out)
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w", encoding="utf-8") as out:
-        out.write("\n".join(page) + "\n")
-    print(f"wrote {path}")
+    write_page(args.out, page)
 
 
 if __name__ == "__main__":

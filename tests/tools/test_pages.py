@@ -58,6 +58,9 @@ def test_number_formats():
 def test_write_page_ends_with_one_newline(tmp_path):
     path = write_page(tmp_path / "docs" / "PAGE.md", ["# Title", "", "text"])
     assert path.read_text(encoding="utf-8") == "# Title\n\ntext\n"
+    # A page whose sections each end with an empty line still ends with one newline.
+    write_page(path, ["# Title", "", "text", "", ""])
+    assert path.read_text(encoding="utf-8") == "# Title\n\ntext\n"
 
 
 @pytest.mark.parametrize(

@@ -59,10 +59,11 @@ def table(header, rows, align=None):
 
 
 def write_page(path, lines):
-    """Write the page's lines (one newline at the end) and say where."""
+    """Write the page's lines, making its folder, and say where: every page of docs/
+    goes through here. Empty lines at the end are dropped: one newline ends the page."""
     path = Path(path).resolve()
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    path.write_text("\n".join(lines).rstrip("\n") + "\n", encoding="utf-8")
     print(f"wrote {path}", flush=True)
     return path
 

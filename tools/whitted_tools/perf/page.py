@@ -698,7 +698,7 @@ def page(suite, args, scenes, scaling, elapsed):
         lines += ["## Runs that failed, timed out or were skipped", ""]
         lines += [f"- {problem}" for problem in suite.problems]
         lines.append("")
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _commit_of(directory):
