@@ -34,8 +34,9 @@ from pathlib import Path
 from whitted_tools import REPO
 from whitted_tools.pages import write_page
 from whitted_tools.perf.measure import Suite, measure_scaling, measure_slow, measure_whitted
-from whitted_tools.perf.page import page, write_plots
+from whitted_tools.perf.page import page
 from whitted_tools.perf.plan import MAIN_SCENES, full_plan, quick_plan
+from whitted_tools.perf.plots import write_plots
 
 
 def parse_args():
