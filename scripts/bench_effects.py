@@ -30,7 +30,7 @@ import bpy
 # isort: split
 import numpy as np
 from whitted_tools.blender import factory_scene, run_for_json, same_blender_command
-from whitted_tools.builds import interleaved, native_module
+from whitted_tools.builds import interleaved, native_module, stand_in_for_addon
 from whitted_tools.cli import script_args
 from whitted_tools.demo_scene import DEMO_VARIANTS, build_demo_variant
 from whitted_tools.native_job import run_job
@@ -85,12 +85,15 @@ def parse_args():
 
 
 def load_module(folder):
-    """whitted_native from `folder` (another build), or the add-on's own."""
+    """whitted_native from `folder` (another build, which the add-on then uses too), or
+    the add-on's own."""
     if folder is None:
         from whitted.native import load_native
 
         return load_native()
-    return native_module(folder)
+    module = native_module(folder)
+    stand_in_for_addon(module)
+    return module
 
 
 def render(native, frame, mode, width, height):

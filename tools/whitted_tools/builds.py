@@ -64,6 +64,14 @@ def native_module(folder):
     return module
 
 
+def stand_in_for_addon(module, addon="whitted"):
+    """Make the add-on `addon` use `module` (another build's whitted_native) wherever it
+    loads its own, as its export helpers do: a process can hold only one build, a second
+    module's types clashing with the first's (pybind11: "already registered"). Call it
+    before anything has loaded the add-on's module."""
+    sys.modules[f"{addon}.whitted_native"] = module
+
+
 def round_order(round_index, count):
     """The indices of `count` builds in the order round `round_index` runs them: forward
     in even rounds, backward in odd ones."""
