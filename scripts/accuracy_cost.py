@@ -26,7 +26,6 @@ import json
 import math
 import shlex
 import statistics
-import subprocess
 import sys
 import tempfile
 from dataclasses import asdict, replace
@@ -35,8 +34,9 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 from whitted_tools import REPO, SCRIPTS
-from whitted_tools.blender import blender_command
+from whitted_tools.blender import blender_command, run_process
 from whitted_tools.metrics import error_figures
+from whitted_tools.pages import write_page
 from whitted_tools.plots import plt, save
 
 
@@ -156,12 +156,10 @@ def render_all(blender, blend, qualities, resolution, repeats, workdir):
         blend=blend,
         blender=blender,
     )
-    result = subprocess.run(command, capture_output=True, text=True, check=False)
-    if result.returncode != 0 or not all((workdir / f"{n}.json").exists() for n in unique):
-        sys.exit(
-            f"accuracy_cost: Blender failed on {blend}:\n{shlex.join(command)}\n"
-            f"{result.stdout[-3000:]}\n{result.stderr[-3000:]}"
-        )
+    # No time limit: one Blender renders the whole sweep of a file.
+    _, problem = run_process(command, timeout=None)
+    if problem:
+        sys.exit(f"accuracy_cost: Blender on {blend}: {problem}")
     return {
         name: (json.loads((workdir / f"{name}.json").read_text()), workdir / f"{name}.exr")
         for name in unique
@@ -387,9 +385,7 @@ def main():
             rows = measure(rendered, reference_name, runs)
             lines += scene_section(blend, rows, rendered, reference_name, image_dir, page_dir)
         print(f"accuracy_cost: {blend}: {len(rows)} runs", flush=True)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    print(f"accuracy_cost: wrote {args.out.resolve()}")
+    write_page(args.out, lines)
 
 
 if __name__ == "__main__":

@@ -17,12 +17,10 @@ one's renders in turn, each in a Blender of its own.
 """
 
 import argparse
-import importlib.util
 import json
 import os
 import statistics
 import sys
-import sysconfig
 import tempfile
 import time
 from pathlib import Path
@@ -31,11 +29,12 @@ import bpy
 
 # isort: split
 import numpy as np
-from whitted_tools.blender import blender_command, bpy_command, factory_scene, run_process
-from whitted_tools.cli import inside_blender_binary, script_args
+from whitted_tools.blender import factory_scene, run_for_json, same_blender_command
+from whitted_tools.builds import interleaved, native_module, stand_in_for_addon
+from whitted_tools.cli import script_args
 from whitted_tools.demo_scene import DEMO_VARIANTS, build_demo_variant
 from whitted_tools.native_job import run_job
-from whitted_tools.pages import machine_lines, table, write_page
+from whitted_tools.pages import load_text, machine_lines, table, write_page
 from whitted_tools.timing import paired_ratios, spread_text
 
 CUTOFF = 1.0 / 255.0
@@ -63,10 +62,10 @@ VERDICTS = {
     "shared machine the control column (the same run-time kernel in both builds) "
     "spreads as widely as the (d) column, so this page alone does not settle it; "
     "instruction counts do: `valgrind --tool=callgrind` over one render of "
-    "scripts/bench_builds.py's 64 spheres of constant materials (160x90, 2x2 samples, "
-    "one thread) counts 2.0% fewer instructions in the render with them (167.5 M "
-    "against 170.9 M, commit da74e9b). integrator/whitted.cpp compiles 12 of them (the "
-    "sets the analysis decides with pruning on) beside one kernel with run-time flags "
+    "`whitted_tools.builds`' 64 spheres of constant materials (its --small render: "
+    "160x90, 2x2 samples, one thread) counts 2.0% fewer instructions in the render with "
+    "them (167.5 M against 170.9 M, commit da74e9b). integrator/whitted.cpp compiles 12 "
+    "of them (the sets the analysis decides with pruning on) beside one kernel with run-time flags "
     "for every other set, one for renders with passes and the inspector's: 15, not the "
     "96 that one per set for each would be",
 }
@@ -86,16 +85,14 @@ def parse_args():
 
 
 def load_module(folder):
-    """whitted_native from `folder` (another build), or the add-on's own."""
+    """whitted_native from `folder` (another build, which the add-on then uses too), or
+    the add-on's own."""
     if folder is None:
         from whitted.native import load_native
 
         return load_native()
-    # The module built for this Python (a build may hold one per CPython).
-    path = Path(folder) / f"whitted_native{sysconfig.get_config_var('EXT_SUFFIX')}"
-    spec = importlib.util.spec_from_file_location("whitted_native", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = native_module(folder)
+    stand_in_for_addon(module)
     return module
 
 
@@ -143,32 +140,26 @@ def run_child(args):
 
 
 def child_command(args, results, rotation, native):
-    script = Path(__file__).resolve()
-    child_args = [
+    return same_blender_command(
+        Path(__file__).resolve(),
         *("--resolution", *args.resolution, "--child", results, "--rotation", rotation),
         *(("--native", native) if native else ()),
-    ]
-    if inside_blender_binary():
-        return blender_command(script, *child_args, blender=bpy.app.binary_path)
-    return bpy_command(script, *child_args, python=sys.executable)
+    )
 
 
 def run_repetitions(args, folder):
     """[repetition][build] -> that child's results; the builds alternate which goes first."""
     builds = [None] + ([os.path.abspath(args.compare_native)] if args.compare_native else [])
-    repetitions = []
-    for rotation in range(args.repeats):
-        done = {}
-        for index in range(len(builds)) if rotation % 2 == 0 else reversed(range(len(builds))):
-            results = Path(folder) / f"{rotation}-{index}.json"
-            _, problem = run_process(
-                child_command(args, results, rotation, builds[index]), timeout=900
-            )
-            if problem:
-                sys.exit(f"bench_effects.py: a repetition {problem}")
-            done[index] = json.loads(results.read_text(encoding="utf-8"))
-        repetitions.append([done[index] for index in range(len(builds))])
-    return repetitions
+
+    def run(index, rotation):
+        results = Path(folder) / f"{rotation}-{index}.json"
+        command = child_command(args, results, rotation, builds[index])
+        done, problem = run_for_json(command, results, timeout=900)
+        if problem:
+            sys.exit(f"bench_effects.py: a repetition {problem}")
+        return done
+
+    return interleaved(args.repeats, len(builds), run)
 
 
 def ratios(repetitions, variant, numerator, denominator, clock, builds=(0, 0)):
@@ -287,8 +278,7 @@ def page(args, repetitions, load_before, load_after):
         "",
         *machine_lines(),
         "- Load average before and after the run (1, 5, 15 min): "
-        f"{', '.join(f'{v:.2f}' for v in load_before)} / "
-        f"{', '.join(f'{v:.2f}' for v in load_after)}",
+        f"{load_text(load_before)} / {load_text(load_after)}",
         "",
         "## Time ratios per mechanism",
         "",

@@ -11,26 +11,30 @@ what the same design sends and holds at 100 machines. About two minutes.
 import argparse
 import os
 import platform
-import subprocess
 import sys
 import tempfile
 import time
 
 from whitted_tools import REPO
-from whitted_tools.blender import blender_command
+from whitted_tools.blender import blender_command, run_process
+from whitted_tools.pages import write_page
 
 REPO_ROOT = str(REPO)
+TIMEOUT = 900  # seconds a farm run, or one Blender, may take
 
 
 def farm_run(blend, frames, workers, out):
     command = [sys.executable, os.path.join(REPO_ROOT, "scripts", "farm.py"), blend]
     command += ["--frames", f"1-{frames}", "--workers", str(workers), "--output", out]
     started = time.perf_counter()
-    result = subprocess.run(command, capture_output=True, text=True, check=False)
-    seconds = time.perf_counter() - started
-    if result.returncode != 0:
-        sys.exit(f"bench_farm: farm failed:\n{result.stdout}\n{result.stderr[-3000:]}")
-    return seconds
+    run_or_exit(command)
+    return time.perf_counter() - started
+
+
+def run_or_exit(command):
+    _, problem = run_process(command, TIMEOUT)
+    if problem:
+        sys.exit(f"bench_farm: {problem}")
 
 
 def scheduler_overhead(tasks=400):
@@ -67,17 +71,14 @@ def main():
     with tempfile.TemporaryDirectory(prefix="whitted-bench-farm-") as folder:
         blend = os.path.join(folder, "anim.blend")
         maker = os.path.join(REPO_ROOT, "tests", "farm", "make_scene.py")
-        subprocess.run(
-            blender_command(maker, blend, "--size", *args.size), check=True, capture_output=True
-        )
+        run_or_exit(blender_command(maker, blend, "--size", *args.size))
         os.environ.pop("WHITTED_STATS", None)
         # Once to warm the file cache, then timed.
         for _ in range(2):
             started = time.perf_counter()
-            subprocess.run(
+            run_or_exit(
                 ["blender", "-b", blend, "-E", "WHITTED", "-o", os.path.join(folder, "t_####"),
-                 "-f", "1"],
-                check=True, capture_output=True,
+                 "-f", "1"]
             )  # fmt: skip
             one_blender = time.perf_counter() - started
         rows = []
@@ -88,17 +89,17 @@ def main():
         frame_bytes = os.path.getsize(os.path.join(folder, "out1", "0001.exr"))
     batch, round_trip, broadcast = scheduler_overhead()
     load = (load_before, os.getloadavg()[0])
-    write_page(
+    lines = page_lines(
         args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
     )
-    print(args.out)
+    write_page(args.out, lines)
 
 
-def write_page(
+def page_lines(
     args, rows, one_blender, batch, round_trip, broadcast, blend_bytes, frame_bytes, load
 ):
     width, height = args.size
-    lines = [
+    return [
         "# The farm: measured here, and at 100 machines on paper",
         "",
         "Made by `.venv/bin/python scripts/bench_farm.py` (how to use the farm: README,",
@@ -157,10 +158,7 @@ def write_page(
         "  the report, rewritten after every frame, lets a rerun resume.",
         "- **Start-up**: each task starts a Blender (seconds); for frames of seconds,",
         "  render several frames per task, or keep frames large (tiles for huge ones).",
-        "",
     ]
-    with open(args.out, "w", encoding="utf-8") as out:
-        out.write("\n".join(lines))
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import bpy
 from whitted_tools import bench_scenes
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
-from whitted_tools.pages import machine_lines
+from whitted_tools.pages import machine_lines, write_page
 from whitted_tools.render import render_exr
 
 CYCLES_SAMPLES = 16
@@ -97,10 +97,9 @@ def main():
         ),
         "",
     ]
-    text = "\n".join(lines)
-    print(text)
+    print("\n".join(lines))
     if args.out is not None:
-        args.out.write_text(text, encoding="utf-8")
+        write_page(args.out, lines)
 
 
 if __name__ == "__main__":

@@ -12,16 +12,15 @@ Whitted render's statistics. The target: within 20% of the measured figure.
 """
 
 import argparse
-import json
 import os
 import sys
 import tempfile
 import time
 
 from whitted_tools import REPO, SCRIPTS
-from whitted_tools.blender import blender_command, run_process
+from whitted_tools.blender import blender_command, run_for_json
 from whitted_tools.cli import script_args
-from whitted_tools.pages import machine_lines
+from whitted_tools.pages import machine_lines, write_page
 from whitted_tools.perf.measure import build_scene
 
 SCENES = ("demo", "million", "instances", "fur")
@@ -36,11 +35,10 @@ def render(blend, engine, size, out):
         blend=blend,
         addons=("whitted",),
     )
-    _, problem = run_process(command, 900)
+    figures, problem = run_for_json(command, out, 900)
     if problem:
         sys.exit(f"{engine} on {blend}: {problem}")
-    with open(out, encoding="utf-8") as file:
-        return json.load(file)
+    return figures
 
 
 def main():
@@ -98,11 +96,7 @@ def main():
             f"| {name} | {width}x{height} | {triangles:,} | {strands:,} | {estimate:.0f} | "
             f"{measured:.0f} | {ratio:.2f} | {'yes' if ok else '**no**'} |"
         )
-    lines.append("")
-    path = os.path.abspath(args.out)
-    with open(path, "w", encoding="utf-8") as out:
-        out.write("\n".join(lines))
-    print(f"wrote {path}")
+    write_page(args.out, lines)
 
 
 if __name__ == "__main__":

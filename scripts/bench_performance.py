@@ -32,9 +32,11 @@ import time
 from pathlib import Path
 
 from whitted_tools import REPO
+from whitted_tools.pages import write_page
 from whitted_tools.perf.measure import Suite, measure_scaling, measure_slow, measure_whitted
-from whitted_tools.perf.page import page, write_plots
+from whitted_tools.perf.page import page
 from whitted_tools.perf.plan import MAIN_SCENES, full_plan, quick_plan
+from whitted_tools.perf.plots import write_plots
 
 
 def parse_args():
@@ -87,10 +89,8 @@ def main():
             for results in scenes:
                 measure_slow(suite, results, label)
     write_plots(suite, scaling)
-    text = page(suite, args, scenes, scaling, time.perf_counter() - started)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(text, encoding="utf-8")
-    print(f"bench_performance: wrote {args.out.resolve()} in {time.perf_counter() - started:.0f} s")
+    write_page(args.out, page(suite, args, scenes, scaling, time.perf_counter() - started))
+    print(f"bench_performance: {time.perf_counter() - started:.0f} s")
     # POV-Ray and Cycles may time out (the page says so); our own runs may not.
     ours = [p for p in suite.problems if not p.startswith(("POVRAY", "CYCLES"))]
     if ours:

@@ -27,9 +27,9 @@ import tempfile
 import time
 
 from whitted_tools import REPO
-from whitted_tools.blender import blender_command, enable_addon, run_process
+from whitted_tools.blender import blender_command, enable_addon, run_for_json
 from whitted_tools.cli import script_args
-from whitted_tools.pages import machine_lines
+from whitted_tools.pages import machine_lines, write_page
 from whitted_tools.perf.measure import build_scene
 
 SCENES = ("demo", "million", "instances")
@@ -239,12 +239,11 @@ def run_latency(args, workdir, demo_blend):
         "--out",
         workdir,
     ]
-    _, problem = run_process(command, 600)
+    measured, problem = run_for_json(command, result, 600)
     if problem:
         print(f"latency: {problem}")
         return None
-    with open(result, encoding="utf-8") as file:
-        return json.load(file)["data"]
+    return measured["data"]
 
 
 def parse_args(argv):
@@ -283,11 +282,9 @@ def main():
                 blend=path,
                 blender=args.blender,
             )
-            _, problem = run_process(command, 900)
+            measured[name], problem = run_for_json(command, out, 900)
             if problem:
                 sys.exit(f"sync on {name}: {problem}")
-            with open(out, encoding="utf-8") as file:
-                measured[name] = json.load(file)
         latency = run_latency(args, workdir, os.path.join(workdir, "demo.blend"))
     elapsed = time.perf_counter() - started
     command = "scripts/bench_viewport.py" + (" --quick" if args.quick else "")
@@ -303,11 +300,7 @@ def main():
         *sync_section(measured, repeats),
         *latency_section(latency),
     ]
-    path = os.path.abspath(args.out)
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w", encoding="utf-8") as out:
-        out.write("\n".join(page) + "\n")
-    print(f"wrote {path}")
+    write_page(args.out, page)
 
 
 if __name__ == "__main__":

@@ -43,6 +43,7 @@ from whitted_tools.blender import enable_addon, factory_scene
 from whitted_tools.cli import inside_blender_binary, script_args
 from whitted_tools.material_scenes import frame_subject, import_file
 from whitted_tools.materials_page import THIRD_PARTY, THIRD_PARTY_MODELS
+from whitted_tools.pages import write_page
 from whitted_tools.render import render_exr
 
 # Renders of one preset stop repeating once they have taken this long in all.
@@ -296,11 +297,9 @@ def main():
         f"{max(estimate_seconds):.1f} s). Load average over 1 minute when the run began: "
         f"{load:.1f} (times vary with the load of the machine).",
     ]
-    text = "\n".join(lines) + "\n"
-    print(text)
+    print("\n".join(lines))
     if args.out:
-        with open(args.out, "w", encoding="utf-8") as out:
-            out.write(text)
+        write_page(args.out, lines)
 
 
 if __name__ == "__main__":

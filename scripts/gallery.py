@@ -22,6 +22,7 @@ import numpy as np
 from whitted_tools import REPO
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import page_parser, script_args
+from whitted_tools.pages import write_page
 
 # tests/blender/cycles_scenes.py is still a test module (another change is moving the
 # Cycles comparison scenes); it is found through this one path until it is in the
@@ -146,8 +147,7 @@ def write_markdown(out_dir):
                 f"exposure {result['exposure']:+.2f} stops",
                 "",
             ]
-    with open(os.path.join(out_dir, "GALLERY.md"), "w", encoding="utf-8") as file:
-        file.write("\n".join(lines).rstrip() + "\n")
+    write_page(os.path.join(out_dir, "GALLERY.md"), lines)
 
 
 def main():
@@ -166,7 +166,6 @@ def main():
     with open(os.path.join(image_dir, "results.json"), "w", encoding="utf-8") as file:
         json.dump(run, file, indent=1)
     write_markdown(args.out)
-    print(f"gallery: wrote {os.path.abspath(os.path.join(args.out, 'GALLERY.md'))}")
 
 
 if __name__ == "__main__":

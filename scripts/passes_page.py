@@ -372,10 +372,12 @@ def cost_lines(costs):
 
 
 def builds_lines(builds):
-    """No pass enabled against the build before passes existed (scripts/bench_builds.py
-    --json images/passes/builds.json)."""
+    """No pass enabled against the build before passes existed (`python -m
+    whitted_tools.builds ... --json images/passes/builds.json`)."""
     if builds is None:
-        return ["Against the build before passes: not measured yet (scripts/bench_builds.py)."]
+        return [
+            "Against the build before passes: not measured yet (python -m whitted_tools.builds)."
+        ]
     old, new = builds["builds"]["old"], builds["builds"]["new"]
     same = old["rays"] == new["rays"] and old["image_mean"] == new["image_mean"]
     return [

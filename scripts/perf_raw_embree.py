@@ -30,6 +30,26 @@ taken within a round and the median of the rounds' ratios: this machine's speed 
 over minutes, and runs seconds apart drift together. Rates are medians of the rounds.
 Above 1 the efficiency would say we trace faster than single-ray Embree (packets);
 below, the gap is our shading and overhead.
+
+--packets on|off renders once on one thread, camera packets on or off, for callgrind to
+count what Embree spends per camera ray: the measurements behind the packet choice
+(native/src/integrator/sampler.cpp, choose_packets; docs/notes/performance_reading.md):
+
+    valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*RenderJob::trace*' \\
+        blender -b --factory-startup --addons whitted SCENE.blend \\
+        --python scripts/perf_raw_embree.py -- --packets on [--lens 60] \\
+        [--resolution 480 270] [--aa 1]
+
+It prints the rays by type and the choice's inputs (instances in view per pixel). With
+`callgrind_annotate --inclusive=yes`, a packet's cost per camera ray is rtcIntersect4's
+instructions over the camera rays; a single ray's is rtcIntersect1's over all the rays
+it traced (camera, reflection, refraction, cut-outs) of the render with packets off,
+less the secondary rays' share at their cost in the render with packets on. A build
+with the choice sends packets only where the scene suits them, so measuring packets
+where it would not takes a build without it: 0160cf1 always sends them.
+--packets compare renders with packets and without (on --threads) and prints how many
+pixels differ, by how much, and where (x, y from the bottom-left, as RenderJob.inspect
+takes them).
 """
 
 import argparse
@@ -37,18 +57,20 @@ import hashlib
 import json
 import math
 import os
-import statistics
 import time
 
 import bpy
+
+# isort: split
+import numpy as np
 from whitted_tools.cli import script_args
 from whitted_tools.native_job import run_job
-from whitted_tools.timing import paired_ratios
+from whitted_tools.timing import median_or_none, paired_median
 
 
 def parse_args():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--json", required=True, help="write the results here")
+    parser.add_argument("--json", help="write the results here (required but with --packets)")
     parser.add_argument("--threads", type=int, default=0, help="0: Blender's setting")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-recorded", type=int, default=20_000_000)
@@ -57,7 +79,19 @@ def parse_args():
         action="store_true",
         help="only the renders of step 1 (to profile them: scripts/profile_trace.sh)",
     )
-    return parser.parse_args(script_args())
+    parser.add_argument(
+        "--packets",
+        choices=("on", "off", "compare"),
+        help="one render with camera packets on or off on one thread (callgrind), or both "
+        "compared pixel by pixel, instead of the measurements",
+    )
+    parser.add_argument("--lens", type=float, help="--packets: the camera's focal length (mm)")
+    parser.add_argument("--resolution", nargs=2, type=int, metavar=("W", "H"), help="--packets")
+    parser.add_argument("--aa", type=int, help="--packets: anti-aliasing samples per axis")
+    args = parser.parse_args(script_args())
+    if args.json is None and args.packets is None:
+        parser.error("--json is required (but with --packets)")
+    return args
 
 
 def export(threads):
@@ -99,8 +133,46 @@ def rate(job):
     return stats["rays"]["total"] / stats["trace_seconds"]
 
 
+def packets(args):
+    """--packets: one render with camera packets on or off, or both compared."""
+    scene = bpy.context.scene
+    if args.lens:
+        scene.camera.data.lens = args.lens
+    if args.resolution:
+        scene.render.resolution_x, scene.render.resolution_y = args.resolution
+    if args.aa:
+        scene.whitted.aa_samples = args.aa
+    # One thread for callgrind; the image is the same on any number.
+    native, frame = export(args.threads if args.packets == "compare" else 1)
+    settings = frame.settings
+    if args.packets == "compare":
+        compare_packets(native, frame, settings)
+        return
+    settings.packets = args.packets == "on"
+    stats = render(native, frame, settings).stats()
+    print("rays:", stats["rays"])
+    for key in ("camera_packets", "visible_instances", "instances_per_pixel"):
+        print(f"{key}:", stats.get(key, "(a build without the packet choice)"))
+
+
+def compare_packets(native, frame, settings):
+    """How many pixels the render with camera packets and the one without differ in."""
+    settings.packets = True
+    on = render(native, frame, settings).image()
+    settings.packets = False
+    off = render(native, frame, settings).image()
+    difference = np.abs(on - off).max(axis=-1)
+    rows, columns = np.nonzero(difference)
+    print(f"pixels differing: {rows.size} of {difference.size}, at most {difference.max():.4g}")
+    for y, x in list(zip(rows, columns, strict=True))[:10]:
+        print(f"  ({x}, {y}): packets {on[y, x]}, single rays {off[y, x]}")
+
+
 def main():
     args = parse_args()
+    if args.packets:
+        packets(args)
+        return
     native, frame = export(args.threads)
     settings = frame.settings
     warm_up = render(native, frame, settings)  # page in the BVHs, start the threads once
@@ -142,14 +214,11 @@ def main():
     single_image = image_sha256(single_job)
 
     def median(key):
-        values = [r[key] for r in rounds]
-        return None if None in values else statistics.median(values)
+        return median_or_none(r[key] for r in rounds)
 
     def paired(top, bottom):
         """The median of the rounds' ratios top / bottom."""
-        return statistics.median(
-            paired_ratios([r[top] for r in rounds], [r[bottom] for r in rounds])
-        )
+        return paired_median([r[top] for r in rounds], [r[bottom] for r in rounds])
 
     result = {
         "blender": bpy.app.version_string,

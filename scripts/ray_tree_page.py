@@ -19,6 +19,7 @@ from mathutils import Vector
 from whitted_tools import demo_scene
 from whitted_tools.blender import factory_scene
 from whitted_tools.cli import script_args
+from whitted_tools.pages import write_page
 
 COMMAND = (
     "blender -b --factory-startup --python scripts/ray_tree_page.py -- "
@@ -188,7 +189,7 @@ def _page(tree, args, image_rel):
         "brought, on what raising the depth or lowering the cutoff could still change.",
         "",
     ]
-    return "\n".join(lines)
+    return lines
 
 
 def main():
@@ -212,8 +213,7 @@ def main():
     tree = json.loads(scene.whitted.last_ray_tree)
     _overlay(scene, tree, image_path, image_path)
     image_rel = os.path.relpath(image_path, os.path.dirname(os.path.abspath(args.out)))
-    with open(args.out, "w", encoding="utf-8") as file:
-        file.write(_page(tree, args, image_rel))
+    write_page(args.out, _page(tree, args, image_rel))
     print(f"ray_tree_page: wrote {args.out} and {args.image}")
 
 

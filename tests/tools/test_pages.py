@@ -1,9 +1,11 @@
-"""whitted_tools.pages and cli without Blender: tables, headers, number formats, the
-arguments a script is given."""
+"""whitted_tools.pages, cli and blender without Blender: tables, headers, number formats,
+the arguments a script is given, the commands of child processes and their results."""
+
+import sys
 
 import pytest
 from whitted_tools import REPO
-from whitted_tools.blender import blender_command, bpy_command
+from whitted_tools.blender import blender_command, bpy_command, run_for_json, same_blender_command
 from whitted_tools.cli import page_parser, script_args
 from whitted_tools.pages import (
     command_line,
@@ -56,6 +58,9 @@ def test_number_formats():
 def test_write_page_ends_with_one_newline(tmp_path):
     path = write_page(tmp_path / "docs" / "PAGE.md", ["# Title", "", "text"])
     assert path.read_text(encoding="utf-8") == "# Title\n\ntext\n"
+    # A page whose sections each end with an empty line still ends with one newline.
+    write_page(path, ["# Title", "", "text", "", ""])
+    assert path.read_text(encoding="utf-8") == "# Title\n\ntext\n"
 
 
 @pytest.mark.parametrize(
@@ -96,3 +101,25 @@ def test_page_parser_takes_out_and_the_repeats_it_is_given():
     assert not hasattr(page_parser(doc).parse_args(["--out", "d"]), "repeats")
     with pytest.raises(SystemExit):
         page_parser(doc).parse_args([])  # --out is required
+
+
+def test_run_for_json_hands_back_what_the_child_wrote_or_why_not(tmp_path):
+    out = tmp_path / "figures.json"
+    write = f"import json; json.dump({{'seconds': 1.5}}, open({str(out)!r}, 'w'))"
+    assert run_for_json([sys.executable, "-c", write], out, timeout=60) == ({"seconds": 1.5}, None)
+    figures, problem = run_for_json([sys.executable, "-c", "raise SystemExit(3)"], out, 60)
+    assert figures is None
+    assert problem.startswith("failed (exit 3 after ")
+
+
+def test_same_blender_command_runs_the_script_in_the_blender_that_asks():
+    inside = ["/opt/blender/blender", "-b", "--python", "s.py", "--", "--x"]
+    assert same_blender_command("c.py", "--n", 2, argv=inside) == blender_command(
+        "c.py", "--n", 2, blender="/opt/blender/blender"
+    )
+    assert same_blender_command("c.py", "--n", 2, argv=["s.py"]) == [
+        sys.executable,
+        "c.py",
+        "--n",
+        "2",
+    ]

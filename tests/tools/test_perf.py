@@ -16,7 +16,7 @@ from whitted_tools.perf.figures import (
     writeback_per_hd_pass,
 )
 from whitted_tools.perf.measure import Measurement, SceneResults, Suite
-from whitted_tools.perf.page import embree_details
+from whitted_tools.perf.page import embree_details, embree_runs
 from whitted_tools.perf.plan import quick_plan
 
 
@@ -138,3 +138,12 @@ def test_raw_embree_details_show_shading_alone_and_the_efficiency_before(before)
     assert ("| 0.25 | 2.00x |" in row) == (before is not None)
     # Shading 250 ns and traversal 250 ns a ray (2 threads at 8 Mrays/s each), Whitted 500.
     assert "| demo | 96x54 | 500 | 250 | 250 | 500 | 50% |" in lines
+
+
+def test_embree_runs_walk_only_the_measurements_made():
+    suite = Suite(quick_plan(), "blender", "python", Path("/tmp"), Path("/tmp"), 0.0)
+    made, missing = SceneResults("demo"), SceneResults("glass8")
+    made.embree["tiny"] = Measurement(runs=[embree_run(0.5)])
+    missing.embree["tiny"] = Measurement(missing="timed out")
+    walked = list(embree_runs(suite, [made, missing]))
+    assert walked == [(made, "tiny", (96, 54), made.embree["tiny"].runs)]

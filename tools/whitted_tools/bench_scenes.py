@@ -1,7 +1,6 @@
 """The benchmark scenes, built with bpy (Blender 3.4 and 5.0): the performance suite's
 (scripts/perf_scenes.py, bench_performance.py, bench_memory.py, bench_viewport.py),
-the cost report's (scripts/cost_scenes.py, accuracy_cost.py) and the instancing
-benchmark's (scripts/bench_instances.py).
+and the cost report's (scripts/cost_scenes.py, accuracy_cost.py).
 
     demo       the demo scene (whitted_tools.demo_scene)
     million    the demo's layout with about `triangles` (default 1,000,000) triangles:
@@ -498,7 +497,7 @@ def _textured(name, image):
 
 def build_instance_grid(scene, count, resolution):
     """`count` ico spheres on a square grid of points by geometry nodes, an orthographic
-    camera above, a sun: every instance shares the one mesh."""
+    camera above, a sun: every instance shares the one mesh (build_instances' start)."""
     side = math.ceil(math.sqrt(count))
     spacing = 1.0
     u = (np.arange(side) - (side - 1) / 2.0) * spacing

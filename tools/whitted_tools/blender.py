@@ -4,6 +4,7 @@ The command lists are plain data (tested without Blender); enable_addon imports
 Blender's addon_utils when called, so this module imports anywhere.
 """
 
+import json
 import os
 import shlex
 import signal
@@ -13,6 +14,7 @@ import time
 from pathlib import Path
 
 from whitted_tools import REPO
+from whitted_tools.cli import inside_blender_binary
 
 VENV_PYTHON = REPO / ".venv" / "bin" / "python"
 ADDON = "whitted"
@@ -57,7 +59,8 @@ def addon_env(addon_dir, root):
 def run_process(command, timeout, env=None):
     """(output, None) or (None, why it failed): stdout and stderr together. A process
     past its timeout is killed with its process group (POV-Ray runs as Blender's
-    child). `env`: the process's environment (default: this one's)."""
+    child); `timeout` None waits for it however long it takes. `env`: the process's
+    environment (default: this one's)."""
     print(f"  $ {shlex.join(map(str, command))}", flush=True)
     started = time.perf_counter()
     with subprocess.Popen(
@@ -79,6 +82,24 @@ def run_process(command, timeout, env=None):
     if process.returncode != 0:
         return None, failure(process.returncode, seconds, output)
     return output, None
+
+
+def run_for_json(command, json_path, timeout, env=None):
+    """(the JSON the process wrote to json_path, None) or (None, why it failed): a
+    child that measures something and hands its figures back in a file."""
+    _, problem = run_process(command, timeout, env=env)
+    if problem:
+        return None, problem
+    return json.loads(Path(json_path).read_text(encoding="utf-8")), None
+
+
+def same_blender_command(script, *args, argv=None):
+    """The command that runs `script` in the Blender this process is (`argv`: its
+    sys.argv): the Blender binary that runs it, or this Python with the bpy module."""
+    argv = sys.argv if argv is None else argv
+    if inside_blender_binary(argv):
+        return blender_command(script, *args, blender=argv[0])
+    return bpy_command(script, *args, python=sys.executable)
 
 
 def failure(returncode, seconds, output):

@@ -157,7 +157,7 @@ def write_markdown(out_dir):
                 "",
             ]
     lines += _third_party_lines(base)
-    write_page(Path(out_dir) / "MATERIALS.md", lines[:-1] if lines[-1] == "" else lines)
+    write_page(Path(out_dir) / "MATERIALS.md", lines)
 
 
 def _third_party_lines(base):

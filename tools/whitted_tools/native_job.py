@@ -1,7 +1,7 @@
 """A native render job run to its end by a benchmark, outside the add-on's engine.
 
-bpy-free: the scripts that drive the bindings alone (bench_builds, bench_shadow_scenes)
-use it as well as those inside Blender (perf_raw_embree, perf_packets, bench_effects).
+bpy-free: the benchmark that drives the bindings alone (whitted_tools.builds) uses it as
+well as the scripts inside Blender (perf_raw_embree, bench_effects).
 """
 
 

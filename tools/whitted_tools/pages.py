@@ -31,13 +31,17 @@ def machine_lines():
     processors = sum(1 for line in cpuinfo if line.startswith("processor"))
     meminfo = Path("/proc/meminfo").read_text().split()
     memory_gib = int(meminfo[meminfo.index("MemTotal:") + 1]) / 1024 / 1024
-    load = ", ".join(f"{value:.2f}" for value in os.getloadavg())
     return [
         f"- CPU: {field_of('model name')}, {processors} logical processors "
         f"({field_of('cpu cores')} cores per package, {field_of('siblings')} siblings); "
         f"{memory_gib:.1f} GiB memory; {platform.system()} {platform.release()}",
-        f"- Load average when the page was written (1, 5, 15 min): {load}",
+        f"- Load average when the page was written (1, 5, 15 min): {load_text()}",
     ]
+
+
+def load_text(loads=None):
+    """The load average (1, 5, 15 min; default: now) as "0.52, 0.61, 0.70"."""
+    return ", ".join(f"{value:.2f}" for value in (loads or os.getloadavg()))
 
 
 def table(header, rows, align=None):
@@ -55,10 +59,11 @@ def table(header, rows, align=None):
 
 
 def write_page(path, lines):
-    """Write the page's lines (one newline at the end) and say where."""
+    """Write the page's lines, making its folder, and say where: every page of docs/
+    goes through here. Empty lines at the end are dropped: one newline ends the page."""
     path = Path(path).resolve()
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    path.write_text("\n".join(lines).rstrip("\n") + "\n", encoding="utf-8")
     print(f"wrote {path}", flush=True)
     return path
 

@@ -1,4 +1,5 @@
-"""Clocks and memory of the process a benchmark runs in."""
+"""Clocks and memory of the process a benchmark runs in, and the statistics every
+benchmark page takes of its repeats: medians and paired ratios, each defined here once."""
 
 import resource
 import statistics
@@ -35,6 +36,11 @@ def paired_ratios(numerators, denominators):
     if len(numerators) != len(denominators) or not numerators:
         raise ValueError("paired ratios need the same number of timings on each side, not 0")
     return [n / d for n, d in zip(numerators, denominators, strict=True)]
+
+
+def paired_median(numerators, denominators):
+    """The median of the paired ratios: the one figure a benchmark quotes for them."""
+    return statistics.median(paired_ratios(numerators, denominators))
 
 
 def spread_text(values):

@@ -740,7 +740,7 @@ class Kernel {
   // Out of line, and light_sample and prepare_sample always inlined: as GCC chose, the
   // lamps' feelers went through calls that cost a scene without emitters 6% more of
   // Whitted's own instructions (85.2 M before emitters, 90.5 M; now 88.3 M: callgrind,
-  // bench_builds.py --small).
+  // python -m whitted_tools.builds --small).
   [[gnu::noinline]] void emitters(const ShadingPoint& p, const GlossyRays& rays,
                                   const NodeState& state, RayCounts* counts, NodeTerms* terms,
                                   Color* phong) const {
@@ -1002,7 +1002,7 @@ class Kernel {
   // of the light arrives, for a light that casts no shadows, or when pruning finds that
   // the light, lit or not, cannot change the pixel by the cutoff.
   // Flattened: with two callers of prepare_sample, GCC stopped inlining spawn_ray here,
-  // which cost the one-sample path about 1% (callgrind, bench_builds --small).
+  // which cost the one-sample path about 1% (callgrind, whitted_tools.builds --small).
   [[gnu::flatten]] bool shadow(const ShadingPoint& p, const Feeler& feeler, const LightSample& ls,
                                const Color& unshadowed, const NodeState& state, RayCounts* counts,
                                Ray* ray) const {

@@ -1,12 +1,12 @@
 """Figures derived from the measurements, and the targets they are judged against
 (pure functions of the JSON each render wrote: tested without Blender)."""
 
-import statistics
 from dataclasses import dataclass
 
 from whitted_tools.pages import ratio, scale, size_label
 from whitted_tools.perf.measure import Measurement
 from whitted_tools.perf.plan import MAIN_SCENES
+from whitted_tools.timing import paired_median
 
 HD_PIXELS = 1920 * 1080
 MIB = 1024.0 * 1024.0
@@ -59,12 +59,12 @@ def speedup(scaling, name, getter):
     the ratio of the medians."""
     one, two = (scaling["threads"][name][n] for n in (1, 2))
     if one.runs and len(one.runs) == len(two.runs):
-        ratios = []
-        for a, b in zip(one.runs, two.runs, strict=True):
-            x, y = getter(Measurement(runs=[a])), getter(Measurement(runs=[b]))
-            if x is not None and y:
-                ratios.append(x / y)
-        return statistics.median(ratios) if ratios else None
+        pairs = [
+            (getter(Measurement(runs=[a])), getter(Measurement(runs=[b])))
+            for a, b in zip(one.runs, two.runs, strict=True)
+        ]
+        pairs = [(x, y) for x, y in pairs if x is not None and y]
+        return paired_median(*zip(*pairs, strict=True)) if pairs else None
     x, y = getter(one), getter(two)
     return None if x is None or not y else x / y
 

@@ -2,17 +2,21 @@
 (scripts/perf_render.py, scripts/perf_raw_embree.py), scene files and results cached
 by configuration, figures the medians of the repeats."""
 
-import json
-import statistics
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from whitted_tools import SCRIPTS
-from whitted_tools.blender import addon_env, blender_command, bpy_command, run_process
+from whitted_tools.blender import (
+    addon_env,
+    blender_command,
+    bpy_command,
+    run_for_json,
+    run_process,
+)
 from whitted_tools.pages import size_label
 from whitted_tools.perf.plan import MAIN_SCENES, Plan
-from whitted_tools.timing import progress
+from whitted_tools.timing import median_or_none, progress
 
 
 def build_scene(name, path, resolution, timeout, blender="blender", extra=()):
@@ -36,12 +40,7 @@ class Measurement:
 
     def median(self, getter):
         """Median over the repeats of getter(run); None when no run has the value."""
-        values = []
-        for run in self.runs:
-            value = getter(run)
-            if value is not None:
-                values.append(value)
-        return statistics.median(values) if values else None
+        return median_or_none(getter(run) for run in self.runs)
 
     def whitted(self, *keys):
         """Median of run["whitted"][keys[0]][keys[1]]..."""
@@ -165,13 +164,13 @@ class Suite:
                     command = bpy_command(script, "--blend", blend, *options, python=self.python)
                 else:
                     command = self.in_blender(script, blend, *options)
-                _, problem = run_process(command, timeout)
+                run, problem = run_for_json(command, out, timeout)
                 if problem:
                     measurement.missing = problem
                     where = f"{scene[0]} at {size_label(resolution)}"
                     self.problems.append(f"{engine} on {where}: {problem}")
                     continue
-                measurement.runs.append(json.loads(out.read_text()))
+                measurement.runs.append(run)
         return measurements
 
     def in_blender(self, script, blend, *args):
@@ -203,14 +202,14 @@ class Suite:
                 SCRIPTS / "perf_raw_embree.py", blend, "--json", out, "--repeats", repeats
             )
             env = addon_env(self.before, self.workdir / "before") if before else None
-            _, problem = run_process(command, self.plan.timeouts["EMBREE"], env=env)
+            run, problem = run_for_json(command, out, self.plan.timeouts["EMBREE"], env=env)
             if problem:
                 measurement.missing = problem
                 where = f"{scene[0]} at {size_label(resolution)}"
                 build = " (before)" if before else ""
                 self.problems.append(f"raw Embree{build} on {where}: {problem}")
             else:
-                measurement.runs.append(json.loads(out.read_text()))
+                measurement.runs.append(run)
         self.results[key] = measurement
         return measurement
 
