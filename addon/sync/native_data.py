@@ -148,8 +148,8 @@ def native_texture(native, texture):
 
 
 def _native_visibility(native, visibility):
-    # RayVisibility's fields as an int of whitted_native.Visibility flags.
-    flags = native.Visibility
+    # RayVisibility's fields as an int of whitted_native.RayVisibility flags.
+    flags = native.RayVisibility
     return (
         (flags.CAMERA if visibility.camera else 0)
         | (flags.SHADOW if visibility.shadow else 0)

@@ -13,7 +13,7 @@ void set_native_mesh(Scene& scene, const std::string& name, Mesh mesh) {
 }  // namespace
 
 void bind_scene(py::module_& m) {
-  py::enum_<RayKind>(m, "Visibility", py::arithmetic(),
+  py::enum_<RayKind>(m, "RayVisibility", py::arithmetic(),
                      "Kinds of ray an instance is visible to; combine with |.")
       .value("CAMERA", kCameraRay)
       .value("SHADOW", kShadowRay)
@@ -94,7 +94,7 @@ void bind_scene(py::module_& m) {
           py::arg("motion") = std::vector<py::object>{},
           py::arg("links") = std::make_tuple(uint8_t{0}, uint8_t{0}, kAllLightSets, kAllLightSets),
           "transform: 4x4 row-major object to world; materials: material name per slot "
-          "('' for the default material); visibility: Visibility flags of the rays that see "
+          "('' for the default material); visibility: RayVisibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
           "Object Info node reads, (x, y, z location, random, pass index, r, g, b, a colour) "
           "(None: the transform's location, random 0, index 0, white); cryptomatte: its "

@@ -87,7 +87,9 @@ def test_an_emissive_mesh_lights_the_floor_and_the_report_names_it():
         )
         assert glow.emission_sampling == getattr(wn.EmissionSampling, sampling)
         scene.set_material("glow", glow)
-        scene.set_instance("panel", "panel", np.eye(4), ["glow"], visibility=wn.Visibility.SHADOW)
+        scene.set_instance(
+            "panel", "panel", np.eye(4), ["glow"], visibility=wn.RayVisibility.SHADOW
+        )
         job = wn.RenderJob(scene, wn.Settings(width=8, height=8, emitter_samples=3))
         image = finish(job)
         decision = next(

@@ -53,7 +53,7 @@ def test_instance_visibility_flags_and_holdout():
     scene.background = (0.5, 0.5, 0.5)
     scene.camera = looking_down(5.0, 0.1)  # inside the plane
     settings = wn.Settings(width=2, height=2, transparent_background=True)
-    hidden = wn.Visibility.SHADOW | wn.Visibility.REFLECTION
+    hidden = wn.RayVisibility.SHADOW | wn.RayVisibility.REFLECTION
     scene.set_instance("plane", "plane", np.eye(4), ["glow"], visibility=hidden)
     image = finish(wn.RenderJob(scene, settings))
     np.testing.assert_array_equal(image, 0.0)  # unseen plane, transparent film

@@ -41,7 +41,12 @@ def _glossy(s, out):
     ):
         s.c.warn(node, "anisotropy is not supported; the lobe is round (isotropic)")
     _warn_microfacet_distribution(s, node)
+    return _metal(s, out, color, roughness, s.glossy and node.distribution == "MULTI_GGX")
+
+
+def _metal(s, out, color, roughness, multiscatter=False):
     # A glossy reflector of colour C is a metal of base colour C.
+    b = s.b
     fields = whitted_fields(
         b,
         base=color,
@@ -51,12 +56,7 @@ def _glossy(s, out):
         transmission=b.f(0.0),
         glossy=s.glossy,
     )
-    return s.closure(
-        normal=s.normal(out),
-        highlight=True,
-        multiscatter=s.glossy and node.distribution == "MULTI_GGX",
-        **fields,
-    )
+    return s.closure(normal=s.normal(out), highlight=True, multiscatter=multiscatter, **fields)
 
 
 def _warn_microfacet_distribution(s, node):
@@ -145,19 +145,8 @@ def _toon(s, out):
     if node.component == "DIFFUSE":
         return _lambert_of_color("a diffuse Toon BSDF")(s, out)
     s.c.warn(node, "a glossy Toon BSDF is approximated as a Glossy BSDF of roughness Size")
-    b = s.b
     color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
-    roughness = s.scalar(out, ("Size",), 0.5)
-    fields = whitted_fields(
-        b,
-        base=color,
-        metallic=b.f(1.0),
-        roughness=roughness,
-        f0=b.const((0.0, 0.0, 0.0), COLOR),
-        transmission=b.f(0.0),
-        glossy=s.glossy,
-    )
-    return s.closure(normal=s.normal(out), highlight=True, **fields)
+    return _metal(s, out, color, s.scalar(out, ("Size",), 0.5))
 
 
 def _mix_shader(s, out):
