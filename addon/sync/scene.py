@@ -185,10 +185,14 @@ class SceneSync:
         if self._materials_touched(changes, params):
             self._sync_materials(depsgraph, changes, params, report, warnings)
         # Light linking is the whole scene's: when it changes, every instance may change.
-        links = light_links(depsgraph.objects)
-        relinked = links != self._links
-        self._links = links
-        warnings.extend(links.warnings())
+        # Reading it visits every object (44 ms for 10,000 in Blender 5.2), so an update
+        # that only moved objects or edited materials, lights or the world keeps it.
+        relinked = False
+        if _may_relink(changes):
+            links = light_links(depsgraph.objects)
+            relinked = links != self._links
+            self._links = links
+        warnings.extend(self._links.warnings())
         if (
             relinked
             or self._needs_walk(changes, params)
@@ -514,6 +518,15 @@ class SceneSync:
                 self.scene.set_world(program, world.output, world.ambient_strength)
             self._world = world
             report.world = True
+
+
+def _may_relink(changes):
+    """Whether an update (None: a full sync) may change light linking: a collection's
+    members or their include/exclude state, objects added or removed, or an object's
+    own Light Linking collections (an object update that is not a move)."""
+    if changes is None or changes.structure or changes.scene:
+        return True
+    return bool(changes.objects - changes.transformed)
 
 
 def _reshaped(object_instance, key, changes):
