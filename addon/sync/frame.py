@@ -66,7 +66,10 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
     motion = sample_motion(frame_set, depsgraph, shutter) if shutter is not None else None
     scene = depsgraph.scene
     camera_warnings = []
-    camera = convert_camera(scene.camera, scene.render, camera_warnings)
+    # The camera as this depsgraph evaluated it: the scene's pointer is the original
+    # object, which a background render (`blender -b FILE -f N`) never moves to frame N.
+    camera_object = scene.camera.evaluated_get(depsgraph) if scene.camera is not None else None
+    camera = convert_camera(camera_object, scene.render, camera_warnings)
     if motion is not None:
         camera = replace(
             camera,
