@@ -59,6 +59,9 @@ def scenes(tmp_path_factory):
     reference = folder / "reference"
     reference.mkdir()
     run(blender_args(str(folder / "anim.blend"), str(reference / "####"), "1..6"))
+    # The camera moves: a background render reads it as evaluated at each frame.
+    first, last = (pixels(reference / f"{frame:04d}.exr") for frame in (1, 6))
+    assert not identical(first, last)
     return folder
 
 
@@ -135,6 +138,38 @@ def children(pid):
     return found
 
 
+def rendering_blenders(pid):
+    """Pids of the farm Blenders, children of worker `pid`, that are rendering a frame
+    (scripts/farm.py keeps each one's log, emptied before each frame, beside it)."""
+    found = []
+    for child in children(pid):
+        try:
+            argv = (Path("/proc") / str(child) / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if b"--serve" not in argv:
+            continue
+        script = Path(argv[argv.index(b"--python") + 1].decode())
+        for log in script.parent.glob("blender-*/blender.log"):
+            if "Fra:" in log.read_text(errors="replace"):
+                found.append(child)
+                break
+    return found
+
+
+def kill_when_rendering(farm, pid, kill_worker):
+    """SIGKILL worker `pid` (kill_worker) or its Blender as soon as that Blender is
+    rendering; True when it happened before the farm ended."""
+    deadline = time.time() + 120
+    while farm.poll() is None and time.time() < deadline:
+        blenders = rendering_blenders(pid)
+        if blenders:
+            os.kill(pid if kill_worker else blenders[0], signal.SIGKILL)
+            return True
+        time.sleep(0.01)
+    return False
+
+
 def report(folder):
     return json.loads((folder / "farm_report.json").read_text())
 
@@ -155,20 +190,11 @@ def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, clus
     ]
     farm = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     victim = cluster["workers"][0]
-    # Kill worker 0 with SIGKILL while it is rendering a frame (its Blender is running).
-    killed_mid_frame = False
-    deadline = time.time() + 120
-    while farm.poll() is None and time.time() < deadline:
-        if children(victim.pid):
-            time.sleep(0.3)  # well into the frame: Blender takes seconds to start
-            if children(victim.pid):
-                victim.send_signal(signal.SIGKILL)
-                killed_mid_frame = True
-                break
-        time.sleep(0.02)
+    # Kill worker 0 with SIGKILL while its Blender is rendering a frame of a task.
+    killed_mid_frame = kill_when_rendering(farm, victim.pid, kill_worker=True)
     output, _ = farm.communicate(timeout=300)
     print(output)
-    assert killed_mid_frame, "worker 0 never ran a Blender while the farm ran"
+    assert killed_mid_frame, "worker 0's Blender never rendered while the farm ran"
     assert victim.wait(timeout=10) == -signal.SIGKILL
     assert farm.returncode == 0, output
     for frame in FRAMES:
@@ -178,6 +204,8 @@ def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, clus
     first = report(out)
     assert first["status"] == "done" and first["rendered"] == 6
     assert "dashboard http://" in output
+    # Blender stayed warm: each worker's first frame started its Blender, no other did.
+    assert sum(f["started_blender"] for f in first["frames"].values()) <= 2, first["frames"]
 
     # The same command again: everything is there, nothing is rendered.
     mtimes = {p.name: p.stat().st_mtime_ns for p in out.glob("*.exr")}
@@ -185,6 +213,29 @@ def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, clus
     assert "6 frames, 0 to render" in again.stdout, again.stdout
     assert {p.name: p.stat().st_mtime_ns for p in out.glob("*.exr")} == mtimes
     assert report(out)["rendered"] == 0 and report(out)["skipped"] == 6
+
+
+def test_a_crashed_blender_loses_only_its_frame(scenes, cluster, tmp_path):
+    """A warm Blender killed mid-chunk: the frame it was rendering is retried, the
+    chunk's next frames start a fresh Blender on the same worker."""
+    out = tmp_path / "crash"
+    command = [*FARM, str(scenes / "anim.blend"), "--frames", "1-6", "--chunk", "3"]
+    command += ["--scheduler", cluster["address"], "--output", str(out)]
+    farm = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    worker = cluster["workers"][1]
+    killed = kill_when_rendering(farm, worker.pid, kill_worker=False)
+    output, _ = farm.communicate(timeout=300)
+    print(output)
+    assert killed, "the worker's Blender never rendered while the farm ran"
+    assert farm.returncode == 0, output
+    assert worker.poll() is None
+    for frame in FRAMES:
+        got = pixels(out / f"{frame:04d}.exr")
+        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr")), frame
+    frames = report(out)["frames"].values()
+    retried = [f for f in frames if f["attempts"] > 1]
+    assert len(retried) == 1, frames
+    assert "Blender killed by signal 9" in retried[0]["retry_reasons"][0], retried
 
 
 def test_tiles_stitch_into_the_single_machine_frame(scenes, cluster, tmp_path):
@@ -236,23 +287,17 @@ def test_a_failing_scene_is_retried_then_reported_failed(scenes, cluster, tmp_pa
     assert "FAILED frame 1" in result.stdout
 
 
-def test_local_cluster_by_default(scenes, tmp_path):
+@pytest.mark.parametrize("cold", [False, True], ids=["warm", "cold"])
+def test_local_cluster_by_default(scenes, tmp_path, cold):
     out = tmp_path / "local"
-    run(
-        [
-            *FARM,
-            str(scenes / "anim.blend"),
-            "--frames",
-            "2-3",
-            "--workers",
-            "2",
-            "--output",
-            str(out),
-        ]
-    )
-    for frame in (2, 3):
+    command = [*FARM, str(scenes / "anim.blend"), "--frames", "2-5", "--workers", "2"]
+    run([*command, "--output", str(out), *(["--cold"] if cold else [])])
+    for frame in (2, 3, 4, 5):
         got = pixels(out / f"{frame:04d}.exr")
         assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr"))
+    # Warm: a Blender per worker; cold: a Blender per frame.
+    started = sum(f["started_blender"] for f in report(out)["frames"].values())
+    assert started == 4 if cold else started <= 2
 
 
 def test_farms_we_do_not_drive_see_a_failed_frame(scenes, tmp_path):
