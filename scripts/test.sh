@@ -106,8 +106,9 @@ step_versions() {
 }
 
 # The farm (tests/farm): scripts/farm.py on a real Dask cluster (a scheduler and two
-# worker processes on 127.0.0.1), a worker killed mid-frame, tiles, a failing scene,
-# and the exit code Whitted gives farms it does not drive.
+# worker processes on 127.0.0.1), a worker and a warm Blender killed mid-frame, tiles,
+# a failing scene, warm against cold, the exit code Whitted gives farms it does not
+# drive and the Flamenco job type that relies on it (its commands, compiled by node).
 step_farm() { limited "$VENV/bin/python" -m pytest tests/farm -q -p no:cacheprovider; }
 
 # The Rendered viewport in real Blender 3.4 windows under Xvfb: pytest runs outside
