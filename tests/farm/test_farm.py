@@ -1,6 +1,7 @@
 """scripts/farm.py on a real Dask cluster of separate processes (a `dask scheduler` and
 two `dask worker` processes over TCP on 127.0.0.1), and the failure signal Whitted
-gives farms it does not drive.
+gives farms it does not drive, and the Flamenco job type that uses it
+(tools/flamenco/whitted_render.js: compiled by node, its commands run here).
 
     .venv/bin/python -m pytest tests/farm -q
 
@@ -9,6 +10,8 @@ Renders with Blender 3.4 and the development install (scripts/setup.sh links it)
 
 import json
 import os
+import shlex
+import shutil
 import signal
 import subprocess
 import time
@@ -341,3 +344,56 @@ def test_farms_we_do_not_drive_see_a_failed_frame(scenes, tmp_path):
     ]
     assert run(good, env={**env, "WHITTED_EXIT_ON_ERROR": "1"}).returncode == 0
     assert json.loads(stats.read_text())["status"] == "ok"
+
+
+def flamenco_tasks(settings):
+    """The tasks tools/flamenco/whitted_render.js makes of a job with `settings`
+    (compiled by node, tests/farm/flamenco_compile.js)."""
+    compiler = Path(__file__).with_name("flamenco_compile.js")
+    job_type = REPO_ROOT / "tools" / "flamenco" / "whitted_render.js"
+    result = run(["node", str(compiler), str(job_type), json.dumps(settings)])
+    return json.loads(result.stdout)["tasks"]
+
+
+def flamenco_command(command, blender="blender", blender_args="-b -y"):
+    """The command line a Flamenco worker runs for a blender-render command: the
+    executable, its arguments ({blenderArgs}, shell-split), argsBefore, the blend
+    file, args (Flamenco's internal/worker/command_blender.go)."""
+    parameters = command["parameters"]
+    assert command["name"] == "blender-render"
+    assert (parameters["exe"], parameters["exeArgs"]) == ("{blender}", "{blenderArgs}")
+    return [
+        blender,
+        *shlex.split(blender_args),
+        *parameters["argsBefore"],
+        parameters["blendfile"],
+        *parameters["args"],
+    ]
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="needs node to run the job type")
+def test_the_flamenco_job_type_renders_chunks_and_fails_a_broken_frame(scenes, tmp_path):
+    settings = {
+        "frames": "1-6",
+        "chunk_size": 4,
+        "render_output_path": str(tmp_path / "out" / "{timestamp}" / "######"),
+        "blendfile": str(scenes / "anim.blend"),
+        "format": "OPEN_EXR",
+    }
+    tasks = flamenco_tasks(settings)
+    assert [task["name"] for task in tasks] == ["render-1-4", "render-5,6"]
+    for task in tasks:
+        (command,) = task["commands"]
+        run(flamenco_command(command))
+    out = tmp_path / "out" / "2024-01-02_030405"
+    assert sorted(p.name for p in out.iterdir()) == [f"{f:06d}.exr" for f in FRAMES]
+    for frame in FRAMES:
+        # The scene's EXR is half float: the reference's float frame, rounded.
+        got = pixels(out / f"{frame:06d}.exr")
+        reference = pixels(scenes / "reference" / f"{frame:04d}.exr")
+        assert np.allclose(got, reference, rtol=2e-3, atol=2e-3), frame
+
+    broken = flamenco_tasks({**settings, "blendfile": str(scenes / "broken.blend")})
+    failed = run(flamenco_command(broken[0]["commands"][0]), ok=False)
+    assert failed.returncode == 3, failed.stdout[-2000:]
+    assert "Whitted: RENDER FAILED: frame 1:" in failed.stderr
