@@ -53,7 +53,9 @@ def farm_run(blend, frames, workers, mode, out):
         "seconds": seconds,
         "fpm": frames / seconds * 60,
         "whitted_per_frame": whitted / frames,
-        "overhead_per_frame": (seconds - whitted) / frames,
+        # The workers' time not spent in Whitted, per frame (with 1 worker: the wall
+        # time per frame less Whitted's).
+        "overhead_per_frame": (seconds * workers - whitted) / frames,
         "next_frame_overhead": warm[len(warm) // 2] if warm else None,
         "blenders_started": sum(e["started_blender"] for e in entries),
     }
@@ -179,7 +181,8 @@ def page_lines(args, sizes, scheduler, load_before):
         "- **cold**: a fresh Blender for every frame (`blender -b scene.blend ... -f N`, as",
         "  the farm did before): start-up and loading the file every frame.",
         "- *Whitted s/frame*: the engine's own `render()` time per frame (its statistics);",
-        "  *overhead s/frame*: the command's wall time per frame less that; *next frame*:",
+        "  *overhead s/frame*: the workers' time (the command's wall time times the workers)"
+        "\n  per frame less that; *next frame*:",
         "  the median, over frames rendered by a Blender already running, of the worker's",
         "  time for the frame less Whitted's (what one more frame costs besides rendering).",
         "",
@@ -214,8 +217,13 @@ def page_lines(args, sizes, scheduler, load_before):
         f"({large['size'][0]} x {large['size'][1]}): {large_ratio:.2f}x the frames per minute "
         f"(target at least 1.6x: {'met' if scaling_ok else 'missed'}); "
         f"small frames: {small_ratio:.2f}x.",
-        "  The once-per-run start-up is not shared out by a second worker; on this shared",
-        "  machine the other processes' load also takes from the second core.",
+        "  The once-per-run start-up is not shared out by a second worker, and Whitted's own",
+        f"  time per frame was {warm_large['whitted_per_frame']:.2f} s on 1 worker and "
+        f"{run_of(large, 2, 'warm')['whitted_per_frame']:.2f} s on 2",
+        "  (small frames: "
+        f"{small_warm['whitted_per_frame']:.2f} s and "
+        f"{run_of(small, 2, 'warm')['whitted_per_frame']:.2f} s): where it grows, the two",
+        "  workers did not have two cores to themselves (see the load above).",
         "",
         "## The scheduler's cost per task",
         "",
