@@ -56,6 +56,9 @@ APT_PACKAGES=(
   # scripts/gallery_materials.py's third-party scenes: real glTF, OBJ and Collada models
   # made by other people, under /usr/share/assimp/models
   assimp-testmodels
+  # tests/farm: the Flamenco job type (tools/flamenco/whitted_render.js) compiled and
+  # its command lines generated as a Flamenco Manager would
+  nodejs
 )
 
 # --- step bookkeeping: each step prints its duration, or how it failed ---------
