@@ -46,17 +46,13 @@ struct RayCounts {
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
 // product of the sigma_r/sigma_t along the way; for a ray drawn from a glossy lobe, the
-// whole lobe's, which its n^2 rays share), and the media it is inside.
-// `throughput` is that weight times the coverage of the cut-outs on the way: kept only
-// by the kernels that record passes (elsewhere it stays 1). Named for the node of the
-// ray tree it describes, beside NodeTerms (passes.h), what that node adds: a Whitted
-// ray tree branches, so it is no path; the inspector's record of a traced ray is
-// RayTreeNode (ray_tree.h).
+// whole lobe's, which its n^2 rays share), and the media it is inside. Named for the
+// node of the ray tree it describes: a Whitted ray tree branches, so it is no path; the
+// inspector's record of a traced ray is RayTreeNode (ray_tree.h).
 struct NodeState {
   int depth = 0;
   Color weight{1.0f};
   MediumStack media;
-  Color throughput{1.0f};
   int glossy = 0;  // glossy bounces on the way here (Settings::glossy_samples)
   // Where the strata of glossy rays start: the camera sample's seed (sampler.cpp), mixed
   // at each glossy bounce with the ray's index, so each branch has its own.
@@ -76,8 +72,8 @@ class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
   // `log`, when given, takes the queries made while it is active (records them, or
-  // answers them in a replay: recorder.h); `tree`, when given,
-  // every ray and term of what is traced (the inspector: slower, never for renders).
+  // answers them in a replay: recorder.h); `tree`, when given, receives every ray and
+  // term of what is traced (the inspector: slower, never for renders).
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
                     const Camera& camera = Camera{}, RayLog* log = nullptr,
                     RayTree* tree = nullptr);
