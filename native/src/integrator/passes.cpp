@@ -112,24 +112,23 @@ void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& su
 
 void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission,
                          const Color& ambient, const Color& total) {
-  terms_.emission = emission;
-  terms_.ambient = ambient;
-  terms_.total = total;
-  terms_.diffuse_color = p.base * p.surface.diffuse;
-  terms_.specular_color = p.base * p.surface.specular + Color(p.coat.highlight);
   if (contributions_) {
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
-        throughput_ * terms_.total;
+        throughput_ * total;
   }
   if (depth == 0 && light_) {  // deeper nodes are in the camera hit's indirect terms
-    record_->emission += throughput_ * terms_.emission;
-    record_->diffuse_direct += throughput_ * terms_.diffuse;
-    record_->diffuse_indirect += throughput_ * terms_.ambient;
-    record_->diffuse_color += throughput_ * terms_.diffuse_color;
-    record_->glossy_direct += throughput_ * terms_.specular;
-    record_->glossy_color += throughput_ * terms_.specular_color;
+    // kd and ks, under a coat times what it lets through; the coat's highlight is specular.
+    const Color diffuse_color = p.base * p.surface.diffuse;
+    const Color specular_color = p.base * p.surface.specular + Color(p.coat.highlight);
+    record_->emission += throughput_ * emission;
+    record_->diffuse_direct += throughput_ * diffuse_;
+    record_->diffuse_indirect += throughput_ * ambient;
+    record_->diffuse_color += throughput_ * diffuse_color;
+    record_->glossy_direct += throughput_ * specular_;
+    record_->glossy_color += throughput_ * specular_color;
   }
-  terms_ = NodeTerms{};
+  diffuse_ = Color(0.0f);
+  specular_ = Color(0.0f);
 }
 
 void PassRecorder::reflected(int depth, const Color& sigma_r, const Color& radiance) const {

@@ -125,18 +125,6 @@ struct SampleRecord {
   void scale(float w, uint32_t passes);
 };
 
-// What one node of a ray tree (a ray's surface hit) adds by itself, as the kernel split
-// the Whitted step: what a PassRecorder sums of the node being shaded.
-struct NodeTerms {
-  Color emission{0.0f};
-  Color ambient{0.0f};         // Ia * ka * kd (under a coat: times what the coat lets through)
-  Color diffuse{0.0f};         // sum over the lights of kd/pi * E * (n.l) * feeler transmittance
-  Color specular{0.0f};        // the same for the Phong lobe and the coat's highlight
-  Color total{0.0f};           // emission + local term as the kernel summed it (into Combined)
-  Color diffuse_color{0.0f};   // kd (under a coat: times what the coat lets through)
-  Color specular_color{0.0f};  // ks (the same), plus the coat's highlight weight
-};
-
 // The kernel's recorder when passes are requested: it is told, node by node, where each
 // share of a sample's radiance comes from, and fills the fields of that sample's
 // SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Its
@@ -180,13 +168,13 @@ class PassRecorder : public NoRecorder {
     // inspector's (TreeRecorder::unshadowed) multiply the same terms in their own
     // orders, which rounding tells apart: each keeps the order its images always had.
     const SurfaceParams& surface = p.surface;
-    terms_.diffuse +=
+    diffuse_ +=
         ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) * light_in;
-    terms_.specular +=
-        (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
-    if (p.alpha > 0.0f) terms_.specular += surface.reflectivity * p.energy * t.glossy * light_in;
+    specular_ += (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
+    if (p.alpha > 0.0f) specular_ += surface.reflectivity * p.energy * t.glossy * light_in;
   }
-  // The node's terms, with those its lights added, told and started again.
+  // The node's own terms (`total`: emission + local term as the kernel summed it, into
+  // Combined), with those its lights added; the sums start again for the next node.
   void local(const ShadingPoint& p, int depth, const Color& emission, const Color& ambient,
              const Color& total);
   void reflected(int depth, const Color& sigma_r, const Color& radiance) const;
@@ -212,7 +200,10 @@ class PassRecorder : public NoRecorder {
   bool contributions_;  // Contributions is kept
   bool cut_weight_;     // Cut Weight is kept
   Color throughput_{1.0f};
-  NodeTerms terms_;  // of the node being shaded, summed as its lights arrive
+  // What the lights of the node being shaded add, summed as they arrive: kd/pi * E *
+  // (n.l) * feeler transmittance, and the same for the Phong lobe and the coat's highlight.
+  Color diffuse_{0.0f};
+  Color specular_{0.0f};
 };
 
 }  // namespace whitted
