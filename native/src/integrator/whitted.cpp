@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 
 #include "core/limits.h"
@@ -61,25 +62,78 @@ float power_heuristic(float a, float b) {
   return 1.0f / (1.0f + r * r);
 }
 
+// The kernel's queries in a render: straight to Embree.
+class SceneQueries {
+ public:
+  explicit SceneQueries(const WhittedIntegrator& w) : accel_(*w.scene().accel) {}
+  bool intersect(const Ray& ray, Hit* hit) const { return accel_.intersect(ray, hit); }
+  bool occluded(const Ray& ray, const Blockers* blockers) const {
+    return accel_.occluded(ray, blockers);
+  }
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    accel_.intersect_packet(rays, count, hits);
+  }
+  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
+    accel_.occluded_packet(rays, count, blocked, blockers);
+  }
+
+ private:
+  const SceneAccel& accel_;
+};
+
+// The benchmark's, in a render given a RayLog (recorder.h): the queries made while the
+// log is active go to it, which makes and notes them or answers them from a recording;
+// the others straight to Embree.
+class LoggedQueries {
+ public:
+  explicit LoggedQueries(const WhittedIntegrator& w) : accel_(*w.scene().accel), log_(*w.log()) {}
+  bool intersect(const Ray& ray, Hit* hit) const {
+    return log_.active ? log_.intersect(accel_, ray, hit) : accel_.intersect(ray, hit);
+  }
+  bool occluded(const Ray& ray, const Blockers* blockers) const {
+    return log_.active ? log_.occluded(accel_, ray, blockers) : accel_.occluded(ray, blockers);
+  }
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    if (log_.active) {
+      log_.intersect_packet(accel_, rays, count, hits);
+    } else {
+      accel_.intersect_packet(rays, count, hits);
+    }
+  }
+  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
+    if (log_.active) {
+      log_.occluded_packet(accel_, rays, count, blocked, blockers);
+    } else {
+      accel_.occluded_packet(rays, count, blocked, blockers);
+    }
+  }
+
+ private:
+  const SceneAccel& accel_;
+  RayLog& log_;
+};
+
 // kEffects of a kernel that reads the effects at run time.
 constexpr uint32_t kRuntimeEffects = ~0u;
 
-// The Whitted recursion. What it records is chosen at compile time: Recorder
-// (kernel_recorder.h) is told, hook by hook, what is traced and what each node adds
-// (NoRecorder, whose empty hooks compile away, for renders without passes; PassRecorder,
-// passes.h, with passes; TreeRecorder, tree_recorder.h, for the inspector). The effects
-// the analysis chose (EffectBits) are read with has(): constants in the kernels compiled
-// per set of effects (kEffects, for renders without passes: measured faster,
+// The Whitted recursion. What it records and how it queries are chosen at compile time:
+// Recorder (kernel_recorder.h) is told, hook by hook, what is traced and what each node
+// adds (NoRecorder, whose empty hooks compile away, for renders without passes;
+// PassRecorder, passes.h, with passes; TreeRecorder, tree_recorder.h, for the
+// inspector), and Queries takes the queries to Embree (SceneQueries) or, in the
+// benchmark's recorded and replayed renders, through their log (LoggedQueries). The
+// effects the analysis chose (EffectBits) are read with has(): constants in the kernels
+// compiled per set of effects (kEffects, for renders without passes: measured faster,
 // docs/EFFECTS.md), run-time flags in the others (kRuntimeEffects). The code is the same
 // either way.
-template <uint32_t kEffects, class Recorder>
+template <uint32_t kEffects, class Recorder, class Queries>
 class Kernel {
  public:
   Kernel(const WhittedIntegrator& w, SampleRecord* record)
       : scene_(w.scene()),
         settings_(w.settings()),
         camera_(w.camera()),
-        log_(w.log()),
+        queries_(w),
         effects_(w.effects().bits),
         emitters_((effects_ & kEmitterEffect) != 0 && !scene_.mesh_lights->empty()),
         recorder_(w, record) {}
@@ -98,24 +152,6 @@ class Kernel {
     }
   }
 
-  // The kernel's queries go through these (and the camera rays' packets through
-  // WhittedIntegrator::intersect_packet): to the log when recording or replaying
-  // (recorder.h), else straight to Embree.
-  bool intersect(const Ray& ray, Hit* hit) const {
-    if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
-    return scene_.accel->intersect(ray, hit);
-  }
-  bool occluded(const Ray& ray, const Blockers* blockers) const {
-    if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray, blockers);
-    return scene_.accel->occluded(ray, blockers);
-  }
-  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
-    if (log_ != nullptr && log_->active) {
-      log_->occluded_packet(*scene_.accel, rays, count, blocked, blockers);
-      return;
-    }
-    scene_.accel->occluded_packet(rays, count, blocked, blockers);
-  }
   // Shadow linking: the instances that may block a feeler of an emitter whose shadows
   // the shadow sets `sets` cast (null: every instance), held in *storage.
   const Blockers* blockers(uint64_t sets, Blockers* storage) const {
@@ -140,7 +176,7 @@ class Kernel {
         hit = *first;
         found = hit.t < kInfinity;
       } else {
-        found = intersect(r, &hit);
+        found = queries_.intersect(r, &hit);
       }
       const auto node = recorder_.ray(r, state.depth, in_front, behind);
       if (!found) {
@@ -735,8 +771,8 @@ class Kernel {
       const Ray& ray = prepared.feeler;
       Blockers storage;
       const Blockers* linked = blockers(prepared.shadow_sets, &storage);
-      transmittance =
-          shadow_transmittance(ray, occluded(first_query(ray), linked), linked, state, counts);
+      transmittance = shadow_transmittance(ray, queries_.occluded(first_query(ray), linked), linked,
+                                           state, counts);
       recorder_.shadow(node, ray, transmittance);
     }
     return arrived(p, prepared, transmittance);
@@ -803,12 +839,12 @@ class Kernel {
         if (!batch[i].sends_feeler) continue;
         Blockers own;
         blocked[static_cast<size_t>(f)] =
-            occluded(rays[static_cast<size_t>(f)], blockers(batch[i].shadow_sets, &own));
+            queries_.occluded(rays[static_cast<size_t>(f)], blockers(batch[i].shadow_sets, &own));
         ++f;
       }
     }
     if (feelers > 1 && shared) {
-      occluded_packet(rays.data(), feelers, blocked.data(), linked);
+      queries_.occluded_packet(rays.data(), feelers, blocked.data(), linked);
     }
     int feeler = 0;
     for (int i = 0; i < n; ++i) {
@@ -959,7 +995,7 @@ class Kernel {
     Color transmittance(1.0f);
     for (int i = 0; i < kMaxTransparentLayers; ++i) {
       Hit hit;
-      if (!intersect(ray, &hit)) return transmittance;
+      if (!queries_.intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
       // Under shadow linking, a surface that casts none of this light's shadows is passed.
       if (linked == nullptr || in_sets(linked->sets, scene_.shadow_sets[hit.instance])) {
@@ -984,7 +1020,7 @@ class Kernel {
   const CompiledScene& scene_;
   const Settings& settings_;
   const Camera& camera_;
-  RayLog* log_;
+  Queries queries_;
   uint32_t effects_;  // EffectBits
   bool emitters_;     // feelers go to emissive meshes (kEmitterEffect, and there are some)
   // Told what the kernel does: what changes in it (its position, its sums) is not the
@@ -1005,20 +1041,37 @@ constexpr bool specialised(uint32_t effects) {
          ((effects & kRefractionEffect) == 0 || (effects & kReflectionEffect) != 0);
 #endif
 }
-template <uint32_t E>
+template <uint32_t E, class Queries>
 constexpr WhittedIntegrator::TraceFn render_kernel() {
   if constexpr (specialised(E)) {
-    return &Kernel<E, NoRecorder>::run;
+    return &Kernel<E, NoRecorder, Queries>::run;
   } else {
-    return &Kernel<kRuntimeEffects, NoRecorder>::run;
+    return &Kernel<kRuntimeEffects, NoRecorder, Queries>::run;
   }
 }
-template <size_t... E>
+template <class Queries, size_t... E>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(E)> render_kernels(
     std::index_sequence<E...> /*effects*/) {
-  return {render_kernel<static_cast<uint32_t>(E)>()...};
+  return {render_kernel<static_cast<uint32_t>(E), Queries>()...};
 }
-constexpr auto kRenderKernels = render_kernels(std::make_index_sequence<kAllEffects + 1>{});
+template <class Queries>
+constexpr auto kRenderKernels =
+    render_kernels<Queries>(std::make_index_sequence<kAllEffects + 1>{});
+
+// The kernel of a render with these settings and effects, its queries made by Queries:
+// with passes, the pass recorder's; without, the one for its effects. The benchmark's
+// renders (LoggedQueries) run the same kernels as the others.
+template <class Queries>
+WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effects) {
+  if (settings.passes != 0) return &Kernel<kRuntimeEffects, PassRecorder, Queries>::run;
+  return kRenderKernels<Queries>[effects & kAllEffects];
+}
+
+// The camera rays' packets, queried as the kernel's queries are.
+template <class Queries>
+void intersect_packet_with(const WhittedIntegrator& w, const Ray* rays, int count, Hit* hits) {
+  Queries(w).intersect_packet(rays, count, hits);
+}
 
 }  // namespace
 
@@ -1045,18 +1098,17 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings, camera)),
-      trace_(tree != nullptr        ? &Kernel<kRuntimeEffects, TreeRecorder>::run
-             : settings.passes != 0 ? &Kernel<kRuntimeEffects, PassRecorder>::run
-                                    : kRenderKernels[effects_.bits & kAllEffects]),
+      trace_(tree != nullptr  ? &Kernel<kRuntimeEffects, TreeRecorder, SceneQueries>::run
+             : log != nullptr ? render_kernel<LoggedQueries>(settings, effects_.bits)
+                              : render_kernel<SceneQueries>(settings, effects_.bits)),
+      intersect_packet_(log != nullptr ? &intersect_packet_with<LoggedQueries>
+                                       : &intersect_packet_with<SceneQueries>),
       log_(log),
-      tree_(tree) {}
-
-void WhittedIntegrator::intersect_packet(const Ray* rays, int count, Hit* hits) const {
-  if (log_ != nullptr && log_->active) {
-    log_->intersect_packet(*scene_.accel, rays, count, hits);
-    return;
+      tree_(tree) {
+  if (log != nullptr && tree != nullptr) {
+    throw std::invalid_argument(
+        "the inspector's ray tree and a query log are never traced together");
   }
-  scene_.accel->intersect_packet(rays, count, hits);
 }
 
 // Walks a ray from p through every surface: a transmissive surface the walk leaves

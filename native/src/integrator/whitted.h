@@ -66,14 +66,16 @@ struct NodeState {
   int receiver = -1;
 };
 
-// Analyses the scene once, then traces only the effects the scene calls for
-// (integrator/whitted.cpp: the effects as run-time flags, a kernel per recorder).
+// Analyses the scene once, then traces only the effects the scene calls for, with the
+// kernel chosen once (integrator/whitted.cpp: a kernel per recorder and way of querying,
+// the effects compiled in or read at run time).
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
   // `log`, when given, takes the queries made while it is active (records them, or
   // answers them in a replay: recorder.h); `tree`, when given, receives every ray and
-  // term of what is traced (the inspector: slower, never for renders).
+  // term of what is traced (the inspector: slower, never for renders). Not both: throws
+  // std::invalid_argument.
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
                     const Camera& camera = Camera{}, RayLog* log = nullptr,
                     RayTree* tree = nullptr);
@@ -91,8 +93,11 @@ class WhittedIntegrator {
                    float* alpha, SampleRecord* record = nullptr) const {
     return trace_(*this, ray, state, counts, alpha, &first, record);
   }
-  // First hits of up to SceneAccel::kIntersectPacketSize coherent rays, traced as one packet.
-  void intersect_packet(const Ray* rays, int count, Hit* hits) const;
+  // First hits of up to SceneAccel::kIntersectPacketSize coherent rays, traced as one
+  // packet (through the log, as the kernel's queries, when there is one).
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    intersect_packet_(*this, rays, count, hits);
+  }
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
@@ -106,6 +111,7 @@ class WhittedIntegrator {
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
+  using PacketFn = void (*)(const WhittedIntegrator&, const Ray*, int, Hit*);
 
  private:
   const CompiledScene& scene_;
@@ -113,6 +119,7 @@ class WhittedIntegrator {
   const Camera camera_;
   Effects effects_;
   TraceFn trace_;
+  PacketFn intersect_packet_;
   RayLog* log_;
   RayTree* tree_;
 };
