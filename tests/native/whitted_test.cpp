@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "integrator/lobes.h"
@@ -372,6 +373,20 @@ TEST(Whitted, BurleyDiffuseAndAnUnlayeredCoat) {
     brightest = std::max(brightest, shape);
   }
   EXPECT_GT(brightest, 1.05f);  // retro-reflection shows where the view nears the sun
+}
+
+// The kernel is chosen once, for the benchmark's query log or the inspector's ray tree:
+// never both.
+TEST(Whitted, TakesAQueryLogOrARayTreeNotBoth) {
+  Scene scene;
+  add_object(&scene, "floor", quad(-1, 1, -1, 1, 0), Material{});
+  const auto compiled = scene.compile();
+  RayLog log;
+  RayTree tree;
+  EXPECT_THROW(WhittedIntegrator(*compiled, Settings{}, Camera{}, &log, &tree),
+               std::invalid_argument);
+  EXPECT_NO_THROW(WhittedIntegrator(*compiled, Settings{}, Camera{}, &log));
+  EXPECT_NO_THROW(WhittedIntegrator(*compiled, Settings{}, Camera{}, nullptr, &tree));
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "integrator/whitted.h"
+
 namespace whitted {
 namespace {
 
@@ -64,20 +66,18 @@ void SampleRecord::scale(float w, uint32_t passes) {
   uv *= w;
 }
 
-PassRecorder::PassRecorder(const CompiledScene& scene, const Settings& settings,
-                           const Camera& camera, SampleRecord* record)
-    : scene_(scene),
-      settings_(settings),
-      camera_(camera),
+PassRecorder::PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record)
+    : scene_(integrator.scene()),
+      settings_(integrator.settings()),
+      camera_(integrator.camera()),
       record_(record),
-      light_((settings.passes & kLightPasses) != 0),
-      data_((settings.passes & kDataPasses) != 0),
-      contributions_((settings.passes & pass_bit(FilmPass::kContributions)) != 0),
-      cut_weight_((settings.passes & pass_bit(FilmPass::kCutWeight)) != 0) {}
+      light_((settings_.passes & kLightPasses) != 0),
+      data_((settings_.passes & kDataPasses) != 0),
+      contributions_((settings_.passes & pass_bit(FilmPass::kContributions)) != 0),
+      cut_weight_((settings_.passes & pass_bit(FilmPass::kCutWeight)) != 0) {}
 
 void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& surface,
                                   const Vec3& normal, float share) const {
-  if (!data_) return;
   // Distances from the camera: along its view axis (Depth; a panorama has none, so from
   // its position, as Cycles), and from its position (Mist, as Cycles; an orthographic
   // camera has no position, so the view axis).
@@ -110,47 +110,54 @@ void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& su
   record_->material_index = static_cast<float>(it.material->pass_index);
 }
 
-void PassRecorder::node(int depth, const Color& throughput, const NodeTerms& terms) const {
+void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission,
+                         const Color& ambient, const Color& total) {
   if (contributions_) {
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
-        throughput * terms.total;
+        throughput_ * total;
   }
-  if (depth > 0 || !light_) return;  // deeper nodes are in the camera hit's indirect terms
-  record_->emission += throughput * terms.emission;
-  record_->diffuse_direct += throughput * terms.diffuse;
-  record_->diffuse_indirect += throughput * terms.ambient;
-  record_->diffuse_color += throughput * terms.diffuse_color;
-  record_->glossy_direct += throughput * terms.specular;
-  record_->glossy_color += throughput * terms.specular_color;
+  if (depth == 0 && light_) {  // deeper nodes are in the camera hit's indirect terms
+    // kd and ks, under a coat times what it lets through; the coat's highlight is specular.
+    const Color diffuse_color = p.base * p.surface.diffuse;
+    const Color specular_color = p.base * p.surface.specular + Color(p.coat.highlight);
+    record_->emission += throughput_ * emission;
+    record_->diffuse_direct += throughput_ * diffuse_;
+    record_->diffuse_indirect += throughput_ * ambient;
+    record_->diffuse_color += throughput_ * diffuse_color;
+    record_->glossy_direct += throughput_ * specular_;
+    record_->glossy_color += throughput_ * specular_color;
+  }
+  diffuse_ = Color(0.0f);
+  specular_ = Color(0.0f);
 }
 
-void PassRecorder::reflected(int depth, const Color& throughput, const Color& sigma_r,
-                             const Color& radiance) const {
+void PassRecorder::reflected(int depth, const Color& sigma_r, const Color& radiance) const {
   if (depth > 0 || !light_) return;
-  record_->glossy_indirect += throughput * sigma_r * radiance;
-  record_->glossy_color += throughput * sigma_r;
+  record_->glossy_indirect += throughput_ * sigma_r * radiance;
+  record_->glossy_color += throughput_ * sigma_r;
 }
 
-void PassRecorder::refracted(int depth, const Color& throughput, const Color& sigma_t,
-                             const Color& radiance) const {
+void PassRecorder::refracted(int depth, const Color& sigma_t, const Color& radiance) const {
   if (depth > 0 || !light_) return;
-  record_->transmission_indirect += throughput * sigma_t * radiance;
-  record_->transmission_color += throughput * sigma_t;
+  record_->transmission_indirect += throughput_ * sigma_t * radiance;
+  record_->transmission_color += throughput_ * sigma_t;
 }
 
-void PassRecorder::escaped(int depth, const Color& throughput, const Color& radiance,
+void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& world,
                            bool shown) const {
   // A transparent film leaves the world out of Combined but, as in Cycles, not out of
   // the Environment pass, so it can be put back in the compositor.
+  const Color throughput = throughput_ * behind;
   if (shown && contributions_) {
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
-        throughput * radiance;
+        throughput * world;
   }
-  if (depth == 0 && light_) record_->environment += throughput * radiance;
+  if (depth == 0 && light_) record_->environment += throughput * world;
 }
 
-void PassRecorder::cut(const Color& weight) const {
-  if (cut_weight_) record_->cut_weight += mean(weight);
+void PassRecorder::cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& weight,
+                       float share, TreeCut /*why*/) const {
+  if (cut_weight_) record_->cut_weight += mean(throughput_ * weight * share);
 }
 
 }  // namespace whitted

@@ -1,5 +1,5 @@
 // Render passes beyond Combined: which ones a film can keep, and the record of what one
-// camera sample's ray tree contributed to them, filled by the kernel (whitted.cpp) only
+// camera sample's ray tree contributed to them, filled by the kernel's PassRecorder only
 // when passes are requested. docs/PASSES.md defines every pass.
 #pragma once
 
@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "core/math.h"
+#include "integrator/kernel_recorder.h"
 #include "integrator/settings.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -124,49 +125,72 @@ struct SampleRecord {
   void scale(float w, uint32_t passes);
 };
 
-// What one node of a ray tree (a ray's surface hit) adds by itself, as the kernel split
-// the Whitted step: what a recorder is told of each node.
-struct NodeTerms {
-  Color emission{0.0f};
-  Color ambient{0.0f};         // Ia * ka * kd (under a coat: times what the coat lets through)
-  Color diffuse{0.0f};         // sum over the lights of kd/pi * E * (n.l) * feeler transmittance
-  Color specular{0.0f};        // the same for the Phong lobe and the coat's highlight
-  Color total{0.0f};           // emission + local term as the kernel summed it (into Combined)
-  Color diffuse_color{0.0f};   // kd (under a coat: times what the coat lets through)
-  Color specular_color{0.0f};  // ks (the same), plus the coat's highlight weight
-};
-
-// The kernel's listener when passes are requested: it is told, node by node, where each
+// The kernel's recorder when passes are requested: it is told, node by node, where each
 // share of a sample's radiance comes from, and fills the fields of that sample's
-// SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Every
-// hook gets the node's depth in the ray tree and its throughput (its weight on the
-// sample: the sigma_r and sigma_t along the way times the coverage of cut-outs).
-class PassRecorder {
+// SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Its
+// position in the recursion is the throughput of the node being shaded: its weight on
+// the sample, the sigma_r and sigma_t along the way times the coverage of cut-outs.
+class PassRecorder : public NoRecorder {
  public:
-  PassRecorder(const CompiledScene& scene, const Settings& settings, const Camera& camera,
-               SampleRecord* record);
+  // The throughput set while the kernel shades a surface or traces a child ray.
+  class Scope {
+   public:
+    Scope(PassRecorder* recorder, const Color& throughput)
+        : recorder_(recorder), before_(recorder->throughput_) {
+      recorder->throughput_ = throughput;
+    }
+    ~Scope() { recorder_->throughput_ = before_; }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
 
-  // Whether the kernel must find the camera's surface data (a Data pass is kept).
-  bool wants_data() const { return data_; }
+   private:
+    PassRecorder* recorder_;
+    Color before_;
+  };
+  // The Environment pass keeps the world where a transparent film leaves it out.
+  static constexpr bool kHiddenWorld = true;
 
-  // A surface the camera ray meets (depth 0), covering `share` of the sample; `normal`
-  // is its shading normal turned to face the ray. The data passes come from the first
-  // whose alpha reaches the threshold.
-  void camera_surface(const Interaction& it, const SurfaceParams& surface, const Vec3& normal,
-                      float share) const;
-  // The terms a surface adds by itself.
-  void node(int depth, const Color& throughput, const NodeTerms& terms) const;
-  // sigma_r * reflected (or sigma_t * refracted) radiance added at a node.
-  void reflected(int depth, const Color& throughput, const Color& sigma_r,
-                 const Color& radiance) const;
-  void refracted(int depth, const Color& throughput, const Color& sigma_t,
-                 const Color& radiance) const;
-  // A ray that escapes to the world, `shown` unless the film is transparent there.
-  void escaped(int depth, const Color& throughput, const Color& radiance, bool shown) const;
-  // A ray of weight `weight` on the sample not traced (maximum depth or cutoff).
-  void cut(const Color& weight) const;
+  PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record);
+
+  void escaped(Node node, int depth, float behind, const Color& world, bool shown) const;
+  Scope cover(Node /*node*/, float behind, float a) { return {this, throughput_ * (behind * a)}; }
+  // The data passes come from the first surface the camera ray meets (depth 0) whose
+  // alpha reaches the threshold; Mist from all of them, by their coverage.
+  void surface(int depth, const Ray& ray, const Interaction& it, const SurfaceParams& surface) {
+    if (depth > 0 || !data_) return;
+    Vec3 ng;
+    Vec3 ns;
+    facing_normals(ray, it, surface, &ng, &ns);
+    camera_surface(it, surface, ns, max_component(throughput_));
+  }
+  void arrived(const ShadingPoint& p, const LightTerms& t, const Color& light_in) {
+    // The diffuse and specular shares of what arrives. The kernel's sum, these and the
+    // inspector's (TreeRecorder::unshadowed) multiply the same terms in their own
+    // orders, which rounding tells apart: each keeps the order its images always had.
+    const SurfaceParams& surface = p.surface;
+    diffuse_ +=
+        ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) * light_in;
+    specular_ += (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
+    if (p.alpha > 0.0f) specular_ += surface.reflectivity * p.energy * t.glossy * light_in;
+  }
+  // The node's own terms (`total`: emission + local term as the kernel summed it, into
+  // Combined), with those its lights added; the sums start again for the next node.
+  void local(const ShadingPoint& p, int depth, const Color& emission, const Color& ambient,
+             const Color& total);
+  void reflected(int depth, const Color& sigma_r, const Color& radiance) const;
+  void refracted(int depth, const Color& sigma_t, const Color& radiance) const;
+  Scope branch(const Color& weight, float share, TreeRayKind /*kind*/) {
+    return {this, throughput_ * weight * share};
+  }
+  void cut(const Ray& ray, int depth, TreeRayKind kind, const Color& weight, float share,
+           TreeCut why) const;
 
  private:
+  // A surface the camera ray meets, covering `share` of the sample; `normal` is its
+  // shading normal turned to face the ray.
+  void camera_surface(const Interaction& it, const SurfaceParams& surface, const Vec3& normal,
+                      float share) const;
+
   const CompiledScene& scene_;
   const Settings& settings_;
   const Camera& camera_;
@@ -175,6 +199,11 @@ class PassRecorder {
   bool data_;           // a pass of kDataPasses is kept
   bool contributions_;  // Contributions is kept
   bool cut_weight_;     // Cut Weight is kept
+  Color throughput_{1.0f};
+  // What the lights of the node being shaded add, summed as they arrive: kd/pi * E *
+  // (n.l) * feeler transmittance, and the same for the Phong lobe and the coat's highlight.
+  Color diffuse_{0.0f};
+  Color specular_{0.0f};
 };
 
 }  // namespace whitted

@@ -70,7 +70,7 @@ struct RayTreeNode {
   }
 };
 
-// What the kernel writes while it records (one pixel, one thread: no locking).
+// What the kernel's TreeRecorder (tree_recorder.h) writes (one pixel, one thread: no locking).
 struct RayTree {
   std::vector<RayTreeNode> nodes;
   // The pixel (or the one sample) traced: its value, as the render computes it, and its

@@ -12,10 +12,10 @@
 
 namespace whitted {
 
-// One worker's recording, or its replay of one. The integrator's query funnels hand it
-// the queries made while `active`; recording, it makes them and notes them (and, with
-// `results`, what they found); replaying, it answers them from `source` in the same
-// order, with no Embree call.
+// One worker's recording, or its replay of one. The kernels of a render given a log
+// (whitted.cpp's LoggedQueries) hand it the queries made while `active`; recording, it
+// makes them and notes them (and, with `results`, what they found); replaying, it
+// answers them from `source` in the same order, with no Embree call.
 struct RayLog {
   std::vector<RayQuery> queries;
   std::vector<Hit> hits;           // with `results`: each closest hit (packet lanes in order)

@@ -2,11 +2,14 @@
 
 #include <array>
 #include <cmath>
-#include <type_traits>
+#include <stdexcept>
 #include <utility>
 
 #include "core/limits.h"
+#include "integrator/kernel_recorder.h"
 #include "integrator/lobes.h"
+#include "integrator/shading_point.h"
+#include "integrator/tree_recorder.h"
 #include "scene/mesh_light.h"
 
 namespace whitted {
@@ -26,35 +29,6 @@ struct Crossing {
   MediumStack media;             // the media the refracted ray is inside
   float eta = 1.0f;              // eta_incident / eta_transmitted
   bool false_interface = false;  // the current medium stays what it was: go on straight
-};
-
-// A hit as the Whitted step shades it: the surface, its normals turned to face the ray,
-// the direction back along the ray, and what the local term reads of them.
-struct ShadingPoint {
-  const Interaction& it;
-  const SurfaceParams& surface;
-  Vec3 ng;      // geometric normal, facing the ray
-  Vec3 ns;      // shading normal, facing the ray (never away from ng)
-  Vec3 smooth;  // the interpolated normal on the ray's side (diffuse_shadowing)
-  Vec3 wo;      // back along the ray
-  Coat coat;
-  float base;          // 1 - coat.cover (1 if the coat is not layered): what reaches the base
-  float phong_norm;    // (f+2)/(2pi), the normalisation of the Phong lobe
-  Color multiscatter;  // kOrenNayarEnergy: the diffuse lobe's multiple scattering, per
-                       // unit LightTerms::loss (0 for the other diffuse models)
-  float alpha;         // GGX alpha of the reflection lobe; 0: a mirror (microfacet.h)
-  Color energy;        // the lobe's multiple-scattering scale (Material::multiscatter), or 1
-};
-
-// One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
-// the pieces the sum, the passes and the inspector multiply out.
-struct LightTerms {
-  float lit;     // (1 - coat) * max(0, n.l): the light the base receives
-  float fade;    // diffuse_fade: kd/pi * fade + multiscatter * loss is the diffuse lobe
-  float loss;    // what a kOrenNayarEnergy lobe's single scattering loses of this light
-  float lobe;    // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
-  float coat;    // the coat's highlight
-  float glossy;  // (1 - coat) * the GGX lobe times (l.n): reflectivity * glossy is its share
 };
 
 // The split of weights: the weights of the secondary rays, Whitted's sigma_r and sigma_t,
@@ -88,37 +62,81 @@ float power_heuristic(float a, float b) {
   return 1.0f / (1.0f + r * r);
 }
 
-// The pass listener of a kernel that records no passes: it is never called.
-struct NoRecorder {
-  NoRecorder(const CompiledScene& /*scene*/, const Settings& /*settings*/, const Camera& /*camera*/,
-             SampleRecord* /*record*/) {}
+// The kernel's queries in a render: straight to Embree.
+class SceneQueries {
+ public:
+  explicit SceneQueries(const WhittedIntegrator& w) : accel_(*w.scene().accel) {}
+  bool intersect(const Ray& ray, Hit* hit) const { return accel_.intersect(ray, hit); }
+  bool occluded(const Ray& ray, const Blockers* blockers) const {
+    return accel_.occluded(ray, blockers);
+  }
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    accel_.intersect_packet(rays, count, hits);
+  }
+  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
+    accel_.occluded_packet(rays, count, blocked, blockers);
+  }
+
+ private:
+  const SceneAccel& accel_;
+};
+
+// The benchmark's, in a render given a RayLog (recorder.h): the queries made while the
+// log is active go to it, which makes and notes them or answers them from a recording;
+// the others straight to Embree.
+class LoggedQueries {
+ public:
+  explicit LoggedQueries(const WhittedIntegrator& w) : accel_(*w.scene().accel), log_(*w.log()) {}
+  bool intersect(const Ray& ray, Hit* hit) const {
+    return log_.active ? log_.intersect(accel_, ray, hit) : accel_.intersect(ray, hit);
+  }
+  bool occluded(const Ray& ray, const Blockers* blockers) const {
+    return log_.active ? log_.occluded(accel_, ray, blockers) : accel_.occluded(ray, blockers);
+  }
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    if (log_.active) {
+      log_.intersect_packet(accel_, rays, count, hits);
+    } else {
+      accel_.intersect_packet(rays, count, hits);
+    }
+  }
+  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
+    if (log_.active) {
+      log_.occluded_packet(accel_, rays, count, blocked, blockers);
+    } else {
+      accel_.occluded_packet(rays, count, blocked, blockers);
+    }
+  }
+
+ private:
+  const SceneAccel& accel_;
+  RayLog& log_;
 };
 
 // kEffects of a kernel that reads the effects at run time.
 constexpr uint32_t kRuntimeEffects = ~0u;
 
-// The Whitted recursion. Two choices are made at compile time, with `if constexpr`:
-// kRecord (the inspector only) also writes every ray and term into the integrator's
-// RayTree, and kPasses (a Recorder other than NoRecorder: PassRecorder, passes.h, for
-// renders with passes) tells the recorder, node by node, where each share of a sample's
-// radiance comes from; a kernel without them compiles none of that in. The effects the
-// analysis chose (EffectBits) are read with has(): constants in the kernels compiled per
-// set of effects (kEffects, for renders without passes: measured faster, docs/EFFECTS.md),
-// run-time flags in the others (kRuntimeEffects). The code is the same either way.
-template <uint32_t kEffects, bool kRecord, class Recorder>
+// The Whitted recursion. What it records and how it queries are chosen at compile time:
+// Recorder (kernel_recorder.h) is told, hook by hook, what is traced and what each node
+// adds (NoRecorder, whose empty hooks compile away, for renders without passes;
+// PassRecorder, passes.h, with passes; TreeRecorder, tree_recorder.h, for the
+// inspector), and Queries takes the queries to Embree (SceneQueries) or, in the
+// benchmark's recorded and replayed renders, through their log (LoggedQueries). The
+// effects the analysis chose (EffectBits) are read with has(): constants in the kernels
+// compiled per set of effects (kEffects, for renders without passes: measured faster,
+// docs/EFFECTS.md), run-time flags in the others (kRuntimeEffects). The code is the same
+// either way.
+template <uint32_t kEffects, class Recorder, class Queries>
 class Kernel {
-  static constexpr bool kPasses = !std::is_same_v<Recorder, NoRecorder>;
-
  public:
   Kernel(const WhittedIntegrator& w, SampleRecord* record)
       : scene_(w.scene()),
         settings_(w.settings()),
         camera_(w.camera()),
-        log_(w.log()),
-        tree_(w.tree()),
+        queries_(w),
         effects_(w.effects().bits),
         emitters_((effects_ & kEmitterEffect) != 0 && !scene_.mesh_lights->empty()),
-        recorder_(w.scene(), w.settings(), w.camera(), record) {}
+        recorder_(w, record) {}
 
   static Color run(const WhittedIntegrator& w, const Ray& ray, const NodeState& state,
                    RayCounts* counts, float* alpha, const Hit* first, SampleRecord* record) {
@@ -134,24 +152,6 @@ class Kernel {
     }
   }
 
-  // The kernel's queries go through these (and the camera rays' packets through
-  // WhittedIntegrator::intersect_packet): to the log when recording or replaying
-  // (recorder.h), else straight to Embree.
-  bool intersect(const Ray& ray, Hit* hit) const {
-    if (log_ != nullptr && log_->active) return log_->intersect(*scene_.accel, ray, hit);
-    return scene_.accel->intersect(ray, hit);
-  }
-  bool occluded(const Ray& ray, const Blockers* blockers) const {
-    if (log_ != nullptr && log_->active) return log_->occluded(*scene_.accel, ray, blockers);
-    return scene_.accel->occluded(ray, blockers);
-  }
-  void occluded_packet(const Ray* rays, int count, bool* blocked, const Blockers* blockers) const {
-    if (log_ != nullptr && log_->active) {
-      log_->occluded_packet(*scene_.accel, rays, count, blocked, blockers);
-      return;
-    }
-    scene_.accel->occluded_packet(rays, count, blocked, blockers);
-  }
   // Shadow linking: the instances that may block a feeler of an emitter whose shadows
   // the shadow sets `sets` cast (null: every instance), held in *storage.
   const Blockers* blockers(uint64_t sets, Blockers* storage) const {
@@ -168,7 +168,7 @@ class Kernel {
     float coverage = 0.0f;
     float behind = 1.0f;  // the share of the ray not yet covered by a surface
     Ray r = ray;
-    [[maybe_unused]] int previous = -1;  // recording: the layer in front of this one
+    typename Recorder::Node in_front{};  // the recorder's node of the layer in front
     for (int layer = 0; behind > 0.0f; ++layer) {
       Hit hit;
       bool found = false;
@@ -176,32 +176,24 @@ class Kernel {
         hit = *first;
         found = hit.t < kInfinity;
       } else {
-        found = intersect(r, &hit);
+        found = queries_.intersect(r, &hit);
       }
-      [[maybe_unused]] int node = -1;  // recording: this layer's node
-      if constexpr (kRecord) {
-        node = record_ray(r, state, layer == 0 ? tree_->next_kind : TreeRayKind::kTransparent,
-                          layer == 0 ? tree_->current : previous, Color(behind));
-      }
+      const auto node = recorder_.ray(r, state.depth, in_front, behind);
       if (!found) {
         // A transparent film shows nothing where camera rays miss.
         const bool shown = !(settings_.transparent_background && ray.kind == kCameraRay);
-        if (shown) {
-          const Color background = scene_.world_radiance(r, context(state));
-          radiance += behind * background;
-          coverage += behind;
-          if constexpr (kRecord) record_background(node, background);
-          if constexpr (kPasses) {
-            recorder_.escaped(state.depth, state.throughput * behind, background, true);
+        if (shown || Recorder::kHiddenWorld) {
+          const Color world = scene_.world_radiance(r, context(state));
+          if (shown) {
+            radiance += behind * world;
+            coverage += behind;
           }
-        } else if constexpr (kPasses) {
-          recorder_.escaped(state.depth, state.throughput * behind,
-                            scene_.world_radiance(r, context(state)), false);
+          recorder_.escaped(node, state.depth, behind, world, shown);
         }
         break;
       }
       const Interaction it = scene_.interaction(r, hit);
-      if constexpr (kRecord) record_end(node, it);
+      recorder_.hit(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
       const SurfaceParams surface = scene_.surface(it, r, context(state));
       float a = 1.0f;
@@ -209,26 +201,12 @@ class Kernel {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
       }
       if (a > 0.0f) {
-        if constexpr (kRecord) {
-          const RayTree::Scope scope(tree_, node, tree_->nodes[node].weight * a);
-          radiance += (behind * a) * shade(r, it, surface, state, counts);
-        } else if constexpr (kPasses) {
-          // This layer's share of the sample, for what the recorder is told below it.
-          NodeState covered = state;
-          covered.throughput = state.throughput * (behind * a);
-          if (state.depth == 0 && recorder_.wants_data()) {
-            Vec3 ng;
-            Vec3 ns;
-            facing_normals(r, it, surface, &ng, &ns);
-            recorder_.camera_surface(it, surface, ns, max_component(covered.throughput));
-          }
-          radiance += (behind * a) * shade(r, it, surface, covered, counts);
-        } else {
-          radiance += (behind * a) * shade(r, it, surface, state, counts);
-        }
+        [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a);
+        recorder_.surface(state.depth, r, it, surface);
+        radiance += (behind * a) * shade(r, it, surface, state, counts);
         coverage += behind * a;
       }
-      if constexpr (kRecord) previous = node;
+      in_front = node;
       behind *= 1.0f - a;
       if (behind <= 0.0f) break;
       // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
@@ -449,9 +427,7 @@ class Kernel {
     const Color reflected = branch(spawn_ray(p.it.position, p.it.position_error,
                                              p.it.geometric_normal, p.it.time, r, kReflectionRay),
                                    state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
-    if constexpr (kPasses) {
-      recorder_.reflected(state.depth, state.throughput, split.sigma_r, reflected);
-    }
+    recorder_.reflected(state.depth, split.sigma_r, reflected);
     return split.sigma_r * reflected;
   }
 
@@ -498,7 +474,7 @@ class Kernel {
                  state, weight, state.media, /*from=*/&p.it, TreeRayKind::kGlossy, counts, &drawn);
       mean += (lobe * strata.share) * lobe_of.energy * brought;
     }
-    if constexpr (kPasses) recorder_.reflected(state.depth, state.throughput, split.sigma_r, mean);
+    recorder_.reflected(state.depth, split.sigma_r, mean);
     return split.sigma_r * mean;
   }
 
@@ -543,9 +519,7 @@ class Kernel {
         spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time,
                   split.refracted, kRefractionRay),
         state, split.sigma_t, beyond.media, /*from=*/&p.it, TreeRayKind::kRefraction, counts);
-    if constexpr (kPasses) {
-      recorder_.refracted(state.depth, state.throughput, split.sigma_t, refracted);
-    }
+    recorder_.refracted(state.depth, split.sigma_t, refracted);
     return split.sigma_t * refracted;
   }
 
@@ -587,7 +561,7 @@ class Kernel {
                  TreeRayKind::kGlossy, counts, &drawn);
       mean += (lobe * strata.share) * brought;
     }
-    if constexpr (kPasses) recorder_.refracted(state.depth, state.throughput, split.sigma_t, mean);
+    recorder_.refracted(state.depth, split.sigma_t, mean);
     return split.sigma_t * mean;
   }
 
@@ -604,7 +578,7 @@ class Kernel {
   // continues straight on (`kind` names it for the inspector), `drawn` given for a ray
   // drawn from a glossy lobe. The one place the ray tree branches.
   Color branch(const Ray& ray, const NodeState& state, const Color& weight,
-               const MediumStack& media, const Interaction* from, [[maybe_unused]] TreeRayKind kind,
+               const MediumStack& media, const Interaction* from, TreeRayKind kind,
                RayCounts* counts, const Drawn* drawn = nullptr) const {
     const bool bounce = from != nullptr;
     // A glossy ray is one of several that share its lobe: its NodeState::weight is the
@@ -613,7 +587,6 @@ class Kernel {
     const bool glossy = drawn != nullptr;
     const float share = glossy ? drawn->share : 1.0f;
     NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
-    if constexpr (kPasses) next.throughput = state.throughput * weight * share;
     next.glossy = state.glossy + (glossy ? 1 : 0);
     next.seed = glossy ? drawn->seed : state.seed;
     // A continuation straight on is still the same ray; a bounce of any other kind
@@ -623,14 +596,12 @@ class Kernel {
     next.receiver = bounce ? scene_.instances[from->instance].links.light_set : state.receiver;
     if (next.depth > settings_.max_depth) {
       counts->depth_limited += 1;
-      if constexpr (kRecord) record_cut(ray, next, kind, weight * share, TreeCut::kDepth);
-      if constexpr (kPasses) recorder_.cut(next.throughput);
+      recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kDepth);
       return Color(0.0f);
     }
     if (max_component(next.weight) < settings_.cutoff) {
       counts->cutoff_skipped += 1;  // its contribution could no longer show
-      if constexpr (kRecord) record_cut(ray, next, kind, weight * share, TreeCut::kCutoff);
-      if constexpr (kPasses) recorder_.cut(next.throughput);
+      recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kCutoff);
       return Color(0.0f);
     }
     if (glossy) {
@@ -639,10 +610,7 @@ class Kernel {
       counts->reflection += 1;
     }
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
-    if constexpr (kRecord) {
-      const RayTree::Scope scope(tree_, tree_->current, tree_->scale * (weight * share), kind);
-      return trace(ray, next, counts, nullptr);
-    }
+    [[maybe_unused]] const auto scope = recorder_.branch(weight, share, kind);
     return trace(ray, next, counts, nullptr);
   }
 
@@ -650,19 +618,16 @@ class Kernel {
   // (E_i the irradiance of sample i, S_i what its shadow ray lets through),
   //   (1 - coat) * [Ia*ka*kd + sum_i S_i * (kd/pi + ks*(f+2)/(2pi)*(v.r)^f) * E_i * (l.n)]
   //   + sum_i S_i * coat_highlight_i * E_i.
-  // A kernel that records passes also tells the recorder its ambient, diffuse and specular
-  // terms (the coat's highlight counts as specular).
+  // The recorder is told each sample's terms as its light arrives, then the surface's
+  // emission, ambient term and sum.
   // The emissive meshes are lights too (emitters); `seen` is what of the surface's own
   // emission this ray counts (emission_weight), `rays` the glossy rays it will send.
   Color local(const ShadingPoint& p, const GlossyRays& rays, float seen, const NodeState& state,
               RayCounts* counts) const {
     const SurfaceParams& surface = p.surface;
     const Color emission = surface.emission * seen;
-    if constexpr (kRecord) tree_->nodes[tree_->current].emission = tree_->scale * emission;
-    NodeTerms terms;  // filled only by kernels that record passes
-    Color phong = p.base * p.it.material->ambient * scene_.ambient * surface.diffuse;
-    if constexpr (kPasses) terms.ambient = phong;
-    if constexpr (kRecord) tree_->nodes[tree_->current].ambient = tree_->scale * phong;
+    const Color ambient = p.base * p.it.material->ambient * scene_.ambient * surface.diffuse;
+    Color phong = ambient;
     const uint32_t receiver = scene_.instances[p.it.instance].links.light_set;
     for (const Light& light : scene_.lights) {
       if (state.depth > light.max_bounces) continue;       // past its Max Bounces
@@ -678,17 +643,11 @@ class Kernel {
       const auto draw = [&](int s) {
         return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
       };
-      feelers(p, samples, draw, state, counts, &terms, &phong);
+      feelers(p, samples, draw, state, counts, &phong);
     }
-    if (emitters_on()) emitters(p, rays, state, counts, &terms, &phong);
+    if (emitters_on()) emitters(p, rays, state, counts, &phong);
     const Color radiance = emission + phong;
-    if constexpr (kPasses) {
-      terms.emission = emission;
-      terms.total = radiance;
-      terms.diffuse_color = p.base * surface.diffuse;
-      terms.specular_color = p.base * surface.specular + Color(p.coat.highlight);
-      recorder_.node(state.depth, state.throughput, terms);
-    }
+    recorder_.local(p, state.depth, emission, ambient, radiance);
     return radiance;
   }
 
@@ -718,18 +677,20 @@ class Kernel {
   // space: they go to Embree as packets of up to kFeelerBatch (the same sum to the bit).
   template <class Draw>
   void feelers(const ShadingPoint& p, int samples, const Draw& draw, const NodeState& state,
-               RayCounts* counts, NodeTerms* terms, Color* phong) const {
-    if (kRecord || samples == 1) {
-      for (int s = 0; s < samples; ++s) *phong += light_sample(p, draw(s), state, counts, terms);
+               RayCounts* counts, Color* phong) const {
+    if (!Recorder::kBatchesFeelers || samples == 1) {
+      for (int s = 0; s < samples; ++s) *phong += light_sample(p, draw(s), state, counts);
       return;
     }
     std::array<PreparedSample, kFeelerBatch> batch;
     for (int first = 0; first < samples; first += kFeelerBatch) {
       const int n = std::min(kFeelerBatch, samples - first);
       for (int k = 0; k < n; ++k) {
-        prepare_sample(p, draw(first + k), state, counts, -1, &batch[static_cast<size_t>(k)]);
+        // No node: a recorder that lets feelers batch keeps none of them.
+        prepare_sample(p, draw(first + k), state, counts, typename Recorder::Node{},
+                       &batch[static_cast<size_t>(k)]);
       }
-      sum_batch(p, batch.data(), n, state, counts, terms, phong);
+      sum_batch(p, batch.data(), n, state, counts, phong);
     }
   }
 
@@ -742,8 +703,7 @@ class Kernel {
   // Whitted's own instructions (85.2 M before emitters, 90.5 M; now 88.3 M: callgrind,
   // python -m whitted_tools.builds --small).
   [[gnu::noinline]] void emitters(const ShadingPoint& p, const GlossyRays& rays,
-                                  const NodeState& state, RayCounts* counts, NodeTerms* terms,
-                                  Color* phong) const {
+                                  const NodeState& state, RayCounts* counts, Color* phong) const {
     const MeshLights& lights = *scene_.mesh_lights;
     const Strata strata(state, settings_.emitter_samples, 0x656du);
     const uint32_t receiver = scene_.instances[p.it.instance].links.light_set;
@@ -781,7 +741,7 @@ class Kernel {
       }
       return out;
     };
-    feelers(p, strata.count(), draw, state, counts, terms, phong);
+    feelers(p, strata.count(), draw, state, counts, phong);
   }
 
   // A light sample between its Phong terms and its shadow feeler's answer.
@@ -800,10 +760,9 @@ class Kernel {
   // One light sample's share of the local term: its Phong terms, unshadowed, times what
   // its shadow ray lets through; nothing when pruning finds it cannot light the point.
   [[gnu::always_inline]] Color light_sample(const ShadingPoint& p, const Drawing& drawing,
-                                            const NodeState& state, RayCounts* counts,
-                                            NodeTerms* terms) const {
-    [[maybe_unused]] int node = -1;  // recording: this shadow ray's node
-    if constexpr (kRecord) node = record_shadow_ray(p.it, drawing, state);
+                                            const NodeState& state, RayCounts* counts) const {
+    const auto node = recorder_.feeler(p.it, drawing.sample, drawing.feeler.light,
+                                       drawing.feeler.emitter, state.depth);
     PreparedSample prepared;
     prepare_sample(p, drawing, state, counts, node, &prepared);
     if (prepared.dark) return Color(0.0f);
@@ -812,18 +771,19 @@ class Kernel {
       const Ray& ray = prepared.feeler;
       Blockers storage;
       const Blockers* linked = blockers(prepared.shadow_sets, &storage);
-      transmittance =
-          shadow_transmittance(ray, occluded(first_query(ray), linked), linked, state, counts);
-      if constexpr (kRecord) record_shadow(node, ray, transmittance);
+      transmittance = shadow_transmittance(ray, queries_.occluded(first_query(ray), linked), linked,
+                                           state, counts);
+      recorder_.shadow(node, ray, transmittance);
     }
-    return arrived(p, prepared, transmittance, terms);
+    return arrived(p, prepared, transmittance);
   }
 
   // Everything of a light sample up to its shadow feeler: the pruning decisions, the
   // unshadowed Phong terms, and the feeler, if one is sent.
   [[gnu::always_inline]] void prepare_sample(const ShadingPoint& p, const Drawing& drawing,
                                              const NodeState& state, RayCounts* counts,
-                                             [[maybe_unused]] int node, PreparedSample* out) const {
+                                             typename Recorder::Node node,
+                                             PreparedSample* out) const {
     const LightSample& ls = drawing.sample;
     out->shadow_sets = drawing.feeler.shadow_sets;
     // The shading normal decides whether a light is behind the (smooth) surface, not the
@@ -845,34 +805,21 @@ class Kernel {
     if (p.alpha > 0.0f) {
       out->unshadowed += surface.reflectivity * p.energy * t.glossy * ls.irradiance;
     }
-    if constexpr (kRecord) record_light(node, p, t, ls);
+    recorder_.unshadowed(node, p, t, ls);
     out->sends_feeler = shadow(p, drawing.feeler, ls, out->unshadowed, state, counts, &out->feeler);
   }
 
   // What a prepared sample adds to the local term once `transmittance` of it arrives.
-  Color arrived(const ShadingPoint& p, const PreparedSample& prepared, const Color& transmittance,
-                [[maybe_unused]] NodeTerms* terms) const {
-    if constexpr (kPasses) {
-      // The diffuse and specular shares of what arrives. The sum below, these and the
-      // inspector's (record_light) multiply the same terms in their own orders, which
-      // rounding tells apart: each keeps the order its images always had.
-      const LightTerms& t = prepared.t;
-      const SurfaceParams& surface = p.surface;
-      const Color light_in = prepared.irradiance * transmittance;
-      terms->diffuse +=
-          ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) *
-          light_in;
-      terms->specular +=
-          (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
-      if (p.alpha > 0.0f) terms->specular += surface.reflectivity * p.energy * t.glossy * light_in;
-    }
+  Color arrived(const ShadingPoint& p, const PreparedSample& prepared,
+                const Color& transmittance) const {
+    recorder_.arrived(p, prepared.t, prepared.irradiance * transmittance);
     return prepared.unshadowed * transmittance;
   }
 
   // Traces the feelers of `n` prepared samples, as one packet when there are several, and
   // adds the samples' shares to *phong in their order.
   void sum_batch(const ShadingPoint& p, const PreparedSample* batch, int n, const NodeState& state,
-                 RayCounts* counts, NodeTerms* terms, Color* phong) const {
+                 RayCounts* counts, Color* phong) const {
     std::array<Ray, kFeelerBatch> rays;
     std::array<bool, kFeelerBatch> blocked;
     int feelers = 0;
@@ -892,11 +839,13 @@ class Kernel {
         if (!batch[i].sends_feeler) continue;
         Blockers own;
         blocked[static_cast<size_t>(f)] =
-            occluded(rays[static_cast<size_t>(f)], blockers(batch[i].shadow_sets, &own));
+            queries_.occluded(rays[static_cast<size_t>(f)], blockers(batch[i].shadow_sets, &own));
         ++f;
       }
     }
-    if (feelers > 1 && shared) occluded_packet(rays.data(), feelers, blocked.data(), linked);
+    if (feelers > 1 && shared) {
+      queries_.occluded_packet(rays.data(), feelers, blocked.data(), linked);
+    }
     int feeler = 0;
     for (int i = 0; i < n; ++i) {
       const PreparedSample& prepared = batch[i];
@@ -911,22 +860,22 @@ class Kernel {
         transmittance = shadow_transmittance(prepared.feeler, first_blocked,
                                              blockers(prepared.shadow_sets, &own), state, counts);
       }
-      *phong += arrived(p, prepared, transmittance, terms);
+      *phong += arrived(p, prepared, transmittance);
     }
   }
 
   // The pruning decision (kPruningEffect) before any term is computed: a light sample
   // behind the surface or sending no light here adds nothing and needs no shadow ray.
-  bool dark(float cos_l, const LightSample& ls, [[maybe_unused]] int node,
+  bool dark(float cos_l, const LightSample& ls, typename Recorder::Node node,
             RayCounts* counts) const {
     if (cos_l <= 0.0f) {
       counts->shadow_rays_skipped.backfacing += 1;
-      if constexpr (kRecord) tree_->nodes[node].cut = TreeCut::kBackfacing;
+      recorder_.unsent(node, TreeCut::kBackfacing);
       return true;
     }
     if (is_black(ls.irradiance)) {
       counts->shadow_rays_skipped.unlit += 1;  // outside a spot's cone, behind an area light
-      if constexpr (kRecord) tree_->nodes[node].cut = TreeCut::kUnlit;
+      recorder_.unsent(node, TreeCut::kUnlit);
       return true;
     }
     return false;
@@ -1002,10 +951,13 @@ class Kernel {
   // of the light arrives, for a light that casts no shadows, or when pruning finds that
   // the light, lit or not, cannot change the pixel by the cutoff.
   // Flattened: with two callers of prepare_sample, GCC stopped inlining spawn_ray here,
-  // which cost the one-sample path about 1% (callgrind, whitted_tools.builds --small).
-  [[gnu::flatten]] bool shadow(const ShadingPoint& p, const Feeler& feeler, const LightSample& ls,
-                               const Color& unshadowed, const NodeState& state, RayCounts* counts,
-                               Ray* ray) const {
+  // which cost the one-sample path about 1% (callgrind, whitted_tools.builds --small). Always
+  // inlined: with the recorders' hooks, GCC kept it out of the pass kernel, which cost a
+  // passes render of the demo scene 1.1% more of whitted_native's instructions (callgrind).
+  [[gnu::flatten, gnu::always_inline]] bool shadow(const ShadingPoint& p, const Feeler& feeler,
+                                                   const LightSample& ls, const Color& unshadowed,
+                                                   const NodeState& state, RayCounts* counts,
+                                                   Ray* ray) const {
     if (!has(kShadowEffect) || !feeler.cast_shadows) return false;
     if (has(kPruningEffect)) {
       // The whole light is judged, not this sample's share of it: otherwise more samples
@@ -1046,7 +998,7 @@ class Kernel {
     Color transmittance(1.0f);
     for (int i = 0; i < kMaxTransparentLayers; ++i) {
       Hit hit;
-      if (!intersect(ray, &hit)) return transmittance;
+      if (!queries_.intersect(ray, &hit)) return transmittance;
       const Interaction it = scene_.interaction(ray, hit);
       // Under shadow linking, a surface that casts none of this light's shadows is passed.
       if (linked == nullptr || in_sets(linked->sets, scene_.shadow_sets[hit.instance])) {
@@ -1065,98 +1017,18 @@ class Kernel {
     return Color(0.0f);
   }
 
-  // The geometric and shading normals of a hit turned to face the ray; a shading normal
-  // cannot face away.
-  static void facing_normals(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
-                             Vec3* ng, Vec3* ns) {
-    // Entering or leaving is decided by the geometric normal, never the shading normal.
-    const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
-    *ng = entering ? it.geometric_normal : -it.geometric_normal;
-    *ns = entering ? surface.normal : -surface.normal;
-    if (glm::dot(*ns, *ng) <= 0.0f) *ns = *ng;
-  }
-
   // What a shader program may ask of a ray at `state` besides the ray.
   RayContext context(const NodeState& state) const { return {&camera_, state.depth}; }
-
-  // The inspector's records (kRecord only): a ray of the tree, `share` its part of the
-  // weight the tree's position carries (the part not yet covered by cut-outs in front,
-  // or the sigma_r / sigma_t of the surface being shaded).
-  int record_ray(const Ray& ray, const NodeState& state, TreeRayKind kind, int parent,
-                 const Color& share) const {
-    RayTreeNode node;
-    node.kind = kind;
-    node.depth = state.depth;
-    node.origin = ray.origin;
-    node.direction = ray.direction;
-    node.time = ray.time;
-    node.weight = tree_->scale * share;
-    return tree_->add(node, parent);
-  }
-  void record_end(int node, const Interaction& it) const {
-    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
-    n.hit = true;
-    n.end = it.position;
-    n.instance = static_cast<int32_t>(it.instance);
-    n.material = static_cast<int32_t>(it.material_index);
-  }
-  void record_background(int node, const Color& background) const {
-    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
-    n.background = n.weight * background;
-  }
-  // A secondary ray of `weight` (relative to the surface being shaded) that was not traced.
-  void record_cut(const Ray& ray, const NodeState& next, TreeRayKind kind, const Color& weight,
-                  TreeCut cut) const {
-    const int node = record_ray(ray, next, kind, tree_->current, weight);
-    tree_->nodes[static_cast<size_t>(node)].cut = cut;
-  }
-  // The shadow ray towards a light sample, before anything is known of it.
-  int record_shadow_ray(const Interaction& it, const Drawing& drawing,
-                        const NodeState& state) const {
-    const LightSample& ls = drawing.sample;
-    RayTreeNode node;
-    node.kind = TreeRayKind::kShadow;
-    node.depth = state.depth;
-    node.origin = it.shadow_origin;
-    node.direction = ls.wi;
-    node.time = it.time;
-    node.light = drawing.feeler.light;
-    node.emitter = drawing.feeler.emitter;
-    node.weight = tree_->scale;
-    if (!std::isinf(ls.distance)) node.end = it.shadow_origin + ls.wi * ls.distance;
-    return tree_->add(node, tree_->current);
-  }
-  // Its Phong terms, unshadowed (the coat's highlight counts as specular); counted as
-  // unshadowed until the shadow ray is sent.
-  void record_light(int node, const ShadingPoint& p, const LightTerms& t,
-                    const LightSample& ls) const {
-    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
-    const Color arriving = tree_->scale * ls.irradiance;
-    n.diffuse = arriving * (t.lit * kInvPi * t.fade) * p.surface.diffuse +
-                arriving * (t.lit * t.loss) * p.multiscatter;
-    n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
-    if (p.alpha > 0.0f) n.specular += arriving * t.glossy * p.surface.reflectivity * p.energy;
-    n.cut = TreeCut::kUnshadowed;
-  }
-  // A shadow ray that was sent: what got through, and the first surface in its way, if any.
-  void record_shadow(int node, const Ray& ray, const Color& transmittance) const {
-    RayTreeNode& n = tree_->nodes[static_cast<size_t>(node)];
-    n.cut = TreeCut::kNone;
-    n.transmittance = transmittance;
-    Hit hit;
-    if (transmittance != Color(1.0f) && scene_.accel->intersect(ray, &hit)) {
-      record_end(node, scene_.interaction(ray, hit));
-    }
-  }
 
   const CompiledScene& scene_;
   const Settings& settings_;
   const Camera& camera_;
-  RayLog* log_;
-  RayTree* tree_;
+  Queries queries_;
   uint32_t effects_;  // EffectBits
   bool emitters_;     // feelers go to emissive meshes (kEmitterEffect, and there are some)
-  [[no_unique_address]] Recorder recorder_;
+  // Told what the kernel does: what changes in it (its position, its sums) is not the
+  // kernel's state.
+  [[no_unique_address]] mutable Recorder recorder_;
 };
 
 // The sets of effects a render without passes gets a kernel of its own for: those the
@@ -1172,20 +1044,37 @@ constexpr bool specialised(uint32_t effects) {
          ((effects & kRefractionEffect) == 0 || (effects & kReflectionEffect) != 0);
 #endif
 }
-template <uint32_t E>
+template <uint32_t E, class Queries>
 constexpr WhittedIntegrator::TraceFn render_kernel() {
   if constexpr (specialised(E)) {
-    return &Kernel<E, false, NoRecorder>::run;
+    return &Kernel<E, NoRecorder, Queries>::run;
   } else {
-    return &Kernel<kRuntimeEffects, false, NoRecorder>::run;
+    return &Kernel<kRuntimeEffects, NoRecorder, Queries>::run;
   }
 }
-template <size_t... E>
+template <class Queries, size_t... E>
 constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(E)> render_kernels(
     std::index_sequence<E...> /*effects*/) {
-  return {render_kernel<static_cast<uint32_t>(E)>()...};
+  return {render_kernel<static_cast<uint32_t>(E), Queries>()...};
 }
-constexpr auto kRenderKernels = render_kernels(std::make_index_sequence<kAllEffects + 1>{});
+template <class Queries>
+constexpr auto kRenderKernels =
+    render_kernels<Queries>(std::make_index_sequence<kAllEffects + 1>{});
+
+// The kernel of a render with these settings and effects, its queries made by Queries:
+// with passes, the pass recorder's; without, the one for its effects. The benchmark's
+// renders (LoggedQueries) run the same kernels as the others.
+template <class Queries>
+WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effects) {
+  if (settings.passes != 0) return &Kernel<kRuntimeEffects, PassRecorder, Queries>::run;
+  return kRenderKernels<Queries>[effects & kAllEffects];
+}
+
+// The camera rays' packets, queried as the kernel's queries are.
+template <class Queries>
+void intersect_packet_with(const WhittedIntegrator& w, const Ray* rays, int count, Hit* hits) {
+  Queries(w).intersect_packet(rays, count, hits);
+}
 
 }  // namespace
 
@@ -1212,18 +1101,17 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
       settings_(settings),
       camera_(camera),
       effects_(analyse(scene, settings, camera)),
-      trace_(tree != nullptr        ? &Kernel<kRuntimeEffects, true, NoRecorder>::run
-             : settings.passes != 0 ? &Kernel<kRuntimeEffects, false, PassRecorder>::run
-                                    : kRenderKernels[effects_.bits & kAllEffects]),
+      trace_(tree != nullptr  ? &Kernel<kRuntimeEffects, TreeRecorder, SceneQueries>::run
+             : log != nullptr ? render_kernel<LoggedQueries>(settings, effects_.bits)
+                              : render_kernel<SceneQueries>(settings, effects_.bits)),
+      intersect_packet_(log != nullptr ? &intersect_packet_with<LoggedQueries>
+                                       : &intersect_packet_with<SceneQueries>),
       log_(log),
-      tree_(tree) {}
-
-void WhittedIntegrator::intersect_packet(const Ray* rays, int count, Hit* hits) const {
-  if (log_ != nullptr && log_->active) {
-    log_->intersect_packet(*scene_.accel, rays, count, hits);
-    return;
+      tree_(tree) {
+  if (log != nullptr && tree != nullptr) {
+    throw std::invalid_argument(
+        "the inspector's ray tree and a query log are never traced together");
   }
-  scene_.accel->intersect_packet(rays, count, hits);
 }
 
 // Walks a ray from p through every surface: a transmissive surface the walk leaves

@@ -46,17 +46,13 @@ struct RayCounts {
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
 // product of the sigma_r/sigma_t along the way; for a ray drawn from a glossy lobe, the
-// whole lobe's, which its n^2 rays share), and the media it is inside.
-// `throughput` is that weight times the coverage of the cut-outs on the way: kept only
-// by the kernels that record passes (elsewhere it stays 1). Named for the node of the
-// ray tree it describes, beside NodeTerms (passes.h), what that node adds: a Whitted
-// ray tree branches, so it is no path; the inspector's record of a traced ray is
-// RayTreeNode (ray_tree.h).
+// whole lobe's, which its n^2 rays share), and the media it is inside. Named for the
+// node of the ray tree it describes: a Whitted ray tree branches, so it is no path; the
+// inspector's record of a traced ray is RayTreeNode (ray_tree.h).
 struct NodeState {
   int depth = 0;
   Color weight{1.0f};
   MediumStack media;
-  Color throughput{1.0f};
   int glossy = 0;  // glossy bounces on the way here (Settings::glossy_samples)
   // Where the strata of glossy rays start: the camera sample's seed (sampler.cpp), mixed
   // at each glossy bounce with the ray's index, so each branch has its own.
@@ -70,14 +66,16 @@ struct NodeState {
   int receiver = -1;
 };
 
-// Analyses the scene once, then traces only the effects the scene calls for
-// (integrator/whitted.cpp: the effects as run-time flags, a kernel per recorder).
+// Analyses the scene once, then traces only the effects the scene calls for, with the
+// kernel chosen once (integrator/whitted.cpp: a kernel per recorder and way of querying,
+// the effects compiled in or read at run time).
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;
   // `log`, when given, takes the queries made while it is active (records them, or
-  // answers them in a replay: recorder.h); `tree`, when given,
-  // every ray and term of what is traced (the inspector: slower, never for renders).
+  // answers them in a replay: recorder.h); `tree`, when given, receives every ray and
+  // term of what is traced (the inspector: slower, never for renders). Not both: throws
+  // std::invalid_argument.
   WhittedIntegrator(const CompiledScene& scene, const Settings& settings,
                     const Camera& camera = Camera{}, RayLog* log = nullptr,
                     RayTree* tree = nullptr);
@@ -95,8 +93,11 @@ class WhittedIntegrator {
                    float* alpha, SampleRecord* record = nullptr) const {
     return trace_(*this, ray, state, counts, alpha, &first, record);
   }
-  // First hits of up to SceneAccel::kIntersectPacketSize coherent rays, traced as one packet.
-  void intersect_packet(const Ray* rays, int count, Hit* hits) const;
+  // First hits of up to SceneAccel::kIntersectPacketSize coherent rays, traced as one
+  // packet (through the log, as the kernel's queries, when there is one).
+  void intersect_packet(const Ray* rays, int count, Hit* hits) const {
+    intersect_packet_(*this, rays, count, hits);
+  }
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
@@ -110,6 +111,7 @@ class WhittedIntegrator {
 
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
+  using PacketFn = void (*)(const WhittedIntegrator&, const Ray*, int, Hit*);
 
  private:
   const CompiledScene& scene_;
@@ -117,6 +119,7 @@ class WhittedIntegrator {
   const Camera camera_;
   Effects effects_;
   TraceFn trace_;
+  PacketFn intersect_packet_;
   RayLog* log_;
   RayTree* tree_;
 };

@@ -1,0 +1,84 @@
+// What the Whitted kernel (whitted.cpp) tells a recorder as it traces: NoRecorder's
+// hooks, every one empty. A render without passes runs the kernel with NoRecorder itself,
+// so the hooks compile to nothing; a recorder derives from it and hides the hooks it
+// listens to: PassRecorder (passes.h) for the passes, TreeRecorder (tree_recorder.h) for
+// the ray-tree inspector.
+#pragma once
+
+#include <cstdint>
+
+#include "core/math.h"
+#include "core/ray.h"
+#include "integrator/ray_tree.h"
+#include "integrator/shading_point.h"
+#include "scene/light.h"
+#include "scene/scene.h"
+
+namespace whitted {
+
+class WhittedIntegrator;
+struct SampleRecord;
+
+// Every hook gets what the recorder needs of the kernel's step, and the recursion's
+// depth where it matters; the recorder keeps its own position in the recursion (a node
+// of its tree, a weight on the sample) through the scopes cover() and branch() return.
+struct NoRecorder {
+  // A ray as the recorder knows it (a node of its tree), handed back to its hooks.
+  struct Node {};
+  // The recorder's position while the kernel shades a surface or traces a child ray:
+  // set when made, put back when it ends.
+  struct Scope {};
+  // Whether the feelers of a sized light may go to Embree as packets (the inspector
+  // records each alone).
+  static constexpr bool kBatchesFeelers = true;
+  // Whether escaped() wants the world where a transparent film hides it.
+  static constexpr bool kHiddenWorld = false;
+
+  NoRecorder() = default;
+  NoRecorder(const WhittedIntegrator& /*integrator*/, SampleRecord* /*record*/) {}
+
+  // A ray traced at `depth`: the camera's or a child's (`in_front` none), or a ray's
+  // continuation behind the cut-out `in_front`; `behind` is the share of its weight
+  // not covered by the cut-outs in front.
+  Node ray(const Ray& /*ray*/, int /*depth*/, Node /*in_front*/, float /*behind*/) { return {}; }
+  // The ray met this surface.
+  void hit(Node /*node*/, const Interaction& /*it*/) {}
+  // The ray escaped to `world`, shown unless the film is transparent there.
+  void escaped(Node /*node*/, int /*depth*/, float /*behind*/, const Color& /*world*/,
+               bool /*shown*/) {}
+  // The surface the ray met is shaded, covering `a` of the `behind` share of the ray.
+  Scope cover(Node /*node*/, float /*behind*/, float /*a*/) { return {}; }
+  // That surface, as seen along `ray` (for the camera's surface data).
+  void surface(int /*depth*/, const Ray& /*ray*/, const Interaction& /*it*/,
+               const SurfaceParams& /*surface*/) {}
+  // The shadow ray towards light sample `ls` (of a lamp, CompiledScene::lights, or an
+  // emissive mesh, instances; -1 for the other), before anything is known of it.
+  Node feeler(const Interaction& /*it*/, const LightSample& /*ls*/, int32_t /*light*/,
+              int32_t /*emitter*/, int /*depth*/) {
+    return {};
+  }
+  // It was not sent: the light is behind the surface, or sends nothing here.
+  void unsent(Node /*node*/, TreeCut /*why*/) {}
+  // Its terms, unshadowed, before the shadow ray is sent (if it is).
+  void unshadowed(Node /*node*/, const ShadingPoint& /*p*/, const LightTerms& /*t*/,
+                  const LightSample& /*ls*/) {}
+  // The shadow ray was sent and let `transmittance` through.
+  void shadow(Node /*node*/, const Ray& /*ray*/, const Color& /*transmittance*/) {}
+  // A light sample's terms once `light_in` of it arrived.
+  void arrived(const ShadingPoint& /*p*/, const LightTerms& /*t*/, const Color& /*light_in*/) {}
+  // The local term of the surface being shaded: its emission, its ambient term, and
+  // emission + the whole local term as the kernel summed it.
+  void local(const ShadingPoint& /*p*/, int /*depth*/, const Color& /*emission*/,
+             const Color& /*ambient*/, const Color& /*total*/) {}
+  // sigma_r times the reflected radiance (sigma_t times the refracted) added there.
+  void reflected(int /*depth*/, const Color& /*sigma_r*/, const Color& /*radiance*/) {}
+  void refracted(int /*depth*/, const Color& /*sigma_t*/, const Color& /*radiance*/) {}
+  // A child ray of `weight` (relative to the surface being shaded) times `share` (of
+  // its lobe, for a ray drawn from a glossy lobe) is traced while the scope lives.
+  Scope branch(const Color& /*weight*/, float /*share*/, TreeRayKind /*kind*/) { return {}; }
+  // Such a ray, at `depth`, was not traced.
+  void cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& /*weight*/,
+           float /*share*/, TreeCut /*why*/) {}
+};
+
+}  // namespace whitted
