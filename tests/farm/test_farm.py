@@ -52,6 +52,13 @@ def identical(a, b):
     return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
 
 
+def assert_reference_frames(out, scenes, frames=FRAMES):
+    """Each of `frames` in `out` is the single-machine reference frame, bit for bit."""
+    for frame in frames:
+        got = pixels(out / f"{frame:04d}.exr")
+        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr")), frame
+
+
 @pytest.fixture(scope="module")
 def scenes(tmp_path_factory):
     folder = tmp_path_factory.mktemp("scenes")
@@ -200,9 +207,7 @@ def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, clus
     assert killed_mid_frame, "worker 0's Blender never rendered while the farm ran"
     assert victim.wait(timeout=10) == -signal.SIGKILL
     assert farm.returncode == 0, output
-    for frame in FRAMES:
-        got = pixels(out / f"{frame:04d}.exr")
-        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr")), frame
+    assert_reference_frames(out, scenes)
     assert not list(out.glob("*.partial"))
     first = report(out)
     assert first["status"] == "done" and first["rendered"] == 6
@@ -232,9 +237,7 @@ def test_a_crashed_blender_loses_only_its_frame(scenes, cluster, tmp_path):
     assert killed, "the worker's Blender never rendered while the farm ran"
     assert farm.returncode == 0, output
     assert worker.poll() is None
-    for frame in FRAMES:
-        got = pixels(out / f"{frame:04d}.exr")
-        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr")), frame
+    assert_reference_frames(out, scenes)
     frames = report(out)["frames"].values()
     retried = [f for f in frames if f["attempts"] > 1]
     assert len(retried) == 1, frames
@@ -295,9 +298,7 @@ def test_local_cluster_by_default(scenes, tmp_path, cold):
     out = tmp_path / "local"
     command = [*FARM, str(scenes / "anim.blend"), "--frames", "2-5", "--workers", "2"]
     run([*command, "--output", str(out), *(["--cold"] if cold else [])])
-    for frame in (2, 3, 4, 5):
-        got = pixels(out / f"{frame:04d}.exr")
-        assert identical(got, pixels(scenes / "reference" / f"{frame:04d}.exr"))
+    assert_reference_frames(out, scenes, (2, 3, 4, 5))
     # Warm: a Blender per worker; cold: a Blender per frame.
     started = sum(f["started_blender"] for f in report(out)["frames"].values())
     assert started == 4 if cold else started <= 2
