@@ -19,36 +19,25 @@
 
 namespace py = pybind11;
 
-// Colours, points and directions cross the boundary as 3-sequences of floats.
+// Colours, points and directions (3) and a shader program's registers (4: a value in all
+// four, a vector or colour in xyz) cross the boundary as sequences of N floats.
 namespace pybind11::detail {
-template <>
-struct type_caster<glm::vec3> {
-  PYBIND11_TYPE_CASTER(glm::vec3, const_name("tuple[float, float, float]"));
+template <glm::length_t N, glm::qualifier Q>
+requires(N == 3 || N == 4) struct type_caster<glm::vec<N, float, Q>> {
+  using Vec = glm::vec<N, float, Q>;
+  PYBIND11_TYPE_CASTER(Vec, const_name<N == 3>("tuple[float, float, float]",
+                                               "tuple[float, float, float, float]"));
   bool load(handle src, bool) {
     if (!isinstance<sequence>(src) || isinstance<str>(src)) return false;
     auto seq = reinterpret_borrow<sequence>(src);
-    if (seq.size() != 3) return false;
-    for (size_t i = 0; i < 3; ++i) value[static_cast<int>(i)] = seq[i].cast<float>();
+    if (seq.size() != N) return false;
+    for (glm::length_t i = 0; i < N; ++i) value[i] = seq[static_cast<size_t>(i)].cast<float>();
     return true;
   }
-  static handle cast(const glm::vec3& v, return_value_policy, handle) {
-    return py::make_tuple(v.x, v.y, v.z).release();
-  }
-};
-// A shader program's registers (a value in all four, a vector or colour in xyz) as
-// 4-sequences of floats.
-template <>
-struct type_caster<glm::vec4> {
-  PYBIND11_TYPE_CASTER(glm::vec4, const_name("tuple[float, float, float, float]"));
-  bool load(handle src, bool) {
-    if (!isinstance<sequence>(src) || isinstance<str>(src)) return false;
-    auto seq = reinterpret_borrow<sequence>(src);
-    if (seq.size() != 4) return false;
-    for (size_t i = 0; i < 4; ++i) value[static_cast<int>(i)] = seq[i].cast<float>();
-    return true;
-  }
-  static handle cast(const glm::vec4& v, return_value_policy, handle) {
-    return py::make_tuple(v.x, v.y, v.z, v.w).release();
+  static handle cast(const Vec& v, return_value_policy, handle) {
+    py::tuple out(N);
+    for (glm::length_t i = 0; i < N; ++i) out[static_cast<size_t>(i)] = py::float_(v[i]);
+    return out.release();
   }
 };
 }  // namespace pybind11::detail
