@@ -76,6 +76,9 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
             "visible_instances": native_stats["visible_instances"],
             "instances_per_pixel": native_stats["instances_per_pixel"],
         },
+        # Whether pixels were traced in waves (Settings.waves, native integrator/wave.h),
+        # and the most memory one worker's wave queues held, in bytes.
+        "waves": {"on": native_stats["waves"], "queue_bytes": native_stats["wave_bytes"]},
         # What the scene analysis simulated and skipped: {name, on, why} per effect.
         "effects": [dict(decision) for decision in native_stats["effects"]],
         # Camera samples; adaptive anti-aliasing takes a different number per pixel.

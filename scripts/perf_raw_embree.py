@@ -15,6 +15,7 @@ add-on enabled:
      refraction, cut-out continuations) over the trace phase, which includes shading,
      texture lookups and the recursion;
    - the same render with camera-ray packets off, for what the packets buy;
+   - the same render traced in waves (Settings.waves), for what the waves buy;
    - the recorded queries traced again by a loop of single-ray
      rtcIntersect1/rtcOccluded1 calls on as many threads, with no shading and nothing
      else in the loop (SceneAccel::trace_bare): Embree's rays per second;
@@ -168,6 +169,17 @@ def compare_packets(native, frame, settings):
         print(f"  ({x}, {y}): packets {on[y, x]}, single rays {off[y, x]}")
 
 
+def render_in_waves(native, frame, settings):
+    """The render traced in waves, or None with a build that has none."""
+    if not hasattr(settings, "waves"):
+        return None
+    settings.waves = True
+    try:
+        return render(native, frame, settings)
+    finally:
+        settings.waves = False
+
+
 def main():
     args = parse_args()
     if args.packets:
@@ -198,11 +210,13 @@ def main():
         settings.packets = False
         single_job = render(native, frame, settings)
         settings.packets = True
+        wave_job = render_in_waves(native, frame, settings)
         bare = recorded.trace_bare()
         stubbed_rps, stubbed_rays = replay_rate(recorded)
         rounds.append(
             {
                 "whitted": rate(job),
+                "waves": rate(wave_job) if wave_job is not None else None,
                 "trace_seconds": job.stats()["trace_seconds"],
                 "single": rate(single_job),
                 "embree": bare["rays"] / bare["seconds"],
@@ -246,6 +260,12 @@ def main():
         "embree_rays_per_second": median("embree"),
         # Each round's Whitted rate over its bare Embree rate, the median of the rounds.
         "efficiency": paired("whitted", "embree"),
+        # The same render traced in waves (Settings.waves, native integrator/wave.h), in
+        # the same rounds: its rate, over the recursion's and over bare Embree's (the same
+        # rays: the wave traces what the recursion does). None: a build without waves.
+        "waves_rays_per_second": median_or_none(r["waves"] for r in rounds if r["waves"]),
+        "waves_gain": paired("waves", "whitted") if wave_job is not None else None,
+        "waves_efficiency": paired("waves", "embree") if wave_job is not None else None,
         # The recorded pixels with traversal stubbed out (replays): the shading alone.
         "stubbed_rays": stubbed_rays,
         "stubbed_rays_per_second": median("stubbed"),

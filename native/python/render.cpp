@@ -52,6 +52,8 @@ py::dict stats_dict(const RenderStats& s) {
   out["camera_packets"] = s.camera_packets;
   out["visible_instances"] = s.visible_instances;
   out["instances_per_pixel"] = s.instances_per_pixel;
+  out["waves"] = s.waves;
+  out["wave_bytes"] = s.wave_bytes;
   out["cancelled"] = s.cancelled;
   out["error"] = s.error;
   return out;

@@ -142,6 +142,9 @@ void bind_settings(py::module_& m) {
       .def_readwrite("packets", &Settings::packets,
                      "Trace each pixel's camera rays as one Embree packet; off: one query "
                      "per ray (a benchmark baseline).")
+      .def_readwrite("waves", &Settings::waves,
+                     "Trace a row of a tile's camera samples together, a generation of rays "
+                     "at a time (integrator/wave.h); off: the recursive kernel, the reference.")
       .def_readwrite("analysis", &Settings::analysis,
                      "Trace only the effects the scene calls for (shadows, reflection, "
                      "refraction, translucency); off: every effect on (a benchmark baseline).")

@@ -150,6 +150,23 @@ def test_stats_count_rays_by_type():
     assert stats["rays"]["total"] == 1200
 
 
+def test_waves_are_a_setting_the_statistics_report():
+    scene = lit_floor_scene()
+    scene.set_material("white", wn.Material(diffuse=(0.5, 0.5, 0.5), reflectivity=(0.5, 0.5, 0.5)))
+    assert wn.Settings().waves is False  # the recursion is the default (docs/notes/waves.md)
+    images = {}
+    for waves in (False, True):
+        settings = wn.Settings(width=10, height=10, aa_samples=2)
+        settings.waves = waves
+        job = wn.RenderJob(scene, settings)
+        images[waves] = finish(job)
+        stats = job.stats()
+        assert stats["waves"] is waves
+        assert (stats["wave_bytes"] > 0) is waves
+        assert stats["rays"]["total"] == 1200
+    np.testing.assert_allclose(images[True], images[False], rtol=1e-6, atol=1e-7)
+
+
 @pytest.mark.parametrize(
     ("positions", "triangles", "message"),
     [

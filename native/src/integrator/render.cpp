@@ -23,6 +23,16 @@ void lower_thread_priority(int nice) {
   setpriority(PRIO_PROCESS, tid, nice);
 }
 
+// The memory a worker's wave queues hold (their capacity, not their size).
+size_t wave_bytes(const Wave& wave) {
+  return (wave.rays.capacity() + wave.next.capacity()) * sizeof(WaveRay) +
+         wave.hits.capacity() * sizeof(Hit) + wave.found.capacity() +
+         wave.feelers.capacity() * sizeof(WaveFeeler) +
+         wave.samples.capacity() * sizeof(WaveSample) +
+         (wave.order.capacity() + wave.groups.capacity()) * sizeof(uint32_t) +
+         wave.blocked.capacity();
+}
+
 double now_seconds() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
@@ -85,6 +95,7 @@ void RenderJob::describe_scene() {
   const WhittedIntegrator integrator(*scene_, settings_, camera_);
   camera_media_ = integrator.media_at(Vec3(camera_.to_world[3]));
   stats_.effects = integrator.effects().decisions;
+  stats_.waves = integrator.waves();
   const PacketChoice packets = choose_packets(*scene_, camera_, settings_);
   camera_packets_ = packets.packets;
   stats_.camera_packets = packets.packets;
@@ -137,6 +148,7 @@ void RenderJob::work(int worker) {
   lower_thread_priority(settings_.worker_nice);
   RayLog* log = recorder_.log(worker);
   RayCounts counts;
+  Wave wave;  // the worker's queues, reused tile after tile
   // The one catch-all of the engine: an exception must not leave a worker thread, where
   // it would call std::terminate and take Blender down. It is kept for wait() instead.
   try {
@@ -149,7 +161,7 @@ void RenderJob::work(int worker) {
       if (!wait_for_pass(pass)) break;
       const size_t tile = item % tiles_.size();
       if (static_cast<int64_t>(tile) == settings_.fault_tile) throw std::bad_alloc();
-      trace(passes_[pass], tiles_[tile], sampler, log, &counts);
+      trace(passes_[pass], tiles_[tile], sampler, log, &wave, &counts);
       if (cancel_) break;  // a tile cut short is not reported as finished
       finish_item(item, &counts);
     }
@@ -158,6 +170,7 @@ void RenderJob::work(int worker) {
   }
   std::lock_guard lock(mutex_);
   stats_.rays += counts;  // what a tile cut short traced
+  stats_.wave_bytes = std::max(stats_.wave_bytes, wave_bytes(wave));
   if (--running_ == 0) {
     stats_.trace_seconds = now_seconds() - start_time_;
     stats_.cancelled = cancel_;
@@ -178,7 +191,11 @@ bool RenderJob::wait_for_pass(size_t pass) {
 }
 
 void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
-                      RayCounts* counts) {
+                      Wave* wave, RayCounts* counts) {
+  if (pass.kind != Pass::Kind::kPreview && sampler.waves(pass.kind == Pass::Kind::kPixels)) {
+    trace_rows(pass, tile, sampler, log, wave, counts);
+    return;
+  }
   const int width = settings_.width;
   // What each pixel (or sample) adds to the passes, when there are any.
   SampleRecord record;
@@ -221,6 +238,31 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
       } else {
         const Sample s = sampler.grid_sample(x, y, pass.sample, counts, passes);
         film_.add(x, y, s, static_cast<float>(counts->total() - before), passes);
+      }
+    }
+  }
+}
+
+void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampler& sampler,
+                           RayLog* log, Wave* wave, RayCounts* counts) {
+  const bool whole = pass.kind == Pass::Kind::kPixels;
+  std::vector<Sample> values;
+  std::vector<uint64_t> rays;
+  for (int y = tile.y; y < tile.y + tile.height; ++y) {
+    if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
+    // A row's queries are interleaved: it is recorded (or replayed) whole, if any of its
+    // pixels is selected.
+    if (!recorder_.select_range(log, tile.x, tile.x + tile.width, y, settings_.width)) continue;
+    sampler.row(tile.x, tile.x + tile.width, y, whole ? -1 : pass.sample, wave, counts, &values,
+                &rays);
+    for (int x = tile.x; x < tile.x + tile.width; ++x) {
+      const auto i = static_cast<size_t>(x - tile.x);
+      const auto cost = static_cast<float>(rays[i]);
+      if (whole) {
+        film_.set(x, y, values[i], cost, nullptr);
+        if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
+      } else {
+        film_.add(x, y, values[i], cost, nullptr);
       }
     }
   }

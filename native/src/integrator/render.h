@@ -44,6 +44,10 @@ struct RenderStats {
   bool cancelled = false;               // stopped before the end: cancel(), or a worker failed
   std::string error;                    // what the first failing worker threw; empty when none did
   std::vector<EffectDecision> effects;  // what the scene analysis simulated and skipped, why
+  // Tracing in waves (Settings::waves): whether any pass was, and the most memory one
+  // worker's queues held (their capacity, wave.h).
+  bool waves = false;
+  size_t wave_bytes = 0;
 };
 
 // Where a render is in its schedule.
@@ -119,7 +123,10 @@ class RenderJob {
   // Blocks until every pass before `pass` is complete; false if the job was cancelled.
   bool wait_for_pass(size_t pass);
   void trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
-             RayCounts* counts);
+             Wave* wave, RayCounts* counts);
+  // A pass over a tile's whole pixels or grid samples traced in waves, a row at a time.
+  void trace_rows(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
+                  Wave* wave, RayCounts* counts);
   void finish_item(size_t item, RayCounts* counts);
   // Keeps the first error for wait() and stops the other workers.
   void fail(std::exception_ptr error);

@@ -153,6 +153,59 @@ void CameraSampler::first_hits(int x, int y, FirstHits* out) const {
   }
 }
 
+bool CameraSampler::waves(bool whole) const {
+  return integrator_.waves() &&
+         !(whole && settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_);
+}
+
+void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
+                        std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
+  const int grid = settings_.aa_samples * settings_.aa_samples;
+  const int per_pixel = sample < 0 ? grid : 1;
+  const auto pixels = static_cast<size_t>(x1 - x0);
+  wave->reset(pixels * static_cast<size_t>(per_pixel));
+  // Whole pixels take their first hits from the blocks' packets, as pixel() does.
+  const int width = sample < 0 ? block_width() : 0;
+  FirstHits block;
+  for (int x = x0; x < x1; ++x) {
+    if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
+    for (int j = 0; j < per_pixel; ++j) {
+      const int k = sample < 0 ? j : sample;
+      const auto index = static_cast<uint32_t>((x - x0) * per_pixel + j);
+      const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
+      const Ray ray = width > 0 ? block.rays[b] : grid_ray(x, y, k);
+      counts->camera += 1;
+      if (ray.kind == kNoRay) continue;  // outside a fisheye's circle: opaque black (shade())
+      NodeState root = root_;
+      root.seed = grid_seed(x, y, k);
+      wave->rays.push_back({ray, root, Color(1.0f), index});
+      wave->found.push_back(width > 0 ? block.found[b] : 0);
+      wave->hits.push_back(width > 0 ? block.hits[b] : Hit{});
+    }
+  }
+  integrator_.trace_wave(wave, counts);
+  values->resize(pixels);
+  rays->resize(pixels);
+  const float w = 1.0f / static_cast<float>(per_pixel);
+  for (size_t i = 0; i < pixels; ++i) {
+    // Summed in sample order and averaged, as pixel_grid() sums its samples.
+    Sample sum{Color(0.0f), 0.0f};
+    uint64_t cost = 0;
+    for (size_t j = 0; j < static_cast<size_t>(per_pixel); ++j) {
+      const WaveSample& s = wave->samples[i * static_cast<size_t>(per_pixel) + j];
+      cost += s.rays + 1;  // and its camera ray
+      if (!is_finite(s.radiance)) {
+        counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+        continue;
+      }
+      sum.radiance += s.radiance;
+      sum.alpha += s.alpha;
+    }
+    (*values)[i] = per_pixel == 1 ? sum : Sample{sum.radiance * w, sum.alpha * w};
+    (*rays)[i] = cost;
+  }
+}
+
 const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
                                           FirstHits* own) const {
   if (block != nullptr && block->holds(x, y)) return block;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "integrator/film.h"
+#include "integrator/wave.h"
 #include "integrator/whitted.h"
 #include "scene/camera.h"
 
@@ -87,6 +88,15 @@ class CameraSampler {
   int block_width() const;
   // The first hits of the block holding pixel (x, y) (block_width() > 0).
   void first_hits(int x, int y, FirstHits* out) const;
+  // Whether pixels (`whole`) or grid samples are traced in waves (row()): where the
+  // integrator has a wave kernel, and pixels are grids (not adaptive subdivision).
+  bool waves(bool whole) const;
+  // Pixels [x0, x1) of row y traced as one wave (waves()): each pixel's whole grid when
+  // `sample` < 0, else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as
+  // pixel() or grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays
+  // it cost.
+  void row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
+           std::vector<Sample>* values, std::vector<uint64_t>* rays) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
   Sample point(float px, float py, RayCounts* counts, SampleRecord* record = nullptr) const;
 

@@ -74,6 +74,12 @@ struct Settings {
   // the pixels on the suite's scenes). Off: one query per ray everywhere (a benchmark
   // baseline).
   bool packets = true;
+  // Trace in waves (integrator/wave.h): the camera samples of a row of a tile together,
+  // a generation of rays at a time, the feelers towards each lamp as packets. The pixels
+  // are the recursion's up to float rounding (the order of the sums differs). Renders
+  // with passes, adaptive anti-aliasing and the viewport's coarse previews are traced
+  // recursively either way. Off: the recursive kernel everywhere (the reference).
+  bool waves = false;
   // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
   // whole image. The rest of the image stays 0.
   int border[4] = {0, 0, 0, 0};

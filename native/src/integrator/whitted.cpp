@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "core/limits.h"
@@ -10,6 +11,7 @@
 #include "integrator/lobes.h"
 #include "integrator/shading_point.h"
 #include "integrator/tree_recorder.h"
+#include "integrator/wave.h"
 #include "scene/mesh_light.h"
 
 namespace whitted {
@@ -143,7 +145,101 @@ class Kernel {
     return Kernel(w, record).trace(ray, state, counts, alpha, first);
   }
 
+  // The same recursion traced in waves (wave.h): each generation's rays are traced and
+  // shaded as above, their children and feelers appended to the wave (branch,
+  // feelers); then the generation's feelers are traced, and the children become the
+  // next generation.
+  static void run_wave(const WhittedIntegrator& w, Wave* wave, RayCounts* counts) {
+    Kernel kernel(w, nullptr);
+    WaveCursor cursor{wave};
+    kernel.cursor_ = &cursor;
+    for (bool camera = true; !wave->rays.empty(); camera = false) {
+      wave->next.clear();
+      wave->feelers.clear();
+      for (size_t i = 0; i < wave->rays.size(); ++i) {
+        const WaveRay& r = wave->rays[i];
+        WaveSample& sample = wave->samples[r.sample];
+        cursor.factor = r.factor;
+        cursor.sample = r.sample;
+        const uint64_t before = counts->total();
+        const bool known = camera && i < wave->found.size() && wave->found[i] != 0;
+        const Color radiance =
+            kernel.trace(r.ray, r.state, counts, camera ? &sample.alpha : nullptr,
+                         known ? &wave->hits[i] : nullptr);
+        sample.radiance += r.factor * radiance;
+        sample.rays += counts->total() - before;
+      }
+      kernel.trace_feelers(wave, counts);
+      std::swap(wave->rays, wave->next);
+    }
+  }
+
  private:
+  // Where a kernel tracing a wave stands: the ray being traced (its factor on its
+  // sample) and the factor of the surface being shaded (times the coverage in front).
+  struct WaveCursor {
+    Wave* wave;
+    Color factor{1.0f};
+    Color layer{1.0f};
+    uint32_t sample = 0;
+  };
+
+  // The wave's feeler stage: each feeler's first query, those towards one lamp (with
+  // one set of blockers) as packets, in runs of neighbouring hits; then, in the order
+  // they were sent, what each lets through times its contribution is added to its sample.
+  void trace_feelers(Wave* wave, RayCounts* counts) const {
+    const std::vector<WaveFeeler>& feelers = wave->feelers;
+    const size_t n = feelers.size();
+    // Grouped by light, in their order within each group (a counting sort: lamps, then
+    // the emissive meshes').
+    const size_t groups = scene_.lights.size() + 1;
+    const auto group = [&](const WaveFeeler& f) {
+      return f.light < 0 ? groups - 1 : static_cast<size_t>(f.light);
+    };
+    std::vector<uint32_t>& starts = wave->groups;
+    starts.assign(groups + 1, 0);
+    for (const WaveFeeler& f : feelers) starts[group(f) + 1] += 1;
+    for (size_t g = 0; g < groups; ++g) starts[g + 1] += starts[g];
+    std::vector<uint32_t>& sorted = wave->order;
+    sorted.resize(n);
+    for (size_t i = 0; i < n; ++i) sorted[starts[group(feelers[i])]++] = static_cast<uint32_t>(i);
+    wave->blocked.assign(n, 0);
+    std::array<Ray, kFeelerBatch> rays;
+    std::array<bool, kFeelerBatch> blocked;
+    for (size_t first = 0; first < n;) {
+      const WaveFeeler& lead = feelers[sorted[first]];
+      size_t end = first + 1;
+      while (end < n && end - first < static_cast<size_t>(kFeelerBatch) &&
+             group(feelers[sorted[end]]) == group(lead) &&
+             feelers[sorted[end]].shadow_sets == lead.shadow_sets) {
+        ++end;
+      }
+      const int count = static_cast<int>(end - first);
+      Blockers storage;
+      const Blockers* linked = blockers(lead.shadow_sets, &storage);
+      if (count == 1) {
+        for (size_t k = first; k < end; ++k) {
+          wave->blocked[sorted[k]] = queries_.occluded(feelers[sorted[k]].ray, linked) ? 1 : 0;
+        }
+      } else {
+        for (int k = 0; k < count; ++k) rays[k] = feelers[sorted[first + k]].ray;
+        queries_.occluded_packet(rays.data(), count, blocked.data(), linked);
+        for (int k = 0; k < count; ++k) wave->blocked[sorted[first + k]] = blocked[k] ? 1 : 0;
+      }
+      first = end;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const WaveFeeler& f = feelers[i];
+      WaveSample& sample = wave->samples[f.sample];
+      const uint64_t before = counts->total();
+      Blockers storage;
+      const Color transmittance = shadow_transmittance(
+          f.ray, wave->blocked[i] != 0, blockers(f.shadow_sets, &storage), f.depth, counts);
+      sample.radiance += f.contribution * transmittance;
+      sample.rays += counts->total() - before;
+    }
+  }
+
   bool has(uint32_t bit) const {
     if constexpr (kEffects == kRuntimeEffects) {
       return (effects_ & bit) != 0;
@@ -201,6 +297,7 @@ class Kernel {
         a = layer == kMaxTransparentLayers ? 1.0f : surface.alpha;
       }
       if (a > 0.0f) {
+        if (cursor_ != nullptr) cursor_->layer = cursor_->factor * (behind * a);
         [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a);
         recorder_.surface(state.depth, r, it, surface);
         radiance += (behind * a) * shade(r, it, surface, state, counts);
@@ -610,6 +707,11 @@ class Kernel {
       counts->reflection += 1;
     }
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+    if (cursor_ != nullptr) {  // traced in a later generation of the wave
+      cursor_->wave->next.push_back(
+          {ray, next, cursor_->layer * (weight * share), cursor_->sample});
+      return Color(0.0f);
+    }
     [[maybe_unused]] const auto scope = recorder_.branch(weight, share, kind);
     return trace(ray, next, counts, nullptr);
   }
@@ -678,6 +780,10 @@ class Kernel {
   template <class Draw>
   void feelers(const ShadingPoint& p, int samples, const Draw& draw, const NodeState& state,
                RayCounts* counts, Color* phong) const {
+    if (cursor_ != nullptr) {
+      for (int s = 0; s < samples; ++s) defer_sample(p, draw(s), state, counts, phong);
+      return;
+    }
     if (!Recorder::kBatchesFeelers || samples == 1) {
       for (int s = 0; s < samples; ++s) *phong += light_sample(p, draw(s), state, counts);
       return;
@@ -744,6 +850,23 @@ class Kernel {
     feelers(p, strata.count(), draw, state, counts, phong);
   }
 
+  // A light sample in a wave: its share added now if no feeler is sent, else its feeler
+  // appended to the wave, which adds its share once the feeler's answer is known.
+  [[gnu::flatten]] void defer_sample(const ShadingPoint& p, const Drawing& drawing,
+                                     const NodeState& state, RayCounts* counts,
+                                     Color* phong) const {
+    PreparedSample prepared;
+    prepare_sample(p, drawing, state, counts, typename Recorder::Node{}, &prepared);
+    if (prepared.dark) return;
+    if (!prepared.sends_feeler) {
+      *phong += arrived(p, prepared, Color(1.0f));
+      return;
+    }
+    cursor_->wave->feelers.push_back({first_query(prepared.feeler),
+                                      cursor_->layer * prepared.unshadowed, prepared.shadow_sets,
+                                      cursor_->sample, drawing.feeler.light, state.depth});
+  }
+
   // A light sample between its Phong terms and its shadow feeler's answer.
   struct PreparedSample {
     LightTerms t;
@@ -772,7 +895,7 @@ class Kernel {
       Blockers storage;
       const Blockers* linked = blockers(prepared.shadow_sets, &storage);
       transmittance = shadow_transmittance(ray, queries_.occluded(first_query(ray), linked), linked,
-                                           state, counts);
+                                           state.depth, counts);
       recorder_.shadow(node, ray, transmittance);
     }
     return arrived(p, prepared, transmittance);
@@ -857,8 +980,9 @@ class Kernel {
       if (prepared.sends_feeler) {
         const bool first_blocked = blocked[static_cast<size_t>(feeler++)];
         Blockers own;
-        transmittance = shadow_transmittance(prepared.feeler, first_blocked,
-                                             blockers(prepared.shadow_sets, &own), state, counts);
+        transmittance =
+            shadow_transmittance(prepared.feeler, first_blocked,
+                                 blockers(prepared.shadow_sets, &own), state.depth, counts);
       }
       *phong += arrived(p, prepared, transmittance);
     }
@@ -988,7 +1112,7 @@ class Kernel {
   // `blocked` (both among `linked`, null: every instance): 0 behind anything opaque; through a
   // surface of coverage a, 1 - a passes (cut-outs), and of its covered part a*T with glass_shadows
   // tinted (coloured shadows behind glass, transmissivity T), else none (settings.h).
-  Color shadow_transmittance(Ray ray, bool blocked, const Blockers* linked, const NodeState& state,
+  Color shadow_transmittance(Ray ray, bool blocked, const Blockers* linked, int depth,
                              RayCounts* counts) const {
     counts->shadow += 1;
     if (blocked) return Color(0.0f);
@@ -1002,7 +1126,7 @@ class Kernel {
       const Interaction it = scene_.interaction(ray, hit);
       // Under shadow linking, a surface that casts none of this light's shadows is passed.
       if (linked == nullptr || in_sets(linked->sets, scene_.shadow_sets[hit.instance])) {
-        const SurfaceParams surface = scene_.surface(it, ray, context(state));
+        const SurfaceParams surface = scene_.surface(it, ray, RayContext{&camera_, depth});
         const float a = surface.alpha;
         const bool tinted = settings_.glass_shadows == GlassShadows::kTinted;
         transmittance *= (1.0f - a) + a * (tinted ? surface.transmissivity : Color(0.0f));
@@ -1029,6 +1153,8 @@ class Kernel {
   // Told what the kernel does: what changes in it (its position, its sums) is not the
   // kernel's state.
   [[no_unique_address]] mutable Recorder recorder_;
+  // Tracing a wave (run_wave): where it stands; null in the recursion.
+  WaveCursor* cursor_ = nullptr;
 };
 
 // The sets of effects a render without passes gets a kernel of its own for: those the
@@ -1045,17 +1171,18 @@ constexpr bool specialised(uint32_t effects) {
 #endif
 }
 template <uint32_t E, class Queries>
-constexpr WhittedIntegrator::TraceFn render_kernel() {
-  if constexpr (specialised(E)) {
-    return &Kernel<E, NoRecorder, Queries>::run;
-  } else {
-    return &Kernel<kRuntimeEffects, NoRecorder, Queries>::run;
-  }
-}
+using RenderKernel = std::conditional_t<specialised(E), Kernel<E, NoRecorder, Queries>,
+                                        Kernel<kRuntimeEffects, NoRecorder, Queries>>;
+// Each set of effects' kernel, traced recursively and in waves.
+template <class Queries>
+struct RenderKernels {
+  std::array<WhittedIntegrator::TraceFn, kAllEffects + 1> recursive;
+  std::array<WhittedIntegrator::WaveFn, kAllEffects + 1> waves;
+};
 template <class Queries, size_t... E>
-constexpr std::array<WhittedIntegrator::TraceFn, sizeof...(E)> render_kernels(
-    std::index_sequence<E...> /*effects*/) {
-  return {render_kernel<static_cast<uint32_t>(E), Queries>()...};
+constexpr RenderKernels<Queries> render_kernels(std::index_sequence<E...> /*effects*/) {
+  return {{&RenderKernel<static_cast<uint32_t>(E), Queries>::run...},
+          {&RenderKernel<static_cast<uint32_t>(E), Queries>::run_wave...}};
 }
 template <class Queries>
 constexpr auto kRenderKernels =
@@ -1067,7 +1194,14 @@ constexpr auto kRenderKernels =
 template <class Queries>
 WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effects) {
   if (settings.passes != 0) return &Kernel<kRuntimeEffects, PassRecorder, Queries>::run;
-  return kRenderKernels<Queries>[effects & kAllEffects];
+  return kRenderKernels<Queries>.recursive[effects & kAllEffects];
+}
+// Its wave kernel: none with passes (their recorder follows the recursion), or when
+// the settings ask for the recursion.
+template <class Queries>
+WhittedIntegrator::WaveFn wave_kernel(const Settings& settings, uint32_t effects) {
+  if (settings.passes != 0 || !settings.waves) return nullptr;
+  return kRenderKernels<Queries>.waves[effects & kAllEffects];
 }
 
 // The camera rays' packets, queried as the kernel's queries are.
@@ -1106,6 +1240,9 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
                               : render_kernel<SceneQueries>(settings, effects_.bits)),
       intersect_packet_(log != nullptr ? &intersect_packet_with<LoggedQueries>
                                        : &intersect_packet_with<SceneQueries>),
+      trace_wave_(tree != nullptr  ? nullptr
+                  : log != nullptr ? wave_kernel<LoggedQueries>(settings, effects_.bits)
+                                   : wave_kernel<SceneQueries>(settings, effects_.bits)),
       log_(log),
       tree_(tree) {
   if (log != nullptr && tree != nullptr) {

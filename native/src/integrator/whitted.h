@@ -18,6 +18,8 @@
 
 namespace whitted {
 
+struct Wave;
+
 // Rays traced by type, and rays not traced by reason, per thread, summed after each tile.
 // Named as in the statistics dict and JSON (addon/stats.py).
 struct RayCounts {
@@ -99,6 +101,14 @@ class WhittedIntegrator {
     intersect_packet_(*this, rays, count, hits);
   }
 
+  // Traces wave->rays (camera rays: wave->hits holds the first hits found as packets,
+  // where wave->found) and every ray and feeler they spawn, generation by generation,
+  // adding into wave->samples (wave.h). Only where waves() is true.
+  void trace_wave(Wave* wave, RayCounts* counts) const { trace_wave_(*this, wave, counts); }
+  // Whether renders with these settings trace in waves: Settings::waves, and no passes
+  // (their recorder follows the recursion; the inspector's likewise).
+  bool waves() const { return trace_wave_ != nullptr; }
+
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
 
@@ -112,6 +122,7 @@ class WhittedIntegrator {
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
   using PacketFn = void (*)(const WhittedIntegrator&, const Ray*, int, Hit*);
+  using WaveFn = void (*)(const WhittedIntegrator&, Wave*, RayCounts*);
 
  private:
   const CompiledScene& scene_;
@@ -120,6 +131,7 @@ class WhittedIntegrator {
   Effects effects_;
   TraceFn trace_;
   PacketFn intersect_packet_;
+  WaveFn trace_wave_;
   RayLog* log_;
   RayTree* tree_;
 };

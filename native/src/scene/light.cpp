@@ -78,6 +78,33 @@ void basis(const Vec3& w, Vec3* u, Vec3* v) {
   *v = glm::cross(w, *u);
 }
 
+// Stratum `index` of a sized light, on its shape: the disc of a sun or a sphere light, an
+// area light's rectangle or ellipse. From the constructor's table where it has one.
+glm::vec2 strata_offset(const Light& light, int index) {
+  if (static_cast<size_t>(index) < light.offsets.size()) {
+    return light.offsets[static_cast<size_t>(index)];
+  }
+  glm::vec2 out(0.0f);
+  if (light.type == LightType::kArea) {
+    area_offset(light, index, &out.x, &out.y);
+  } else {
+    disc_offset(light, index, &out.x, &out.y);
+  }
+  return out;
+}
+
+// The direction towards sample `index` of a sun with a disc.
+Vec3 sun_direction(const Light& light, int index) {
+  const Vec3 towards = -glm::normalize(light.direction);
+  // Directions spread over the sun's disc, of angular radius angle/2.
+  Vec3 u;
+  Vec3 v;
+  basis(towards, &u, &v);
+  const glm::vec2 o = strata_offset(light, index);
+  const float spread = 2.0f * std::tan(0.5f * std::min(light.angle, 3.0f));
+  return glm::normalize(towards + spread * (o.x * u + o.y * v));
+}
+
 }  // namespace
 
 Light::Light(const LightParams& params) : LightParams(params) {
@@ -106,6 +133,13 @@ Light::Light(const LightParams& params) : LightParams(params) {
   angle = std::clamp(angle, 0.0f, kPi);
   spread = std::clamp(spread, 0.0f, kPi);
   max_bounces = std::max(max_bounces, 0);
+  if (sized()) {
+    const int count = sample_count();
+    for (int i = 0; i < count; ++i) offsets.push_back(strata_offset(*this, i));
+    if (type == LightType::kSun) {
+      for (int i = 0; i < count; ++i) sun_directions.push_back(sun_direction(*this, i));
+    }
+  }
 }
 
 LightSample sample_light(const Light& light, const Vec3& p, int index) {
@@ -113,17 +147,11 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
   // of a sun without a disc, the common case).
   const auto share = [&] { return 1.0f / static_cast<float>(light.sample_count()); };
   if (light.type == LightType::kSun) {
-    const Vec3 towards = -glm::normalize(light.direction);
-    if (light.angle <= 0.0f) return {towards, kInfinity, light.color};
-    // Directions spread over the sun's disc, of angular radius angle/2.
-    Vec3 u;
-    Vec3 v;
-    basis(towards, &u, &v);
-    float a = 0.0f;
-    float b = 0.0f;
-    disc_offset(light, index, &a, &b);
-    const float spread = 2.0f * std::tan(0.5f * std::min(light.angle, 3.0f));
-    return {glm::normalize(towards + spread * (a * u + b * v)), kInfinity, light.color * share()};
+    if (light.angle <= 0.0f) return {-glm::normalize(light.direction), kInfinity, light.color};
+    const auto i = static_cast<size_t>(index);
+    const Vec3 wi =
+        i < light.sun_directions.size() ? light.sun_directions[i] : sun_direction(light, index);
+    return {wi, kInfinity, light.color * share()};
   }
   Vec3 target = light.position;
   float weight = 1.0f;
@@ -135,17 +163,13 @@ LightSample sample_light(const Light& light, const Vec3& p, int index) {
       Vec3 u;
       Vec3 v;
       basis(axis / length, &u, &v);
-      float a = 0.0f;
-      float b = 0.0f;
-      disc_offset(light, index, &a, &b);
-      target += 2.0f * light.radius * (a * u + b * v);
+      const glm::vec2 o = strata_offset(light, index);
+      target += 2.0f * light.radius * (o.x * u + o.y * v);
     }
     weight = share();  // each feeler carries its share of the intensity
   } else if (light.type == LightType::kArea) {
-    float a = 0.0f;
-    float b = 0.0f;
-    area_offset(light, index, &a, &b);
-    target += a * light.size[0] * light.axis_u + b * light.size[1] * light.axis_v;
+    const glm::vec2 o = strata_offset(light, index);
+    target += o.x * light.size[0] * light.axis_u + o.y * light.size[1] * light.axis_v;
     const float area =
         light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
     weight = area * share();

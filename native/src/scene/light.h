@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
 
 #include "core/ray.h"
 
@@ -75,6 +78,16 @@ struct Light : LightParams {
     return type == LightType::kArea || (type == LightType::kSun ? angle > 0.0f : radius > 0.0f);
   }
   int sample_count() const { return sized() ? samples * samples : 1; }
+
+  // A sized light's samples as far as they do not depend on the shading point, made once
+  // by the constructor: each stratum's offset on the light's shape ([-0.5, 0.5]^2; a disc
+  // for a sun or a sphere light), and a sun's direction towards each. Drawing them per
+  // feeler (a concentric map, a sine and cosine, a basis) was a quarter of the demo
+  // scene's instructions (docs/notes/waves.md). Empty for a Light built field by field
+  // without the constructor (tests), whose samples sample_light draws one by one; a
+  // light whose parameters change must be constructed again.
+  std::vector<glm::vec2> offsets;
+  std::vector<Vec3> sun_directions;
 };
 
 // One feeler's worth of light arriving at a point.
