@@ -104,7 +104,7 @@ def test_worst_is_the_minimum_of_at_least_targets_and_the_maximum_of_others():
     assert worst([(None, "b")], at_least=True) == (None, "not measured")
 
 
-def embree_run(efficiency, stubbed=None):
+def embree_run(efficiency, stubbed=None, waves=None):
     run = {
         "threads": 2,
         "whitted_rays_per_second": 4e6,
@@ -115,6 +115,9 @@ def embree_run(efficiency, stubbed=None):
         "camera_packets": True,
         "instances_per_pixel": 0.0004,
     }
+    if waves:  # the same render in waves: its rate, gain and efficiency
+        run |= {"waves_rays_per_second": waves, "waves_gain": waves / 4e6}
+        run |= {"waves_efficiency": waves / 8e6}
     return run | ({"stubbed_rays_per_second": stubbed} if stubbed else {})
 
 
@@ -127,14 +130,14 @@ def test_a_ray_costs_its_threads_over_the_rate():
 def test_raw_embree_details_show_shading_alone_and_the_efficiency_before(before):
     suite = Suite(quick_plan(), "blender", "python", Path("/tmp"), Path("/tmp"), 0.0, before)
     results = SceneResults("demo")
-    results.embree["tiny"] = Measurement(runs=[embree_run(0.5, stubbed=8e6)])
+    results.embree["tiny"] = Measurement(runs=[embree_run(0.5, stubbed=8e6, waves=5e6)])
     results.embree_before["tiny"] = Measurement(runs=[embree_run(0.25)])
     lines = embree_details(suite, [results])
     header = next(line for line in lines if line.startswith("| scene | size | camera packets"))
     row = next(line for line in lines if line.startswith("| demo | 96x54 | yes (2,500) | 4.00 |"))
     assert "shading alone (traversal stubbed), Mrays/s" in header
     assert row.count("|") == header.count("|")
-    assert "| 8.00 | 8.00 | 0.50 | 1000 |" in row
+    assert "| 8.00 | 8.00 | 0.50 | 5.00 | 1.25x | 0.62 | 1000 |" in row
     assert ("| 0.25 | 2.00x |" in row) == (before is not None)
     # Shading 250 ns and traversal 250 ns a ray (2 threads at 8 Mrays/s each), Whitted 500.
     assert "| demo | 96x54 | 500 | 250 | 250 | 500 | 50% |" in lines

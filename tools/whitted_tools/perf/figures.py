@@ -136,6 +136,27 @@ def targets(suite, scenes, scaling):
         ],
         at_least=True,
     )
+    # Tracing in waves (issue 33): the wave kernel's efficiency, and its speed over the
+    # recursion's, each the median of the rounds' paired ratios (perf_raw_embree.py).
+    waves_efficiency = worst(
+        [
+            (
+                r.embree[label].median(lambda x: x.get("waves_efficiency")),
+                f"{r.name}, {size_label(s)}",
+            )
+            for r in scenes
+            for label, s in plan.sizes
+        ],
+        at_least=True,
+    )
+    waves_gain = worst(
+        [
+            (r.embree[label].median(lambda x: x.get("waves_gain")), f"{r.name}, {size_label(s)}")
+            for r in scenes
+            for label, s in plan.sizes
+        ],
+        at_least=True,
+    )
     threads = worst(
         [
             (speedup(scaling, n, lambda m: m.whitted("phases", "trace")), f"{n} (trace phase)")
@@ -197,6 +218,14 @@ def targets(suite, scenes, scaling):
     )
     return [
         Target("efficiency against raw Embree (worst scene)", 0.9, True, "", *efficiency),
+        Target(
+            "efficiency in waves against raw Embree (worst scene)",
+            0.9,
+            True,
+            "",
+            *waves_efficiency,
+        ),
+        Target("waves against the recursion (worst scene)", 1.5, True, "x", *waves_gain),
         Target("2 threads against 1 (worst scene)", 1.8, True, "x", *threads),
         Target("export per million triangles (worst)", 0.5, False, " s", *export),
         Target(

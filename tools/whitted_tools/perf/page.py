@@ -225,7 +225,10 @@ def embree_details(suite, scenes):
         "(the median of the rounds' ratios; the rates are the rounds' medians). Shading alone "
         "is the recorded pixels rendered again with every query answered from the "
         "recording instead of Embree (traversal stubbed out: RenderJob.replay()), on the "
-        "rays raw Embree traces.",
+        "rays raw Embree traces. In waves is the same render traced in waves "
+        "(Settings.waves, docs/notes/waves.md), in the same rounds: its waves gain is "
+        "over the recursion, its efficiency over raw Embree, each the median of the "
+        "rounds' ratios.",
         "",
     ]
     if before:
@@ -237,9 +240,9 @@ def embree_details(suite, scenes):
     header = (
         "| scene | size | camera packets (pixels per instance) | Whitted | Whitted without "
         "packets | packet gain | raw Embree | shading alone (traversal stubbed), Mrays/s "
-        "| efficiency | rays recorded |"
+        "| efficiency | in waves | waves gain | efficiency in waves | rays recorded |"
     )
-    columns = 10
+    columns = 13
     if before:
         header += " efficiency before | after / before |"
         columns += 2
@@ -264,7 +267,10 @@ def embree_details(suite, scenes):
                 f"{ratio_text(run.get('packet_gain') or ratio(packets, single))} | "
                 f"{num(scale(run.get('embree_rays_per_second'), 1e-6), 2)} | "
                 f"{num(scale(run.get('stubbed_rays_per_second'), 1e-6), 2)} | "
-                f"{num(efficiency, 2)} | {run.get('recorded_rays', '—')} |"
+                f"{num(efficiency, 2)} | "
+                f"{num(scale(run.get('waves_rays_per_second'), 1e-6), 2)} | "
+                f"{ratio_text(run.get('waves_gain'))} | {num(run.get('waves_efficiency'), 2)} | "
+                f"{run.get('recorded_rays', '—')} |"
             )
             if before:
                 then = results.embree_before[label]
