@@ -1,10 +1,10 @@
 """Tracing in waves (Settings.waves, native integrator/wave.h) against the recursion, on
 scenes made in Blender and synced as F12 syncs them: the demo, the cost report's glass
-and distributed scenes, and the hard cases (acne, grazing light, total internal
-reflection, water in glass, overlapping glass, the camera inside glass, degenerate
-geometry, facing mirrors). The same rays by type, the same ray cost per pixel, and each
-channel within a few float roundings: the wave sums factor * local term per ray where
-the recursion sums local + sigma * (local' + ...).
+and distributed scenes, and the hard cases (hard_cases.SCENES: acne, grazing light,
+total internal reflection, water in glass, overlapping glass, the camera inside glass,
+degenerate geometry, facing mirrors, coplanar quads). The same rays by type, the same
+ray cost per pixel, and each channel within a few float roundings: the wave sums
+factor * local term per ray where the recursion sums local + sigma * (local' + ...).
 """
 
 import bpy
@@ -21,14 +21,7 @@ SCENES = {
     "demo": demo_scene.build_demo_scene,
     "cost glass": bench_scenes.build_glass_scene,
     "cost distributed": bench_scenes.build_distributed_scene,
-    "acne": hard_cases.acne,
-    "grazing": hard_cases.grazing,
-    "total internal reflection": hard_cases.total_internal_reflection,
-    "water in glass": hard_cases.water_in_glass,
-    "overlapping spheres": hard_cases.overlapping_spheres,
-    "camera inside glass": hard_cases.camera_inside_glass,
-    "degenerate geometry": hard_cases.degenerate_geometry,
-    "facing mirrors": hard_cases.facing_mirrors,
+    **hard_cases.SCENES,
 }
 
 

@@ -433,3 +433,18 @@ def acne_share(pixels, threshold=0.1):
     green = pixels[1:-1, 1:-1, 1]
     far = np.abs(green - median) > threshold * median
     return float((far & region).sum()) / max(int(region.sum()), 1), int(region.sum())
+
+
+# Every hard-case scene by name, each a builder(scene): the scenes that checks over all
+# of them render (scripts/image_hashes.py, tests/blender/test_waves.py).
+SCENES = {
+    "acne": acne,
+    "grazing": grazing,
+    "total internal reflection": total_internal_reflection,
+    "water in glass": water_in_glass,
+    "overlapping spheres": overlapping_spheres,
+    "camera inside glass": camera_inside_glass,
+    "degenerate geometry": degenerate_geometry,
+    "facing mirrors": facing_mirrors,
+    "coplanar quads": coplanar_quads,
+}
