@@ -12,7 +12,7 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
     """
     whitted = scene.whitted
     quality = quality or quality_of(whitted)
-    return native.Settings(
+    settings = native.Settings(
         width=width,
         height=height,
         border=film.region,
@@ -32,3 +32,7 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
         tile_size=whitted.tile_size,
         shutter=shutter,
     )
+    # In waves, or with the recursive kernel (the reference): the same pixels up to float
+    # rounding (native integrator/wave.h).
+    settings.waves = whitted.use_waves
+    return settings

@@ -11,11 +11,12 @@ add-on enabled:
 2. It is rendered once more recording the queries of every n-th pixel (n chosen so
    at most --max-recorded queries are kept), each worker thread its own list.
 3. Then `repeats` rounds, each of four runs side by side:
-   - a render: our rays per second are all rays traced (camera, shadow, reflection,
-     refraction, cut-out continuations) over the trace phase, which includes shading,
-     texture lookups and the recursion;
+   - a render with the recursive kernel (Settings.waves off): our rays per second are
+     all rays traced (camera, shadow, reflection, refraction, cut-out continuations)
+     over the trace phase, which includes shading, texture lookups and the recursion;
    - the same render with camera-ray packets off, for what the packets buy;
-   - the same render traced in waves (Settings.waves), for what the waves buy;
+   - the same render traced in waves (Settings.waves, the add-on's Trace in Waves), for
+     what the waves buy;
    - the recorded queries traced again by a loop of single-ray
      rtcIntersect1/rtcOccluded1 calls on as many threads, with no shading and nothing
      else in the loop (SceneAccel::trace_bare): Embree's rays per second;
@@ -51,6 +52,14 @@ where it would not takes a build without it: 0160cf1 always sends them.
 --packets compare renders with packets and without (on --threads) and prints how many
 pixels differ, by how much, and where (x, y from the bottom-left, as RenderJob.inspect
 takes them).
+
+--waves on|off renders once on one thread traced in waves or recursively, for callgrind
+to count each kernel's instructions by stage (docs/notes/waves.md), with the same
+--resolution and --aa:
+
+    valgrind --tool=callgrind --collect-atstart=no '--toggle-collect=whitted::RenderJob::work*' \\
+        blender -b --factory-startup --addons whitted SCENE.blend \\
+        --python scripts/perf_raw_embree.py -- --waves on --resolution 160 120 --aa 2
 """
 
 import argparse
@@ -86,12 +95,20 @@ def parse_args():
         help="one render with camera packets on or off on one thread (callgrind), or both "
         "compared pixel by pixel, instead of the measurements",
     )
+    parser.add_argument(
+        "--waves",
+        choices=("on", "off"),
+        help="one render traced in waves or recursively on one thread (callgrind), instead "
+        "of the measurements",
+    )
     parser.add_argument("--lens", type=float, help="--packets: the camera's focal length (mm)")
-    parser.add_argument("--resolution", nargs=2, type=int, metavar=("W", "H"), help="--packets")
-    parser.add_argument("--aa", type=int, help="--packets: anti-aliasing samples per axis")
+    parser.add_argument(
+        "--resolution", nargs=2, type=int, metavar=("W", "H"), help="--packets, --waves"
+    )
+    parser.add_argument("--aa", type=int, help="--packets, --waves: anti-aliasing samples per axis")
     args = parser.parse_args(script_args())
-    if args.json is None and args.packets is None:
-        parser.error("--json is required (but with --packets)")
+    if args.json is None and args.packets is None and args.waves is None:
+        parser.error("--json is required (but with --packets or --waves)")
     return args
 
 
@@ -134,8 +151,8 @@ def rate(job):
     return stats["rays"]["total"] / stats["trace_seconds"]
 
 
-def packets(args):
-    """--packets: one render with camera packets on or off, or both compared."""
+def shape_scene(args):
+    """--packets and --waves: the camera, resolution and samples asked for."""
     scene = bpy.context.scene
     if args.lens:
         scene.camera.data.lens = args.lens
@@ -143,6 +160,20 @@ def packets(args):
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
     if args.aa:
         scene.whitted.aa_samples = args.aa
+
+
+def one_kernel(args):
+    """--waves: one render on one thread, traced in waves or recursively."""
+    shape_scene(args)
+    native, frame = export(1)
+    frame.settings.waves = args.waves == "on"
+    stats = render(native, frame, frame.settings).stats()
+    print("rays:", stats["rays"], "waves:", stats["waves"])
+
+
+def packets(args):
+    """--packets: one render with camera packets on or off, or both compared."""
+    shape_scene(args)
     # One thread for callgrind; the image is the same on any number.
     native, frame = export(args.threads if args.packets == "compare" else 1)
     settings = frame.settings
@@ -185,8 +216,15 @@ def main():
     if args.packets:
         packets(args)
         return
+    if args.waves:
+        one_kernel(args)
+        return
     native, frame = export(args.threads)
     settings = frame.settings
+    if hasattr(settings, "waves"):
+        # "Whitted" is the recursive kernel, the reference and the default; the renders
+        # in waves are measured beside it (render_in_waves).
+        settings.waves = False
     warm_up = render(native, frame, settings)  # page in the BVHs, start the threads once
     chosen = warm_up.stats()  # the packet choice of the renders with packets on
     rays_per_render = chosen["rays"]["total"]

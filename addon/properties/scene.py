@@ -6,6 +6,7 @@ presets set them all at once (operators.WHITTED_OT_apply_preset).
 
 import bpy
 from bpy.props import (
+    BoolProperty,
     CollectionProperty,
     EnumProperty,
     FloatProperty,
@@ -187,6 +188,14 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         default=32,
         min=8,
         max=4096,
+    )
+    use_waves: BoolProperty(
+        name="Trace in Waves",
+        description="Trace a row of a tile's samples together, a generation of rays at a "
+        "time, with the shadow rays towards each light as packets (the same image up to "
+        "float rounding); off: the recursive kernel, the reference, faster on most scenes "
+        "measured (docs/notes/waves.md)",
+        default=False,
     )
     viewport_preset: EnumProperty(
         name="Viewport Quality",

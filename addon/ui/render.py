@@ -52,6 +52,7 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         column.prop(settings, "texture_filter")
         column.prop(settings, "ambient_strength")
         column.prop(settings, "tile_size")
+        column.prop(settings, "use_waves")
         column.prop(settings, "viewport_preset")
         column.prop(settings, "viewport_display")
         column.prop(context.scene.render, "preview_pixel_size", text="Viewport Pixel Size")

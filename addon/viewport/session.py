@@ -227,7 +227,7 @@ class ViewportSession:
             self._samples_per_second = stats["samples"] / stats["trace_seconds"]
         if finished and info["pass"] == info["passes"]:
             self._converged = True
-            self._log.write("converged")
+            self._log.write("converged", waves=stats["waves"])
 
     def _status(self):
         engine = self._engine()

@@ -7,6 +7,8 @@ ray cost per pixel, and each channel within a few float roundings: the wave sums
 factor * local term per ray where the recursion sums local + sigma * (local' + ...).
 """
 
+import json
+
 import bpy
 import numpy as np
 import pytest
@@ -51,3 +53,46 @@ def test_waves_give_the_recursions_image(empty_scene, native, name):
         scale = np.maximum(1.0, np.abs(reference))
         worst = float((np.abs(image - reference) / scale).max())
         assert worst <= RELATIVE_BOUND, (name, samples, worst)
+
+
+@pytest.fixture
+def f12(render_pixels, tmp_path, monkeypatch):
+    """F12 at WIDTH x HEIGHT: (pixels, the WHITTED_STATS statistics)."""
+    path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(path))
+
+    def run(scene):
+        scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+        scene.render.resolution_percentage = 100
+        pixels = render_pixels(scene)
+        return pixels, json.loads(path.read_text())
+
+    return run
+
+
+def test_f12_traces_in_waves_when_ticked(empty_scene, f12):
+    """Trace in Waves decides the kernel of F12, and the statistics say which ran; the
+    recursive kernel, unticked, gives the same image up to rounding."""
+    scene = demo_scene.build_demo_scene(empty_scene)
+    scene.whitted.use_waves = True
+    waves, stats = f12(scene)
+    assert stats["waves"]["on"] and stats["waves"]["queue_bytes"] > 0
+    scene.whitted.use_waves = False
+    recursion, stats = f12(scene)
+    assert not stats["waves"]["on"] and stats["waves"]["queue_bytes"] == 0
+    scale = np.maximum(1.0, np.abs(recursion))
+    assert float((np.abs(waves - recursion) / scale).max()) <= RELATIVE_BOUND
+    assert waves.any()
+
+
+def test_f12_with_passes_traces_recursively(empty_scene, f12):
+    """Renders with passes keep the recursion (its recorder follows the ray tree): the
+    statistics say so, and the Combined pass is the waves' image up to rounding."""
+    scene = demo_scene.build_demo_scene(empty_scene)
+    scene.whitted.use_waves = True
+    waves, _ = f12(scene)
+    bpy.context.view_layer.use_pass_normal = True
+    combined, stats = f12(scene)
+    assert not stats["waves"]["on"]
+    scale = np.maximum(1.0, np.abs(waves))
+    assert float((np.abs(combined - waves) / scale).max()) <= RELATIVE_BOUND

@@ -6,7 +6,7 @@ WHITTED_VIEWPORT_LOG=FILE it appends one JSON object per line:
     {"event": "sync", "t", "seconds", "meshes", "instances", "materials", "lights", "full"}
     {"event": "frame", "t", "frame", "pass", "passes", "pixel_size", "samples"}  (upload)
     {"event": "draw", "t", "frame"}                            (a view_draw that drew)
-    {"event": "converged", "t"}                                (the last pass is shown)
+    {"event": "converged", "t", "waves"}   (the last pass is shown; traced in waves?)
     {"event": "stop", "t"}                                     (the job was stopped)
 
 with t = time.perf_counter() in Blender's process (the scenarios' clock too).
@@ -59,6 +59,14 @@ def test_first_sync_exports_the_whole_demo(compare_run):
     assert last["pass"] == last["passes"] and last["pixel_size"] >= 1, last
     # Progressive: earlier passes come first, and the passes are numbered in order.
     assert [f["pass"] for f in frames] == sorted(f["pass"] for f in frames), frames
+
+
+def test_the_view_is_traced_in_waves(compare_run):
+    """With Trace in Waves ticked (scenarios/whitted.py, compare), the viewport's passes
+    trace in waves, as F12's do (its coarse first passes stay recursive: render.cpp)."""
+    converged = compare_run.events("converged")
+    assert converged, compare_run.describe()
+    assert all(event["waves"] for event in converged), converged
 
 
 def test_converged_view_matches_an_f12_render(compare_run):

@@ -113,12 +113,16 @@ bool RayRecorder::select(RayLog* log, int x, int y, int width) const {
 
 bool RayRecorder::select_range(RayLog* log, int x0, int x1, int y, int width) const {
   if (log == nullptr) return true;
-  const uint64_t row = static_cast<uint64_t>(y) * static_cast<uint64_t>(width);
   log->active = false;
-  for (int x = x0; x < x1 && !log->active; ++x) {
-    log->active = (row + static_cast<uint64_t>(x)) % stride_ == 0;
-  }
+  for (int x = x0; x < x1 && !log->active; ++x) log->active = picked(log, x, y, width);
   return log->active || source_ == nullptr;
+}
+
+bool RayRecorder::picked(const RayLog* log, int x, int y, int width) const {
+  if (log == nullptr) return true;
+  const uint64_t pixel =
+      static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
+  return pixel % stride_ == 0;
 }
 
 BareTrace RayRecorder::trace_bare(const SceneAccel& accel) const {

@@ -66,6 +66,8 @@ class RayRecorder {
   // The same for queries shared by pixels x0 to x1 - 1 of row y (a block's camera packets):
   // on when any of them is recorded; false when a replay skips them all.
   bool select_range(RayLog* log, int x0, int x1, int y, int width) const;
+  // Whether the recording takes pixel (x, y)'s queries (with `log`; every pixel without).
+  bool picked(const RayLog* log, int x, int y, int width) const;
 
   // Each worker's recording traced again on its own thread by a bare loop of
   // single-ray Embree queries, all threads timed from a common start to the last one's

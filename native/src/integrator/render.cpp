@@ -248,21 +248,25 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
   const bool whole = pass.kind == Pass::Kind::kPixels;
   std::vector<Sample> values;
   std::vector<uint64_t> rays;
+  const int end = tile.x + tile.width;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
-    // A row's queries are interleaved: it is recorded (or replayed) whole, if any of its
-    // pixels is selected.
-    if (!recorder_.select_range(log, tile.x, tile.x + tile.width, y, settings_.width)) continue;
-    sampler.row(tile.x, tile.x + tile.width, y, whole ? -1 : pass.sample, wave, counts, &values,
-                &rays);
-    for (int x = tile.x; x < tile.x + tile.width; ++x) {
-      const auto i = static_cast<size_t>(x - tile.x);
-      const auto cost = static_cast<float>(rays[i]);
-      if (whole) {
-        film_.set(x, y, values[i], cost, nullptr);
-        if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
-      } else {
-        film_.add(x, y, values[i], cost, nullptr);
+    // A wave's queries are interleaved, so a recording (or its replay) takes a row in runs
+    // of pixels it records alike, a wave each; without one, the row is one wave.
+    for (int x0 = tile.x, x1 = x0; x0 < end; x0 = x1) {
+      const bool picked = recorder_.picked(log, x0, y, settings_.width);
+      for (x1 = x0 + 1; x1 < end && recorder_.picked(log, x1, y, settings_.width) == picked;) ++x1;
+      if (!recorder_.select_range(log, x0, x1, y, settings_.width)) continue;
+      sampler.row(x0, x1, y, whole ? -1 : pass.sample, wave, counts, &values, &rays);
+      for (int x = x0; x < x1; ++x) {
+        const auto i = static_cast<size_t>(x - x0);
+        const auto cost = static_cast<float>(rays[i]);
+        if (whole) {
+          film_.set(x, y, values[i], cost, nullptr);
+          if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
+        } else {
+          film_.add(x, y, values[i], cost, nullptr);
+        }
       }
     }
   }

@@ -1,0 +1,86 @@
+"""The two kernels on any .blend: traced in waves (Trace in Waves) against the recursion
+(the reference and the default), as F12 syncs the scene.
+
+    blender -b FILE.blend --addons whitted --python scripts/compare_kernels.py -- \\
+        [--resolution 160 120] [--threads 1] [--repeats 3] [--json OUT]
+
+Prints one line: the rays of each (they must be equal, by type), the largest difference
+of any channel relative to max(1, |recursion|) (the wave only reorders sums), the
+pixels that differ by more than 1e-4 of that, and the median of the rounds' paired time
+ratios (recursion / waves: above 1 the waves are faster). For files we did not make:
+the wave must be tried on them before it is trusted (docs/notes/waves.md).
+"""
+
+import argparse
+import json
+import os
+
+import bpy
+
+# isort: split
+import numpy as np
+from whitted_tools.cli import script_args
+from whitted_tools.native_job import run_job
+from whitted_tools.timing import paired_median
+
+
+def parse_args():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--resolution", nargs=2, type=int, default=(160, 120), metavar=("W", "H"))
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--json", help="also write the figures here")
+    return parser.parse_args(script_args())
+
+
+def render(native, frame, waves):
+    settings = frame.settings
+    settings.waves = waves
+    job = run_job(frame.job(native, settings))
+    stats = job.stats()
+    return job.image().copy(), stats
+
+
+def main():
+    from whitted.native import load_native
+    from whitted.sync.frame import sync_frame
+
+    args = parse_args()
+    scene = bpy.context.scene
+    if scene.camera is None:
+        print(f"{os.path.basename(bpy.data.filepath)}: no camera, nothing to render")
+        return
+    scene.render.resolution_x, scene.render.resolution_y = args.resolution
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = args.threads
+    native = load_native()
+    frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
+    render(native, frame, False)  # warm-up: page in the BVHs, start the threads once
+    seconds = {"recursion": [], "waves": []}
+    for _ in range(args.repeats):
+        reference, recursion = render(native, frame, False)
+        image, waves = render(native, frame, True)
+        seconds["recursion"].append(recursion["trace_seconds"])
+        seconds["waves"].append(waves["trace_seconds"])
+    relative = np.abs(image - reference) / np.maximum(1.0, np.abs(reference))
+    result = {
+        "file": os.path.basename(bpy.data.filepath),
+        "rays_equal": dict(waves["rays"]) == dict(recursion["rays"]),
+        "rays": waves["rays"]["total"],
+        "waves_on": waves["waves"],
+        "max_relative": float(relative.max()),
+        "pixels_over_1e-4": int((relative.max(axis=-1) > 1e-4).sum()),
+        "speed_ratio": paired_median(seconds["recursion"], seconds["waves"]),
+    }
+    print(
+        f"{result['file']}: rays {result['rays']:,} equal {result['rays_equal']}, waves "
+        f"{result['waves_on']}, max relative {result['max_relative']:.2g}, pixels over 1e-4 "
+        f"{result['pixels_over_1e-4']}, recursion / waves time {result['speed_ratio']:.3f}"
+    )
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as out:
+            json.dump(result, out, indent=1)
+
+
+main()
