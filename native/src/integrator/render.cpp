@@ -26,7 +26,6 @@ void lower_thread_priority(int nice) {
 // The memory a worker's wave queues hold (their capacity, not their size).
 size_t wave_bytes(const Wave& wave) {
   return (wave.rays.capacity() + wave.next.capacity()) * sizeof(WaveRay) +
-         wave.hits.capacity() * sizeof(Hit) + wave.found.capacity() +
          wave.feelers.capacity() * sizeof(WaveFeeler) +
          wave.samples.capacity() * sizeof(WaveSample) +
          (wave.order.capacity() + wave.groups.capacity()) * sizeof(uint32_t) +

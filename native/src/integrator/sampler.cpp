@@ -167,6 +167,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
   // Whole pixels take their first hits from the blocks' packets, as pixel() does.
   const int width = sample < 0 ? block_width() : 0;
   FirstHits block;
+  NodeState root = root_;
   for (int x = x0; x < x1; ++x) {
     if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
     for (int j = 0; j < per_pixel; ++j) {
@@ -176,11 +177,9 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
       const Ray ray = width > 0 ? block.rays[b] : grid_ray(x, y, k);
       counts->camera += 1;
       if (ray.kind == kNoRay) continue;  // outside a fisheye's circle: opaque black (shade())
-      NodeState root = root_;
       root.seed = grid_seed(x, y, k);
-      wave->rays.push_back({ray, root, Color(1.0f), index});
-      wave->found.push_back(width > 0 ? block.found[b] : 0);
-      wave->hits.push_back(width > 0 ? block.hits[b] : Hit{});
+      const bool found = width > 0 && block.found[b] != 0;
+      integrator_.trace_camera(wave, ray, root, index, found ? &block.hits[b] : nullptr, counts);
     }
   }
   integrator_.trace_wave(wave, counts);

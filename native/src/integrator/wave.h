@@ -56,12 +56,12 @@ struct WaveSample {
   uint64_t rays = 0;
 };
 
-// One worker's queues, reused from wave to wave (their capacity stays).
+// One worker's queues, reused from wave to wave (their capacity stays). The camera
+// rays are not queued: each is traced as the sampler makes it (trace_camera), and
+// what it spawns joins the queues.
 struct Wave {
-  std::vector<WaveRay> rays;   // the generation being traced
-  std::vector<Hit> hits;       // camera generation: first hits found as packets ...
-  std::vector<uint8_t> found;  // ... where found[i] (else the kernel queries itself)
-  std::vector<WaveRay> next;   // the children of this generation
+  std::vector<WaveRay> rays;  // the generation being traced
+  std::vector<WaveRay> next;  // the children of this generation
   std::vector<WaveFeeler> feelers;
   std::vector<WaveSample> samples;
   // Scratch of the feeler stage: where each light's group starts, the feelers' order
@@ -70,11 +70,11 @@ struct Wave {
   std::vector<uint32_t> order;
   std::vector<uint8_t> blocked;
 
-  // Starts a wave of `samples` camera samples, none yet added.
+  // Starts a wave of `samples` camera samples, none yet traced.
   void reset(size_t samples) {
     rays.clear();
-    hits.clear();
-    found.clear();
+    next.clear();
+    feelers.clear();
     this->samples.assign(samples, WaveSample{});
   }
 };

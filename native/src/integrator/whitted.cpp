@@ -148,29 +148,37 @@ class Kernel {
   // The same recursion traced in waves (wave.h): each generation's rays are traced and
   // shaded as above, their children and feelers appended to the wave (branch,
   // feelers); then the generation's feelers are traced, and the children become the
-  // next generation.
+  // next generation. The first generation, the camera rays, one by one as the sampler
+  // makes them (run_camera); the rest here (run_wave).
+  static void run_camera(const WhittedIntegrator& w, Wave* wave, const Ray& ray,
+                         const NodeState& state, uint32_t sample, const Hit* first,
+                         RayCounts* counts) {
+    Kernel kernel(w, nullptr);
+    WaveCursor cursor{wave};
+    cursor.sample = sample;
+    kernel.cursor_ = &cursor;
+    WaveSample& s = wave->samples[sample];
+    const uint64_t before = counts->total();
+    s.radiance += kernel.trace(ray, state, counts, &s.alpha, first);
+    s.rays += counts->total() - before;
+  }
   static void run_wave(const WhittedIntegrator& w, Wave* wave, RayCounts* counts) {
     Kernel kernel(w, nullptr);
     WaveCursor cursor{wave};
     kernel.cursor_ = &cursor;
-    for (bool camera = true; !wave->rays.empty(); camera = false) {
+    for (kernel.trace_feelers(wave, counts); !wave->next.empty();
+         kernel.trace_feelers(wave, counts)) {
+      std::swap(wave->rays, wave->next);
       wave->next.clear();
       wave->feelers.clear();
-      for (size_t i = 0; i < wave->rays.size(); ++i) {
-        const WaveRay& r = wave->rays[i];
+      for (const WaveRay& r : wave->rays) {
         WaveSample& sample = wave->samples[r.sample];
         cursor.factor = r.factor;
         cursor.sample = r.sample;
         const uint64_t before = counts->total();
-        const bool known = camera && i < wave->found.size() && wave->found[i] != 0;
-        const Color radiance =
-            kernel.trace(r.ray, r.state, counts, camera ? &sample.alpha : nullptr,
-                         known ? &wave->hits[i] : nullptr);
-        sample.radiance += r.factor * radiance;
+        sample.radiance += r.factor * kernel.trace(r.ray, r.state, counts, nullptr, nullptr);
         sample.rays += counts->total() - before;
       }
-      kernel.trace_feelers(wave, counts);
-      std::swap(wave->rays, wave->next);
     }
   }
 
@@ -1177,12 +1185,14 @@ using RenderKernel = std::conditional_t<specialised(E), Kernel<E, NoRecorder, Qu
 template <class Queries>
 struct RenderKernels {
   std::array<WhittedIntegrator::TraceFn, kAllEffects + 1> recursive;
-  std::array<WhittedIntegrator::WaveFn, kAllEffects + 1> waves;
+  std::array<WhittedIntegrator::WaveFns, kAllEffects + 1> waves;
 };
 template <class Queries, size_t... E>
 constexpr RenderKernels<Queries> render_kernels(std::index_sequence<E...> /*effects*/) {
-  return {{&RenderKernel<static_cast<uint32_t>(E), Queries>::run...},
-          {&RenderKernel<static_cast<uint32_t>(E), Queries>::run_wave...}};
+  return {
+      {&RenderKernel<static_cast<uint32_t>(E), Queries>::run...},
+      {WhittedIntegrator::WaveFns{&RenderKernel<static_cast<uint32_t>(E), Queries>::run_camera,
+                                  &RenderKernel<static_cast<uint32_t>(E), Queries>::run_wave}...}};
 }
 template <class Queries>
 constexpr auto kRenderKernels =
@@ -1199,8 +1209,8 @@ WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effe
 // Its wave kernel: none with passes (their recorder follows the recursion), or when
 // the settings ask for the recursion.
 template <class Queries>
-WhittedIntegrator::WaveFn wave_kernel(const Settings& settings, uint32_t effects) {
-  if (settings.passes != 0 || !settings.waves) return nullptr;
+WhittedIntegrator::WaveFns wave_kernel(const Settings& settings, uint32_t effects) {
+  if (settings.passes != 0 || !settings.waves) return {};
   return kRenderKernels<Queries>.waves[effects & kAllEffects];
 }
 
@@ -1240,7 +1250,7 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
                               : render_kernel<SceneQueries>(settings, effects_.bits)),
       intersect_packet_(log != nullptr ? &intersect_packet_with<LoggedQueries>
                                        : &intersect_packet_with<SceneQueries>),
-      trace_wave_(tree != nullptr  ? nullptr
+      trace_wave_(tree != nullptr  ? WhittedIntegrator::WaveFns{}
                   : log != nullptr ? wave_kernel<LoggedQueries>(settings, effects_.bits)
                                    : wave_kernel<SceneQueries>(settings, effects_.bits)),
       log_(log),

@@ -101,13 +101,19 @@ class WhittedIntegrator {
     intersect_packet_(*this, rays, count, hits);
   }
 
-  // Traces wave->rays (camera rays: wave->hits holds the first hits found as packets,
-  // where wave->found) and every ray and feeler they spawn, generation by generation,
-  // adding into wave->samples (wave.h). Only where waves() is true.
-  void trace_wave(Wave* wave, RayCounts* counts) const { trace_wave_(*this, wave, counts); }
+  // A wave's first generation (wave.h): camera sample `sample`'s ray (`first` its first
+  // hit when already found), traced and shaded now into wave->samples[sample], the rays
+  // and feelers it spawns appended to the wave. Only where waves() is true.
+  void trace_camera(Wave* wave, const Ray& ray, const NodeState& state, uint32_t sample,
+                    const Hit* first, RayCounts* counts) const {
+    trace_wave_.camera(*this, wave, ray, state, sample, first, counts);
+  }
+  // Then the rest: the feelers and rays the camera rays spawned and everything they
+  // spawn, generation by generation, adding into wave->samples.
+  void trace_wave(Wave* wave, RayCounts* counts) const { trace_wave_.rest(*this, wave, counts); }
   // Whether renders with these settings trace in waves: Settings::waves, and no passes
   // (their recorder follows the recursion; the inspector's likewise).
-  bool waves() const { return trace_wave_ != nullptr; }
+  bool waves() const { return trace_wave_.rest != nullptr; }
 
   // The media that contain point p (the camera inside glass), innermost current.
   MediumStack media_at(const Vec3& p) const;
@@ -122,7 +128,13 @@ class WhittedIntegrator {
   using TraceFn = Color (*)(const WhittedIntegrator&, const Ray&, const NodeState&, RayCounts*,
                             float*, const Hit*, SampleRecord*);
   using PacketFn = void (*)(const WhittedIntegrator&, const Ray*, int, Hit*);
-  using WaveFn = void (*)(const WhittedIntegrator&, Wave*, RayCounts*);
+  // A kernel's two wave stages (trace_camera, trace_wave); null where it traces
+  // recursively.
+  struct WaveFns {
+    void (*camera)(const WhittedIntegrator&, Wave*, const Ray&, const NodeState&, uint32_t,
+                   const Hit*, RayCounts*) = nullptr;
+    void (*rest)(const WhittedIntegrator&, Wave*, RayCounts*) = nullptr;
+  };
 
  private:
   const CompiledScene& scene_;
@@ -131,7 +143,7 @@ class WhittedIntegrator {
   Effects effects_;
   TraceFn trace_;
   PacketFn intersect_packet_;
-  WaveFn trace_wave_;
+  WaveFns trace_wave_;
   RayLog* log_;
   RayTree* tree_;
 };
