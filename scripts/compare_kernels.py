@@ -1,5 +1,5 @@
-"""The two kernels on any .blend: traced in waves (Trace in Waves) against the recursion
-(the reference and the default), as F12 syncs the scene.
+"""The two kernels on any .blend: traced in waves (Trace in Waves, the default) against
+the recursion (the reference), as F12 syncs the scene.
 
     blender -b FILE.blend --addons whitted --python scripts/compare_kernels.py -- \\
         [--resolution 160 120] [--threads 1] [--repeats 3] [--json OUT]

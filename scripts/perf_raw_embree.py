@@ -15,8 +15,8 @@ add-on enabled:
      all rays traced (camera, shadow, reflection, refraction, cut-out continuations)
      over the trace phase, which includes shading, texture lookups and the recursion;
    - the same render with camera-ray packets off, for what the packets buy;
-   - the same render traced in waves (Settings.waves, the add-on's Trace in Waves), for
-     what the waves buy;
+   - the same render traced in waves (Settings.waves, the default: the add-on's Trace
+     in Waves), for what the waves buy;
    - the recorded queries traced again by a loop of single-ray
      rtcIntersect1/rtcOccluded1 calls on as many threads, with no shading and nothing
      else in the loop (SceneAccel::trace_bare): Embree's rays per second;
@@ -222,8 +222,8 @@ def main():
     native, frame = export(args.threads)
     settings = frame.settings
     if hasattr(settings, "waves"):
-        # "Whitted" is the recursive kernel, the reference and the default; the renders
-        # in waves are measured beside it (render_in_waves).
+        # "Whitted" is the recursive kernel, the reference; the renders in waves, the
+        # default, are measured beside it (render_in_waves).
         settings.waves = False
     warm_up = render(native, frame, settings)  # page in the BVHs, start the threads once
     chosen = warm_up.stats()  # the packet choice of the renders with packets on

@@ -192,10 +192,9 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     use_waves: BoolProperty(
         name="Trace in Waves",
         description="Trace a row of a tile's samples together, a generation of rays at a "
-        "time, with the shadow rays towards each light as packets (the same image up to "
-        "float rounding); off: the recursive kernel, the reference, faster on most scenes "
-        "measured (docs/notes/waves.md)",
-        default=False,
+        "time, with the shadow rays towards each light as packets; off: the recursive "
+        "kernel, the reference (the same image up to float rounding)",
+        default=True,
     )
     viewport_preset: EnumProperty(
         name="Viewport Quality",

@@ -144,7 +144,8 @@ void bind_settings(py::module_& m) {
                      "per ray (a benchmark baseline).")
       .def_readwrite("waves", &Settings::waves,
                      "Trace a row of a tile's camera samples together, a generation of rays "
-                     "at a time (integrator/wave.h); off: the recursive kernel, the reference.")
+                     "at a time (integrator/wave.h; the default); off: the recursive kernel, the "
+                     "reference.")
       .def_readwrite("analysis", &Settings::analysis,
                      "Trace only the effects the scene calls for (shadows, reflection, "
                      "refraction, translucency); off: every effect on (a benchmark baseline).")

@@ -70,11 +70,11 @@ def f12(render_pixels, tmp_path, monkeypatch):
     return run
 
 
-def test_f12_traces_in_waves_when_ticked(empty_scene, f12):
-    """Trace in Waves decides the kernel of F12, and the statistics say which ran; the
-    recursive kernel, unticked, gives the same image up to rounding."""
+def test_f12_traces_in_waves_unless_unticked(empty_scene, f12):
+    """Trace in Waves (on by default) decides the kernel of F12, and the statistics say
+    which ran; the recursive kernel, unticked, gives the same image up to rounding."""
     scene = demo_scene.build_demo_scene(empty_scene)
-    scene.whitted.use_waves = True
+    assert scene.whitted.use_waves
     waves, stats = f12(scene)
     assert stats["waves"]["on"] and stats["waves"]["queue_bytes"] > 0
     scene.whitted.use_waves = False
@@ -89,7 +89,6 @@ def test_f12_with_passes_traces_recursively(empty_scene, f12):
     """Renders with passes keep the recursion (its recorder follows the ray tree): the
     statistics say so, and the Combined pass is the waves' image up to rounding."""
     scene = demo_scene.build_demo_scene(empty_scene)
-    scene.whitted.use_waves = True
     waves, _ = f12(scene)
     bpy.context.view_layer.use_pass_normal = True
     combined, stats = f12(scene)

@@ -153,7 +153,7 @@ def test_stats_count_rays_by_type():
 def test_waves_are_a_setting_the_statistics_report():
     scene = lit_floor_scene()
     scene.set_material("white", wn.Material(diffuse=(0.5, 0.5, 0.5), reflectivity=(0.5, 0.5, 0.5)))
-    assert wn.Settings().waves is False  # the recursion is the default (docs/notes/waves.md)
+    assert wn.Settings().waves is True  # the default; the recursion is the reference
     images = {}
     for waves in (False, True):
         settings = wn.Settings(width=10, height=10, aa_samples=2)

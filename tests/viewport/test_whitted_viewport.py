@@ -62,8 +62,8 @@ def test_first_sync_exports_the_whole_demo(compare_run):
 
 
 def test_the_view_is_traced_in_waves(compare_run):
-    """With Trace in Waves ticked (scenarios/whitted.py, compare), the viewport's passes
-    trace in waves, as F12's do (its coarse first passes stay recursive: render.cpp)."""
+    """The viewport's passes trace in waves, as F12's do (Trace in Waves, on by default;
+    its coarse first passes stay recursive: render.cpp)."""
     converged = compare_run.events("converged")
     assert converged, compare_run.describe()
     assert all(event["waves"] for event in converged), converged

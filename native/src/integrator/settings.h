@@ -78,10 +78,9 @@ struct Settings {
   // a generation of rays at a time, the feelers towards each lamp as packets. The pixels
   // are the recursion's up to float rounding (the order of the sums differs). Renders
   // with passes, adaptive anti-aliasing and the viewport's coarse previews are traced
-  // recursively either way. Off (the default, and the add-on's Trace in Waves unticked):
-  // the recursive kernel everywhere, the reference, faster on most scenes measured
-  // (docs/notes/waves.md).
-  bool waves = false;
+  // recursively either way. On by default (docs/notes/waves.md measures it); off (the
+  // add-on's Trace in Waves unticked): the recursive kernel everywhere, the reference.
+  bool waves = true;
   // Pixels traced: [xmin, xmax) x [ymin, ymax), rows from the bottom; all zero means the
   // whole image. The rest of the image stays 0.
   int border[4] = {0, 0, 0, 0};

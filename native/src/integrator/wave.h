@@ -14,8 +14,8 @@
 // sent them, then its children in the order it spawned them, and so on), so pixels stay
 // independent of tiles and threads. The recursion sums the same terms bottom-up
 // (I = local + sigma_r * (local' + ...)), so the two differ by float rounding only
-// (tests/native/wave_test.cpp states the bound). Off by default: slower than the
-// recursion on most scenes measured (docs/notes/waves.md).
+// (tests/native/wave_test.cpp states the bound). The default (Settings::waves); what it
+// measured against the recursion is in docs/notes/waves.md.
 #pragma once
 
 #include <cstdint>

@@ -51,7 +51,6 @@ def enter_rendered(h):
 def compare(h):
     yield from start(h)
     scene = bpy.context.scene
-    scene.whitted.use_waves = True  # F12 and the view traced in waves (off by default)
     h.step("F12 render")
     h.render_still("whitted_f12", scene.render.resolution_x, scene.render.resolution_y)
     yield from enter_rendered(h)

@@ -225,8 +225,9 @@ def embree_details(suite, scenes):
         "(the median of the rounds' ratios; the rates are the rounds' medians). Shading alone "
         "is the recorded pixels rendered again with every query answered from the "
         "recording instead of Embree (traversal stubbed out: RenderJob.replay()), on the "
-        "rays raw Embree traces. In waves is the same render traced in waves "
-        "(Settings.waves, docs/notes/waves.md), in the same rounds: its waves gain is "
+        "rays raw Embree traces. Whitted is the recursive kernel, the reference; in waves "
+        "is the same render traced in waves (Settings.waves, the default: the add-on's "
+        "Trace in Waves; docs/notes/waves.md), in the same rounds: its waves gain is "
         "over the recursion, its efficiency over raw Embree, each the median of the "
         "rounds' ratios.",
         "",
