@@ -4,7 +4,8 @@ the recursion (the reference), as F12 syncs the scene.
     blender -b FILE.blend --addons whitted --python scripts/compare_kernels.py -- \\
         [--resolution 160 120] [--threads 1] [--repeats 3] [--json OUT]
 
-Prints one line: the rays of each (they must be equal, by type), the largest difference
+Prints one line: the rays of each (they must be equal, by type), the most memory a
+worker's wave queues held, the largest difference
 of any channel relative to max(1, |recursion|) (the wave only reorders sums), the
 pixels that differ by more than 1e-4 of that, and the median of the rounds' paired time
 ratios (recursion / waves: above 1 the waves are faster). For files we did not make:
@@ -69,13 +70,16 @@ def main():
         "rays_equal": dict(waves["rays"]) == dict(recursion["rays"]),
         "rays": waves["rays"]["total"],
         "waves_on": waves["waves"],
+        # The most memory one worker's wave queues held (bytes).
+        "queue_bytes": waves["wave_bytes"],
         "max_relative": float(relative.max()),
         "pixels_over_1e-4": int((relative.max(axis=-1) > 1e-4).sum()),
         "speed_ratio": paired_median(seconds["recursion"], seconds["waves"]),
     }
     print(
         f"{result['file']}: rays {result['rays']:,} equal {result['rays_equal']}, waves "
-        f"{result['waves_on']}, max relative {result['max_relative']:.2g}, pixels over 1e-4 "
+        f"{result['waves_on']} (queues {result['queue_bytes']:,} bytes), max relative "
+        f"{result['max_relative']:.2g}, pixels over 1e-4 "
         f"{result['pixels_over_1e-4']}, recursion / waves time {result['speed_ratio']:.3f}"
     )
     if args.json:
