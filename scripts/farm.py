@@ -591,10 +591,37 @@ def run_farm(args):
             print_table(report.frames, failed_frames)
             return 1 if failed_frames else 0
         finally:
-            client.unregister_worker_plugin(plugin)
+            release_workers(client, plugin)
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+def release_workers(client, plugin):
+    """Remove the run's plugin from every worker, which ends their warm Blenders.
+
+    The scheduler sends the removal to all the workers it knows. When one of them has
+    died and the scheduler has not noticed yet (a worker killed near the run's end),
+    the scheduler's send fails and it drops our connection. The frames and the report
+    are written by then, so that must not fail the run: the workers are then asked
+    one by one, and a worker that cannot answer is named, not raised."""
+    try:
+        client.unregister_worker_plugin(plugin)
+        return
+    except OSError as error:  # distributed's CommClosedError is an OSError
+        print(f"[farm] the scheduler could not end the warm Blenders ({error})", flush=True)
+    answers = client.run(remove_plugin, plugin, on_error="return")
+    for worker, answer in sorted(answers.items()):
+        if isinstance(answer, Exception):
+            print(f"[farm] {worker} did not answer ({answer}); its Blenders end with it")
+        else:
+            print(f"[farm] {worker}: warm Blenders ended")
+
+
+async def remove_plugin(name, dask_worker):
+    """On a worker: tear down plugin `name` if the worker still has it."""
+    if name in dask_worker.plugins:
+        await dask_worker.plugin_remove(name)
 
 
 def connect(args):

@@ -8,6 +8,7 @@ gives farms it does not drive, and the Flamenco job type that uses it
 Renders with Blender 3.4 and the development install (scripts/setup.sh links it).
 """
 
+import contextlib
 import json
 import os
 import shlex
@@ -75,11 +76,10 @@ def scenes(tmp_path_factory):
     return folder
 
 
-@pytest.fixture(scope="module")
-def cluster(tmp_path_factory):
-    """A scheduler and two workers, each its own process (no nanny: killing a
-    worker's process kills the worker)."""
-    folder = tmp_path_factory.mktemp("cluster")
+@contextlib.contextmanager
+def dask_cluster(folder):
+    """A scheduler and two workers (w0, w1), each its own process (no nanny: killing
+    a worker's process kills the worker), logging into `folder`."""
     scheduler_file = folder / "scheduler.json"
     processes = [
         subprocess.Popen(
@@ -123,15 +123,23 @@ def cluster(tmp_path_factory):
         )
         workers.append(worker)
     processes += workers
-    yield {"address": address, "workers": workers}
-    for process in processes:
-        if process.poll() is None:
-            process.terminate()
-    for process in processes:
-        try:
-            process.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            process.kill()
+    try:
+        yield {"address": address, "workers": workers}
+    finally:
+        for process in processes:
+            if process.poll() is None:
+                process.terminate()
+        for process in processes:
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                process.kill()
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    with dask_cluster(tmp_path_factory.mktemp("cluster")) as running:
+        yield running
 
 
 def children(pid):
@@ -221,6 +229,27 @@ def test_frames_survive_a_killed_worker_and_a_rerun_renders_nothing(scenes, clus
     assert "6 frames, 0 to render" in again.stdout, again.stdout
     assert {p.name: p.stat().st_mtime_ns for p in out.glob("*.exr")} == mtimes
     assert report(out)["rendered"] == 0 and report(out)["skipped"] == 6
+
+
+def test_a_worker_dying_as_the_run_ends_does_not_fail_it(tmp_path):
+    """The end of a run removes its plugin from every worker. A worker that dies then,
+    before the scheduler notices, makes the scheduler's removal fail and drop the
+    farm's connection (a CI run lost a finished farm to this): the live workers are
+    still released, one by one, and nothing is raised."""
+    torn_down = tmp_path / "torn_down"
+    torn_down.mkdir()
+    with dask_cluster(tmp_path) as running:
+        result = run(
+            [
+                *FARM[:1],
+                str(Path(__file__).with_name("release_probe.py")),
+                running["address"],
+                str(torn_down),
+            ]
+        )
+        assert running["workers"][0].wait(timeout=30) == 1  # w0 died in the removal
+    assert "the scheduler could not end the warm Blenders" in result.stdout, result.stdout
+    assert sorted(p.name for p in torn_down.iterdir()) == ["w1"], result.stdout
 
 
 def test_a_crashed_blender_loses_only_its_frame(scenes, cluster, tmp_path):
