@@ -191,7 +191,7 @@ bool RenderJob::wait_for_pass(size_t pass) {
 
 void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
                       Wave* wave, RayCounts* counts) {
-  if (pass.kind != Pass::Kind::kPreview && sampler.waves(pass.kind == Pass::Kind::kPixels)) {
+  if (pass.kind != Pass::Kind::kPreview && sampler.waves()) {
     trace_rows(pass, tile, sampler, log, wave, counts);
     return;
   }

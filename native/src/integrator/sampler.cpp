@@ -105,9 +105,8 @@ Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>*
   // take the jittered grid instead, the lens and shutter stratified over it (against
   // Cycles, a motion-blurred cube at the Final preset: SSIM 0.976 adaptive, 0.988 on
   // the 3 x 3 grid; tests/blender/test_motion_blur.py).
-  return settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_
-             ? pixel_adaptive(x, y, counts, weights, record)
-             : pixel_grid(x, y, counts, weights, record, block);
+  return adaptive() ? pixel_adaptive(x, y, counts, weights, record)
+                    : pixel_grid(x, y, counts, weights, record, block);
 }
 
 Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
@@ -153,13 +152,37 @@ void CameraSampler::first_hits(int x, int y, FirstHits* out) const {
   }
 }
 
-bool CameraSampler::waves(bool whole) const {
-  return integrator_.waves() &&
-         !(whole && settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_);
+bool CameraSampler::waves() const {
+  return integrator_.waves();
+}
+
+bool CameraSampler::adaptive() const {
+  return settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_;
+}
+
+void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index,
+                          const Hit* first, RayCounts* counts) const {
+  counts->camera += 1;
+  if (ray.kind == kNoRay) return;  // outside a fisheye's circle: opaque black (shade())
+  NodeState root = root_;
+  root.seed = seed;
+  integrator_.trace_camera(wave, ray, root, index, first, counts);
+}
+
+Sample CameraSampler::finished(const WaveSample& s, RayCounts* counts) {
+  if (!is_finite(s.radiance)) {
+    counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+    return {Color(0.0f), 0.0f};
+  }
+  return {s.radiance, s.alpha};
 }
 
 void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
                         std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
+  if (sample < 0 && adaptive()) {
+    row_adaptive(x0, x1, y, wave, counts, values, rays);
+    return;
+  }
   const int grid = settings_.aa_samples * settings_.aa_samples;
   const int per_pixel = sample < 0 ? grid : 1;
   const auto pixels = static_cast<size_t>(x1 - x0);
@@ -167,19 +190,15 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
   // Whole pixels take their first hits from the blocks' packets, as pixel() does.
   const int width = sample < 0 ? block_width() : 0;
   FirstHits block;
-  NodeState root = root_;
   for (int x = x0; x < x1; ++x) {
     if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
     for (int j = 0; j < per_pixel; ++j) {
       const int k = sample < 0 ? j : sample;
       const auto index = static_cast<uint32_t>((x - x0) * per_pixel + j);
       const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
-      const Ray ray = width > 0 ? block.rays[b] : grid_ray(x, y, k);
-      counts->camera += 1;
-      if (ray.kind == kNoRay) continue;  // outside a fisheye's circle: opaque black (shade())
-      root.seed = grid_seed(x, y, k);
       const bool found = width > 0 && block.found[b] != 0;
-      integrator_.trace_camera(wave, ray, root, index, found ? &block.hits[b] : nullptr, counts);
+      start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, k), grid_seed(x, y, k), index,
+            found ? &block.hits[b] : nullptr, counts);
     }
   }
   integrator_.trace_wave(wave, counts);
@@ -193,16 +212,107 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
     for (size_t j = 0; j < static_cast<size_t>(per_pixel); ++j) {
       const WaveSample& s = wave->samples[i * static_cast<size_t>(per_pixel) + j];
       cost += s.rays + 1;  // and its camera ray
-      if (!is_finite(s.radiance)) {
-        counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
-        continue;
-      }
-      sum.radiance += s.radiance;
-      sum.alpha += s.alpha;
+      const Sample value = finished(s, counts);
+      sum.radiance += value.radiance;
+      sum.alpha += value.alpha;
     }
     (*values)[i] = per_pixel == 1 ? sum : Sample{sum.radiance * w, sum.alpha * w};
     (*rays)[i] = cost;
   }
+}
+
+void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
+                                 std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
+  // pixel_adaptive's squares, breadth first: a square's corners are indices into
+  // `points`; a split square's quadrants are squares[child .. child + 3].
+  struct Square {
+    float x, y, size;
+    std::array<uint32_t, 4> corners;  // bottom-left, bottom-right, top-left, top-right
+    uint32_t pixel;                   // from x0
+    int32_t child = -1;
+  };
+  struct Point {  // a camera sample (point())
+    float x, y;
+    uint32_t pixel;  // whose cost it is: the pixel whose square traced it
+    Sample value;
+    uint64_t rays;
+  };
+  std::vector<Point> points;
+  std::vector<Square> squares;
+  const auto add_point = [&](float px, float py, uint32_t pixel) {
+    points.push_back({px, py, pixel, {}, 0});
+    return static_cast<uint32_t>(points.size() - 1);
+  };
+  // Traces points[from..] as one wave, each as point() would.
+  const auto trace = [&](size_t from) {
+    wave->reset(points.size() - from);
+    for (size_t i = from; i < points.size(); ++i) {
+      const Point& p = points[i];
+      start(wave, camera_ray(p.x, p.y, film_lens(p.x, p.y), film_time(p.x, p.y)),
+            film_seed(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts);
+    }
+    integrator_.trace_wave(wave, counts);
+    for (size_t i = from; i < points.size(); ++i) {
+      const WaveSample& s = wave->samples[i - from];
+      points[i].value = finished(s, counts);
+      points[i].rays = s.rays + 1;  // and its camera ray
+    }
+  };
+  // Depth 0: each pixel's corners, in pixel_adaptive's order.
+  for (int x = x0; x < x1; ++x) {
+    const auto fx = static_cast<float>(x);
+    const auto fy = static_cast<float>(y);
+    const auto i = static_cast<uint32_t>(x - x0);
+    squares.push_back({fx,
+                       fy,
+                       1.0f,
+                       {add_point(fx, fy, i), add_point(fx + 1.0f, fy, i),
+                        add_point(fx, fy + 1.0f, i), add_point(fx + 1.0f, fy + 1.0f, i)},
+                       i});
+  }
+  size_t traced = 0;
+  for (size_t level = 0, depth = 0; level < squares.size(); ++depth) {
+    trace(traced);
+    traced = points.size();
+    // The squares of this depth that split get their five midpoints (subdivide's order:
+    // bottom, left, centre, right, top) and quadrants, the next depth's squares.
+    const size_t end = squares.size();
+    for (size_t i = level; i < end; ++i) {
+      const Square sq = squares[i];
+      const Sample corners[4] = {points[sq.corners[0]].value, points[sq.corners[1]].value,
+                                 points[sq.corners[2]].value, points[sq.corners[3]].value};
+      if (!splits(corners, static_cast<int>(depth))) continue;
+      const float h = 0.5f * sq.size;
+      const uint32_t px = sq.pixel;
+      const uint32_t m[5] = {add_point(sq.x + h, sq.y, px), add_point(sq.x, sq.y + h, px),
+                             add_point(sq.x + h, sq.y + h, px),
+                             add_point(sq.x + sq.size, sq.y + h, px),
+                             add_point(sq.x + h, sq.y + sq.size, px)};
+      const auto& c = sq.corners;
+      squares[i].child = static_cast<int32_t>(squares.size());
+      squares.push_back({sq.x, sq.y, h, {c[0], m[0], m[1], m[2]}, px});
+      squares.push_back({sq.x + h, sq.y, h, {m[0], c[1], m[2], m[3]}, px});
+      squares.push_back({sq.x, sq.y + h, h, {m[1], m[2], c[2], m[4]}, px});
+      squares.push_back({sq.x + h, sq.y + h, h, {m[2], m[3], m[4], c[3]}, px});
+    }
+    level = end;
+  }
+  // Each square's mean, bottom-up in subdivide's order of sums.
+  const auto mean = [&](const auto& self, const Square& sq) -> Sample {
+    Sample sum{Color(0.0f), 0.0f};
+    for (size_t q = 0; q < 4; ++q) {
+      const Sample s = sq.child < 0 ? points[sq.corners[q]].value
+                                    : self(self, squares[static_cast<size_t>(sq.child) + q]);
+      sum.radiance += 0.25f * s.radiance;
+      sum.alpha += 0.25f * s.alpha;
+    }
+    return sum;
+  };
+  const auto pixels = static_cast<size_t>(x1 - x0);
+  values->resize(pixels);
+  rays->assign(pixels, 0);
+  for (size_t i = 0; i < pixels; ++i) (*values)[i] = mean(mean, squares[i]);
+  for (const Point& p : points) (*rays)[p.pixel] += p.rays;
 }
 
 const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
@@ -367,10 +477,7 @@ Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
   return {c, alpha};
 }
 
-Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4],
-                                const size_t ids[4], const SampleRecord* const records[4],
-                                int depth, RayCounts* counts, std::vector<float>* weights,
-                                SampleRecord* out) const {
+bool CameraSampler::splits(const Sample corners[4], int depth) const {
   // How much the corners differ as shown: the spread of each channel clamped to [0, 1],
   // summed over RGB.
   Color lo(kInfinity);
@@ -381,10 +488,15 @@ Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample cor
     hi = glm::max(hi, c);
   }
   const Color spread = hi - lo;
-  const bool split =
-      depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
+  return depth < settings_.aa_depth && spread.x + spread.y + spread.z > settings_.aa_threshold;
+}
+
+Sample CameraSampler::subdivide(float x0, float y0, float size, const Sample corners[4],
+                                const size_t ids[4], const SampleRecord* const records[4],
+                                int depth, RayCounts* counts, std::vector<float>* weights,
+                                SampleRecord* out) const {
   const bool recording = out != nullptr;
-  if (!split) {
+  if (!splits(corners, depth)) {
     Sample mean{Color(0.0f), 0.0f};
     for (int i = 0; i < 4; ++i) {
       mean.radiance += 0.25f * corners[i].radiance;

@@ -88,13 +88,13 @@ class CameraSampler {
   int block_width() const;
   // The first hits of the block holding pixel (x, y) (block_width() > 0).
   void first_hits(int x, int y, FirstHits* out) const;
-  // Whether pixels (`whole`) or grid samples are traced in waves (row()): where the
-  // integrator has a wave kernel, and pixels are grids (not adaptive subdivision).
-  bool waves(bool whole) const;
-  // Pixels [x0, x1) of row y traced as one wave (waves()): each pixel's whole grid when
-  // `sample` < 0, else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as
-  // pixel() or grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays
-  // it cost.
+  // Whether pixels and grid samples are traced in waves (row()): where the integrator
+  // has a wave kernel.
+  bool waves() const;
+  // Pixels [x0, x1) of row y traced in waves (waves()): each pixel whole when `sample` <
+  // 0 (its grid as one wave, or adaptive subdivision a wave per depth: row_adaptive),
+  // else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as pixel() or
+  // grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays it cost.
   void row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
            std::vector<Sample>* values, std::vector<uint64_t>* rays) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
@@ -114,6 +114,24 @@ class CameraSampler {
   Sample subdivide(float x0, float y0, float size, const Sample corners[4], const size_t ids[4],
                    const SampleRecord* const records[4], int depth, RayCounts* counts,
                    std::vector<float>* weights, SampleRecord* out) const;
+  // Whether pixels are Whitted's adaptive subdivision (pixel()).
+  bool adaptive() const;
+  // Whether the square of depth `depth` whose corner samples are `corners` splits: they
+  // differ as shown by more than the threshold, and the depth allows.
+  bool splits(const Sample corners[4], int depth) const;
+  // row() for adaptive anti-aliasing: pixel_adaptive's subdivision breadth first, every
+  // pixel's corners as one wave, then the midpoints of the squares that split at each
+  // depth as the next; each square's mean then summed bottom-up in subdivide's order, so
+  // values differ from pixel()'s by the wave's rounding only, except where that rounding
+  // moves a square's spread across the threshold.
+  void row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
+                    std::vector<Sample>* values, std::vector<uint64_t>* rays) const;
+  // Camera ray `ray` of wave sample `index` (`seed` its NodeState::seed; `first` its
+  // first hit, when found) traced into the wave, and counted, as shade() does.
+  void start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index, const Hit* first,
+             RayCounts* counts) const;
+  // A wave sample's value as shade() returns it: not finite, it is counted and dropped.
+  static Sample finished(const WaveSample& s, RayCounts* counts);
   // The next point sample's index into `weights` (0 without weights).
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
