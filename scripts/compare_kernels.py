@@ -2,14 +2,15 @@
 the recursion (the reference), as F12 syncs the scene.
 
     blender -b FILE.blend --addons whitted --python scripts/compare_kernels.py -- \\
-        [--resolution 160 120] [--threads 1] [--repeats 3] [--json OUT]
+        [--resolution 160 120] [--threads 1] [--repeats 3] [--preset KEY] [--json OUT]
 
 Prints one line: the rays of each (they must be equal, by type), the most memory a
 worker's wave queues held, the largest difference
 of any channel relative to max(1, |recursion|) (the wave only reorders sums), the
 pixels that differ by more than 1e-4 of that, and the median of the rounds' paired time
-ratios (recursion / waves: above 1 the waves are faster). For files we did not make:
-the wave must be tried on them before it is trusted (docs/notes/waves.md).
+ratios (recursion / waves: above 1 the waves are faster). --preset renders at a quality
+preset (DRAFT, PREVIEW, FINAL, REFERENCE) instead of the file's own controls. For files
+we did not make: the wave must be tried on them before it is trusted (docs/notes/waves.md).
 """
 
 import argparse
@@ -30,6 +31,7 @@ def parse_args():
     parser.add_argument("--resolution", nargs=2, type=int, default=(160, 120), metavar=("W", "H"))
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--preset", help="a quality preset's key, instead of the file's controls")
     parser.add_argument("--json", help="also write the figures here")
     return parser.parse_args(script_args())
 
@@ -44,6 +46,7 @@ def render(native, frame, waves):
 
 def main():
     from whitted.native import load_native
+    from whitted.properties.presets import apply_quality, preset
     from whitted.sync.frame import sync_frame
 
     args = parse_args()
@@ -55,6 +58,8 @@ def main():
     scene.render.resolution_percentage = 100
     scene.render.threads_mode = "FIXED"
     scene.render.threads = args.threads
+    if args.preset:
+        apply_quality(scene.whitted, preset(args.preset))
     native = load_native()
     frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
     render(native, frame, False)  # warm-up: page in the BVHs, start the threads once
@@ -67,6 +72,7 @@ def main():
     relative = np.abs(image - reference) / np.maximum(1.0, np.abs(reference))
     result = {
         "file": os.path.basename(bpy.data.filepath),
+        "preset": args.preset,
         "rays_equal": dict(waves["rays"]) == dict(recursion["rays"]),
         "rays": waves["rays"]["total"],
         "waves_on": waves["waves"],

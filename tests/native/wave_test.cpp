@@ -115,26 +115,45 @@ TEST(Waves, ProgressivePassesGiveTheRecursionsPixels) {
 
 TEST(Waves, ThePixelsDependOnNeitherThreadsNorTiles) {
   const Scene scene = every_effect();
-  Settings settings = small_render(67, 45, 2, 1, 64);
-  const std::vector<float> reference = render(scene, settings, true).pixels;
-  for (auto [threads, tile] : {std::pair{2, 7}, std::pair{3, 16}, std::pair{2, 1}}) {
-    settings.threads = threads;
-    settings.tile_size = tile;
-    EXPECT_TRUE(render(scene, settings, true).pixels == reference)
-        << threads << " threads, tile " << tile;
+  for (const AntiAliasing mode : {AntiAliasing::kRegular, AntiAliasing::kAdaptive}) {
+    Settings settings = small_render(67, 45, 2, 1, 64);
+    settings.aa_mode = mode;
+    const std::vector<float> reference = render(scene, settings, true).pixels;
+    for (auto [threads, tile] : {std::pair{2, 7}, std::pair{3, 16}, std::pair{2, 1}}) {
+      settings.threads = threads;
+      settings.tile_size = tile;
+      EXPECT_TRUE(render(scene, settings, true).pixels == reference)
+          << threads << " threads, tile " << tile;
+    }
   }
 }
 
-// Where the wave does not apply, the recursion traces: passes (their recorder follows
-// the recursion) and adaptive anti-aliasing (its samples depend on those before).
-TEST(Waves, PassesAndAdaptiveSamplesAreTracedRecursively) {
+// Adaptive anti-aliasing traces a wave per depth of the subdivision (row_adaptive): the
+// same squares split, so the same rays, and the same pixels up to rounding.
+TEST(Waves, AdaptiveSubdivisionGivesTheRecursionsPixelsRaysAndCosts) {
+  const Scene scene = every_effect();
+  for (const int depth : {1, 3}) {
+    Settings settings = small_render(61, 43, 1, 2, 16);
+    settings.aa_mode = AntiAliasing::kAdaptive;
+    settings.aa_depth = depth;
+    settings.glass_shadows = GlassShadows::kTinted;
+    const Rendered waves = render(scene, settings, true);
+    const Rendered recursive = render(scene, settings, false);
+    EXPECT_TRUE(waves.stats.waves);
+    expect_close(waves.pixels, recursive.pixels);
+    EXPECT_TRUE(waves.cost == recursive.cost) << "the Whitted Rays pass";
+    expect_same_rays(waves.stats.rays, recursive.stats.rays);
+    // The subdivision did split: more camera rays than the pixels' corners.
+    EXPECT_GT(waves.stats.rays.camera, 4u * 61u * 43u) << "depth " << depth;
+  }
+}
+
+// Passes are traced recursively: their recorder follows the recursion.
+TEST(Waves, PassesAreTracedRecursively) {
   const Scene scene = every_effect();
   Settings settings = small_render(20, 16, 1, 1, 16);
   settings.passes = 1u << static_cast<uint32_t>(FilmPass::kDiffuseDirect);
   EXPECT_FALSE(render(scene, settings, true).stats.waves);
-  settings.passes = 0;
-  settings.aa_mode = AntiAliasing::kAdaptive;
-  EXPECT_TRUE(render(scene, settings, true).pixels == render(scene, settings, false).pixels);
 }
 
 TEST(Waves, CancelStopsPromptly) {

@@ -29,7 +29,8 @@ size_t wave_bytes(const Wave& wave) {
          wave.feelers.capacity() * sizeof(WaveFeeler) +
          wave.samples.capacity() * sizeof(WaveSample) +
          (wave.order.capacity() + wave.groups.capacity()) * sizeof(uint32_t) +
-         wave.blocked.capacity();
+         wave.blocked.capacity() + wave.points.capacity() * sizeof(SubdivisionPoint) +
+         wave.squares.capacity() * sizeof(SubdivisionSquare);
 }
 
 double now_seconds() {

@@ -223,31 +223,20 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
 
 void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
                                  std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
-  // pixel_adaptive's squares, breadth first: a square's corners are indices into
-  // `points`; a split square's quadrants are squares[child .. child + 3].
-  struct Square {
-    float x, y, size;
-    std::array<uint32_t, 4> corners;  // bottom-left, bottom-right, top-left, top-right
-    uint32_t pixel;                   // from x0
-    int32_t child = -1;
-  };
-  struct Point {  // a camera sample (point())
-    float x, y;
-    uint32_t pixel;  // whose cost it is: the pixel whose square traced it
-    Sample value;
-    uint64_t rays;
-  };
-  std::vector<Point> points;
-  std::vector<Square> squares;
+  // pixel_adaptive's squares, breadth first, in the wave's reused buffers.
+  std::vector<SubdivisionPoint>& points = wave->points;
+  std::vector<SubdivisionSquare>& squares = wave->squares;
+  points.clear();
+  squares.clear();
   const auto add_point = [&](float px, float py, uint32_t pixel) {
-    points.push_back({px, py, pixel, {}, 0});
+    points.push_back({px, py, pixel, {Color(0.0f), 0.0f}, 0});
     return static_cast<uint32_t>(points.size() - 1);
   };
   // Traces points[from..] as one wave, each as point() would.
   const auto trace = [&](size_t from) {
     wave->reset(points.size() - from);
     for (size_t i = from; i < points.size(); ++i) {
-      const Point& p = points[i];
+      const SubdivisionPoint& p = points[i];
       start(wave, camera_ray(p.x, p.y, film_lens(p.x, p.y), film_time(p.x, p.y)),
             film_seed(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts);
     }
@@ -278,7 +267,7 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     // bottom, left, centre, right, top) and quadrants, the next depth's squares.
     const size_t end = squares.size();
     for (size_t i = level; i < end; ++i) {
-      const Square sq = squares[i];
+      const SubdivisionSquare sq = squares[i];
       const Sample corners[4] = {points[sq.corners[0]].value, points[sq.corners[1]].value,
                                  points[sq.corners[2]].value, points[sq.corners[3]].value};
       if (!splits(corners, static_cast<int>(depth))) continue;
@@ -298,7 +287,7 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     level = end;
   }
   // Each square's mean, bottom-up in subdivide's order of sums.
-  const auto mean = [&](const auto& self, const Square& sq) -> Sample {
+  const auto mean = [&](const auto& self, const SubdivisionSquare& sq) -> Sample {
     Sample sum{Color(0.0f), 0.0f};
     for (size_t q = 0; q < 4; ++q) {
       const Sample s = sq.child < 0 ? points[sq.corners[q]].value
@@ -312,7 +301,7 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
   values->resize(pixels);
   rays->assign(pixels, 0);
   for (size_t i = 0; i < pixels; ++i) (*values)[i] = mean(mean, squares[i]);
-  for (const Point& p : points) (*rays)[p.pixel] += p.rays;
+  for (const SubdivisionPoint& p : points) (*rays)[p.pixel] += p.rays;
 }
 
 const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,

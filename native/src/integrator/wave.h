@@ -18,11 +18,13 @@
 // measured against the recursion is in docs/notes/waves.md.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "accel/embree.h"
 #include "core/ray.h"
+#include "integrator/film.h"
 #include "integrator/whitted.h"
 
 namespace whitted {
@@ -56,6 +58,24 @@ struct WaveSample {
   uint64_t rays = 0;
 };
 
+// Adaptive anti-aliasing's subdivision of a row, traced a wave per depth
+// (CameraSampler::row_adaptive). A camera sample at image point (x, y), in pixels:
+struct SubdivisionPoint {
+  float x, y;
+  uint32_t pixel;  // whose cost it is: the pixel whose square traced it (from the row's x0)
+  Sample value;
+  uint64_t rays;  // and its camera ray
+};
+
+// A square of the subdivision: its corners index SubdivisionPoints; a split square's
+// quadrants are the squares child .. child + 3.
+struct SubdivisionSquare {
+  float x, y, size;
+  std::array<uint32_t, 4> corners;  // bottom-left, bottom-right, top-left, top-right
+  uint32_t pixel;
+  int32_t child = -1;
+};
+
 // One worker's queues, reused from wave to wave (their capacity stays). The camera
 // rays are not queued: each is traced as the sampler makes it (trace_camera), and
 // what it spawns joins the queues.
@@ -69,6 +89,9 @@ struct Wave {
   std::vector<uint32_t> groups;
   std::vector<uint32_t> order;
   std::vector<uint8_t> blocked;
+  // The adaptive sampler's squares and points of the row being traced.
+  std::vector<SubdivisionPoint> points;
+  std::vector<SubdivisionSquare> squares;
 
   // Starts a wave of `samples` camera samples, none yet traced.
   void reset(size_t samples) {
