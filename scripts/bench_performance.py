@@ -14,7 +14,8 @@ times everywhere; Cycles and POV-Ray run --repeats times at the small size and o
 at 1920x1080, and are not run at 1920x1080 on a scene whose small run failed or timed
 out. Then the scaling curves: time against triangle count (1k..10M, a fixed small
 size), against pixel count (the demo), against depth (0..8 on the glass scene), and 1
-against 2 threads. A target table says pass or miss, and by how much.
+against 2 threads. Then raw Embree on one thread, and on the scenes of distributed ray
+tracing at the quality presets. A target table says pass or miss, and by how much.
 
 --before ADDON_DIR also makes the raw Embree runs (only those) with another build of
 the add-on (a folder holding an add-on with its whitted_native*.so), each beside the
@@ -33,7 +34,13 @@ from pathlib import Path
 
 from whitted_tools import REPO
 from whitted_tools.pages import write_page
-from whitted_tools.perf.measure import Suite, measure_scaling, measure_slow, measure_whitted
+from whitted_tools.perf.measure import (
+    Suite,
+    measure_embree_variants,
+    measure_scaling,
+    measure_slow,
+    measure_whitted,
+)
 from whitted_tools.perf.page import page
 from whitted_tools.perf.plan import MAIN_SCENES, full_plan, quick_plan
 from whitted_tools.perf.plots import write_plots
@@ -85,11 +92,13 @@ def main():
         # a run past its budget loses only those.
         scenes = [measure_whitted(suite, name) for name in MAIN_SCENES]
         scaling = measure_scaling(suite)
+        variants = measure_embree_variants(suite)
         for label, _ in plan.sizes:
             for results in scenes:
                 measure_slow(suite, results, label)
     write_plots(suite, scaling)
-    write_page(args.out, page(suite, args, scenes, scaling, time.perf_counter() - started))
+    elapsed = time.perf_counter() - started
+    write_page(args.out, page(suite, args, scenes, scaling, variants, elapsed))
     print(f"bench_performance: {time.perf_counter() - started:.0f} s")
     # POV-Ray and Cycles may time out (the page says so); our own runs may not.
     ours = [p for p in suite.problems if not p.startswith(("POVRAY", "CYCLES"))]

@@ -2,14 +2,16 @@
 the recursion (the reference), as F12 syncs the scene.
 
     blender -b FILE.blend --addons whitted --python scripts/compare_kernels.py -- \\
-        [--resolution 160 120] [--threads 1] [--repeats 3] [--preset KEY] [--json OUT]
+        [--resolution 160 120] [--threads 1] [--repeats 3] [--preset KEY] [--passes] \\
+        [--json OUT]
 
 Prints one line: the rays of each (they must be equal, by type), the most memory a
 worker's wave queues held, the largest difference
 of any channel relative to max(1, |recursion|) (the wave only reorders sums), the
 pixels that differ by more than 1e-4 of that, and the median of the rounds' paired time
 ratios (recursion / waves: above 1 the waves are faster). --preset renders at a quality
-preset (DRAFT, PREVIEW, FINAL, REFERENCE) instead of the file's own controls. For files
+preset (DRAFT, PREVIEW, FINAL, REFERENCE) instead of the file's own controls; --passes
+keeps the view layer's passes as F12 does (Depth is on in every new view layer). For files
 we did not make: the wave must be tried on them before it is trusted (docs/notes/waves.md).
 """
 
@@ -32,13 +34,19 @@ def parse_args():
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--preset", help="a quality preset's key, instead of the file's controls")
+    parser.add_argument("--passes", action="store_true", help="the view layer's passes, as F12")
     parser.add_argument("--json", help="also write the figures here")
     return parser.parse_args(script_args())
 
 
-def render(native, frame, waves):
+def render(native, frame, waves, passes):
     settings = frame.settings
     settings.waves = waves
+    if passes:
+        from whitted.result import configure, enabled_passes
+
+        view_layer = bpy.context.view_layer
+        configure(settings, bpy.context.scene, view_layer, enabled_passes(view_layer))
     job = run_job(frame.job(native, settings))
     stats = job.stats()
     return job.image().copy(), stats
@@ -62,17 +70,18 @@ def main():
         apply_quality(scene.whitted, preset(args.preset))
     native = load_native()
     frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
-    render(native, frame, False)  # warm-up: page in the BVHs, start the threads once
+    render(native, frame, False, args.passes)  # warm-up: page in the BVHs, start the threads once
     seconds = {"recursion": [], "waves": []}
     for _ in range(args.repeats):
-        reference, recursion = render(native, frame, False)
-        image, waves = render(native, frame, True)
+        reference, recursion = render(native, frame, False, args.passes)
+        image, waves = render(native, frame, True, args.passes)
         seconds["recursion"].append(recursion["trace_seconds"])
         seconds["waves"].append(waves["trace_seconds"])
     relative = np.abs(image - reference) / np.maximum(1.0, np.abs(reference))
     result = {
         "file": os.path.basename(bpy.data.filepath),
         "preset": args.preset,
+        "passes": list(frame.settings.passes) if args.passes else [],
         "rays_equal": dict(waves["rays"]) == dict(recursion["rays"]),
         "rays": waves["rays"]["total"],
         "waves_on": waves["waves"],
@@ -83,7 +92,8 @@ def main():
         "speed_ratio": paired_median(seconds["recursion"], seconds["waves"]),
     }
     print(
-        f"{result['file']}: rays {result['rays']:,} equal {result['rays_equal']}, waves "
+        f"{result['file']} {result['preset'] or ''} {result['passes']}: rays "
+        f"{result['rays']:,} equal {result['rays_equal']}, waves "
         f"{result['waves_on']} (queues {result['queue_bytes']:,} bytes), max relative "
         f"{result['max_relative']:.2g}, pixels over 1e-4 "
         f"{result['pixels_over_1e-4']}, recursion / waves time {result['speed_ratio']:.3f}"

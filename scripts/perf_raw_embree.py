@@ -5,7 +5,7 @@ Runs inside Blender (3.4, or the bpy 5.0 module) on a saved scene with the Whitt
 add-on enabled:
 
     blender -b SCENE.blend --python scripts/perf_raw_embree.py -- --json OUT.json \\
-        [--threads N] [--repeats 3] [--max-recorded 20000000]
+        [--threads N] [--repeats 3] [--max-recorded 20000000] [--preset KEY]
 
 1. The scene is exported as the engine exports it and rendered once to warm up.
 2. It is rendered once more recording the queries of every n-th pixel (n chosen so
@@ -26,6 +26,10 @@ add-on enabled:
      1 / that rate is the shading's cost per ray, 1 / Embree's the traversal's. An
      add-on built before replays existed (bench_performance.py --before) gives no
      such figure.
+
+--preset renders at a quality preset (properties/presets.py: DRAFT, PREVIEW, FINAL,
+REFERENCE) instead of the file's own controls: adaptive anti-aliasing, the glossy,
+light and emitter samples and the depth the preset sets.
 
 Efficiency = ours / Embree's and the packet gain = ours / ours without packets, each
 taken within a round and the median of the rounds' ratios: this machine's speed drifts
@@ -84,6 +88,7 @@ def parse_args():
     parser.add_argument("--threads", type=int, default=0, help="0: Blender's setting")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-recorded", type=int, default=20_000_000)
+    parser.add_argument("--preset", help="a quality preset's key, instead of the file's controls")
     parser.add_argument(
         "--renders-only",
         action="store_true",
@@ -112,12 +117,16 @@ def parse_args():
     return args
 
 
-def export(threads):
-    """The scene as the engine syncs it (a Frame), and the native module."""
+def export(threads, preset_key=None):
+    """The scene as the engine syncs it (a Frame), and the native module; at the quality
+    preset `preset_key` when given."""
     from whitted.native import load_native
+    from whitted.properties.presets import apply_quality, preset
     from whitted.sync.frame import sync_frame
 
     scene = bpy.context.scene
+    if preset_key:
+        apply_quality(scene.whitted, preset(preset_key))
     if threads:
         scene.render.threads_mode = "FIXED"
         scene.render.threads = threads
@@ -219,7 +228,7 @@ def main():
     if args.waves:
         one_kernel(args)
         return
-    native, frame = export(args.threads)
+    native, frame = export(args.threads, args.preset)
     settings = frame.settings
     if hasattr(settings, "waves"):
         # "Whitted" is the recursive kernel, the reference; the renders in waves, the
@@ -276,6 +285,10 @@ def main():
         "blender": bpy.app.version_string,
         "native_module": os.path.realpath(native.__file__),  # which add-on's build ran
         "threads": chosen["threads"],
+        "preset": args.preset,
+        # Camera rays per pixel, and all rays per camera ray: what the preset multiplies.
+        "camera_rays_per_pixel": chosen["rays"]["camera"] / (settings.width * settings.height),
+        "rays_per_camera_ray": rays_per_render / max(1, chosen["rays"]["camera"]),
         "width": settings.width,
         "height": settings.height,
         "rays_per_render": rays_per_render,

@@ -26,6 +26,11 @@ BUILDERS = {
     "glass8": bench_scenes.build_glass8,
     "triangles": bench_scenes.build_triangles,
     "fur": bench_scenes.build_fur,
+    # The cost report's scenes of distributed ray tracing, for the presets' glossy and
+    # lens samples: rough metal, plastic and frosted glass; a lens at f/1.4 and a moving
+    # ball.
+    "distributed": lambda scene, _args: bench_scenes.build_distributed_scene(scene),
+    "camera": lambda scene, _args: bench_scenes.build_camera_scene(scene),
 }
 
 

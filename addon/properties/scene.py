@@ -193,7 +193,8 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Trace in Waves",
         description="Trace a row of a tile's samples together, a generation of rays at a "
         "time, with the shadow rays towards each light as packets; off: the recursive "
-        "kernel, the reference (the same image up to float rounding)",
+        "kernel, the reference (the same image up to float rounding). Renders keeping "
+        "the light passes, Contributions or Cut Weight always use the recursive kernel",
         default=True,
     )
     viewport_preset: EnumProperty(

@@ -85,13 +85,20 @@ def test_f12_traces_in_waves_unless_unticked(empty_scene, f12):
     assert waves.any()
 
 
-def test_f12_with_passes_traces_recursively(empty_scene, f12):
-    """Renders with passes keep the recursion (its recorder follows the ray tree): the
-    statistics say so, and the Combined pass is the waves' image up to rounding."""
+def test_f12_with_data_passes_traces_in_waves_and_light_passes_recursively(empty_scene, f12):
+    """The data passes (Depth is on in every new view layer) keep the waves: they are
+    the camera's surface's, recorded as the camera rays are traced. The light passes
+    keep the recursion (their recorder follows the ray tree). Either way the statistics
+    say which kernel ran, and Combined is the waves' image up to rounding."""
     scene = demo_scene.build_demo_scene(empty_scene)
     waves, _ = f12(scene)
-    bpy.context.view_layer.use_pass_normal = True
-    combined, stats = f12(scene)
+    view_layer = bpy.context.view_layer
+    view_layer.use_pass_z = view_layer.use_pass_normal = view_layer.use_pass_mist = True
+    with_data, stats = f12(scene)
+    assert stats["waves"]["on"], stats["passes"]
+    view_layer.use_pass_diffuse_direct = True
+    with_light, stats = f12(scene)
     assert not stats["waves"]["on"]
     scale = np.maximum(1.0, np.abs(waves))
-    assert float((np.abs(combined - waves) / scale).max()) <= RELATIVE_BOUND
+    for image in (with_data, with_light):
+        assert float((np.abs(image - waves) / scale).max()) <= RELATIVE_BOUND

@@ -148,12 +148,61 @@ TEST(Waves, AdaptiveSubdivisionGivesTheRecursionsPixelsRaysAndCosts) {
   }
 }
 
-// Passes are traced recursively: their recorder follows the recursion.
-TEST(Waves, PassesAreTracedRecursively) {
+// The data passes (Depth, Mist, Normal, ...) are the camera's surface's: the wave
+// records them as the camera rays are traced, the same values as the recursion's, for
+// whole pixels, adaptive subdivision and progressive samples. The others are traced
+// recursively: their recorder follows the recursion.
+TEST(Waves, DataPassesAreTracedInWavesTheOthersRecursively) {
   const Scene scene = every_effect();
-  Settings settings = small_render(20, 16, 1, 1, 16);
-  settings.passes = 1u << static_cast<uint32_t>(FilmPass::kDiffuseDirect);
-  EXPECT_FALSE(render(scene, settings, true).stats.waves);
+  const std::vector<FilmPass> data = {
+      FilmPass::kDepth, FilmPass::kMist,        FilmPass::kNormal,       FilmPass::kPosition,
+      FilmPass::kUV,    FilmPass::kObjectIndex, FilmPass::kMaterialIndex};
+  uint32_t bits = 0;
+  for (const FilmPass pass : data) bits |= pass_bit(pass);
+  ASSERT_EQ(bits, kDataPasses);
+  for (const AntiAliasing mode : {AntiAliasing::kRegular, AntiAliasing::kAdaptive}) {
+    for (const bool progressive : {false, true}) {
+      Settings settings = small_render(41, 29, 2, 2, 16);
+      settings.aa_mode = mode;
+      settings.aa_depth = 2;
+      settings.progressive = progressive;
+      settings.passes = bits;
+      RenderJob waves(
+          scene,
+          [&] {
+            Settings s = settings;
+            s.waves = true;
+            return s;
+          }(),
+          scene.camera);
+      RenderJob recursive(
+          scene,
+          [&] {
+            Settings s = settings;
+            s.waves = false;
+            return s;
+          }(),
+          scene.camera);
+      run_to_end(waves);
+      run_to_end(recursive);
+      EXPECT_TRUE(waves.stats().waves);
+      EXPECT_FALSE(recursive.stats().waves);
+      expect_close(waves.film().pixels(), recursive.film().pixels());
+      EXPECT_TRUE(waves.film().cost() == recursive.film().cost());
+      for (const FilmPass pass : data) {
+        EXPECT_TRUE(waves.film().pass(pass) == recursive.film().pass(pass))
+            << kFilmPassNames[static_cast<size_t>(pass)] << ", adaptive "
+            << (mode == AntiAliasing::kAdaptive) << ", progressive " << progressive;
+      }
+    }
+  }
+  for (const FilmPass pass :
+       {FilmPass::kDiffuseDirect, FilmPass::kContributions, FilmPass::kCutWeight}) {
+    Settings settings = small_render(20, 16, 1, 1, 16);
+    settings.passes = bits | pass_bit(pass);
+    EXPECT_FALSE(render(scene, settings, true).stats.waves)
+        << kFilmPassNames[static_cast<size_t>(pass)];
+  }
 }
 
 TEST(Waves, CancelStopsPromptly) {

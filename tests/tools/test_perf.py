@@ -16,7 +16,7 @@ from whitted_tools.perf.figures import (
     writeback_per_hd_pass,
 )
 from whitted_tools.perf.measure import Measurement, SceneResults, Suite
-from whitted_tools.perf.page import embree_details, embree_runs
+from whitted_tools.perf.page import embree_details, embree_runs, embree_variants_section
 from whitted_tools.perf.plan import quick_plan
 
 
@@ -150,3 +150,24 @@ def test_embree_runs_walk_only_the_measurements_made():
     missing.embree["tiny"] = Measurement(missing="timed out")
     walked = list(embree_runs(suite, [made, missing]))
     assert walked == [(made, "tiny", (96, 54), made.embree["tiny"].runs)]
+
+
+def test_one_thread_and_preset_runs_have_their_table_rows():
+    suite = Suite(quick_plan(), "blender", "python", Path("/tmp"), Path("/tmp"), 0.0)
+    preset_run = embree_run(0.4, waves=2e6) | {"camera_rays_per_pixel": 5.5}
+    preset_run |= {"rays_per_camera_ray": 12.25}
+    variants = {
+        "one_thread": {"demo": Measurement(runs=[embree_run(0.5, waves=6e6) | {"threads": 1}])},
+        "presets": {
+            ("distributed", "PREVIEW"): Measurement(runs=[preset_run]),
+            ("camera", "FINAL"): Measurement(missing="timed out"),
+        },
+    }
+    lines = embree_variants_section(suite, variants)
+    header = next(line for line in lines if line.startswith("| scene | threads | preset"))
+    one = next(line for line in lines if line.startswith("| demo | 1 | own |"))
+    preset = next(line for line in lines if line.startswith("| distributed | 2 | PREVIEW |"))
+    assert one.count("|") == header.count("|") == preset.count("|")
+    assert "| 4.00 | 8.00 | 0.50 | 6.00 | 1.50x | 0.75 |" in one
+    assert "| 5.50 | 12.25 | 4.00 | 8.00 | 0.40 | 2.00 | 0.50x | 0.25 |" in preset
+    assert any(line.startswith("| camera | | FINAL | timed out |") for line in lines)

@@ -28,6 +28,7 @@ size_t wave_bytes(const Wave& wave) {
   return (wave.rays.capacity() + wave.next.capacity()) * sizeof(WaveRay) +
          wave.feelers.capacity() * sizeof(WaveFeeler) +
          wave.samples.capacity() * sizeof(WaveSample) +
+         (wave.records.capacity() + wave.point_records.capacity()) * sizeof(SampleRecord) +
          (wave.order.capacity() + wave.groups.capacity()) * sizeof(uint32_t) +
          wave.blocked.capacity() + wave.points.capacity() * sizeof(SubdivisionPoint) +
          wave.squares.capacity() * sizeof(SubdivisionSquare);
@@ -248,6 +249,7 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
   const bool whole = pass.kind == Pass::Kind::kPixels;
   std::vector<Sample> values;
   std::vector<uint64_t> rays;
+  std::vector<SampleRecord> records;  // where (data) passes are kept
   const int end = tile.x + tile.width;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
@@ -257,15 +259,16 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
       const bool picked = recorder_.picked(log, x0, y, settings_.width);
       for (x1 = x0 + 1; x1 < end && recorder_.picked(log, x1, y, settings_.width) == picked;) ++x1;
       if (!recorder_.select_range(log, x0, x1, y, settings_.width)) continue;
-      sampler.row(x0, x1, y, whole ? -1 : pass.sample, wave, counts, &values, &rays);
+      sampler.row(x0, x1, y, whole ? -1 : pass.sample, wave, counts, &values, &rays, &records);
       for (int x = x0; x < x1; ++x) {
         const auto i = static_cast<size_t>(x - x0);
         const auto cost = static_cast<float>(rays[i]);
+        const SampleRecord* record = records.empty() ? nullptr : &records[i];
         if (whole) {
-          film_.set(x, y, values[i], cost, nullptr);
+          film_.set(x, y, values[i], cost, record);
           if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
         } else {
-          film_.add(x, y, values[i], cost, nullptr);
+          film_.add(x, y, values[i], cost, record);
         }
       }
     }

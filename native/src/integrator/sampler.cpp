@@ -166,27 +166,22 @@ void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t in
   if (ray.kind == kNoRay) return;  // outside a fisheye's circle: opaque black (shade())
   NodeState root = root_;
   root.seed = seed;
-  integrator_.trace_camera(wave, ray, root, index, first, counts);
-}
-
-Sample CameraSampler::finished(const WaveSample& s, RayCounts* counts) {
-  if (!is_finite(s.radiance)) {
-    counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
-    return {Color(0.0f), 0.0f};
-  }
-  return {s.radiance, s.alpha};
+  integrator_.trace_camera(wave, ray, root, index, first, counts,
+                           wave->records.empty() ? nullptr : &wave->records[index]);
 }
 
 void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
-                        std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
+                        std::vector<Sample>* values, std::vector<uint64_t>* rays,
+                        std::vector<SampleRecord>* records) const {
   if (sample < 0 && adaptive()) {
-    row_adaptive(x0, x1, y, wave, counts, values, rays);
+    row_adaptive(x0, x1, y, wave, counts, values, rays, records);
     return;
   }
   const int grid = settings_.aa_samples * settings_.aa_samples;
   const int per_pixel = sample < 0 ? grid : 1;
   const auto pixels = static_cast<size_t>(x1 - x0);
-  wave->reset(pixels * static_cast<size_t>(per_pixel));
+  const bool passes = settings_.passes != 0;
+  wave->reset(pixels * static_cast<size_t>(per_pixel), passes);
   // Whole pixels take their first hits from the blocks' packets, as pixel() does.
   const int width = sample < 0 ? block_width() : 0;
   FirstHits block;
@@ -204,37 +199,55 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
   integrator_.trace_wave(wave, counts);
   values->resize(pixels);
   rays->resize(pixels);
+  records->resize(passes ? pixels : 0);
   const float w = 1.0f / static_cast<float>(per_pixel);
   for (size_t i = 0; i < pixels; ++i) {
-    // Summed in sample order and averaged, as pixel_grid() sums its samples.
+    // Summed in sample order and averaged, as pixel_grid() sums its samples (a sample
+    // alone, as grid_sample() gives it).
     Sample sum{Color(0.0f), 0.0f};
     uint64_t cost = 0;
+    SampleRecord* out = passes ? &(*records)[i] : nullptr;
+    if (out != nullptr) *out = SampleRecord{};
     for (size_t j = 0; j < static_cast<size_t>(per_pixel); ++j) {
-      const WaveSample& s = wave->samples[i * static_cast<size_t>(per_pixel) + j];
+      const size_t k = i * static_cast<size_t>(per_pixel) + j;
+      const WaveSample& s = wave->samples[k];
       cost += s.rays + 1;  // and its camera ray
-      const Sample value = finished(s, counts);
+      SampleRecord* record = passes ? &wave->records[k] : nullptr;
+      const Sample value = finished(s, counts, record);
       sum.radiance += value.radiance;
       sum.alpha += value.alpha;
+      if (out == nullptr) continue;
+      if (sample >= 0) {
+        *out = *record;
+        continue;
+      }
+      out->add(*record, settings_.passes);
+      if (j == 0) out->take_first(*record);
     }
+    if (out != nullptr && sample < 0) out->scale(w, settings_.passes);
     (*values)[i] = per_pixel == 1 ? sum : Sample{sum.radiance * w, sum.alpha * w};
     (*rays)[i] = cost;
   }
 }
 
 void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
-                                 std::vector<Sample>* values, std::vector<uint64_t>* rays) const {
+                                 std::vector<Sample>* values, std::vector<uint64_t>* rays,
+                                 std::vector<SampleRecord>* records) const {
   // pixel_adaptive's squares, breadth first, in the wave's reused buffers.
   std::vector<SubdivisionPoint>& points = wave->points;
   std::vector<SubdivisionSquare>& squares = wave->squares;
+  std::vector<SampleRecord>& point_records = wave->point_records;
+  const bool passes = settings_.passes != 0;
   points.clear();
   squares.clear();
+  point_records.clear();
   const auto add_point = [&](float px, float py, uint32_t pixel) {
     points.push_back({px, py, pixel, {Color(0.0f), 0.0f}, 0});
     return static_cast<uint32_t>(points.size() - 1);
   };
   // Traces points[from..] as one wave, each as point() would.
   const auto trace = [&](size_t from) {
-    wave->reset(points.size() - from);
+    wave->reset(points.size() - from, passes);
     for (size_t i = from; i < points.size(); ++i) {
       const SubdivisionPoint& p = points[i];
       start(wave, camera_ray(p.x, p.y, film_lens(p.x, p.y), film_time(p.x, p.y)),
@@ -243,8 +256,10 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     integrator_.trace_wave(wave, counts);
     for (size_t i = from; i < points.size(); ++i) {
       const WaveSample& s = wave->samples[i - from];
-      points[i].value = finished(s, counts);
+      SampleRecord* record = passes ? &wave->records[i - from] : nullptr;
+      points[i].value = finished(s, counts, record);
       points[i].rays = s.rays + 1;  // and its camera ray
+      if (passes) point_records.push_back(*record);
     }
   };
   // Depth 0: each pixel's corners, in pixel_adaptive's order.
@@ -286,7 +301,9 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     }
     level = end;
   }
-  // Each square's mean, bottom-up in subdivide's order of sums.
+  // Each square's mean, bottom-up in subdivide's order of sums; and its record's, where
+  // passes are kept (apart: a record is zeroed where it is declared, which cost the
+  // renders without passes more than the rest of this function).
   const auto mean = [&](const auto& self, const SubdivisionSquare& sq) -> Sample {
     Sample sum{Color(0.0f), 0.0f};
     for (size_t q = 0; q < 4; ++q) {
@@ -297,10 +314,32 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     }
     return sum;
   };
+  const auto record_mean = [&](const auto& self, const SubdivisionSquare& sq,
+                               SampleRecord* out) -> void {
+    for (size_t q = 0; q < 4; ++q) {
+      if (sq.child < 0) {
+        out->add(point_records[sq.corners[q]], settings_.passes);
+        continue;
+      }
+      SampleRecord quadrant;
+      self(self, squares[static_cast<size_t>(sq.child) + q], &quadrant);
+      out->add(quadrant, settings_.passes);
+    }
+    out->scale(0.25f, settings_.passes);
+  };
   const auto pixels = static_cast<size_t>(x1 - x0);
   values->resize(pixels);
   rays->assign(pixels, 0);
-  for (size_t i = 0; i < pixels; ++i) (*values)[i] = mean(mean, squares[i]);
+  records->resize(passes ? pixels : 0);
+  for (size_t i = 0; i < pixels; ++i) {
+    (*values)[i] = mean(mean, squares[i]);
+    if (!passes) continue;
+    SampleRecord& out = (*records)[i];
+    out = SampleRecord{};
+    record_mean(record_mean, squares[i], &out);
+    // The first-sample data (depth, position, indices) are the bottom-left corner's.
+    out.take_first(point_records[squares[i].corners[0]]);
+  }
   for (const SubdivisionPoint& p : points) (*rays)[p.pixel] += p.rays;
 }
 

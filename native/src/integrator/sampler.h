@@ -94,9 +94,12 @@ class CameraSampler {
   // Pixels [x0, x1) of row y traced in waves (waves()): each pixel whole when `sample` <
   // 0 (its grid as one wave, or adaptive subdivision a wave per depth: row_adaptive),
   // else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as pixel() or
-  // grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays it cost.
+  // grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays it cost,
+  // and, where passes are kept (only the data passes: WhittedIntegrator::waves()),
+  // (*records)[i] its record as pixel() or grid_sample() fills it.
   void row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
-           std::vector<Sample>* values, std::vector<uint64_t>* rays) const;
+           std::vector<Sample>* values, std::vector<uint64_t>* rays,
+           std::vector<SampleRecord>* records) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
   Sample point(float px, float py, RayCounts* counts, SampleRecord* record = nullptr) const;
 
@@ -125,13 +128,24 @@ class CameraSampler {
   // values differ from pixel()'s by the wave's rounding only, except where that rounding
   // moves a square's spread across the threshold.
   void row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
-                    std::vector<Sample>* values, std::vector<uint64_t>* rays) const;
+                    std::vector<Sample>* values, std::vector<uint64_t>* rays,
+                    std::vector<SampleRecord>* records) const;
   // Camera ray `ray` of wave sample `index` (`seed` its NodeState::seed; `first` its
   // first hit, when found) traced into the wave, and counted, as shade() does.
   void start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index, const Hit* first,
              RayCounts* counts) const;
-  // A wave sample's value as shade() returns it: not finite, it is counted and dropped.
-  static Sample finished(const WaveSample& s, RayCounts* counts);
+  // A wave sample's value as shade() returns it: not finite, it is counted and dropped,
+  // and its record (if any) emptied. Inline: called out of line (through the PLT, as
+  // the core's symbols can be interposed), its Sample was spilled and reloaded across
+  // the call, a stall per camera sample (perf annotate, session 22).
+  static Sample finished(const WaveSample& s, RayCounts* counts, SampleRecord* record) {
+    if (!is_finite(s.radiance)) {
+      counts->nonfinite_samples += 1;  // never let one bad sample poison a pixel
+      if (record != nullptr) *record = SampleRecord{};
+      return {Color(0.0f), 0.0f};
+    }
+    return {s.radiance, s.alpha};
+  }
   // The next point sample's index into `weights` (0 without weights).
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).

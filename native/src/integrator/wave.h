@@ -25,6 +25,7 @@
 #include "accel/embree.h"
 #include "core/ray.h"
 #include "integrator/film.h"
+#include "integrator/passes.h"
 #include "integrator/whitted.h"
 
 namespace whitted {
@@ -84,6 +85,8 @@ struct Wave {
   std::vector<WaveRay> next;  // the children of this generation
   std::vector<WaveFeeler> feelers;
   std::vector<WaveSample> samples;
+  // The camera samples' data passes, where passes are kept (WhittedIntegrator::waves()).
+  std::vector<SampleRecord> records;
   // Scratch of the feeler stage: where each light's group starts, the feelers' order
   // grouped by light, and each one's answer.
   std::vector<uint32_t> groups;
@@ -92,13 +95,16 @@ struct Wave {
   // The adaptive sampler's squares and points of the row being traced.
   std::vector<SubdivisionPoint> points;
   std::vector<SubdivisionSquare> squares;
+  std::vector<SampleRecord> point_records;  // the points' data passes, where kept
 
-  // Starts a wave of `samples` camera samples, none yet traced.
-  void reset(size_t samples) {
+  // Starts a wave of `samples` camera samples, none yet traced; with their records
+  // when passes are kept.
+  void reset(size_t samples, bool passes) {
     rays.clear();
     next.clear();
     feelers.clear();
     this->samples.assign(samples, WaveSample{});
+    records.assign(passes ? samples : 0, SampleRecord{});
   }
 };
 

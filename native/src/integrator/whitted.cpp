@@ -152,8 +152,8 @@ class Kernel {
   // makes them (run_camera); the rest here (run_wave).
   static void run_camera(const WhittedIntegrator& w, Wave* wave, const Ray& ray,
                          const NodeState& state, uint32_t sample, const Hit* first,
-                         RayCounts* counts) {
-    Kernel kernel(w, nullptr);
+                         RayCounts* counts, SampleRecord* record) {
+    Kernel kernel(w, record);
     WaveCursor cursor{wave};
     cursor.sample = sample;
     kernel.cursor_ = &cursor;
@@ -1206,12 +1206,17 @@ WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effe
   if (settings.passes != 0) return &Kernel<kRuntimeEffects, PassRecorder, Queries>::run;
   return kRenderKernels<Queries>.recursive[effects & kAllEffects];
 }
-// Its wave kernel: none with passes (their recorder follows the recursion), or when
-// the settings ask for the recursion.
+// Its wave kernel: none when the settings ask for the recursion, or with passes other
+// than the data passes (their recorder follows the recursion). The data passes are the
+// camera's surface's: the pass recorder's kernel traces the camera rays (the first
+// generation), the effects' kernel the rest, which records nothing.
 template <class Queries>
 WhittedIntegrator::WaveFns wave_kernel(const Settings& settings, uint32_t effects) {
-  if (settings.passes != 0 || !settings.waves) return {};
-  return kRenderKernels<Queries>.waves[effects & kAllEffects];
+  if (!settings.waves || (settings.passes & ~kDataPasses) != 0) return {};
+  WhittedIntegrator::WaveFns fns = kRenderKernels<Queries>.waves[effects & kAllEffects];
+  if (settings.passes != 0)
+    fns.camera = &Kernel<kRuntimeEffects, PassRecorder, Queries>::run_camera;
+  return fns;
 }
 
 // The camera rays' packets, queried as the kernel's queries are.

@@ -103,16 +103,18 @@ class WhittedIntegrator {
 
   // A wave's first generation (wave.h): camera sample `sample`'s ray (`first` its first
   // hit when already found), traced and shaded now into wave->samples[sample], the rays
-  // and feelers it spawns appended to the wave. Only where waves() is true.
+  // and feelers it spawns appended to the wave; its data passes into `record` (given
+  // where passes are kept: they are all of the camera's surface). Only where waves().
   void trace_camera(Wave* wave, const Ray& ray, const NodeState& state, uint32_t sample,
-                    const Hit* first, RayCounts* counts) const {
-    trace_wave_.camera(*this, wave, ray, state, sample, first, counts);
+                    const Hit* first, RayCounts* counts, SampleRecord* record = nullptr) const {
+    trace_wave_.camera(*this, wave, ray, state, sample, first, counts, record);
   }
   // Then the rest: the feelers and rays the camera rays spawned and everything they
   // spawn, generation by generation, adding into wave->samples.
   void trace_wave(Wave* wave, RayCounts* counts) const { trace_wave_.rest(*this, wave, counts); }
   // Whether renders with these settings trace in waves: Settings::waves, and no passes
-  // (their recorder follows the recursion; the inspector's likewise).
+  // but the data passes (kDataPasses: the others' recorder follows the recursion; the
+  // inspector's likewise).
   bool waves() const { return trace_wave_.rest != nullptr; }
 
   // The media that contain point p (the camera inside glass), innermost current.
@@ -132,7 +134,7 @@ class WhittedIntegrator {
   // recursively.
   struct WaveFns {
     void (*camera)(const WhittedIntegrator&, Wave*, const Ray&, const NodeState&, uint32_t,
-                   const Hit*, RayCounts*) = nullptr;
+                   const Hit*, RayCounts*, SampleRecord*) = nullptr;
     void (*rest)(const WhittedIntegrator&, Wave*, RayCounts*) = nullptr;
   };
 

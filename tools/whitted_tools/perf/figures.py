@@ -123,7 +123,8 @@ def worst(pairs, at_least):
     return min(pairs) if at_least else max(pairs)
 
 
-def targets(suite, scenes, scaling):
+def targets(suite, scenes, scaling, variants):
+    """The page's targets; `variants` as measure.measure_embree_variants gives them."""
     plan = suite.plan
     large_label, large = plan.sizes[-1]
     small_label = plan.sizes[0][0]
@@ -154,6 +155,21 @@ def targets(suite, scenes, scaling):
             (r.embree[label].median(lambda x: x.get("waves_gain")), f"{r.name}, {size_label(s)}")
             for r in scenes
             for label, s in plan.sizes
+        ],
+        at_least=True,
+    )
+    # The same at one thread, and at the quality presets (all threads).
+    one_thread = worst(
+        [
+            (m.median(lambda x: x.get("waves_efficiency")), f"{name}, {size_label(plan.small)}")
+            for name, m in variants["one_thread"].items()
+        ],
+        at_least=True,
+    )
+    at_presets = worst(
+        [
+            (m.median(lambda x: x.get("waves_efficiency")), f"{name} at {preset}")
+            for (name, preset), m in variants["presets"].items()
         ],
         at_least=True,
     )
@@ -224,6 +240,20 @@ def targets(suite, scenes, scaling):
             True,
             "",
             *waves_efficiency,
+        ),
+        Target(
+            "efficiency in waves against raw Embree, one thread (worst scene)",
+            0.9,
+            True,
+            "",
+            *one_thread,
+        ),
+        Target(
+            "efficiency in waves at the quality presets (worst scene and preset)",
+            0.9,
+            True,
+            "",
+            *at_presets,
         ),
         Target("waves against the recursion (worst scene)", 1.5, True, "x", *waves_gain),
         Target("2 threads against 1 (worst scene)", 1.8, True, "x", *threads),

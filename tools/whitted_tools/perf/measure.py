@@ -179,11 +179,13 @@ class Suite:
             script, *args, blend=blend, addons=("whitted",), blender=self.blender
         )
 
-    def raw_embree(self, scene, resolution, before=False):
+    def raw_embree(self, scene, resolution, before=False, threads=None, preset=None):
         """scripts/perf_raw_embree.py's JSON for the scene at resolution (a Measurement),
         with the add-on in self.before when `before` (Blender finds it through
-        BLENDER_USER_SCRIPTS: blender.addon_env)."""
-        key = (scene, "EMBREE_BEFORE" if before else "EMBREE", tuple(resolution))
+        BLENDER_USER_SCRIPTS: blender.addon_env), on `threads` (None: all) and at the
+        quality preset `preset` (None: the scene's own controls)."""
+        kind = "EMBREE_BEFORE" if before else "EMBREE"
+        key = (scene, kind, tuple(resolution), threads, preset)
         if key in self.results:
             return self.results[key]
         measurement = Measurement()
@@ -198,15 +200,18 @@ class Suite:
             # Its own repeats: as Whitted's at the small size, fewer at the large.
             large = self.is_large(resolution)
             repeats = self.plan.large_slow_repeats if large else self.plan.repeats
-            command = self.in_blender(
-                SCRIPTS / "perf_raw_embree.py", blend, "--json", out, "--repeats", repeats
-            )
+            options = ["--json", out, "--repeats", repeats]
+            options += ["--threads", threads] if threads else []
+            options += ["--preset", preset] if preset else []
+            command = self.in_blender(SCRIPTS / "perf_raw_embree.py", blend, *options)
             env = addon_env(self.before, self.workdir / "before") if before else None
             run, problem = run_for_json(command, out, self.plan.timeouts["EMBREE"], env=env)
             if problem:
                 measurement.missing = problem
                 where = f"{scene[0]} at {size_label(resolution)}"
                 build = " (before)" if before else ""
+                build += f" on {threads} thread(s)" if threads else ""
+                build += f" at {preset}" if preset else ""
                 self.problems.append(f"raw Embree{build} on {where}: {problem}")
             else:
                 measurement.runs.append(run)
@@ -311,3 +316,21 @@ def measure_scaling(suite):
         one, two = suite.render_alternating((name, None), "WHITTED", plan.small, (1, 2))
         threads[name] = {1: one, 2: two}
     return {"triangles": triangles, "pixels": pixels, "depth": depth, "threads": threads}
+
+
+def measure_embree_variants(suite):
+    """Raw Embree at the small size beyond the main table: the plan's main scenes on one
+    thread, and its scenes of distributed ray tracing at each quality preset (on all
+    threads). {"one_thread": {name: Measurement}, "presets": {(name, key): Measurement}}."""
+    plan = suite.plan
+    progress("raw Embree on one thread, and at the quality presets")
+    one_thread = {
+        name: suite.raw_embree((name, None), plan.small, threads=1)
+        for name in plan.embree_thread_scenes
+    }
+    presets = {
+        (name, key): suite.raw_embree((name, None), plan.small, preset=key)
+        for name in plan.preset_scenes
+        for key in plan.presets
+    }
+    return {"one_thread": one_thread, "presets": presets}

@@ -127,7 +127,44 @@ def scene_section(suite, results, image_rel):
     return lines
 
 
-def comparison_section(suite, scenes):
+def embree_variants_section(suite, variants):
+    """Raw Embree on one thread and at the quality presets (measure_embree_variants)."""
+    lines = [
+        f"Raw Embree beyond the table above, at {size_label(suite.plan.small)}: the main "
+        "scenes on one thread (Blender's render threads fixed at 1, the bare loop on one "
+        "thread too), and the scenes of distributed ray tracing (perf_scenes.py: "
+        "distributed, rough metal, plastic and frosted glass with an emissive panel; "
+        "camera, a lens at f/1.4 and a moving ball) at the quality presets "
+        "(properties/presets.py: adaptive anti-aliasing, glossy, light and emitter "
+        "samples, depth), on all threads. The same script, the same rounds; rates in "
+        "Mrays/s.",
+        "",
+        "| scene | threads | preset | camera rays per pixel | rays per camera ray | "
+        "Whitted (recursion) | raw Embree | efficiency | in waves | waves gain | "
+        "efficiency in waves |",
+        "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    rows = [((name, None), m) for name, m in variants["one_thread"].items()]
+    rows += list(variants["presets"].items())
+    for (name, preset), measurement in rows:
+        if not measurement.runs:
+            lines.append(f"| {name} | | {preset or 'own'} | {measurement.missing} |||||||")
+            continue
+        run = measurement.runs[0]
+        lines.append(
+            f"| {name} | {run.get('threads')} | {preset or 'own'} | "
+            f"{num(run.get('camera_rays_per_pixel'), 2)} | "
+            f"{num(run.get('rays_per_camera_ray'), 2)} | "
+            f"{num(scale(run.get('whitted_rays_per_second'), 1e-6), 2)} | "
+            f"{num(scale(run.get('embree_rays_per_second'), 1e-6), 2)} | "
+            f"{num(run.get('efficiency'), 2)} | "
+            f"{num(scale(run.get('waves_rays_per_second'), 1e-6), 2)} | "
+            f"{ratio_text(run.get('waves_gain'))} | {num(run.get('waves_efficiency'), 2)} |"
+        )
+    return [*lines, ""]
+
+
+def comparison_section(suite, scenes, variants):
     lines = [
         "## Side by side: ratios",
         "",
@@ -170,6 +207,7 @@ def comparison_section(suite, scenes):
         "",
         *image_agreement(suite, scenes),
         *embree_details(suite, scenes),
+        *embree_variants_section(suite, variants),
         *bpy_section(suite, scenes),
     ]
     return lines
@@ -469,14 +507,14 @@ def scaling_section(suite, scaling, image_rel):
     return [*lines, ""]
 
 
-def targets_section(suite, scenes, scaling):
+def targets_section(suite, scenes, scaling, variants):
     lines = [
         "## Targets",
         "",
         "| target | threshold | measured | where | result | margin |",
         "|---|---:|---:|---|---|---|",
     ]
-    for target in targets(suite, scenes, scaling):
+    for target in targets(suite, scenes, scaling, variants):
         result, margin = verdict(target)
         sign = ">=" if target.at_least else "<="
         lines.append(
@@ -566,7 +604,7 @@ def method_lines(plan):
     ]
 
 
-def page(suite, args, scenes, scaling, elapsed):
+def page(suite, args, scenes, scaling, variants, elapsed):
     page_dir = args.out.resolve().parent
 
     def image_rel(path):
@@ -594,7 +632,7 @@ def page(suite, args, scenes, scaling, elapsed):
         "",
         "Ratios are the results, not the absolute times: the machine is shared.",
         "",
-        *targets_section(suite, scenes, scaling),
+        *targets_section(suite, scenes, scaling, variants),
         "## Notes: why targets are missed",
         "",
     ]
@@ -607,7 +645,7 @@ def page(suite, args, scenes, scaling, elapsed):
             "passed with --notes._",
             "",
         ]
-    lines += comparison_section(suite, scenes)
+    lines += comparison_section(suite, scenes, variants)
     lines += ["## Scenes", ""]
     for results in scenes:
         lines += scene_section(suite, results, image_rel)

@@ -26,6 +26,12 @@ class Plan:
     budget_minutes: float  # default of --budget-minutes
     slow_scenes: tuple = MAIN_SCENES  # the main scenes POV-Ray and Cycles render
     thread_scenes: tuple = MAIN_SCENES  # the main scenes rendered on 1 thread as well
+    # Raw Embree at the small size beyond the main table: these main scenes on one thread,
+    # and the scenes of distributed ray tracing (perf_scenes.py) at the quality presets,
+    # whose glossy and lens samples multiply the rays.
+    embree_thread_scenes: tuple = MAIN_SCENES
+    preset_scenes: tuple = ("distributed", "camera")
+    presets: tuple = ("PREVIEW", "FINAL")
 
     @property
     def small(self):
@@ -57,7 +63,7 @@ def full_plan(repeats):
             "POVRAY": 150,
             "POVRAY_large": 1200,
         },
-        budget_minutes=40.0,
+        budget_minutes=50.0,
     )
 
 
@@ -80,4 +86,7 @@ def quick_plan():
         # its time-out, on glass8).
         slow_scenes=("demo",),
         thread_scenes=("demo",),
+        embree_thread_scenes=("demo",),
+        preset_scenes=("distributed",),
+        presets=("PREVIEW",),
     )
