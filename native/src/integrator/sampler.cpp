@@ -161,13 +161,12 @@ bool CameraSampler::adaptive() const {
 }
 
 void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index,
-                          const Hit* first, RayCounts* counts) const {
+                          const Hit* first, RayCounts* counts, SampleRecord* record) const {
   counts->camera += 1;
   if (ray.kind == kNoRay) return;  // outside a fisheye's circle: opaque black (shade())
   NodeState root = root_;
   root.seed = seed;
-  integrator_.trace_camera(wave, ray, root, index, first, counts,
-                           wave->records.empty() ? nullptr : &wave->records[index]);
+  integrator_.trace_camera(wave, ray, root, index, first, counts, record);
 }
 
 void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
@@ -193,7 +192,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
       const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
       const bool found = width > 0 && block.found[b] != 0;
       start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, k), grid_seed(x, y, k), index,
-            found ? &block.hits[b] : nullptr, counts);
+            found ? &block.hits[b] : nullptr, counts, passes ? &wave->records[index] : nullptr);
     }
   }
   integrator_.trace_wave(wave, counts);
@@ -245,21 +244,22 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     points.push_back({px, py, pixel, {Color(0.0f), 0.0f}, 0});
     return static_cast<uint32_t>(points.size() - 1);
   };
-  // Traces points[from..] as one wave, each as point() would.
+  // Traces points[from..] as one wave, each as point() would, their records (where
+  // passes are kept) straight into point_records.
   const auto trace = [&](size_t from) {
-    wave->reset(points.size() - from, passes);
+    wave->reset(points.size() - from, false);
+    if (passes) point_records.resize(points.size());
     for (size_t i = from; i < points.size(); ++i) {
       const SubdivisionPoint& p = points[i];
       start(wave, camera_ray(p.x, p.y, film_lens(p.x, p.y), film_time(p.x, p.y)),
-            film_seed(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts);
+            film_seed(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts,
+            passes ? &point_records[i] : nullptr);
     }
     integrator_.trace_wave(wave, counts);
     for (size_t i = from; i < points.size(); ++i) {
       const WaveSample& s = wave->samples[i - from];
-      SampleRecord* record = passes ? &wave->records[i - from] : nullptr;
-      points[i].value = finished(s, counts, record);
+      points[i].value = finished(s, counts, passes ? &point_records[i] : nullptr);
       points[i].rays = s.rays + 1;  // and its camera ray
-      if (passes) point_records.push_back(*record);
     }
   };
   // Depth 0: each pixel's corners, in pixel_adaptive's order.

@@ -131,9 +131,10 @@ class CameraSampler {
                     std::vector<Sample>* values, std::vector<uint64_t>* rays,
                     std::vector<SampleRecord>* records) const;
   // Camera ray `ray` of wave sample `index` (`seed` its NodeState::seed; `first` its
-  // first hit, when found) traced into the wave, and counted, as shade() does.
+  // first hit, when found) traced into the wave, and counted, as shade() does; its data
+  // passes into `record` (fresh) where passes are kept.
   void start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index, const Hit* first,
-             RayCounts* counts) const;
+             RayCounts* counts, SampleRecord* record) const;
   // A wave sample's value as shade() returns it: not finite, it is counted and dropped,
   // and its record (if any) emptied. Inline: called out of line (through the PLT, as
   // the core's symbols can be interposed), its Sample was spilled and reloaded across
