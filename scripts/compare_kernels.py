@@ -39,14 +39,9 @@ def parse_args():
     return parser.parse_args(script_args())
 
 
-def render(native, frame, waves, passes):
+def render(native, frame, waves):
     settings = frame.settings
     settings.waves = waves
-    if passes:
-        from whitted.result import configure, enabled_passes
-
-        view_layer = bpy.context.view_layer
-        configure(settings, bpy.context.scene, view_layer, enabled_passes(view_layer))
     job = run_job(frame.job(native, settings))
     stats = job.stats()
     return job.image().copy(), stats
@@ -55,6 +50,7 @@ def render(native, frame, waves, passes):
 def main():
     from whitted.native import load_native
     from whitted.properties.presets import apply_quality, preset
+    from whitted.result import configure, enabled_passes
     from whitted.sync.frame import sync_frame
 
     args = parse_args()
@@ -70,11 +66,14 @@ def main():
         apply_quality(scene.whitted, preset(args.preset))
     native = load_native()
     frame = sync_frame(bpy.context.evaluated_depsgraph_get(), native)
-    render(native, frame, False, args.passes)  # warm-up: page in the BVHs, start the threads once
+    if args.passes:  # as F12 asks for them (engine.py)
+        view_layer = bpy.context.view_layer
+        configure(frame.settings, scene, view_layer, enabled_passes(view_layer))
+    render(native, frame, False)  # warm-up: page in the BVHs, start the threads once
     seconds = {"recursion": [], "waves": []}
     for _ in range(args.repeats):
-        reference, recursion = render(native, frame, False, args.passes)
-        image, waves = render(native, frame, True, args.passes)
+        reference, recursion = render(native, frame, False)
+        image, waves = render(native, frame, True)
         seconds["recursion"].append(recursion["trace_seconds"])
         seconds["waves"].append(waves["trace_seconds"])
     relative = np.abs(image - reference) / np.maximum(1.0, np.abs(reference))

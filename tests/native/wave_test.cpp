@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -49,13 +50,19 @@ struct Rendered {
   std::vector<float> pixels;
   std::vector<float> cost;
   RenderStats stats;
+  std::array<std::vector<float>, kFilmPassCount> passes;  // those kept
 };
 
 Rendered render(const Scene& scene, Settings settings, bool waves) {
   settings.waves = waves;
   RenderJob job(scene, settings, scene.camera);
   run_to_end(job);
-  return {job.film().pixels(), job.film().cost(), job.stats()};
+  Rendered out{job.film().pixels(), job.film().cost(), job.stats(), {}};
+  for (size_t p = 0; p < kFilmPassCount; ++p) {
+    const auto pass = static_cast<FilmPass>(p);
+    if (job.film().has_pass(pass)) out.passes[p] = job.film().pass(pass);
+  }
+  return out;
 }
 
 // Each channel within a few float roundings of the recursion's: the wave adds
@@ -167,32 +174,18 @@ TEST(Waves, DataPassesAreTracedInWavesTheOthersRecursively) {
       settings.aa_depth = 2;
       settings.progressive = progressive;
       settings.passes = bits;
-      RenderJob waves(
-          scene,
-          [&] {
-            Settings s = settings;
-            s.waves = true;
-            return s;
-          }(),
-          scene.camera);
-      RenderJob recursive(
-          scene,
-          [&] {
-            Settings s = settings;
-            s.waves = false;
-            return s;
-          }(),
-          scene.camera);
-      run_to_end(waves);
-      run_to_end(recursive);
-      EXPECT_TRUE(waves.stats().waves);
-      EXPECT_FALSE(recursive.stats().waves);
-      expect_close(waves.film().pixels(), recursive.film().pixels());
-      EXPECT_TRUE(waves.film().cost() == recursive.film().cost());
+      const Rendered waves = render(scene, settings, true);
+      const Rendered recursive = render(scene, settings, false);
+      EXPECT_TRUE(waves.stats.waves);
+      EXPECT_FALSE(recursive.stats.waves);
+      expect_close(waves.pixels, recursive.pixels);
+      EXPECT_TRUE(waves.cost == recursive.cost);
       for (const FilmPass pass : data) {
-        EXPECT_TRUE(waves.film().pass(pass) == recursive.film().pass(pass))
-            << kFilmPassNames[static_cast<size_t>(pass)] << ", adaptive "
-            << (mode == AntiAliasing::kAdaptive) << ", progressive " << progressive;
+        const auto p = static_cast<size_t>(pass);
+        EXPECT_FALSE(waves.passes[p].empty());
+        EXPECT_TRUE(waves.passes[p] == recursive.passes[p])
+            << kFilmPassNames[p] << ", adaptive " << (mode == AntiAliasing::kAdaptive)
+            << ", progressive " << progressive;
       }
     }
   }
