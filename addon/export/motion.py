@@ -63,9 +63,6 @@ class MotionData:
     # blur, their deformation cannot (as in Cycles).
     deforming: tuple = ()
 
-    def moving_count(self):
-        return len(self.objects) + (1 if self.camera else 0)
-
 
 def motion_position(scene):
     """START, CENTER or END: Render > Motion Blur > Position (scene.cycles' in 3.x)."""
