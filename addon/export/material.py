@@ -22,100 +22,39 @@ The surface returns `alpha * shade + (1 - alpha) * (what lies behind)`, as the
 tracer does; see export/nodes/shaders.py for how shaders combine.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, fields, make_dataclass, replace
+from functools import cache
 
 import bpy
 
+from ..native import load_native
 from .nodes import ops, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
-from .nodes.program import emit
+from .nodes.program import emit, material_fields
 from .nodes.shader_fields import MAX_SHININESS, phong_exponent
 from .nodes.shaders import finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
 
-__all__ = ["MAX_SHININESS", "MaterialData", "MaterialExport", "convert_material", "map_material"]
+__all__ = [
+    "MAX_SHININESS",
+    "MaterialExport",
+    "convert_material",
+    "map_material",
+    "material_data_type",
+]
 
-Color = tuple[float, float, float]
 
 BLACK = (0.0, 0.0, 0.0)
 WHITE = (1.0, 1.0, 1.0)
 
-# Material fields a program may drive (MaterialData's own names) besides the normals.
-PROGRAM_FIELDS = (
-    "diffuse",
-    "specular",
-    "shininess",
-    "reflectivity",
-    "transmissivity",
-    "ior",
-    "emission",
-    "alpha",
-    "coat_specular",
-    "coat_reflectivity",
-    "coat_shininess",
-    "coat_ior",
-    "diffuse_roughness",
-    "roughness",
-    "coat_roughness",
-)
-
-
-@dataclass(frozen=True)
-class MaterialData:
-    """The fields of whitted_native.Material."""
-
-    diffuse: Color  # kd, the albedo of the diffuse term kd/pi * E
-    specular: Color  # ks of the normalised Phong highlight
-    shininess: float  # Phong exponent
-    ambient: float  # weight of the ambient term ka * Ia * kd
-    reflectivity: Color  # weight of the mirror ray (or of the glossy lobe's rays)
-    transmissivity: Color  # weight of the refracted ray
-    ior: float
-    emission: Color  # radiance added as is, W/(m^2 sr)
-    alpha: float = 1.0  # coverage: 1 - alpha of the light passes straight through
-    diffuse_texture: str = ""  # texture name whose RGB multiplies `diffuse`
-    alpha_texture: str = ""  # texture name whose A multiplies `alpha`
-    # A clear coat on top: highlight and mirror weights (times its Fresnel factor per hit).
-    coat_specular: float = 0.0
-    coat_reflectivity: float = 0.0
-    coat_shininess: float = 1000.0
-    coat_ior: float = 1.5
-    # Its reflection's roughness as `roughness` (Blender local model only).
-    coat_roughness: float = 0.0
-    # The coat takes its share from the layers beneath (Cycles 4.0 on); Cycles 3.x's
-    # Principled adds its specular and Clearcoat on top.
-    coat_layered: bool = True
-    # Cycles 3.x turns a mapped normal so the view's mirror stays above the surface.
-    valid_reflection: bool = False
-    # How the diffuse lobe under a mapped normal fades (native BumpShadowing's name).
-    bump_shadowing: str = "NONE"
-    # The diffuse lobe's shape (native DiffuseModel's name): "LAMBERT"; "BURLEY" for
-    # Cycles 3.x's Principled BSDF; "OREN_NAYAR" for a rough Diffuse BSDF, and from 4.3
-    # "OREN_NAYAR_ENERGY" (also for the Principled's Diffuse Roughness); shaped per hit by
-    # `diffuse_roughness`.
-    diffuse_model: str = "LAMBERT"
-    diffuse_roughness: float = 0.0
-    # Blender's roughness of the reflection lobe (`reflectivity`): up to 0.02 a mirror;
-    # above, GGX of alpha = roughness^2 for its rays and its lamp highlights. Only the
-    # Blender local model sets it (Lecture keeps the seed's mirror and Phong highlight).
-    roughness: float = 0.0
-    # Cycles' Multiscatter GGX distribution: the lobe keeps its facets' inter-reflections.
-    multiscatter: bool = False
-    # How the lobe's Smith masking and shadowing combine (native Masking's name): Cycles
-    # 4.0 on height-correlated, 3.x separable.
-    masking: str = "CORRELATED"
-    # Which sides of the meshes it covers light the scene as emissive meshes (native
-    # EmissionSampling's name): Cycles' Emission Sampling (_emission_sampling).
-    emission_sampling: str = "BOTH"
-
 
 @dataclass(frozen=True)
 class MaterialExport:
-    data: MaterialData
+    data: object  # a material_data_type(): the Whitted parameters
     textures: tuple = ()  # ImageTextureSpec / CheckerTextureSpec named by `data` or the program
     program: object = None  # nodes.program.ProgramData, or None
     outputs: tuple = ()  # (field, register) pairs the program computes
@@ -132,17 +71,46 @@ class MaterialExport:
         return next((t.uv_map for t in self.textures if t.coordinates == "UV"), None)
 
 
-# What a material without a surface shader renders as in Cycles.
-_BLACK = MaterialData(
-    diffuse=BLACK,
-    specular=BLACK,
-    shininess=1.0,
-    ambient=1.0,
-    reflectivity=BLACK,
-    transmissivity=BLACK,
-    ior=1.45,
-    emission=BLACK,
-)
+@cache
+def material_data_type():
+    """MaterialData, a material's Whitted parameters as the exporter gives them: a frozen
+    dataclass of every parameter of whitted_native.Material (MATERIAL_PARAMS, defined by
+    native/src/scene/material.h, whose comments say what each means) but those a
+    MaterialExport carries itself, defaulting as the native material does, its enums by
+    name ("LAMBERT"). Made once, the first time it is asked for: the add-on imports
+    before the native module loads."""
+    own = {f.name for f in fields(MaterialExport)}
+    return make_dataclass(
+        "MaterialData",
+        [
+            (name, object, field(default=default))
+            for name, default in load_native().MATERIAL_PARAMS
+            if name not in own
+        ],
+        frozen=True,
+    )
+
+
+@cache
+def _program_fields():
+    # The fields a program may drive that are MaterialData's too (all but the normals),
+    # as (name, components).
+    data_fields = {f.name for f in fields(material_data_type())}
+    return tuple((name, n) for name, n in material_fields() if name in data_fields)
+
+
+def _black():
+    # What a material without a surface shader renders as in Cycles.
+    return material_data_type()(
+        diffuse=BLACK,
+        specular=BLACK,
+        shininess=1.0,
+        ambient=1.0,
+        reflectivity=BLACK,
+        transmissivity=BLACK,
+        ior=1.45,
+        emission=BLACK,
+    )
 
 
 def convert_material(material, warnings, local_model="BLENDER"):
@@ -210,7 +178,7 @@ def map_material(material, warnings, local_model="BLENDER"):
     output_node = material.node_tree.get_output_node("CYCLES")
     if output_node is None or source(output_node.inputs["Surface"])[0] is None:
         _warn(warnings, f"Whitted: {owner} has no surface shader; it renders black, as in Cycles")
-        return MaterialExport(_BLACK)
+        return MaterialExport(_black())
     volume = volume_warning(owner, output_node)
     if volume is not None:
         _warn(warnings, volume)
@@ -259,7 +227,7 @@ def _fixed(fields, lowering):
     textures = []
     values = {}
     diffuse_texture = alpha_texture = ""
-    for name in PROGRAM_FIELDS:
+    for name, _ in _program_fields():
         expr = fields[name]
         if expr.is_const:
             values[name] = expr.value
@@ -288,7 +256,7 @@ def _fixed(fields, lowering):
 
 def _programmed(fields, lowering, bump_shadowing):
     program, outputs = emit(fields)
-    values = {name: evaluate(fields[name], _stand_in) for name in PROGRAM_FIELDS}
+    values = {name: evaluate(fields[name], _stand_in) for name, _ in _program_fields()}
     mapped = "normal" in outputs
     data = replace(_material_data(values), bump_shadowing=bump_shadowing if mapped else "NONE")
     textures = tuple(lowering.textures[name] for name in program.textures)
@@ -320,25 +288,16 @@ def _bump_shadowing(material):
 
 
 def _material_data(values, **textures):
-    """MaterialData from the evaluated fields (float4 values by PROGRAM_FIELDS name:
-    colours take .xyz, scalars .x) and the legacy texture names, if any."""
-    return MaterialData(
-        diffuse=tuple(values["diffuse"][:3]),
-        specular=tuple(values["specular"][:3]),
-        shininess=values["shininess"][0],
+    """MaterialData from the evaluated fields (float4 values by field name: colours take
+    .xyz, values .x) and the legacy texture names, if any."""
+    driven = {
+        name: values[name][0] if components == 1 else tuple(values[name][:components])
+        for name, components in _program_fields()
+    }
+    return material_data_type()(
+        **driven,
         ambient=1.0,
-        reflectivity=tuple(values["reflectivity"][:3]),
-        transmissivity=tuple(values["transmissivity"][:3]),
-        ior=values["ior"][0],
-        emission=tuple(values["emission"][:3]),
-        alpha=values["alpha"][0],
-        coat_specular=values["coat_specular"][0],
-        coat_reflectivity=values["coat_reflectivity"][0],
-        coat_shininess=values["coat_shininess"][0],
-        coat_ior=values["coat_ior"][0],
-        coat_roughness=values["coat_roughness"][0],
-        diffuse_roughness=values["diffuse_roughness"][0],
-        roughness=values["roughness"][0],
+        # Cycles 4.0 on: height-correlated masking and shadowing; 3.x separable.
         masking="CORRELATED" if bpy.app.version >= (4, 0, 0) else "SEPARABLE",
         # Cycles 3.x adds every lobe of a closure on top of the others (the Principled's
         # specular and Clearcoat do not dim its diffuse); 4.0 on layers them.
@@ -409,7 +368,7 @@ def _whitted_material(base_color, metallic, roughness, f0):
     metallic = _clamp(metallic, 0.0, 1.0)
     roughness = _clamp(roughness, 0.0, 1.0)
     sharp = max(0.0, 1.0 - 4.0 * roughness)
-    return MaterialData(
+    return material_data_type()(
         diffuse=tuple((1.0 - metallic) * c for c in base_color),
         specular=tuple(
             (1.0 - metallic) * max(0.0, f) + metallic * (1.0 - sharp) * c

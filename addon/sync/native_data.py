@@ -48,16 +48,15 @@ def native_panorama(native, panorama):
 
 
 def native_material(native, material):
-    # export.material.MaterialExport as a native.Material, with its shader program.
-    fields = asdict(material.data)
-    fields["bump_shadowing"] = getattr(native.BumpShadowing, material.data.bump_shadowing)
-    fields["diffuse_model"] = getattr(native.DiffuseModel, material.data.diffuse_model)
-    fields["masking"] = getattr(native.Masking, material.data.masking)
-    fields["emission_sampling"] = getattr(native.EmissionSampling, material.data.emission_sampling)
-    if material.program is not None:
-        fields["program"] = native_program(native, material.program)
-        fields["outputs"] = dict(material.outputs)
-    return native.Material(**fields, pass_index=material.pass_index)
+    # export.material.MaterialExport as a native.Material (which takes its enums by
+    # name), with its shader program.
+    program = None if material.program is None else native_program(native, material.program)
+    return native.Material(
+        **asdict(material.data),
+        program=program,
+        outputs=dict(material.outputs),
+        pass_index=material.pass_index,
+    )
 
 
 def native_program(native, program):

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <type_traits>
 
 #include "bindings.h"
 
@@ -11,11 +15,11 @@ namespace {
 // Field name -> register as Material's outputs array (-1: the constant). Which registers
 // the program has is Material's constructor's to check.
 std::array<int32_t, kFieldCount> field_outputs(const std::map<std::string, int64_t>& outputs) {
-  std::array<int32_t, kFieldCount> out;
-  out.fill(-1);
+  std::array<int32_t, kFieldCount> out = kNoOutputs;
   for (const auto& [name, index] : outputs) {
-    const auto* field = std::find(kFieldNames.begin(), kFieldNames.end(), name);
-    if (field == kFieldNames.end()) {
+    const auto* field = std::find_if(kFieldTable.begin(), kFieldTable.end(),
+                                     [&](const FieldInfo& f) { return f.name == name; });
+    if (field == kFieldTable.end()) {
       throw std::invalid_argument("'" + name + "' is not a material field");
     }
     if (index < 0) {
@@ -23,10 +27,94 @@ std::array<int32_t, kFieldCount> field_outputs(const std::map<std::string, int64
                                   " is negative");
     }
     // Beyond int32 is beyond any program's registers: the constructor says so.
-    out[static_cast<size_t>(field - kFieldNames.begin())] =
+    out[static_cast<size_t>(field - kFieldTable.begin())] =
         static_cast<int32_t>(std::min<int64_t>(index, INT32_MAX));
   }
   return out;
+}
+
+// One parameter from Python: an enum also by its member's name (what the exporter
+// writes), the program's outputs as {field name: register}. ValueError or TypeError
+// naming the parameter for what cannot be it.
+template <typename T>
+T from_python(std::string_view name, py::handle value) {
+  const std::string param(name);
+  if constexpr (std::is_same_v<T, std::shared_ptr<const Program>>) {
+    if (value.is_none()) return nullptr;
+    if (!py::isinstance<Program>(value)) {
+      throw py::type_error(param + ": expected a Program or None, got " +
+                           py::str(py::type::handle_of(value)).cast<std::string>());
+    }
+    return value.cast<std::shared_ptr<Program>>();
+  } else if constexpr (std::is_same_v<T, std::array<int32_t, kFieldCount>>) {
+    return field_outputs(from_python<std::map<std::string, int64_t>>(name, value));
+  } else if constexpr (std::is_enum_v<T>) {
+    const py::object type = py::type::of(py::cast(T{}));  // its py::enum_
+    if (py::isinstance(value, type)) return value.cast<T>();
+    const py::dict members = type.attr("__members__");
+    if (!py::isinstance<py::str>(value) || !members.contains(value)) {
+      throw py::value_error(param + ": " + py::repr(value).cast<std::string>() + " is not a " +
+                            type.attr("__name__").cast<std::string>() + " (" +
+                            py::str(", ").attr("join")(members).cast<std::string>() + ")");
+    }
+    return members[value].cast<T>();
+  } else {
+    py::detail::make_caster<T> caster;
+    if (!caster.load(value, true)) {
+      throw py::type_error(param + ": expected " + py::detail::make_caster<T>::name.text +
+                           ", got " + py::repr(value).cast<std::string>());
+    }
+    return py::detail::cast_op<T>(std::move(caster));
+  }
+}
+
+// One parameter as Python sees it: enums as their members (by name in a default, as
+// the constructor takes them), the outputs as {field name: register}.
+template <typename T>
+py::object to_python(const T& value) {
+  if constexpr (std::is_same_v<T, std::shared_ptr<const Program>>) {
+    return py::cast(std::const_pointer_cast<Program>(value));
+  } else if constexpr (std::is_same_v<T, std::array<int32_t, kFieldCount>>) {
+    py::dict out;
+    for (size_t f = 0; f < kFieldCount; ++f) {
+      if (value[f] >= 0) out[py::str(std::string(kFieldTable[f].name))] = value[f];
+    }
+    return std::move(out);
+  } else {
+    return py::cast(value);
+  }
+}
+
+// A parameter's default as the constructor takes it (an enum by its member's name).
+template <typename T>
+py::object default_of(const T& value) {
+  if constexpr (std::is_enum_v<T>) {
+    return py::cast(value).attr("name");
+  } else {
+    return to_python(value);
+  }
+}
+
+// The MaterialParams of keyword arguments named as kMaterialParams; TypeError for a
+// keyword that is not one.
+MaterialParams material_params(const py::kwargs& kwargs) {
+  MaterialParams params;
+  for (const auto& [key, value] : kwargs) {
+    const auto name = key.cast<std::string>();
+    const bool known = std::apply(
+        [&](const auto&... param) {
+          return ((param.name == name &&
+                   (params.*param.member =
+                        from_python<std::remove_cvref_t<decltype(params.*param.member)>>(param.name,
+                                                                                         value),
+                    true)) ||
+                  ...);
+        },
+        kMaterialParams);
+    if (!known)
+      throw py::type_error("Material() got an unexpected keyword argument '" + name + "'");
+  }
+  return params;
 }
 
 }  // namespace
@@ -62,119 +150,38 @@ void bind_material(py::module_& m) {
       .value("FRONT", EmissionSampling::kFront)
       .value("BACK", EmissionSampling::kBack)
       .value("BOTH", EmissionSampling::kBoth);
-  py::class_<Material>(m, "Material", "Whitted parameters: Phong local term, sigma_r, sigma_t.")
-      .def(py::init([](Vec3 diffuse, Vec3 specular, float shininess, float ambient,
-                       Vec3 reflectivity, Vec3 transmissivity, float ior, Vec3 emission,
-                       float alpha, std::string diffuse_texture, std::string alpha_texture,
-                       std::shared_ptr<Program> program,
-                       const std::map<std::string, int64_t>& outputs, float coat_specular,
-                       float coat_reflectivity, float coat_shininess, float coat_ior,
-                       bool coat_layered, bool valid_reflection, BumpShadowing bump_shadowing,
-                       DiffuseModel diffuse_model, float diffuse_roughness, int32_t pass_index,
-                       float roughness, bool multiscatter, Masking masking, float coat_roughness,
-                       EmissionSampling emission_sampling) {
-             // Material's constructor checks the values (std::invalid_argument: ValueError).
-             return Material(MaterialParams{.diffuse = diffuse,
-                                            .specular = specular,
-                                            .shininess = shininess,
-                                            .ambient = ambient,
-                                            .reflectivity = reflectivity,
-                                            .roughness = roughness,
-                                            .multiscatter = multiscatter,
-                                            .masking = masking,
-                                            .transmissivity = transmissivity,
-                                            .ior = ior,
-                                            .emission = emission,
-                                            .emission_sampling = emission_sampling,
-                                            .alpha = alpha,
-                                            .pass_index = pass_index,
-                                            .coat_specular = coat_specular,
-                                            .coat_reflectivity = coat_reflectivity,
-                                            .coat_shininess = coat_shininess,
-                                            .coat_ior = coat_ior,
-                                            .coat_roughness = coat_roughness,
-                                            .coat_layered = coat_layered,
-                                            .valid_reflection = valid_reflection,
-                                            .bump_shadowing = bump_shadowing,
-                                            .diffuse_model = diffuse_model,
-                                            .diffuse_roughness = diffuse_roughness,
-                                            .diffuse_texture = std::move(diffuse_texture),
-                                            .alpha_texture = std::move(alpha_texture),
-                                            .program = std::move(program),
-                                            .outputs = field_outputs(outputs)});
-           }),
-           py::arg("diffuse") = defaults.diffuse, py::arg("specular") = defaults.specular,
-           py::arg("shininess") = defaults.shininess, py::arg("ambient") = defaults.ambient,
-           py::arg("reflectivity") = defaults.reflectivity,
-           py::arg("transmissivity") = defaults.transmissivity, py::arg("ior") = defaults.ior,
-           py::arg("emission") = defaults.emission, py::arg("alpha") = defaults.alpha,
-           py::arg("diffuse_texture") = "", py::arg("alpha_texture") = "",
-           py::arg("program") = py::none(), py::arg("outputs") = std::map<std::string, int64_t>{},
-           py::arg("coat_specular") = defaults.coat_specular,
-           py::arg("coat_reflectivity") = defaults.coat_reflectivity,
-           py::arg("coat_shininess") = defaults.coat_shininess,
-           py::arg("coat_ior") = defaults.coat_ior, py::arg("coat_layered") = defaults.coat_layered,
-           py::arg("valid_reflection") = defaults.valid_reflection,
-           py::arg("bump_shadowing") = defaults.bump_shadowing,
-           py::arg("diffuse_model") = defaults.diffuse_model,
-           py::arg("diffuse_roughness") = defaults.diffuse_roughness,
-           py::arg("pass_index") = defaults.pass_index, py::arg("roughness") = defaults.roughness,
-           py::arg("multiscatter") = defaults.multiscatter, py::arg("masking") = defaults.masking,
-           py::arg("coat_roughness") = defaults.coat_roughness,
-           py::arg("emission_sampling") = defaults.emission_sampling,
-           "program: a Program computing some fields per hit; outputs: field name -> register "
-           "holding it after the program (diffuse, specular, shininess, reflectivity, "
-           "transmissivity, ior, emission, alpha, normal, coat_specular, coat_reflectivity, "
-           "coat_shininess, coat_ior, coat_normal, diffuse_roughness, roughness); the other fields "
-           "keep the constants given here. roughness: Blender's roughness of the reflection "
-           "lobe (below 0.02 a mirror; above, GGX of alpha roughness^2, its rays glossy). coat_*: "
-           "a clear layer on top whose highlight and mirror weights are scaled by "
-           "the dielectric Fresnel factor of coat_ior per hit; the rest lights the base (with "
-           "coat_layered; without it the coat is added on top, as Cycles 3.x does).")
-      .def_readonly("diffuse", &Material::diffuse)
-      .def_readonly("specular", &Material::specular)
-      .def_readonly("shininess", &Material::shininess)
-      .def_readonly("ambient", &Material::ambient)
-      .def_readonly("reflectivity", &Material::reflectivity)
-      .def_readonly("roughness", &Material::roughness)
-      .def_readonly("masking", &Material::masking)
-      .def_readonly("multiscatter", &Material::multiscatter,
-                    "Cycles' Multiscatter GGX: the glossy lobe keeps the energy its facets "
-                    "pass between them.")
-      .def_readonly("transmissivity", &Material::transmissivity)
-      .def_readonly("ior", &Material::ior)
-      .def_readonly("emission", &Material::emission)
-      .def_readonly("alpha", &Material::alpha)
-      .def_readonly("emission_sampling", &Material::emission_sampling,
-                    "Which sides of the meshes it covers light the scene as a light.")
-      .def_readonly("coat_specular", &Material::coat_specular)
-      .def_readonly("coat_reflectivity", &Material::coat_reflectivity)
-      .def_readonly("coat_shininess", &Material::coat_shininess)
-      .def_readonly("coat_ior", &Material::coat_ior)
-      .def_readonly("coat_roughness", &Material::coat_roughness)
-      .def_readonly("coat_layered", &Material::coat_layered)
-      .def_readonly("valid_reflection", &Material::valid_reflection,
-                    "Cycles 3.x: turn a program's normal so the view's mirror stays above "
-                    "the surface.")
-      .def_readonly("bump_shadowing", &Material::bump_shadowing)
-      .def_readonly("diffuse_model", &Material::diffuse_model)
-      .def_readonly("diffuse_roughness", &Material::diffuse_roughness)
-      .def_readonly("priority", &Material::priority,
-                    "Nested dielectrics: where two transmissive objects overlap, the higher "
-                    "priority owns the overlap (ties: the one entered last).")
-      .def_readonly("pass_index", &Material::pass_index,
-                    "Blender's material Pass Index, for the IndexMA pass.")
-      .def_readonly("diffuse_texture", &Material::diffuse_texture)
-      .def_readonly("alpha_texture", &Material::alpha_texture)
-      .def_property_readonly(
-          "program", [](const Material& m) { return std::const_pointer_cast<Program>(m.program); })
-      .def_property_readonly("outputs", [](const Material& m) {
-        std::map<std::string, int32_t> out;
-        for (size_t f = 0; f < kFieldCount; ++f) {
-          if (m.outputs[f] >= 0) out[std::string(kFieldNames[f])] = m.outputs[f];
-        }
-        return out;
-      });
+  py::class_<Material> material(
+      m, "Material",
+      "Whitted parameters: Phong local term, sigma_r, sigma_t, a coat (scene/material.h "
+      "MaterialParams). Keywords: the names of MATERIAL_PARAMS, each defaulting to its "
+      "default there (enums also by their members' names). program: a Program computing "
+      "some fields per hit; outputs: MATERIAL_FIELDS name -> register holding it after the "
+      "program; the other fields keep the constants given. ValueError for a value that "
+      "cannot be a material, TypeError for an unknown keyword or a value of the wrong type, "
+      "each naming the parameter.");
+  material.def(py::init([](const py::kwargs& kwargs) {
+    // Material's constructor checks the values (std::invalid_argument: ValueError).
+    return Material(material_params(kwargs));
+  }));
+  // The tables Python builds on (the exporter's data class, its program's outputs):
+  // (name, default) per parameter, (name, components) per field a program may drive.
+  py::list params;
+  std::apply(
+      [&](const auto&... param) {
+        (material.def_property_readonly(
+             std::string(param.name).c_str(),
+             [member = param.member](const Material& mat) { return to_python(mat.*member); }),
+         ...);
+        (params.append(py::make_tuple(std::string(param.name), default_of(defaults.*param.member))),
+         ...);
+      },
+      kMaterialParams);
+  m.attr("MATERIAL_PARAMS") = py::tuple(params);
+  py::list fields;
+  for (const FieldInfo& field : kFieldTable) {
+    fields.append(py::make_tuple(std::string(field.name), field.components));
+  }
+  m.attr("MATERIAL_FIELDS") = py::tuple(fields);
 }
 
 }  // namespace whitted::python

@@ -32,6 +32,11 @@ void bind_program(py::module_& m) {
         py::make_tuple(py::str(op.name.data(), op.name.size()), op.operands, op.reads_hit));
   }
   m.attr("OPS") = table;
+  py::dict numbers;
+  for (const OpNumber& number : kOpNumbers) {
+    numbers[py::str(number.name.data(), number.name.size())] = number.value;
+  }
+  m.attr("OP_NUMBERS") = numbers;
 
   m.def(
       "fold_op",

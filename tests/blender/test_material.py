@@ -1,6 +1,7 @@
 """Material export: the Principled BSDF (3.x and 4.x socket names), the other BSDFs,
 Mix Shader, textures as the mapping records them, and the Whitted override."""
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -833,3 +834,29 @@ def test_sheen_and_a_bumped_coat_need_a_program(warnings):
     assert any(f"'{sheen.name}' is approximated" in w for w in warnings)
     assert exported.data.coat_reflectivity > 0.0
     assert exported.data.bump_shadowing == "NONE"  # the base's normal is not mapped
+
+
+def test_the_exporters_fields_are_the_native_tables(warnings):
+    # The shader lowering's fields (how closures mix each: shaders.py) are the fields a
+    # native program may drive, no more and no fewer; the exported data, the native
+    # material's parameters; and a full export becomes a native material as it is.
+    from whitted.export.material import MaterialExport
+    from whitted.export.nodes.shaders import LINEAR_FIELDS, WEIGHTED_FIELDS
+    from whitted.native import load_native
+    from whitted.sync.native_data import native_material
+
+    native = load_native()
+    lowered = [*LINEAR_FIELDS, *WEIGHTED_FIELDS, "alpha", "normal", "coat_normal"]
+    assert sorted(lowered) == sorted(name for name, _ in native.MATERIAL_FIELDS)
+    exported = convert_material(node_material("Tables", Roughness=0.4), warnings)
+    data = dataclasses.asdict(exported.data)
+    own = {f.name for f in dataclasses.fields(MaterialExport)}
+    assert set(data) | (own & {n for n, _ in native.MATERIAL_PARAMS}) == {
+        n for n, _ in native.MATERIAL_PARAMS
+    }
+    made = native_material(native, exported)
+    for name, value in data.items():
+        shown = getattr(made, name)
+        shown = shown.name if hasattr(type(shown), "__members__") else shown
+        numeric = not isinstance(value, (str, bool))
+        assert shown == (pytest.approx(value, rel=1e-6) if numeric else value), name

@@ -44,20 +44,37 @@ def test_uvs_alone_are_uv_set_0():
     np.testing.assert_array_equal(image[..., :3], [[[0.5, 0.5, 0]] * 2] * 2)
 
 
-def test_operation_lists_agree_with_the_python_compiler():
-    # addon/export/nodes/ops.py is plain Python: load it without the add-on (and bpy).
-    import importlib.util
+def test_every_op_name_the_compiler_reads_is_defined_once():
+    # addon/export/nodes/ops.py takes the op codes, input modes, mode bits and operation
+    # lists from this module and defines only the other ops' mode lists: every ops.NAME
+    # the add-on and its tests read must be one or the other, and none both.
+    import ast
+    import re
     from pathlib import Path
 
-    path = Path(__file__).parents[2] / "addon" / "export" / "nodes" / "ops.py"
-    spec = importlib.util.spec_from_file_location("whitted_ops", path)
-    ops = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ops)
-    assert list(ops.MATH_OPS) == wn.MATH_OPS
-    assert list(ops.VECTOR_MATH_OPS) == wn.VECTOR_MATH_OPS
-    assert list(ops.MIX_BLEND) == wn.MIX_BLEND
-    # The op codes: the same names for the same numbers, none missing on either side.
-    assert {code: name for code, (name, _, _) in enumerate(wn.OPS)} == ops.OP_NAMES
+    root = Path(__file__).parents[2]
+    tree = ast.parse((root / "addon" / "export" / "nodes" / "ops.py").read_text())
+    own = {
+        target.id
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if isinstance(target, ast.Name)
+    }
+    native = {name for name, _, _ in wn.OPS} | set(wn.OP_NUMBERS)
+    native |= {"OP_NAMES", "MATH_OPS", "VECTOR_MATH_OPS", "MIX_BLEND"}
+    assert not own & native
+    sources = [*(root / "addon").rglob("*.py"), *(root / "tests" / "blender").rglob("*.py")]
+    used = {
+        name
+        for path in sources
+        for name in re.findall(r"\bops\.([A-Z][A-Z0-9_]*)\b", path.read_text())
+    }
+    assert used and used - own - native == set()
+    # The input modes are distinct, and the bits clear of the modes they flag.
+    inputs = {name: v for name, v in wn.OP_NUMBERS.items() if name.startswith("IN_")}
+    assert len(set(inputs.values())) == len(inputs)
+    assert wn.OP_NUMBERS["IN_BUMP_X"] > wn.OP_NUMBERS["IN_ATTRIBUTE"] + 127
 
 
 def test_fold_op_runs_the_programs_maths():

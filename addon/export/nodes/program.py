@@ -5,31 +5,21 @@ tables in `constants`, the images in `textures`.
 """
 
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 
+from ...native import load_native
 from . import ops
 
-# Material fields in the order their outputs are emitted.
-FIELD_ORDER = (
-    "alpha",
-    "normal",
-    "diffuse",
-    "specular",
-    "shininess",
-    "reflectivity",
-    "transmissivity",
-    "ior",
-    "emission",
-    "coat_specular",
-    "coat_reflectivity",
-    "coat_shininess",
-    "coat_ior",
-    "coat_normal",
-    "diffuse_roughness",
-    "roughness",
-    "coat_roughness",
-)
+
+@cache
+def material_fields():
+    """The fields a material's program may drive as (name, components: 3 a colour or a
+    normal, 1 a value), in the order emit() gives their outputs: the native table
+    (native/src/scene/material.h, whitted_native.MATERIAL_FIELDS), read once the first
+    time it is asked for (the add-on imports before the module loads)."""
+    return tuple((name, components) for name, components in load_native().MATERIAL_FIELDS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,8 +54,12 @@ class ProgramData:
 
 def emit(fields):
     """(ProgramData, {field: register}) computing the non-constant `fields`
-    ({field: Expr}); (None, {}) when all are constant."""
-    varying = [(name, fields[name]) for name in FIELD_ORDER if name in fields]
+    ({field: Expr}, fields of material_fields()); (None, {}) when all are constant."""
+    order = [name for name, _ in material_fields()]
+    unknown = fields.keys() - set(order)
+    if unknown:
+        raise ValueError(f"not material fields: {sorted(unknown)}")
+    varying = [(name, fields[name]) for name in order if name in fields]
     varying = [(name, expr) for name, expr in varying if not expr.is_const]
     if not varying:
         return None, {}

@@ -40,7 +40,7 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (outputs[f] < 0) continue;
     if (!program) throw std::invalid_argument("material outputs need a program");
     if (static_cast<uint64_t>(outputs[f]) >= program->register_count()) {
-      throw std::invalid_argument("output '" + std::string(kFieldNames[f]) + "' register " +
+      throw std::invalid_argument("output '" + std::string(kFieldTable[f].name) + "' register " +
                                   std::to_string(outputs[f]) + " out of range (" +
                                   std::to_string(program->register_count()) + " registers)");
     }

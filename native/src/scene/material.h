@@ -9,41 +9,63 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
+#include "core/aggregate.h"
 #include "core/math.h"
 #include "scene/microfacet.h"
 #include "shader/program.h"
 
 namespace whitted {
 
-// The Whitted fields of a hit a material's program may drive (its `outputs`).
+// The Whitted fields of a hit a material's program may drive (its `outputs`), defined
+// here once: X(enumerator, name, components), components 3 for a colour or a normal, 1
+// for a value. The bindings give this table to Python (whitted_native.MATERIAL_FIELDS),
+// whose compiler emits a program's outputs in this order; a field that is also a
+// MaterialParams member (all but the normals) has that member's name.
+#define WHITTED_MATERIAL_FIELDS(X)                  \
+  X(kDiffuseField, "diffuse", 3)                    \
+  X(kSpecularField, "specular", 3)                  \
+  X(kShininessField, "shininess", 1)                \
+  X(kReflectivityField, "reflectivity", 3)          \
+  X(kTransmissivityField, "transmissivity", 3)      \
+  X(kIorField, "ior", 1)                            \
+  X(kEmissionField, "emission", 3)                  \
+  X(kAlphaField, "alpha", 1)                        \
+  X(kNormalField, "normal", 3)                      \
+  X(kCoatSpecularField, "coat_specular", 1)         \
+  X(kCoatReflectivityField, "coat_reflectivity", 1) \
+  X(kCoatShininessField, "coat_shininess", 1)       \
+  X(kCoatIorField, "coat_ior", 1)                   \
+  X(kCoatNormalField, "coat_normal", 3)             \
+  X(kDiffuseRoughnessField, "diffuse_roughness", 1) \
+  X(kRoughnessField, "roughness", 1)                \
+  X(kCoatRoughnessField, "coat_roughness", 1)
+
 enum Field : uint32_t {
-  kDiffuseField,
-  kSpecularField,
-  kShininessField,
-  kReflectivityField,
-  kTransmissivityField,
-  kIorField,
-  kEmissionField,
-  kAlphaField,
-  kNormalField,
-  kCoatSpecularField,
-  kCoatReflectivityField,
-  kCoatShininessField,
-  kCoatIorField,
-  kCoatNormalField,
-  kDiffuseRoughnessField,
-  kRoughnessField,
-  kCoatRoughnessField,
-  kFieldCount,
+#define WHITTED_FIELD_ENUMERATOR(enumerator, name, components) enumerator,
+  WHITTED_MATERIAL_FIELDS(WHITTED_FIELD_ENUMERATOR)
+#undef WHITTED_FIELD_ENUMERATOR
+      kFieldCount,
 };
-inline constexpr std::array<std::string_view, kFieldCount> kFieldNames = {
-    "diffuse",        "specular",      "shininess",         "reflectivity",
-    "transmissivity", "ior",           "emission",          "alpha",
-    "normal",         "coat_specular", "coat_reflectivity", "coat_shininess",
-    "coat_ior",       "coat_normal",   "diffuse_roughness", "roughness",
-    "coat_roughness"};
+
+struct FieldInfo {
+  std::string_view name;
+  uint32_t components;
+};
+inline constexpr std::array<FieldInfo, kFieldCount> kFieldTable = {{
+#define WHITTED_FIELD_INFO(enumerator, name, components) {name, components},
+    WHITTED_MATERIAL_FIELDS(WHITTED_FIELD_INFO)
+#undef WHITTED_FIELD_INFO
+}};
+
+// A material's outputs when no field is driven.
+inline constexpr std::array<int32_t, kFieldCount> kNoOutputs = [] {
+  std::array<int32_t, kFieldCount> none{};
+  none.fill(-1);
+  return none;
+}();
 
 // How a diffuse lobe shaded with a program's normal (a normal map, a bump) fades where
 // that normal leans towards a light the smooth surface turns away from: Cycles' bump
@@ -128,9 +150,54 @@ struct MaterialParams {
   // Fields a program computes per hit: the register holding each after the program, -1
   // for the constant above.
   std::shared_ptr<const Program> program{};
-  std::array<int32_t, kFieldCount> outputs = {-1, -1, -1, -1, -1, -1, -1, -1, -1,
-                                              -1, -1, -1, -1, -1, -1, -1, -1};
+  std::array<int32_t, kFieldCount> outputs = kNoOutputs;
 };
+
+// MaterialParams' members by name, defined here once: the bindings take a material's
+// parameters as keywords of these names and show them as its attributes, and give
+// Python the names and defaults (whitted_native.MATERIAL_PARAMS), from which the
+// exporter's data class is made. The static_assert below keeps it whole.
+template <typename T>
+struct MaterialParam {
+  std::string_view name;
+  T MaterialParams::*member;
+};
+template <typename T>
+MaterialParam(std::string_view, T MaterialParams::*) -> MaterialParam<T>;
+inline constexpr auto kMaterialParams = std::tuple{
+    MaterialParam{"diffuse", &MaterialParams::diffuse},
+    MaterialParam{"specular", &MaterialParams::specular},
+    MaterialParam{"shininess", &MaterialParams::shininess},
+    MaterialParam{"ambient", &MaterialParams::ambient},
+    MaterialParam{"reflectivity", &MaterialParams::reflectivity},
+    MaterialParam{"roughness", &MaterialParams::roughness},
+    MaterialParam{"multiscatter", &MaterialParams::multiscatter},
+    MaterialParam{"masking", &MaterialParams::masking},
+    MaterialParam{"transmissivity", &MaterialParams::transmissivity},
+    MaterialParam{"ior", &MaterialParams::ior},
+    MaterialParam{"emission", &MaterialParams::emission},
+    MaterialParam{"emission_sampling", &MaterialParams::emission_sampling},
+    MaterialParam{"alpha", &MaterialParams::alpha},
+    MaterialParam{"priority", &MaterialParams::priority},
+    MaterialParam{"pass_index", &MaterialParams::pass_index},
+    MaterialParam{"coat_specular", &MaterialParams::coat_specular},
+    MaterialParam{"coat_reflectivity", &MaterialParams::coat_reflectivity},
+    MaterialParam{"coat_shininess", &MaterialParams::coat_shininess},
+    MaterialParam{"coat_ior", &MaterialParams::coat_ior},
+    MaterialParam{"coat_roughness", &MaterialParams::coat_roughness},
+    MaterialParam{"coat_layered", &MaterialParams::coat_layered},
+    MaterialParam{"valid_reflection", &MaterialParams::valid_reflection},
+    MaterialParam{"bump_shadowing", &MaterialParams::bump_shadowing},
+    MaterialParam{"diffuse_model", &MaterialParams::diffuse_model},
+    MaterialParam{"diffuse_roughness", &MaterialParams::diffuse_roughness},
+    MaterialParam{"diffuse_texture", &MaterialParams::diffuse_texture},
+    MaterialParam{"alpha_texture", &MaterialParams::alpha_texture},
+    MaterialParam{"program", &MaterialParams::program},
+    MaterialParam{"outputs", &MaterialParams::outputs},
+};
+static_assert(aggregate_member_count<MaterialParams>() ==
+                  std::tuple_size_v<decltype(kMaterialParams)>,
+              "kMaterialParams must name every member of MaterialParams");
 
 struct Material : MaterialParams {
   Material() = default;

@@ -21,9 +21,7 @@ namespace whitted::node_math {
 
 using glm::vec4;
 
-inline constexpr uint32_t kClampBit = 1u << 8;  // MATH, MIX, MAP_RANGE: clamp; CURVE: extrapolate
-inline constexpr uint32_t kCurveTable = 256;    // entries per curve of a CURVE table
-inline constexpr size_t kRampStop = 5;          // floats per colour ramp stop: pos, r, g, b, a
+inline constexpr size_t kRampStop = 5;  // floats per colour ramp stop: pos, r, g, b, a
 
 // ---------------------------------------------------------------------------------------
 // Blender's scalar helpers (Cycles util/math.h): each defined where C's would be

@@ -45,11 +45,10 @@ enum class Op : uint32_t {
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
-// constant, addon/export/nodes/ops.py, checked against this table by
-// tests/python/test_program.py), its register operands (columns a, b, c, d, then e),
-// and whether it reads the hit (its inputs, images, shading normal or bump offsets). An
-// op that does not is a function of its operands alone: the compiler folds it when they
-// are constants (Program::fold), with this same code, so a folded graph and a run one
+// constant: addon/export/nodes/ops.py reads this table, whitted_native.OPS), its register operands
+// (columns a, b, c, d, then e), and whether it reads the hit (its inputs, images, shading normal or
+// bump offsets). An op that does not is a function of its operands alone: the compiler folds it
+// when they are constants (Program::fold), with this same code, so a folded graph and a run one
 // give the same floats. Indexed by the op code; 0 is the compiler's CONST, a register
 // filled before the first instruction, never a row.
 struct OpInfo {
@@ -129,6 +128,59 @@ enum Input : uint32_t {
   kInputTangent = 1u << 16,       // + k: tangent set k, object space xyz, bitangent sign w
   kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
 };
+
+// Mode bits of some ops.
+inline constexpr uint32_t kClampBit = 1u << 8;  // MATH, MIX, MAP_RANGE: clamp; CURVE: extrapolate
+inline constexpr uint32_t kNoiseNormalizeBit = 1u << 8;      // NOISE, VORONOI: normalise to [0, 1]
+inline constexpr uint32_t kNoiseColorBit = 1u << 9;          // NOISE: compute the Color output too
+inline constexpr uint32_t kVoronoiIntegerHashBit = 1u << 7;  // VORONOI: Blender 5.0's cell hash
+// A register operand the op does not read.
+inline constexpr uint32_t kUnusedOperand = 0xFFFFFFFFu;
+// Entries per curve of a CURVE table.
+inline constexpr uint32_t kCurveTable = 256;
+
+// The named numbers of a program's code besides its op codes, defined here once with
+// the names the Python compiler gives them (whitted_native.OP_NUMBERS, from which
+// addon/export/nodes/ops.py takes its constants): the INPUT modes, the mode bits, the
+// unused operand and the CURVE table's size.
+struct OpNumber {
+  std::string_view name;
+  uint32_t value;
+};
+inline constexpr std::array<OpNumber, 32> kOpNumbers = {{
+    {"IN_POSITION", kInputPosition},
+    {"IN_NORMAL", kInputNormal},
+    {"IN_TRUE_NORMAL", kInputTrueNormal},
+    {"IN_INCOMING", kInputIncoming},
+    {"IN_GENERATED", kInputGenerated},
+    {"IN_OBJECT", kInputObject},
+    {"IN_CAMERA", kInputCamera},
+    {"IN_WINDOW", kInputWindow},
+    {"IN_REFLECTION", kInputReflection},
+    {"IN_BACKFACING", kInputBackfacing},
+    {"IN_OBJECT_NORMAL", kInputObjectSpaceNormal},
+    {"IN_IS_CAMERA_RAY", kInputIsCameraRay},
+    {"IN_IS_SHADOW_RAY", kInputIsShadowRay},
+    {"IN_IS_REFLECTION_RAY", kInputIsReflectionRay},
+    {"IN_IS_TRANSMISSION_RAY", kInputIsTransmissionRay},
+    {"IN_RAY_DEPTH", kInputRayDepth},
+    {"IN_IS_DIFFUSE_RAY", kInputIsDiffuseRay},
+    {"IN_IS_SINGULAR_RAY", kInputIsSingularRay},
+    {"IN_OBJECT_LOCATION", kInputObjectLocation},
+    {"IN_OBJECT_RANDOM", kInputObjectRandom},
+    {"IN_OBJECT_INDEX", kInputObjectIndex},
+    {"IN_OBJECT_COLOR", kInputObjectColor},
+    {"IN_UV", kInputUvSet},
+    {"IN_ATTRIBUTE", kInputAttribute},
+    {"IN_BUMP_X", kInputBumpX},
+    {"IN_BUMP_Y", kInputBumpY},
+    {"CLAMP_BIT", kClampBit},
+    {"NOISE_NORMALIZE", kNoiseNormalizeBit},
+    {"NOISE_COLOR", kNoiseColorBit},
+    {"VORONOI_INTEGER_HASH", kVoronoiIntegerHashBit},
+    {"UNUSED", kUnusedOperand},
+    {"CURVE_TABLE_SIZE", kCurveTable},
+}};
 
 // ShaderNodeMath.operation, in Blender 5.0's order (3.4 lacks FLOORED_MODULO).
 enum class MathOp : uint32_t {

@@ -432,18 +432,13 @@ glm::vec2 brick_texture(const BrickSettings& s, Vec3 p) {
 
 namespace whitted::procedural {
 
-namespace {
-constexpr uint32_t kNormalizeBit = 1u << 8;    // NOISE: normalise fBM to [0, 1]
-constexpr uint32_t kColorBit = 1u << 9;        // NOISE: compute the Color output too
-constexpr uint32_t kIntegerHashBit = 1u << 7;  // VORONOI: Blender 5.0's hash of cells
-}  // namespace
-
 bool valid_mode(uint32_t op, uint32_t mode) {
   switch (static_cast<Op>(op)) {
     case Op::kNoise:
-      return (mode & ~(0x1Fu | kNormalizeBit | kColorBit)) == 0 && ((mode >> 2) & 7u) <= 4;
+      return (mode & ~(0x1Fu | kNoiseNormalizeBit | kNoiseColorBit)) == 0 &&
+             ((mode >> 2) & 7u) <= 4;
     case Op::kVoronoi:
-      return (mode & ~(0xFFu | kNormalizeBit | (3u << 9))) == 0 && ((mode >> 2) & 7u) <= 4 &&
+      return (mode & ~(0xFFu | kNoiseNormalizeBit | (3u << 9))) == 0 && ((mode >> 2) & 7u) <= 4 &&
              (mode >> 9) <= 2;
     case Op::kWave:
       return mode < (1u << 5) && (mode >> 3) <= 2;
@@ -460,8 +455,8 @@ glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, c
   NoiseSettings s;
   s.dimensions = static_cast<int>(mode & 3u) + 1;
   s.type = static_cast<NoiseType>((mode >> 2) & 7u);
-  s.normalize = (mode & kNormalizeBit) != 0;
-  s.color = (mode & kColorBit) != 0;
+  s.normalize = (mode & kNoiseNormalizeBit) != 0;
+  s.color = (mode & kNoiseColorBit) != 0;
   s.scale = b.y, s.detail = b.z, s.roughness = b.w;
   s.lacunarity = c.x, s.offset = c.y, s.gain = c.z, s.distortion = c.w;
   return noise_texture(s, Vec3(vector), b.x);
@@ -473,8 +468,8 @@ glm::vec4 voronoi_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b,
   s.dimensions = static_cast<int>(mode & 3u) + 1;
   s.feature = static_cast<VoronoiFeature>((mode >> 2) & 7u);
   s.metric = static_cast<VoronoiMetric>((mode >> 5) & 3u);
-  s.integer_hash = (mode & kIntegerHashBit) != 0;
-  s.normalize = (mode & kNormalizeBit) != 0;
+  s.integer_hash = (mode & kVoronoiIntegerHashBit) != 0;
+  s.normalize = (mode & kNoiseNormalizeBit) != 0;
   s.scale = b.y, s.detail = b.z, s.roughness = b.w;
   s.lacunarity = c.x, s.smoothness = c.y, s.exponent = c.z, s.randomness = c.w;
   const VoronoiResult r = voronoi_texture(s, Vec3(vector), b.x);

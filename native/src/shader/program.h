@@ -35,7 +35,7 @@ struct ProgramHit {
 
 class Program {
  public:
-  static constexpr uint32_t kUnused = 0xFFFFFFFFu;
+  static constexpr uint32_t kUnused = kUnusedOperand;
   // A register file this big lives on the stack of one evaluation.
   static constexpr size_t kMaxRegisters = 1024;
   static constexpr size_t kMaxInputs = 64;  // distinct INPUT modes (and tangent frames)
