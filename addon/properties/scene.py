@@ -1,7 +1,9 @@
 """Render settings stored on each scene as `scene.whitted`.
 
 The quality controls are the fields of properties.presets.Quality; the
-presets set them all at once (operators.WHITTED_OT_apply_preset).
+presets set them all at once (operators.WHITTED_OT_apply_preset). A control that
+sets a native setting takes its default and range from the native Settings
+(native_tables.setting).
 """
 
 import bpy
