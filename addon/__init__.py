@@ -1,8 +1,10 @@
 """Whitted: a Blender render engine whose core is a native C++ Whitted ray tracer.
 
 The package registers the engine, its scene settings and their panel. The
-native module is loaded only when a render starts (see native.py), so the
-add-on and its exporters import even before the module is built.
+controls take their defaults and ranges from the native module's tables at import
+(native_tables.py); where the module does not import (not built, or not for this
+Blender's Python) the add-on and its exporters still import and register, and a
+render says what to do (native.py).
 """
 
 import bpy

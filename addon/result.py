@@ -18,6 +18,7 @@ import bpy
 import numpy as np
 
 from . import cryptomatte
+from .native_tables import bounds
 
 
 @dataclass(frozen=True)
@@ -25,7 +26,9 @@ class PassSpec:
     """One render pass Whitted can write."""
 
     name: str  # Blender's pass name: render result, compositor socket, EXR layer
-    channels: str  # Blender's channel ids, one letter per channel ("RGBA", "XYZ", "Z")
+    # Blender's channel ids, one letter per channel ("RGBA", "XYZ", "Z"): as many as the
+    # native film pass `source` has (whitted_native.FILM_PASSES; tests/blender/test_tables.py).
+    channels: str
     kind: str  # register_pass's type: 'COLOR', 'VECTOR' or 'VALUE'
     # What enables it: a ViewLayer property ("use_pass_z"), one of view_layer.whitted
     # ("whitted.use_pass_rays"), or "" for a pass that is always written.
@@ -160,7 +163,9 @@ PASSES = (
 # The per-depth passes: "Whitted Depth 0" .. "Whitted Depth N-1" and "Whitted Depth
 # N+", N = view_layer.whitted.contribution_depth; made by contribution_passes().
 CONTRIBUTIONS_TOGGLE = "whitted.use_pass_contributions"
-MAX_CONTRIBUTION_DEPTH = 8  # the native limit (Settings.contribution_depth)
+# The deepest N can be: native Settings.contribution_depth's maximum (None where the
+# native module does not import; see native_tables).
+MAX_CONTRIBUTION_DEPTH = bounds("contribution_depth").get("max")
 
 
 def contribution_passes(depth):
@@ -302,7 +307,10 @@ VIEWPORT_DISPLAYS = (
     ),
     *(_display_of(spec) for spec in PASSES if spec.source not in ("combined", "rays")),
     # The viewport keeps all depths apart, up to the deepest the passes can.
-    *(_display_of(spec) for spec in contribution_passes(MAX_CONTRIBUTION_DEPTH)),
+    *(
+        _display_of(spec)
+        for spec in (contribution_passes(MAX_CONTRIBUTION_DEPTH) if MAX_CONTRIBUTION_DEPTH else ())
+    ),
 )
 
 

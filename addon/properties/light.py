@@ -3,6 +3,8 @@
 import bpy
 from bpy.props import IntProperty, PointerProperty
 
+from ..native_tables import bounds
+
 
 class WhittedLightProperties(bpy.types.PropertyGroup):
     samples: IntProperty(
@@ -11,8 +13,8 @@ class WhittedLightProperties(bpy.types.PropertyGroup):
         "n x n stratified feelers per shading point; 0 uses the scene's Shadow Samples. "
         "A light of size 0 always sends one",
         default=0,
-        min=0,
-        max=64,
+        # The native range of a light's samples, and 0 for the scene's.
+        **{**bounds("light_samples"), "min": 0},
     )
 
     @classmethod

@@ -1,7 +1,11 @@
 """Quality presets: each one a stated set of values of scene.whitted's quality controls.
 
 The table below is the one place the presets are defined; the panel's buttons,
-the Estimate operator, the cost report and docs/ACCURACY_COST.md read it.
+the Estimate operator, the cost report and docs/ACCURACY_COST.md read it. They are
+the add-on's, not the renderer's: each names values of controls the native library
+has no notion of presets for, some of them the exporter's alone (light_samples,
+texture_filter); each value lies in the native range of its setting
+(tests/blender/test_tables.py).
 """
 
 import math

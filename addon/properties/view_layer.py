@@ -8,6 +8,8 @@ property enables each pass.
 import bpy
 from bpy.props import BoolProperty, IntProperty, PointerProperty
 
+from ..native_tables import setting
+
 
 class WhittedViewLayerProperties(bpy.types.PropertyGroup):
     use_pass_rays: BoolProperty(
@@ -35,9 +37,7 @@ class WhittedViewLayerProperties(bpy.types.PropertyGroup):
         name="Separate Depths",
         description="Depths with a pass of their own (0 .. this - 1); one more pass holds "
         "this depth and beyond",
-        default=3,
-        min=1,
-        max=8,
+        **setting("contribution_depth"),
     )
 
     @classmethod

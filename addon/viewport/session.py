@@ -37,11 +37,10 @@ POLL_SECONDS = 0.01
 FIRST_PASS_SECONDS = 0.03
 # How long a redraw right after a restart waits for that first pass.
 FIRST_PASS_WAIT = 0.05
-# The coarsest first pass, in pixels a side (a power of two), and the one used
-# before any speed was measured.
-MAX_START_PIXEL_SIZE = 64
+# The first pass used before any speed was measured, in pixels a side (a power of two;
+# the coarsest is native Settings.start_pixel_size's maximum).
 DEFAULT_START_PIXEL_SIZE = 8
-# The viewport's workers' niceness (0 normal .. 19 lowest).
+# The viewport's workers' niceness (0 normal .. 19 lowest, native LIMITS).
 WORKER_NICE = 10
 
 
@@ -205,7 +204,7 @@ class ViewportSession:
         pixels = setup.width * setup.height
         blocks_allowed = max(1.0, FIRST_PASS_SECONDS * self._samples_per_second)
         size = 2 ** math.ceil(math.log2(max(1.0, math.sqrt(pixels / blocks_allowed))))
-        return min(MAX_START_PIXEL_SIZE, size)
+        return min(int(self._native.LIMITS["start_pixel_size"][1]), size)
 
     def _show_new_pass(self):
         job = self._job

@@ -2,6 +2,7 @@
 
 #include "bindings.h"
 #include "integrator/passes.h"
+#include "scene/light.h"
 
 namespace whitted::python {
 
@@ -28,8 +29,20 @@ std::vector<std::string> pass_names(uint32_t bits) {
 }
 
 void bind_settings(py::module_& m) {
-  std::vector<std::string> film_passes(kFilmPassNames.begin(), kFilmPassNames.end());
+  // The native tables the add-on builds its own from (addon/native.py): {film pass:
+  // floats per pixel} in FilmPass order, and {bounded setting: (min, max)} (kSettingRanges,
+  // and Light.samples as "light_samples").
+  py::dict film_passes;
+  for (const FilmPassInfo& pass : kFilmPasses) film_passes[py::str(pass.name)] = pass.channels;
   m.attr("FILM_PASSES") = film_passes;
+  py::dict limits;
+  for (const SettingRange& range : kSettingRanges) {
+    limits[py::str(range.name)] = py::make_tuple(range.min, range.max);
+  }
+  limits["light_samples"] = py::make_tuple(1.0, static_cast<double>(kMaxLightSamples));
+  m.attr("LIMITS") = limits;
+
+  const Settings d;  // the defaults of the constructor's keywords
 
   py::enum_<AntiAliasing>(m, "AntiAliasing")
       .value("REGULAR", AntiAliasing::kRegular)
@@ -87,18 +100,23 @@ void bind_settings(py::module_& m) {
              s.validate();
              return s;
            }),
-           py::arg("width") = 640, py::arg("height") = 480, py::arg("max_depth") = 5,
-           py::arg("aa_samples") = 1, py::arg("threads") = 0, py::arg("tile_size") = 32,
-           py::arg("fresnel") = Fresnel::kExact, py::arg("border") = std::array<int, 4>{0, 0, 0, 0},
-           py::arg("transparent_background") = false, py::arg("cutoff") = 1.0f / 255.0f,
-           py::arg("aa_mode") = AntiAliasing::kRegular, py::arg("aa_threshold") = 0.3f,
-           py::arg("aa_depth") = 3, py::arg("analysis") = true, py::arg("feeler_pruning") = true,
-           py::arg("progressive") = false, py::arg("start_pixel_size") = 8,
-           py::arg("glass_shadows") = GlassShadows::kOpaque,
-           py::arg("passes") = std::vector<std::string>{}, py::arg("contribution_depth") = 3,
-           py::arg("pass_alpha_threshold") = 0.5f,
-           py::arg("mist") = std::array<float, 3>{5.0f, 25.0f, 2.0f}, py::arg("glossy_samples") = 2,
-           py::arg("emitter_samples") = 2, py::arg("shutter") = 0.0f,
+           py::arg("width") = d.width, py::arg("height") = d.height,
+           py::arg("max_depth") = d.max_depth, py::arg("aa_samples") = d.aa_samples,
+           py::arg("threads") = d.threads, py::arg("tile_size") = d.tile_size,
+           py::arg("fresnel") = d.fresnel,
+           py::arg("border") =
+               std::array<int, 4>{d.border[0], d.border[1], d.border[2], d.border[3]},
+           py::arg("transparent_background") = d.transparent_background,
+           py::arg("cutoff") = d.cutoff, py::arg("aa_mode") = d.aa_mode,
+           py::arg("aa_threshold") = d.aa_threshold, py::arg("aa_depth") = d.aa_depth,
+           py::arg("analysis") = d.analysis, py::arg("feeler_pruning") = d.feeler_pruning,
+           py::arg("progressive") = d.progressive, py::arg("start_pixel_size") = d.start_pixel_size,
+           py::arg("glass_shadows") = d.glass_shadows, py::arg("passes") = pass_names(d.passes),
+           py::arg("contribution_depth") = d.contribution_depth,
+           py::arg("pass_alpha_threshold") = d.pass_alpha_threshold,
+           py::arg("mist") = std::array<float, 3>{d.mist_start, d.mist_depth, d.mist_falloff},
+           py::arg("glossy_samples") = d.glossy_samples,
+           py::arg("emitter_samples") = d.emitter_samples, py::arg("shutter") = d.shutter,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -111,6 +129,9 @@ void bind_settings(py::module_& m) {
            "glossy bounce (one at later ones); emitter_samples: n, for n x n feelers to the "
            "emissive meshes from a shading point (one after a glossy bounce); shutter: Render > "
            "Motion Blur's, in frames, for the report (0: motion blur off).")
+      .def("validate", &Settings::validate,
+           "Raise ValueError naming the first value out of its range (LIMITS), as a render "
+           "does.")
       .def_readwrite("width", &Settings::width)
       .def_readwrite("height", &Settings::height)
       .def_readwrite("max_depth", &Settings::max_depth)
@@ -129,11 +150,11 @@ void bind_settings(py::module_& m) {
                      "the border, each pixel as the full render traces it; 1: every tile.")
       .def_readwrite("fresnel", &Settings::fresnel)
       .def_readwrite("glass_shadows", &Settings::glass_shadows)
-      .def_property_readonly(
-          "border",
-          [](const Settings& s) {
-            return std::array<int, 4>{s.border[0], s.border[1], s.border[2], s.border[3]};
-          })
+      .def_property_readonly("border",
+                             [](const Settings& s) {
+                               return std::array<int, 4>{s.border[0], s.border[1], s.border[2],
+                                                         s.border[3]};
+                             })
       .def_readwrite("transparent_background", &Settings::transparent_background)
       .def_readwrite("cutoff", &Settings::cutoff)
       .def_readwrite("aa_mode", &Settings::aa_mode)

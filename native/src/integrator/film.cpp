@@ -51,18 +51,8 @@ void ramp(float t, float* out) {
 }
 
 int channels_of(FilmPass pass, int contribution_depth) {
-  switch (pass) {
-    case FilmPass::kDepth:
-    case FilmPass::kMist:
-    case FilmPass::kObjectIndex:
-    case FilmPass::kMaterialIndex:
-    case FilmPass::kCutWeight:
-      return 1;
-    case FilmPass::kContributions:
-      return 3 * (contribution_depth + 1);
-    default:
-      return 3;
-  }
+  const int channels = kFilmPasses[static_cast<size_t>(pass)].channels;
+  return pass == FilmPass::kContributions ? channels * (contribution_depth + 1) : channels;
 }
 
 // Passes a pixel takes from its first sample alone (as Cycles), not a mean.

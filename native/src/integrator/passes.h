@@ -40,27 +40,40 @@ enum class FilmPass : uint32_t {
   kCount,
 };
 inline constexpr size_t kFilmPassCount = static_cast<size_t>(FilmPass::kCount);
-inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = {
-    "emission",
-    "environment",
-    "diffuse_direct",
-    "diffuse_indirect",
-    "diffuse_color",
-    "glossy_direct",
-    "glossy_indirect",
-    "glossy_color",
-    "transmission_direct",
-    "transmission_indirect",
-    "transmission_color",
-    "depth",
-    "mist",
-    "normal",
-    "position",
-    "uv",
-    "object_index",
-    "material_index",
-    "contributions",
-    "cut_weight"};
+// Each film pass's name (Settings.passes, whitted_native.FILM_PASSES) and its floats per
+// pixel (Contributions: per depth bin, of which it keeps contribution_depth + 1), in
+// FilmPass order: the one definition of both (the add-on's passes are checked against it).
+struct FilmPassInfo {
+  std::string_view name;
+  int channels;
+};
+inline constexpr std::array<FilmPassInfo, kFilmPassCount> kFilmPasses = {{
+    {"emission", 3},
+    {"environment", 3},
+    {"diffuse_direct", 3},
+    {"diffuse_indirect", 3},
+    {"diffuse_color", 3},
+    {"glossy_direct", 3},
+    {"glossy_indirect", 3},
+    {"glossy_color", 3},
+    {"transmission_direct", 3},
+    {"transmission_indirect", 3},
+    {"transmission_color", 3},
+    {"depth", 1},
+    {"mist", 1},
+    {"normal", 3},
+    {"position", 3},
+    {"uv", 3},
+    {"object_index", 1},
+    {"material_index", 1},
+    {"contributions", 3},
+    {"cut_weight", 1},
+}};
+inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = [] {
+  std::array<std::string_view, kFilmPassCount> names{};
+  for (size_t p = 0; p < kFilmPassCount; ++p) names[p] = kFilmPasses[p].name;
+  return names;
+}();
 
 constexpr uint32_t pass_bit(FilmPass pass) {
   return 1u << static_cast<uint32_t>(pass);
@@ -75,8 +88,6 @@ inline constexpr uint32_t kLightPasses =
 inline constexpr uint32_t kDataPasses =
     pass_bit(FilmPass::kContributions) - pass_bit(FilmPass::kDepth);  // kDepth .. kMaterialIndex
 
-// The deepest separate bin of the Contributions pass (Settings::contribution_depth).
-inline constexpr int kMaxContributionDepth = 8;
 // Depth where a camera sample sees no surface (as Cycles' Depth pass shows the sky).
 inline constexpr float kNoDepth = 1e10f;
 

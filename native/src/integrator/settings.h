@@ -1,7 +1,10 @@
 // Render settings: everything besides the scene that decides the image.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <cstdlib>
+#include <string_view>
 
 namespace whitted {
 
@@ -19,6 +22,9 @@ enum class GlassShadows { kOpaque, kTinted };
 // Adaptive (Whitted 1980; POV-Ray's method 2): the pixel's corners, and a square is
 // split in four while its corners differ by more than the threshold, to a depth.
 enum class AntiAliasing { kRegular, kJittered, kAdaptive };
+
+// The deepest separate bin of the Contributions pass (Settings::contribution_depth).
+inline constexpr int kMaxContributionDepth = 8;
 
 struct Settings {
   int width = 640;
@@ -100,7 +106,7 @@ struct Settings {
   // None: the kernels that record nothing, as fast as without passes.
   uint32_t passes = 0;
   // The Contributions pass: depths 0 .. contribution_depth - 1 apart, then one bin for
-  // contribution_depth and beyond (1 to 8).
+  // contribution_depth and beyond (1 to kMaxContributionDepth).
   int contribution_depth = 3;
   // The data passes come from the first surface a camera ray meets whose alpha is at
   // least this (Blender's view_layer.pass_alpha_threshold; 0: the first surface).
@@ -122,5 +128,43 @@ struct Settings {
   // Throws std::invalid_argument naming the first bad value.
   void validate() const;
 };
+
+// The bounds validate() holds each bounded setting to, inclusive, by its field's name: the
+// one definition of them (whitted_native.LIMITS; the add-on's controls take their ranges
+// from it). Whole numbers for the int fields.
+struct SettingRange {
+  std::string_view name;
+  double min;
+  double max;
+};
+inline constexpr std::array kSettingRanges = {
+    SettingRange{"width", 1, 65536},
+    SettingRange{"height", 1, 65536},
+    SettingRange{"max_depth", 0, 256},
+    SettingRange{"glossy_samples", 1, 16},
+    SettingRange{"emitter_samples", 1, 16},
+    SettingRange{"aa_samples", 1, 64},
+    SettingRange{"aa_threshold", 0, 3},
+    SettingRange{"aa_depth", 0, 6},
+    SettingRange{"threads", 0, 1024},
+    SettingRange{"tile_size", 1, 4096},
+    SettingRange{"probe_stride", 1, 256},
+    SettingRange{"cryptomatte_kinds", 0, 7},
+    SettingRange{"cryptomatte_depth", 0, 16},
+    SettingRange{"cutoff", 0, 1},
+    SettingRange{"start_pixel_size", 1, 64},
+    SettingRange{"worker_nice", 0, 19},
+    SettingRange{"fault_tile", -1, INT32_MAX},
+    SettingRange{"contribution_depth", 1, kMaxContributionDepth},
+    SettingRange{"pass_alpha_threshold", 0, 1},
+};
+
+// The range of setting `name`; a name not in kSettingRanges does not compile.
+consteval SettingRange setting_range(std::string_view name) {
+  for (const SettingRange& range : kSettingRanges) {
+    if (range.name == name) return range;
+  }
+  std::abort();  // not a constant expression: the compiler reports the call
+}
 
 }  // namespace whitted
