@@ -1,4 +1,4 @@
-"""scripts/farm.py's release_workers against a worker that dies while the scheduler
+"""whitted_tools farm's release_workers against a worker that dies while the scheduler
 removes the run's plugin (test_farm.py runs this against its own small cluster).
 
     release_probe.py SCHEDULER_ADDRESS FOLDER
@@ -12,12 +12,10 @@ from pathlib import Path
 
 import cloudpickle
 from distributed import Client, WorkerPlugin
-from whitted_tools.cli import load_script
+from whitted_tools.farm import render as farm
 
-farm = load_script("farm")
-# The workers cannot import scripts/: send farm's functions by value, as when farm.py
-# runs as __main__.
-sys.modules["farm"] = farm
+# Send farm's functions by value, as the farm verb does: workers need not have the
+# tool package.
 cloudpickle.register_pickle_by_value(farm)
 
 
