@@ -1,4 +1,4 @@
-"""whitted_tools farm on a real Dask cluster of separate processes (a `dask scheduler` and
+"""The farm verb on a real Dask cluster of separate processes (a `dask scheduler` and
 two `dask worker` processes over TCP on 127.0.0.1), and the failure signal Whitted
 gives farms it does not drive, and the Flamenco job type that uses it
 (tools/flamenco/whitted_render.js: compiled by node, its commands run here).

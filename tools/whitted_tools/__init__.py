@@ -60,9 +60,9 @@ Modules (those marked bpy import it, so only inside Blender):
 - perf: the performance suite behind the bench-performance verb (plan, measure,
   figures, page, plots, and the Blender-side verbs it runs)
 
-farm/render.py (the farm verb) imports nothing else of the package in what it sends:
-its tasks travel to Dask workers by value (cloudpickle), so workers need only
-distributed and Blender; farm/in_blender.py, the Blender side, travels as text.
+farm/render.py (run as __main__ by the farm verb, farm/command.py) imports nothing else
+of the package in what it sends: its tasks travel to Dask workers by value, so workers
+need only distributed and Blender; farm/in_blender.py, the Blender side, travels as text.
 """
 
 from pathlib import Path

@@ -51,7 +51,7 @@ GROUPS = {
         "estimate-accuracy": "cost.estimate_accuracy",
     },
     "farm": {
-        "farm": "farm.render",
+        "farm": "farm.command",
         "farm-scene": "farm.scene",
         "bench-farm": "farm.bench",
     },

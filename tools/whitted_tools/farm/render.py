@@ -1,6 +1,4 @@
-"""Render a frame range, or one frame in tiles, with Whitted on a Dask cluster.
-
-Render a frame range, or one frame split into tiles, with Whitted on a Dask
+"""Render a frame range, or one frame split into tiles, with Whitted on a Dask
 distributed cluster.
 
     .venv/bin/python -m whitted_tools farm SCENE.blend --frames A-B [--tiles NxM]
@@ -65,7 +63,6 @@ import threading
 import time
 import uuid
 
-import cloudpickle
 from distributed import WorkerPlugin
 
 from whitted_tools.verbs import prog
@@ -526,9 +523,6 @@ class Chunks:
 
 
 def run_farm(args):
-    # The workers need not have the tool package: this module's functions and classes
-    # travel to them by value (it imports nothing of whitted_tools that they call).
-    cloudpickle.register_pickle_by_value(sys.modules[__name__])
     blend = os.path.abspath(args.scene)
     if not os.path.isfile(blend):
         sys.exit(f"farm: no such file: {blend}")
@@ -815,7 +809,7 @@ def print_table(frames, failed):
 
 def main(argv):
     parser = argparse.ArgumentParser(
-        prog=prog(__name__),
+        prog=prog("whitted_tools.farm.command"),
         description="Render frames (or tiles of a frame) with Whitted on a Dask cluster.",
     )
     parser.add_argument("scene", help="the .blend file")
