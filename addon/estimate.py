@@ -39,7 +39,7 @@ MAX_PROBE_REPEATS = 10
 STARTUP_PIXELS = 64
 STARTUP_REPEATS = 3
 # One export of a scene can take 10-15% more or less than the next on a quiet machine
-# (the Python export is bound by memory; scripts/estimate_accuracy.py shows the fixed
+# (the Python export is bound by memory; whitted_tools estimate-accuracy shows the fixed
 # costs of the renders after it). While the exports so far took less than this in
 # all, the scene is exported again, FIXED_REPEATS times at most, and the median kept:
 # a fast scene's fixed costs, often most of its Draft render, are not one draw.
@@ -151,7 +151,7 @@ def copy_seconds(depsgraph):
     smooth or custom normals, whose corner normals a render depsgraph computes before
     the engine starts): their copy and normals made again, once each, and timed. On a
     glTF model of 29 such meshes the Estimate's export was 40% above the render's
-    without this (scripts/estimate_accuracy.py --third-party two_cylinder_engine shows
+    without this (whitted_tools estimate-accuracy --third-party two_cylinder_engine shows
     both, in its fixed-cost column)."""
     seconds = 0.0
     seen = set()

@@ -36,7 +36,7 @@ MIN_PROBE_PIXELS = 4800
 # The probe's tiles: 2x2 pixels, so that a probe is thousands of them spread over the
 # frame. Its rays per pixel are a sample mean, and where a few pixels take most of the
 # rays (glass, mirrors and soft shadows at a deep preset: a pixel's rays vary by 1.6 to
-# 2.2 times their mean on the scenes of scripts/estimate_accuracy.py) a sample of 75
+# 2.2 times their mean on the scenes of whitted_tools estimate-accuracy) a sample of 75
 # tiles of 8x8 (4,800 pixels) missed the frame's mean by up to 13% (Final, 240x180);
 # 1,200 tiles of 2x2 miss it by 2% at most there.
 PROBE_TILE_SIZE = 2

@@ -10,7 +10,7 @@ use, pixels, curve keys and points) and compared with the memory available
 (MiB, for farms that share machines).
 
 The costs are what Whitted adds beyond Blender's own memory, measured by
-scripts/bench_memory.py on the performance scenes (docs/MEMORY.md states how
+whitted_tools bench-memory on the performance scenes (docs/MEMORY.md states how
 close the estimate comes).
 """
 
@@ -40,7 +40,7 @@ PIXEL_BYTES = 40
 TEXEL_BYTES = 32
 # A curve key or a point: 16 B of keys (x, y, z, radius), Embree's curve BVH and the
 # export's temporaries (co_hair's keys as float64 before they are packed).
-# scripts/bench_memory.py's fur scene (900,000 keys) measured about 140-175 B a key
+# whitted_tools bench-memory's fur scene (900,000 keys) measured about 140-175 B a key
 # beyond the rest of its estimate (docs/MEMORY.md).
 KEY_BYTES = 160
 

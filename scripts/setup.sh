@@ -48,12 +48,12 @@ APT_PACKAGES=(
   # the .venv and the X11 client libraries the bpy wheel loads even headless
   python3-venv libxrender1 libsm6 libxi6 libxxf86vm1 libxfixes3 libgl1 libxkbcommon0
   libxt6 libxext6
-  # the performance suite's side-by-side comparison (scripts/perf_povray.py)
+  # the performance suite's side-by-side comparison (the perf-povray verb)
   povray
   # tests/viewport: a real Blender 3.4 window on a virtual X server (xvfb-run needs
   # xauth) drawn by Mesa's software OpenGL (llvmpipe, in libgl1-mesa-dri)
   xvfb xauth libgl1-mesa-dri
-  # scripts/gallery_materials.py's third-party scenes: real glTF, OBJ and Collada models
+  # the gallery-materials verb's third-party scenes: real glTF, OBJ and Collada models
   # made by other people, under /usr/share/assimp/models
   assimp-testmodels
   # tests/farm: the Flamenco job type (tools/flamenco/whitted_render.js) compiled and

@@ -6,7 +6,7 @@
 # package (tests/package: built, installed into fresh profiles of Blender 3.4 and of
 # bpy 4.2, 4.5, 5.0, 5.2 and 5.3, the smoke tier's tests), the farm on a real Dask
 # cluster (tests/farm), and the linters. Each in-Blender suite's counts go to
-# build/blender_versions/ (scripts/blender_versions.py makes the README's table).
+# build/blender_versions/ (the blender-versions verb makes the README's table).
 # Every step runs even when an earlier one failed; a summary line per step is
 # printed at the end, and the exit status is non-zero if any step failed.
 # Run from anywhere. .ci/run runs exactly this.
@@ -105,7 +105,7 @@ step_versions() {
   limited "$VENV/bin/python" -m pytest tests/package/test_versions.py -q -p no:cacheprovider
 }
 
-# The farm (tests/farm): scripts/farm.py on a real Dask cluster (a scheduler and two
+# The farm (tests/farm): the farm verb on a real Dask cluster (a scheduler and two
 # worker processes on 127.0.0.1), a worker and a warm Blender killed mid-frame, tiles,
 # a failing scene, warm against cold, the exit code Whitted gives farms it does not
 # drive and the Flamenco job type that relies on it (its commands, compiled by node).
@@ -120,7 +120,7 @@ step_viewport_34() { limited "$VENV/bin/python" -m pytest tests/viewport -q -p n
 step_bench_smoke() {
   local out
   out=$(mktemp -d /tmp/whitted-bench-smoke-XXXXXX)
-  limited "$VENV/bin/python" scripts/bench_performance.py --quick --out "$out/PERFORMANCE.md"
+  limited "$VENV/bin/python" -m whitted_tools bench-performance --quick --out "$out/PERFORMANCE.md"
   rm -rf "$out"
 }
 

@@ -707,7 +707,7 @@ def set_cycles(scene):
 
 
 def render(scene, engine, directory, name):
-    from cycles_scenes import render_exr
+    from whitted_tools.cycles_scenes import render_exr
 
     scene.whitted.aa_samples = 1
     return render_exr(scene, engine, os.path.join(directory, f"{name}_{engine.lower()}.exr"))

@@ -5,7 +5,7 @@
 
 ARGS go to pytest. The process exits with pytest's exit code. With WHITTED_RESULTS=FILE
 set, the counts (passed, failed, skipped, ...) are also written to FILE as JSON, with
-the Blender and Python versions (scripts/blender_versions.py reads them).
+the Blender and Python versions (whitted_tools blender-versions reads them).
 """
 
 import json

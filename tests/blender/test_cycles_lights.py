@@ -2,7 +2,7 @@
 box as bright as in Cycles at direct-light settings, with the same shadows.
 
 The scenes, the render settings and the measures are in cycles_scenes.py (the
-gallery, scripts/gallery.py, renders the same scenes): a Diffuse BSDF of
+gallery, whitted_tools gallery-lights, renders the same scenes): a Diffuse BSDF of
 roughness 0 (Lambertian in both Cycles versions, unlike the Principled BSDF),
 no world, Cycles with no bounces, 512 samples, a fixed seed, no denoising and
 a centre-point pixel filter, Whitted with one sample at each pixel centre;
@@ -20,8 +20,8 @@ a centre-point pixel filter, Whitted with one sample at each pixel centre;
 import math
 
 import bpy
-import cycles_scenes
 import pytest
+from whitted_tools import cycles_scenes
 
 MEAN_RATIO_TOLERANCE = 0.02
 

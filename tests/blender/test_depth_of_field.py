@@ -8,9 +8,14 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import box_filtered, effect_figures, render_rgba, set_cycles_direct_light
 from whitted.export.camera import PINHOLE, convert_camera
 from whitted_tools.camera_scenes import balls_in_a_row
+from whitted_tools.cycles_scenes import (
+    box_filtered,
+    effect_figures,
+    render_rgba,
+    set_cycles_direct_light,
+)
 
 
 def test_the_lens_is_read_as_cycles_reads_it(empty_scene):

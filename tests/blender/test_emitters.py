@@ -8,7 +8,7 @@ import json
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import render_rgba, set_cycles_direct_light
+from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
 from whitted_tools.material_scenes import emission_material, lambert_material, panel_room
 
 

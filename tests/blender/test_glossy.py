@@ -6,7 +6,7 @@ seed's mirror and Phong highlight."""
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import render_rgba, set_cycles_direct_light
+from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
 from whitted_tools.material_scenes import (
     glass_bsdf_material,
     principled_sphere_material,

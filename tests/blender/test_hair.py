@@ -9,7 +9,7 @@ import json
 
 import numpy as np
 import pytest
-from cycles_scenes import box_filtered, render_rgba
+from whitted_tools.cycles_scenes import box_filtered, render_rgba
 from whitted_tools.hair_scenes import SCENES, ribbon_hair
 from whitted_tools.metrics import subject_figures
 

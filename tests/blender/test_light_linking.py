@@ -6,10 +6,10 @@ and lets it cast no shadow (export/light_linking.py, native scene/light.h)."""
 import json
 
 import bpy
-import cycles_scenes
 import numpy as np
 import pytest
 from test_emitters import cycles_and_whitted, lit_sum_ratio
+from whitted_tools import cycles_scenes
 from whitted_tools.material_scenes import lambert_material, panel_room
 
 pytestmark = pytest.mark.skipif(

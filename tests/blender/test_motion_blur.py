@@ -9,8 +9,13 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import box_filtered, effect_figures, render_rgba, set_cycles_direct_light
 from whitted_tools.camera_scenes import cube_crossing, linear_keys
+from whitted_tools.cycles_scenes import (
+    box_filtered,
+    effect_figures,
+    render_rgba,
+    set_cycles_direct_light,
+)
 from whitted_tools.material_scenes import (
     add_camera,
     add_floor,

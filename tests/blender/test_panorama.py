@@ -8,8 +8,8 @@ import math
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
 from whitted.export.camera import convert_camera, panorama_settings
+from whitted_tools.cycles_scenes import effect_figures, render_rgba, set_cycles_direct_light
 from whitted_tools.material_scenes import dark_stage, emission_material, smooth_sphere
 from whitted_tools.metrics import subject_figures
 

@@ -9,9 +9,9 @@ from pathlib import Path
 import bpy
 import numpy as np
 import pytest
-from cycles_scenes import box_filtered, effect_figures, render_rgba
 from mathutils import Vector
 from whitted_tools.camera_scenes import linear_keys
+from whitted_tools.cycles_scenes import box_filtered, effect_figures, render_rgba
 
 MODELS = Path("/usr/share/assimp/models/BLEND")
 FILES = (

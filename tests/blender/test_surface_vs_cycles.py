@@ -36,7 +36,7 @@ def test_glossy_dielectric_mirrors_the_world_as_cycles(empty_scene, tmp_path, na
     # diffuse surface: Cycles shows the world Fresnel-weighted, F(theta) * 0.5; Whitted
     # showed black (a dielectric's specular was a highlight alone).
     import bpy
-    from cycles_scenes import render_rgba
+    from whitted_tools.cycles_scenes import render_rgba
 
     scene = empty_scene
     scene.render.resolution_x = scene.render.resolution_y = 12
@@ -93,7 +93,7 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
     # and view angles differ. Cycles' direct light is deterministic here (a sun of angle
     # 0, a centre-point filter), so each pixel is compared with its own.
     import bpy
-    from cycles_scenes import render_rgba, set_cycles_direct_light
+    from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
 
     scene = empty_scene
     material = bpy.data.materials.new("Under a sun")

@@ -172,7 +172,7 @@ def test_environment_background_matches_cycles_by_direction(empty_scene, tmp_pat
     import math
 
     import numpy as np
-    from cycles_scenes import render_exr
+    from whitted_tools.cycles_scenes import render_exr
 
     if not hasattr(native, "Program"):
         pytest.fail("whitted_native has no Program: rebuild it")

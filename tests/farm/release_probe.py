@@ -1,4 +1,4 @@
-"""scripts/farm.py's release_workers against a worker that dies while the scheduler
+"""The farm verb's release_workers against a worker that dies while the scheduler
 removes the run's plugin (test_farm.py runs this against its own small cluster).
 
     release_probe.py SCHEDULER_ADDRESS FOLDER
@@ -7,18 +7,15 @@ The plugin's teardown ends worker w0's process and writes FOLDER/<worker name> o
 others; release_workers must return."""
 
 import os
+import runpy
 import sys
 from pathlib import Path
 
-import cloudpickle
 from distributed import Client, WorkerPlugin
-from whitted_tools.cli import load_script
 
-farm = load_script("farm")
-# The workers cannot import scripts/: send farm's functions by value, as when farm.py
-# runs as __main__.
-sys.modules["farm"] = farm
-cloudpickle.register_pickle_by_value(farm)
+# The farm module as the farm verb runs it: as __main__, so that its functions travel
+# to the workers by value.
+farm = runpy.run_module("whitted_tools.farm.render", run_name="__main__")
 
 
 class DiesOnW0(WorkerPlugin):
@@ -35,7 +32,7 @@ def main():
     client = Client(sys.argv[1])
     client.wait_for_workers(2, timeout=60)
     client.register_plugin(DiesOnW0(sys.argv[2]), "dies-on-w0")
-    farm.release_workers(client, "dies-on-w0")
+    farm["release_workers"](client, "dies-on-w0")
     client.close()
 
 

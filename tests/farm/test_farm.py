@@ -1,4 +1,4 @@
-"""scripts/farm.py on a real Dask cluster of separate processes (a `dask scheduler` and
+"""The farm verb on a real Dask cluster of separate processes (a `dask scheduler` and
 two `dask worker` processes over TCP on 127.0.0.1), and the failure signal Whitted
 gives farms it does not drive, and the Flamenco job type that uses it
 (tools/flamenco/whitted_render.js: compiled by node, its commands run here).
@@ -21,15 +21,13 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 import pytest
-from whitted_tools.blender import blender_command
-from whitted_tools.cli import load_script
+from whitted_tools.blender import verb_in_blender
+from whitted_tools.farm.render import blender_args
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 VENV_BIN = REPO_ROOT / ".venv" / "bin"
-FARM = [str(VENV_BIN / "python"), str(REPO_ROOT / "scripts" / "farm.py")]
+FARM = [str(VENV_BIN / "python"), "-m", "whitted_tools", "farm"]
 FRAMES = range(1, 7)
-
-blender_args = load_script("farm").blender_args
 
 
 def run(command, env=None, timeout=300, ok=True):
@@ -63,9 +61,8 @@ def assert_reference_frames(out, scenes, frames=FRAMES):
 @pytest.fixture(scope="module")
 def scenes(tmp_path_factory):
     folder = tmp_path_factory.mktemp("scenes")
-    maker = str(Path(__file__).with_name("make_scene.py"))
     for name, extra in (("anim", []), ("broken", ["--fail"])):
-        run(blender_command(maker, folder / f"{name}.blend", *extra))
+        run(verb_in_blender("farm-scene", folder / f"{name}.blend", *extra))
     # The single-machine reference: all six frames in one Blender, no farm.
     reference = folder / "reference"
     reference.mkdir()
@@ -158,7 +155,7 @@ def children(pid):
 
 def rendering_blenders(pid):
     """Pids of the farm Blenders, children of worker `pid`, that are rendering a frame
-    (scripts/farm.py keeps each one's log, emptied before each frame, beside it)."""
+    (whitted_tools farm keeps each one's log, emptied before each frame, beside it)."""
     found = []
     for child in children(pid):
         try:

@@ -21,7 +21,7 @@ from whitted_tools.blenders import BLENDERS, blender
 from whitted_tools.metrics import subject_figures
 
 MODULES = [entry for entry in BLENDERS if entry.is_module]
-# What each version showed in this run, for the README's table (scripts/blender_versions.py).
+# What each version showed in this run, for the README's table (whitted_tools blender-versions).
 RESULTS = REPO_ROOT / "build" / "blender_versions"
 
 

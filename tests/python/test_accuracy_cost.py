@@ -1,4 +1,4 @@
-"""The cost report end to end on a tiny scene: scripts/accuracy_cost.py drives
+"""The cost report end to end on a tiny scene: whitted_tools accuracy-cost drives
 Blender 3.4 headless (the `blender` on PATH, as scripts/setup.sh installs it)
 and writes the Markdown page and its plots with finite numbers."""
 
@@ -37,7 +37,7 @@ def test_report_on_a_tiny_scene(tmp_path):
     run(
         [
             sys.executable,
-            str(REPO / "scripts" / "accuracy_cost.py"),
+            *("-m", "whitted_tools", "accuracy-cost"),
             str(blend),
             "--out",
             str(page),

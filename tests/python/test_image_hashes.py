@@ -1,20 +1,9 @@
-"""scripts/image_hashes.py's comparison: every differing channel and count is named."""
+"""The image-hashes verb's comparison: every differing channel and count is named."""
 
-import importlib.util
-from pathlib import Path
-
-SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "image_hashes.py"
-
-
-def load():
-    spec = importlib.util.spec_from_file_location("image_hashes", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from whitted_tools.check import image_hashes
 
 
 def test_differences_name_every_channel_count_and_scene():
-    image_hashes = load()
     before = {
         "demo": {"channels": {"R": "a", "G": "b"}, "stats": {"rays": 1}},
         "gone": {"channels": {}, "stats": {}},

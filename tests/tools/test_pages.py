@@ -5,7 +5,15 @@ import sys
 
 import pytest
 from whitted_tools import REPO
-from whitted_tools.blender import blender_command, bpy_command, run_for_json, same_blender_command
+from whitted_tools.blender import (
+    ENTRY,
+    blender_command,
+    bpy_command,
+    run_for_json,
+    verb_in_blender,
+    verb_in_bpy,
+    verb_in_same_blender,
+)
 from whitted_tools.cli import page_parser, script_args
 from whitted_tools.pages import (
     command_line,
@@ -16,6 +24,7 @@ from whitted_tools.pages import (
     table,
     write_page,
 )
+from whitted_tools.verbs import ENTRY_FILE
 
 
 def test_table_aligns_the_first_column_left_and_numbers_right():
@@ -35,11 +44,11 @@ def test_table_refuses_a_row_of_the_wrong_width():
 
 def test_command_line_names_the_checkouts_python_relative_to_it():
     venv_python = str(REPO / ".venv" / "bin" / "python")
-    assert command_line(["scripts/x.py", "--out", "a b"], python=venv_python) == (
-        ".venv/bin/python scripts/x.py --out 'a b'"
+    assert command_line("bench-memory", ["--out", "a b"], python=venv_python) == (
+        ".venv/bin/python -m whitted_tools bench-memory --out 'a b'"
     )
-    assert command_line(["scripts/x.py"], python="/usr/bin/python3") == (
-        "/usr/bin/python3 scripts/x.py"
+    assert command_line("farm", [], python="/usr/bin/python3") == (
+        "/usr/bin/python3 -m whitted_tools farm"
     )
 
 
@@ -93,14 +102,16 @@ def test_blender_commands():
 
 def test_page_parser_takes_out_and_the_repeats_it_is_given():
     doc = "Writes a page.\n\nMore words."
-    parser = page_parser(doc, repeats=9)
+    parser = page_parser("whitted_tools.gallery.lights", doc, repeats=9)
+    assert parser.prog == "python -m whitted_tools gallery-lights"
     assert parser.description == "Writes a page."
     args = parser.parse_args(["--out", "docs"])
     assert (args.out, args.repeats) == ("docs", 9)
     assert parser.parse_args(["--out", "d", "--repeats", "3"]).repeats == 3
-    assert not hasattr(page_parser(doc).parse_args(["--out", "d"]), "repeats")
+    lights = page_parser("whitted_tools.gallery.lights", doc)
+    assert not hasattr(lights.parse_args(["--out", "d"]), "repeats")
     with pytest.raises(SystemExit):
-        page_parser(doc).parse_args([])  # --out is required
+        lights.parse_args([])  # --out is required
 
 
 def test_run_for_json_hands_back_what_the_child_wrote_or_why_not(tmp_path):
@@ -112,14 +123,20 @@ def test_run_for_json_hands_back_what_the_child_wrote_or_why_not(tmp_path):
     assert problem.startswith("failed (exit 3 after ")
 
 
-def test_same_blender_command_runs_the_script_in_the_blender_that_asks():
-    inside = ["/opt/blender/blender", "-b", "--python", "s.py", "--", "--x"]
-    assert same_blender_command("c.py", "--n", 2, argv=inside) == blender_command(
-        "c.py", "--n", 2, blender="/opt/blender/blender"
+def test_verbs_run_through_the_package_entry_in_blender_and_with_m_in_bpy():
+    assert verb_in_blender("perf-render", "--n", 2, blend="f.blend") == blender_command(
+        ENTRY, "perf-render", "--n", 2, blend="f.blend"
     )
-    assert same_blender_command("c.py", "--n", 2, argv=["s.py"]) == [
+    assert ENTRY.is_file() and ENTRY.relative_to(REPO).as_posix() == ENTRY_FILE
+    assert verb_in_bpy("farm", "x", python="py") == ["py", "-m", "whitted_tools", "farm", "x"]
+
+
+def test_verb_in_same_blender_runs_the_verb_in_the_blender_that_asks():
+    inside = ["/opt/blender/blender", "-b", "--python", "s.py", "--", "--x"]
+    assert verb_in_same_blender("bench-effects", "--n", 2, argv=inside) == verb_in_blender(
+        "bench-effects", "--n", 2, blender="/opt/blender/blender"
+    )
+    assert verb_in_same_blender("bench-effects", "--n", 2, argv=["s.py"]) == [
         sys.executable,
-        "c.py",
-        "--n",
-        "2",
+        *("-m", "whitted_tools", "bench-effects", "--n", "2"),
     ]

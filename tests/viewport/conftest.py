@@ -2,10 +2,10 @@
 
     .venv/bin/python -m pytest tests/viewport -q
 
-The scenarios (scenarios/*.py) drive Blender with driver.py; windowrun.py starts them
-under xvfb-run with a hard timeout and reads back their JSON result, screenshots and
-the Whitted viewport log. On failure the process's exit status, steps, stdout and
-stderr are in the assertion message.
+The scenarios (scenarios/*.py) drive Blender with whitted_tools/viewport_driver.py;
+windowrun.py starts them under xvfb-run with a hard timeout and reads back their JSON
+result, screenshots and the Whitted viewport log. On failure the process's exit status,
+steps, stdout and stderr are in the assertion message.
 """
 
 import os

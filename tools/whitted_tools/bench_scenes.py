@@ -1,6 +1,6 @@
 """The benchmark scenes, built with bpy (Blender 3.4 and 5.0): the performance suite's
-(scripts/perf_scenes.py, bench_performance.py, bench_memory.py, bench_viewport.py),
-and the cost report's (scripts/cost_scenes.py, accuracy_cost.py).
+(whitted_tools perf-scenes, bench_performance.py, bench_memory.py, bench_viewport.py),
+and the cost report's (whitted_tools cost-scenes, accuracy_cost.py).
 
     demo       the demo scene (whitted_tools.demo_scene)
     million    the demo's layout with about `triangles` (default 1,000,000) triangles:

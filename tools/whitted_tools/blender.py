@@ -18,6 +18,7 @@ from whitted_tools.cli import inside_blender_binary
 
 VENV_PYTHON = REPO / ".venv" / "bin" / "python"
 ADDON = "whitted"
+ENTRY = REPO / "tools" / "whitted_tools" / "__main__.py"
 
 
 def blender_command(script, *args, blend=None, addons=(), blender="blender"):
@@ -31,6 +32,18 @@ def blender_command(script, *args, blend=None, addons=(), blender="blender"):
         command.append(str(blend))
     command += ["--python-exit-code", "1", "--python", str(script), "--"]
     return [*command, *map(str, args)]
+
+
+def verb_in_blender(verb, *args, blend=None, addons=(), blender="blender"):
+    """blender_command of the tool package's entry file: the verb VERB (whitted_tools.verbs)
+    with ARGS in Blender 3.4, which imports the package through its add-on modules link."""
+    return blender_command(ENTRY, verb, *args, blend=blend, addons=addons, blender=blender)
+
+
+def verb_in_bpy(verb, *args, python=None):
+    """The verb run by the .venv's Python (or `python`), where Blender is the bpy module:
+    `PYTHON -m whitted_tools VERB ARGS`."""
+    return [str(python or VENV_PYTHON), "-m", "whitted_tools", verb, *map(str, args)]
 
 
 def bpy_command(script, *args, python=None):
@@ -93,13 +106,13 @@ def run_for_json(command, json_path, timeout, env=None):
     return json.loads(Path(json_path).read_text(encoding="utf-8")), None
 
 
-def same_blender_command(script, *args, argv=None):
-    """The command that runs `script` in the Blender this process is (`argv`: its
+def verb_in_same_blender(verb, *args, argv=None):
+    """The command that runs the verb in the Blender this process is (`argv`: its
     sys.argv): the Blender binary that runs it, or this Python with the bpy module."""
     argv = sys.argv if argv is None else argv
     if inside_blender_binary(argv):
-        return blender_command(script, *args, blender=argv[0])
-    return bpy_command(script, *args, python=sys.executable)
+        return verb_in_blender(verb, *args, blender=argv[0])
+    return verb_in_bpy(verb, *args, python=sys.executable)
 
 
 def failure(returncode, seconds, output):

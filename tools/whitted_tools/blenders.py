@@ -2,7 +2,7 @@
 is installed, and how deeply it is tested. scripts/setup.sh (--test-blenders) makes
 their environments from this table, tests/package runs the smoke tier on it and the
 README's "Supported Blender versions" table is written from it and a run's results
-(scripts/blender_versions.py).
+(whitted_tools blender-versions).
 
     .venv/bin/python -m whitted_tools.blenders      one line per bpy environment:
                                                     LABEL PYTHON VENV REQUIREMENT

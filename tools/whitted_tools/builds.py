@@ -1,4 +1,6 @@
-"""Two builds of whitted_native side by side: each build's module loaded from its folder,
+"""Two builds of whitted_native side by side: their trace times in alternating rounds.
+
+Two builds of whitted_native side by side: each build's module loaded from its folder,
 and the order in which the rounds of a comparison run them, so that every ratio between
 the builds is taken within a round (timing.paired_ratios) and neither build always goes
 first. bench_effects.py (--compare-native) measures its kernels this way; the perf
@@ -15,7 +17,7 @@ trace time unchanged) against a build from before passes (docs/PASSES.md):
     valgrind --tool=callgrind .venv/bin/python -m whitted_tools.builds --small ADDON_DIR
 
 --json writes the figures, the command and the machine to FILE for a page's generator
-(scripts/passes_page.py reads docs/images/passes/builds.json), the labels saying what
+(whitted_tools passes-page reads docs/images/passes/builds.json), the labels saying what
 each build is (its commit). Each build's module is loaded in a process of its own (one
 whitted_native per process), the two in turns for --rounds rounds; each process renders
 the scene (binding_scenes.constant_spheres: 480x270, 3x3 samples per pixel, 2 threads)
@@ -45,6 +47,7 @@ from whitted_tools.blender import run_for_json
 from whitted_tools.native_job import run_job
 from whitted_tools.pages import command_line, load_text, machine_lines
 from whitted_tools.timing import paired_ratios, spread_text
+from whitted_tools.verbs import prog
 
 REPEATS = 3
 TIMED = {"width": 480, "height": 270, "aa_samples": 3, "threads": 2}
@@ -108,7 +111,7 @@ def trace_best(module_dir, size=TIMED, repeats=REPEATS):
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=prog(__name__), description=__doc__.split("\n\n")[0])
     parser.add_argument("old", help="the folder holding the old build's whitted_native")
     parser.add_argument("new", help="the folder holding the new build's whitted_native")
     parser.add_argument("--rounds", type=int, default=8)
@@ -170,7 +173,7 @@ def main(argv):
     print(f"load average (1, 5, 15 min): {load_text()}")
     if args.json:
         record = {
-            "command": command_line(["-m", "whitted_tools.builds", *argv], ".venv/bin/python"),
+            "command": command_line("compare-builds", argv, ".venv/bin/python"),
             "rounds": args.rounds,
             "builds": figures,
             "best_ratio": best,
@@ -183,7 +186,3 @@ def main(argv):
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(record, indent=2) + "\n")
         print(f"wrote {args.json}")
-
-
-if __name__ == "__main__":
-    main(sys.argv[1:])

@@ -1,6 +1,6 @@
 """The camera effects' scenes (depth of field, motion blur), shared by their tests
 against Cycles (tests/blender/test_depth_of_field.py, test_motion_blur.py) and the
-distributed ray tracing gallery (scripts/gallery_effects.py)."""
+distributed ray tracing gallery (whitted_tools gallery-effects)."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""The command-line arguments of a script, wherever it runs."""
+"""The command-line arguments of a script or verb, wherever it runs."""
 
 import argparse
 import importlib.util
@@ -19,12 +19,14 @@ def script_args(argv=None):
     return [] if inside_blender_binary(argv) else argv[1:]
 
 
-def page_parser(doc, repeats=None):
-    """The argument parser of a script that writes a docs page: described by the first
-    paragraph of its docstring `doc`, with --out (the docs directory, required) and, when
-    `repeats` is given, --repeats (default `repeats`). The script adds its own arguments
-    and parses script_args()."""
-    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+def page_parser(name, doc, repeats=None):
+    """The argument parser of a verb that writes a docs page (the module `name`): described
+    by the first paragraph of its docstring `doc`, with --out (the docs directory,
+    required) and, when `repeats` is given, --repeats (default `repeats`). The verb adds
+    its own arguments and parses its argv."""
+    from whitted_tools.verbs import prog
+
+    parser = argparse.ArgumentParser(prog=prog(name), description=doc.split("\n\n")[0])
     parser.add_argument("--out", required=True, help="the docs directory to write into")
     if repeats is not None:
         parser.add_argument("--repeats", type=int, default=repeats)
@@ -39,9 +41,8 @@ def inside_blender_binary(argv=None):
 
 
 def load_script(name):
-    """scripts/<name>.py as a module, for the test of that script (scripts import the
-    package, never each other). scripts/farm.py stays one self-contained file because
-    its tasks travel to Dask workers by value, package.py because it is the packager."""
+    """scripts/<name>.py as a module, for the test of that script (scripts/package.py,
+    the packager, stays a script beside set-up; the tools are verbs of this package)."""
     from whitted_tools import SCRIPTS
 
     spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")

@@ -93,7 +93,7 @@ def build_demo_scene(scene=None):
     return scene
 
 
-# The demo's variants that call for fewer effects (scripts/bench_effects.py): what
+# The demo's variants that call for fewer effects (whitted_tools bench-effects): what
 # becomes of its Glass and Mirror materials.
 DIFFUSE_INPUTS = {("Metallic",): 0.0, TRANSMISSION: 0.0, ("Roughness",): 1.0}
 MIRROR_INPUTS = {TRANSMISSION: 0.0, ("Metallic",): 1.0, ("Roughness",): 0.0}

@@ -1,5 +1,5 @@
 """Hair, curves and point-cloud scenes, shared by their tests against Cycles
-(tests/blender/test_hair.py) and the hair benchmark (scripts/bench_hair.py)."""
+(tests/blender/test_hair.py) and the hair benchmark (whitted_tools bench-hair)."""
 
 import math
 

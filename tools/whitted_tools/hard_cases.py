@@ -1,7 +1,7 @@
 """Scenes of the classic hard cases of ray tracing (issue 4), built with bpy.
 
 Shared by tests/blender/test_robustness.py (small images with assertions) and
-scripts/robustness_images.py (the pictures of docs/ROBUSTNESS.md). Every builder
+whitted_tools robustness-images (the pictures of docs/ROBUSTNESS.md). Every builder
 takes an empty scene (bpy.ops.wm.read_factory_settings(use_empty=True)), fills
 it, and returns it; the image size is the caller's. Materials use the Whitted
 material override, so each surface has exactly the parameters named here.
@@ -436,7 +436,7 @@ def acne_share(pixels, threshold=0.1):
 
 
 # Every hard-case scene by name, each a builder(scene): the scenes that checks over all
-# of them render (scripts/image_hashes.py, tests/blender/test_waves.py).
+# of them render (whitted_tools image-hashes, tests/blender/test_waves.py).
 SCENES = {
     "acne": acne,
     "grazing": grazing,

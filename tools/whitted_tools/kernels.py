@@ -1,6 +1,6 @@
-"""The two kernels compared on files we did not make (scripts/compare_kernels.py writes
+"""The two kernels compared on files we did not make (whitted_tools compare-kernels writes
 one JSON per file and configuration): a Markdown table per configuration, for
-docs/notes/waves.md (scripts/compare_kernels_table.py prints it)."""
+docs/notes/waves.md (whitted_tools compare-kernels-table prints it)."""
 
 import statistics
 

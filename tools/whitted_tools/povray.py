@@ -6,7 +6,7 @@ exports the scene, runs `povray` and reads the image back. Nothing here writes .
 add-on's own properties (`scene.pov`, `material.pov*`, `world.pov`, `light.pov`) are set from
 the Whitted settings and from the same material mapping Whitted uses.
 
-scripts/perf_povray.py renders a saved scene this way; scripts/perf_render.py uses it for the
+whitted_tools perf-povray renders a saved scene this way; whitted_tools perf-render uses it for the
 performance suite. Inside Blender:
 
     configure(scene)            -> dict: enable the add-on, choose its engine, set its properties

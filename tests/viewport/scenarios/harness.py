@@ -5,13 +5,8 @@ at the camera frame's size, so the pytest side can check the frame alignment the
 Whitted comparison relies on with engines that work today.
 """
 
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
 import bpy
-import driver
+from whitted_tools import viewport_driver as driver
 
 
 def frame_size(h):

@@ -12,15 +12,11 @@ Material Properties panel, and it kills other preview jobs, hence one at a time)
 For each, the mean colour of the covered pixels (alpha > 0.5) and the coverage.
 """
 
-import os
-import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
 import bpy
-import driver
 import numpy as np
+from whitted_tools import viewport_driver as driver
 
 RED = (0.8, 0.03, 0.03, 1.0)
 BLUE = (0.03, 0.1, 0.8, 1.0)

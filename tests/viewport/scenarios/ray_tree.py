@@ -5,15 +5,11 @@ project, with the ray's kind, so the test can look for the ray's colour there.
 """
 
 import json
-import os
-import sys
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bpy
-import driver
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
+from whitted_tools import viewport_driver as driver
 
 # Where along a ray its points are checked (fractions of its drawn length).
 FRACTIONS = (0.3, 0.5, 0.7)

@@ -7,16 +7,12 @@ SOLID <-> RENDERED. The edits do not wait for convergence: most land while a
 render is in flight. Resident memory (VmRSS) is sampled every 10 edits.
 """
 
-import os
 import random
-import sys
 import time
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import bmesh
 import bpy
-import driver
+from whitted_tools import viewport_driver as driver
 
 # Cubes the run may add at most at a time (a delete removes one first).
 MAX_ADDED = 8

@@ -6,17 +6,14 @@ edits:   converged screenshots before and after each of: move the cube, recolour
 stop:    leave Rendered mode once converged and once mid-render; times recorded; then
          quit Blender mid-render.
 
-Waits use the events the viewport appends to WHITTED_VIEWPORT_LOG (see driver.py).
+Waits use the events the viewport appends to WHITTED_VIEWPORT_LOG (see
+whitted_tools/viewport_driver.py).
 """
 
-import os
-import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
 import bpy
-import driver
+from whitted_tools import viewport_driver as driver
 
 
 def add_arguments(parser):

@@ -1,18 +1,17 @@
 """Running the performance suite's measurements: every render a fresh Blender process
-(scripts/perf_render.py, scripts/perf_raw_embree.py), scene files and results cached
+(whitted_tools perf-render, whitted_tools perf-raw-embree), scene files and results cached
 by configuration, figures the medians of the repeats."""
 
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from whitted_tools import SCRIPTS
 from whitted_tools.blender import (
     addon_env,
-    blender_command,
-    bpy_command,
     run_for_json,
     run_process,
+    verb_in_blender,
+    verb_in_bpy,
 )
 from whitted_tools.pages import size_label
 from whitted_tools.perf.plan import MAIN_SCENES, Plan
@@ -20,10 +19,10 @@ from whitted_tools.timing import median_or_none, progress
 
 
 def build_scene(name, path, resolution, timeout, blender="blender", extra=()):
-    """Save the suite's scene `name` (scripts/perf_scenes.py) at `resolution` to `path`;
+    """Save the suite's scene `name` (whitted_tools perf-scenes) at `resolution` to `path`;
     None, or why it failed."""
-    command = blender_command(
-        SCRIPTS / "perf_scenes.py",
+    command = verb_in_blender(
+        "perf-scenes",
         *("--scene", name, "--resolution", *resolution, "--save", path, *extra),
         blender=blender,
     )
@@ -159,11 +158,12 @@ class Suite:
                     options += ["--depth", str(depth)]
                 if image and index == 0:
                     options += ["--image", str(image)]
-                script = SCRIPTS / "perf_render.py"
                 if bpy:
-                    command = bpy_command(script, "--blend", blend, *options, python=self.python)
+                    command = verb_in_bpy(
+                        "perf-render", "--blend", blend, *options, python=self.python
+                    )
                 else:
-                    command = self.in_blender(script, blend, *options)
+                    command = self.in_blender("perf-render", blend, *options)
                 run, problem = run_for_json(command, out, timeout)
                 if problem:
                     measurement.missing = problem
@@ -173,14 +173,12 @@ class Suite:
                 measurement.runs.append(run)
         return measurements
 
-    def in_blender(self, script, blend, *args):
-        """Blender 3.4 with the add-on enabled running script on the saved scene."""
-        return blender_command(
-            script, *args, blend=blend, addons=("whitted",), blender=self.blender
-        )
+    def in_blender(self, verb, blend, *args):
+        """Blender 3.4 with the add-on enabled running the verb on the saved scene."""
+        return verb_in_blender(verb, *args, blend=blend, addons=("whitted",), blender=self.blender)
 
     def raw_embree(self, scene, resolution, before=False, threads=None, preset=None):
-        """scripts/perf_raw_embree.py's JSON for the scene at resolution (a Measurement),
+        """whitted_tools perf-raw-embree's JSON for the scene at resolution (a Measurement),
         with the add-on in self.before when `before` (Blender finds it through
         BLENDER_USER_SCRIPTS: blender.addon_env), on `threads` (None: all) and at the
         quality preset `preset` (None: the scene's own controls)."""
@@ -203,7 +201,7 @@ class Suite:
             options = ["--json", out, "--repeats", repeats]
             options += ["--threads", threads] if threads else []
             options += ["--preset", preset] if preset else []
-            command = self.in_blender(SCRIPTS / "perf_raw_embree.py", blend, *options)
+            command = self.in_blender("perf-raw-embree", blend, *options)
             env = addon_env(self.before, self.workdir / "before") if before else None
             run, problem = run_for_json(command, out, self.plan.timeouts["EMBREE"], env=env)
             if problem:

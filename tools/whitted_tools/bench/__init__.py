@@ -1,0 +1,1 @@
+"""Measurements that write a docs page: effects, hair, materials, memory, passes, viewport."""

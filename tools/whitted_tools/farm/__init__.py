@@ -1,0 +1,1 @@
+"""The Dask render farm, its benchmark and its demo animation."""

@@ -1,0 +1,1 @@
+"""The comparison galleries: Whitted beside Cycles (lights, materials, distributed effects)."""
