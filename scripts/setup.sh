@@ -61,7 +61,7 @@ DEMO_APT_PACKAGES=(
   cmake ninja-build g++ libembree-dev libglm-dev libtbb-dev python3-dev python3-venv
   blender python3-numpy
 )
-# What the rest of the set-up adds.
+# What the full set-up needs: the demo's, and for the tests and tools:
 APT_PACKAGES=(
   "${DEMO_APT_PACKAGES[@]}"
   # the native tests and the C++ lint
