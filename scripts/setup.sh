@@ -28,7 +28,8 @@
 #
 # Run from anywhere; scripts/demo.sh runs it with --demo, scripts/test.sh with
 # --test-blenders. Blender's user folders are BLENDER_USER_SCRIPTS and
-# BLENDER_USER_CONFIG when set (default ~/.config/blender/VERSION/).
+# BLENDER_USER_CONFIG when set (default ~/.config/blender/VERSION/): one folder for
+# every Blender, so only with --demo (Blender 3.4 cannot read bpy 5.0's preferences).
 # Environment: WHITTED_PYTHON=/path/to/python3.11 picks the interpreter for .venv;
 # WHITTED_PYTHON_3_10, _3_12, _3_13=/path/to/python pick the others (default: pyenv's);
 # WHITTED_JOBS=N sets build parallelism (default: nproc).
