@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Set up (scripts/setup.sh), then render the built-in demo scene (a glass sphere,
-# a mirror sphere, diffuse objects on a floor, two lights) headless in Blender 3.4
-# with the Whitted engine, and print the absolute path of the image.
+# Set up what the demo needs (scripts/setup.sh --demo), then render the built-in demo
+# scene (a glass sphere, a mirror sphere, diffuse objects on a floor, two lights)
+# headless in Blender 3.4 with the Whitted engine, and print the image's absolute path.
 #
 #   scripts/demo.sh [--output FILE] [--resolution WIDTH HEIGHT]
 #
@@ -39,7 +39,7 @@ while [[ $# -gt 0 ]]; do
 done
 cd "$REPO_ROOT"
 
-bash scripts/setup.sh
+bash scripts/setup.sh --demo
 
 echo
 echo "==> [demo] rendering the demo scene at ${width}x${height} with Blender 3.4"

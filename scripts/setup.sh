@@ -2,20 +2,34 @@
 # Set up this machine (Debian 12) to build, run and test Whitted. Idempotent:
 # a second run skips what is already done and takes seconds.
 #
-#   1. Debian packages (skipped when all are installed already)
-#   2. .venv: CPython 3.11 + requirements-dev.txt (bpy 5.0, numpy, pytest, ruff, pybind11)
+#   setup.sh --demo            what scripts/demo.sh needs: Blender 3.4 renders with the add-on
+#   setup.sh                   everything to develop: both Blenders, every module, the tests
+#   setup.sh --test-blenders   that, and the other Blenders the suite tests (scripts/test.sh)
+#
+#   1. Debian packages (skipped when all are installed already); --demo: the compiler,
+#      CMake, Ninja, Embree/GLM/TBB, Python headers and venv, Blender and numpy only
+#   2. .venv: CPython 3.11 + requirements-dev.txt (bpy 5.0, numpy, pytest, ruff, pybind11);
+#      --demo: pybind11 only (the full set-up adds the rest to the same .venv)
 #   3. the native module: CMake Release build in build/ (copied into addon/ by the build),
 #      once per CPython a supported Blender embeds: 3.11 (the .venv's: Debian's Blender
-#      3.4, Blender 4.1-5.0), and pyenv's 3.10 (official 3.x, 4.0), 3.12 and 3.13 (5.1 on)
+#      3.4, Blender 4.1-5.0), and pyenv's 3.10 (official 3.x, 4.0), 3.12 and 3.13 (5.1 on),
+#      and the native tests; --demo: the 3.11 module only (Blender 3.4's), the core
+#      compiled the same way, so a later full set-up reuses it and compiles only the rest
 #   4. the add-on, linked as `whitted` into the user add-on folders of Blender 3.4
 #      and of the bpy 5.0 module, enabled, user preferences saved; the tool package
-#      tools/whitted_tools linked for Blender 3.4 (the .venv has it through a .pth)
-#   5. a check in fresh processes that both Blenders list the WHITTED engine
+#      tools/whitted_tools linked for Blender 3.4 (the .venv has it through a .pth);
+#      --demo: Blender 3.4 only (install_addon.py fails if it registers no engine)
+#   5. a check in fresh processes that both Blenders list the WHITTED engine (not with
+#      --demo: install_addon.py has seen Blender 3.4 register it, and the demo's render
+#      enables it again in a fresh Blender 3.4)
 #   6. with --test-blenders only (scripts/test.sh): one environment per other Blender
 #      the suite tests (scripts/blenders.txt), each with the add-on linked and enabled:
 #      .venv-5.2 (the full suite's second target) and the smoke tier's
 #
-# Run from anywhere; scripts/demo.sh and scripts/test.sh run it first.
+# Run from anywhere; scripts/demo.sh runs it with --demo, scripts/test.sh with
+# --test-blenders. Blender's user folders are BLENDER_USER_SCRIPTS and
+# BLENDER_USER_CONFIG when set (default ~/.config/blender/VERSION/): one folder for
+# every Blender, so only with --demo (Blender 3.4 cannot read bpy 5.0's preferences).
 # Environment: WHITTED_PYTHON=/path/to/python3.11 picks the interpreter for .venv;
 # WHITTED_PYTHON_3_10, _3_12, _3_13=/path/to/python pick the others (default: pyenv's);
 # WHITTED_JOBS=N sets build parallelism (default: nproc).
@@ -27,27 +41,38 @@ cd "$REPO_ROOT"
 VENV="$REPO_ROOT/.venv"
 BUILD_DIR="$REPO_ROOT/build"
 JOBS=${WHITTED_JOBS:-$(nproc)}
-TEST_BLENDERS=0
+# The level: demo (--demo), full (no argument) or test (--test-blenders: full and more).
+LEVEL=full
+usage_error() {
+  echo "setup.sh: $1 (usage: setup.sh [--demo | --test-blenders])" >&2
+  exit 2
+}
+[[ $# -le 1 ]] || usage_error "one argument at most"
 for arg in "$@"; do
   case $arg in
-    --test-blenders) TEST_BLENDERS=1 ;;
-    *)
-      echo "setup.sh: unknown argument: $arg (usage: setup.sh [--test-blenders])" >&2
-      exit 2
-      ;;
+    --demo) LEVEL=demo ;;
+    --test-blenders) LEVEL=test ;;
+    *) usage_error "unknown argument: $arg" ;;
   esac
 done
 
+# What the demo needs: the module's build, the .venv (pybind11), Blender 3.4 and numpy,
+# which the add-on imports (Blender 3.4 uses Debian's Python 3.11).
+DEMO_APT_PACKAGES=(
+  cmake ninja-build g++ libembree-dev libglm-dev libtbb-dev python3-dev python3-venv
+  blender python3-numpy
+)
+# What the full set-up needs: the demo's, and for the tests and tools:
 APT_PACKAGES=(
-  # build
-  cmake g++ libembree-dev libglm-dev libtbb-dev libgtest-dev python3-dev clang-format
+  "${DEMO_APT_PACKAGES[@]}"
+  # the native tests and the C++ lint
+  libgtest-dev clang-format
   # scripts/package.py and tests/package read ELF dynamic sections (readelf)
   binutils
-  # Blender 3.4 and what our tests need inside it (it uses Debian's Python 3.11)
-  blender python3-numpy python3-pytest
-  # the .venv and the X11 client libraries the bpy wheel loads even headless
-  python3-venv libxrender1 libsm6 libxi6 libxxf86vm1 libxfixes3 libgl1 libxkbcommon0
-  libxt6 libxext6
+  # what our tests need inside Blender 3.4
+  python3-pytest
+  # the X11 client libraries the bpy wheel loads even headless
+  libxrender1 libsm6 libxi6 libxxf86vm1 libxfixes3 libgl1 libxkbcommon0 libxt6 libxext6
   # the performance suite's side-by-side comparison (the perf-povray verb)
   povray
   # tests/viewport: a real Blender 3.4 window on a virtual X server (xvfb-run needs
@@ -97,16 +122,17 @@ die() {
 }
 
 # --- 1. Debian packages -------------------------------------------------------
+# install_debian_packages PACKAGE...: installs those of them that are missing.
 install_debian_packages() {
   command -v dpkg-query >/dev/null || die "this set-up needs Debian 12 (apt/dpkg not found)"
   local missing=() pkg
-  for pkg in "${APT_PACKAGES[@]}"; do
+  for pkg in "$@"; do
     if [[ $(dpkg-query -W -f='${db:Status-Abbrev}' "$pkg" 2>/dev/null) != ii* ]]; then
       missing+=("$pkg")
     fi
   done
   if [[ ${#missing[@]} -eq 0 ]]; then
-    echo "all ${#APT_PACKAGES[@]} Debian packages are installed"
+    echo "all $# Debian packages are installed"
     return
   fi
   echo "installing: ${missing[*]}"
@@ -151,15 +177,29 @@ make_venv() {
     "$python" -m venv "$VENV"
   fi
 
-  # Reinstall only when requirements-dev.txt changed since the last successful install.
+  # Each stamp holds what its last successful install was asked for: all of
+  # requirements-dev.txt (its hash), or for --demo only its pybind11 line (the build's
+  # one need), which the full install then finds satisfied and keeps, so the build
+  # configured with it is reused as it is.
   local stamp="$VENV/.requirements-dev.sha256" want
   want=$(sha256sum requirements-dev.txt | cut -d' ' -f1)
   if [[ -f $stamp && $(cat "$stamp") == "$want" ]]; then
     echo "requirements-dev.txt unchanged since the last install"
+  elif [[ $LEVEL == demo ]]; then
+    local build_stamp="$VENV/.requirements-build" build_requirement
+    build_requirement=$(grep -E '^pybind11\b' requirements-dev.txt) ||
+      die "requirements-dev.txt has no pybind11 line"
+    if [[ -f $build_stamp && $(cat "$build_stamp") == "$build_requirement" ]]; then
+      echo "$build_requirement: installed already"
+    else
+      "$VENV/bin/python" -m pip install --disable-pip-version-check --progress-bar off "$build_requirement"
+      echo "$build_requirement" >"$build_stamp"
+    fi
   else
     "$VENV/bin/python" -m pip install --disable-pip-version-check --progress-bar off -r requirements-dev.txt
     echo "$want" >"$stamp"
   fi
+  [[ $LEVEL != demo ]] || return 0
   # The tool package (tools/whitted_tools) for the .venv's Python: a .pth whose one line
   # is relative to site-packages, so each checkout's .venv path finds its own tools/.
   local site
@@ -195,19 +235,42 @@ find_cpython() {
   echo "$candidate"
 }
 
+# configure_native [-DNAME=VALUE...]: (re)configures the Release build in $BUILD_DIR with
+# the .venv's pybind11. A new build tree uses Ninja: it compiles the bindings while the
+# core compiles (make waits for the core library first). An existing one keeps its
+# generator (CMake refuses to change it) and the cache's values that are not given.
+configure_native() {
+  local generator=()
+  [[ -f $BUILD_DIR/CMakeCache.txt ]] || generator=(-G Ninja)
+  cmake -S . -B "$BUILD_DIR" "${generator[@]}" \
+    -DCMAKE_BUILD_TYPE=Release \
+    -Dpybind11_DIR="$("$VENV/bin/python" -m pybind11 --cmakedir)" "$@"
+}
+
 build_native() {
   [[ -f CMakeLists.txt ]] || die "no CMakeLists.txt in $REPO_ROOT"
   echo "$(cmake --version | head -n1), $(c++ --version | head -n1), $JOBS jobs"
+  if [[ $LEVEL == demo ]]; then
+    # Blender 3.4's module only: the core and the 3.11 bindings. A build tree that a
+    # full set-up configured keeps its configuration (its tests and other modules stay
+    # built, to be brought up to date by the next full set-up).
+    if [[ -f $BUILD_DIR/CMakeCache.txt ]]; then
+      configure_native
+    else
+      configure_native -DWHITTED_TESTS=OFF -DWHITTED_PYTHON_EXECUTABLES="$VENV/bin/python"
+    fi
+    cmake --build "$BUILD_DIR" --parallel "$JOBS" --target whitted_native_py311
+    compgen -G "addon/whitted_native.cpython-311-*.so" >/dev/null ||
+      die "the build did not put whitted_native.cpython-311-*.so into addon/"
+    return
+  fi
   local pythons=("$VENV/bin/python") version python
   for version in 3.10 3.12 3.13; do
     python=$(find_cpython "$version")
     pythons+=("$python")
   done
   local IFS=";"
-  cmake -S . -B "$BUILD_DIR" \
-    -DCMAKE_BUILD_TYPE=Release \
-    -Dpybind11_DIR="$("$VENV/bin/python" -m pybind11 --cmakedir)" \
-    -DWHITTED_PYTHON_EXECUTABLES="${pythons[*]}"
+  configure_native -DWHITTED_TESTS=ON -DWHITTED_PYTHON_EXECUTABLES="${pythons[*]}"
   unset IFS
   cmake --build "$BUILD_DIR" --parallel "$JOBS"
   for version in 310 311 312 313; do
@@ -216,12 +279,12 @@ build_native() {
   done
 }
 
-# --- 4. add-on for the current user in both Blenders -------------------------
+# --- 4. add-on for the current user in both Blenders (--demo: Blender 3.4) ----
 install_addon() {
   [[ -f addon/__init__.py ]] || die "no addon/__init__.py"
   # Without --factory-startup: the user's own preferences are loaded, kept and saved.
   blender -b --python-exit-code 1 --python scripts/install_addon.py -- "$REPO_ROOT/addon"
-  "$VENV/bin/python" scripts/install_addon.py "$REPO_ROOT/addon"
+  [[ $LEVEL == demo ]] || "$VENV/bin/python" scripts/install_addon.py "$REPO_ROOT/addon"
 }
 
 # --- 5. check, in fresh processes, that both Blenders list the engine --------
@@ -272,8 +335,14 @@ make_test_blenders() {
   done < <("$VENV/bin/python" -m whitted_tools.blenders)
 }
 
+echo "[setup] level: $LEVEL"
+
 begin_step "Debian packages"
-install_debian_packages
+if [[ $LEVEL == demo ]]; then
+  install_debian_packages "${DEMO_APT_PACKAGES[@]}"
+else
+  install_debian_packages "${APT_PACKAGES[@]}"
+fi
 end_step
 
 begin_step "Python venv"
@@ -288,11 +357,13 @@ begin_step "add-on install"
 install_addon
 end_step
 
-begin_step "add-on check"
-verify_addon
-end_step
+if [[ $LEVEL != demo ]]; then
+  begin_step "add-on check"
+  verify_addon
+  end_step
+fi
 
-if [[ $TEST_BLENDERS == 1 ]]; then
+if [[ $LEVEL == test ]]; then
   begin_step "test Blenders"
   make_test_blenders
   end_step
