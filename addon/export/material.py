@@ -323,7 +323,7 @@ def _scaled_texture(expr):
     """(scale rgba, texture Expr) when `expr` is a fixed texture times a constant."""
     if fixed_texture(expr) is not None:
         return (1.0, 1.0, 1.0, 1.0), expr
-    if expr.op == ops.VECTOR_MATH and expr.mode == ops.vector_math_op("MULTIPLY"):
+    if expr.op == ops.VECTOR_MATH and expr.mode == ops.pack("VECTOR_MATH", operation="MULTIPLY"):
         a, b = expr.args[:2]
         for const, texture in ((a, b), (b, a)):
             if const.is_const and fixed_texture(texture) is not None:

@@ -1,7 +1,9 @@
 #include "shader/program.h"
 
+#include <algorithm>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,41 @@ void bind_program(py::module_& m) {
     numbers[py::str(number.name.data(), number.name.size())] = number.value;
   }
   m.attr("OP_NUMBERS") = numbers;
+  // The ops whose mode is fields (kOpModes): op name -> ((field, shift, width, count,
+  // Blender's identifiers or ()), ...), how the Python compiler packs their modes.
+  py::dict op_modes;
+  for (const OpMode& op_mode : kOpModes) {
+    py::list fields;
+    for (const ModeField& f : op_mode.fields) {
+      py::list identifiers;
+      for (std::string_view name : f.identifiers)
+        identifiers.append(py::str(name.data(), name.size()));
+      fields.append(py::make_tuple(py::str(f.name.data(), f.name.size()), f.shift, f.width, f.count,
+                                   py::tuple(identifiers)));
+    }
+    const std::string_view op = kOpTable[static_cast<size_t>(op_mode.op)].name;
+    op_modes[py::str(op.data(), op.size())] = py::tuple(fields);
+  }
+  m.attr("OP_MODES") = op_modes;
+  m.def(
+      "mode_fields",
+      [](std::string_view op, uint32_t mode) {
+        const auto* info = std::find_if(kOpTable.begin(), kOpTable.end(),
+                                        [&](const OpInfo& i) { return i.name == op; });
+        const auto fields = info == kOpTable.end()
+                                ? std::span<const ModeField>{}
+                                : mode_fields(static_cast<Op>(info - kOpTable.begin()));
+        if (fields.empty()) throw py::value_error(std::string(op) + " has no mode fields");
+        if (!valid_mode(fields, mode)) {
+          throw py::value_error(std::to_string(mode) + " is not a mode of " + std::string(op));
+        }
+        py::dict out;
+        for (const ModeField& f : fields) out[py::str(f.name.data(), f.name.size())] = f.in(mode);
+        return out;
+      },
+      py::arg("op"), py::arg("mode"),
+      "{field: value} of op's mode as the program's decoders read it (shader/ops.h ModeField); "
+      "ValueError for an op without fields or a mode the program refuses.");
 
   m.def(
       "fold_op",

@@ -78,7 +78,7 @@ def test_only_varying_fields_get_outputs_and_constants_fold(warnings):
     # INPUT uv, SWIZZLE x, MATH multiply-add: the constants are registers.
     assert ops_of(exported.program) == [ops.INPUT, ops.SWIZZLE, ops.MATH]
     row = exported.program.code[2]
-    assert row[1] == ops.math_op("MULTIPLY_ADD")
+    assert row[1] == ops.pack("MATH", operation="MULTIPLY_ADD")
     assert exported.uv_maps == ("",)
     value = run_field(exported, "emission", uv_inputs())
     assert value[0] == pytest.approx(0.25 * 0.5 + 0.25)
@@ -99,7 +99,7 @@ def test_code_rows_follow_the_contract():
     assert program.registers.dtype == np.float32 and program.registers.shape[1] == 4
     (image_row,) = [row for row in program.code if row[0] == ops.IMAGE]
     _op, mode, out, _a, b, c, d, e = (int(x) for x in image_row)
-    assert mode == ops.IMAGE_PROJECTIONS.index("BOX")
+    assert mode == ops.pack("IMAGE", projection="BOX")
     assert program.registers[b][0] == pytest.approx(0.25)  # box blend, a constant register
     assert (c, d) == (ops.UNUSED, ops.UNUSED)
     assert program.textures[e] == exported.textures[0].name
@@ -199,7 +199,7 @@ def test_math_node_on_a_varying_input(operation, a, b, c, expected):
 
     exported = compile_material(emission_of(build))
     (row,) = [r for r in exported.program.code if r[0] == ops.MATH]
-    assert int(row[1]) == ops.math_op(operation)
+    assert int(row[1]) == ops.pack("MATH", operation=operation)
     value = run_field(exported, "emission", uv_inputs((a, 0.0, 0.0, 0.0)))
     assert value[0] == pytest.approx(expected, abs=1e-6)
 
@@ -217,7 +217,7 @@ def test_mix_rgb_blend_modes_are_numbered_by_identifier(blend):
 
     exported = compile_material(emission_of(build))
     (row,) = [r for r in exported.program.code if r[0] == ops.MIX]
-    assert int(row[1]) == ops.mix_blend(blend) | ops.CLAMP_BIT
+    assert int(row[1]) == ops.pack("MIX", blend_type=blend, clamp=True)
 
 
 def test_color_ramp_table_and_value():
@@ -290,7 +290,7 @@ def test_inputs_the_program_reads_are_recorded():
     outputs = dict(exported.outputs)
     assert "normal" in outputs
     (row,) = [r for r in exported.program.code if r[0] == ops.NORMAL_MAP]
-    assert int(row[1]) == ops.NORMAL_MAP_SPACES.index("TANGENT")
+    assert int(row[1]) == ops.pack("NORMAL_MAP", space="TANGENT")
     assert int(row[7]) == 1
     modes = {int(r[1]) for r in exported.program.code if r[0] == ops.INPUT}
     assert {ops.IN_ATTRIBUTE + 0, ops.IN_OBJECT_RANDOM, ops.IN_UV + 0} <= modes

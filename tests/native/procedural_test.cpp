@@ -100,11 +100,13 @@ TEST(Procedural, OpsReadTheirModesAndOperands) {
   const vec4 out = procedural::noise_op(mode, vec4(kPoint, 0.0f), vec4(0.0f, 1.0f, 0.0f, 0.5f),
                                         vec4(2.0f, 0.0f, 1.0f, 0.0f));
   EXPECT_NEAR(out.y, 0.6966240406036377f, kCycles);
-  EXPECT_TRUE(procedural::valid_mode(static_cast<uint32_t>(Op::kNoise), mode));
-  EXPECT_FALSE(procedural::valid_mode(static_cast<uint32_t>(Op::kNoise), 5u << 2));  // type 5
-  EXPECT_FALSE(procedural::valid_mode(static_cast<uint32_t>(Op::kWave), 3u << 3));   // profile 3
-  EXPECT_FALSE(procedural::valid_mode(static_cast<uint32_t>(Op::kMagic), 11));
-  EXPECT_TRUE(procedural::valid_mode(static_cast<uint32_t>(Op::kBrick), 2u | (2u << 8)));
+  EXPECT_TRUE(valid_mode(mode_fields(Op::kNoise), mode));
+  EXPECT_FALSE(valid_mode(mode_fields(Op::kNoise), 5u << 2));   // type 5
+  EXPECT_FALSE(valid_mode(mode_fields(Op::kNoise), 1u << 10));  // no field there
+  EXPECT_FALSE(valid_mode(mode_fields(Op::kWave), 3u << 3));    // profile 3
+  EXPECT_FALSE(valid_mode(mode_fields(Op::kMagic), 11));
+  EXPECT_TRUE(valid_mode(mode_fields(Op::kBrick), 2u | (2u << 8)));
+  EXPECT_TRUE(mode_fields(Op::kInput).empty());
   // A program refuses a mode the op does not have.
   const std::vector<uint32_t> code = {
       static_cast<uint32_t>(Op::kMagic), 11, 0, 0, 0, 0, Program::kUnused, Program::kUnused};

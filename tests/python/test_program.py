@@ -1,5 +1,10 @@
 """Shader programs through the bindings: validation, fields, hit inputs and the world."""
 
+import importlib.util
+import sys
+import types
+from pathlib import Path
+
 import numpy as np
 import pytest
 import whitted_native as wn
@@ -45,9 +50,9 @@ def test_uvs_alone_are_uv_set_0():
 
 
 def test_every_op_name_the_compiler_reads_is_defined_once():
-    # addon/export/nodes/ops.py takes the op codes, input modes, mode bits and operation
-    # lists from this module and defines only the other ops' mode lists: every ops.NAME
-    # the add-on and its tests read must be one or the other, and none both.
+    # addon/export/nodes/ops.py takes the op codes, input modes and operation lists from
+    # this module (the modes' fields too, through pack): every ops.NAME the add-on and its
+    # tests read must be native or one of ops.py's own few, and none both.
     import ast
     import re
     from pathlib import Path
@@ -75,6 +80,94 @@ def test_every_op_name_the_compiler_reads_is_defined_once():
     inputs = {name: v for name, v in wn.OP_NUMBERS.items() if name.startswith("IN_")}
     assert len(set(inputs.values())) == len(inputs)
     assert wn.OP_NUMBERS["IN_BUMP_X"] > wn.OP_NUMBERS["IN_ATTRIBUTE"] + 127
+
+
+@pytest.fixture
+def ops():
+    """addon/export/nodes/ops.py as the add-on loads it (its package's load_native giving
+    this build's module), without Blender."""
+    package = "ops_under_test"
+    native = types.ModuleType(f"{package}.native")
+    native.load_native = lambda: wn
+    modules = {package: types.ModuleType(package), f"{package}.native": native}
+    sys.modules.update(modules)
+    path = Path(__file__).parents[2] / "addon" / "export" / "nodes" / "ops.py"
+    spec = importlib.util.spec_from_file_location(f"{package}.export.nodes.ops", path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+        yield module
+    finally:
+        for name in modules:
+            del sys.modules[name]
+
+
+def _values(count, identifiers, width):
+    if identifiers:
+        return list(identifiers)
+    return [False, True] if width == 1 else list(range(count))
+
+
+def _mode_taken(op, mode):
+    # The program checks the mode first; what it refuses after (a COLOR_RAMP without its
+    # constants, an IMAGE without a texture) is not the mode's fault.
+    try:
+        program([(op, mode, 0, 0, 0, 0, 0, 0)], [0] * 4)
+    except ValueError as error:
+        assert "mode" not in str(error), error
+
+
+def test_packed_modes_are_what_the_program_decodes(ops):
+    # ops.pack lays out every value of every field of every op whose mode is fields as
+    # the native decoders read it back (mode_fields: the same ModeField constants), and
+    # the program takes the mode; a value past a field's is refused by both sides.
+    codes = {name: code for code, (name, _, _) in enumerate(wn.OPS)}
+    assert set(wn.OP_MODES) >= {"NOISE", "VORONOI", "WAVE", "BRICK", "MAP_RANGE", "COLOR_RAMP"}
+    for op, fields in wn.OP_MODES.items():
+        chosen = {}
+        for name, shift, width, count, identifiers in fields:
+            for index, value in enumerate(_values(count, identifiers, width)):
+                mode = ops.pack(op, **{name: value})
+                # The others read 0, but those in the same bits (WAVE's directions).
+                assert wn.mode_fields(op, mode) == {
+                    other: index if (s, w) == (shift, width) else 0 for other, s, w, *_ in fields
+                }, (op, name, value)
+                assert ops.unpack(op, mode)[name] == value
+                _mode_taken(codes[op], mode)
+            if count < 1 << width:
+                with pytest.raises(ValueError, match="is not a mode of"):
+                    wn.mode_fields(op, count << shift)
+                with pytest.raises(ValueError, match="not one of its modes"):
+                    program([(codes[op], count << shift, 0)], [0] * 4)
+            taken = any(shift == s for n, s, *_ in fields if n in chosen)
+            if not taken:  # WAVE's directions share their bits: one of them
+                chosen[name] = _values(count, identifiers, width)[-1]
+        # All fields at once, each at its last value: no field spills into another.
+        mode = ops.pack(op, **chosen)
+        assert ops.unpack(op, mode).items() >= chosen.items()
+        decoded = wn.mode_fields(op, mode)
+        for name, _, width, count, identifiers in fields:
+            if name in chosen:
+                assert decoded[name] == _values(count, identifiers, width).index(chosen[name])
+        with pytest.raises(ValueError, match="is not a mode of"):
+            wn.mode_fields(op, 1 << 31)  # no op's mode reaches bit 31
+
+
+def test_pack_names_what_it_cannot_pack(ops):
+    voronoi = ops.pack("VORONOI", feature="SMOOTH_F1", metric="MINKOWSKI", output="COLOR")
+    assert wn.mode_fields("VORONOI", voronoi)["metric"] == 3
+    with pytest.raises(ValueError, match="VORONOI feature: 'F3' is not one of F1, F2, "):
+        ops.pack("VORONOI", feature="F3")
+    with pytest.raises(TypeError, match="VORONOI has no mode field 'colour'"):
+        ops.pack("VORONOI", colour=True)
+    with pytest.raises(TypeError, match="a flag is a bool"):
+        ops.pack("NOISE", normalize=1)
+    with pytest.raises(ValueError, match=r"MAGIC turbulence_depth: 11 is not an int in \[0, 11\)"):
+        ops.pack("MAGIC", turbulence_depth=11)
+    with pytest.raises(TypeError, match="rings_direction: its bits are another field's"):
+        ops.pack("WAVE", bands_direction="X", rings_direction="X")
+    with pytest.raises(ValueError, match="INPUT has no mode fields"):
+        ops.pack("INPUT")
 
 
 def test_fold_op_runs_the_programs_maths():

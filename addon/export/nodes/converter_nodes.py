@@ -67,25 +67,25 @@ def _vector_math(c, out):
     return c.b.const((0.0, 0.0, 0.0), VECTOR) if is_value else result
 
 
-def _separate(c, out, mode, input_names):
+def _separate(c, out, color_mode, input_names):
     value = c.input(out, input_names, COLOR)
-    if mode:
+    if color_mode != "RGB":
+        mode = ops.pack("SEPARATE", mode=color_mode)
         value = c.b.op(ops.SEPARATE, mode, (value,), kind=COLOR)
     return c.b.swizzle(value, output_index(out))
 
 
 def _separate_color(c, out):
-    mode = {"RGB": 0, "HSV": 1, "HSL": 2}[out.node.mode]
-    return _separate(c, out, mode, ("Color",))
+    return _separate(c, out, out.node.mode, ("Color",))
 
 
-def _combine(c, out, mode, kind):
+def _combine(c, out, color_mode, kind):
     x, y, z = (c.value(s, out.scope, FLOAT) for s in list(out.node.inputs)[:3])
-    return c.b.op(ops.COMBINE, mode, (x, y, z), kind=kind)
+    return c.b.op(ops.COMBINE, ops.pack("COMBINE", mode=color_mode), (x, y, z), kind=kind)
 
 
 def _combine_color(c, out):
-    return _combine(c, out, {"RGB": 0, "HSV": 1, "HSL": 2}[out.node.mode], COLOR)
+    return _combine(c, out, out.node.mode, COLOR)
 
 
 def _mix_rgb(c, out):
@@ -99,7 +99,7 @@ def _mix_rgb(c, out):
 def _mix_blend(c, blend, factor, color1, color2, clamp):
     if blend == "MIX" and not clamp:
         return c.b.vlerp(factor, color1, color2, COLOR)
-    mode = ops.mix_blend(blend) | (ops.CLAMP_BIT if clamp else 0)
+    mode = ops.pack("MIX", blend_type=blend, clamp=clamp)
     return c.b.op(ops.MIX, mode, (factor, color1, color2), kind=COLOR)
 
 
@@ -147,7 +147,7 @@ def _ramp(c, out):
     table = [float(len(ramp.elements))]
     for element in ramp.elements:
         table += [float(element.position), *map(float, element.color)]
-    mode = ops.RAMP_MODES.index(ramp.interpolation)
+    mode = ops.pack("COLOR_RAMP", interpolation=ramp.interpolation)
     color = c.b.op(ops.COLOR_RAMP, mode, (factor,), e=tuple(table), kind=COLOR)
     if output_name(out) == "Alpha":
         return c.b.swizzle(color, 3)
@@ -205,9 +205,9 @@ def _rgb_curves(c, out):
 
 
 def _curve_mode(node, kind):
-    # CURVE's bit 8: extend the curves along their end slopes (Extend: Extrapolated).
+    # Extrapolate: extend the curves along their end slopes (Extend: Extrapolated).
     extrapolated = getattr(node.mapping, "extend", "HORIZONTAL") == "EXTRAPOLATED"
-    return kind | (ops.CLAMP_BIT if extrapolated else 0)
+    return ops.pack("CURVE", kind=kind, extrapolate=extrapolated)
 
 
 def _float_curve(c, out):
@@ -245,8 +245,7 @@ def _bright_contrast(c, out):
 
 def _map_range(c, out):
     node = out.node
-    mode = ops.MAP_RANGE_MODES.index(node.interpolation_type)
-    mode |= ops.CLAMP_BIT if node.clamp else 0
+    mode = ops.pack("MAP_RANGE", interpolation_type=node.interpolation_type, clamp=node.clamp)
     if node.data_type == "FLOAT":
         value = c.input(out, ("Value",), FLOAT)
         bounds = [
@@ -275,7 +274,7 @@ def _clamp(c, out):
     value = c.input(out, ("Value",), FLOAT)
     low = c.input(out, ("Min",), FLOAT)
     high = c.input(out, ("Max",), FLOAT)
-    mode = 1 if node.clamp_type == "RANGE" else 0
+    mode = ops.pack("CLAMP", clamp_type=node.clamp_type)
     return c.b.op(ops.CLAMP, mode, (value, low, high), kind=FLOAT)
 
 
@@ -290,12 +289,12 @@ def _mapping(c, out):
     location = c.input(out, ("Location",), VECTOR) or zero
     rotation = c.input(out, ("Rotation",), VECTOR) or zero
     scale = c.input(out, ("Scale",), VECTOR) or c.b.const((1.0, 1.0, 1.0), VECTOR)
-    mode = ops.MAPPING_TYPES.index(node.vector_type)
+    mode = ops.pack("MAPPING", vector_type=node.vector_type)
     return c.b.op(ops.MAPPING, mode, (vector, location, rotation, scale), kind=VECTOR)
 
 
 def _separate_rgb(c, out):
-    return _separate(c, out, 0, ("Image", "Color"))
+    return _separate(c, out, "RGB", ("Image", "Color"))
 
 
 def _separate_xyz(c, out):
@@ -304,7 +303,7 @@ def _separate_xyz(c, out):
 
 
 def _separate_hsv(c, out):
-    return _separate(c, out, 1, ("Color",))
+    return _separate(c, out, "HSV", ("Color",))
 
 
 CONVERTER_NODES = {
@@ -315,9 +314,9 @@ CONVERTER_NODES = {
     "ShaderNodeSeparateXYZ": _separate_xyz,
     "ShaderNodeSeparateHSV": _separate_hsv,
     "ShaderNodeCombineColor": _combine_color,
-    "ShaderNodeCombineRGB": lambda c, out: _combine(c, out, 0, COLOR),
-    "ShaderNodeCombineXYZ": lambda c, out: _combine(c, out, 0, VECTOR),
-    "ShaderNodeCombineHSV": lambda c, out: _combine(c, out, 1, COLOR),
+    "ShaderNodeCombineRGB": lambda c, out: _combine(c, out, "RGB", COLOR),
+    "ShaderNodeCombineXYZ": lambda c, out: _combine(c, out, "RGB", VECTOR),
+    "ShaderNodeCombineHSV": lambda c, out: _combine(c, out, "HSV", COLOR),
     "ShaderNodeMixRGB": _mix_rgb,
     "ShaderNodeMix": _mix,
     "ShaderNodeValToRGB": _ramp,

@@ -166,7 +166,9 @@ def _normal_map(c, out):
         sign = c.b.const((1.0, -1.0, -1.0), COLOR)
         color = c.b.vadd(c.b.vmul(color, sign), one)
         space = space.removeprefix("BLENDER_")
-    if space not in ops.NORMAL_MAP_SPACES:
+    try:
+        mode = ops.pack("NORMAL_MAP", space=space)
+    except ValueError:
         c.warn(node, f"{space} normal maps are not supported; the shading normal is used")
         return c.hit(ops.IN_NORMAL)
     uv_set = 0
@@ -174,7 +176,7 @@ def _normal_map(c, out):
         uv_set = c.needs.uv_set(node.uv_map)
         c.needs.tangents.add(uv_set)
     return c.b.op(
-        ops.NORMAL_MAP, ops.NORMAL_MAP_SPACES.index(space), (strength, color), e=("set", uv_set),
+        ops.NORMAL_MAP, mode, (strength, color), e=("set", uv_set),
         kind=VECTOR,
     )  # fmt: skip
 

@@ -100,7 +100,7 @@ class Builder:
     # --- scalar arithmetic with the identities that keep programs short -----
 
     def math(self, name, a, b=None, c=None, clamp=False):
-        mode = ops.math_op(name) | (ops.CLAMP_BIT if clamp else 0)
+        mode = ops.pack("MATH", operation=name, clamp=clamp)
         return self.op(ops.MATH, mode, (a, b, c))
 
     def add(self, a, b):
@@ -138,7 +138,7 @@ class Builder:
     def clamp01(self, a):
         if a.is_const:
             return self.f(min(max(a.value[0], 0.0), 1.0))
-        if a.op == ops.MATH and a.mode & ops.CLAMP_BIT:
+        if a.op == ops.MATH and ops.unpack("MATH", a.mode)["clamp"]:
             return a
         if a.op == ops.SWIZZLE and a.mode == 3 and a.args[0].op == ops.IMAGE:
             return a  # an image's alpha is already in [0, 1]
@@ -164,7 +164,8 @@ class Builder:
     def vmath(self, name, a, b=None, c=None, kind=VECTOR):
         if name in ops.VECTOR_VALUE_OPS:
             kind = FLOAT
-        return self.op(ops.VECTOR_MATH, ops.vector_math_op(name), (a, b, c), kind=kind)
+        mode = ops.pack("VECTOR_MATH", operation=name)
+        return self.op(ops.VECTOR_MATH, mode, (a, b, c), kind=kind)
 
     def vadd(self, a, b, kind=COLOR):
         if _is(a, 0.0, 3):

@@ -1,10 +1,10 @@
 """The shader program's numbers (docs/notes/shader_program.md): op codes, input
-modes, mode bits and the operation lists, all defined by native/src/shader/ops.h
-and read from the native module (whitted_native.OPS, OP_NUMBERS, MATH_OPS,
-VECTOR_MATH_OPS, MIX_BLEND) the first time one is asked for, as attributes of this
-module (ops.IMAGE, ops.IN_UV, ops.CLAMP_BIT, ops.OP_NAMES, ...): the add-on imports
-before that module loads (native.py). Defined here: the lists of the other ops'
-modes, which only the compiler names.
+modes, the operation lists and the other ops' mode fields, all defined by
+native/src/shader/ops.h and read from the native module (whitted_native.OPS,
+OP_NUMBERS, MATH_OPS, VECTOR_MATH_OPS, MIX_BLEND, OP_MODES) the first time one is asked
+for: the op codes and numbers as attributes of this module (ops.IMAGE, ops.IN_UV,
+ops.OP_NAMES, ...), the modes through pack() and unpack(). The add-on imports before
+that module loads (native.py).
 
 The operation lists are Blender 5.0's enums in their order; Blender 3.4's are
 subsets of them, so an operation is always looked up by its identifier.
@@ -40,52 +40,62 @@ def __getattr__(name):
 # Vector Math operations whose result is a value (in all four components).
 VECTOR_VALUE_OPS = frozenset({"DOT_PRODUCT", "DISTANCE", "LENGTH"})
 
-MAP_RANGE_MODES = ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")
-RAMP_MODES = ("CONSTANT", "LINEAR", "EASE", "CARDINAL", "B_SPLINE")
-MAPPING_TYPES = ("POINT", "TEXTURE", "VECTOR", "NORMAL")
-IMAGE_PROJECTIONS = ("FLAT", "BOX", "SPHERE", "TUBE")
-ENVIRONMENT_PROJECTIONS = ("EQUIRECTANGULAR", "MIRROR_BALL")
-GRADIENT_TYPES = (
-    "LINEAR",
-    "QUADRATIC",
-    "EASING",
-    "DIAGONAL",
-    "SPHERICAL",
-    "QUADRATIC_SPHERE",
-    "RADIAL",
-)
-NORMAL_MAP_SPACES = ("TANGENT", "OBJECT", "WORLD")
 
-# NOISE's mode: dimensions - 1 in bits 0-1, the fractal (NOISE_TYPES) in bits 2-4,
-# NOISE_NORMALIZE and NOISE_COLOR.
-NOISE_TYPES = (
-    "FBM",
-    "MULTIFRACTAL",
-    "HYBRID_MULTIFRACTAL",
-    "RIDGED_MULTIFRACTAL",
-    "HETERO_TERRAIN",
-)
-DIMENSIONS = ("1D", "2D", "3D", "4D")
-# VORONOI's mode: dimensions - 1 in bits 0-1, feature in bits 2-4, metric in bits
-# 5-6, VORONOI_INTEGER_HASH, NOISE_NORMALIZE, and the output (VORONOI_OUTPUTS) in bits
-# 9-10.
-VORONOI_FEATURES = ("F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS")
-VORONOI_METRICS = ("EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI")
-VORONOI_OUTPUTS = ("DISTANCE", "COLOR", "POSITION")  # DISTANCE: also Radius
-# WAVE's mode: type in bit 0, direction in bits 1-2, profile in bits 3-4.
-WAVE_TYPES = ("BANDS", "RINGS")
-WAVE_BANDS_DIRECTIONS = ("X", "Y", "Z", "DIAGONAL")
-WAVE_RINGS_DIRECTIONS = ("X", "Y", "Z", "SPHERICAL")
-WAVE_PROFILES = ("SIN", "SAW", "TRI")
+@cache
+def _mode_fields():
+    # op name -> {field: (shift, width, count, Blender's identifiers or ())}, read once.
+    return {
+        op: {name: (shift, width, count, tuple(ids)) for name, shift, width, count, ids in fields}
+        for op, fields in load_native().OP_MODES.items()
+    }
 
 
-def math_op(identifier):
-    return _native_numbers()["MATH_OPS"].index(identifier)
+def _fields_of(op):
+    fields = _mode_fields().get(op)
+    if fields is None:
+        raise ValueError(f"{op} has no mode fields (whitted_native.OP_MODES)")
+    return fields
 
 
-def vector_math_op(identifier):
-    return _native_numbers()["VECTOR_MATH_OPS"].index(identifier)
+def pack(op, **values):
+    """The mode of op `op` (its name: "VORONOI") from its fields by keyword, as
+    native/src/shader/ops.h lays them out (whitted_native.OP_MODES): a choice by Blender's
+    identifier, a flag by a bool, a number by an int; a field not given is 0. ValueError
+    for a value the field does not take, TypeError for a field the op lacks or two given
+    in the same bits (WAVE's bands_direction and rings_direction)."""
+    fields = _fields_of(op)
+    mode = taken = 0
+    for name, value in values.items():
+        if name not in fields:
+            raise TypeError(f"{op} has no mode field {name!r} (it has {', '.join(fields)})")
+        shift, width, count, identifiers = fields[name]
+        if identifiers:
+            if value not in identifiers:
+                raise ValueError(f"{op} {name}: {value!r} is not one of {', '.join(identifiers)}")
+            number = identifiers.index(value)
+        elif width == 1:
+            if not isinstance(value, bool):
+                raise TypeError(f"{op} {name}: a flag is a bool, not {value!r}")
+            number = int(value)
+        else:
+            if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < count:
+                raise ValueError(f"{op} {name}: {value!r} is not an int in [0, {count})")
+            number = value
+        mask = ((1 << width) - 1) << shift
+        if taken & mask:
+            raise TypeError(f"{op} {name}: its bits are another field's given")
+        taken |= mask
+        mode |= number << shift
+    return mode
 
 
-def mix_blend(identifier):
-    return _native_numbers()["MIX_BLEND"].index(identifier)
+def unpack(op, mode):
+    """{field: value} of op `op`'s `mode` as pack() takes them (identifiers, bools, ints)."""
+    out = {}
+    for name, (shift, width, _, identifiers) in _fields_of(op).items():
+        number = mode >> shift & ((1 << width) - 1)
+        if identifiers:
+            out[name] = identifiers[number] if number < len(identifiers) else number
+        else:
+            out[name] = bool(number) if width == 1 else number
+    return out

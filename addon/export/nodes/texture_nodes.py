@@ -21,7 +21,7 @@ def _image(c, out):
     vector = _vector_input(c, out, default=None)
     if vector is None:
         vector = c.uv("")
-    projection = ops.IMAGE_PROJECTIONS.index(node.projection)
+    projection = ops.pack("IMAGE", projection=node.projection)
     blend = c.b.f(getattr(node, "projection_blend", 0.0))
     image = c.b.op(ops.IMAGE, projection, (vector, blend), e=c.texture(spec), kind=COLOR)
     if output_name(out) == "Alpha":
@@ -49,7 +49,7 @@ def _environment(c, out):
     vector = _vector_input(c, out, default=None)
     if vector is None:
         vector = c.hit(ops.IN_POSITION)
-    projection = ops.ENVIRONMENT_PROJECTIONS.index(node.projection)
+    projection = ops.pack("ENVIRONMENT", projection=node.projection)
     return c.b.op(ops.ENVIRONMENT, projection, (vector,), e=c.texture(spec), kind=COLOR)
 
 
@@ -66,7 +66,7 @@ def _checker(c, out):
 
 def _gradient(c, out):
     vector = _vector_input(c, out, default=None) or c.hit(ops.IN_GENERATED)
-    mode = ops.GRADIENT_TYPES.index(out.node.gradient_type)
+    mode = ops.pack("GRADIENT", gradient_type=out.node.gradient_type)
     return c.b.op(ops.GRADIENT, mode, (vector,), kind=FLOAT)
 
 
@@ -108,11 +108,14 @@ def _noise(c, out):
     if lacunarity is None:  # Blender 3.x: the legacy fractal
         lacunarity = c.b.f(2.0)
         roughness = c.b.clamp01(roughness)
-    mode = ops.DIMENSIONS.index(node.noise_dimensions)
-    mode |= ops.NOISE_TYPES.index(getattr(node, "noise_type", "FBM")) << 2
-    mode |= ops.NOISE_NORMALIZE if getattr(node, "normalize", True) else 0
     color = output_name(out) == "Color"
-    mode |= ops.NOISE_COLOR if color else 0
+    mode = ops.pack(
+        "NOISE",
+        dimensions=node.noise_dimensions,
+        noise_type=getattr(node, "noise_type", "FBM"),
+        normalize=getattr(node, "normalize", True),
+        color=color,
+    )
     first = c.b.pack(w, scale, detail, roughness)
     second = c.b.pack(lacunarity, offset, gain, distortion)
     noise = c.b.op(ops.NOISE, mode, (vector, first, second), kind=COLOR)
@@ -137,12 +140,15 @@ def _voronoi(c, out):
     has = {"DISTANCE_TO_EDGE": ("Distance",), "N_SPHERE_RADIUS": ("Radius",)}
     if name not in has.get(feature, ("Distance", "Color", "Position", "W")):
         return c.b.f(0.0)
-    mode = ops.DIMENSIONS.index(node.voronoi_dimensions)
-    mode |= ops.VORONOI_FEATURES.index(feature) << 2
-    mode |= ops.VORONOI_METRICS.index(node.distance) << 5
-    mode |= ops.NOISE_NORMALIZE if getattr(node, "normalize", False) else 0
-    mode |= ops.VORONOI_INTEGER_HASH if _INTEGER_VORONOI_HASH else 0
-    mode |= ops.VORONOI_OUTPUTS.index(output) << 9
+    mode = ops.pack(
+        "VORONOI",
+        dimensions=node.voronoi_dimensions,
+        feature=feature,
+        metric=node.distance,
+        integer_hash=_INTEGER_VORONOI_HASH,
+        normalize=getattr(node, "normalize", False),
+        output=output,
+    )
     first = c.b.pack(w, scale, detail, roughness)
     second = c.b.pack(lacunarity, smoothness, exponent, randomness)
     kind = {"COLOR": COLOR, "POSITION": VECTOR}.get(output, FLOAT)
@@ -161,12 +167,11 @@ def _wave(c, out):
     )  # fmt: skip
     if _LEGACY_FRACTAL:
         roughness = c.b.clamp01(roughness)
-    kind = ops.WAVE_TYPES.index(node.wave_type)
-    if kind == 0:
-        direction = ops.WAVE_BANDS_DIRECTIONS.index(node.bands_direction)
+    if node.wave_type == "BANDS":
+        direction = {"bands_direction": node.bands_direction}
     else:
-        direction = ops.WAVE_RINGS_DIRECTIONS.index(node.rings_direction)
-    mode = kind | direction << 1 | ops.WAVE_PROFILES.index(node.wave_profile) << 3
+        direction = {"rings_direction": node.rings_direction}
+    mode = ops.pack("WAVE", wave_type=node.wave_type, wave_profile=node.wave_profile, **direction)
     first = c.b.pack(scale, distortion, detail, detail_scale)
     second = c.b.pack(roughness, phase, c.b.f(0.0))
     wave = c.b.op(ops.WAVE, mode, (vector, first, second), kind=FLOAT)
@@ -178,7 +183,7 @@ def _wave(c, out):
 def _magic(c, out):
     vector = _texture_vector(c, out)
     scale, distortion = _float_inputs(c, out, (("Scale", 5.0), ("Distortion", 1.0)))
-    depth = min(max(int(out.node.turbulence_depth), 0), 10)
+    depth = ops.pack("MAGIC", turbulence_depth=min(max(int(out.node.turbulence_depth), 0), 10))
     magic = c.b.op(ops.MAGIC, depth, (vector, scale, distortion), kind=COLOR)
     if output_name(out) == "Color":
         return magic
@@ -197,8 +202,10 @@ def _brick(c, out):
         (("Scale", 5.0), ("Mortar Size", 0.02), ("Mortar Smooth", 0.1), ("Bias", 0.0),
          ("Brick Width", 0.5), ("Row Height", 0.25)),
     )  # fmt: skip
-    frequencies = (
-        min(max(node.offset_frequency, 0), 255) | min(max(node.squash_frequency, 0), 255) << 8
+    frequencies = ops.pack(
+        "BRICK",
+        offset_frequency=min(max(node.offset_frequency, 0), 255),
+        squash_frequency=min(max(node.squash_frequency, 0), 255),
     )
     first = c.b.pack(scale, size, smooth, bias)
     second = c.b.pack(width, height, c.b.f(node.offset), c.b.f(node.squash))

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string_view>
 
 namespace whitted {
@@ -129,11 +130,6 @@ enum Input : uint32_t {
   kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
 };
 
-// Mode bits of some ops.
-inline constexpr uint32_t kClampBit = 1u << 8;  // MATH, MIX, MAP_RANGE: clamp; CURVE: extrapolate
-inline constexpr uint32_t kNoiseNormalizeBit = 1u << 8;      // NOISE, VORONOI: normalise to [0, 1]
-inline constexpr uint32_t kNoiseColorBit = 1u << 9;          // NOISE: compute the Color output too
-inline constexpr uint32_t kVoronoiIntegerHashBit = 1u << 7;  // VORONOI: Blender 5.0's cell hash
 // A register operand the op does not read.
 inline constexpr uint32_t kUnusedOperand = 0xFFFFFFFFu;
 // Entries per curve of a CURVE table.
@@ -141,13 +137,13 @@ inline constexpr uint32_t kCurveTable = 256;
 
 // The named numbers of a program's code besides its op codes, defined here once with
 // the names the Python compiler gives them (whitted_native.OP_NUMBERS, from which
-// addon/export/nodes/ops.py takes its constants): the INPUT modes, the mode bits, the
-// unused operand and the CURVE table's size.
+// addon/export/nodes/ops.py takes its constants): the INPUT modes, the unused operand and
+// the CURVE table's size. The other ops' modes are fields (kOpModes, below).
 struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 32> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 28> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -174,10 +170,6 @@ inline constexpr std::array<OpNumber, 32> kOpNumbers = {{
     {"IN_ATTRIBUTE", kInputAttribute},
     {"IN_BUMP_X", kInputBumpX},
     {"IN_BUMP_Y", kInputBumpY},
-    {"CLAMP_BIT", kClampBit},
-    {"NOISE_NORMALIZE", kNoiseNormalizeBit},
-    {"NOISE_COLOR", kNoiseColorBit},
-    {"VORONOI_INTEGER_HASH", kVoronoiIntegerHashBit},
     {"UNUSED", kUnusedOperand},
     {"CURVE_TABLE_SIZE", kCurveTable},
 }};
@@ -305,5 +297,196 @@ inline constexpr std::array<std::string_view, 19> kMixBlendNames = {
     "ADD",    "OVERLAY", "SOFT_LIGHT", "LINEAR_LIGHT", "DIFFERENCE", "EXCLUSION", "SUBTRACT",
     "DIVIDE", "HUE",     "SATURATION", "COLOR",        "VALUE"};
 static_assert(kMixBlendNames.size() == static_cast<size_t>(MixBlend::kValue) + 1);
+
+// The mode word of the other ops: fields of bits, each a choice among Blender's
+// identifiers (value k the k-th), a number or a flag. Defined here once: the decoders
+// (program.cpp, procedural.cpp) read each field through its constant below, the
+// program's check (Program::Program) through kOpModes, and the Python compiler packs
+// modes from the same table (whitted_native.OP_MODES; addon/export/nodes/ops.py pack()).
+struct ModeField {
+  std::string_view name;  // the keyword ops.pack() takes: Blender's property name where one is
+  uint32_t shift;
+  uint32_t width;
+  uint32_t count;                                 // the values it may take, 0 .. count - 1
+  std::span<const std::string_view> identifiers;  // a choice's; empty: a number or a flag
+
+  constexpr uint32_t mask() const { return ((1u << width) - 1u) << shift; }
+  // The field's value in `mode`.
+  constexpr uint32_t in(uint32_t mode) const { return (mode & mask()) >> shift; }
+  constexpr bool on(uint32_t mode) const { return (mode & mask()) != 0; }
+};
+
+constexpr ModeField choice(std::string_view name, uint32_t shift, uint32_t width,
+                           std::span<const std::string_view> identifiers) {
+  return {name, shift, width, static_cast<uint32_t>(identifiers.size()), identifiers};
+}
+constexpr ModeField number(std::string_view name, uint32_t shift, uint32_t width, uint32_t count) {
+  return {name, shift, width, count, {}};
+}
+constexpr ModeField flag(std::string_view name, uint32_t shift) {
+  return {name, shift, 1, 2, {}};
+}
+
+// Blender's identifiers of the enums the modes choose from, in the order of their values.
+inline constexpr std::array<std::string_view, 3> kColorModeNames = {"RGB", "HSV", "HSL"};
+inline constexpr std::array<std::string_view, 2> kClampTypeNames = {"MINMAX", "RANGE"};
+inline constexpr std::array<std::string_view, 4> kMapRangeNames = {"LINEAR", "STEPPED",
+                                                                   "SMOOTHSTEP", "SMOOTHERSTEP"};
+inline constexpr std::array<std::string_view, 5> kRampNames = {"CONSTANT", "LINEAR", "EASE",
+                                                               "CARDINAL", "B_SPLINE"};
+inline constexpr std::array<std::string_view, 4> kMappingNames = {"POINT", "TEXTURE", "VECTOR",
+                                                                  "NORMAL"};
+inline constexpr std::array<std::string_view, 4> kImageProjectionNames = {"FLAT", "BOX", "SPHERE",
+                                                                          "TUBE"};
+inline constexpr std::array<std::string_view, 2> kEnvironmentProjectionNames = {"EQUIRECTANGULAR",
+                                                                                "MIRROR_BALL"};
+inline constexpr std::array<std::string_view, 7> kGradientNames = {
+    "LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL"};
+inline constexpr std::array<std::string_view, 3> kNormalMapSpaceNames = {"TANGENT", "OBJECT",
+                                                                         "WORLD"};
+inline constexpr std::array<std::string_view, 4> kDimensionNames = {"1D", "2D", "3D", "4D"};
+inline constexpr std::array<std::string_view, 5> kNoiseTypeNames = {
+    "FBM", "MULTIFRACTAL", "HYBRID_MULTIFRACTAL", "RIDGED_MULTIFRACTAL", "HETERO_TERRAIN"};
+inline constexpr std::array<std::string_view, 5> kVoronoiFeatureNames = {
+    "F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS"};
+inline constexpr std::array<std::string_view, 4> kVoronoiMetricNames = {"EUCLIDEAN", "MANHATTAN",
+                                                                        "CHEBYCHEV", "MINKOWSKI"};
+// Which output VORONOI computes: a value (Distance, also Radius), Color, or the feature
+// point (Position, W).
+inline constexpr std::array<std::string_view, 3> kVoronoiOutputNames = {"DISTANCE", "COLOR",
+                                                                        "POSITION"};
+inline constexpr std::array<std::string_view, 2> kWaveTypeNames = {"BANDS", "RINGS"};
+inline constexpr std::array<std::string_view, 4> kWaveBandsNames = {"X", "Y", "Z", "DIAGONAL"};
+inline constexpr std::array<std::string_view, 4> kWaveRingsNames = {"X", "Y", "Z", "SPHERICAL"};
+inline constexpr std::array<std::string_view, 3> kWaveProfileNames = {"SIN", "SAW", "TRI"};
+
+// Each field, named by op (the decoders read these).
+namespace mode_field {
+inline constexpr ModeField kClamp = flag("clamp", 8);  // MATH, MIX, MAP_RANGE: clamp the result
+inline constexpr ModeField kMathOperation = choice("operation", 0, 8, kMathOpNames);
+inline constexpr ModeField kVectorMathOperation = choice("operation", 0, 8, kVectorMathOpNames);
+inline constexpr ModeField kMixBlend = choice("blend_type", 0, 8, kMixBlendNames);
+inline constexpr ModeField kColorMode = choice("mode", 0, 2, kColorModeNames);  // SEPARATE, COMBINE
+inline constexpr ModeField kClampType = choice("clamp_type", 0, 1, kClampTypeNames);
+inline constexpr ModeField kMapRange = choice("interpolation_type", 0, 2, kMapRangeNames);
+inline constexpr ModeField kRamp = choice("interpolation", 0, 3, kRampNames);
+// CURVE: 0 RGB Curves, 1 Float Curve, 2 Vector Curves; extrapolate past [0, 1] (not clamp).
+inline constexpr ModeField kCurveKind = number("kind", 0, 2, 3);
+inline constexpr ModeField kCurveExtrapolate = flag("extrapolate", 8);
+inline constexpr ModeField kMapping = choice("vector_type", 0, 2, kMappingNames);
+inline constexpr ModeField kImageProjection = choice("projection", 0, 2, kImageProjectionNames);
+inline constexpr ModeField kEnvironmentProjection =
+    choice("projection", 0, 1, kEnvironmentProjectionNames);
+inline constexpr ModeField kGradient = choice("gradient_type", 0, 3, kGradientNames);
+inline constexpr ModeField kNormalMapSpace = choice("space", 0, 2, kNormalMapSpaceNames);
+inline constexpr ModeField kDimensions = choice("dimensions", 0, 2, kDimensionNames);
+inline constexpr ModeField kNoiseType = choice("noise_type", 2, 3, kNoiseTypeNames);
+inline constexpr ModeField kNormalize = flag("normalize", 8);  // NOISE, VORONOI: to [0, 1]
+inline constexpr ModeField kNoiseColor = flag("color", 9);     // NOISE: the Color output too
+inline constexpr ModeField kVoronoiFeature = choice("feature", 2, 3, kVoronoiFeatureNames);
+inline constexpr ModeField kVoronoiMetric = choice("metric", 5, 2, kVoronoiMetricNames);
+// VORONOI: the 2D-4D cells hashed by their integer coordinates (Blender 5.0).
+inline constexpr ModeField kVoronoiIntegerHash = flag("integer_hash", 7);
+inline constexpr ModeField kVoronoiOutput = choice("output", 9, 2, kVoronoiOutputNames);
+// WAVE: the direction is bands' or rings', by the type; both lie in the same bits.
+inline constexpr ModeField kWaveType = choice("wave_type", 0, 1, kWaveTypeNames);
+inline constexpr ModeField kWaveBands = choice("bands_direction", 1, 2, kWaveBandsNames);
+inline constexpr ModeField kWaveRings = choice("rings_direction", 1, 2, kWaveRingsNames);
+inline constexpr ModeField kWaveProfile = choice("wave_profile", 3, 2, kWaveProfileNames);
+inline constexpr ModeField kMagicDepth = number("turbulence_depth", 0, 4, 11);
+inline constexpr ModeField kBrickOffset = number("offset_frequency", 0, 8, 256);
+inline constexpr ModeField kBrickSquash = number("squash_frequency", 8, 8, 256);
+
+inline constexpr std::array kMath = {kMathOperation, kClamp};
+inline constexpr std::array kVectorMath = {kVectorMathOperation};
+inline constexpr std::array kMix = {kMixBlend, kClamp};
+inline constexpr std::array kColor = {kColorMode};
+inline constexpr std::array kClampOp = {kClampType};
+inline constexpr std::array kMapRangeOp = {kMapRange, kClamp};
+inline constexpr std::array kRampOp = {kRamp};
+inline constexpr std::array kCurve = {kCurveKind, kCurveExtrapolate};
+inline constexpr std::array kMappingOp = {kMapping};
+inline constexpr std::array kImage = {kImageProjection};
+inline constexpr std::array kEnvironment = {kEnvironmentProjection};
+inline constexpr std::array kGradientOp = {kGradient};
+inline constexpr std::array kNormalMap = {kNormalMapSpace};
+inline constexpr std::array kNoise = {kDimensions, kNoiseType, kNormalize, kNoiseColor};
+inline constexpr std::array kVoronoi = {kDimensions,         kVoronoiFeature, kVoronoiMetric,
+                                        kVoronoiIntegerHash, kNormalize,      kVoronoiOutput};
+inline constexpr std::array kWave = {kWaveType, kWaveBands, kWaveRings, kWaveProfile};
+inline constexpr std::array kMagic = {kMagicDepth};
+inline constexpr std::array kBrick = {kBrickOffset, kBrickSquash};
+}  // namespace mode_field
+
+// The ops whose mode is fields, with them (whitted_native.OP_MODES). Every bit of such
+// a mode lies in a field, and every field holds one of its values (Program checks).
+struct OpMode {
+  Op op;
+  std::span<const ModeField> fields;
+};
+inline constexpr std::array<OpMode, 19> kOpModes = {{
+    {Op::kMath, mode_field::kMath},
+    {Op::kVectorMath, mode_field::kVectorMath},
+    {Op::kMix, mode_field::kMix},
+    {Op::kSeparate, mode_field::kColor},
+    {Op::kCombine, mode_field::kColor},
+    {Op::kClamp, mode_field::kClampOp},
+    {Op::kMapRange, mode_field::kMapRangeOp},
+    {Op::kColorRamp, mode_field::kRampOp},
+    {Op::kCurve, mode_field::kCurve},
+    {Op::kMapping, mode_field::kMappingOp},
+    {Op::kImage, mode_field::kImage},
+    {Op::kEnvironment, mode_field::kEnvironment},
+    {Op::kGradient, mode_field::kGradientOp},
+    {Op::kNormalMap, mode_field::kNormalMap},
+    {Op::kNoise, mode_field::kNoise},
+    {Op::kVoronoi, mode_field::kVoronoi},
+    {Op::kWave, mode_field::kWave},
+    {Op::kMagic, mode_field::kMagic},
+    {Op::kBrick, mode_field::kBrick},
+}};
+
+// The fields of op's mode; empty for an op whose mode is not fields.
+constexpr std::span<const ModeField> mode_fields(Op op) {
+  for (const OpMode& m : kOpModes) {
+    if (m.op == op) return m.fields;
+  }
+  return {};
+}
+
+// Whether `mode` is one of the modes of fields `fields`: no bit outside them, each
+// field one of its values.
+constexpr bool valid_mode(std::span<const ModeField> fields, uint32_t mode) {
+  uint32_t covered = 0;
+  for (const ModeField& f : fields) {
+    if (f.in(mode) >= f.count) return false;
+    covered |= f.mask();
+  }
+  return (mode & ~covered) == 0;
+}
+
+// Each field fits its bits (count <= 2^width within 32 bits) and fields of one op share
+// bits only as alternatives of the same bits (WAVE's directions).
+constexpr bool well_formed(std::span<const ModeField> fields) {
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const ModeField& f = fields[i];
+    if (f.width == 0 || f.shift + f.width > 32 || f.count > (1ull << f.width)) return false;
+    for (size_t j = 0; j < i; ++j) {
+      const ModeField& g = fields[j];
+      if (g.name == f.name) return false;
+      if ((g.mask() & f.mask()) != 0 && (g.shift != f.shift || g.width != f.width)) return false;
+    }
+  }
+  return true;
+}
+static_assert([] {
+  for (size_t i = 0; i < kOpModes.size(); ++i) {
+    if (!well_formed(kOpModes[i].fields)) return false;
+    for (size_t j = 0; j < i; ++j) {
+      if (kOpModes[j].op == kOpModes[i].op) return false;
+    }
+  }
+  return true;
+}());
 
 }  // namespace whitted

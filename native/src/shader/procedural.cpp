@@ -432,31 +432,12 @@ glm::vec2 brick_texture(const BrickSettings& s, Vec3 p) {
 
 namespace whitted::procedural {
 
-bool valid_mode(uint32_t op, uint32_t mode) {
-  switch (static_cast<Op>(op)) {
-    case Op::kNoise:
-      return (mode & ~(0x1Fu | kNoiseNormalizeBit | kNoiseColorBit)) == 0 &&
-             ((mode >> 2) & 7u) <= 4;
-    case Op::kVoronoi:
-      return (mode & ~(0xFFu | kNoiseNormalizeBit | (3u << 9))) == 0 && ((mode >> 2) & 7u) <= 4 &&
-             (mode >> 9) <= 2;
-    case Op::kWave:
-      return mode < (1u << 5) && (mode >> 3) <= 2;
-    case Op::kMagic:
-      return mode <= 10;
-    case Op::kBrick:
-      return mode < (1u << 16);
-    default:
-      return false;
-  }
-}
-
 glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c) {
   NoiseSettings s;
-  s.dimensions = static_cast<int>(mode & 3u) + 1;
-  s.type = static_cast<NoiseType>((mode >> 2) & 7u);
-  s.normalize = (mode & kNoiseNormalizeBit) != 0;
-  s.color = (mode & kNoiseColorBit) != 0;
+  s.dimensions = static_cast<int>(mode_field::kDimensions.in(mode)) + 1;
+  s.type = static_cast<NoiseType>(mode_field::kNoiseType.in(mode));
+  s.normalize = mode_field::kNormalize.on(mode);
+  s.color = mode_field::kNoiseColor.on(mode);
   s.scale = b.y, s.detail = b.z, s.roughness = b.w;
   s.lacunarity = c.x, s.offset = c.y, s.gain = c.z, s.distortion = c.w;
   return noise_texture(s, Vec3(vector), b.x);
@@ -465,15 +446,15 @@ glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, c
 glm::vec4 voronoi_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b,
                      const glm::vec4& c) {
   VoronoiSettings s;
-  s.dimensions = static_cast<int>(mode & 3u) + 1;
-  s.feature = static_cast<VoronoiFeature>((mode >> 2) & 7u);
-  s.metric = static_cast<VoronoiMetric>((mode >> 5) & 3u);
-  s.integer_hash = (mode & kVoronoiIntegerHashBit) != 0;
-  s.normalize = (mode & kNoiseNormalizeBit) != 0;
+  s.dimensions = static_cast<int>(mode_field::kDimensions.in(mode)) + 1;
+  s.feature = static_cast<VoronoiFeature>(mode_field::kVoronoiFeature.in(mode));
+  s.metric = static_cast<VoronoiMetric>(mode_field::kVoronoiMetric.in(mode));
+  s.integer_hash = mode_field::kVoronoiIntegerHash.on(mode);
+  s.normalize = mode_field::kNormalize.on(mode);
   s.scale = b.y, s.detail = b.z, s.roughness = b.w;
   s.lacunarity = c.x, s.smoothness = c.y, s.exponent = c.z, s.randomness = c.w;
   const VoronoiResult r = voronoi_texture(s, Vec3(vector), b.x);
-  switch (mode >> 9) {
+  switch (mode_field::kVoronoiOutput.in(mode)) {
     case 1:
       return {r.color, 1.0f};
     case 2:
@@ -485,23 +466,25 @@ glm::vec4 voronoi_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b,
 
 glm::vec4 wave_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c) {
   WaveSettings s;
-  s.type = mode & 1u;
-  s.direction = (mode >> 1) & 3u;
-  s.profile = mode >> 3;
+  s.type = mode_field::kWaveType.in(mode);
+  // Bands' and rings' directions lie in the same bits.
+  s.direction = (s.type == 0 ? mode_field::kWaveBands : mode_field::kWaveRings).in(mode);
+  s.profile = mode_field::kWaveProfile.in(mode);
   s.scale = b.x, s.distortion = b.y, s.detail = b.z, s.detail_scale = b.w;
   s.detail_roughness = c.x, s.phase = c.y;
   return glm::vec4(wave_texture(s, Vec3(vector)));
 }
 
 glm::vec4 magic_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c) {
-  const Vec3 color = magic_texture(Vec3(vector), b.x, static_cast<int>(mode), c.x);
+  const Vec3 color =
+      magic_texture(Vec3(vector), b.x, static_cast<int>(mode_field::kMagicDepth.in(mode)), c.x);
   return {color, (color.x + color.y + color.z) * (1.0f / 3.0f)};
 }
 
 glm::vec4 brick_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c) {
   BrickSettings s;
-  s.offset_frequency = static_cast<int>(mode & 0xFFu);
-  s.squash_frequency = static_cast<int>(mode >> 8);
+  s.offset_frequency = static_cast<int>(mode_field::kBrickOffset.in(mode));
+  s.squash_frequency = static_cast<int>(mode_field::kBrickSquash.in(mode));
   s.scale = b.x, s.mortar_size = b.y, s.mortar_smooth = b.z, s.bias = b.w;
   s.brick_width = c.x, s.row_height = c.y, s.offset = c.z, s.squash = c.w;
   return {brick_texture(s, Vec3(vector)), 0.0f, 0.0f};

@@ -94,8 +94,7 @@ glm::vec2 brick_texture(const BrickSettings& s, Vec3 p);
 namespace whitted::procedural {
 
 // The program's ops over their registers (docs/notes/shader_program.md gives the modes
-// and operands); `mode` has been checked by valid_mode.
-bool valid_mode(uint32_t op, uint32_t mode);
+// and operands); `mode` holds their fields (shader/ops.h kOpModes), checked by Program.
 glm::vec4 voronoi_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b,
                      const glm::vec4& c);
 glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);

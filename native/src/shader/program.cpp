@@ -98,6 +98,9 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       return c[7];
     };
     Step s{static_cast<Op>(op), mode, c[2], zero, zero, zero, zero, zero, false};
+    // An op whose mode is fields (kOpModes): each holds one of its values.
+    if (const auto fields = mode_fields(s.op); !fields.empty() && !valid_mode(fields, mode))
+      fail("mode " + std::to_string(mode) + " is not one of its modes");
     switch (s.op) {
       case Op::kInput:
         if (!public_input(mode)) fail("mode " + std::to_string(mode) + " is not an input");
@@ -105,24 +108,22 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         bumps_ |= (mode & (kInputBumpX | kInputBumpY)) != 0;
         break;
       case Op::kMath:
-        modes(static_cast<uint32_t>(kMathOpNames.size()), kClampBit);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kVectorMath:
-        modes(static_cast<uint32_t>(kVectorMathOpNames.size()));
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kMix:
-        modes(static_cast<uint32_t>(kMixBlendNames.size()), kClampBit);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kMixValue:
-      case Op::kCombine:
         modes(3);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
+      case Op::kCombine:
+        s.a = reg(3), s.b = reg(4), s.c = reg(5);
+        break;
       case Op::kSeparate:
-        modes(3);
         s.a = reg(3);
         break;
       case Op::kSwizzle:
@@ -142,15 +143,12 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kClamp:
-        modes(2);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kMapRange:
-        modes(4, kClampBit);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kColorRamp: {
-        modes(5);
         s.a = reg(3);
         const uint32_t e = c[7];
         if (e >= constants_.size()) fail("constants offset out of range");
@@ -168,7 +166,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         break;
       }
       case Op::kCurve:
-        modes(3, kClampBit);
         s.a = reg(3), s.b = reg(4);
         if (c[7] >= constants_.size() || c[7] + 4 * size_t{kCurveTable} > constants_.size()) {
           fail("constants at " + std::to_string(c[7]) + " do not hold a 4 x 256 curve table");
@@ -178,19 +175,15 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       case Op::kMapping:
       case Op::kChecker:
       case Op::kPack:
-        if (s.op == Op::kMapping) modes(4);
         s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6);
         break;
       case Op::kImage:
-        modes(4);
         s.a = reg(3), s.b = reg(4), s.e = texture_slot();
         break;
       case Op::kEnvironment:
-        modes(2);
         s.a = reg(3), s.e = texture_slot();
         break;
       case Op::kGradient:
-        modes(7);
         s.a = reg(3);
         break;
       case Op::kLayerWeight:
@@ -199,9 +192,8 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.b_given = c[4] != kUnused;
         break;
       case Op::kNormalMap:
-        modes(3);
         s.a = reg(3), s.b = reg(4);
-        if (mode == 0) {
+        if (mode_field::kNormalMapSpace.in(mode) == 0) {
           if (c[7] >= kInputAttribute - kInputUvSet) fail("tangent set out of range");
           s.e = input_slot(kInputTangent + c[7]);
           s.d = input_slot(kInputObjectNormal);
@@ -215,8 +207,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       case Op::kWave:
       case Op::kMagic:
       case Op::kBrick:
-        if (!procedural::valid_mode(op, mode))
-          fail("mode " + std::to_string(mode) + " is not one of its modes");
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kBump:
@@ -256,18 +246,23 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = hit.inputs[s.e];
         break;
       case Op::kMath: {
-        const float v = math(static_cast<MathOp>(s.mode & 0xFF), a.x, b.x, c.x);
-        out = scalar((s.mode & kClampBit) != 0 ? saturate(v) : v);
+        const float v =
+            math(static_cast<MathOp>(mode_field::kMathOperation.in(s.mode)), a.x, b.x, c.x);
+        out = scalar(mode_field::kClamp.on(s.mode) ? saturate(v) : v);
         break;
       }
-      case Op::kVectorMath:
+      case Op::kVectorMath: {
         // SCALE reads its factor from b, REFRACT its index from c.
-        out = vector_math(static_cast<VectorMathOp>(s.mode), Vec3(a), Vec3(b), Vec3(c),
-                          static_cast<VectorMathOp>(s.mode) == VectorMathOp::kScale ? b.x : c.x);
+        const auto operation =
+            static_cast<VectorMathOp>(mode_field::kVectorMathOperation.in(s.mode));
+        out = vector_math(operation, Vec3(a), Vec3(b), Vec3(c),
+                          operation == VectorMathOp::kScale ? b.x : c.x);
         break;
+      }
       case Op::kMix: {
-        const Vec3 m = mix(static_cast<MixBlend>(s.mode & 0xFF), a.x, Vec3(b), Vec3(c));
-        out = vec4((s.mode & kClampBit) != 0 ? saturate(m) : m, b.w);
+        const Vec3 m =
+            mix(static_cast<MixBlend>(mode_field::kMixBlend.in(s.mode)), a.x, Vec3(b), Vec3(c));
+        out = vec4(mode_field::kClamp.on(s.mode) ? saturate(m) : m, b.w);
         break;
       }
       case Op::kMixValue:
@@ -278,18 +273,21 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
           out = vector(Vec3(b) * (Vec3(1.0f) - t) + Vec3(c) * t);
         }
         break;
-      case Op::kSeparate:
-        out = vec4(s.mode == 0   ? Vec3(a)
-                   : s.mode == 1 ? rgb_to_hsv(Vec3(a))
-                                 : rgb_to_hsl(Vec3(a)),
+      case Op::kSeparate: {
+        const uint32_t color_mode = mode_field::kColorMode.in(s.mode);
+        out = vec4(color_mode == 0   ? Vec3(a)
+                   : color_mode == 1 ? rgb_to_hsv(Vec3(a))
+                                     : rgb_to_hsl(Vec3(a)),
                    a.w);
         break;
+      }
       case Op::kSwizzle:
         out = scalar(a[static_cast<int>(s.mode)]);
         break;
       case Op::kCombine: {
         const Vec3 v(a.x, b.x, c.x);
-        out = vec4(s.mode == 0 ? v : s.mode == 1 ? hsv_to_rgb(v) : hsl_to_rgb(v), 1.0f);
+        const uint32_t color_mode = mode_field::kColorMode.in(s.mode);
+        out = vec4(color_mode == 0 ? v : color_mode == 1 ? hsv_to_rgb(v) : hsl_to_rgb(v), 1.0f);
         break;
       }
       case Op::kHueSat: {
@@ -321,10 +319,11 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = vec4(a.x * (Vec3(1.0f) - Vec3(b)) + (1.0f - a.x) * Vec3(b), b.w);
         break;
       case Op::kClamp:
-        out = scalar(s.mode == 1 && b.x > c.x ? clamp_to(a.x, c.x, b.x) : clamp_to(a.x, b.x, c.x));
+        out = scalar(mode_field::kClampType.in(s.mode) == 1 && b.x > c.x ? clamp_to(a.x, c.x, b.x)
+                                                                         : clamp_to(a.x, b.x, c.x));
         break;
       case Op::kMapRange: {
-        const uint32_t type = s.mode & 0xFF;
+        const uint32_t type = mode_field::kMapRange.in(s.mode);
         const float from_min = b.x, from_max = b.y, to_min = b.z, to_max = b.w;
         if (from_max == from_min) {
           out = scalar(0.0f);
@@ -342,7 +341,7 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         }
         float v = to_min + f * (to_max - to_min);
         // Blender clamps the linear and stepped results only; the smooth ones stay inside.
-        if ((s.mode & kClampBit) != 0 && type <= 1) {
+        if (mode_field::kClamp.on(s.mode) && type <= 1) {
           v = to_min > to_max ? clamp_to(v, to_max, to_min) : clamp_to(v, to_min, to_max);
         }
         out = scalar(v);
@@ -350,17 +349,17 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
       }
       case Op::kColorRamp:
         // Cycles samples the ramp over [0, 1] only.
-        out = color_ramp(s.mode, &constants_[s.e + 1], static_cast<size_t>(constants_[s.e]),
-                         saturate(a.x));
+        out = color_ramp(mode_field::kRamp.in(s.mode), &constants_[s.e + 1],
+                         static_cast<size_t>(constants_[s.e]), saturate(a.x));
         break;
       case Op::kCurve: {
         const float* table = &constants_[s.e];
-        const bool extrapolate = (s.mode & kClampBit) != 0;
+        const bool extrapolate = mode_field::kCurveExtrapolate.on(s.mode);
         const auto row = [&](uint32_t i, float x) {
           return curve(table + i * kCurveTable, x, extrapolate);
         };
         const float fac = a.x;
-        const uint32_t kind = s.mode & 0xFF;
+        const uint32_t kind = mode_field::kCurveKind.in(s.mode);
         if (kind == 1) {
           out = scalar((1.0f - fac) * b.x + fac * row(0, b.x));
           break;
@@ -374,13 +373,15 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       }
       case Op::kMapping:
-        out = vector(mapping(s.mode, Vec3(a), Vec3(b), Vec3(c), Vec3(r[s.d])));
+        out = vector(
+            mapping(mode_field::kMapping.in(s.mode), Vec3(a), Vec3(b), Vec3(c), Vec3(r[s.d])));
         break;
       case Op::kImage:
-        out = image(s.mode, *hit.images[s.e], Vec3(a), b.x, hit);
+        out = image(mode_field::kImageProjection.in(s.mode), *hit.images[s.e], Vec3(a), b.x, hit);
         break;
       case Op::kEnvironment:
-        out = sample_image(*hit.images[s.e], environment_uv(s.mode, Vec3(a)));
+        out = sample_image(*hit.images[s.e],
+                           environment_uv(mode_field::kEnvironmentProjection.in(s.mode), Vec3(a)));
         break;
       case Op::kChecker: {
         const bool first = checker_first(Vec3(a) * r[s.d].x);
@@ -388,7 +389,7 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       }
       case Op::kGradient:
-        out = scalar(saturate(gradient(s.mode, Vec3(a))));
+        out = scalar(saturate(gradient(mode_field::kGradient.in(s.mode), Vec3(a))));
         break;
       case Op::kNoise:
         out = procedural::noise_op(s.mode, a, b, c);
@@ -416,8 +417,9 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = scalar(layer_weight(s.mode, a.x, s.b_given ? Vec3(b) : hit.normal, hit));
         break;
       case Op::kNormalMap: {
-        const bool tangent = s.mode == 0;
-        out = vector(normal_map(s.mode, a.x, Vec3(b), tangent ? hit.inputs[s.e] : vec4(0.0f),
+        const uint32_t space = mode_field::kNormalMapSpace.in(s.mode);
+        const bool tangent = space == 0;
+        out = vector(normal_map(space, a.x, Vec3(b), tangent ? hit.inputs[s.e] : vec4(0.0f),
                                 tangent ? Vec3(hit.inputs[s.d]) : Vec3(0.0f), hit));
         break;
       }
