@@ -1,7 +1,7 @@
 // Randomized ("fuzz") test of the scene-building API, intersection and shading math:
 // whatever finite or non-finite input arrives, no crash, no NaN or Inf pixel, and bad
 // input is refused with std::invalid_argument. WHITTED_FUZZ_ITERATIONS sets the number
-// of random scenes (a short run in the suite; scripts/fuzz.sh runs a long one).
+// of random scenes (a short run in the suite; `python -m whitted_tools fuzz` runs a long one).
 #include <gtest/gtest.h>
 
 #include <cstdlib>

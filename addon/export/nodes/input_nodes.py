@@ -20,13 +20,15 @@ def _uv_map(c, out):
     return c.uv(out.node.uv_map)
 
 
+# The tables below name INPUT modes; ops gives their numbers once the native module is
+# loaded (the add-on imports before it: native.py).
 _TEX_COORD = {
-    "Generated": ops.IN_GENERATED,
-    "Normal": ops.IN_NORMAL,
-    "Object": ops.IN_OBJECT,
-    "Camera": ops.IN_CAMERA,
-    "Window": ops.IN_WINDOW,
-    "Reflection": ops.IN_REFLECTION,
+    "Generated": "IN_GENERATED",
+    "Normal": "IN_NORMAL",
+    "Object": "IN_OBJECT",
+    "Camera": "IN_CAMERA",
+    "Window": "IN_WINDOW",
+    "Reflection": "IN_REFLECTION",
 }
 
 
@@ -44,15 +46,15 @@ def _tex_coord(c, out):
         # looks down +Z.
         flip = c.b.const((1.0, 1.0, -1.0), VECTOR)
         return c.b.vmul(c.hit(ops.IN_CAMERA), flip, VECTOR)
-    return c.hit(_TEX_COORD[name])
+    return c.hit(getattr(ops, _TEX_COORD[name]))
 
 
 _GEOMETRY = {
-    "Position": (ops.IN_POSITION, VECTOR),
-    "Normal": (ops.IN_NORMAL, VECTOR),
-    "True Normal": (ops.IN_TRUE_NORMAL, VECTOR),
-    "Incoming": (ops.IN_INCOMING, VECTOR),
-    "Backfacing": (ops.IN_BACKFACING, FLOAT),
+    "Position": ("IN_POSITION", VECTOR),
+    "Normal": ("IN_NORMAL", VECTOR),
+    "True Normal": ("IN_TRUE_NORMAL", VECTOR),
+    "Incoming": ("IN_INCOMING", VECTOR),
+    "Backfacing": ("IN_BACKFACING", FLOAT),
 }
 
 
@@ -61,22 +63,22 @@ def _geometry(c, out):
     if entry is None:
         c.warn(out.node, f"output '{output_name(out)}' is not supported; it gives 0")
         return c.b.f(0.0)
-    return c.hit(entry[0], entry[1])
+    return c.hit(getattr(ops, entry[0]), entry[1])
 
 
 _LIGHT_PATH = {
-    "Is Camera Ray": ops.IN_IS_CAMERA_RAY,
-    "Is Shadow Ray": ops.IN_IS_SHADOW_RAY,
-    "Is Diffuse Ray": ops.IN_IS_DIFFUSE_RAY,
-    "Is Glossy Ray": ops.IN_IS_REFLECTION_RAY,
-    "Is Singular Ray": ops.IN_IS_SINGULAR_RAY,
-    "Is Reflection Ray": ops.IN_IS_REFLECTION_RAY,
-    "Is Transmission Ray": ops.IN_IS_TRANSMISSION_RAY,
-    "Ray Depth": ops.IN_RAY_DEPTH,
+    "Is Camera Ray": "IN_IS_CAMERA_RAY",
+    "Is Shadow Ray": "IN_IS_SHADOW_RAY",
+    "Is Diffuse Ray": "IN_IS_DIFFUSE_RAY",
+    "Is Glossy Ray": "IN_IS_REFLECTION_RAY",
+    "Is Singular Ray": "IN_IS_SINGULAR_RAY",
+    "Is Reflection Ray": "IN_IS_REFLECTION_RAY",
+    "Is Transmission Ray": "IN_IS_TRANSMISSION_RAY",
+    "Ray Depth": "IN_RAY_DEPTH",
     # Every bounce of a Whitted tracer is singular: glossy and transmission depths
     # are the ray depth, and no ray is diffuse or transparent.
-    "Glossy Depth": ops.IN_RAY_DEPTH,
-    "Transmission Depth": ops.IN_RAY_DEPTH,
+    "Glossy Depth": "IN_RAY_DEPTH",
+    "Transmission Depth": "IN_RAY_DEPTH",
 }
 
 
@@ -89,7 +91,7 @@ def _light_path(c, out):
         return c.b.f(0.0)
     if name in ("Glossy Depth", "Transmission Depth"):
         c.warn(out.node, f"'{name}' is approximated by the ray depth")
-    return c.hit(mode, FLOAT)
+    return c.hit(getattr(ops, mode), FLOAT)
 
 
 def _object_info(c, out):

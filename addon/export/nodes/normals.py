@@ -14,19 +14,12 @@ from .ir import FLOAT, VECTOR
 
 # Inputs that depend on where on the surface the hit is; the rest (normals, the view,
 # Light Path, Object Info) stay as they are at the offsets, as in Cycles.
-_MOVING = frozenset(
-    {
-        ops.IN_POSITION,
-        ops.IN_GENERATED,
-        ops.IN_OBJECT,
-        ops.IN_CAMERA,
-        ops.IN_WINDOW,
-    }
-)
+_MOVING = ("IN_POSITION", "IN_GENERATED", "IN_OBJECT", "IN_CAMERA", "IN_WINDOW")
 
 
 def _moves(mode):
-    return mode in _MOVING or ops.IN_UV <= mode < ops.IN_ATTRIBUTE + 128
+    moving = any(mode == getattr(ops, name) for name in _MOVING)
+    return moving or ops.IN_UV <= mode < ops.IN_ATTRIBUTE + 128
 
 
 def moved(b, expr, bit, memo=None):

@@ -31,6 +31,8 @@ def _native_numbers():
 
 
 def __getattr__(name):
+    if name.startswith("__"):  # Python's and Blender's probes (__addon_enabled__, ...)
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     numbers = _native_numbers()
     if name not in numbers:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
