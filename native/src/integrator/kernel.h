@@ -8,7 +8,7 @@
 // Chosen at compile time: the Recorder (kernel_recorder.h), told hook by hook what is
 // traced and what each node adds (NoRecorder, whose empty hooks compile away, for renders
 // without passes; PassRecorder, passes.h, with passes; TreeRecorder, tree_recorder.h, for
-// the inspector); the Queries to Embree (queries.h); the effects (kernel_inputs.h); and
+// the inspector); the Queries to Embree (whitted.cpp); the effects (kernel_inputs.h); and
 // the Policy for what the step would trace next, a child ray or a feeler: Recurse traces
 // it now, depth-first; wave.h's Enqueue appends it to a wave. whitted.cpp picks the
 // kernel a render runs.

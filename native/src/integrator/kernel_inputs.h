@@ -1,6 +1,6 @@
 // What every stage of a kernel reads (kernel.h, and the concepts it calls: lights.h,
 // shadow.h, mis.h, glossy.h, wave.h): the scene, the settings, the camera, its queries
-// (queries.h) and the effects the analysis chose (EffectBits).
+// (whitted.cpp) and the effects the analysis chose (EffectBits).
 #pragma once
 
 #include <cstdint>

@@ -47,9 +47,11 @@ inline float rays_per_feeler(const Settings& settings, const NodeState& state) {
 // The glossy rays the reflected term will send from this hit, for the emitter feelers'
 // MIS weights: none without emitters, a glossy lobe, depth left or a weight above the
 // cutoff.
+// Always inlined into the step, as split_weights (split.h says why).
 template <uint32_t kEffects, class Queries>
-GlossyRays glossy_rays(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p,
-                       const Split& split, const NodeState& state) {
+[[gnu::always_inline]] inline GlossyRays glossy_rays(const KernelInputs<kEffects, Queries>& in,
+                                                     const ShadingPoint& p, const Split& split,
+                                                     const NodeState& state) {
   GlossyRays rays;
   if (!in.emitters || (in.effects & kGlossyEffect) == 0 || !in.has(kReflectionEffect)) {
     return rays;
@@ -70,9 +72,11 @@ GlossyRays glossy_rays(const KernelInputs<kEffects, Queries>& in, const ShadingP
 // feelers that sample this side of this triangle (1 where none do, and for every other
 // ray; 0 where light linking keeps the emitter from the surface the ray left). The
 // distance is from the ray's origin (behind a cut-out: from the cut-out).
+// Always inlined into the step, as split_weights (split.h says why).
 template <uint32_t kEffects, class Queries>
-float emission_weight(const KernelInputs<kEffects, Queries>& in, const Ray& ray,
-                      const ShadingPoint& p, const NodeState& state) {
+[[gnu::always_inline]] inline float emission_weight(const KernelInputs<kEffects, Queries>& in,
+                                                    const Ray& ray, const ShadingPoint& p,
+                                                    const NodeState& state) {
   if (is_black(p.surface.emission)) return 1.0f;
   const CompiledScene& scene = in.scene;
   // Light linking: a bounce sees an emitter only if it lights the surface it left

@@ -13,7 +13,7 @@
 namespace whitted {
 
 // One worker's recording, or its replay of one. The kernels of a render given a log
-// (queries.h's LoggedQueries) hand it the queries made while `active`; recording, it
+// (whitted.cpp's LoggedQueries) hand it the queries made while `active`; recording, it
 // makes them and notes them (and, with `results`, what they found); replaying, it
 // answers them from `source` in the same order, with no Embree call.
 struct RayLog {

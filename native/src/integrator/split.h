@@ -25,8 +25,12 @@ struct Split {
 // no refraction). The transmissive layer splits by Fresnel into a reflected and a
 // refracted share (all reflected on total internal reflection); the coat's mirror goes on
 // top and takes its share of both; then sigma_r + sigma_t <= 1.
-inline Split split_weights(const Ray& ray, const ShadingPoint& p, float eta, bool reflection,
-                           bool refraction, Fresnel fresnel, RayCounts* counts) {
+// Always inlined into the step, as it was as a member of the one-class kernel called once:
+// GCC inlines a function called once only where it is of internal linkage, and this one is
+// not (callgrind on the demo scene: whitted.cpp's queries say what it cost).
+[[gnu::always_inline]] inline Split split_weights(const Ray& ray, const ShadingPoint& p, float eta,
+                                                  bool reflection, bool refraction, Fresnel fresnel,
+                                                  RayCounts* counts) {
   Split split;
   split.sigma_r = reflection ? p.surface.reflectivity : Color(0.0f);
   split.sigma_t = refraction ? p.surface.transmissivity : Color(0.0f);
