@@ -75,9 +75,11 @@ struct Crossing {
 // The interface step: which media lie beyond a transmissive surface (the ray enters
 // its medium or leaves it), the ratio of indices across it, and whether it is a false
 // interface, inside a medium of higher priority. Elsewhere (and where the kernel traces
-// no refraction) the media stay as they are.
-inline Crossing crossing(const CompiledScene& scene, bool refraction, const Interaction& it,
-                         const SurfaceParams& surface, bool entering, const MediumStack& media) {
+// no refraction) the media stay as they are. Always inlined into the step, as
+// split_weights (split.h says why).
+[[gnu::always_inline]] inline Crossing crossing(const CompiledScene& scene, bool refraction,
+                                                const Interaction& it, const SurfaceParams& surface,
+                                                bool entering, const MediumStack& media) {
   Crossing beyond{media};
   const Material& m = *it.material;
   if (!refraction || !m.transmissive()) return beyond;
