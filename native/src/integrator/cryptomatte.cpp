@@ -8,7 +8,7 @@
 namespace whitted {
 namespace {
 
-// As the image's kernels (whitted.cpp): past this many cut-outs a surface covers all.
+// As the image's kernels (kernel.h): past this many cut-outs a surface covers all.
 constexpr int kMaxLayers = 64;
 
 int samples_per_axis(const Settings& s) {

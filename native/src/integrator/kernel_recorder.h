@@ -1,4 +1,4 @@
-// What the Whitted kernel (whitted.cpp) tells a recorder as it traces: NoRecorder's
+// What the Whitted kernel (kernel.h) tells a recorder as it traces: NoRecorder's
 // hooks, every one empty. A render without passes runs the kernel with NoRecorder itself,
 // so the hooks compile to nothing; a recorder derives from it and hides the hooks it
 // listens to: PassRecorder (passes.h) for the passes, TreeRecorder (tree_recorder.h) for

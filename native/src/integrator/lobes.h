@@ -1,5 +1,5 @@
 // The lobes the local term is made of, beside the Lambertian diffuse and the Phong
-// highlight written where the kernel uses them (whitted.cpp light_terms): the diffuse
+// highlight written where the kernel uses them (local.h light_terms): the diffuse
 // lobes' shapes (Burley, velvet, Oren-Nayar) and the coat, a clear layer over the base;
 // the microfacet lobes are scene/microfacet.h's.
 #pragma once

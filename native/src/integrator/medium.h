@@ -12,6 +12,8 @@
 #include <array>
 #include <cstdint>
 
+#include "scene/scene.h"
+
 namespace whitted {
 
 class MediumStack {
@@ -55,5 +57,46 @@ class MediumStack {
   std::array<Entry, kCapacity> entries_{};
   int size_ = 0;
 };
+
+// IOR of a medium (-1 is the surrounding air): its material's constant ior, since a
+// program's ior belongs to a hit, not to the volume behind it.
+inline float ior_of(const CompiledScene& scene, int32_t medium) {
+  return medium < 0 ? 1.0f : scene.materials[static_cast<size_t>(medium)].ior;
+}
+
+// The interface step's answer: what lies beyond a transmissive surface for the refracted
+// ray (the rule above).
+struct Crossing {
+  MediumStack media;             // the media the refracted ray is inside
+  float eta = 1.0f;              // eta_incident / eta_transmitted
+  bool false_interface = false;  // the current medium stays what it was: go on straight
+};
+
+// The interface step: which media lie beyond a transmissive surface (the ray enters
+// its medium or leaves it), the ratio of indices across it, and whether it is a false
+// interface, inside a medium of higher priority. Elsewhere (and where the kernel traces
+// no refraction) the media stay as they are. Always inlined into the step, as
+// split_weights (split.h says why).
+[[gnu::always_inline]] inline Crossing crossing(const CompiledScene& scene, bool refraction,
+                                                const Interaction& it, const SurfaceParams& surface,
+                                                bool entering, const MediumStack& media) {
+  Crossing beyond{media};
+  const Material& m = *it.material;
+  if (!refraction || !m.transmissive()) return beyond;
+  const int32_t from = media.current();
+  if (entering) {
+    beyond.false_interface = from >= 0 && m.priority < scene.materials[from].priority;
+    beyond.media.enter(it.material_index, m.priority);
+    beyond.eta = ior_of(scene, from) / surface.ior;
+  } else if (beyond.media.leave(it.material_index)) {
+    beyond.false_interface = from != static_cast<int32_t>(it.material_index);
+    beyond.eta = surface.ior / ior_of(scene, beyond.media.current());
+  } else {
+    // Leaving a medium it never entered (flipped normals, an open mesh): out into the
+    // current medium, as a renderer without media lists would.
+    beyond.eta = surface.ior / ior_of(scene, from);
+  }
+  return beyond;
+}
 
 }  // namespace whitted

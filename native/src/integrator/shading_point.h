@@ -1,10 +1,11 @@
 // A hit as the Whitted step shades it, and one light sample's terms there: what the
-// kernel (whitted.cpp) computes, and what its recorders (kernel_recorder.h) read of it.
+// kernel (kernel.h, local.h) computes, and what its recorders (kernel_recorder.h) read of it.
 #pragma once
 
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/lobes.h"
+#include "scene/microfacet.h"
 #include "scene/scene.h"
 
 namespace whitted {
@@ -47,6 +48,48 @@ inline void facing_normals(const Ray& ray, const Interaction& it, const SurfaceP
   *ng = entering ? it.geometric_normal : -it.geometric_normal;
   *ns = entering ? surface.normal : -surface.normal;
   if (glm::dot(*ns, *ng) <= 0.0f) *ns = *ng;
+}
+
+// The hit as the local term and the split of weights read it: normals facing the ray,
+// the coat over the base.
+inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
+                                  const SurfaceParams& surface, bool entering) {
+  Vec3 ng;
+  Vec3 ns;
+  facing_normals(ray, it, surface, &ng, &ns);
+  const Vec3 wo = -ray.direction;
+  const Coat coat = coat_of(surface, wo, ng, entering, it.material->masking);
+  // A program's normal fades the diffuse lobe towards the smooth surface's horizon, as
+  // Cycles does (diffuse_shadowing).
+  const Vec3 smooth =
+      glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
+  const float base = it.material->coat_layered ? 1.0f - coat.cover : 1.0f;
+  const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
+  const Color multiscatter =
+      it.material->diffuse_model == DiffuseModel::kOrenNayarEnergy
+          ? surface.diffuse * oren_nayar_multiscatter(surface.diffuse, surface.diffuse_roughness,
+                                                      glm::dot(ns, wo))
+          : Color(0.0f);
+  // A lobe rougher than a mirror is GGX's, for lights and rays (microfacet.h).
+  const float alpha = surface.roughness * surface.roughness;
+  const bool glossy = alpha >= kMirrorAlpha &&
+                      (!is_black(surface.reflectivity) || !is_black(surface.transmissivity));
+  const Color energy =
+      glossy && it.material->multiscatter
+          ? ggx_multiscatter_scale(surface.reflectivity, glm::dot(ns, wo), surface.roughness)
+          : Color(1.0f);
+  return {it,
+          surface,
+          ng,
+          ns,
+          smooth,
+          wo,
+          coat,
+          base,
+          phong_norm,
+          multiscatter,
+          glossy ? alpha : 0.0f,
+          energy};
 }
 
 }  // namespace whitted

@@ -2,12 +2,14 @@
 // together, one generation of rays at a time, instead of each sample's ray tree
 // depth-first.
 //
-// The kernel is the recursive one's (whitted.cpp): each ray of a generation is traced and
-// shaded by the same code, but where the recursion would trace a child ray (branch) or
-// a shadow feeler (feelers), it appends it to the wave instead, with its factor on the
-// sample (the product of the weights the recursion would multiply its radiance by). The
-// wave then traces the generation's feelers, grouped by light so that feelers towards
-// one lamp from neighbouring hits go to Embree as packets, and moves on to the children.
+// The kernel is the recursive one's (kernel.h) with another policy: each ray of a
+// generation is traced and shaded by the same code, but where the recursion (Recurse)
+// would trace a child ray (branch) or a shadow feeler (lights.h's feelers), the wave's
+// policy (Enqueue) appends it to the wave instead, with its factor on the sample (the
+// product of the weights the recursion would multiply its radiance by). The wave then
+// traces the generation's feelers (trace_feelers), grouped by light so that feelers
+// towards one lamp from neighbouring hits go to Embree as packets, and moves on to the
+// children (wave_rest).
 //
 // A sample's radiance is the sum of its rays' factors times their local terms, added in
 // an order that depends only on the sample (its camera ray, its feelers in the order it
@@ -20,12 +22,15 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "accel/embree.h"
 #include "core/ray.h"
 #include "integrator/film.h"
+#include "integrator/kernel_inputs.h"
 #include "integrator/passes.h"
+#include "integrator/shadow.h"
 #include "integrator/whitted.h"
 
 namespace whitted {
@@ -107,5 +112,128 @@ struct Wave {
     records.assign(passes ? samples : 0, SampleRecord{});
   }
 };
+
+// Where a kernel tracing a wave stands: the ray being traced (its factor on its
+// sample) and the factor of the surface being shaded (times the coverage in front).
+struct WaveCursor {
+  Wave* wave;
+  Color factor{1.0f};
+  Color layer{1.0f};
+  uint32_t sample = 0;
+};
+
+// The kernel's policy in a wave (kernel.h's Recurse traces instead): what the recursion
+// would trace is appended to the wave, with its factor on the sample.
+struct Enqueue {
+  static constexpr bool kQueues = true;
+  WaveCursor* at;
+
+  // The surface being shaded covers `share` of the ray.
+  void shading(float share) const { at->layer = at->factor * share; }
+  // A child ray of `weight` relative to the surface, at `state`: the next generation's.
+  void child(const Ray& ray, const NodeState& state, const Color& weight) const {
+    at->wave->next.push_back({ray, state, at->layer * weight, at->sample});
+  }
+  // A light sample's feeler (its first query) and its share if all of its light arrives.
+  void feeler(const Ray& ray, const Color& unshadowed, uint64_t shadow_sets, int32_t light,
+              int depth) const {
+    at->wave->feelers.push_back(
+        {ray, at->layer * unshadowed, shadow_sets, at->sample, light, depth});
+  }
+};
+
+// The wave's feeler stage: each feeler's first query, those towards one lamp (with
+// one set of blockers) as packets, in runs of neighbouring hits; then, in the order
+// they were sent, what each lets through times its contribution is added to its sample.
+template <uint32_t kEffects, class Queries>
+void trace_feelers(const KernelInputs<kEffects, Queries>& in, Wave* wave, RayCounts* counts) {
+  const std::vector<WaveFeeler>& feelers = wave->feelers;
+  const size_t n = feelers.size();
+  // Grouped by light, in their order within each group (a counting sort: lamps, then
+  // the emissive meshes').
+  const size_t groups = in.scene.lights.size() + 1;
+  const auto group = [&](const WaveFeeler& f) {
+    return f.light < 0 ? groups - 1 : static_cast<size_t>(f.light);
+  };
+  std::vector<uint32_t>& starts = wave->groups;
+  starts.assign(groups + 1, 0);
+  for (const WaveFeeler& f : feelers) starts[group(f) + 1] += 1;
+  for (size_t g = 0; g < groups; ++g) starts[g + 1] += starts[g];
+  std::vector<uint32_t>& sorted = wave->order;
+  sorted.resize(n);
+  for (size_t i = 0; i < n; ++i) sorted[starts[group(feelers[i])]++] = static_cast<uint32_t>(i);
+  wave->blocked.assign(n, 0);
+  std::array<Ray, kFeelerBatch> rays;
+  std::array<bool, kFeelerBatch> blocked;
+  for (size_t first = 0; first < n;) {
+    const WaveFeeler& lead = feelers[sorted[first]];
+    size_t end = first + 1;
+    while (end < n && end - first < static_cast<size_t>(kFeelerBatch) &&
+           group(feelers[sorted[end]]) == group(lead) &&
+           feelers[sorted[end]].shadow_sets == lead.shadow_sets) {
+      ++end;
+    }
+    const int count = static_cast<int>(end - first);
+    Blockers storage;
+    const Blockers* linked = blockers(in.scene, lead.shadow_sets, &storage);
+    if (count == 1) {
+      for (size_t k = first; k < end; ++k) {
+        wave->blocked[sorted[k]] = in.queries.occluded(feelers[sorted[k]].ray, linked) ? 1 : 0;
+      }
+    } else {
+      for (int k = 0; k < count; ++k) rays[k] = feelers[sorted[first + k]].ray;
+      in.queries.occluded_packet(rays.data(), count, blocked.data(), linked);
+      for (int k = 0; k < count; ++k) wave->blocked[sorted[first + k]] = blocked[k] ? 1 : 0;
+    }
+    first = end;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const WaveFeeler& f = feelers[i];
+    WaveSample& sample = wave->samples[f.sample];
+    const uint64_t before = counts->total();
+    Blockers storage;
+    const Color transmittance =
+        shadow_transmittance(in, f.ray, wave->blocked[i] != 0,
+                             blockers(in.scene, f.shadow_sets, &storage), f.depth, counts);
+    sample.radiance += f.contribution * transmittance;
+    sample.rays += counts->total() - before;
+  }
+}
+
+// A wave traced by a kernel (kernel.h) whose policy is Enqueue. The first generation,
+// the camera rays, one by one as the sampler makes them (WaveFns::camera): camera sample
+// `sample`'s ray traced and shaded into wave->samples[sample].
+template <class Kernel>
+void wave_camera(const WhittedIntegrator& w, Wave* wave, const Ray& ray, const NodeState& state,
+                 uint32_t sample, const Hit* first, RayCounts* counts, SampleRecord* record) {
+  WaveCursor cursor{wave};
+  cursor.sample = sample;
+  const Kernel kernel(w, record, Enqueue{&cursor});
+  WaveSample& s = wave->samples[sample];
+  const uint64_t before = counts->total();
+  s.radiance += kernel.trace(ray, state, counts, &s.alpha, first);
+  s.rays += counts->total() - before;
+}
+// The rest (WaveFns::rest): each generation's feelers, then its children, traced and
+// shaded as the next generation, until none is left.
+template <class Kernel>
+void wave_rest(const WhittedIntegrator& w, Wave* wave, RayCounts* counts) {
+  WaveCursor cursor{wave};
+  const Kernel kernel(w, nullptr, Enqueue{&cursor});
+  for (trace_feelers(kernel.inputs(), wave, counts); !wave->next.empty();
+       trace_feelers(kernel.inputs(), wave, counts)) {
+    std::swap(wave->rays, wave->next);
+    wave->next.clear();
+    wave->feelers.clear();
+    for (const WaveRay& r : wave->rays) {
+      WaveSample& sample = wave->samples[r.sample];
+      cursor.factor = r.factor;
+      cursor.sample = r.sample;
+      const uint64_t before = counts->total();
+      sample.radiance += r.factor * kernel.trace(r.ray, r.state, counts, nullptr, nullptr);
+      sample.rays += counts->total() - before;
+    }
+  }
+}
 
 }  // namespace whitted

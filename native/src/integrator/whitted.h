@@ -61,7 +61,7 @@ struct NodeState {
   uint32_t seed = 0;
   // A ray drawn from a glossy lobe: its density there per unit solid angle, times its
   // lobe's rays per emitter feeler, for the MIS weight of the emission it meets
-  // (whitted.cpp); 0 for every other ray, which counts emission whole.
+  // (mis.h); 0 for every other ray, which counts emission whole.
   float mis = 0.0f;
   // Light linking: the light set of the surface this ray left, whose emitters it sees;
   // -1 for a camera ray, which sees every emitter (as in Cycles).
@@ -69,8 +69,8 @@ struct NodeState {
 };
 
 // Analyses the scene once, then traces only the effects the scene calls for, with the
-// kernel chosen once (integrator/whitted.cpp: a kernel per recorder and way of querying,
-// the effects compiled in or read at run time).
+// kernel (kernel.h) chosen once (whitted.cpp: a kernel per recorder, way of querying and
+// policy, the effects compiled in or read at run time).
 class WhittedIntegrator {
  public:
   // `camera` is the render's view, for the camera and window inputs of shader programs;

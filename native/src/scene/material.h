@@ -105,7 +105,7 @@ struct MaterialParams {
   Color specular{0.0f};      // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
   float shininess = 50.0f;   // Phong exponent f
   float ambient = 1.0f;      // ka: the ambient term is ka * Ia * kd
-  Color reflectivity{0.0f};  // sigma_r before the Fresnel split (whitted.cpp)
+  Color reflectivity{0.0f};  // sigma_r before the Fresnel split (split.h)
   // Blender's roughness of the reflection lobe: 0 (below 0.02) a mirror, as Whitted's;
   // above, the GGX lobe of alpha = roughness^2 (scene/microfacet.h), whose rays are
   // glossy and whose highlight lamps give of its colour, `reflectivity`. In [0, 1].
@@ -125,7 +125,7 @@ struct MaterialParams {
   int32_t pass_index = 0;  // Blender's material Pass Index (the IndexMA pass)
   // The coat: a clear dielectric layer over everything above. At a hit it reflects its
   // weights times the dielectric Fresnel factor of coat_ior at its own normal, and what
-  // lies beneath receives the rest (whitted.cpp, Coat).
+  // lies beneath receives the rest (lobes.h, Coat).
   float coat_specular = 0.0f;      // weight of its normalised Phong highlight
   float coat_reflectivity = 0.0f;  // weight of its mirror reflection
   float coat_shininess = 1000.0f;  // Phong exponent of its highlight
@@ -215,7 +215,7 @@ struct Material : MaterialParams {
   bool driven(Field field) const { return outputs[field] >= 0; }
   // Whether a hit may reflect or transmit: a program-driven weight may be non-zero.
   // Whether its reflection can be glossy: a lobe rougher than a mirror, or one a program
-  // computes (glossy rays and GGX highlights: whitted.cpp).
+  // computes (glossy rays and GGX highlights: integrator/glossy.h, local.h).
   bool glossy() const {
     const bool base = (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
                       (!is_black(reflectivity) || driven(kReflectivityField) || transmissive());

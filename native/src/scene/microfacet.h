@@ -58,7 +58,7 @@ bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1,
 // The density, per unit solid angle, with which ggx_sample_reflection draws wi for view
 // wo: the visible normals' density over the reflection's Jacobian, G1(wo) D(m) / (4 cos_o)
 // for m the half vector; 0 below either horizon. What multiple importance sampling
-// weighs a glossy ray against a light's feeler with (whitted.cpp).
+// weighs a glossy ray against a light's feeler with (integrator/mis.h).
 float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha);
 
 // A visible microfacet normal for view wo about unit normal n (Heitz 2018), from u1, u2

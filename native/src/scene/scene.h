@@ -109,7 +109,7 @@ struct SurfaceParams {
   Color diffuse;
   Color specular;
   float shininess;
-  Color reflectivity;    // sigma_r before the Fresnel split (whitted.cpp: split_weights)
+  Color reflectivity;    // sigma_r before the Fresnel split (integrator/split.h)
   Color transmissivity;  // sigma_t before the Fresnel split
   float ior;
   Color emission;

@@ -1,0 +1,270 @@
+// The Whitted step (Whitted 1980, the lecture's RayTrace): along a ray through cut-outs
+// (trace), the radiance a surface sends back, I = local + sigma_r * reflected +
+// sigma_t * refracted (shade), and the one place the ray tree branches (branch). Each
+// concept it calls is its own file: the media crossing (medium.h), the split of weights
+// (split.h), the local term and its light samples (lights.h, local.h), MIS (mis.h), the
+// glossy strata (glossy.h), the shadow feelers (shadow.h), the wave (wave.h).
+//
+// Chosen at compile time: the Recorder (kernel_recorder.h), told hook by hook what is
+// traced and what each node adds (NoRecorder, whose empty hooks compile away, for renders
+// without passes; PassRecorder, passes.h, with passes; TreeRecorder, tree_recorder.h, for
+// the inspector); the Queries to Embree (whitted.cpp); the effects (kernel_inputs.h); and
+// the Policy for what the step would trace next, a child ray or a feeler: Recurse traces
+// it now, depth-first; wave.h's Enqueue appends it to a wave. whitted.cpp picks the
+// kernel a render runs.
+#pragma once
+
+#include <cstdint>
+
+#include "core/limits.h"
+#include "core/math.h"
+#include "core/ray.h"
+#include "integrator/glossy.h"
+#include "integrator/kernel_inputs.h"
+#include "integrator/lights.h"
+#include "integrator/medium.h"
+#include "integrator/mis.h"
+#include "integrator/ray_tree.h"
+#include "integrator/shading_point.h"
+#include "integrator/split.h"
+#include "integrator/strata.h"
+#include "integrator/whitted.h"
+
+namespace whitted {
+
+// The recursion's policy: a child ray or a feeler is traced where the step meets it.
+struct Recurse {
+  static constexpr bool kQueues = false;
+};
+
+template <uint32_t kEffects, class Recorder, class Queries, class Policy>
+class Kernel {
+ public:
+  using Inputs = KernelInputs<kEffects, Queries>;
+  Kernel(const WhittedIntegrator& w, SampleRecord* record, Policy policy = {})
+      : in_(w), recorder_(w, record), policy_(policy) {}
+
+  // WhittedIntegrator::TraceFn.
+  static Color run(const WhittedIntegrator& w, const Ray& ray, const NodeState& state,
+                   RayCounts* counts, float* alpha, const Hit* first, SampleRecord* record) {
+    return Kernel(w, record).trace(ray, state, counts, alpha, first);
+  }
+
+  const Inputs& inputs() const { return in_; }
+
+  // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
+  // `first`, when given, is the ray's first hit, already found.
+  Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
+              const Hit* first = nullptr) const {
+    Color radiance(0.0f);
+    float coverage = 0.0f;
+    float behind = 1.0f;  // the share of the ray not yet covered by a surface
+    Ray r = ray;
+    typename Recorder::Node in_front{};  // the recorder's node of the layer in front
+    for (int layer = 0; behind > 0.0f; ++layer) {
+      Hit hit;
+      bool found = false;
+      if (layer == 0 && first != nullptr) {
+        hit = *first;
+        found = hit.t < kInfinity;
+      } else {
+        found = in_.queries.intersect(r, &hit);
+      }
+      const auto node = recorder_.ray(r, state.depth, in_front, behind);
+      if (!found) {
+        // A transparent film shows nothing where camera rays miss.
+        const bool shown = !(in_.settings.transparent_background && ray.kind == kCameraRay);
+        if (shown || Recorder::kHiddenWorld) {
+          const Color world = in_.scene.world_radiance(r, in_.context(state));
+          if (shown) {
+            radiance += behind * world;
+            coverage += behind;
+          }
+          recorder_.escaped(node, state.depth, behind, world, shown);
+        }
+        break;
+      }
+      const Interaction it = in_.scene.interaction(r, hit);
+      recorder_.hit(node, it);
+      if (it.holdout) break;  // a holdout shows nothing and covers nothing
+      const SurfaceParams surface = in_.scene.surface(it, r, in_.context(state));
+      float a = 1.0f;
+      if (in_.has(kTranslucencyEffect)) {
+        a = layer == limits::kMaxTransparentLayers ? 1.0f : surface.alpha;
+      }
+      if (a > 0.0f) {
+        if constexpr (Policy::kQueues) policy_.shading(behind * a);
+        [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a);
+        recorder_.surface(state.depth, r, it, surface);
+        radiance += (behind * a) * shade(r, it, surface, state, counts);
+        coverage += behind * a;
+      }
+      in_front = node;
+      behind *= 1.0f - a;
+      if (behind <= 0.0f) break;
+      // The rest of the ray continues behind the cut-out, as far as it was allowed to go.
+      const float left = r.t_max - glm::length(it.position - r.origin);
+      if (!(left > 0.0f)) break;
+      r = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, r.direction,
+                    RayKind(r.kind), left);
+      counts->transparent += 1;
+    }
+    if (alpha != nullptr) *alpha = coverage;
+    return radiance;
+  }
+
+ private:
+  // The radiance a surface point sends back along the ray,
+  // I = local + sigma_r * reflected + sigma_t * refracted.
+  Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+              const NodeState& state, RayCounts* counts) const {
+    // Entering or leaving is decided by the geometric normal, never the shading normal.
+    const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+    const Crossing beyond =
+        crossing(in_.scene, in_.has(kRefractionEffect), it, surface, entering, state.media);
+    if (beyond.false_interface) return pass_through(ray, it, state, beyond.media, counts);
+    const ShadingPoint p = shading_point(ray, it, surface, entering);
+    const bool bounces = in_.has(kReflectionEffect) || in_.has(kRefractionEffect);
+    const Split split =
+        bounces ? split_weights(ray, p, beyond.eta, in_.has(kReflectionEffect),
+                                in_.has(kRefractionEffect), in_.settings.fresnel, counts)
+                : Split{};
+    const Lights<kEffects, Recorder, Queries, Policy> lights(in_, recorder_, policy_);
+    Color radiance = lights.local(p, glossy_rays(in_, p, split, state),
+                                  emission_weight(in_, ray, p, state), state, counts);
+    if (!bounces) return radiance;
+    if (in_.has(kReflectionEffect) && !is_black(split.sigma_r)) {
+      radiance += reflection(ray, p, split, state, counts);
+    }
+    if (split.refracts && !is_black(split.sigma_t)) {
+      radiance += transmission(p, split, beyond, state, counts);
+    }
+    return radiance;
+  }
+
+  // A false interface (medium.h): the ray goes on straight and unshaded, into the media
+  // beyond.
+  Color pass_through(const Ray& ray, const Interaction& it, const NodeState& state,
+                     const MediumStack& media, RayCounts* counts) const {
+    counts->transparent += 1;
+    return branch(spawn_ray(it.position, it.position_error, it.geometric_normal, it.time,
+                            ray.direction, RayKind(ray.kind)),
+                  state, Color(1.0f), media, /*from=*/nullptr, TreeRayKind::kTransparent, counts);
+  }
+
+  // The reflected term: sigma_r times what the mirror ray brings back, or the mean of
+  // what rays drawn from a glossy lobe bring back (glossy.h).
+  Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
+                   const NodeState& state, RayCounts* counts) const {
+    Color reflected;
+    if (const Lobe lobe = glossy_lobe(p, split); lobe.alpha > 0.0f) {
+      reflected =
+          glossy_reflection(in_, p, split.sigma_r, lobe, state, drawn_branch(p, state, counts));
+    } else {
+      Vec3 r = reflect(ray.direction, split.about_coat ? p.coat.normal : p.ns);
+      if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
+      const TreeRayKind kind = split.total_internal_reflection
+                                   ? TreeRayKind::kTotalInternalReflection
+                                   : TreeRayKind::kReflection;
+      reflected = branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal,
+                                   p.it.time, r, kReflectionRay),
+                         state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
+    }
+    recorder_.reflected(state.depth, split.sigma_r, reflected);
+    return split.sigma_r * reflected;
+  }
+
+  // The lobe the one reflection follows, the one that gives it most of its weight: the
+  // coat's or the base's, where glossy (alpha 0: a mirror's ray).
+  Lobe glossy_lobe(const ShadingPoint& p, const Split& split) const {
+    if ((in_.effects & kGlossyEffect) != 0 && !split.total_internal_reflection) {
+      if (split.about_coat && p.coat.alpha > 0.0f) {
+        return Lobe{p.coat.normal, p.coat.alpha, Color(1.0f), &p.coat};
+      }
+      if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ns, p.alpha, p.energy};
+    }
+    return Lobe{p.ns, 0.0f, Color(1.0f)};
+  }
+
+  // The refracted term: sigma_t times what the refracted ray brings back from the media
+  // beyond, or the mean of what rays through a rough surface's facets bring (glossy.h).
+  Color transmission(const ShadingPoint& p, const Split& split, const Crossing& beyond,
+                     const NodeState& state, RayCounts* counts) const {
+    Color refracted;
+    if (p.alpha > 0.0f && (in_.effects & kGlossyEffect) != 0) {
+      refracted =
+          rough_transmission(in_, p, split.sigma_t, beyond, state, drawn_branch(p, state, counts));
+    } else {
+      refracted = branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal,
+                                   p.it.time, split.refracted, kRefractionRay),
+                         state, split.sigma_t, beyond.media, /*from=*/&p.it,
+                         TreeRayKind::kRefraction, counts);
+    }
+    recorder_.refracted(state.depth, split.sigma_t, refracted);
+    return split.sigma_t * refracted;
+  }
+
+  // branch() for the rays glossy.h draws from a lobe at p.
+  auto drawn_branch(const ShadingPoint& p, const NodeState& state, RayCounts* counts) const {
+    return [this, &p, &state, counts](const Ray& ray, const Color& weight, const MediumStack& media,
+                                      const Drawn& drawn) {
+      return branch(ray, state, weight, media, /*from=*/&p.it, TreeRayKind::kGlossy, counts,
+                    &drawn);
+    };
+  }
+
+  // Traces a secondary ray of weight `weight` (relative to this one), unless the depth or
+  // the cutoff stops it; `from` is the surface it bounces off, null for a ray that only
+  // continues straight on (`kind` names it for the inspector), `drawn` given for a ray
+  // drawn from a glossy lobe. The one place the ray tree branches: the policy traces the
+  // ray now (Recurse) or queues it (Enqueue, whose rays bring nothing back here).
+  Color branch(const Ray& ray, const NodeState& state, const Color& weight,
+               const MediumStack& media, const Interaction* from, TreeRayKind kind,
+               RayCounts* counts, const Drawn* drawn = nullptr) const {
+    const bool bounce = from != nullptr;
+    // A glossy ray is one of several that share its lobe: its NodeState::weight is the
+    // lobe's (what the cutoff compares: each of n rays below it may sum above it), its
+    // share of the sample 1/n of that.
+    const bool glossy = drawn != nullptr;
+    const float share = glossy ? drawn->share : 1.0f;
+    NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
+    next.glossy = state.glossy + (glossy ? 1 : 0);
+    next.seed = glossy ? drawn->seed : state.seed;
+    // A continuation straight on is still the same ray; a bounce of any other kind
+    // counts the emission it meets whole.
+    next.mis = glossy ? drawn->mis : (bounce ? 0.0f : state.mis);
+    // Light linking: what it meets is lit for the surface it left (emission_weight).
+    next.receiver = bounce ? in_.scene.instances[from->instance].links.light_set : state.receiver;
+    if (next.depth > in_.settings.max_depth) {
+      counts->depth_limited += 1;
+      recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kDepth);
+      return Color(0.0f);
+    }
+    if (max_component(next.weight) < in_.settings.cutoff) {
+      counts->cutoff_skipped += 1;  // its contribution could no longer show
+      recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kCutoff);
+      return Color(0.0f);
+    }
+    if (glossy) {
+      counts->glossy += 1;
+    } else if (bounce && ray.kind == kReflectionRay) {
+      counts->reflection += 1;
+    }
+    if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+    if constexpr (Policy::kQueues) {
+      policy_.child(ray, next, weight * share);  // traced in a later generation of the wave
+      return Color(0.0f);
+    } else {
+      [[maybe_unused]] const auto scope = recorder_.branch(weight, share, kind);
+      return trace(ray, next, counts, nullptr);
+    }
+  }
+
+  const Inputs in_;
+  // Told what the kernel does: what changes in it (its position, its sums) is not the
+  // kernel's state.
+  [[no_unique_address]] mutable Recorder recorder_;
+  [[no_unique_address]] const Policy policy_;
+};
+
+}  // namespace whitted
