@@ -43,7 +43,9 @@ void bind_camera(py::module_& m) {
       .value("ORTHOGRAPHIC", Projection::kOrthographic)
       .value("PANORAMIC", Projection::kPanoramic);
 
-  py::class_<Camera>(m, "Camera", "Looks down its local -Z with +Y up (Blender's convention).")
+  py::class_<Camera>(m, "Camera",
+                     "A camera: it looks down its local -Z with +Y up (Blender's convention); "
+                     "image rows run bottom to top.")
       .def(py::init(
                [](const py::object& to_world, Projection projection, std::array<float, 4> window,
                   float clip_start, float clip_end, float aperture_radius, float focus_distance,
@@ -109,7 +111,8 @@ void bind_camera(py::module_& m) {
           "to_world", [](const Camera& c) { return matrix_to_numpy(c.to_world); },
           [](Camera& c, const py::object& o) { c.to_world = matrix_from_numpy(o); },
           "Camera to world, 4x4 row-major.")
-      .def_readwrite("projection", &Camera::projection)
+      .def_readwrite("projection", &Camera::projection,
+                     "PERSPECTIVE, ORTHOGRAPHIC or PANORAMIC (a Projection).")
       .def_property(
           "window",
           [](const Camera& c) {
@@ -118,14 +121,25 @@ void bind_camera(py::module_& m) {
           [](Camera& c, std::array<float, 4> w) { std::copy(w.begin(), w.end(), c.window); },
           "(xmin, xmax, ymin, ymax) on the plane at distance 1 (perspective) or in camera "
           "units (orthographic).")
-      .def_readwrite("clip_start", &Camera::clip_start)
-      .def_readwrite("clip_end", &Camera::clip_end)
-      .def_property_readonly("aperture_radius", [](const Camera& c) { return c.lens.radius; })
-      .def_property_readonly("moves", [](const Camera& c) { return c.motion != nullptr; })
-      .def_property_readonly("shutter_box", [](const Camera& c) { return c.shutter.box(); })
-      .def_property_readonly("rolling_shutter", [](const Camera& c) { return c.shutter.rolling(); })
-      .def_property_readonly("focus_distance",
-                             [](const Camera& c) { return c.lens.focus_distance; });
+      .def_readwrite("clip_start", &Camera::clip_start,
+                     "Distance along the view axis before which nothing is seen (world units).")
+      .def_readwrite("clip_end", &Camera::clip_end,
+                     "Distance along the view axis beyond which nothing is seen (world units).")
+      .def_property_readonly(
+          "aperture_radius", [](const Camera& c) { return c.lens.radius; },
+          "Radius of the thin lens's aperture in world units (0: a pinhole, all in focus).")
+      .def_property_readonly(
+          "moves", [](const Camera& c) { return c.motion != nullptr; },
+          "Whether its motion moves it over the shutter (camera motion blur).")
+      .def_property_readonly(
+          "shutter_box", [](const Camera& c) { return c.shutter.box(); },
+          "Whether the shutter is equally open all the time it is open (no shutter_curve).")
+      .def_property_readonly(
+          "rolling_shutter", [](const Camera& c) { return c.shutter.rolling(); },
+          "Whether the shutter rolls (rows read from the top at different times).")
+      .def_property_readonly(
+          "focus_distance", [](const Camera& c) { return c.lens.focus_distance; },
+          "Distance of the plane in focus along the view axis (world units).");
 }
 
 }  // namespace whitted::python

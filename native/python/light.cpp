@@ -16,8 +16,8 @@ void bind_light(py::module_& m) {
       .value("ELLIPSE", AreaShape::kEllipse);
 
   py::class_<Light>(m, "Light",
-                    "color is W/sr (point, spot), W/m^2 (sun) or W/(m^2 sr) (area), "
-                    "light colour included; direction is the way light travels.")
+                    "A lamp; checked on construction (ValueError for what cannot be one, "
+                    "clamped where a nearest value is obvious), read-only afterwards.")
       .def(py::init([](LightType type, Vec3 color, Vec3 position, Vec3 direction, float spot_size,
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
@@ -59,23 +59,48 @@ void bind_light(py::module_& m) {
            py::arg("glossy") = defaults.glossy, py::arg("max_bounces") = defaults.max_bounces,
            py::arg("light_sets") = defaults.light_sets,
            py::arg("shadow_sets") = defaults.shadow_sets,
-           "light_sets, shadow_sets: light linking, the receivers' light sets it lights and "
-           "the blockers' shadow sets that cast its shadows, a bit per set (all: no linking).")
-      .def_readonly("type", &Light::type)
-      .def_readonly("color", &Light::color)
-      .def_readonly("position", &Light::position)
-      .def_readonly("direction", &Light::direction)
-      .def_readonly("samples", &Light::samples)
-      .def_readonly("radius", &Light::radius)
-      .def_readonly("angle", &Light::angle)
-      .def_readonly("spread", &Light::spread)
-      .def_readonly("spot_cosine_falloff", &Light::spot_cosine_falloff)
-      .def_readonly("cast_shadows", &Light::cast_shadows)
-      .def_readonly("diffuse", &Light::diffuse)
-      .def_readonly("glossy", &Light::glossy)
-      .def_readonly("max_bounces", &Light::max_bounces)
-      .def_readonly("light_sets", &Light::light_sets)
-      .def_readonly("shadow_sets", &Light::shadow_sets);
+           "spot_size: the spot's full cone angle in radians, in [0, pi]; spot_blend: the "
+           "softness of its edge, in [0, 1]. size: an area's extents along axis_u and axis_v "
+           "(world units), shape: RECTANGLE or ELLIPSE. light_sets, shadow_sets: light "
+           "linking, the receivers' light sets it lights and the blockers' shadow sets that "
+           "cast its shadows, a bit per set (all: no linking).")
+      .def_readonly("type", &Light::type,
+                    "The kind of light: POINT, SPOT, SUN or AREA (a LightType).")
+      .def_readonly("color", &Light::color,
+                    "Its power, light colour included: W/sr for point and spot, W/m^2 for sun, "
+                    "W/(m^2 sr) for area.")
+      .def_readonly("position", &Light::position, "Its position in world space (unused by sun).")
+      .def_readonly("direction", &Light::direction,
+                    "The way its light travels (not zero): the spot's axis, the sun's rays, the "
+                    "area's normal.")
+      .def_readonly("samples", &Light::samples,
+                    "Shadow feelers per axis of a sized light (samples x samples), 1 to 64.")
+      .def_readonly("radius", &Light::radius,
+                    "Point and spot: the radius of the sphere it is (0: a point, hard shadows).")
+      .def_readonly(
+          "angle", &Light::angle,
+          "Sun: the full apex angle of its disc in radians, in [0, pi] (0: hard shadows).")
+      .def_readonly("spread", &Light::spread,
+                    "Area: the full angle its light spreads over in radians, in [0, pi] (pi: the "
+                    "whole side).")
+      .def_readonly(
+          "spot_cosine_falloff", &Light::spot_cosine_falloff,
+          "Spot: also weigh the cone's falloff by the cosine to the axis (Cycles before 4.0).")
+      .def_readonly("cast_shadows", &Light::cast_shadows,
+                    "Whether surfaces between it and a point shadow it.")
+      .def_readonly("diffuse", &Light::diffuse,
+                    "Whether it lights the diffuse terms (Cycles' Diffuse ray visibility).")
+      .def_readonly("glossy", &Light::glossy,
+                    "Whether it shows in the specular terms: highlights, coat, glossy lobes.")
+      .def_readonly(
+          "max_bounces", &Light::max_bounces,
+          "It lights only surfaces reached after at most this many reflections or refractions.")
+      .def_readonly("light_sets", &Light::light_sets,
+                    "Light linking: a bit per light set of the receivers it lights (all bits: "
+                    "every receiver).")
+      .def_readonly("shadow_sets", &Light::shadow_sets,
+                    "Light linking: a bit per shadow set of the blockers that cast its shadows "
+                    "(all bits: all).");
 }
 
 }  // namespace whitted::python

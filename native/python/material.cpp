@@ -170,7 +170,8 @@ void bind_material(py::module_& m) {
       [&](const auto&... param) {
         (material.def_property_readonly(
              std::string(param.name).c_str(),
-             [member = param.member](const Material& mat) { return to_python(mat.*member); }),
+             [member = param.member](const Material& mat) { return to_python(mat.*member); },
+             std::string(param.doc).c_str()),
          ...);
         (params.append(py::make_tuple(std::string(param.name), default_of(defaults.*param.member))),
          ...);

@@ -190,12 +190,17 @@ void bind_mesh(py::module_& m) {
           py::arg("spheres"), py::arg("slots") = py::none(),
           "Points (a point cloud) of the same object: spheres float32[P,4] (x, y, z, radius, "
           "object space), slots int32[P] (None: slot 0).")
-      .def_property_readonly("deforms", &Mesh::deforms)
-      .def_property_readonly("vertex_count", &Mesh::vertex_count)
-      .def_property_readonly("triangle_count", &Mesh::triangle_count)
-      .def_property_readonly("curve_segment_count",
-                             [](const Mesh& mesh) { return mesh.curves.segment_count(); })
-      .def_property_readonly("point_count", [](const Mesh& mesh) { return mesh.points.count(); });
+      .def_property_readonly("deforms", &Mesh::deforms,
+                             "Whether set_motion gave it positions that move over the shutter.")
+      .def_property_readonly("vertex_count", &Mesh::vertex_count, "Its number of vertices (N).")
+      .def_property_readonly("triangle_count", &Mesh::triangle_count,
+                             "Its number of triangles (M).")
+      .def_property_readonly(
+          "curve_segment_count", [](const Mesh& mesh) { return mesh.curves.segment_count(); },
+          "Its number of curve segments (from set_curves).")
+      .def_property_readonly(
+          "point_count", [](const Mesh& mesh) { return mesh.points.count(); },
+          "Its number of point spheres (from set_points).");
 }
 
 }  // namespace whitted::python

@@ -58,7 +58,7 @@ void bind_panorama(py::module_& m) {
            "fisheye_fov (radians), fisheye_lens (mm), sensor (width, height in mm, fitted "
            "to the image), polynomial (k0..k4 of the polynomial fisheye), cylinder "
            "(longitude min, max in radians, height min, max over the radius).")
-      .def_readonly("type", &Panorama::type)
+      .def_readonly("type", &Panorama::type, "Which of Blender's panorama projections it is.")
       .def(
           "direction",
           [](const Panorama& p, float u, float v) -> py::object {

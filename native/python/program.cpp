@@ -154,9 +154,13 @@ void bind_program(py::module_& m) {
           "maps each INPUT mode it reads to four floats; `incoming` and `normal` (unit) and "
           "`backfacing` are what FRESNEL and LAYER_WEIGHT read. For tests and debugging; a "
           "program that samples images is refused (ValueError).")
-      .def_property_readonly("register_count", &Program::register_count)
-      .def_property_readonly("instruction_count", &Program::instruction_count)
-      .def_property_readonly("textures", &Program::textures);
+      .def_property_readonly("register_count", &Program::register_count,
+                             "How many float4 registers it has (R).")
+      .def_property_readonly("instruction_count", &Program::instruction_count,
+                             "How many instructions it runs per hit.")
+      .def_property_readonly("textures", &Program::textures,
+                             "The scene texture names its IMAGE and ENVIRONMENT ops read, by "
+                             "index.");
 }
 
 }  // namespace whitted::python

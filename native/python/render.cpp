@@ -178,13 +178,15 @@ void bind_render(py::module_& m) {
           "object, material, light, weight, contribution, cut, blocked, ...); the "
           "contributions sum to 'pixel'. sample k >= 0: that grid sample alone. Raises "
           "IndexError outside the image.")
-      .def("start", &RenderJob::start)
+      .def("start", &RenderJob::start,
+           "Starts the worker threads and returns at once; a second call does nothing.")
       .def("wait", &RenderJob::wait, py::arg("timeout_seconds"),
            py::call_guard<py::gil_scoped_release>(),
            "True once the render has finished or stopped after cancel().")
       .def("cancel", &RenderJob::cancel,
            "Workers stop within a row of pixels; wait() then returns promptly.")
-      .def_property_readonly("progress", &RenderJob::progress)
+      .def_property_readonly("progress", &RenderJob::progress,
+                             "The fraction of tiles of all passes done, 0 to 1.")
       .def_property_readonly("frame", &RenderJob::frame,
                              "Passes completed (0 before the first): display() shows "
                              "something new each time it grows.")
@@ -267,14 +269,16 @@ void bind_render(py::module_& m) {
                 .reshape({s.height, s.width, channels});
           },
           py::arg("name"), "A kept film pass, float32[height, width, channels].")
-      .def("take_finished_tiles",
-           [](RenderJob& job) {
-             std::vector<py::tuple> out;
-             for (const Tile& t : job.take_finished_tiles()) {
-               out.push_back(py::make_tuple(t.x, t.y, t.width, t.height));
-             }
-             return out;
-           })
+      .def(
+          "take_finished_tiles",
+          [](RenderJob& job) {
+            std::vector<py::tuple> out;
+            for (const Tile& t : job.take_finished_tiles()) {
+              out.push_back(py::make_tuple(t.x, t.y, t.width, t.height));
+            }
+            return out;
+          },
+          "(x, y, width, height) of each tile whose last pass finished since the last call.")
       .def(
           "tile",
           [](const py::object& self, int x, int y, int w, int h) {
@@ -329,17 +333,24 @@ void bind_render(py::module_& m) {
           py::arg("kind"), py::arg("x"), py::arg("y"), py::arg("width"), py::arg("height"),
           "The ranked Cryptomatte ids of a finished rectangle, float32[h*w, 2 * depth]: (id, "
           "coverage) by rank, the largest coverage first; kind: 'object', 'material' or 'asset'.")
-      .def("cost_image",
-           [](const RenderJob& job) {
-             const Settings& s = job.settings();
-             return copy_cost(job, 0, 0, s.width, s.height).reshape({s.height, s.width});
-           })
-      .def("image",
-           [](const RenderJob& job) {
-             const Settings& s = job.settings();
-             return copy_rect(job, 0, 0, s.width, s.height).reshape({s.height, s.width, 4});
-           })
-      .def("stats", [](const RenderJob& job) { return stats_dict(job.stats()); })
+      .def(
+          "cost_image",
+          [](const RenderJob& job) {
+            const Settings& s = job.settings();
+            return copy_cost(job, 0, 0, s.width, s.height).reshape({s.height, s.width});
+          },
+          "Rays traced per pixel (all kinds) so far, a new float32[height, width].")
+      .def(
+          "image",
+          [](const RenderJob& job) {
+            const Settings& s = job.settings();
+            return copy_rect(job, 0, 0, s.width, s.height).reshape({s.height, s.width, 4});
+          },
+          "The RGBA image so far, a new float32[height, width, 4] (rows bottom to top).")
+      .def(
+          "stats", [](const RenderJob& job) { return stats_dict(job.stats()); },
+          "A dict of the render so far: rays by type, rays skipped by reason, effects as "
+          "{name, on, why}, times, counts, top_level_built, cancelled and error.")
       .def(
           "trace_bare",
           [](const RenderJob& job) {

@@ -22,8 +22,9 @@ void bind_scene(py::module_& m) {
       .value("ALL", kAllRayKinds);
 
   py::class_<Scene>(m, "Scene",
-                    "Meshes, instances, materials and lights keyed by name; setting a name "
-                    "again replaces only that item.")
+                    "Meshes, instances, materials, textures and lights keyed by name; setting a "
+                    "name again replaces only that item. A running RenderJob keeps its own "
+                    "snapshot, so the scene may be edited while it renders.")
       .def(py::init<>())
       .def(
           "set_mesh",
@@ -113,14 +114,22 @@ void bind_scene(py::module_& m) {
           "ambient light Ia is ambient_strength times the program's radiance averaged over "
           "the upper hemisphere with weight cos(theta)/pi (what a uniform sky's radiance "
           "equals; 24 x 24 directions).")
-      .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"))
-      .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"))
-      .def("set_texture", &Scene::set_texture, py::arg("name"), py::arg("texture"))
-      .def("remove_mesh", &Scene::remove_mesh, py::arg("name"))
-      .def("remove_instance", &Scene::remove_instance, py::arg("name"))
-      .def("remove_material", &Scene::remove_material, py::arg("name"))
-      .def("remove_light", &Scene::remove_light, py::arg("name"))
-      .def("remove_texture", &Scene::remove_texture, py::arg("name"))
+      .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"),
+           "Adds or replaces the material instances name by this one.")
+      .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"),
+           "Adds or replaces the light of this name.")
+      .def("set_texture", &Scene::set_texture, py::arg("name"), py::arg("texture"),
+           "Adds or replaces the texture materials and programs name by this one.")
+      .def("remove_mesh", &Scene::remove_mesh, py::arg("name"),
+           "Removes the mesh of this name (ValueError if there is none).")
+      .def("remove_instance", &Scene::remove_instance, py::arg("name"),
+           "Removes the instance of this name (ValueError if there is none).")
+      .def("remove_material", &Scene::remove_material, py::arg("name"),
+           "Removes the material of this name (ValueError if there is none).")
+      .def("remove_light", &Scene::remove_light, py::arg("name"),
+           "Removes the light of this name (ValueError if there is none).")
+      .def("remove_texture", &Scene::remove_texture, py::arg("name"),
+           "Removes the texture of this name (ValueError if there is none).")
       .def_readwrite("camera", &Scene::camera,
                      "The view a RenderJob takes by default; not part of the compiled scene, "
                      "so changing it recompiles nothing.")
@@ -139,8 +148,9 @@ void bind_scene(py::module_& m) {
           },
           "Ambient light Ia of a world without program; a material's ambient term is "
           "ka * Ia * kd. Read: the Ia a render uses (with a world program, set_world's).")
-      .def_property_readonly("mesh_count", &Scene::mesh_count)
-      .def_property_readonly("instance_count", &Scene::instance_count)
+      .def_property_readonly("mesh_count", &Scene::mesh_count, "How many meshes it holds.")
+      .def_property_readonly("instance_count", &Scene::instance_count,
+                             "How many instances it holds.")
       .def_property_readonly("mesh_build_seconds", &Scene::mesh_build_seconds,
                              "Seconds spent in set_mesh building mesh BVHs, summed.")
       .def_property_readonly("top_level_builds", &Scene::top_level_builds,

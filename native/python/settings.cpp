@@ -1,5 +1,10 @@
 #include "integrator/settings.h"
 
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <string_view>
+
 #include "bindings.h"
 #include "integrator/passes.h"
 #include "scene/light.h"
@@ -19,6 +24,18 @@ uint32_t pass_bits(const std::vector<std::string>& names) {
   for (const std::string& name : names) bits |= pass_bit(film_pass(name));
   return bits;
 }
+
+namespace {
+
+// A bounded setting's docstring: what it is, then its range from kSettingRanges (the one
+// definition of the bounds validate() holds it to).
+std::string ranged(const SettingRange& range, std::string_view doc) {
+  std::ostringstream out;
+  out << std::setprecision(10) << doc << " In [" << range.min << ", " << range.max << "].";
+  return out.str();
+}
+
+}  // namespace
 
 std::vector<std::string> pass_names(uint32_t bits) {
   std::vector<std::string> names;
@@ -60,7 +77,8 @@ void bind_settings(py::module_& m) {
       .value("OPAQUE", GlassShadows::kOpaque)
       .value("TINTED", GlassShadows::kTinted);
 
-  py::class_<Settings>(m, "Settings")
+  py::class_<Settings>(m, "Settings",
+                      "What a RenderJob renders with: image size, depth, sampling, passes.")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
                        int tile_size, Fresnel fresnel, std::array<int, 4> border,
                        bool transparent_background, float cutoff, AntiAliasing aa_mode,
@@ -132,34 +150,85 @@ void bind_settings(py::module_& m) {
       .def("validate", &Settings::validate,
            "Raise ValueError naming the first value out of its range (LIMITS), as a render "
            "does.")
-      .def_readwrite("width", &Settings::width)
-      .def_readwrite("height", &Settings::height)
-      .def_readwrite("max_depth", &Settings::max_depth)
-      .def_readwrite("glossy_samples", &Settings::glossy_samples)
-      .def_readwrite("emitter_samples", &Settings::emitter_samples)
-      .def_readwrite("shutter", &Settings::shutter)
-      .def_readwrite("aa_samples", &Settings::aa_samples)
-      .def_readwrite("threads", &Settings::threads)
-      .def_readwrite("tile_size", &Settings::tile_size)
+      .def_readwrite("width", &Settings::width,
+                     ranged(setting_range("width"),
+                            "Image width in pixels.")
+                         .c_str())
+      .def_readwrite("height", &Settings::height,
+                     ranged(setting_range("height"),
+                            "Image height in pixels.")
+                         .c_str())
+      .def_readwrite("max_depth", &Settings::max_depth,
+                     ranged(setting_range("max_depth"),
+                            "Secondary bounces (reflection, refraction) allowed after the camera "
+                            "ray.")
+                         .c_str())
+      .def_readwrite("glossy_samples", &Settings::glossy_samples,
+                     ranged(setting_range("glossy_samples"),
+                            "n: a branch's first glossy bounce sends n x n rays drawn from the "
+                            "lobe (later ones one).")
+                         .c_str())
+      .def_readwrite("emitter_samples", &Settings::emitter_samples,
+                     ranged(setting_range("emitter_samples"),
+                            "n: n x n feelers to the emissive meshes per shading point (one after "
+                            "a glossy bounce).")
+                         .c_str())
+      .def_readwrite("shutter", &Settings::shutter,
+                     "Render > Motion Blur's shutter in frames, for the report; 0: motion blur "
+                     "off.")
+      .def_readwrite("aa_samples", &Settings::aa_samples,
+                     ranged(setting_range("aa_samples"),
+                            "Anti-aliasing samples per pixel axis (n x n) for REGULAR and "
+                            "JITTERED.")
+                         .c_str())
+      .def_readwrite("threads", &Settings::threads,
+                     ranged(setting_range("threads"),
+                            "Worker threads; 0: all hardware threads.")
+                         .c_str())
+      .def_readwrite("tile_size", &Settings::tile_size,
+                     ranged(setting_range("tile_size"),
+                            "Edge of the square tiles the workers take, in pixels.")
+                         .c_str())
       .def_readwrite("cryptomatte_kinds", &Settings::cryptomatte_kinds,
                      "Cryptomatte kinds kept: bits 1 object, 2 material, 4 asset; 0: none.")
       .def_readwrite("cryptomatte_depth", &Settings::cryptomatte_depth,
-                     "Cryptomatte ranks kept per pixel and kind (0 to 16).")
+                     ranged(setting_range("cryptomatte_depth"),
+                            "Cryptomatte ranks kept per pixel and kind.")
+                         .c_str())
       .def_readwrite("probe_stride", &Settings::probe_stride,
                      "An estimate probe: trace one tile in every probe_stride^2, spread over "
                      "the border, each pixel as the full render traces it; 1: every tile.")
-      .def_readwrite("fresnel", &Settings::fresnel)
-      .def_readwrite("glass_shadows", &Settings::glass_shadows)
+      .def_readwrite("fresnel", &Settings::fresnel,
+                     "How reflectivity and transmissivity split by angle: OFF (as given), "
+                     "SCHLICK's approximation or EXACT dielectric Fresnel.")
+      .def_readwrite("glass_shadows", &Settings::glass_shadows,
+                     "What a shadow feeler does at glass (a GlassShadows).")
       .def_property_readonly("border",
                              [](const Settings& s) {
                                return std::array<int, 4>{s.border[0], s.border[1], s.border[2],
                                                          s.border[3]};
-                             })
-      .def_readwrite("transparent_background", &Settings::transparent_background)
-      .def_readwrite("cutoff", &Settings::cutoff)
-      .def_readwrite("aa_mode", &Settings::aa_mode)
-      .def_readwrite("aa_threshold", &Settings::aa_threshold)
-      .def_readwrite("aa_depth", &Settings::aa_depth)
+                             },
+                             "(xmin, ymin, xmax, ymax): the pixels traced, end exclusive, rows "
+                             "from the bottom; all zero: the whole image.")
+      .def_readwrite("transparent_background", &Settings::transparent_background,
+                     "Camera rays that hit nothing give alpha 0 (else 1).")
+      .def_readwrite("cutoff", &Settings::cutoff,
+                     ranged(setting_range("cutoff"),
+                            "Adaptive depth control: a secondary ray weighing less than this on "
+                            "its pixel is not traced; 0: all are.")
+                         .c_str())
+      .def_readwrite("aa_mode", &Settings::aa_mode,
+                     "Anti-aliasing: REGULAR grid, JITTERED grid or ADAPTIVE corner splitting (an "
+                     "AntiAliasing).")
+      .def_readwrite("aa_threshold", &Settings::aa_threshold,
+                     ranged(setting_range("aa_threshold"),
+                            "ADAPTIVE: a square is split when its corners differ by more than "
+                            "this (summed over RGB).")
+                         .c_str())
+      .def_readwrite("aa_depth", &Settings::aa_depth,
+                     ranged(setting_range("aa_depth"),
+                            "ADAPTIVE: how many times a square may be split.")
+                         .c_str())
       .def_readwrite("packets", &Settings::packets,
                      "Trace each pixel's camera rays as one Embree packet; off: one query "
                      "per ray (a benchmark baseline).")
@@ -174,13 +243,28 @@ void bind_settings(py::module_& m) {
                      "Skip shadow feelers that cannot show (light behind the surface, no "
                      "irradiance, below the cutoff); off: a feeler to every light sample "
                      "(a benchmark baseline).")
-      .def_readwrite("progressive", &Settings::progressive)
-      .def_readwrite("start_pixel_size", &Settings::start_pixel_size)
+      .def_readwrite("progressive", &Settings::progressive,
+                     "For the viewport: coarse previews from start_pixel_size blocks down to 2 "
+                     "pixels, then one pass per anti-aliasing sample.")
+      .def_readwrite("start_pixel_size", &Settings::start_pixel_size,
+                     ranged(setting_range("start_pixel_size"),
+                            "progressive: the block edge of the first, coarsest preview (a power "
+                            "of two).")
+                         .c_str())
       .def_property(
           "passes", [](const Settings& s) { return pass_names(s.passes); },
-          [](Settings& s, const std::vector<std::string>& names) { s.passes = pass_bits(names); })
-      .def_readwrite("contribution_depth", &Settings::contribution_depth)
-      .def_readwrite("pass_alpha_threshold", &Settings::pass_alpha_threshold)
+          [](Settings& s, const std::vector<std::string>& names) { s.passes = pass_bits(names); },
+          "Names of the film passes kept besides the image and the ray cost (FILM_PASSES).")
+      .def_readwrite("contribution_depth", &Settings::contribution_depth,
+                     ranged(setting_range("contribution_depth"),
+                            "The Contributions pass keeps bounce depths 0 .. n - 1 apart and the "
+                            "rest in one bin.")
+                         .c_str())
+      .def_readwrite("pass_alpha_threshold", &Settings::pass_alpha_threshold,
+                     ranged(setting_range("pass_alpha_threshold"),
+                            "The data passes come from the first surface at least this opaque (0: "
+                            "the first surface).")
+                         .c_str())
       .def_property(
           "mist",
           [](const Settings& s) {
@@ -190,7 +274,9 @@ void bind_settings(py::module_& m) {
             s.mist_start = mist[0];
             s.mist_depth = mist[1];
             s.mist_falloff = mist[2];
-          })
+          },
+          "The Mist pass: (start, depth, falloff), 0 before start and 1 beyond start + depth, "
+          "((distance - start) / depth)^falloff between.")
       .def_readwrite("worker_nice", &Settings::worker_nice,
                      "The workers' niceness, 0 (normal) to 19 (lowest priority): the "
                      "viewport renders below the interface's priority.")

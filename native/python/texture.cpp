@@ -18,7 +18,9 @@ void bind_texture(py::module_& m) {
       .value("CLOSEST", Interpolation::kClosest);
 
   py::class_<Texture>(m, "Texture", "An image or checker texture; set it with Scene.set_texture.")
-      .def_readonly("coordinates", &Texture::coordinates);
+      .def_readonly("coordinates", &Texture::coordinates,
+                    "What it is looked up by: UV, GENERATED (object space mapped to [0, 1] "
+                    "over the mesh's bounds) or OBJECT (object space).");
 
   m.def(
       "ImageTexture",

@@ -101,99 +101,121 @@ enum class EmissionSampling : uint32_t { kNone, kFront, kBack, kBoth };
 // A material as the exporter describes it. Material's constructor checks it; these
 // defaults are a valid grey Lambertian material.
 struct MaterialParams {
-  Color diffuse{0.8f};       // albedo kd: the diffuse term is kd/pi * E
-  Color specular{0.0f};      // ks of a normalised Phong lobe ks*(f+2)/(2pi)*(v.r)^f * E
-  float shininess = 50.0f;   // Phong exponent f
-  float ambient = 1.0f;      // ka: the ambient term is ka * Ia * kd
-  Color reflectivity{0.0f};  // sigma_r before the Fresnel split (split.h)
-  // Blender's roughness of the reflection lobe: 0 (below 0.02) a mirror, as Whitted's;
-  // above, the GGX lobe of alpha = roughness^2 (scene/microfacet.h), whose rays are
-  // glossy and whose highlight lamps give of its colour, `reflectivity`. In [0, 1].
-  float roughness = 0.0f;
-  // Cycles' Multiscatter GGX: the lobe keeps the energy its facets pass between them
-  // (ggx_multiscatter_scale); false: GGX's single scattering.
-  bool multiscatter = false;
-  // How the lobe's masking and shadowing combine (Cycles 3.x: separable).
+  // What each member means, its unit and range: its doc in kMaterialParams below.
+  Color diffuse{0.8f};
+  Color specular{0.0f};
+  float shininess = 50.0f;
+  float ambient = 1.0f;
+  Color reflectivity{0.0f};   // split by Fresnel in split.h
+  float roughness = 0.0f;     // GGX of alpha = roughness^2: scene/microfacet.h
+  bool multiscatter = false;  // ggx_multiscatter_scale
   Masking masking = Masking::kCorrelated;
-  Color transmissivity{0.0f};  // sigma_t before the Fresnel split
-  float ior = 1.5f;            // index of refraction inside the surface (outside: 1)
-  Color emission{0.0f};        // radiance added as is
-  // Which sides of the meshes it covers light the scene (scene/mesh_light.h).
-  EmissionSampling emission_sampling = EmissionSampling::kBoth;
-  float alpha = 1.0f;      // coverage: 1 opaque, 0 invisible (cut-outs)
-  int32_t priority = 0;    // nested dielectrics: the higher owns overlaps (medium.h)
-  int32_t pass_index = 0;  // Blender's material Pass Index (the IndexMA pass)
-  // The coat: a clear dielectric layer over everything above. At a hit it reflects its
-  // weights times the dielectric Fresnel factor of coat_ior at its own normal, and what
-  // lies beneath receives the rest (lobes.h, Coat).
-  float coat_specular = 0.0f;      // weight of its normalised Phong highlight
-  float coat_reflectivity = 0.0f;  // weight of its mirror reflection
-  float coat_shininess = 1000.0f;  // Phong exponent of its highlight
-  float coat_ior = 1.5f;           // index of refraction of the coat (outside: 1)
-  // Blender's roughness of the coat's reflection: as `roughness` for the base, a mirror
-  // up to 0.02, above it the GGX lobe of its mirror weight (glossy rays, GGX highlights).
+  Color transmissivity{0.0f};
+  float ior = 1.5f;
+  Color emission{0.0f};
+  EmissionSampling emission_sampling = EmissionSampling::kBoth;  // scene/mesh_light.h
+  float alpha = 1.0f;
+  int32_t priority = 0;  // medium.h
+  int32_t pass_index = 0;
+  // The coat (lobes.h, Coat): a clear dielectric layer over everything above.
+  float coat_specular = 0.0f;
+  float coat_reflectivity = 0.0f;
+  float coat_shininess = 1000.0f;
+  float coat_ior = 1.5f;
   float coat_roughness = 0.0f;
-  // Whether what the coat reflects is taken from the light the layers beneath receive
-  // (Cycles 4.0 on); false: the coat is added on top of them, as Cycles 3.x's Principled
-  // BSDF adds its specular and Clearcoat lobes to its diffuse one.
   bool coat_layered = true;
-  // Cycles 3.x: the shading normal (a program's, or the interpolated one) is turned
-  // towards the geometric normal just enough that the view's mirror direction stays
-  // above the surface, for every lobe (its ensure_valid_reflection; 4.x+ does so for
-  // specular lobes only, and Whitted then not at all).
-  bool valid_reflection = false;
-  BumpShadowing bump_shadowing = BumpShadowing::kNone;  // for a program's normal
+  bool valid_reflection = false;  // Cycles 3.x's ensure_valid_reflection
+  BumpShadowing bump_shadowing = BumpShadowing::kNone;
   DiffuseModel diffuse_model = DiffuseModel::kLambert;
-  float diffuse_roughness = 0.0f;  // what shapes a lobe other than kLambert, in [0, 1]
-  std::string diffuse_texture{};   // multiplies `diffuse` by its RGB ("" for none)
-  std::string alpha_texture{};     // multiplies `alpha` by its A ("" for none)
-  // Fields a program computes per hit: the register holding each after the program, -1
-  // for the constant above.
+  float diffuse_roughness = 0.0f;
+  std::string diffuse_texture{};
+  std::string alpha_texture{};
   std::shared_ptr<const Program> program{};
-  std::array<int32_t, kFieldCount> outputs = kNoOutputs;
+  std::array<int32_t, kFieldCount> outputs = kNoOutputs;  // -1: the constant
 };
 
-// MaterialParams' members by name, defined here once: the bindings take a material's
-// parameters as keywords of these names and show them as its attributes, and give
-// Python the names and defaults (whitted_native.MATERIAL_PARAMS), from which the
-// exporter's data class is made. The static_assert below keeps it whole.
+// MaterialParams' members by name and meaning, defined here once: the bindings take a
+// material's parameters as keywords of these names and show them as its attributes,
+// documented by `doc`, and give Python the names and defaults
+// (whitted_native.MATERIAL_PARAMS), from which the exporter's data class is made. The
+// static_assert below keeps it whole.
 template <typename T>
 struct MaterialParam {
   std::string_view name;
   T MaterialParams::*member;
+  std::string_view doc;  // what it is, its unit and range: its Python docstring
 };
 template <typename T>
-MaterialParam(std::string_view, T MaterialParams::*) -> MaterialParam<T>;
+MaterialParam(std::string_view, T MaterialParams::*, std::string_view) -> MaterialParam<T>;
 inline constexpr auto kMaterialParams = std::tuple{
-    MaterialParam{"diffuse", &MaterialParams::diffuse},
-    MaterialParam{"specular", &MaterialParams::specular},
-    MaterialParam{"shininess", &MaterialParams::shininess},
-    MaterialParam{"ambient", &MaterialParams::ambient},
-    MaterialParam{"reflectivity", &MaterialParams::reflectivity},
-    MaterialParam{"roughness", &MaterialParams::roughness},
-    MaterialParam{"multiscatter", &MaterialParams::multiscatter},
-    MaterialParam{"masking", &MaterialParams::masking},
-    MaterialParam{"transmissivity", &MaterialParams::transmissivity},
-    MaterialParam{"ior", &MaterialParams::ior},
-    MaterialParam{"emission", &MaterialParams::emission},
-    MaterialParam{"emission_sampling", &MaterialParams::emission_sampling},
-    MaterialParam{"alpha", &MaterialParams::alpha},
-    MaterialParam{"priority", &MaterialParams::priority},
-    MaterialParam{"pass_index", &MaterialParams::pass_index},
-    MaterialParam{"coat_specular", &MaterialParams::coat_specular},
-    MaterialParam{"coat_reflectivity", &MaterialParams::coat_reflectivity},
-    MaterialParam{"coat_shininess", &MaterialParams::coat_shininess},
-    MaterialParam{"coat_ior", &MaterialParams::coat_ior},
-    MaterialParam{"coat_roughness", &MaterialParams::coat_roughness},
-    MaterialParam{"coat_layered", &MaterialParams::coat_layered},
-    MaterialParam{"valid_reflection", &MaterialParams::valid_reflection},
-    MaterialParam{"bump_shadowing", &MaterialParams::bump_shadowing},
-    MaterialParam{"diffuse_model", &MaterialParams::diffuse_model},
-    MaterialParam{"diffuse_roughness", &MaterialParams::diffuse_roughness},
-    MaterialParam{"diffuse_texture", &MaterialParams::diffuse_texture},
-    MaterialParam{"alpha_texture", &MaterialParams::alpha_texture},
-    MaterialParam{"program", &MaterialParams::program},
-    MaterialParam{"outputs", &MaterialParams::outputs},
+    MaterialParam{
+        "diffuse", &MaterialParams::diffuse,
+        "Diffuse albedo kd (linear RGB): the diffuse term is kd/pi times the irradiance."},
+    MaterialParam{
+        "specular", &MaterialParams::specular,
+        "Weight ks of the normalised Phong highlight ks*(f+2)/(2pi)*(v.r)^f that lamps give."},
+    MaterialParam{"shininess", &MaterialParams::shininess,
+                  "Phong exponent f of the highlight: higher is tighter."},
+    MaterialParam{"ambient", &MaterialParams::ambient,
+                  "Weight ka of the ambient term ka * ambient * diffuse."},
+    MaterialParam{"reflectivity", &MaterialParams::reflectivity,
+                  "Mirror (or glossy) reflection weight sigma_r (RGB), before the Fresnel split."},
+    MaterialParam{"roughness", &MaterialParams::roughness,
+                  "Blender roughness of the reflection in [0, 1] (clamped): below 0.02 a mirror, "
+                  "above a GGX lobe of alpha = roughness^2 traced with glossy rays."},
+    MaterialParam{"multiscatter", &MaterialParams::multiscatter,
+                  "Cycles' Multiscatter GGX: the glossy lobe keeps the energy its facets pass "
+                  "between them; False: single-scattering GGX."},
+    MaterialParam{"masking", &MaterialParams::masking,
+                  "How the glossy lobe's Smith masking and shadowing combine (a Masking)."},
+    MaterialParam{"transmissivity", &MaterialParams::transmissivity,
+                  "Refraction weight sigma_t (RGB), before the Fresnel split."},
+    MaterialParam{"ior", &MaterialParams::ior,
+                  "Index of refraction inside the surface (outside is 1); must be above 0."},
+    MaterialParam{"emission", &MaterialParams::emission,
+                  "Radiance (W/(m^2 sr), RGB) the surface adds as is."},
+    MaterialParam{"emission_sampling", &MaterialParams::emission_sampling,
+                  "Which sides of the meshes it covers are sampled as lights (an "
+                  "EmissionSampling); a side not sampled still shows its emission."},
+    MaterialParam{"alpha", &MaterialParams::alpha,
+                  "Coverage in [0, 1] (clamped): 1 opaque, 0 invisible (cut-outs)."},
+    MaterialParam{"priority", &MaterialParams::priority,
+                  "Nested dielectrics: where volumes overlap, the material of higher priority owns "
+                  "the overlap."},
+    MaterialParam{"pass_index", &MaterialParams::pass_index,
+                  "Blender's material Pass Index, written to the IndexMA pass."},
+    MaterialParam{"coat_specular", &MaterialParams::coat_specular,
+                  "Weight of the coat's normalised Phong highlight."},
+    MaterialParam{"coat_reflectivity", &MaterialParams::coat_reflectivity,
+                  "Weight of the coat's mirror reflection (scaled by its Fresnel factor)."},
+    MaterialParam{"coat_shininess", &MaterialParams::coat_shininess,
+                  "Phong exponent of the coat's highlight."},
+    MaterialParam{"coat_ior", &MaterialParams::coat_ior,
+                  "Index of refraction of the coat (outside is 1); must be above 0."},
+    MaterialParam{
+        "coat_roughness", &MaterialParams::coat_roughness,
+        "Blender roughness of the coat's reflection in [0, 1], as roughness is for the base."},
+    MaterialParam{"coat_layered", &MaterialParams::coat_layered,
+                  "True: the layers beneath get only the light the coat lets through (Cycles 4.0 "
+                  "on); False: the coat is added on top (Cycles 3.x)."},
+    MaterialParam{"valid_reflection", &MaterialParams::valid_reflection,
+                  "Cycles 3.x: turn the shading normal towards the geometric one so the mirror "
+                  "direction of the view stays above the surface."},
+    MaterialParam{"bump_shadowing", &MaterialParams::bump_shadowing,
+                  "How a diffuse lobe under a program's normal fades (a BumpShadowing)."},
+    MaterialParam{"diffuse_model", &MaterialParams::diffuse_model,
+                  "The shape of the diffuse lobe (a DiffuseModel)."},
+    MaterialParam{"diffuse_roughness", &MaterialParams::diffuse_roughness,
+                  "Roughness in [0, 1] (clamped) shaping a diffuse_model other than LAMBERT."},
+    MaterialParam{"diffuse_texture", &MaterialParams::diffuse_texture,
+                  "Name of a scene texture whose RGB multiplies diffuse (empty: none)."},
+    MaterialParam{"alpha_texture", &MaterialParams::alpha_texture,
+                  "Name of a scene texture whose A multiplies alpha (empty: none)."},
+    MaterialParam{"program", &MaterialParams::program,
+                  "A Program computing some fields per hit, or None."},
+    MaterialParam{"outputs", &MaterialParams::outputs,
+                  "{field name (MATERIAL_FIELDS): register holding it after program}; the other "
+                  "fields keep their constants."},
 };
 static_assert(aggregate_member_count<MaterialParams>() ==
                   std::tuple_size_v<decltype(kMaterialParams)>,
