@@ -61,6 +61,7 @@ GROUPS = {
         "compare-kernels": "check.compare_kernels",
         "compare-kernels-table": "check.kernels_table",
         "compare-builds": "builds",
+        "codebase": "check.codebase",
     },
     "profiling": {
         "profile-trace": "profiling.trace",
