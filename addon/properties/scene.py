@@ -181,8 +181,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Trace in Waves",
         description="Trace a row of a tile's samples together, a generation of rays at a "
         "time, with the shadow rays towards each light as packets; off: the recursive "
-        "kernel, the reference (the same image up to float rounding). Renders keeping "
-        "the light passes, Contributions or Cut Weight always use the recursive kernel",
+        "kernel, the reference (the same image and passes up to float rounding)",
         **setting("waves"),
     )
     viewport_preset: EnumProperty(

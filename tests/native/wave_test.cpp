@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "integrator/render.h"
@@ -157,9 +158,8 @@ TEST(Waves, AdaptiveSubdivisionGivesTheRecursionsPixelsRaysAndCosts) {
 
 // The data passes (Depth, Mist, Normal, ...) are the camera's surface's: the wave
 // records them as the camera rays are traced, the same values as the recursion's, for
-// whole pixels, adaptive subdivision and progressive samples. The others are traced
-// recursively: their recorder follows the recursion.
-TEST(Waves, DataPassesAreTracedInWavesTheOthersRecursively) {
+// whole pixels, adaptive subdivision and progressive samples.
+TEST(Waves, DataPassesAreTheRecursions) {
   const Scene scene = every_effect();
   const std::vector<FilmPass> data = {
       FilmPass::kDepth, FilmPass::kMist,        FilmPass::kNormal,       FilmPass::kPosition,
@@ -189,12 +189,47 @@ TEST(Waves, DataPassesAreTracedInWavesTheOthersRecursively) {
       }
     }
   }
-  for (const FilmPass pass :
-       {FilmPass::kDiffuseDirect, FilmPass::kContributions, FilmPass::kCutWeight}) {
-    Settings settings = small_render(20, 16, 1, 1, 16);
-    settings.passes = bits | pass_bit(pass);
-    EXPECT_FALSE(render(scene, settings, true).stats.waves)
-        << kFilmPassNames[static_cast<size_t>(pass)];
+}
+
+// The light passes, Contributions and Cut Weight are traced in waves too: each queued ray
+// and feeler takes along where its terms go (PassRecorder::resume, FeelerPasses), so
+// every pass is the recursion's up to rounding, with the same rays, for whole pixels,
+// adaptive subdivision and progressive samples; and the light passes still sum to
+// Combined (docs/PASSES.md's recombination).
+TEST(Waves, LightPassesContributionsAndCutWeightAreTheRecursions) {
+  const Scene scene = every_effect();
+  uint32_t bits = kLightPasses | pass_bit(FilmPass::kContributions) |
+                  pass_bit(FilmPass::kCutWeight) | pass_bit(FilmPass::kDepth);
+  for (const AntiAliasing mode : {AntiAliasing::kRegular, AntiAliasing::kAdaptive}) {
+    for (const bool progressive : {false, true}) {
+      Settings settings = small_render(41, 29, 2, 2, 16);
+      settings.aa_mode = mode;
+      settings.aa_depth = 2;
+      settings.progressive = progressive;
+      settings.glass_shadows = GlassShadows::kTinted;
+      settings.max_depth = 3;  // some rays cut by depth: Cut Weight is not all zero
+      settings.contribution_depth = 2;
+      settings.passes = bits;
+      const Rendered waves = render(scene, settings, true);
+      const Rendered recursive = render(scene, settings, false);
+      EXPECT_TRUE(waves.stats.waves);
+      EXPECT_FALSE(recursive.stats.waves);
+      expect_close(waves.pixels, recursive.pixels);
+      EXPECT_TRUE(waves.cost == recursive.cost);
+      expect_same_rays(waves.stats.rays, recursive.stats.rays);
+      for (size_t p = 0; p < kFilmPassCount; ++p) {
+        if ((bits & pass_bit(static_cast<FilmPass>(p))) == 0) continue;
+        SCOPED_TRACE(std::string(kFilmPassNames[p]) + (progressive ? ", progressive" : "") +
+                     (mode == AntiAliasing::kAdaptive ? ", adaptive" : ""));
+        ASSERT_FALSE(waves.passes[p].empty());
+        expect_close(waves.passes[p], recursive.passes[p]);
+        float sum = 0.0f;
+        for (const float v : waves.passes[p]) sum += std::fabs(v);
+        if (p != static_cast<size_t>(FilmPass::kTransmissionDirect)) {
+          EXPECT_GT(sum, 0.0f) << "the scene shows something in every pass but one";
+        }
+      }
+    }
   }
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "core/limits.h"
 #include "core/math.h"
@@ -41,6 +42,8 @@ template <uint32_t kEffects, class Recorder, class Queries, class Policy>
 class Kernel {
  public:
   using Inputs = KernelInputs<kEffects, Queries>;
+  // Whether the feelers it queues in a wave carry passes (Recorder::Queued).
+  static constexpr bool kQueuesPasses = !std::is_empty_v<typename Recorder::Queued>;
   Kernel(const WhittedIntegrator& w, SampleRecord* record, Policy policy = {})
       : in_(w), recorder_(w, record), policy_(policy) {}
 
@@ -51,6 +54,15 @@ class Kernel {
   }
 
   const Inputs& inputs() const { return in_; }
+
+  // A ray a wave queued (wave.h), traced as trace() traces it, the recorder resumed where
+  // the recursion would have had it: the sample's record, the ray's factor on the
+  // sample, the indirect pass it feeds.
+  Color resume(const Ray& ray, const NodeState& state, const Color& factor, IndirectPass feeds,
+               SampleRecord* record, RayCounts* counts) const {
+    recorder_.resume(record, factor, feeds);
+    return trace(ray, state, counts, nullptr);
+  }
 
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
   // `first`, when given, is the ray's first hit, already found.
@@ -156,6 +168,7 @@ class Kernel {
   // what rays drawn from a glossy lobe bring back (glossy.h).
   Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
                    const NodeState& state, RayCounts* counts) const {
+    [[maybe_unused]] const auto term = recorder_.reflected(state.depth, split.sigma_r);
     Color reflected;
     if (const Lobe lobe = glossy_lobe(p, split); lobe.alpha > 0.0f) {
       reflected =
@@ -170,7 +183,6 @@ class Kernel {
                                    p.it.time, r, kReflectionRay),
                          state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
     }
-    recorder_.reflected(state.depth, split.sigma_r, reflected);
     return split.sigma_r * reflected;
   }
 
@@ -190,6 +202,7 @@ class Kernel {
   // beyond, or the mean of what rays through a rough surface's facets bring (glossy.h).
   Color transmission(const ShadingPoint& p, const Split& split, const Crossing& beyond,
                      const NodeState& state, RayCounts* counts) const {
+    [[maybe_unused]] const auto term = recorder_.refracted(state.depth, split.sigma_t);
     Color refracted;
     if (p.alpha > 0.0f && (in_.effects & kGlossyEffect) != 0) {
       refracted =
@@ -200,7 +213,6 @@ class Kernel {
                          state, split.sigma_t, beyond.media, /*from=*/&p.it,
                          TreeRayKind::kRefraction, counts);
     }
-    recorder_.refracted(state.depth, split.sigma_t, refracted);
     return split.sigma_t * refracted;
   }
 
@@ -252,7 +264,8 @@ class Kernel {
     }
     if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
     if constexpr (Policy::kQueues) {
-      policy_.child(ray, next, weight * share);  // traced in a later generation of the wave
+      // Traced in a later generation of the wave.
+      policy_.child(ray, next, weight * share, recorder_.indirect());
       return Color(0.0f);
     } else {
       [[maybe_unused]] const auto scope = recorder_.branch(weight, share, kind);

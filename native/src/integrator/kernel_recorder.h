@@ -19,6 +19,11 @@ namespace whitted {
 class WhittedIntegrator;
 struct SampleRecord;
 
+// The indirect light pass of the camera hit (passes.h) that the rays being traced
+// feed: none at the camera's depth, Glossy Indirect under its reflected term,
+// Transmission Indirect under its refracted term.
+enum class IndirectPass : uint8_t { kNone, kGlossy, kTransmission };
+
 // Every hook gets what the recorder needs of the kernel's step, and the recursion's
 // depth where it matters; the recorder keeps its own position in the recursion (a node
 // of its tree, a weight on the sample) through the scopes cover() and branch() return.
@@ -28,6 +33,9 @@ struct NoRecorder {
   // The recorder's position while the kernel shades a surface or traces a child ray:
   // set when made, put back when it ends.
   struct Scope {};
+  // What a feeler a wave queues (wave.h) carries for the recorder until its answer is
+  // known: nothing here.
+  struct Queued {};
   // Whether the feelers of a sized light may go to Embree as packets (the inspector
   // records each alone).
   static constexpr bool kBatchesFeelers = true;
@@ -66,19 +74,31 @@ struct NoRecorder {
   void shadow(Node /*node*/, const Ray& /*ray*/, const Color& /*transmittance*/) {}
   // A light sample's terms once `light_in` of it arrived.
   void arrived(const ShadingPoint& /*p*/, const LightTerms& /*t*/, const Color& /*light_in*/) {}
+  // In a wave, its feeler is queued instead, with these terms (unshadowed) and this
+  // irradiance: what the wave hands back, with the feeler's answer, to its sample's record.
+  Queued queued(const ShadingPoint& /*p*/, const LightTerms& /*t*/, const Color& /*irradiance*/,
+                int /*depth*/) {
+    return {};
+  }
   // The local term of the surface being shaded: its emission, its ambient term, and
   // emission + the whole local term as the kernel summed it.
   void local(const ShadingPoint& /*p*/, int /*depth*/, const Color& /*emission*/,
              const Color& /*ambient*/, const Color& /*total*/) {}
-  // sigma_r times the reflected radiance (sigma_t times the refracted) added there.
-  void reflected(int /*depth*/, const Color& /*sigma_r*/, const Color& /*radiance*/) {}
-  void refracted(int /*depth*/, const Color& /*sigma_t*/, const Color& /*radiance*/) {}
+  // The reflected term of the surface being shaded, sigma_r times what its rays bring
+  // back, is traced while the scope lives (the refracted term, sigma_t times..., likewise).
+  Scope reflected(int /*depth*/, const Color& /*sigma_r*/) { return {}; }
+  Scope refracted(int /*depth*/, const Color& /*sigma_t*/) { return {}; }
   // A child ray of `weight` (relative to the surface being shaded) times `share` (of
   // its lobe, for a ray drawn from a glossy lobe) is traced while the scope lives.
   Scope branch(const Color& /*weight*/, float /*share*/, TreeRayKind /*kind*/) { return {}; }
   // Such a ray, at `depth`, was not traced.
   void cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& /*weight*/,
            float /*share*/, TreeCut /*why*/) {}
+  // The pass the rays now traced feed, handed to those a wave queues (wave.h).
+  IndirectPass indirect() const { return IndirectPass::kNone; }
+  // A ray a wave queued takes up the position the recursion would have had there: its
+  // sample's record, its factor on the sample, the pass it feeds.
+  void resume(SampleRecord* /*record*/, const Color& /*factor*/, IndirectPass /*feeds*/) {}
 };
 
 }  // namespace whitted

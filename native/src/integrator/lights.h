@@ -181,7 +181,8 @@ class Lights {
   }
 
   // A light sample in a wave: its share added now if no feeler is sent, else its feeler
-  // queued (Policy::feeler), which adds its share once the feeler's answer is known.
+  // queued (Policy::feeler), which adds its share once the feeler's answer is known, with
+  // what the recorder needs then (Recorder::queued).
   [[gnu::flatten]] void queue_sample(const ShadingPoint& p, const Drawing& drawing,
                                      const NodeState& state, RayCounts* counts,
                                      Color* phong) const {
@@ -193,7 +194,8 @@ class Lights {
       return;
     }
     policy_.feeler(first_query(in_, prepared.feeler), prepared.unshadowed, prepared.shadow_sets,
-                   drawing.feeler.light, state.depth);
+                   drawing.feeler.light, state.depth,
+                   recorder_.queued(p, prepared.t, prepared.irradiance, state.depth));
   }
 
   // One light sample's share of the local term: its Phong terms, unshadowed, times what

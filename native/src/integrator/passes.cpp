@@ -116,7 +116,7 @@ void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
         throughput_ * total;
   }
-  if (depth == 0 && light_) {  // deeper nodes are in the camera hit's indirect terms
+  if (depth == 0 && light_) {
     // kd and ks, under a coat times what it lets through; the coat's highlight is specular.
     const Color diffuse_color = p.base * p.surface.diffuse;
     const Color specular_color = p.base * p.surface.specular + Color(p.coat.highlight);
@@ -126,21 +126,58 @@ void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission
     record_->diffuse_color += throughput_ * diffuse_color;
     record_->glossy_direct += throughput_ * specular_;
     record_->glossy_color += throughput_ * specular_color;
+  } else if (Color* indirect = indirect_field(); indirect != nullptr) {
+    *indirect += throughput_ * total;  // deeper nodes: the camera hit's indirect light
   }
   diffuse_ = Color(0.0f);
   specular_ = Color(0.0f);
 }
 
-void PassRecorder::reflected(int depth, const Color& sigma_r, const Color& radiance) const {
-  if (depth > 0 || !light_) return;
-  record_->glossy_indirect += throughput_ * sigma_r * radiance;
-  record_->glossy_color += throughput_ * sigma_r;
+FeelerPasses PassRecorder::queued(const ShadingPoint& p, const LightTerms& t,
+                                  const Color& irradiance, int depth) const {
+  FeelerPasses out;
+  if (depth == 0 && light_) {
+    shares(p, t, irradiance, &out.diffuse, &out.specular);
+    out.diffuse *= throughput_;
+    out.specular *= throughput_;
+  }
+  if (contributions_) out.bin = std::min(depth, settings_.contribution_depth);
+  if (depth > 0 && light_) out.indirect = indirect_;
+  return out;
 }
 
-void PassRecorder::refracted(int depth, const Color& sigma_t, const Color& radiance) const {
-  if (depth > 0 || !light_) return;
-  record_->transmission_indirect += throughput_ * sigma_t * radiance;
-  record_->transmission_color += throughput_ * sigma_t;
+void FeelerPasses::arrived(const Color& transmittance, const Color& light,
+                           SampleRecord* record) const {
+  record->diffuse_direct += diffuse * transmittance;
+  record->glossy_direct += specular * transmittance;
+  if (bin >= 0) record->contributions[static_cast<size_t>(bin)] += light;
+  if (indirect == IndirectPass::kGlossy) record->glossy_indirect += light;
+  if (indirect == IndirectPass::kTransmission) record->transmission_indirect += light;
+}
+
+Color* PassRecorder::indirect_field() const {
+  if (!light_) return nullptr;
+  switch (indirect_) {
+    case IndirectPass::kGlossy:
+      return &record_->glossy_indirect;
+    case IndirectPass::kTransmission:
+      return &record_->transmission_indirect;
+    case IndirectPass::kNone:
+      break;
+  }
+  return nullptr;
+}
+
+PassRecorder::Scope PassRecorder::reflected(int depth, const Color& sigma_r) {
+  if (depth > 0) return {this, throughput_, indirect_};
+  if (light_) record_->glossy_color += throughput_ * sigma_r;
+  return {this, throughput_, IndirectPass::kGlossy};
+}
+
+PassRecorder::Scope PassRecorder::refracted(int depth, const Color& sigma_t) {
+  if (depth > 0) return {this, throughput_, indirect_};
+  if (light_) record_->transmission_color += throughput_ * sigma_t;
+  return {this, throughput_, IndirectPass::kTransmission};
 }
 
 void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& world,
@@ -152,7 +189,11 @@ void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& 
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
         throughput * world;
   }
-  if (depth == 0 && light_) record_->environment += throughput * world;
+  if (depth == 0 && light_) {
+    record_->environment += throughput * world;
+  } else if (Color* indirect = indirect_field(); indirect != nullptr && shown) {
+    *indirect += throughput * world;
+  }
 }
 
 void PassRecorder::cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& weight,

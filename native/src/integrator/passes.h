@@ -136,35 +136,61 @@ struct SampleRecord {
   void scale(float w, uint32_t passes);
 };
 
+// What a shadow feeler a wave queued (wave.h) adds to its sample's record once its
+// answer is known, as PassRecorder would have added it had the feeler been traced where
+// it was sent: `light` (its contribution times what arrives, as Combined has it) to its
+// Contributions bin and to the indirect pass it feeds, and, from the camera hit, its
+// diffuse and specular shares to the Direct passes.
+struct FeelerPasses {
+  Color diffuse{0.0f};  // throughput * the diffuse terms * irradiance, unshadowed
+  Color specular{0.0f};
+  int bin = -1;  // its Contributions bin, -1 where the pass is not kept
+  IndirectPass indirect = IndirectPass::kNone;
+
+  void arrived(const Color& transmittance, const Color& light, SampleRecord* record) const;
+};
+
 // The kernel's recorder when passes are requested: it is told, node by node, where each
 // share of a sample's radiance comes from, and fills the fields of that sample's
 // SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Its
-// position in the recursion is the throughput of the node being shaded: its weight on
-// the sample, the sigma_r and sigma_t along the way times the coverage of cut-outs.
+// position in the recursion is the throughput of the node being shaded (its weight on
+// the sample: the sigma_r and sigma_t along the way times the coverage of cut-outs) and
+// the indirect pass of the camera hit that the node feeds. A node's terms go, by its
+// depth, to the camera hit's Direct, Emission and Environment passes, or to the
+// indirect pass its path feeds: recursively or in waves, the same terms in the same
+// passes.
 class PassRecorder : public NoRecorder {
  public:
-  // The throughput set while the kernel shades a surface or traces a child ray.
+  // The position set while the kernel shades a surface or traces a child ray.
   class Scope {
    public:
-    Scope(PassRecorder* recorder, const Color& throughput)
-        : recorder_(recorder), before_(recorder->throughput_) {
+    Scope(PassRecorder* recorder, const Color& throughput, IndirectPass indirect)
+        : recorder_(recorder), throughput_(recorder->throughput_), indirect_(recorder->indirect_) {
       recorder->throughput_ = throughput;
+      recorder->indirect_ = indirect;
     }
-    ~Scope() { recorder_->throughput_ = before_; }
+    ~Scope() {
+      recorder_->throughput_ = throughput_;
+      recorder_->indirect_ = indirect_;
+    }
     Scope(const Scope&) = delete;
     Scope& operator=(const Scope&) = delete;
 
    private:
     PassRecorder* recorder_;
-    Color before_;
+    Color throughput_;
+    IndirectPass indirect_;
   };
+  using Queued = FeelerPasses;
   // The Environment pass keeps the world where a transparent film leaves it out.
   static constexpr bool kHiddenWorld = true;
 
   PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record);
 
   void escaped(Node node, int depth, float behind, const Color& world, bool shown) const;
-  Scope cover(Node /*node*/, float behind, float a) { return {this, throughput_ * (behind * a)}; }
+  Scope cover(Node /*node*/, float behind, float a) {
+    return {this, throughput_ * (behind * a), indirect_};
+  }
   // The data passes come from the first surface the camera ray meets (depth 0) whose
   // alpha reaches the threshold; Mist from all of them, by their coverage.
   void surface(int depth, const Ray& ray, const Interaction& it, const SurfaceParams& surface) {
@@ -175,28 +201,48 @@ class PassRecorder : public NoRecorder {
     camera_surface(it, surface, ns, max_component(throughput_));
   }
   void arrived(const ShadingPoint& p, const LightTerms& t, const Color& light_in) {
-    // The diffuse and specular shares of what arrives. The kernel's sum, these and the
-    // inspector's (TreeRecorder::unshadowed) multiply the same terms in their own
-    // orders, which rounding tells apart: each keeps the order its images always had.
-    const SurfaceParams& surface = p.surface;
-    diffuse_ +=
-        ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) * light_in;
-    specular_ += (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
-    if (p.alpha > 0.0f) specular_ += surface.reflectivity * p.energy * t.glossy * light_in;
+    Color diffuse;
+    Color specular;
+    shares(p, t, light_in, &diffuse, &specular);
+    diffuse_ += diffuse;
+    specular_ += specular;
   }
+  FeelerPasses queued(const ShadingPoint& p, const LightTerms& t, const Color& irradiance,
+                      int depth) const;
   // The node's own terms (`total`: emission + local term as the kernel summed it, into
   // Combined), with those its lights added; the sums start again for the next node.
   void local(const ShadingPoint& p, int depth, const Color& emission, const Color& ambient,
              const Color& total);
-  void reflected(int depth, const Color& sigma_r, const Color& radiance) const;
-  void refracted(int depth, const Color& sigma_t, const Color& radiance) const;
+  // From the camera hit: sigma_r into Glossy Color, and what its rays bring into Glossy
+  // Indirect (sigma_t, Transmission, likewise).
+  Scope reflected(int depth, const Color& sigma_r);
+  Scope refracted(int depth, const Color& sigma_t);
   Scope branch(const Color& weight, float share, TreeRayKind /*kind*/) {
-    return {this, throughput_ * weight * share};
+    return {this, throughput_ * weight * share, indirect_};
   }
   void cut(const Ray& ray, int depth, TreeRayKind kind, const Color& weight, float share,
            TreeCut why) const;
+  IndirectPass indirect() const { return indirect_; }
+  void resume(SampleRecord* record, const Color& factor, IndirectPass feeds) {
+    record_ = record;
+    throughput_ = factor;
+    indirect_ = feeds;
+  }
 
  private:
+  // The diffuse and specular shares of what arrives of a light sample. The kernel's sum,
+  // these and the inspector's (TreeRecorder::unshadowed) multiply the same terms in their
+  // own orders, which rounding tells apart: each keeps the order its images always had.
+  static void shares(const ShadingPoint& p, const LightTerms& t, const Color& light_in,
+                     Color* diffuse, Color* specular) {
+    const SurfaceParams& surface = p.surface;
+    *diffuse =
+        ((t.lit * kInvPi * t.fade) * surface.diffuse + t.lit * t.loss * p.multiscatter) * light_in;
+    *specular = (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
+    if (p.alpha > 0.0f) *specular += surface.reflectivity * p.energy * t.glossy * light_in;
+  }
+  // The record's field of the indirect pass the node being shaded feeds, if any is kept.
+  Color* indirect_field() const;
   // A surface the camera ray meets, covering `share` of the sample; `normal` is its
   // shading normal turned to face the ray.
   void camera_surface(const Interaction& it, const SurfaceParams& surface, const Vec3& normal,
@@ -211,6 +257,7 @@ class PassRecorder : public NoRecorder {
   bool contributions_;  // Contributions is kept
   bool cut_weight_;     // Cut Weight is kept
   Color throughput_{1.0f};
+  IndirectPass indirect_ = IndirectPass::kNone;
   // What the lights of the node being shaded add, summed as they arrive: kd/pi * E *
   // (n.l) * feeler transmittance, and the same for the Phong lobe and the coat's highlight.
   Color diffuse_{0.0f};

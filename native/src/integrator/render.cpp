@@ -27,6 +27,7 @@ void lower_thread_priority(int nice) {
 size_t wave_bytes(const Wave& wave) {
   return (wave.rays.capacity() + wave.next.capacity()) * sizeof(WaveRay) +
          wave.feelers.capacity() * sizeof(WaveFeeler) +
+         wave.feeler_passes.capacity() * sizeof(FeelerPasses) +
          wave.samples.capacity() * sizeof(WaveSample) +
          (wave.records.capacity() + wave.point_records.capacity()) * sizeof(SampleRecord) +
          (wave.order.capacity() + wave.groups.capacity()) * sizeof(uint32_t) +

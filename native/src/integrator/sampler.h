@@ -95,8 +95,8 @@ class CameraSampler {
   // 0 (its grid as one wave, or adaptive subdivision a wave per depth: row_adaptive),
   // else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as pixel() or
   // grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays it cost,
-  // and, where passes are kept (only the data passes: WhittedIntegrator::waves()),
-  // (*records)[i] its record as pixel() or grid_sample() fills it.
+  // and, where passes are kept, (*records)[i] its record as pixel() or grid_sample()
+  // fills it, up to float rounding.
   void row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
            std::vector<Sample>* values, std::vector<uint64_t>* rays,
            std::vector<SampleRecord>* records) const;

@@ -82,8 +82,8 @@ struct Settings {
   bool packets = true;
   // Trace in waves (integrator/wave.h): the camera samples of a row of a tile together,
   // a generation of rays at a time, the feelers towards each lamp as packets. The pixels
-  // are the recursion's up to float rounding (the order of the sums differs). Renders
-  // with passes, adaptive anti-aliasing and the viewport's coarse previews are traced
+  // are the recursion's up to float rounding (the order of the sums differs), and so
+  // are the passes. The viewport's coarse previews and the inspector are traced
   // recursively either way. On by default (docs/notes/waves.md measures it); off (the
   // add-on's Trace in Waves unticked): the recursive kernel everywhere, the reference.
   bool waves = true;

@@ -16,12 +16,15 @@
 // sent them, then its children in the order it spawned them, and so on), so pixels stay
 // independent of tiles and threads. The recursion sums the same terms bottom-up
 // (I = local + sigma_r * (local' + ...)), so the two differ by float rounding only
-// (tests/native/wave_test.cpp states the bound). The default (Settings::waves); what it
-// measured against the recursion is in docs/notes/waves.md.
+// (tests/native/wave_test.cpp states the bound). The passes likewise: each queued ray
+// and feeler takes its sample's record along, with what the recorder needs to put its
+// terms where the recursion would (PassRecorder::resume, FeelerPasses). The default
+// (Settings::waves); what it measured against the recursion is in docs/notes/waves.md.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -42,6 +45,7 @@ struct WaveRay {
   NodeState state;
   Color factor{1.0f};
   uint32_t sample = 0;
+  IndirectPass indirect = IndirectPass::kNone;  // the camera hit's pass it feeds (passes.h)
 };
 
 // A shadow feeler waiting in a wave: its first query (ray.h's opaque query where some
@@ -57,11 +61,12 @@ struct WaveFeeler {
 };
 
 // What a camera sample of a wave brought back: its radiance (not yet checked for NaN),
-// its coverage and the rays it cost.
+// its coverage and the rays it cost; and where its passes go, where passes are kept.
 struct WaveSample {
   Color radiance{0.0f};
   float alpha = 1.0f;
   uint64_t rays = 0;
+  SampleRecord* record = nullptr;
 };
 
 // Adaptive anti-aliasing's subdivision of a row, traced a wave per depth
@@ -89,8 +94,10 @@ struct Wave {
   std::vector<WaveRay> rays;  // the generation being traced
   std::vector<WaveRay> next;  // the children of this generation
   std::vector<WaveFeeler> feelers;
+  // Each feeler's share of the passes, where a pass recorder queued it (else empty).
+  std::vector<FeelerPasses> feeler_passes;
   std::vector<WaveSample> samples;
-  // The camera samples' data passes, where passes are kept (WhittedIntegrator::waves()).
+  // The camera samples' passes, where passes are kept.
   std::vector<SampleRecord> records;
   // Scratch of the feeler stage: where each light's group starts, the feelers' order
   // grouped by light, and each one's answer.
@@ -100,7 +107,7 @@ struct Wave {
   // The adaptive sampler's squares and points of the row being traced.
   std::vector<SubdivisionPoint> points;
   std::vector<SubdivisionSquare> squares;
-  std::vector<SampleRecord> point_records;  // the points' data passes, where kept
+  std::vector<SampleRecord> point_records;  // the points' passes, where kept
 
   // Starts a wave of `samples` camera samples, none yet traced; with their records
   // when passes are kept.
@@ -108,6 +115,7 @@ struct Wave {
     rays.clear();
     next.clear();
     feelers.clear();
+    feeler_passes.clear();
     this->samples.assign(samples, WaveSample{});
     records.assign(passes ? samples : 0, SampleRecord{});
   }
@@ -130,22 +138,28 @@ struct Enqueue {
 
   // The surface being shaded covers `share` of the ray.
   void shading(float share) const { at->layer = at->factor * share; }
-  // A child ray of `weight` relative to the surface, at `state`: the next generation's.
-  void child(const Ray& ray, const NodeState& state, const Color& weight) const {
-    at->wave->next.push_back({ray, state, at->layer * weight, at->sample});
+  // A child ray of `weight` relative to the surface, at `state`, feeding the camera
+  // hit's pass `feeds`: the next generation's.
+  void child(const Ray& ray, const NodeState& state, const Color& weight,
+             IndirectPass feeds) const {
+    at->wave->next.push_back({ray, state, at->layer * weight, at->sample, feeds});
   }
-  // A light sample's feeler (its first query) and its share if all of its light arrives.
+  // A light sample's feeler (its first query), its share if all of its light arrives,
+  // and what the kernel's recorder needs of it then (Recorder::Queued).
+  template <class Queued>
   void feeler(const Ray& ray, const Color& unshadowed, uint64_t shadow_sets, int32_t light,
-              int depth) const {
+              int depth, const Queued& passes) const {
     at->wave->feelers.push_back(
         {ray, at->layer * unshadowed, shadow_sets, at->sample, light, depth});
+    if constexpr (!std::is_empty_v<Queued>) at->wave->feeler_passes.push_back(passes);
   }
 };
 
 // The wave's feeler stage: each feeler's first query, those towards one lamp (with
 // one set of blockers) as packets, in runs of neighbouring hits; then, in the order
-// they were sent, what each lets through times its contribution is added to its sample.
-template <uint32_t kEffects, class Queries>
+// they were sent, what each lets through times its contribution is added to its sample
+// (and, kPasses, to its sample's passes: Wave::feeler_passes holds one per feeler).
+template <bool kPasses, uint32_t kEffects, class Queries>
 void trace_feelers(const KernelInputs<kEffects, Queries>& in, Wave* wave, RayCounts* counts) {
   const std::vector<WaveFeeler>& feelers = wave->feelers;
   const size_t n = feelers.size();
@@ -195,7 +209,9 @@ void trace_feelers(const KernelInputs<kEffects, Queries>& in, Wave* wave, RayCou
     const Color transmittance =
         shadow_transmittance(in, f.ray, wave->blocked[i] != 0,
                              blockers(in.scene, f.shadow_sets, &storage), f.depth, counts);
-    sample.radiance += f.contribution * transmittance;
+    const Color light = f.contribution * transmittance;
+    sample.radiance += light;
+    if constexpr (kPasses) wave->feeler_passes[i].arrived(transmittance, light, sample.record);
     sample.rays += counts->total() - before;
   }
 }
@@ -210,6 +226,7 @@ void wave_camera(const WhittedIntegrator& w, Wave* wave, const Ray& ray, const N
   cursor.sample = sample;
   const Kernel kernel(w, record, Enqueue{&cursor});
   WaveSample& s = wave->samples[sample];
+  s.record = record;
   const uint64_t before = counts->total();
   s.radiance += kernel.trace(ray, state, counts, &s.alpha, first);
   s.rays += counts->total() - before;
@@ -220,17 +237,22 @@ template <class Kernel>
 void wave_rest(const WhittedIntegrator& w, Wave* wave, RayCounts* counts) {
   WaveCursor cursor{wave};
   const Kernel kernel(w, nullptr, Enqueue{&cursor});
-  for (trace_feelers(kernel.inputs(), wave, counts); !wave->next.empty();
-       trace_feelers(kernel.inputs(), wave, counts)) {
+  // Only a pass recorder's feelers have passes (with the data passes alone, the camera
+  // rays' kernel is one, and its feelers' passes hold nothing: the wave skips them).
+  constexpr bool kPasses = Kernel::kQueuesPasses;
+  for (trace_feelers<kPasses>(kernel.inputs(), wave, counts); !wave->next.empty();
+       trace_feelers<kPasses>(kernel.inputs(), wave, counts)) {
     std::swap(wave->rays, wave->next);
     wave->next.clear();
     wave->feelers.clear();
+    wave->feeler_passes.clear();
     for (const WaveRay& r : wave->rays) {
       WaveSample& sample = wave->samples[r.sample];
       cursor.factor = r.factor;
       cursor.sample = r.sample;
       const uint64_t before = counts->total();
-      sample.radiance += r.factor * kernel.trace(r.ray, r.state, counts, nullptr, nullptr);
+      sample.radiance +=
+          r.factor * kernel.resume(r.ray, r.state, r.factor, r.indirect, sample.record, counts);
       sample.rays += counts->total() - before;
     }
   }

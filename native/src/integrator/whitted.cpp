@@ -119,15 +119,16 @@ WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effe
   if (settings.passes != 0) return &PassKernel<Queries, Recurse>::run;
   return kRenderKernels<Queries>.recursive[effects & kAllEffects];
 }
-// Its wave kernel: none when the settings ask for the recursion, or with passes other
-// than the data passes (their recorder follows the recursion). The data passes are the
-// camera's surface's: the pass recorder's kernel traces the camera rays (the first
-// generation), the effects' kernel the rest, which records nothing.
+// Its wave kernel: none when the settings ask for the recursion. With passes, the pass
+// recorder's; with the data passes alone, which are the camera's surface's, only for
+// the camera rays (the first generation), the effects' kernel for the rest.
 template <class Queries>
 WhittedIntegrator::WaveFns wave_kernel(const Settings& settings, uint32_t effects) {
-  if (!settings.waves || (settings.passes & ~kDataPasses) != 0) return {};
+  if (!settings.waves) return {};
+  using Passes = PassKernel<Queries, Enqueue>;
+  if ((settings.passes & ~kDataPasses) != 0) return {&wave_camera<Passes>, &wave_rest<Passes>};
   WhittedIntegrator::WaveFns fns = kRenderKernels<Queries>.waves[effects & kAllEffects];
-  if (settings.passes != 0) fns.camera = &wave_camera<PassKernel<Queries, Enqueue>>;
+  if (settings.passes != 0) fns.camera = &wave_camera<Passes>;
   return fns;
 }
 

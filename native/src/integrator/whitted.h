@@ -103,8 +103,8 @@ class WhittedIntegrator {
 
   // A wave's first generation (wave.h): camera sample `sample`'s ray (`first` its first
   // hit when already found), traced and shaded now into wave->samples[sample], the rays
-  // and feelers it spawns appended to the wave; its data passes into `record` (given
-  // where passes are kept: they are all of the camera's surface). Only where waves().
+  // and feelers it spawns appended to the wave; its passes, where kept, into `record`
+  // (the rest of them as the wave traces what it spawned). Only where waves().
   void trace_camera(Wave* wave, const Ray& ray, const NodeState& state, uint32_t sample,
                     const Hit* first, RayCounts* counts, SampleRecord* record = nullptr) const {
     trace_wave_.camera(*this, wave, ray, state, sample, first, counts, record);
@@ -112,9 +112,8 @@ class WhittedIntegrator {
   // Then the rest: the feelers and rays the camera rays spawned and everything they
   // spawn, generation by generation, adding into wave->samples.
   void trace_wave(Wave* wave, RayCounts* counts) const { trace_wave_.rest(*this, wave, counts); }
-  // Whether renders with these settings trace in waves: Settings::waves, and no passes
-  // but the data passes (kDataPasses: the others' recorder follows the recursion; the
-  // inspector's likewise).
+  // Whether renders with these settings trace in waves: Settings::waves (the
+  // inspector's recorder follows the recursion).
   bool waves() const { return trace_wave_.rest != nullptr; }
 
   // The media that contain point p (the camera inside glass), innermost current.
