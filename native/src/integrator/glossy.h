@@ -15,6 +15,7 @@
 #include "integrator/medium.h"
 #include "integrator/mis.h"
 #include "integrator/shading_point.h"
+#include "integrator/split.h"
 #include "integrator/strata.h"
 #include "scene/microfacet.h"
 
@@ -27,6 +28,18 @@ struct Lobe {
   Color energy;               // its multiple-scattering scale, or 1
   const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
 };
+
+// The lobe the one reflection follows, the one that gives it most of its weight: the
+// coat's or the base's, where glossy and the glossy effect is on (alpha 0: a mirror's ray).
+inline Lobe reflection_lobe(const ShadingPoint& p, const Split& split, bool glossy) {
+  if (glossy && !split.total_internal_reflection) {
+    if (split.about_coat && p.coat.alpha > 0.0f) {
+      return Lobe{p.coat.normal, p.coat.alpha, Color(1.0f), &p.coat};
+    }
+    if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ns, p.alpha, p.energy};
+  }
+  return Lobe{p.ns, 0.0f, Color(1.0f)};
+}
 
 // Glossy reflection: n x n rays drawn from the lobe, each weighing sigma_r * G2/G1 / n^2
 // (the lobe over its density). Each stratum's point is placed by a hash of the camera

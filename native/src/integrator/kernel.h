@@ -84,16 +84,7 @@ class Kernel {
       }
       const auto node = recorder_.ray(r, state.depth, in_front, behind);
       if (!found) {
-        // A transparent film shows nothing where camera rays miss.
-        const bool shown = !(in_.settings.transparent_background && ray.kind == kCameraRay);
-        if (shown || Recorder::kHiddenWorld) {
-          const Color world = in_.scene.world_radiance(r, in_.context(state));
-          if (shown) {
-            radiance += behind * world;
-            coverage += behind;
-          }
-          recorder_.escaped(node, state.depth, behind, world, shown);
-        }
+        radiance += escape(r, ray.kind == kCameraRay, state, node, behind, &coverage);
         break;
       }
       const Interaction it = in_.scene.interaction(r, hit);
@@ -123,6 +114,19 @@ class Kernel {
     }
     if (alpha != nullptr) *alpha = coverage;
     return radiance;
+  }
+
+  // The world where a ray escapes, `behind` of it uncovered, and the coverage it adds:
+  // none where a transparent film hides the world from the camera.
+  Color escape(const Ray& r, bool camera, const NodeState& state, typename Recorder::Node node,
+               float behind, float* coverage) const {
+    const bool shown = !(in_.settings.transparent_background && camera);
+    if (!shown && !Recorder::kHiddenWorld) return Color(0.0f);
+    const Color world = in_.scene.world_radiance(r, in_.context(state));
+    recorder_.escaped(node, state.depth, behind, world, shown);
+    if (!shown) return Color(0.0f);
+    *coverage += behind;
+    return behind * world;
   }
 
  private:
@@ -170,7 +174,8 @@ class Kernel {
                    const NodeState& state, RayCounts* counts) const {
     [[maybe_unused]] const auto term = recorder_.reflected(state.depth, split.sigma_r);
     Color reflected;
-    if (const Lobe lobe = glossy_lobe(p, split); lobe.alpha > 0.0f) {
+    if (const Lobe lobe = reflection_lobe(p, split, (in_.effects & kGlossyEffect) != 0);
+        lobe.alpha > 0.0f) {
       reflected =
           glossy_reflection(in_, p, split.sigma_r, lobe, state, drawn_branch(p, state, counts));
     } else {
@@ -184,18 +189,6 @@ class Kernel {
                          state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
     }
     return split.sigma_r * reflected;
-  }
-
-  // The lobe the one reflection follows, the one that gives it most of its weight: the
-  // coat's or the base's, where glossy (alpha 0: a mirror's ray).
-  Lobe glossy_lobe(const ShadingPoint& p, const Split& split) const {
-    if ((in_.effects & kGlossyEffect) != 0 && !split.total_internal_reflection) {
-      if (split.about_coat && p.coat.alpha > 0.0f) {
-        return Lobe{p.coat.normal, p.coat.alpha, Color(1.0f), &p.coat};
-      }
-      if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ns, p.alpha, p.energy};
-    }
-    return Lobe{p.ns, 0.0f, Color(1.0f)};
   }
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media
@@ -237,16 +230,10 @@ class Kernel {
     // A glossy ray is one of several that share its lobe: its NodeState::weight is the
     // lobe's (what the cutoff compares: each of n rays below it may sum above it), its
     // share of the sample 1/n of that.
-    const bool glossy = drawn != nullptr;
-    const float share = glossy ? drawn->share : 1.0f;
-    NodeState next{bounce ? state.depth + 1 : state.depth, state.weight * weight, media};
-    next.glossy = state.glossy + (glossy ? 1 : 0);
-    next.seed = glossy ? drawn->seed : state.seed;
-    // A continuation straight on is still the same ray; a bounce of any other kind
-    // counts the emission it meets whole.
-    next.mis = glossy ? drawn->mis : (bounce ? 0.0f : state.mis);
-    // Light linking: what it meets is lit for the surface it left (emission_weight).
-    next.receiver = bounce ? in_.scene.instances[from->instance].links.light_set : state.receiver;
+    const float share = drawn != nullptr ? drawn->share : 1.0f;
+    const NodeState next =
+        state.child(weight, media, bounce,
+                    bounce ? in_.scene.instances[from->instance].links.light_set : -1, drawn);
     if (next.depth > in_.settings.max_depth) {
       counts->depth_limited += 1;
       recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kDepth);
@@ -257,12 +244,7 @@ class Kernel {
       recorder_.cut(ray, next.depth, kind, weight, share, TreeCut::kCutoff);
       return Color(0.0f);
     }
-    if (glossy) {
-      counts->glossy += 1;
-    } else if (bounce && ray.kind == kReflectionRay) {
-      counts->reflection += 1;
-    }
-    if (bounce && ray.kind == kRefractionRay) counts->refraction += 1;
+    counts->traced(ray.kind, bounce, drawn != nullptr);
     if constexpr (Policy::kQueues) {
       // Traced in a later generation of the wave.
       policy_.child(ray, next, weight * share, recorder_.indirect());

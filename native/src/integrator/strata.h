@@ -40,12 +40,4 @@ struct Strata {
   }
 };
 
-// A ray drawn from a glossy lobe, as the kernel's branch takes it: its share of the lobe,
-// the seed of the strata below it, and its density for MIS (NodeState::mis).
-struct Drawn {
-  float share;
-  uint32_t seed;
-  float mis;
-};
-
 }  // namespace whitted

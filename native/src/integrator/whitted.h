@@ -41,9 +41,27 @@ struct RayCounts {
   uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
 
   RayCounts& operator+=(const RayCounts& o);
+  // A secondary ray of kind `kind` traced: drawn from a glossy lobe (`glossy`), or a
+  // mirror reflection or a refraction where it bounces off a surface (`bounce`).
+  void traced(uint32_t kind, bool bounce, bool glossy) {
+    if (glossy) {
+      this->glossy += 1;
+    } else if (bounce && kind == kReflectionRay) {
+      reflection += 1;
+    }
+    if (bounce && kind == kRefractionRay) refraction += 1;
+  }
   uint64_t total() const {
     return camera + shadow + reflection + refraction + glossy + transparent;
   }
+};
+
+// A ray drawn from a glossy lobe, as the kernel's branch takes it: its share of the lobe,
+// the seed of the strata below it, and its density for MIS (NodeState::mis).
+struct Drawn {
+  float share;
+  uint32_t seed;
+  float mis;
 };
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
@@ -66,7 +84,26 @@ struct NodeState {
   // Light linking: the light set of the surface this ray left, whose emitters it sees;
   // -1 for a camera ray, which sees every emitter (as in Cycles).
   int receiver = -1;
+
+  // The state of a secondary ray of `w` relative to this node, in `m`: one deeper when
+  // it bounces off the surface (`bounce`, whose light set is `light_set`), at this depth
+  // when it goes straight on; `drawn` given for a ray drawn from a glossy lobe.
+  NodeState child(const Color& w, const MediumStack& m, bool bounce, int light_set,
+                  const Drawn* drawn) const;
 };
+
+inline NodeState NodeState::child(const Color& w, const MediumStack& m, bool bounce, int light_set,
+                                  const Drawn* drawn) const {
+  NodeState next{bounce ? depth + 1 : depth, weight * w, m};
+  next.glossy = glossy + (drawn != nullptr ? 1 : 0);
+  next.seed = drawn != nullptr ? drawn->seed : seed;
+  // A continuation straight on is still the same ray; a bounce of any other kind counts
+  // the emission it meets whole.
+  next.mis = drawn != nullptr ? drawn->mis : (bounce ? 0.0f : mis);
+  // Light linking: what it meets is lit for the surface it left (emission_weight).
+  next.receiver = bounce ? light_set : receiver;
+  return next;
+}
 
 // Analyses the scene once, then traces only the effects the scene calls for, with the
 // kernel (kernel.h) chosen once (whitted.cpp: a kernel per recorder, way of querying and
