@@ -170,18 +170,30 @@ def map_material(material, warnings, local_model="BLENDER"):
     colour, an image's alpha), else a shader program.
 
     Without nodes, the viewport display values are used. A material without a
-    surface shader renders black, as in Cycles.
+    surface shader renders as in Cycles (Blender 3.4 and 5.0 seen, docs/SUPPORT.md):
+    black and opaque, unless it has a volume shader: then it is no surface at all
+    (MaterialData.surface False), which rays pass through and which casts no shadow.
     """
     if not uses_nodes(material):
         return MaterialExport(_viewport_material(material))
     owner = f"material '{material.name}'"
     output_node = material.node_tree.get_output_node("CYCLES")
-    if output_node is None or source(output_node.inputs["Surface"])[0] is None:
-        _warn(warnings, f"Whitted: {owner} has no surface shader; it renders black, as in Cycles")
-        return MaterialExport(_black())
-    volume = volume_warning(owner, output_node)
+    volume = None if output_node is None else volume_warning(owner, output_node)
     if volume is not None:
         _warn(warnings, volume)
+    if output_node is None or source(output_node.inputs["Surface"])[0] is None:
+        if volume is None:
+            _warn(
+                warnings, f"Whitted: {owner} has no surface shader; it renders black, as in Cycles"
+            )
+            return MaterialExport(_black())
+        _warn(
+            warnings,
+            f"Whitted: {owner} has a volume shader and no surface shader: its meshes are no "
+            "surface (rays pass through them and they cast no shadow: an invisible boundary, "
+            "as in Cycles)",
+        )
+        return MaterialExport(material_data_type()(surface=False))
     found = []
     lowering = Lowering(owner, found)
     closure = surface(lowering, output_node, local_model=local_model)

@@ -68,10 +68,11 @@ EffectDecision light_linking(const CompiledScene& scene) {
 
 // Which of shadows, reflection, refraction and translucency the scene can show.
 void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects* effects) {
-  // Only materials some instance uses can contribute.
+  // Only materials some instance uses can contribute, and only where some ray sees it.
   std::vector<bool> used(scene.materials.size(), false);
   bool any_blocker = false;
   for (const CompiledScene::Instance& instance : scene.instances) {
+    if (instance.visibility == 0) continue;
     for (uint32_t m : instance.materials) used[m] = true;
     if (instance.materials.empty()) used[0] = true;
     any_blocker |= (instance.visibility & kShadowRay) != 0;

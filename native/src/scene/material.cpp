@@ -35,6 +35,12 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     throw std::invalid_argument("bump_shadowing is not a BumpShadowing");
   }
   alpha = std::clamp(alpha, 0.0f, 1.0f);
+  if (!surface) {
+    if (program || !diffuse_texture.empty() || !alpha_texture.empty()) {
+      throw std::invalid_argument("a material without a surface has no program or texture");
+    }
+    alpha = 0.0f;  // where it shares a mesh with surfaces, a cut-out (Scene::compile)
+  }
   // Every output a register of the program that computes it.
   for (size_t f = 0; f < kFieldCount; ++f) {
     if (outputs[f] < 0) continue;

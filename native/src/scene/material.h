@@ -115,6 +115,7 @@ struct MaterialParams {
   Color emission{0.0f};
   EmissionSampling emission_sampling = EmissionSampling::kBoth;  // scene/mesh_light.h
   float alpha = 1.0f;
+  bool surface = true;
   int32_t priority = 0;  // medium.h
   int32_t pass_index = 0;
   // The coat (lobes.h, Coat): a clear dielectric layer over everything above.
@@ -179,6 +180,11 @@ inline constexpr auto kMaterialParams = std::tuple{
                   "EmissionSampling); a side not sampled still shows its emission."},
     MaterialParam{"alpha", &MaterialParams::alpha,
                   "Coverage in [0, 1] (clamped): 1 opaque, 0 invisible (cut-outs)."},
+    MaterialParam{"surface", &MaterialParams::surface,
+                  "False: no surface at all (Cycles' material whose output has a Volume and no "
+                  "Surface): rays pass through it untouched and it casts no shadow. A mesh "
+                  "whose every face has such a material stays in the scene, seen by no ray; "
+                  "elsewhere its faces are cut-outs of alpha 0. It has no program or texture."},
     MaterialParam{"priority", &MaterialParams::priority,
                   "Nested dielectrics: where volumes overlap, the material of higher priority owns "
                   "the overlap."},
@@ -225,7 +231,8 @@ struct Material : MaterialParams {
   Material() = default;
   // Throws std::invalid_argument for what cannot be a material (a non-finite colour,
   // shininess, ambient, IOR, alpha or coat value; an IOR or coat IOR not above 0; outputs
-  // without a program, or naming a register it does not have) and clamps alpha to [0, 1].
+  // without a program, or naming a register it does not have; a program or texture on a
+  // material without a surface) and clamps alpha to [0, 1], 0 without a surface.
   explicit Material(const MaterialParams& params);
 
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).

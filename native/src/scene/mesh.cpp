@@ -21,6 +21,13 @@ std::vector<float> finite_copy(const float* values, size_t count) {
 
 }  // namespace
 
+size_t slot_count(const Mesh& mesh) {
+  const auto primitives = static_cast<uint32_t>(mesh.primitive_count());
+  size_t count = 0;
+  for (uint32_t p = 0; p < primitives; ++p) count = std::max(count, mesh.slot(p) + 1);
+  return count;
+}
+
 Sphere bounding_sphere(const Mesh& mesh) {
   Vec3 lower(std::numeric_limits<float>::max());
   Vec3 upper(-std::numeric_limits<float>::max());

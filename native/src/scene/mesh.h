@@ -136,6 +136,9 @@ struct Sphere {
 };
 Sphere bounding_sphere(const Mesh& mesh);
 
+// 1 + the largest material slot a primitive of `mesh` uses; 0 for a mesh without any.
+size_t slot_count(const Mesh& mesh);
+
 // Corner layers handed to make_mesh, each `triangle_count` x 3 corners.
 struct CornerLayers {
   std::vector<const float*> uv_sets;     // 2 floats a corner

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -62,6 +63,15 @@ std::vector<const ImageTexture*> resolve_images(
     images.push_back(image);
   }
   return images;
+}
+
+// Whether no primitive of `instance` has a surface: the material of every slot its mesh
+// uses has none (Material::surface).
+bool surfaceless(const std::vector<Material>& materials, const CompiledScene::Instance& instance) {
+  const size_t slots = instance.mesh->slots;
+  if (instance.materials.size() < slots) return false;  // the rest take the default material
+  return std::all_of(instance.materials.begin(), instance.materials.begin() + slots,
+                     [&](uint32_t m) { return !materials[m].surface; });
 }
 
 }  // namespace
@@ -291,8 +301,11 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
       compiled->degenerate_instances += 1;
       continue;
     }
+    // A mesh without any surface (the bounds of a volume) stays in the scene, seen by no
+    // ray: every ray passes through it untouched, and none pays for it.
+    if (surfaceless(compiled->materials, out)) out.visibility = 0;
     // Shadow feelers meet opaque and translucent instances in separate queries (ray.h).
-    uint32_t mask = instance.visibility;
+    uint32_t mask = out.visibility;
     if ((mask & kShadowRay) != 0) {
       bool translucent = false;
       for (uint32_t index : out.materials) translucent |= compiled->materials[index].translucent();

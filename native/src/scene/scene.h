@@ -32,10 +32,14 @@ inline Vec3 transform_point(const glm::mat4& m, const Vec3& p) {
 // A mesh together with its BVH; built once when the mesh is set, shared by instances.
 struct MeshEntry {
   MeshEntry(std::shared_ptr<AccelDevice> device, Mesh m)
-      : mesh(std::move(m)), accel(std::move(device), mesh), bounds(bounding_sphere(mesh)) {}
+      : mesh(std::move(m)),
+        accel(std::move(device), mesh),
+        bounds(bounding_sphere(mesh)),
+        slots(slot_count(mesh)) {}
   Mesh mesh;
   MeshAccel accel;
   Sphere bounds;  // in object space
+  size_t slots;   // slot_count(mesh)
 };
 
 // What Blender's Object Info node reports of an instance.
@@ -158,7 +162,9 @@ struct CompiledScene {
     std::shared_ptr<const TransformMotion> motion;
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
-    uint32_t visibility;  // RayKind bits
+    // RayKind bits: the Instance's, or 0 (seen by no ray) when none of its primitives has
+    // a surface (Material::surface): a volume's bounds, in its BVH still.
+    uint32_t visibility;
     InstanceInfo info;
     std::string name;  // the Scene's key, for what reports name it (the inspector)
     CryptomatteIds cryptomatte;
