@@ -252,7 +252,8 @@ def _fixed(fields, lowering):
                 diffuse_texture = spec.name
                 values[name] = scale
                 continue
-        if name == "alpha" and expr.op == ops.SWIZZLE and expr.mode == 3:
+        alpha = expr.op == ops.SWIZZLE and ops.unpack("SWIZZLE", expr.mode)["component"] == 3
+        if name == "alpha" and alpha:
             texture = fixed_texture(expr.args[0])
             if texture is not None and texture.op == ops.IMAGE:
                 spec = _fixed_spec(texture, lowering)

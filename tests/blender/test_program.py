@@ -267,6 +267,35 @@ def test_rgb_curves_are_sampled_with_the_curves_own_evaluate():
     assert value[0] == pytest.approx(combined, abs=2e-3)
 
 
+def test_modes_read_back_as_the_nodes_settings():
+    # Mix (vector, non-uniform), Layer Weight's Facing and an inverted Bump: their modes
+    # are packed by name (ops.pack), and each reads back as the node's setting.
+    material = new_material("Modes")
+    tree = material.node_tree
+    bsdf = principled(material)
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    weight = tree.nodes.new("ShaderNodeLayerWeight")
+    mix = tree.nodes.new("ShaderNodeMix")
+    mix.data_type, mix.factor_mode = "VECTOR", "NON_UNIFORM"
+    tree.links.new(coordinates.outputs["UV"], mix.inputs[1])  # Factor_Vector
+    tree.links.new(weight.outputs["Facing"], mix.inputs[5])  # B_Vector
+    tree.links.new(mix.outputs[1], bsdf.inputs["Base Color"])
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coordinates.outputs["UV"], separate.inputs[0])
+    bump = tree.nodes.new("ShaderNodeBump")
+    bump.invert = True
+    tree.links.new(separate.outputs["X"], bump.inputs["Height"])
+    tree.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+    code = compile_material(material).program.code
+
+    def modes(op):
+        return [ops.unpack(op, int(row[1])) for row in code if row[0] == getattr(ops, op)]
+
+    assert {"factor_mode": "NON_UNIFORM"} in modes("MIX_VALUE")
+    assert modes("LAYER_WEIGHT") == [{"output": "FACING"}]
+    assert modes("BUMP") == [{"invert": True}]
+
+
 def test_inputs_the_program_reads_are_recorded():
     material = new_material("Reads")
     tree = material.node_tree

@@ -92,6 +92,16 @@ TEST(Program, ValidationNamesTheFirstProblem) {
   expect_invalid({{Op::kVectorMath, 30, 0}}, "mode 30");
   expect_invalid({{Op::kMix, 19, 0}}, "mode 19");
   expect_invalid({{Op::kInput, 11, 0}}, "mode 11 is not an input");
+  expect_invalid({{Op::kMixValue, 3, 0}}, "(MIX_VALUE): mode 3 is not one of its modes");
+  expect_invalid({{Op::kSwizzle, 4, 0}}, "(SWIZZLE): mode 4");
+  expect_invalid({{Op::kLayerWeight, 2, 0}}, "(LAYER_WEIGHT): mode 2");
+  expect_invalid({{Op::kBump, 2, 0}}, "(BUMP): mode 2");
+  expect_invalid({{Op::kCurve, 3, 0, kU, kU, kU, kU, 0}}, "(CURVE): mode 3", 2,
+                 std::vector<float>(4 * kCurveTable));
+  // An op without a mode takes 0 only.
+  expect_invalid({{Op::kGamma, 1, 0}}, "(GAMMA): mode 1 is not one of its modes");
+  expect_invalid({{Op::kFresnel, 1u << 8, 0}}, "(FRESNEL): mode 256");
+  EXPECT_NO_THROW(make({{Op::kGamma, 0, 0}}, {vec4(0)}));
   expect_invalid({{Op::kImage, 0, 0, kU, kU, kU, kU, 1}}, "texture slot 1 out of range", 2, {},
                  {"t"});
   expect_invalid({{Op::kColorRamp, 1, 0, kU, kU, kU, kU, 0}}, "do not hold a ramp", 2, {2, 0, 1});

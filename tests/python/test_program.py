@@ -79,7 +79,39 @@ def test_every_op_name_the_compiler_reads_is_defined_once():
     # The input modes are distinct, and the bits clear of the modes they flag.
     inputs = {name: v for name, v in wn.OP_NUMBERS.items() if name.startswith("IN_")}
     assert len(set(inputs.values())) == len(inputs)
-    assert wn.OP_NUMBERS["IN_BUMP_X"] > wn.OP_NUMBERS["IN_ATTRIBUTE"] + 127
+    numbers = wn.OP_NUMBERS
+    assert numbers["IN_UV"] + numbers["UV_SETS"] == numbers["IN_ATTRIBUTE"]
+    assert numbers["IN_BUMP_X"] >= numbers["IN_ATTRIBUTE"] + numbers["ATTRIBUTES"]
+    last = numbers["IN_ATTRIBUTE"] + numbers["ATTRIBUTES"] - 1
+    program([(INPUT, last, 0), (INPUT, last | numbers["IN_BUMP_X"], 0)], [0] * 4)
+
+
+def test_every_op_mode_is_fields_or_none():
+    # INPUT's modes are OP_NUMBERS; every other op's mode is its fields (OP_MODES,
+    # packed by ops.pack) or, for an op without one, 0: the program refuses any other.
+    # The add-on writes no mode as a number but that 0, and compares none with a number.
+    import re
+
+    codes = {name: code for code, (name, _, _) in enumerate(wn.OPS) if code}
+    modeless = set(codes) - set(wn.OP_MODES) - {"INPUT"}
+    assert set(wn.OP_MODES) <= set(codes) and "INPUT" not in wn.OP_MODES
+    assert {"MIX_VALUE", "SWIZZLE", "LAYER_WEIGHT", "BUMP"} <= set(wn.OP_MODES)
+    assert {"GAMMA", "FRESNEL", "PACK", "RGB_TO_BW"} <= modeless
+    for name in modeless:
+        _mode_taken(codes[name], 0)
+        for mode in (1, 1 << 8, 1 << 31):
+            with pytest.raises(ValueError, match=f"\\({name}\\): mode {mode} is not one of"):
+                program([(codes[name], mode, 0)], [0] * 4)
+    root = Path(__file__).parents[2]
+    written = []  # (op, its mode's expression up to a comma) of every Builder.op call
+    for path in (root / "addon").rglob("*.py"):
+        text = path.read_text()
+        written += re.findall(r"\.op\(\s*ops\.([A-Z][A-Z0-9_]*),\s*([^,]+),", text)
+        assert not re.search(r"\.mode\s*(==|!=|<=?|>=?)\s*\d", text), path
+    assert {"MIX_VALUE", "SWIZZLE", "LAYER_WEIGHT", "BUMP", "GAMMA"} <= {op for op, _ in written}
+    for op, mode in written:
+        if re.search(r"(?<![\w.\"])\d", mode):
+            assert op in modeless and mode.strip() == "0", (op, mode)
 
 
 @pytest.fixture
@@ -122,7 +154,7 @@ def test_packed_modes_are_what_the_program_decodes(ops):
     # the native decoders read it back (mode_fields: the same ModeField constants), and
     # the program takes the mode; a value past a field's is refused by both sides.
     codes = {name: code for code, (name, _, _) in enumerate(wn.OPS)}
-    assert set(wn.OP_MODES) >= {"NOISE", "VORONOI", "WAVE", "BRICK", "MAP_RANGE", "COLOR_RAMP"}
+    assert set(wn.OP_MODES) >= {"NOISE", "VORONOI", "WAVE", "BRICK", "MAP_RANGE", "MIX_VALUE"}
     for op, fields in wn.OP_MODES.items():
         chosen = {}
         for name, shift, width, count, identifiers in fields:
@@ -168,6 +200,10 @@ def test_pack_names_what_it_cannot_pack(ops):
         ops.pack("WAVE", bands_direction="X", rings_direction="X")
     with pytest.raises(ValueError, match="INPUT has no mode fields"):
         ops.pack("INPUT")
+    with pytest.raises(ValueError, match="GAMMA has no mode fields"):
+        ops.pack("GAMMA")
+    with pytest.raises(ValueError, match=r"SWIZZLE component: 4 is not an int in \[0, 4\)"):
+        ops.pack("SWIZZLE", component=4)
 
 
 def test_fold_op_runs_the_programs_maths():

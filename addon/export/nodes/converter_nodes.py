@@ -122,7 +122,8 @@ def _mix(c, out):
                 zero = c.b.const((0.0, 0.0, 0.0), VECTOR)
                 one = c.b.const((1.0, 1.0, 1.0), VECTOR)
                 factor = c.b.vmath("MINIMUM", c.b.vmath("MAXIMUM", factor, zero), one)
-            return c.b.op(ops.MIX_VALUE, 2, (factor, a, b), kind=VECTOR)
+            mode = ops.pack("MIX_VALUE", factor_mode="NON_UNIFORM")
+            return c.b.op(ops.MIX_VALUE, mode, (factor, a, b), kind=VECTOR)
         factor = c.input(out, ("Factor_Float",), FLOAT)
         if node.clamp_factor:
             factor = c.b.clamp01(factor)
@@ -186,7 +187,9 @@ def _vector_curves(c, out):
     table = curve_table(mapping, (0, 1, 2, None), low, high)
     span = c.b.const((high - low,) * 3, VECTOR)
     place = c.b.vmath("DIVIDE", c.b.vmath("SUBTRACT", vector, c.b.const((low,) * 3, VECTOR)), span)
-    mapped = c.b.op(ops.CURVE, _curve_mode(node, 2), (c.b.f(1.0), place), e=table, kind=VECTOR)
+    mapped = c.b.op(
+        ops.CURVE, _curve_mode(node, "VECTOR"), (c.b.f(1.0), place), e=table, kind=VECTOR
+    )
     return c.b.vlerp(factor, vector, mapped, kind=VECTOR)
 
 
@@ -201,7 +204,7 @@ def _rgb_curves(c, out):
     factor = c.input(out, ("Fac", "Factor"), FLOAT)
     color = c.input(out, ("Color",), COLOR)
     table = curve_table(node.mapping, (3, 0, 1, 2))
-    return c.b.op(ops.CURVE, _curve_mode(node, 0), (factor, color), e=table, kind=COLOR)
+    return c.b.op(ops.CURVE, _curve_mode(node, "RGB"), (factor, color), e=table, kind=COLOR)
 
 
 def _curve_mode(node, kind):
@@ -214,7 +217,7 @@ def _float_curve(c, out):
     factor = c.input(out, ("Factor", "Fac"), FLOAT)
     value = c.input(out, ("Value",), FLOAT)
     table = curve_table(out.node.mapping, (0, None, None, None))
-    return c.b.op(ops.CURVE, _curve_mode(out.node, 1), (factor, value), e=table, kind=FLOAT)
+    return c.b.op(ops.CURVE, _curve_mode(out.node, "FLOAT"), (factor, value), e=table, kind=FLOAT)
 
 
 def _invert(c, out):

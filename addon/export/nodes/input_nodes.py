@@ -146,7 +146,8 @@ def _fresnel(c, out):
 def _layer_weight(c, out):
     blend = c.input(out, ("Blend",), FLOAT)
     _warn_linked_normal(c, out)
-    mode = 0 if output_name(out) == "Fresnel" else 1
+    output = "FRESNEL" if output_name(out) == "Fresnel" else "FACING"
+    mode = ops.pack("LAYER_WEIGHT", output=output)
     return c.b.op(ops.LAYER_WEIGHT, mode, (blend,), kind=FLOAT)
 
 

@@ -140,12 +140,14 @@ class Builder:
             return self.f(min(max(a.value[0], 0.0), 1.0))
         if a.op == ops.MATH and ops.unpack("MATH", a.mode)["clamp"]:
             return a
-        if a.op == ops.SWIZZLE and a.mode == 3 and a.args[0].op == ops.IMAGE:
-            return a  # an image's alpha is already in [0, 1]
-        return self.op(ops.CLAMP, 0, (a, self.f(0.0), self.f(1.0)))
+        alpha = a.op == ops.SWIZZLE and ops.unpack("SWIZZLE", a.mode)["component"] == 3
+        if alpha and a.args[0].op == ops.IMAGE:
+            return a  # an image's alpha (w) is already in [0, 1]
+        return self.clamp(a, 0.0, 1.0)
 
     def clamp(self, a, low, high):
-        return self.op(ops.CLAMP, 0, (a, self.f(low), self.f(high)))
+        mode = ops.pack("CLAMP", clamp_type="MINMAX")
+        return self.op(ops.CLAMP, mode, (a, self.f(low), self.f(high)))
 
     def lerp(self, t, a, b):
         """(1 - t) a + t b of scalars."""
@@ -157,7 +159,7 @@ class Builder:
             return t
         if _is(a, 0.0):
             return self.mul(t, b)
-        return self.op(ops.MIX_VALUE, 0, (t, a, b))
+        return self.op(ops.MIX_VALUE, ops.pack("MIX_VALUE", factor_mode="FLOAT"), (t, a, b))
 
     # --- vectors and colours ------------------------------------------------
 
@@ -197,12 +199,13 @@ class Builder:
             return b
         if _is(a, 0.0, 3):
             return self.vmul(t, b, kind)
-        return self.op(ops.MIX_VALUE, 1, (t, a, b), kind=kind)
+        mode = ops.pack("MIX_VALUE", factor_mode="UNIFORM")
+        return self.op(ops.MIX_VALUE, mode, (t, a, b), kind=kind)
 
     def swizzle(self, a, component):
         if a.kind == FLOAT:
             return a
-        return self.op(ops.SWIZZLE, component, (a,))
+        return self.op(ops.SWIZZLE, ops.pack("SWIZZLE", component=component), (a,))
 
     def pack(self, x, y, z, w=None, kind=VECTOR):
         return self.op(ops.PACK, 0, (x, y, z, w or self.f(0.0)), kind=kind)

@@ -19,7 +19,7 @@ _MOVING = ("IN_POSITION", "IN_GENERATED", "IN_OBJECT", "IN_CAMERA", "IN_WINDOW")
 
 def _moves(mode):
     moving = any(mode == getattr(ops, name) for name in _MOVING)
-    return moving or ops.IN_UV <= mode < ops.IN_ATTRIBUTE + 128
+    return moving or ops.IN_UV <= mode < ops.IN_ATTRIBUTE + ops.ATTRIBUTES
 
 
 def moved(b, expr, bit, memo=None):
@@ -64,6 +64,5 @@ def bump(c, out):
         return unbent  # a height that does not change along the surface
     zero = b.f(0.0)
     packed = b.op(ops.PACK, 0, (strength, distance, zero, zero), kind=VECTOR)
-    return b.op(
-        ops.BUMP, 1 if node.invert else 0, (packed, normal, height, at_x, at_y), kind=VECTOR
-    )
+    mode = ops.pack("BUMP", invert=node.invert)
+    return b.op(ops.BUMP, mode, (packed, normal, height, at_x, at_y), kind=VECTOR)

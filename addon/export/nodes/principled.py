@@ -266,7 +266,8 @@ def _sheen(s, out, base):
         "grazing views by weight * tint * (1 - |n.v|)^5 (docs/SUPPORT.md)",
     )
     # Layer Weight's Facing at blend 0.5 is 1 - |n.v|.
-    facing = b.op(ops.LAYER_WEIGHT, 1, (b.f(0.5),), kind=FLOAT)
+    mode = ops.pack("LAYER_WEIGHT", output="FACING")
+    facing = b.op(ops.LAYER_WEIGHT, mode, (b.f(0.5),), kind=FLOAT)
     grazing = b.math("POWER", facing, b.f(5.0))
     return b.vmul(b.mul(weight, grazing), color)
 

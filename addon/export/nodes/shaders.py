@@ -259,14 +259,14 @@ def fixed_texture(expr):
     """An IMAGE (flat) or CHECKER (constant colours and scale) op read at UV,
     Generated or Object coordinates: what the native ImageTexture and CheckerTexture
     compute by themselves. None otherwise."""
-    if (expr.op == ops.IMAGE and expr.mode == 0) or (
-        expr.op == ops.CHECKER and all(a.is_const for a in expr.args[1:])
-    ):
+    flat = expr.op == ops.IMAGE and ops.unpack("IMAGE", expr.mode)["projection"] == "FLAT"
+    if flat or (expr.op == ops.CHECKER and all(a.is_const for a in expr.args[1:])):
         vector = expr.args[0]
     else:
         return None
     if vector.op != ops.INPUT or not (
-        vector.mode in (ops.IN_GENERATED, ops.IN_OBJECT) or ops.IN_UV <= vector.mode < 128
+        vector.mode in (ops.IN_GENERATED, ops.IN_OBJECT)
+        or ops.IN_UV <= vector.mode < ops.IN_UV + ops.UV_SETS
     ):
         return None
     return expr

@@ -653,9 +653,10 @@ inline float fresnel_dielectric(float cos_i, float eta) {
   return 0.5f * a * a * (1.0f + b * b);
 }
 
-inline float layer_weight(uint32_t mode, float blend, const Vec3& n, const ProgramHit& hit) {
+// Blender's Layer Weight node: `output` 0 its Fresnel, 1 its Facing (kLayerWeightNames).
+inline float layer_weight(uint32_t output, float blend, const Vec3& n, const ProgramHit& hit) {
   const float cos_i = glm::dot(hit.incoming, n);
-  if (mode == 0) {
+  if (output == 0) {
     const float eta = std::fmax(1.0f - blend, 1e-5f);
     return fresnel_dielectric(cos_i, hit.backfacing ? eta : 1.0f / eta);
   }

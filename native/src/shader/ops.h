@@ -130,6 +130,10 @@ enum Input : uint32_t {
   kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
 };
 
+// The UV sets and the attributes INPUT reaches (kInputUvSet + k, kInputAttribute + k).
+inline constexpr uint32_t kUvSets = kInputAttribute - kInputUvSet;
+inline constexpr uint32_t kAttributes = kInputPublicEnd - kInputAttribute;
+
 // A register operand the op does not read.
 inline constexpr uint32_t kUnusedOperand = 0xFFFFFFFFu;
 // Entries per curve of a CURVE table.
@@ -137,13 +141,14 @@ inline constexpr uint32_t kCurveTable = 256;
 
 // The named numbers of a program's code besides its op codes, defined here once with
 // the names the Python compiler gives them (whitted_native.OP_NUMBERS, from which
-// addon/export/nodes/ops.py takes its constants): the INPUT modes, the unused operand and
-// the CURVE table's size. The other ops' modes are fields (kOpModes, below).
+// addon/export/nodes/ops.py takes its constants): the INPUT modes and how many UV sets and
+// attributes they reach, the unused operand and the CURVE table's size. The other ops'
+// modes are fields (kOpModes, below).
 struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 28> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 30> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -170,6 +175,8 @@ inline constexpr std::array<OpNumber, 28> kOpNumbers = {{
     {"IN_ATTRIBUTE", kInputAttribute},
     {"IN_BUMP_X", kInputBumpX},
     {"IN_BUMP_Y", kInputBumpY},
+    {"UV_SETS", kUvSets},
+    {"ATTRIBUTES", kAttributes},
     {"UNUSED", kUnusedOperand},
     {"CURVE_TABLE_SIZE", kCurveTable},
 }};
@@ -299,10 +306,11 @@ inline constexpr std::array<std::string_view, 19> kMixBlendNames = {
 static_assert(kMixBlendNames.size() == static_cast<size_t>(MixBlend::kValue) + 1);
 
 // The mode word of the other ops: fields of bits, each a choice among Blender's
-// identifiers (value k the k-th), a number or a flag. Defined here once: the decoders
-// (program.cpp, procedural.cpp) read each field through its constant below, the
-// program's check (Program::Program) through kOpModes, and the Python compiler packs
-// modes from the same table (whitted_native.OP_MODES; addon/export/nodes/ops.py pack()).
+// identifiers (value k the k-th), a number or a flag; an op without fields takes mode 0
+// only. Defined here once: the decoders (program.cpp, procedural.cpp) read each field
+// through its constant below, the program's check (Program::Program) through kOpModes,
+// and the Python compiler packs modes from the same table (whitted_native.OP_MODES;
+// addon/export/nodes/ops.py pack()).
 struct ModeField {
   std::string_view name;  // the keyword ops.pack() takes: Blender's property name where one is
   uint32_t shift;
@@ -329,9 +337,15 @@ constexpr ModeField flag(std::string_view name, uint32_t shift) {
 
 // Blender's identifiers of the enums the modes choose from, in the order of their values.
 inline constexpr std::array<std::string_view, 3> kColorModeNames = {"RGB", "HSV", "HSL"};
+// MIX_VALUE: values by a value (the Mix node's Float), vectors by a value or by a vector
+// (its factor_mode).
+inline constexpr std::array<std::string_view, 3> kMixValueNames = {"FLOAT", "UNIFORM",
+                                                                   "NON_UNIFORM"};
 inline constexpr std::array<std::string_view, 2> kClampTypeNames = {"MINMAX", "RANGE"};
 inline constexpr std::array<std::string_view, 4> kMapRangeNames = {"LINEAR", "STEPPED",
                                                                    "SMOOTHSTEP", "SMOOTHERSTEP"};
+// CURVE: which node's curves, RGB Curves', Float Curve's or Vector Curves'.
+inline constexpr std::array<std::string_view, 3> kCurveKindNames = {"RGB", "FLOAT", "VECTOR"};
 inline constexpr std::array<std::string_view, 5> kRampNames = {"CONSTANT", "LINEAR", "EASE",
                                                                "CARDINAL", "B_SPLINE"};
 inline constexpr std::array<std::string_view, 4> kMappingNames = {"POINT", "TEXTURE", "VECTOR",
@@ -342,6 +356,8 @@ inline constexpr std::array<std::string_view, 2> kEnvironmentProjectionNames = {
                                                                                 "MIRROR_BALL"};
 inline constexpr std::array<std::string_view, 7> kGradientNames = {
     "LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE", "RADIAL"};
+// LAYER_WEIGHT: the output it computes.
+inline constexpr std::array<std::string_view, 2> kLayerWeightNames = {"FRESNEL", "FACING"};
 inline constexpr std::array<std::string_view, 3> kNormalMapSpaceNames = {"TANGENT", "OBJECT",
                                                                          "WORLD"};
 inline constexpr std::array<std::string_view, 4> kDimensionNames = {"1D", "2D", "3D", "4D"};
@@ -366,19 +382,24 @@ inline constexpr ModeField kClamp = flag("clamp", 8);  // MATH, MIX, MAP_RANGE: 
 inline constexpr ModeField kMathOperation = choice("operation", 0, 8, kMathOpNames);
 inline constexpr ModeField kVectorMathOperation = choice("operation", 0, 8, kVectorMathOpNames);
 inline constexpr ModeField kMixBlend = choice("blend_type", 0, 8, kMixBlendNames);
+inline constexpr ModeField kMixValue = choice("factor_mode", 0, 2, kMixValueNames);
 inline constexpr ModeField kColorMode = choice("mode", 0, 2, kColorModeNames);  // SEPARATE, COMBINE
+// SWIZZLE: the component (x, y, z, w: alpha) it puts in all four.
+inline constexpr ModeField kSwizzle = number("component", 0, 2, 4);
 inline constexpr ModeField kClampType = choice("clamp_type", 0, 1, kClampTypeNames);
 inline constexpr ModeField kMapRange = choice("interpolation_type", 0, 2, kMapRangeNames);
 inline constexpr ModeField kRamp = choice("interpolation", 0, 3, kRampNames);
-// CURVE: 0 RGB Curves, 1 Float Curve, 2 Vector Curves; extrapolate past [0, 1] (not clamp).
-inline constexpr ModeField kCurveKind = number("kind", 0, 2, 3);
+// CURVE: extrapolate past [0, 1] (not clamp).
+inline constexpr ModeField kCurveKind = choice("kind", 0, 2, kCurveKindNames);
 inline constexpr ModeField kCurveExtrapolate = flag("extrapolate", 8);
 inline constexpr ModeField kMapping = choice("vector_type", 0, 2, kMappingNames);
 inline constexpr ModeField kImageProjection = choice("projection", 0, 2, kImageProjectionNames);
 inline constexpr ModeField kEnvironmentProjection =
     choice("projection", 0, 1, kEnvironmentProjectionNames);
 inline constexpr ModeField kGradient = choice("gradient_type", 0, 3, kGradientNames);
+inline constexpr ModeField kLayerWeight = choice("output", 0, 1, kLayerWeightNames);
 inline constexpr ModeField kNormalMapSpace = choice("space", 0, 2, kNormalMapSpaceNames);
+inline constexpr ModeField kBumpInvert = flag("invert", 0);  // BUMP: the height negated
 inline constexpr ModeField kDimensions = choice("dimensions", 0, 2, kDimensionNames);
 inline constexpr ModeField kNoiseType = choice("noise_type", 2, 3, kNoiseTypeNames);
 inline constexpr ModeField kNormalize = flag("normalize", 8);  // NOISE, VORONOI: to [0, 1]
@@ -400,7 +421,9 @@ inline constexpr ModeField kBrickSquash = number("squash_frequency", 8, 8, 256);
 inline constexpr std::array kMath = {kMathOperation, kClamp};
 inline constexpr std::array kVectorMath = {kVectorMathOperation};
 inline constexpr std::array kMix = {kMixBlend, kClamp};
+inline constexpr std::array kMixValueOp = {kMixValue};
 inline constexpr std::array kColor = {kColorMode};
+inline constexpr std::array kSwizzleOp = {kSwizzle};
 inline constexpr std::array kClampOp = {kClampType};
 inline constexpr std::array kMapRangeOp = {kMapRange, kClamp};
 inline constexpr std::array kRampOp = {kRamp};
@@ -409,7 +432,9 @@ inline constexpr std::array kMappingOp = {kMapping};
 inline constexpr std::array kImage = {kImageProjection};
 inline constexpr std::array kEnvironment = {kEnvironmentProjection};
 inline constexpr std::array kGradientOp = {kGradient};
+inline constexpr std::array kLayerWeightOp = {kLayerWeight};
 inline constexpr std::array kNormalMap = {kNormalMapSpace};
+inline constexpr std::array kBump = {kBumpInvert};
 inline constexpr std::array kNoise = {kDimensions, kNoiseType, kNormalize, kNoiseColor};
 inline constexpr std::array kVoronoi = {kDimensions,         kVoronoiFeature, kVoronoiMetric,
                                         kVoronoiIntegerHash, kNormalize,      kVoronoiOutput};
@@ -418,17 +443,20 @@ inline constexpr std::array kMagic = {kMagicDepth};
 inline constexpr std::array kBrick = {kBrickOffset, kBrickSquash};
 }  // namespace mode_field
 
-// The ops whose mode is fields, with them (whitted_native.OP_MODES). Every bit of such
-// a mode lies in a field, and every field holds one of its values (Program checks).
+// The ops whose mode is fields, with them (whitted_native.OP_MODES): all but INPUT (its
+// modes are kOpNumbers') and those without a mode. Every bit of such a mode lies in a
+// field, and every field holds one of its values (Program checks).
 struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 19> kOpModes = {{
+inline constexpr std::array<OpMode, 23> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
+    {Op::kMixValue, mode_field::kMixValueOp},
     {Op::kSeparate, mode_field::kColor},
+    {Op::kSwizzle, mode_field::kSwizzleOp},
     {Op::kCombine, mode_field::kColor},
     {Op::kClamp, mode_field::kClampOp},
     {Op::kMapRange, mode_field::kMapRangeOp},
@@ -438,15 +466,17 @@ inline constexpr std::array<OpMode, 19> kOpModes = {{
     {Op::kImage, mode_field::kImage},
     {Op::kEnvironment, mode_field::kEnvironment},
     {Op::kGradient, mode_field::kGradientOp},
+    {Op::kLayerWeight, mode_field::kLayerWeightOp},
     {Op::kNormalMap, mode_field::kNormalMap},
     {Op::kNoise, mode_field::kNoise},
     {Op::kVoronoi, mode_field::kVoronoi},
     {Op::kWave, mode_field::kWave},
     {Op::kMagic, mode_field::kMagic},
     {Op::kBrick, mode_field::kBrick},
+    {Op::kBump, mode_field::kBump},
 }};
 
-// The fields of op's mode; empty for an op whose mode is not fields.
+// The fields of op's mode; empty for INPUT and an op without a mode.
 constexpr std::span<const ModeField> mode_fields(Op op) {
   for (const OpMode& m : kOpModes) {
     if (m.op == op) return m.fields;
@@ -455,7 +485,7 @@ constexpr std::span<const ModeField> mode_fields(Op op) {
 }
 
 // Whether `mode` is one of the modes of fields `fields`: no bit outside them, each
-// field one of its values.
+// field one of its values (no fields: 0).
 constexpr bool valid_mode(std::span<const ModeField> fields, uint32_t mode) {
   uint32_t covered = 0;
   for (const ModeField& f : fields) {

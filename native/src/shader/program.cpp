@@ -85,10 +85,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       }
       return r;
     };
-    const auto modes = [&](uint32_t count, uint32_t flags = 0) {
-      if ((mode & ~flags) >= count)
-        fail("mode " + std::to_string(mode) + " is not one of its modes");
-    };
     const auto texture_slot = [&]() {
       if (c[7] >= textures_.size()) {
         fail("texture slot " + std::to_string(c[7]) + " out of range (" +
@@ -98,8 +94,9 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       return c[7];
     };
     Step s{static_cast<Op>(op), mode, c[2], zero, zero, zero, zero, zero, false};
-    // An op whose mode is fields (kOpModes): each holds one of its values.
-    if (const auto fields = mode_fields(s.op); !fields.empty() && !valid_mode(fields, mode))
+    // Every op's mode but INPUT's is fields (kOpModes), each holding one of its values,
+    // or 0 for an op without a mode.
+    if (s.op != Op::kInput && !valid_mode(mode_fields(s.op), mode))
       fail("mode " + std::to_string(mode) + " is not one of its modes");
     switch (s.op) {
       case Op::kInput:
@@ -117,7 +114,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kMixValue:
-        modes(3);
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kCombine:
@@ -127,7 +123,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3);
         break;
       case Op::kSwizzle:
-        modes(4);
         s.a = reg(3);
         break;
       case Op::kHueSat:
@@ -187,14 +182,13 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3);
         break;
       case Op::kLayerWeight:
-        modes(2);
         s.a = reg(3), s.b = reg(4);
         s.b_given = c[4] != kUnused;
         break;
       case Op::kNormalMap:
         s.a = reg(3), s.b = reg(4);
         if (mode_field::kNormalMapSpace.in(mode) == 0) {
-          if (c[7] >= kInputAttribute - kInputUvSet) fail("tangent set out of range");
+          if (c[7] >= kUvSets) fail("tangent set out of range");
           s.e = input_slot(kInputTangent + c[7]);
           s.d = input_slot(kInputObjectNormal);
         }
@@ -210,7 +204,6 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kBump:
-        modes(2);
         s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6), s.e = reg(7);
         s.b_given = c[4] != kUnused;
         bumps_ = true;
@@ -265,14 +258,16 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = vec4(mode_field::kClamp.on(s.mode) ? saturate(m) : m, b.w);
         break;
       }
-      case Op::kMixValue:
-        if (s.mode == 0) {
+      case Op::kMixValue: {
+        const uint32_t factor_mode = mode_field::kMixValue.in(s.mode);  // kMixValueNames
+        if (factor_mode == 0) {
           out = scalar(b.x * (1.0f - a.x) + c.x * a.x);
         } else {
-          const Vec3 t = s.mode == 1 ? Vec3(a.x) : Vec3(a);
+          const Vec3 t = factor_mode == 1 ? Vec3(a.x) : Vec3(a);
           out = vector(Vec3(b) * (Vec3(1.0f) - t) + Vec3(c) * t);
         }
         break;
+      }
       case Op::kSeparate: {
         const uint32_t color_mode = mode_field::kColorMode.in(s.mode);
         out = vec4(color_mode == 0   ? Vec3(a)
@@ -282,7 +277,7 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       }
       case Op::kSwizzle:
-        out = scalar(a[static_cast<int>(s.mode)]);
+        out = scalar(a[static_cast<int>(mode_field::kSwizzle.in(s.mode))]);
         break;
       case Op::kCombine: {
         const Vec3 v(a.x, b.x, c.x);
@@ -359,7 +354,7 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
           return curve(table + i * kCurveTable, x, extrapolate);
         };
         const float fac = a.x;
-        const uint32_t kind = mode_field::kCurveKind.in(s.mode);
+        const uint32_t kind = mode_field::kCurveKind.in(s.mode);  // kCurveKindNames
         if (kind == 1) {
           out = scalar((1.0f - fac) * b.x + fac * row(0, b.x));
           break;
@@ -414,7 +409,8 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       }
       case Op::kLayerWeight:
-        out = scalar(layer_weight(s.mode, a.x, s.b_given ? Vec3(b) : hit.normal, hit));
+        out = scalar(layer_weight(mode_field::kLayerWeight.in(s.mode), a.x,
+                                  s.b_given ? Vec3(b) : hit.normal, hit));
         break;
       case Op::kNormalMap: {
         const uint32_t space = mode_field::kNormalMapSpace.in(s.mode);
@@ -430,8 +426,8 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = scalar(0.2126f * a.x + 0.7152f * a.y + 0.0722f * a.z);
         break;
       case Op::kBump:
-        out = vector(bump(hit, a.x, a.y, s.mode == 1, s.b_given ? Vec3(b) : hit.normal, c.x,
-                          r[s.d].x, r[s.e].x));
+        out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
+                          s.b_given ? Vec3(b) : hit.normal, c.x, r[s.d].x, r[s.e].x));
         break;
       default:  // rejected at construction
         break;
