@@ -14,6 +14,11 @@ from .nodes.graph import source
 
 # Object types the walk meets and does not export, with how the report names them.
 OBJECT_KINDS = {"VOLUME": "volumes"}
+# The object types whose Shadow Catcher flag Cycles reads: geometry. Blender 3.4 sets the
+# flag on every new lamp (a new point lamp reads True), where it means nothing.
+GEOMETRY_TYPES = frozenset(
+    {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
+)
 
 # What the report says of each kind's objects, and why.
 PHRASE = {
@@ -36,7 +41,7 @@ def unrendered_kind(object_instance):
     obj = object_instance.object
     if obj.original.hide_render:
         return None
-    if getattr(obj.original, "is_shadow_catcher", False):
+    if obj.type in GEOMETRY_TYPES and getattr(obj.original, "is_shadow_catcher", False):
         return "shadow catchers"
     return OBJECT_KINDS.get(obj.type)
 

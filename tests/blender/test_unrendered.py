@@ -76,10 +76,16 @@ def test_a_volume_shader_is_named(stage, native):
 
 def test_a_shadow_catcher_is_named(stage, native):
     # Cycles shows only the shadows on a shadow catcher; Whitted renders it as an ordinary
-    # object, and says so once.
+    # object, and says so once. The flag counts on geometry only: Blender 3.4 sets it on
+    # every new lamp, and a lamp or a camera set so is no shadow catcher (issue 49).
     catcher = add_object(stage.collection, "Ground", cube_mesh("Ground", 1.0))
     catcher.is_shadow_catcher = True
     add_object(stage.collection, "Plain", cube_mesh("Plain", 1.0))
+    for kind in ("POINT", "SUN", "AREA"):
+        lamp = add_object(stage.collection, f"Lamp {kind}", bpy.data.lights.new(kind, kind))
+        lamp.is_shadow_catcher = True
+    camera = add_object(stage.collection, "Camera", bpy.data.cameras.new("Camera"))
+    camera.is_shadow_catcher = True
     lines = [w for w in _warnings(native) if "shadow catcher" in w]
     assert lines == [
         "Whitted: 1 object(s) set as shadow catchers, rendered as ordinary objects "
