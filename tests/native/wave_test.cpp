@@ -156,59 +156,17 @@ TEST(Waves, AdaptiveSubdivisionGivesTheRecursionsPixelsRaysAndCosts) {
   }
 }
 
-// The data passes (Depth, Mist, Normal, ...) are the camera's surface's: the wave
-// records them as the camera rays are traced, the same values as the recursion's, for
-// whole pixels, adaptive subdivision and progressive samples.
-TEST(Waves, DataPassesAreTheRecursions) {
-  const Scene scene = every_effect();
-  const std::vector<FilmPass> data = {
-      FilmPass::kDepth, FilmPass::kMist,        FilmPass::kNormal,       FilmPass::kPosition,
-      FilmPass::kUV,    FilmPass::kObjectIndex, FilmPass::kMaterialIndex};
-  uint32_t bits = 0;
-  for (const FilmPass pass : data) bits |= pass_bit(pass);
-  ASSERT_EQ(bits, kDataPasses);
+// The passes of `bits`, rendered in waves and recursively with `base`'s settings, for whole
+// pixels, adaptive subdivision and progressive samples: Combined within rounding, the
+// same ray cost and rays, and each kept pass handed to check(pass, waves, recursive).
+template <class Check>
+void compare_passes(const Scene& scene, Settings base, uint32_t bits, const Check& check) {
   for (const AntiAliasing mode : {AntiAliasing::kRegular, AntiAliasing::kAdaptive}) {
     for (const bool progressive : {false, true}) {
-      Settings settings = small_render(41, 29, 2, 2, 16);
+      Settings settings = base;
       settings.aa_mode = mode;
       settings.aa_depth = 2;
       settings.progressive = progressive;
-      settings.passes = bits;
-      const Rendered waves = render(scene, settings, true);
-      const Rendered recursive = render(scene, settings, false);
-      EXPECT_TRUE(waves.stats.waves);
-      EXPECT_FALSE(recursive.stats.waves);
-      expect_close(waves.pixels, recursive.pixels);
-      EXPECT_TRUE(waves.cost == recursive.cost);
-      for (const FilmPass pass : data) {
-        const auto p = static_cast<size_t>(pass);
-        EXPECT_FALSE(waves.passes[p].empty());
-        EXPECT_TRUE(waves.passes[p] == recursive.passes[p])
-            << kFilmPassNames[p] << ", adaptive " << (mode == AntiAliasing::kAdaptive)
-            << ", progressive " << progressive;
-      }
-    }
-  }
-}
-
-// The light passes, Contributions and Cut Weight are traced in waves too: each queued ray
-// and feeler takes along where its terms go (PassRecorder::resume, FeelerPasses), so
-// every pass is the recursion's up to rounding, with the same rays, for whole pixels,
-// adaptive subdivision and progressive samples; and the light passes still sum to
-// Combined (docs/PASSES.md's recombination).
-TEST(Waves, LightPassesContributionsAndCutWeightAreTheRecursions) {
-  const Scene scene = every_effect();
-  uint32_t bits = kLightPasses | pass_bit(FilmPass::kContributions) |
-                  pass_bit(FilmPass::kCutWeight) | pass_bit(FilmPass::kDepth);
-  for (const AntiAliasing mode : {AntiAliasing::kRegular, AntiAliasing::kAdaptive}) {
-    for (const bool progressive : {false, true}) {
-      Settings settings = small_render(41, 29, 2, 2, 16);
-      settings.aa_mode = mode;
-      settings.aa_depth = 2;
-      settings.progressive = progressive;
-      settings.glass_shadows = GlassShadows::kTinted;
-      settings.max_depth = 3;  // some rays cut by depth: Cut Weight is not all zero
-      settings.contribution_depth = 2;
       settings.passes = bits;
       const Rendered waves = render(scene, settings, true);
       const Rendered recursive = render(scene, settings, false);
@@ -222,15 +180,47 @@ TEST(Waves, LightPassesContributionsAndCutWeightAreTheRecursions) {
         SCOPED_TRACE(std::string(kFilmPassNames[p]) + (progressive ? ", progressive" : "") +
                      (mode == AntiAliasing::kAdaptive ? ", adaptive" : ""));
         ASSERT_FALSE(waves.passes[p].empty());
-        expect_close(waves.passes[p], recursive.passes[p]);
-        float sum = 0.0f;
-        for (const float v : waves.passes[p]) sum += std::fabs(v);
-        if (p != static_cast<size_t>(FilmPass::kTransmissionDirect)) {
-          EXPECT_GT(sum, 0.0f) << "the scene shows something in every pass but one";
-        }
+        check(static_cast<FilmPass>(p), waves.passes[p], recursive.passes[p]);
       }
     }
   }
+}
+
+// The data passes (Depth, Mist, Normal, ...) are the camera's surface's: the wave
+// records them as the camera rays are traced, the same values as the recursion's.
+TEST(Waves, DataPassesAreTheRecursions) {
+  const std::vector<FilmPass> data = {
+      FilmPass::kDepth, FilmPass::kMist,        FilmPass::kNormal,       FilmPass::kPosition,
+      FilmPass::kUV,    FilmPass::kObjectIndex, FilmPass::kMaterialIndex};
+  uint32_t bits = 0;
+  for (const FilmPass pass : data) bits |= pass_bit(pass);
+  ASSERT_EQ(bits, kDataPasses);
+  compare_passes(every_effect(), small_render(41, 29, 2, 2, 16), bits,
+                 [](FilmPass /*pass*/, const std::vector<float>& waves,
+                    const std::vector<float>& recursive) { EXPECT_TRUE(waves == recursive); });
+}
+
+// The light passes, Contributions and Cut Weight are traced in waves too: each queued ray
+// and feeler takes along where its terms go (PassRecorder::resume, FeelerPasses), so
+// every pass is the recursion's up to rounding, and none is empty where the scene shows
+// it.
+TEST(Waves, LightPassesContributionsAndCutWeightAreTheRecursions) {
+  Settings settings = small_render(41, 29, 2, 2, 16);
+  settings.glass_shadows = GlassShadows::kTinted;
+  settings.max_depth = 3;  // some rays cut by depth: Cut Weight is not all zero
+  settings.contribution_depth = 2;
+  const uint32_t bits = kLightPasses | pass_bit(FilmPass::kContributions) |
+                        pass_bit(FilmPass::kCutWeight) | pass_bit(FilmPass::kDepth);
+  compare_passes(
+      every_effect(), settings, bits,
+      [](FilmPass pass, const std::vector<float>& waves, const std::vector<float>& recursive) {
+        expect_close(waves, recursive);
+        float sum = 0.0f;
+        for (const float v : waves) sum += std::fabs(v);
+        if (pass != FilmPass::kTransmissionDirect) {
+          EXPECT_GT(sum, 0.0f) << "the scene shows something in every pass but one";
+        }
+      });
 }
 
 TEST(Waves, CancelStopsPromptly) {
