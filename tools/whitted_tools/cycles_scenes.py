@@ -246,8 +246,12 @@ def build_scene(scene, case):
     return light_object
 
 
-def set_cycles_direct_light(scene, samples=CYCLES_SAMPLES):
-    """Cycles: direct light only, deterministic, no denoising, a centre-point filter."""
+def set_cycles_reference(scene, samples, specular_bounces=0, max_bounces=None):
+    """Cycles as the reference Whitted is compared with: on the CPU, `samples` per pixel
+    at a fixed seed, no adaptive sampling, no denoising, no clamping; no diffuse or
+    volume bounce (what a Whitted ray tree leaves out), glossy, transmission and
+    transparent bounces up to `specular_bounces` (the mirror and glass rays it traces),
+    without caustics; `max_bounces` the total, by default `specular_bounces`."""
     cycles = scene.cycles
     cycles.device = "CPU"
     cycles.samples = samples
@@ -255,15 +259,19 @@ def set_cycles_direct_light(scene, samples=CYCLES_SAMPLES):
     cycles.use_denoising = False
     cycles.seed = 0
     cycles.use_animated_seed = False
-    cycles.max_bounces = 0
+    cycles.max_bounces = specular_bounces if max_bounces is None else max_bounces
     cycles.diffuse_bounces = 0
-    cycles.glossy_bounces = 0
-    cycles.transmission_bounces = 0
     cycles.volume_bounces = 0
-    cycles.transparent_max_bounces = 0
-    cycles.sample_clamp_direct = 0.0
-    cycles.sample_clamp_indirect = 0.0
-    cycles.filter_width = 0.01
+    cycles.glossy_bounces = cycles.transmission_bounces = specular_bounces
+    cycles.transparent_max_bounces = specular_bounces
+    cycles.caustics_reflective = cycles.caustics_refractive = False
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+
+
+def set_cycles_direct_light(scene, samples=CYCLES_SAMPLES):
+    """Cycles: direct light only, deterministic, no denoising, a centre-point filter."""
+    set_cycles_reference(scene, samples)
+    scene.cycles.filter_width = 0.01
 
 
 def box_filtered(scene, cycles_samples, whitted_samples):

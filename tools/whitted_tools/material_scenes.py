@@ -58,9 +58,9 @@ def _world(scene, name, color):
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = color
+    scene.world = world  # before its Cycles settings, whose update reads the scene's world
     # Seen by mirrors and glass, lighting no diffuse surface (Ray Visibility > Diffuse).
     world.cycles_visibility.diffuse = False
-    scene.world = world
     return world
 
 

@@ -29,6 +29,7 @@ from pathlib import Path
 import bpy
 
 # isort: split
+from whitted_tools import cycles_scenes
 from whitted_tools.blender import factory_scene
 from whitted_tools.camera_scenes import balls_in_a_row, cube_crossing
 from whitted_tools.cli import page_parser
@@ -167,19 +168,8 @@ def set_engines(scene):
     render.film_transparent = True
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
-    cycles = scene.cycles
-    cycles.device = "CPU"
-    cycles.samples = CYCLES_SAMPLES
-    cycles.use_adaptive_sampling = False
-    cycles.use_denoising = False
-    cycles.seed = 0
-    cycles.max_bounces = 8
-    cycles.diffuse_bounces = 0
-    cycles.glossy_bounces = cycles.transmission_bounces = 8
-    cycles.transparent_max_bounces = 8
-    cycles.caustics_reflective = cycles.caustics_refractive = False
-    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
-    cycles.light_sampling_threshold = 0.0
+    cycles_scenes.set_cycles_reference(scene, CYCLES_SAMPLES, specular_bounces=8)
+    scene.cycles.light_sampling_threshold = 0.0
     # Whitted at the Final preset's glossy and emitter samples, 2 x 2 camera samples.
     whitted = scene.whitted
     whitted.aa_mode = "REGULAR"

@@ -33,7 +33,7 @@ import bpy
 # isort: split
 import numpy as np
 
-from whitted_tools import shader_graphs
+from whitted_tools import cycles_scenes, shader_graphs
 from whitted_tools.blender import enable_addon, factory_scene
 from whitted_tools.cli import page_parser
 from whitted_tools.material_scenes import (
@@ -291,8 +291,8 @@ def scene_hdri_mirror_glass(scene, work):
     environment = tree.nodes.new("ShaderNodeTexEnvironment")
     environment.image = image
     tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    scene.world = world  # before its Cycles settings, whose update reads the scene's world
     world.cycles_visibility.diffuse = False
-    scene.world = world
     mirror = shader_graphs.new_material("Mirror")
     mirror_bsdf = shader_graphs.principled(mirror)
     mirror_bsdf.inputs["Metallic"].default_value = 1.0
@@ -363,22 +363,9 @@ def set_engines(scene):
     render.film_transparent = True
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
-    cycles = scene.cycles
-    cycles.device = "CPU"
-    cycles.samples = CYCLES_SAMPLES
-    cycles.use_adaptive_sampling = False
-    cycles.use_denoising = False
-    cycles.seed = 0
-    cycles.filter_width = 0.01
-    # Direct light plus specular bounces: no diffuse bounce; mirrors and glass deep.
-    cycles.max_bounces = 12
-    cycles.diffuse_bounces = 0
-    cycles.glossy_bounces = 8
-    cycles.transmission_bounces = 8
-    cycles.transparent_max_bounces = 8
-    cycles.caustics_reflective = False
-    cycles.caustics_refractive = False
-    cycles.sample_clamp_indirect = 0.0
+    # Direct light plus specular bounces: mirrors and glass deep.
+    cycles_scenes.set_cycles_reference(scene, CYCLES_SAMPLES, specular_bounces=8, max_bounces=12)
+    scene.cycles.filter_width = 0.01
     whitted = scene.whitted
     whitted.aa_samples = 1
     whitted.max_depth = 8
