@@ -98,7 +98,12 @@ def main() -> None:
     if not engine_registered():
         fail(f"'{ADDON_MODULE}' is enabled but no RenderEngine '{ENGINE_ID}' is registered")
     if keep_preferences:
+        # Blender saves where BLENDER_USER_CONFIG points only if that folder exists;
+        # otherwise it falls back to ~/.config/blender and overwrites the user's own.
+        os.makedirs(os.path.dirname(userpref), exist_ok=True)
         bpy.ops.wm.save_userpref()
+        if not os.path.isfile(userpref):
+            fail(f"Blender {bpy.app.version_string} did not save its preferences in {userpref}")
         saved = f"preferences saved in {bpy.utils.user_resource('CONFIG')}"
     else:
         saved = "preferences not saved (enable it with addon_utils.enable)"
