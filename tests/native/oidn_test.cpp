@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -119,6 +120,20 @@ TEST_F(OidnFound, ANormalWithoutAlbedoWorksAndTheOutputMayBeTheInput) {
   std::vector<float> image = n.color;
   ASSERT_EQ(lib().denoise(image.data(), nullptr, normal.data(), image.data(), w, h, {}), "");
   EXPECT_LT(mean_abs_error(image, n.truth) * 3.0, mean_abs_error(n.color, n.truth));
+}
+
+TEST_F(OidnFound, ACancelledDenoiseReturnsOidnsCancelledError) {
+  const int w = 32, h = 32;
+  const Noisy n = noisy(w, h, false);
+  std::vector<float> out(n.color.size(), -1.0f);
+  std::atomic<bool> cancel{true};
+  Options o;
+  o.cancel = &cancel;
+  const std::string error = lib().denoise(n.color.data(), nullptr, nullptr, out.data(), w, h, o);
+  EXPECT_NE(error.find("cancel"), std::string::npos) << error;
+  cancel = false;  // the same options run to the end once the flag is down
+  EXPECT_EQ(lib().denoise(n.color.data(), nullptr, nullptr, out.data(), w, h, o), "");
+  EXPECT_LT(mean_abs_error(out, n.truth) * 3.0, mean_abs_error(n.color, n.truth));
 }
 
 TEST_F(OidnFound, AnEmptyImageIsRefusedWithoutCallingOidn) {

@@ -88,6 +88,7 @@ struct Library::Api {
   void (*commit_filter)(Filter);
   void (*execute_filter)(Filter);
   void (*release_filter)(Filter);
+  void (*set_progress_monitor)(Filter, bool (*monitor)(void* user, double done), void* user);
 
   // The device's pending error, or an empty string.
   std::string error(Device device) const {
@@ -194,6 +195,7 @@ Library Library::open(const std::vector<std::string>& candidates) {
   resolve(handle, api->commit_filter, {"oidnCommitFilter"}, missing);
   resolve(handle, api->execute_filter, {"oidnExecuteFilter"}, missing);
   resolve(handle, api->release_filter, {"oidnReleaseFilter"}, missing);
+  resolve(handle, api->set_progress_monitor, {"oidnSetFilterProgressMonitorFunction"}, missing);
   if (!missing.empty()) {
     s.report = "OpenImageDenoise at " + s.path + " lacks " + missing;
     return lib;
@@ -245,6 +247,14 @@ std::string Library::denoise(const float* color, const float* albedo, const floa
     api.set_filter_bool(filter.get(), "hdr", hdr);
     api.set_filter_bool(filter.get(), "cleanAux", clean_aux);
     if (has_quality) api.set_filter_int(filter.get(), "quality", quality_value(options.quality));
+    if (options.cancel) {
+      // OIDN calls this from its own threads; returning false cancels the filter.
+      auto keep_going = [](void* user, double) {
+        return !static_cast<const std::atomic<bool>*>(user)->load(std::memory_order_relaxed);
+      };
+      api.set_progress_monitor(filter.get(), keep_going,
+                               const_cast<std::atomic<bool>*>(options.cancel));
+    }
     api.commit_filter(filter.get());
     api.execute_filter(filter.get());
     if (std::string e = api.error(device.get()); !e.empty()) return "OpenImageDenoise: " + e;

@@ -13,6 +13,7 @@
 // own modules stay mapped. Every denoise() call makes and releases its own device.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct Options {
   int threads = 0;  // 0: OIDN picks (all cores)
   Prefilter prefilter = Prefilter::kAccurate;
   Quality quality = Quality::kHigh;
+  // When set, OIDN polls it while filtering and stops once it is true; denoise() then
+  // returns OIDN's "cancelled" error and `out` holds no finished image.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Status {
