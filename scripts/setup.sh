@@ -14,7 +14,10 @@
 #      once per CPython a supported Blender embeds: 3.11 (the .venv's: Debian's Blender
 #      3.4, Blender 4.1-5.0), and pyenv's 3.10 (official 3.x, 4.0), 3.12 and 3.13 (5.1 on),
 #      and the native tests; --demo: the 3.11 module only (Blender 3.4's), the core
-#      compiled the same way, so a later full set-up reuses it and compiles only the rest
+#      compiled the same way, so a later full set-up reuses it and compiles only the rest;
+#      not with --demo: Open Image Denoise staged into build/oidn/lib (scripts/stage_oidn.sh:
+#      the pinned pyoidn wheel from PyPI; when that fails, a warning: the build and the
+#      tests work without it, and oidn_status() says why it is missing)
 #   4. the add-on, linked as `whitted` into the user add-on folders of Blender 3.4
 #      and of the bpy 5.0 module, enabled, user preferences saved; the tool package
 #      tools/whitted_tools linked for Blender 3.4 (the .venv has it through a .pth);
@@ -277,6 +280,8 @@ build_native() {
     compgen -G "addon/whitted_native.cpython-$version-*.so" >/dev/null ||
       die "the build did not put whitted_native.cpython-$version-*.so into addon/"
   done
+  scripts/stage_oidn.sh "$VENV/bin/python" "$BUILD_DIR" ||
+    echo "[setup] warning: Open Image Denoise was not staged (see above): denoising is unavailable" >&2
 }
 
 # --- 4. add-on for the current user in both Blenders (--demo: Blender 3.4) ----

@@ -1,0 +1,75 @@
+// Open Image Denoise (native/src/denoise/oidn.h): whether it loaded, and denoising of a
+// float RGB image, for the tests and the add-on.
+#include "denoise/oidn.h"
+
+#include "bindings.h"
+
+namespace whitted::python {
+namespace {
+
+oidn::Prefilter prefilter_from(const std::string& name) {
+  if (name == "none") return oidn::Prefilter::kNone;
+  if (name == "fast") return oidn::Prefilter::kFast;
+  if (name == "accurate") return oidn::Prefilter::kAccurate;
+  throw py::value_error("prefilter must be 'none', 'fast' or 'accurate', not '" + name + "'");
+}
+
+oidn::Quality quality_from(const std::string& name) {
+  if (name == "high") return oidn::Quality::kHigh;
+  if (name == "balanced") return oidn::Quality::kBalanced;
+  if (name == "fast") return oidn::Quality::kFast;
+  throw py::value_error("quality must be 'high', 'balanced' or 'fast', not '" + name + "'");
+}
+
+}  // namespace
+
+void bind_denoise(py::module_& m) {
+  m.def(
+      "oidn_status",
+      [] {
+        const oidn::Status& s = oidn::Library::shared().status();
+        py::dict out;
+        out["ok"] = s.ok;
+        out["version"] = s.version;
+        out["path"] = s.path;
+        out["report"] = s.report;
+        return out;
+      },
+      "Open Image Denoise as this process loaded it (once, at the first call): {'ok', "
+      "'version' (e.g. 20501), 'path' (the library, '' when none was found), 'report' (why "
+      "it is unavailable, or what was loaded)}.");
+  m.def(
+      "oidn_denoise",
+      [](const FloatArray& color, const std::optional<FloatArray>& albedo,
+         const std::optional<FloatArray>& normal, int threads, const std::string& prefilter,
+         const std::string& quality) {
+        require_shape(color, "color", {-1, -1, 3});
+        const py::ssize_t h = color.shape(0), w = color.shape(1);
+        if (albedo) require_shape(*albedo, "albedo", {h, w, 3});
+        if (normal) require_shape(*normal, "normal", {h, w, 3});
+        oidn::Options options;
+        options.threads = threads;
+        options.prefilter = prefilter_from(prefilter);
+        options.quality = quality_from(quality);
+        FloatArray out({h, w, py::ssize_t{3}});
+        std::string error;
+        {
+          py::gil_scoped_release release;
+          error = oidn::Library::shared().denoise(
+              color.data(), albedo ? albedo->data() : nullptr, normal ? normal->data() : nullptr,
+              out.mutable_data(), static_cast<int>(w), static_cast<int>(h), options);
+        }
+        if (!error.empty()) throw std::runtime_error(error);
+        return out;
+      },
+      py::arg("color"), py::arg("albedo") = py::none(), py::arg("normal") = py::none(),
+      py::kw_only(), py::arg("threads") = 0, py::arg("prefilter") = "accurate",
+      py::arg("quality") = "high",
+      "Denoises a float RGB image (height, width, 3) with Open Image Denoise's RT filter "
+      "(hdr), given optional albedo and normal images of the same shape; returns a new "
+      "array. prefilter: 'none' (the aux images are noise-free), 'fast' or 'accurate' (each "
+      "aux image is denoised first); quality: 'high', 'balanced' or 'fast'; threads 0: all. "
+      "RuntimeError with oidn_status()['report'] when the library is unavailable.");
+}
+
+}  // namespace whitted::python
