@@ -40,6 +40,13 @@ constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
 
 }  // namespace
 
+int sample_cell(const Settings& settings, int x, int y, int s) {
+  if (!settings.adaptive_sampling) return s;
+  const auto grid = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
+  const uint32_t order = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau);
+  return static_cast<int>(permuted(static_cast<uint32_t>(s), grid, order));
+}
+
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings) {
   const CameraFrame frame(camera);
@@ -187,7 +194,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
   for (int x = x0; x < x1; ++x) {
     if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
     for (int j = 0; j < per_pixel; ++j) {
-      const int k = sample < 0 ? j : sample;
+      const int k = sample < 0 ? j : sample_cell(settings_, x, y, sample);
       const auto index = static_cast<uint32_t>((x - x0) * per_pixel + j);
       const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
       const bool found = width > 0 && block.found[b] != 0;
