@@ -286,13 +286,13 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
       const bool active = !round || film_.active(x0, y);
       for (x1 = x0 + 1; x1 < end && same_run(x1, picked, active);) ++x1;
       if (!active || !recorder_.select_range(log, x0, x1, y, settings_.width)) continue;
-      // A round's samples one wave each, added in the pixels' order.
-      const int first = whole ? -1 : pass.sample;
-      const int last = round ? pass.samples : first + 1;
-      for (int sample = first; sample < last; ++sample) {
-        sampler.row(x0, x1, y, sample, wave, counts, &values, &rays, &records);
-        for (int x = x0; x < x1; ++x) {
-          const auto i = static_cast<size_t>(x - x0);
+      // A round's samples as one wave, each pixel's added in its order.
+      const int count = round ? pass.samples - pass.sample : 1;
+      sampler.row(x0, x1, y, whole ? -1 : pass.sample, count, wave, counts, &values, &rays,
+                  &records);
+      for (int x = x0; x < x1; ++x) {
+        for (int j = 0; j < (whole ? 1 : count); ++j) {
+          const auto i = static_cast<size_t>((x - x0) * (whole ? 1 : count) + j);
           const auto cost = static_cast<float>(rays[i]);
           const SampleRecord* record = records.empty() ? nullptr : &records[i];
           if (whole) {
