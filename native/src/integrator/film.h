@@ -23,8 +23,8 @@ struct Sample {
 // difference, over sqrt(luminance sum) below 1 and the sum itself above, plus 1e-4.
 float noise_error(const Color& mean, const Color& half);
 
-// Cycles scales the user's noise threshold by this before comparing (research notes,
-// docs/notes/adaptive_sampling.md).
+// Cycles scales the user's noise threshold by this before comparing ("an arbitrary
+// factor", scene/integrator.cpp Integrator::get_adaptive_sampling).
 inline constexpr float kNoiseThresholdScale = 5.0f;
 
 // Each pixel shows the mean of its own samples, or, while it has none, the preview a
