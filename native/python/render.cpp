@@ -54,6 +54,8 @@ py::dict stats_dict(const RenderStats& s) {
   out["instances_per_pixel"] = s.instances_per_pixel;
   out["waves"] = s.waves;
   out["wave_bytes"] = s.wave_bytes;
+  out["active_pixels"] = s.active_pixels;
+  out["samples_per_pixel"] = py::make_tuple(s.samples_min, s.samples_mean, s.samples_max);
   out["cancelled"] = s.cancelled;
   out["error"] = s.error;
   return out;

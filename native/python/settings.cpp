@@ -86,7 +86,8 @@ void bind_settings(py::module_& m) {
                        bool progressive, int start_pixel_size, GlassShadows glass_shadows,
                        const std::vector<std::string>& passes, int contribution_depth,
                        float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
-                       int emitter_samples, float shutter) {
+                       int emitter_samples, float shutter, bool adaptive_sampling,
+                       float noise_threshold, int adaptive_min_samples) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -115,6 +116,9 @@ void bind_settings(py::module_& m) {
              s.glossy_samples = glossy_samples;
              s.emitter_samples = emitter_samples;
              s.shutter = shutter;
+             s.adaptive_sampling = adaptive_sampling;
+             s.noise_threshold = noise_threshold;
+             s.adaptive_min_samples = adaptive_min_samples;
              s.validate();
              return s;
            }),
@@ -135,6 +139,9 @@ void bind_settings(py::module_& m) {
            py::arg("mist") = std::array<float, 3>{d.mist_start, d.mist_depth, d.mist_falloff},
            py::arg("glossy_samples") = d.glossy_samples,
            py::arg("emitter_samples") = d.emitter_samples, py::arg("shutter") = d.shutter,
+           py::arg("adaptive_sampling") = d.adaptive_sampling,
+           py::arg("noise_threshold") = d.noise_threshold,
+           py::arg("adaptive_min_samples") = d.adaptive_min_samples,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -246,6 +253,21 @@ void bind_settings(py::module_& m) {
       .def_readwrite("progressive", &Settings::progressive,
                      "For the viewport: coarse previews from start_pixel_size blocks down to 2 "
                      "pixels, then one pass per anti-aliasing sample.")
+      .def_readwrite("adaptive_sampling", &Settings::adaptive_sampling,
+                     "Noise-driven sampling: each pixel takes its aa_samples x aa_samples "
+                     "samples in rounds, in its own permuted order, and stops once its noise "
+                     "estimate and its 8 neighbours' are below noise_threshold.")
+      .def_readwrite("noise_threshold", &Settings::noise_threshold,
+                     ranged(setting_range("noise_threshold"),
+                            "adaptive_sampling: the noise a pixel stops below (as Cycles' "
+                            "Noise Threshold); 0: every pixel takes the whole grid.")
+                         .c_str())
+      .def_readwrite("adaptive_min_samples", &Settings::adaptive_min_samples,
+                     ranged(setting_range("adaptive_min_samples"),
+                            "adaptive_sampling: samples before the first noise check (at "
+                            "least 4, at most the grid); 0: automatic, as Cycles' "
+                            "max(4, ceil(16 / threshold^0.3)).")
+                         .c_str())
       .def_readwrite("start_pixel_size", &Settings::start_pixel_size,
                      ranged(setting_range("start_pixel_size"),
                             "progressive: the block edge of the first, coarsest preview (a power "

@@ -407,3 +407,25 @@ def test_the_shutter_is_bound_with_the_camera():
     for duration in (1.5, math.nan):
         with pytest.raises(ValueError, match="rolling_shutter"):
             wn.Camera(rolling_shutter=duration)
+
+
+def test_noise_driven_sampling_stops_flat_pixels_and_reports_samples_per_pixel():
+    # A blocker's hard shadow on a lit floor: flat light and shade, noisy edges.
+    scene = lit_floor_scene()
+    scene.set_mesh("blocker", *quad(-0.3, 0.3, -0.3, 0.3, 1.0))
+    scene.set_instance("blocker", "blocker", np.eye(4), ["white"])
+    kwargs = dict(width=24, height=24, aa_samples=6, aa_mode=wn.AntiAliasing.JITTERED)
+    settings = wn.Settings(**kwargs, adaptive_sampling=True, adaptive_min_samples=4)
+    assert (settings.noise_threshold, settings.adaptive_min_samples) == (pytest.approx(0.01), 4)
+    job = wn.RenderJob(scene, settings)
+    finish(job)
+    low, mean, high = job.stats()["samples_per_pixel"]
+    assert (low, high) == (16, 36)  # the first check, the grid
+    assert low < mean < 30
+    assert job.stats()["samples"] == round(mean * 24 * 24)
+    # Threshold 0 takes every sample: the fixed-count render up to the order of the sums.
+    settings = wn.Settings(**kwargs, adaptive_sampling=True, noise_threshold=0.0)
+    job = wn.RenderJob(scene, settings)
+    fixed = finish(wn.RenderJob(scene, wn.Settings(**kwargs)))
+    np.testing.assert_allclose(finish(job), fixed, rtol=1e-5, atol=1e-6)
+    assert job.stats()["samples_per_pixel"] == (36, 36.0, 36)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 
 namespace whitted {
 namespace {
@@ -152,7 +153,15 @@ void resolve(FilmPass pass, const float* raw, const float* color, int channels, 
 
 }  // namespace
 
-Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribution_depth)
+float noise_error(const Color& mean, const Color& half) {
+  const float difference =
+      std::fabs(mean.x - half.x) + std::fabs(mean.y - half.y) + std::fabs(mean.z - half.z);
+  const float sum = mean.x + mean.y + mean.z;
+  return difference / (1e-4f + (sum < 1.0f ? std::sqrt(std::max(sum, 0.0f)) : sum));
+}
+
+Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribution_depth,
+           bool adaptive)
     : width_(width),
       height_(height),
       pixels_(size_t{4} * width * height, 0.0f),
@@ -161,6 +170,10 @@ Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribu
   if (accumulate) {
     sum_.assign(pixels_.size(), 0.0f);
     count_.assign(cost_.size(), 0);
+  }
+  if (accumulate && adaptive) {
+    half_.assign(3 * cost_.size(), 0.0f);
+    active_.assign(cost_.size(), 1);
   }
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
@@ -201,6 +214,11 @@ void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecor
   sum[1] += sample.radiance.y;
   sum[2] += sample.radiance.z;
   sum[3] += sample.alpha;
+  if (!half_.empty() && count_[i] % 2 == 0) {  // class A: even positions in the order
+    half_[3 * i] += sample.radiance.x;
+    half_[3 * i + 1] += sample.radiance.y;
+    half_[3 * i + 2] += sample.radiance.z;
+  }
   count_[i] += 1;
   const float w = 1.0f / static_cast<float>(count_[i]);
   store_rgba(&pixels_[4 * i], Sample{Color(sum[0], sum[1], sum[2]) * w, sum[3] * w});
@@ -234,6 +252,43 @@ void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecor
     }
     resolve(pass, raw.data(), divide ? color.data() : nullptr, n, &shown_[p][n * i]);
   }
+}
+
+size_t Film::converge(float threshold, int x, int y, int width, int height) {
+  const float limit = kNoiseThresholdScale * threshold;
+  // Not converged, inside the area (row by row from its corner).
+  std::vector<uint8_t> noisy(static_cast<size_t>(width) * height, 0);
+  for (int row = 0; row < height; ++row) {
+    for (int column = 0; column < width; ++column) {
+      const size_t i = index(x + column, y + row);
+      const uint32_t n = count_[i];
+      const uint32_t half_count = (n + 1) / 2;
+      if (n < 2) {
+        noisy[static_cast<size_t>(row) * width + column] = 1;
+        continue;
+      }
+      const float w = 1.0f / static_cast<float>(n);
+      const float h = 1.0f / static_cast<float>(half_count);
+      const Color mean(sum_[4 * i] * w, sum_[4 * i + 1] * w, sum_[4 * i + 2] * w);
+      const Color half(half_[3 * i] * h, half_[3 * i + 1] * h, half_[3 * i + 2] * h);
+      // Written as "not below" so that a NaN estimate stays noisy.
+      noisy[static_cast<size_t>(row) * width + column] = !(noise_error(mean, half) < limit);
+    }
+  }
+  size_t active = 0;
+  for (int row = 0; row < height; ++row) {
+    for (int column = 0; column < width; ++column) {
+      bool any = false;
+      for (int dy = std::max(0, row - 1); dy <= std::min(height - 1, row + 1); ++dy) {
+        for (int dx = std::max(0, column - 1); dx <= std::min(width - 1, column + 1); ++dx) {
+          any = any || noisy[static_cast<size_t>(dy) * width + dx] != 0;
+        }
+      }
+      active_[index(x + column, y + row)] = any ? 1 : 0;
+      active += any ? 1 : 0;
+    }
+  }
+  return active;
 }
 
 void Film::display_image(float* out) const {

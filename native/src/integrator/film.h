@@ -16,6 +16,17 @@ struct Sample {
   float alpha;
 };
 
+// Noise-driven sampling's estimate of a pixel's error (Cycles' film_adaptive_sampling_
+// convergence_check, after "A hierarchical automatic stopping condition for Monte Carlo
+// global illumination", section 2.1): `mean` the mean of all its samples, `half` the mean
+// of its class-A samples (those of even position in its order). The summed absolute RGB
+// difference, over sqrt(luminance sum) below 1 and the sum itself above, plus 1e-4.
+float noise_error(const Color& mean, const Color& half);
+
+// Cycles scales the user's noise threshold by this before comparing ("an arbitrary
+// factor", scene/integrator.cpp Integrator::get_adaptive_sampling).
+inline constexpr float kNoiseThresholdScale = 5.0f;
+
 // Each pixel shows the mean of its own samples, or, while it has none, the preview a
 // coarse pass left there; its cost is the rays its samples took (or its preview's).
 // Writers: one worker per pixel at a time (a pass gives each pixel to one tile, and the
@@ -27,7 +38,10 @@ class Film {
   // `accumulate`: keep sums and counts for pixels built one sample at a time
   // (progressive); without it only set() may be used. `passes` (bits of FilmPass) are
   // kept besides the image and the cost; `contribution_depth` sizes Contributions.
-  Film(int width, int height, bool accumulate, uint32_t passes = 0, int contribution_depth = 1);
+  // `adaptive` (needs `accumulate`): keep the class-A half sums and the active mask of
+  // noise-driven sampling (converge(), active()).
+  Film(int width, int height, bool accumulate, uint32_t passes = 0, int contribution_depth = 1,
+       bool adaptive = false);
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -38,6 +52,15 @@ class Film {
   void set(int x, int y, const Sample& value, float cost, const SampleRecord* record = nullptr);
   // One more sample of pixel (x, y), and its rays: the pixel shows the mean so far.
   void add(int x, int y, const Sample& sample, float cost, const SampleRecord* record = nullptr);
+
+  // Noise-driven sampling, between rounds (no writer running): each pixel of `area`
+  // (x, y, width, height) converged when noise_error < kNoiseThresholdScale * threshold;
+  // a pixel stays active while it or one of its 8 neighbours inside `area` is not
+  // converged (Cycles' dilation). Returns the active pixels. All pixels start active.
+  size_t converge(float threshold, int x, int y, int width, int height);
+  bool active(int x, int y) const { return active_.empty() || active_[index(x, y)] != 0; }
+  // Samples taken by pixel (x, y) (accumulating only).
+  uint32_t samples(int x, int y) const { return count_[index(x, y)]; }
 
   bool has_pass(FilmPass pass) const { return (passes_ & pass_bit(pass)) != 0; }
   // Floats per pixel of a pass: 1 (Depth, Mist, indices, Cut Weight), 3 per depth bin
@@ -73,6 +96,8 @@ class Film {
   std::vector<float> cost_;      // rays per pixel shown
   std::vector<float> sum_;       // RGBA sums of the samples (accumulating only)
   std::vector<uint32_t> count_;  // samples taken (accumulating only)
+  std::vector<float> half_;      // RGB sums of the class-A samples (adaptive only)
+  std::vector<uint8_t> active_;  // whether a pixel takes more samples (adaptive only)
   uint32_t passes_;
   std::array<int, kFilmPassCount> channels_{};
   std::array<std::vector<float>, kFilmPassCount> shown_;  // each kept pass as shown

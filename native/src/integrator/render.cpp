@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -71,8 +72,8 @@ RenderJob::RenderJob(const Settings& settings, const Camera& camera, RayRecorder
       passes_(make_schedule(settings_)),
       tiles_(make_tiles(settings_)),
       area_(border_area(settings_)),
-      film_(settings_.width, settings_.height, settings_.progressive, settings_.passes,
-            settings_.contribution_depth),
+      film_(settings_.width, settings_.height, settings_.progressive || settings_.adaptive_sampling,
+            settings_.passes, settings_.contribution_depth, settings_.adaptive_sampling),
       cryptomatte_(settings_),
       recorder_(std::move(recorder)) {}
 
@@ -129,6 +130,9 @@ void RenderJob::start() {
   threads = recorder_.workers(std::max(1, std::min<int>(threads, static_cast<int>(tiles_.size()))));
   std::lock_guard lock(mutex_);
   stats_.threads = threads;
+  if (settings_.adaptive_sampling) {
+    stats_.active_pixels = static_cast<size_t>(area_.width) * static_cast<size_t>(area_.height);
+  }
   running_ = threads;
   start_time_ = now_seconds();
   recorder_.prepare(threads);
@@ -175,6 +179,7 @@ void RenderJob::work(int worker) {
   stats_.wave_bytes = std::max(stats_.wave_bytes, wave_bytes(wave));
   if (--running_ == 0) {
     stats_.trace_seconds = now_seconds() - start_time_;
+    if (settings_.adaptive_sampling) count_samples();
     stats_.cancelled = cancel_;
   }
   changed_.notify_all();
@@ -230,7 +235,21 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
         const int end = std::min(x / block_width * block_width + block_width, tile.x + tile.width);
         if (recorder_.select_range(log, x, end, y, width)) sampler.first_hits(x, y, &block);
       }
+      if (pass.kind == Pass::Kind::kRound && !film_.active(x, y)) continue;
       if (!recorder_.select(log, x, y, width)) continue;
+      if (pass.kind == Pass::Kind::kRound) {
+        for (int i = pass.sample; i < pass.samples; ++i) {
+          const uint64_t before = counts->total();
+          if (passes != nullptr) record = SampleRecord{};
+          const Sample s =
+              sampler.grid_sample(x, y, sample_cell(settings_, x, y, i), counts, passes);
+          film_.add(x, y, s, static_cast<float>(counts->total() - before), passes);
+        }
+        if (pass.sample == 0 && cryptomatte_.enabled()) {
+          cryptomatte_.trace_pixel(*scene_, camera_, x, y);
+        }
+        continue;
+      }
       const uint64_t before = counts->total();
       if (passes != nullptr) record = SampleRecord{};
       if (pass.kind == Pass::Kind::kPixels) {
@@ -256,21 +275,35 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     // A wave's queries are interleaved, so a recording (or its replay) takes a row in runs
     // of pixels it records alike, a wave each; without one, the row is one wave.
+    // A round skips the pixels that have stopped: its runs are also of active pixels.
+    const bool round = pass.kind == Pass::Kind::kRound;
+    const auto same_run = [&](int x, bool picked, bool active) {
+      return recorder_.picked(log, x, y, settings_.width) == picked &&
+             (!round || film_.active(x, y) == active);
+    };
     for (int x0 = tile.x, x1 = x0; x0 < end; x0 = x1) {
       const bool picked = recorder_.picked(log, x0, y, settings_.width);
-      for (x1 = x0 + 1; x1 < end && recorder_.picked(log, x1, y, settings_.width) == picked;) ++x1;
-      if (!recorder_.select_range(log, x0, x1, y, settings_.width)) continue;
-      sampler.row(x0, x1, y, whole ? -1 : pass.sample, wave, counts, &values, &rays, &records);
+      const bool active = !round || film_.active(x0, y);
+      for (x1 = x0 + 1; x1 < end && same_run(x1, picked, active);) ++x1;
+      if (!active || !recorder_.select_range(log, x0, x1, y, settings_.width)) continue;
+      // A round's samples as one wave, each pixel's added in its order.
+      const int count = round ? pass.samples - pass.sample : 1;
+      sampler.row(x0, x1, y, whole ? -1 : pass.sample, count, wave, counts, &values, &rays,
+                  &records);
       for (int x = x0; x < x1; ++x) {
-        const auto i = static_cast<size_t>(x - x0);
-        const auto cost = static_cast<float>(rays[i]);
-        const SampleRecord* record = records.empty() ? nullptr : &records[i];
-        if (whole) {
-          film_.set(x, y, values[i], cost, record);
-          if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
-        } else {
-          film_.add(x, y, values[i], cost, record);
+        for (int j = 0; j < (whole ? 1 : count); ++j) {
+          const auto i = static_cast<size_t>((x - x0) * (whole ? 1 : count) + j);
+          const auto cost = static_cast<float>(rays[i]);
+          const SampleRecord* record = records.empty() ? nullptr : &records[i];
+          if (whole) {
+            film_.set(x, y, values[i], cost, record);
+          } else {
+            film_.add(x, y, values[i], cost, record);
+          }
         }
+      }
+      if (cryptomatte_.enabled() && (whole || (round && pass.sample == 0))) {
+        for (int x = x0; x < x1; ++x) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
       }
     }
   }
@@ -286,7 +319,35 @@ void RenderJob::finish_item(size_t item, RayCounts* counts) {
     finished_.push_back(tile);
     stats_.pixels += static_cast<uint64_t>(tile.width) * tile.height;
   }
-  if (++done_items_ % tiles_.size() == 0) changed_.notify_all();  // a pass is complete
+  // Every item is counted here, under the lock, so the pass this item completes (if any)
+  // is known before done_items_ lets the next pass start.
+  const size_t done = done_items_ + 1;
+  if (done % tiles_.size() == 0) {
+    const Pass& pass = passes_[done / tiles_.size() - 1];
+    if (pass.converge) {
+      // No worker writes now: the next pass's items wait for done_items_.
+      stats_.active_pixels =
+          film_.converge(settings_.noise_threshold, area_.x, area_.y, area_.width, area_.height);
+    }
+  }
+  done_items_ = done;
+  if (done % tiles_.size() == 0) changed_.notify_all();  // a pass is complete
+}
+
+void RenderJob::count_samples() {
+  uint64_t total = 0;
+  stats_.samples_min = UINT32_MAX;
+  stats_.samples_max = 0;
+  for (int y = area_.y; y < area_.y + area_.height; ++y) {
+    for (int x = area_.x; x < area_.x + area_.width; ++x) {
+      const uint32_t n = film_.samples(x, y);
+      total += n;
+      stats_.samples_min = std::min(stats_.samples_min, n);
+      stats_.samples_max = std::max(stats_.samples_max, n);
+    }
+  }
+  stats_.samples_mean = static_cast<double>(total) /
+                        (static_cast<double>(area_.width) * static_cast<double>(area_.height));
 }
 
 void RenderJob::fail(std::exception_ptr error) {

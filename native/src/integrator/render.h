@@ -48,6 +48,13 @@ struct RenderStats {
   // worker's queues held (their capacity, wave.h).
   bool waves = false;
   size_t wave_bytes = 0;
+  // Noise-driven sampling (Settings::adaptive_sampling): the pixels still active after the
+  // last check (all of the border's before the first), and, once the render has stopped,
+  // the samples each pixel of the border took.
+  size_t active_pixels = 0;
+  uint32_t samples_min = 0;
+  uint32_t samples_max = 0;
+  double samples_mean = 0.0;
 };
 
 // Where a render is in its schedule.
@@ -127,7 +134,11 @@ class RenderJob {
   // A pass over a tile's whole pixels or grid samples traced in waves, a row at a time.
   void trace_rows(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
                   Wave* wave, RayCounts* counts);
+  // Counts the item done; the last item of a pass followed by the film's noise check runs
+  // that check first (under the lock, before the next pass may start).
   void finish_item(size_t item, RayCounts* counts);
+  // RenderStats' samples per pixel, from the film (every worker stopped; under the lock).
+  void count_samples();
   // Keeps the first error for wait() and stops the other workers.
   void fail(std::exception_ptr error);
 

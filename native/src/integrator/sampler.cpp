@@ -40,6 +40,13 @@ constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
 
 }  // namespace
 
+int sample_cell(const Settings& settings, int x, int y, int s) {
+  if (!settings.adaptive_sampling) return s;
+  const auto grid = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
+  const uint32_t order = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau);
+  return static_cast<int>(permuted(static_cast<uint32_t>(s), grid, order));
+}
+
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings) {
   const CameraFrame frame(camera);
@@ -169,7 +176,7 @@ void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t in
   integrator_.trace_camera(wave, ray, root, index, first, counts, record);
 }
 
-void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
+void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave, RayCounts* counts,
                         std::vector<Sample>* values, std::vector<uint64_t>* rays,
                         std::vector<SampleRecord>* records) const {
   if (sample < 0 && adaptive()) {
@@ -177,7 +184,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
     return;
   }
   const int grid = settings_.aa_samples * settings_.aa_samples;
-  const int per_pixel = sample < 0 ? grid : 1;
+  const int per_pixel = sample < 0 ? grid : count;
   const auto pixels = static_cast<size_t>(x1 - x0);
   const bool passes = settings_.passes != 0;
   wave->reset(pixels * static_cast<size_t>(per_pixel), passes);
@@ -187,7 +194,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
   for (int x = x0; x < x1; ++x) {
     if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
     for (int j = 0; j < per_pixel; ++j) {
-      const int k = sample < 0 ? j : sample;
+      const int k = sample < 0 ? j : sample_cell(settings_, x, y, sample + j);
       const auto index = static_cast<uint32_t>((x - x0) * per_pixel + j);
       const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
       const bool found = width > 0 && block.found[b] != 0;
@@ -196,13 +203,26 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
     }
   }
   integrator_.trace_wave(wave, counts);
+  if (sample >= 0) {  // each sample apart, as grid_sample() gives it
+    const size_t n = pixels * static_cast<size_t>(per_pixel);
+    values->resize(n);
+    rays->resize(n);
+    records->resize(passes ? n : 0);
+    for (size_t k = 0; k < n; ++k) {
+      const WaveSample& s = wave->samples[k];
+      SampleRecord* record = passes ? &wave->records[k] : nullptr;
+      (*values)[k] = finished(s, counts, record);
+      (*rays)[k] = s.rays + 1;  // and its camera ray
+      if (record != nullptr) (*records)[k] = *record;
+    }
+    return;
+  }
   values->resize(pixels);
   rays->resize(pixels);
   records->resize(passes ? pixels : 0);
   const float w = 1.0f / static_cast<float>(per_pixel);
   for (size_t i = 0; i < pixels; ++i) {
-    // Summed in sample order and averaged, as pixel_grid() sums its samples (a sample
-    // alone, as grid_sample() gives it).
+    // Summed in sample order and averaged, as pixel_grid() sums its samples.
     Sample sum{Color(0.0f), 0.0f};
     uint64_t cost = 0;
     SampleRecord* out = passes ? &(*records)[i] : nullptr;
@@ -216,14 +236,10 @@ void CameraSampler::row(int x0, int x1, int y, int sample, Wave* wave, RayCounts
       sum.radiance += value.radiance;
       sum.alpha += value.alpha;
       if (out == nullptr) continue;
-      if (sample >= 0) {
-        *out = *record;
-        continue;
-      }
       out->add(*record, settings_.passes);
       if (j == 0) out->take_first(*record);
     }
-    if (out != nullptr && sample < 0) out->scale(w, settings_.passes);
+    if (out != nullptr) out->scale(w, settings_.passes);
     (*values)[i] = per_pixel == 1 ? sum : Sample{sum.radiance * w, sum.alpha * w};
     (*rays)[i] = cost;
   }

@@ -61,6 +61,12 @@ struct LensTime {
 };
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height);
 
+// The grid cell (row by row, as grid_sample's k) of sample s of pixel (x, y)'s order: with
+// noise-driven sampling a permutation of the grid chosen by the pixel, so that the first
+// samples of a pixel stopped early are a uniform subset of its strata (row order would
+// leave it its bottom rows); otherwise s itself.
+int sample_cell(const Settings& settings, int x, int y, int s);
+
 // One per worker (it traces through that worker's integrator). Everything it returns
 // depends only on the pixel and the sample, never on tiles or threads.
 class CameraSampler {
@@ -91,13 +97,14 @@ class CameraSampler {
   // Whether pixels and grid samples are traced in waves (row()): where the integrator
   // has a wave kernel.
   bool waves() const;
-  // Pixels [x0, x1) of row y traced in waves (waves()): each pixel whole when `sample` <
-  // 0 (its grid as one wave, or adaptive subdivision a wave per depth: row_adaptive),
-  // else its grid sample `sample`. (*values)[i] is pixel x0 + i's value as pixel() or
-  // grid_sample() gives it, up to float rounding (wave.h), (*rays)[i] the rays it cost,
-  // and, where passes are kept, (*records)[i] its record as pixel() or grid_sample()
-  // fills it, up to float rounding.
-  void row(int x0, int x1, int y, int sample, Wave* wave, RayCounts* counts,
+  // Pixels [x0, x1) of row y traced in waves (waves()), as one wave: each pixel whole
+  // when `sample` < 0 (its grid, or adaptive subdivision a wave per depth: row_adaptive),
+  // (*values)[i] pixel x0 + i's value as pixel() gives it; else its samples `sample` ..
+  // `sample` + `count` - 1 in its order (sample_cell), each apart, (*values)[i * count + j]
+  // sample `sample` + j of pixel x0 + i as grid_sample() gives it. Up to float rounding
+  // (wave.h); (*rays) the rays each cost, and, where passes are kept, (*records) the
+  // records pixel() or grid_sample() fills, up to float rounding.
+  void row(int x0, int x1, int y, int sample, int count, Wave* wave, RayCounts* counts,
            std::vector<Sample>* values, std::vector<uint64_t>* rays,
            std::vector<SampleRecord>* records) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.

@@ -18,17 +18,33 @@ struct Pass {
     kPixels,   // each pixel whole: every sample at once, by the anti-aliasing mode
     kPreview,  // one camera ray at the centre of each block, shown over the block
     kSample,   // one sample of the grid added to every pixel
+    // Noise-driven sampling: samples sample .. samples - 1 of each pixel's order
+    // (sample_cell, sampler.h) added to every pixel still active (Film::active)
+    kRound,
   };
   Kind kind;
   int pixel_size;  // kPreview: the block's side; otherwise 1
-  int sample;      // kSample: which grid sample, row by row (i = sample % n, j = sample / n)
+  // kSample: which grid sample, row by row (i = sample % n, j = sample / n); kRound: the
+  // round's first sample in the pixels' order
+  int sample;
   // Camera samples of its own each pixel has once the pass is done (a preview is not
-  // the pixel's own); adaptive: at least its four corners.
+  // the pixel's own); adaptive: at least its four corners; kRound: at most, a pixel
+  // stopped before has fewer.
   int samples;
+  // kRound: the film's noise check (Film::converge) follows the pass.
+  bool converge = false;
 };
 
+// Samples a pixel takes before noise-driven sampling first checks it: adaptive_min_samples,
+// or 0's Cycles' max(4, ceil(16 / threshold^0.3)); at least 4, at most the grid.
+int minimum_samples(const Settings& settings);
+
 // The passes in order: one kPixels pass; or, progressive, the previews coarsest first
-// (start_pixel_size down to 2), then one kSample pass per grid sample.
+// (start_pixel_size down to 2), then one kSample pass per grid sample. Noise-driven
+// (Settings::adaptive_sampling): kRound passes in place of kPixels and kSample, the
+// checks as Cycles' (every 16 samples once past the minimum: after sample counts
+// ((min + 1) | 15) + 1 + 16 i, below the grid): F12 one round per check, progressive a
+// round per sample.
 std::vector<Pass> make_schedule(const Settings& settings);
 
 // The border rectangle cut into tiles of tile_size, row by row from the bottom. Every

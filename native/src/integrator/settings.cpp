@@ -59,6 +59,8 @@ void Settings::validate() const {
     throw std::invalid_argument("start_pixel_size is " + std::to_string(start_pixel_size) +
                                 "; it must be a power of two");
   }
+  check_setting(setting_range("noise_threshold"), noise_threshold);
+  check_setting(setting_range("adaptive_min_samples"), adaptive_min_samples);
   check_setting(setting_range("fault_tile"), fault_tile);
   check_setting(setting_range("contribution_depth"), contribution_depth);
   if (passes >= pass_bit(FilmPass::kCount)) {

@@ -98,6 +98,16 @@ struct Settings {
   // that renders each pixel whole.
   bool progressive = false;
   int start_pixel_size = 8;  // a power of two, 1 to 64
+  // Noise-driven (adaptive) sampling, as Cycles' (docs/notes/adaptive_sampling.md): the
+  // pixels take their aa_samples x aa_samples grid in rounds, each pixel's samples in its
+  // own permuted order (sample_cell, sampler.h), and after each round a pixel whose noise
+  // estimate (Film::converge) is below noise_threshold, and whose 3 x 3 neighbours' are
+  // too, takes no more. noise_threshold 0: every pixel takes the whole grid.
+  // adaptive_min_samples: samples before the first check; 0: Cycles' automatic
+  // max(4, ceil(16 / threshold^0.3)); at most the grid. The maximum is the grid.
+  bool adaptive_sampling = false;
+  float noise_threshold = 0.01f;
+  int adaptive_min_samples = 0;
   // The workers' niceness (Linux: 0 is normal, 19 the lowest priority). The viewport
   // renders at a lower priority than Blender's own thread, so that on a machine whose
   // cores the workers fill the interface still draws each new pass at once.
@@ -153,6 +163,8 @@ inline constexpr std::array kSettingRanges = {
     SettingRange{"cryptomatte_depth", 0, 16},
     SettingRange{"cutoff", 0, 1},
     SettingRange{"start_pixel_size", 1, 64},
+    SettingRange{"noise_threshold", 0, 1},
+    SettingRange{"adaptive_min_samples", 0, 4096},
     SettingRange{"worker_nice", 0, 19},
     SettingRange{"fault_tile", -1, INT32_MAX},
     SettingRange{"contribution_depth", 1, kMaxContributionDepth},

@@ -1,0 +1,272 @@
+// Noise-driven (adaptive) sampling: the error estimate, the film's check and dilation,
+// the pixels' sample order, the schedule's rounds, and renders that stop where the noise
+// is low, whatever the threads and tiles.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "integrator/film.h"
+#include "integrator/render.h"
+#include "integrator/sampler.h"
+#include "integrator/schedule.h"
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::emitter;
+using testing::quad;
+using testing::run_to_end;
+using testing::small_render;
+
+TEST(NoiseError, RelativeAboveOneSqrtBelow) {
+  // |0.3| + 0 + |0.3| over the sum 3.
+  EXPECT_NEAR(noise_error(Color(1.0f), Color(1.3f, 1.0f, 0.7f)), 0.6f / (3.0f + 1e-4f), 1e-6f);
+  // 0.1 over sqrt(0.25).
+  EXPECT_NEAR(noise_error(Color(0.25f, 0.0f, 0.0f), Color(0.35f, 0.0f, 0.0f)),
+              0.1f / (0.5f + 1e-4f), 1e-6f);
+  EXPECT_EQ(noise_error(Color(0.0f), Color(0.0f)), 0.0f);
+}
+
+// A film whose pixels all took two equal samples, but `noisy`, which took 1 then 0.
+Film two_samples(int width, int height, std::vector<std::pair<int, int>> noisy) {
+  Film film(width, height, true, 0, 1, true);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const bool odd = std::find(noisy.begin(), noisy.end(), std::pair{x, y}) != noisy.end();
+      film.add(x, y, Sample{Color(1.0f), 1.0f}, 1.0f);
+      film.add(x, y, Sample{Color(odd ? 0.0f : 1.0f), 1.0f}, 1.0f);
+    }
+  }
+  return film;
+}
+
+std::set<std::pair<int, int>> active(const Film& film) {
+  std::set<std::pair<int, int>> out;
+  for (int y = 0; y < film.height(); ++y) {
+    for (int x = 0; x < film.width(); ++x) {
+      if (film.active(x, y)) out.insert({x, y});
+    }
+  }
+  return out;
+}
+
+TEST(FilmConverge, ANoisyPixelKeepsItsNeighboursActiveInsideTheArea) {
+  Film film = two_samples(5, 4, {{2, 2}});
+  EXPECT_EQ(active(film).size(), 20u);  // all active before the first check
+  EXPECT_EQ(film.converge(0.01f, 0, 0, 5, 4), 9u);
+  std::set<std::pair<int, int>> expected;
+  for (int y = 1; y <= 3; ++y) {
+    for (int x = 1; x <= 3; ++x) expected.insert({x, y});
+  }
+  EXPECT_EQ(active(film), expected);
+
+  Film corner = two_samples(5, 4, {{0, 0}});
+  EXPECT_EQ(corner.converge(0.01f, 0, 0, 5, 4), 4u);  // clipped at the image's corner
+  EXPECT_EQ(active(corner), (std::set<std::pair<int, int>>{{0, 0}, {1, 0}, {0, 1}, {1, 1}}));
+  // An area without the noisy pixel: its neighbours converge, pixels outside stay as
+  // they were (active).
+  EXPECT_EQ(corner.converge(0.01f, 1, 0, 4, 4), 0u);
+  EXPECT_FALSE(corner.active(1, 0));
+  EXPECT_TRUE(corner.active(0, 0));
+}
+
+TEST(FilmConverge, ComparesWithFiveTimesTheThreshold) {
+  // Mean 0.5, class-A half (the first sample) 1: error 3 * 0.5 / (3 * 0.5 + 1e-4).
+  Film film(1, 1, true, 0, 1, true);
+  film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  film.add(0, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
+  const float error = noise_error(Color(0.5f), Color(1.0f));
+  EXPECT_NEAR(error, 1.5f / (1.5f + 1e-4f), 1e-6f);
+  EXPECT_EQ(film.converge(error / kNoiseThresholdScale * 1.01f, 0, 0, 1, 1), 0u);
+  Film again(1, 1, true, 0, 1, true);
+  again.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  again.add(0, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
+  EXPECT_EQ(again.converge(error / kNoiseThresholdScale * 0.99f, 0, 0, 1, 1), 1u);
+}
+
+TEST(SampleOrder, EachPixelPermutesItsGridAndOnlyNoiseDrivenSampling) {
+  Settings settings;
+  settings.aa_samples = 5;
+  for (int s = 0; s < 25; ++s) EXPECT_EQ(sample_cell(settings, 3, 4, s), s);
+  settings.adaptive_sampling = true;
+  std::set<std::vector<int>> orders;
+  for (int x = 0; x < 4; ++x) {
+    std::vector<int> order;
+    for (int s = 0; s < 25; ++s) order.push_back(sample_cell(settings, x, 7, s));
+    std::vector<int> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (int s = 0; s < 25; ++s) EXPECT_EQ(sorted[s], s);  // a permutation of the grid
+    orders.insert(order);
+  }
+  EXPECT_EQ(orders.size(), 4u);  // each pixel its own
+}
+
+TEST(AdaptiveSchedule, MinimumAsCycles) {
+  Settings settings;
+  settings.aa_samples = 64;
+  settings.noise_threshold = 0.01f;
+  EXPECT_EQ(minimum_samples(settings), 64);
+  settings.noise_threshold = 0.1f;
+  EXPECT_EQ(minimum_samples(settings), 32);
+  settings.noise_threshold = 0.001f;
+  EXPECT_EQ(minimum_samples(settings), 128);
+  settings.adaptive_min_samples = 2;
+  EXPECT_EQ(minimum_samples(settings), 4);
+  settings.adaptive_min_samples = 100;
+  EXPECT_EQ(minimum_samples(settings), 100);
+  settings.aa_samples = 3;
+  EXPECT_EQ(minimum_samples(settings), 9);  // at most the grid
+}
+
+TEST(AdaptiveSchedule, RoundsEndAtTheChecks) {
+  Settings settings;
+  settings.adaptive_sampling = true;
+  settings.aa_samples = 16;
+  settings.noise_threshold = 0.01f;  // minimum 64: checks after 80, 96, ..., 240
+  std::vector<Pass> passes = make_schedule(settings);
+  ASSERT_EQ(passes.size(), 12u);
+  int first = 0;
+  for (size_t i = 0; i < passes.size(); ++i) {
+    EXPECT_EQ(passes[i].kind, Pass::Kind::kRound);
+    EXPECT_EQ(passes[i].sample, first);
+    EXPECT_EQ(passes[i].samples, i == 0 ? 80 : 80 + 16 * static_cast<int>(i));
+    EXPECT_EQ(passes[i].converge, i + 1 < passes.size());
+    first = passes[i].samples;
+  }
+  EXPECT_EQ(first, 256);
+
+  settings.progressive = true;  // previews, then a round per sample, the same checks
+  passes = make_schedule(settings);
+  ASSERT_EQ(passes.size(), 3u + 256u);
+  int checks = 0;
+  for (size_t i = 3; i < passes.size(); ++i) {
+    EXPECT_EQ(passes[i].samples, passes[i].sample + 1);
+    if (passes[i].converge) {
+      ++checks;
+      EXPECT_EQ((passes[i].samples - 80) % 16, 0);
+    }
+  }
+  EXPECT_EQ(checks, 11);
+
+  settings.progressive = false;
+  settings.aa_samples = 8;  // the minimum is the grid: one round, no check
+  passes = make_schedule(settings);
+  ASSERT_EQ(passes.size(), 1u);
+  EXPECT_EQ(passes[0].samples, 64);
+  EXPECT_FALSE(passes[0].converge);
+}
+
+TEST(AdaptiveSettings, ThresholdAndMinimumAreBounded) {
+  Settings settings;
+  settings.noise_threshold = -0.1f;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  settings.noise_threshold = 0.5f;
+  settings.adaptive_min_samples = 5000;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+}
+
+// The shadow of a blocker on a floor, seen in 32 x 24 pixels through a jittered 6 x 6
+// grid (noise at the shadow's edges, none in the flat areas), checks after 16 and 32.
+Settings edge_settings(int threads, int tile) {
+  Settings settings = small_render(32, 24, 6, threads, tile);
+  settings.aa_mode = AntiAliasing::kJittered;
+  settings.adaptive_sampling = true;
+  settings.noise_threshold = 0.01f;
+  settings.adaptive_min_samples = 4;
+  return settings;
+}
+
+struct Rendered {
+  std::vector<float> pixels;
+  std::vector<uint32_t> samples;
+  RenderStats stats;
+};
+
+Rendered render(const Scene& scene, const Settings& settings) {
+  RenderJob job(scene, settings, scene.camera);
+  run_to_end(job);
+  Rendered out{job.film().pixels(), {}, job.stats()};
+  for (int y = 0; y < settings.height && settings.adaptive_sampling; ++y) {
+    for (int x = 0; x < settings.width; ++x) out.samples.push_back(job.film().samples(x, y));
+  }
+  return out;
+}
+
+TEST(AdaptiveRender, FlatPixelsStopAtTheFirstCheckEdgesGoOn) {
+  const Scene scene = testing::occluder_over_floor(0.5f);
+  for (bool waves : {false, true}) {
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    const Rendered r = render(scene, settings);
+    EXPECT_EQ(r.stats.samples_min, 16u) << waves;
+    EXPECT_EQ(r.stats.samples_max, 36u) << waves;
+    EXPECT_GT(r.stats.samples_mean, 16.0) << waves;
+    EXPECT_LT(r.stats.samples_mean, 30.0) << waves;
+    // Whole rounds: 16 + 4 where a converged pixel's neighbour became noisy at the
+    // second check (its samples changed its estimate), which makes it active again.
+    for (uint32_t n : r.samples) EXPECT_TRUE(n == 16 || n == 20 || n == 32 || n == 36) << n;
+    // The samples taken are those counted, no more.
+    uint64_t total = 0;
+    for (uint32_t n : r.samples) total += n;
+    EXPECT_EQ(r.stats.samples, total) << waves;
+  }
+  // A flat image (an emitter filling the view): every pixel stops at the first check.
+  Scene flat;
+  add_object(&flat, "panel", quad(-20, 20, -20, 20, 0), emitter(Color(0.7f)));
+  flat.camera = testing::looking_down(Vec3(0.0f, 0.0f, 5.0f), 0.5f);
+  const Rendered r = render(flat, edge_settings(2, 8));
+  EXPECT_EQ(r.stats.samples_max, 16u);
+  EXPECT_EQ(r.stats.active_pixels, 0u);
+}
+
+TEST(AdaptiveRender, ThresholdZeroIsTheFixedCountRender) {
+  const Scene scene = testing::glass_and_mirror_scene();
+  for (bool waves : {false, true}) {
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    settings.noise_threshold = 0.0f;
+    const Rendered adaptive = render(scene, settings);
+    EXPECT_EQ(adaptive.stats.samples_min, 36u);
+    settings.adaptive_sampling = false;
+    const Rendered fixed = render(scene, settings);
+    ASSERT_EQ(adaptive.pixels.size(), fixed.pixels.size());
+    for (size_t i = 0; i < fixed.pixels.size(); ++i) {
+      // The same samples summed in another order.
+      EXPECT_NEAR(adaptive.pixels[i], fixed.pixels[i], 1e-5f * std::max(1.0f, fixed.pixels[i]))
+          << i << " waves " << waves;
+    }
+  }
+}
+
+TEST(AdaptiveRender, BitIdenticalForThreadsAndTiles) {
+  const Scene scene = testing::glass_and_mirror_scene();
+  for (bool waves : {false, true}) {
+    Settings reference_settings = edge_settings(1, 32);
+    reference_settings.waves = waves;
+    const Rendered reference = render(scene, reference_settings);
+    EXPECT_LT(reference.stats.samples_min, reference.stats.samples_max);
+    for (int threads : {1, 2, 3}) {
+      for (int tile : {1, 7, 32}) {
+        Settings settings = edge_settings(threads, tile);
+        settings.waves = waves;
+        const Rendered r = render(scene, settings);
+        EXPECT_EQ(r.pixels, reference.pixels) << threads << " " << tile << " " << waves;
+        EXPECT_EQ(r.samples, reference.samples) << threads << " " << tile << " " << waves;
+      }
+    }
+    Settings progressive = edge_settings(2, 7);  // a round per sample, the same checks
+    progressive.waves = waves;
+    progressive.progressive = true;
+    const Rendered r = render(scene, progressive);
+    EXPECT_EQ(r.samples, reference.samples) << waves;
+    EXPECT_EQ(r.pixels, reference.pixels) << waves;
+  }
+}
+
+}  // namespace
+}  // namespace whitted
