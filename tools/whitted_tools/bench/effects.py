@@ -112,9 +112,11 @@ def render(native, frame, mode, width, height):
 
 def run_child(args):
     """One repetition: every scene in every mode, the modes rotated by --rotation."""
+    # First: importing the add-on loads its own module (its controls' tables), which
+    # another build's could then no longer stand in for.
+    native = load_module(args.native)
     from whitted.sync.frame import sync_frame
 
-    native = load_module(args.native)
     width, height = args.resolution
     names = list(MODES)
     order = names[args.rotation % len(names) :] + names[: args.rotation % len(names)]
