@@ -12,6 +12,7 @@ import bpy
 from . import memory
 from . import result as render_result
 from . import stats as render_stats
+from .denoise import denoise, denoising_of
 from .export import ExportError
 from .export.instance import cryptomatte_names, writes_cryptomatte
 from .native import load_native
@@ -68,7 +69,10 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             frame = sync_frame(depsgraph, native, quality, frame_set=frame_set)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
-            render_result.configure(frame.settings, scene, depsgraph.view_layer, passes)
+            denoising = denoising_of(scene, native)
+            render_result.configure(
+                frame.settings, scene, depsgraph.view_layer, passes, guides=denoising.on
+            )
             job = frame.job(native)
         except (ImportError, ExportError) as error:
             self._fail(scene, str(error))
@@ -87,6 +91,8 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             # A worker failed (out of memory, say): the job stopped all of them.
             self._fail(scene, f"Whitted: the render failed: {error}")
             return
+        if denoising.on and not job.stats()["cancelled"]:
+            self._denoise(native, job, frame, phases, passes, denoising)
         if self.is_preview:
             return  # Blender's preview scene: no statistics, nothing to keep
         if writes_cryptomatte(depsgraph.view_layer):
@@ -102,6 +108,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             asdict(frame.sync.sanitised),
             [spec.name for spec in passes],
         )
+        stats["effects"].append(denoising.decision())
         stats["sync"] = frame.report.as_dict()
         # What the memory guard expected this render to need (docs/MEMORY.md).
         stats["memory_estimate_mib"] = frame.memory.bytes / memory.MIB
@@ -177,6 +184,25 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         native_stats = job.stats()
         phases.scene_bvh = native_stats["compile_seconds"]
         phases.trace = native_stats["trace_seconds"]
+
+    def _denoise(self, native, job, frame, phases, passes, denoising):
+        """Replace the finished render's Combined by its denoised image (the other passes,
+        Noisy Image among them, keep the job's)."""
+        self.update_stats("", "Whitted | denoising")
+        started = time.perf_counter()
+        region = frame.film.region
+        xmin, ymin, xmax, ymax = region
+        rect = (xmin, ymin, xmax - xmin, ymax - ymin)
+        try:
+            clean = denoise(native, job, rect, denoising, frame.settings.threads)
+        except RuntimeError as error:
+            # The library failed on this image (out of memory, say): keep the noisy one.
+            self.report({"WARNING"}, f"Whitted: denoising failed, image left noisy: {error}")
+            return
+        phases.denoise = time.perf_counter() - started
+        write_started = time.perf_counter()
+        render_result.write_tile(self, job, rect, region, passes, combined=clean)
+        phases.writeback += time.perf_counter() - write_started
 
     def _write(self, job, tiles, region, phases, passes):
         write_started = time.perf_counter()

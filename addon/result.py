@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from . import cryptomatte
+from . import cryptomatte, denoise
 from .native_tables import bounds
 
 
@@ -150,6 +150,32 @@ PASSES = (
     ),
     _light("Emit", "use_pass_emit", "emission", "Other", "Emission"),
     _light("Env", "use_pass_environment", "environment", "Other", "Environment"),
+    # Cycles' Denoising Data passes: the image before denoising (Combined itself when the
+    # render is not denoised) and the denoiser's guides (addon/denoise.py).
+    PassSpec(
+        "Noisy Image",
+        "RGBA",
+        "COLOR",
+        "whitted.use_pass_denoising_data",
+        "noisy",
+        panel="DATA",
+        heading="Denoising",
+        label="Denoising Data",
+    ),
+    PassSpec(
+        "Denoising Normal",
+        "XYZ",
+        "VECTOR",
+        "whitted.use_pass_denoising_data",
+        "denoising_normal",
+    ),
+    PassSpec(
+        "Denoising Albedo",
+        "RGB",
+        "COLOR",
+        "whitted.use_pass_denoising_data",
+        "denoising_albedo",
+    ),
     PassSpec(COST_PASS, "X", "VALUE", "whitted.use_pass_rays", "rays", panel="WHITTED"),
     PassSpec(
         "Whitted Cut Weight",
@@ -239,11 +265,24 @@ def enabled_passes(view_layer):
     return passes + cryptomatte_passes(view_layer)
 
 
-def configure(settings, scene, view_layer, passes):
-    """Ask native `settings` for the film passes that `passes` are read from, with
-    the view layer's alpha threshold, the world's mist and the contribution depth,
-    and for the Cryptomatte kinds the view layer enables."""
-    sources = {spec.source for spec in passes} - {"combined", "rays"}
+# The film passes a pass made from others is read from (the rest are film passes).
+DERIVED_SOURCES = {
+    "combined": (),
+    "rays": (),
+    "noisy": (),
+    "denoising_albedo": denoise.ALBEDO_SOURCES,
+    "denoising_normal": (denoise.NORMAL_SOURCE,),
+}
+
+
+def configure(settings, scene, view_layer, passes, guides=False):
+    """Ask native `settings` for the film passes that `passes` are read from (and the
+    denoiser's guides when `guides`), with the view layer's alpha threshold, the
+    world's mist and the contribution depth, and for the Cryptomatte kinds the view
+    layer enables."""
+    sources = set(denoise.GUIDE_SOURCES) if guides else set()
+    for spec in passes:
+        sources.update(DERIVED_SOURCES.get(spec.source, (spec.source,)))
     settings.passes = sorted(s for s in sources if not s.startswith(CRYPTOMATTE_SOURCE))
     settings.contribution_depth = view_layer.whitted.contribution_depth
     settings.pass_alpha_threshold = view_layer.pass_alpha_threshold
@@ -305,7 +344,7 @@ VIEWPORT_DISPLAYS = (
         "of a frame goes",
         "cost",
     ),
-    *(_display_of(spec) for spec in PASSES if spec.source not in ("combined", "rays")),
+    *(_display_of(spec) for spec in PASSES if spec.source not in DERIVED_SOURCES),
     # The viewport keeps all depths apart, up to the deepest the passes can.
     *(
         _display_of(spec)
@@ -334,8 +373,9 @@ def add_passes(engine, passes):
             engine.add_pass(spec.name, len(spec.channels), spec.channels)
 
 
-def write_tile(engine, job, tile, region, passes):
-    """Copy finished tile (x, y, w, h) of `job` into the render result.
+def write_tile(engine, job, tile, region, passes, combined=None):
+    """Copy finished tile (x, y, w, h) of `job` into the render result; `combined`, when
+    given, is the tile's Combined in place of the job's (the denoised image).
 
     The render result covers only the region (the render border), so its pixel
     (0, 0) is the region's corner. Rows run bottom to top in both.
@@ -344,13 +384,21 @@ def write_tile(engine, job, tile, region, passes):
     result = engine.begin_result(x - region[0], y - region[1], width, height)
     layer = result.layers[0].passes
     for spec in passes:
-        _set_pass(layer[spec.name], _pixels(job, spec, x, y, width, height))
+        if spec is COMBINED and combined is not None:
+            pixels = combined
+        else:
+            pixels = _pixels(job, spec, x, y, width, height)
+        _set_pass(layer[spec.name], pixels)
     engine.end_result(result)
 
 
 def _pixels(job, spec, x, y, width, height):
-    if spec.source == "combined":
+    if spec.source in ("combined", "noisy"):
         return job.tile(x, y, width, height)
+    if spec.source == "denoising_albedo":
+        return denoise.albedo_tile(job, x, y, width, height)
+    if spec.source == "denoising_normal":
+        return denoise.normal_tile(job, x, y, width, height)
     if spec.source == "rays":
         return job.cost_tile(x, y, width, height)
     if spec.source.startswith(CRYPTOMATTE_SOURCE):

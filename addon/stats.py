@@ -21,6 +21,7 @@ class PhaseTimes:
     scene_bvh: float = 0.0  # name resolution and the top-level BVH of instances
     trace: float = 0.0  # worker threads, first tile to last
     writeback: float = 0.0  # tiles into Blender's render result
+    denoise: float = 0.0  # Open Image Denoise on the finished image (addon/denoise.py)
     total: float = 0.0  # the engine's render() call
 
 
@@ -57,6 +58,7 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
             "scene_bvh": phases.scene_bvh,
             "trace": trace,
             "writeback": phases.writeback,  # all of `passes`
+            "denoise": phases.denoise,
             "total": phases.total,
         },
         "passes": list(passes),
@@ -85,10 +87,32 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         "samples": native_stats["samples"],
         "pixels": pixels,
         "samples_per_pixel": native_stats["samples"] / pixels if pixels else 0.0,
+        # Camera samples per pixel over the border (min, mean, max): a noise threshold
+        # stops each pixel apart; and the pixels still noisy at its last check.
+        "pixel_samples": _pixel_samples(quality, native_stats),
+        "noisy_pixels": native_stats["active_pixels"],
         "peak_memory_mib": peak_memory_mib(),
         "nonfinite_samples": native_stats["nonfinite_samples"],
         "sanitised": dict(sanitised),
     }
+
+
+def _pixel_samples(quality, native_stats):
+    """{min, mean, max} camera samples per pixel: the film counts them under a noise
+    threshold; a fixed grid takes n x n everywhere; Whitted's adaptive anti-aliasing
+    counts its total only (min and max None)."""
+    if quality.adaptive_sampling:
+        return dict(zip(("min", "mean", "max"), native_stats["samples_per_pixel"], strict=True))
+    pixels = native_stats["pixels"]
+    mean = native_stats["samples"] / pixels if pixels else 0.0
+    if quality.aa_mode == "ADAPTIVE":
+        return {"min": None, "mean": mean, "max": None}
+    return {"min": quality.aa_samples**2, "mean": mean, "max": quality.aa_samples**2}
+
+
+def _most(stats):
+    most = stats["pixel_samples"]["max"]
+    return "?" if most is None else f"{most:.0f}"
 
 
 def summary_line(stats):
@@ -98,9 +122,10 @@ def summary_line(stats):
         f"Whitted | {stats['settings']['width']}x{stats['settings']['height']} "
         f"in {p['total']:.2f} s (export {p['export']:.2f}, BVH "
         f"{p['mesh_bvh'] + p['scene_bvh']:.2f}, trace {p['trace']:.2f}, write-back "
-        f"{p['writeback']:.3f}) | {_rays_line(stats['rays'])}, "
+        f"{p['writeback']:.3f}, denoise {p['denoise']:.2f}) | {_rays_line(stats['rays'])}, "
         f"{stats['rays_per_second'] / 1e6:.1f} M rays/s on {stats['threads']} threads "
-        f"| {stats['samples_per_pixel']:.1f} samples/px | cut: depth {stats['depth_limited']}, "
+        f"| {stats['samples_per_pixel']:.1f} samples/px (max {_most(stats)}) "
+        f"| cut: depth {stats['depth_limited']}, "
         f"cutoff {stats['cutoff_skipped']} | TIR {stats['total_internal_reflections']} "
         f"| peak {stats['peak_memory_mib']:.0f} MiB"
     )

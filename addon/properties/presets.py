@@ -21,6 +21,12 @@ class Quality:
     aa_samples: int  # per axis, regular and jittered: n x n camera samples per pixel
     aa_threshold: float  # adaptive: split a square whose corners differ by more
     aa_depth: int  # adaptive: how many times a square may be split
+    # Noise-driven sampling (native film.h, Cycles' adaptive sampling): each pixel stops
+    # taking camera samples once its noise estimate is below the threshold, after at
+    # least the minimum (0: Cycles' automatic minimum) and at most the n x n grid.
+    adaptive_sampling: bool
+    noise_threshold: float
+    adaptive_min_samples: int
     light_samples: int  # shadow feelers per axis of a sized light whose own setting is 0
     glossy_samples: int  # rays per axis drawn from a rough reflection lobe
     emitter_samples: int  # feelers per axis to the emissive meshes from a shading point
@@ -29,18 +35,24 @@ class Quality:
     texture_filter: str  # AUTHORED (each Image Texture node's) | CLOSEST
 
 
-# (key, label, description, values), cheapest first.
+# (key, label, description, values), cheapest first. Each preset is a noise target:
+# its threshold decides how many camera samples a pixel takes, up to its grid; each
+# camera sample sends one feeler per lamp, one to the emitters and one glossy ray
+# (docs/notes/adaptive_sampling.md says what was measured to choose this).
 PRESETS = (
     (
         "DRAFT",
         "Draft",
-        "One sample per pixel, two bounces, hard-edged soft shadows, closest texels",
+        "Noise threshold 0.1 (4 to 16 samples per pixel), two bounces, closest texels",
         Quality(
             max_depth=2,
-            aa_mode="REGULAR",
-            aa_samples=1,
+            aa_mode="JITTERED",
+            aa_samples=4,
             aa_threshold=0.3,
             aa_depth=1,
+            adaptive_sampling=True,
+            noise_threshold=0.1,
+            adaptive_min_samples=4,
             light_samples=1,
             glossy_samples=1,
             emitter_samples=1,
@@ -52,16 +64,19 @@ PRESETS = (
     (
         "PREVIEW",
         "Preview",
-        "Adaptive anti-aliasing (one split), four bounces, 2x2 shadow and emitter feelers",
+        "Noise threshold 0.05 (8 to 64 samples per pixel), four bounces",
         Quality(
             max_depth=4,
-            aa_mode="ADAPTIVE",
-            aa_samples=2,
+            aa_mode="JITTERED",
+            aa_samples=8,
             aa_threshold=0.3,
             aa_depth=1,
-            light_samples=2,
-            glossy_samples=2,
-            emitter_samples=2,
+            adaptive_sampling=True,
+            noise_threshold=0.05,
+            adaptive_min_samples=8,
+            light_samples=1,
+            glossy_samples=1,
+            emitter_samples=1,
             fresnel="SCHLICK",
             cutoff=0.01,
             texture_filter="AUTHORED",
@@ -70,17 +85,19 @@ PRESETS = (
     (
         "FINAL",
         "Final",
-        "Adaptive anti-aliasing (two splits, threshold 0.1), eight bounces, 4x4 shadow "
-        "and emitter feelers, exact Fresnel",
+        "Noise threshold 0.01 (16 to 256 samples per pixel), eight bounces, exact Fresnel",
         Quality(
             max_depth=8,
-            aa_mode="ADAPTIVE",
-            aa_samples=3,
+            aa_mode="JITTERED",
+            aa_samples=16,
             aa_threshold=0.1,
             aa_depth=2,
-            light_samples=4,
-            glossy_samples=3,
-            emitter_samples=4,
+            adaptive_sampling=True,
+            noise_threshold=0.01,
+            adaptive_min_samples=16,
+            light_samples=1,
+            glossy_samples=1,
+            emitter_samples=1,
             fresnel="EXACT",
             cutoff=1.0 / 255.0,
             texture_filter="AUTHORED",
@@ -89,16 +106,19 @@ PRESETS = (
     (
         "REFERENCE",
         "Reference",
-        "6x6 jittered samples per pixel, 16 bounces, 6x6 shadow and emitter feelers, cutoff 0.001",
+        "Noise threshold 0.002 (64 to 1024 samples per pixel), 16 bounces, cutoff 0.001",
         Quality(
             max_depth=16,
             aa_mode="JITTERED",
-            aa_samples=6,
+            aa_samples=32,
             aa_threshold=0.0,
             aa_depth=3,
-            light_samples=6,
-            glossy_samples=6,
-            emitter_samples=6,
+            adaptive_sampling=True,
+            noise_threshold=0.002,
+            adaptive_min_samples=64,
+            light_samples=1,
+            glossy_samples=1,
+            emitter_samples=1,
             fresnel="EXACT",
             # Not 0: without a cutoff a ray tree in glass doubles at every bounce
             # (2^16 rays per camera sample); a weight of 1/1000 is below 8-bit output.
@@ -107,6 +127,10 @@ PRESETS = (
         ),
     ),
 )
+
+# A new scene's settings (scene.whitted's defaults), as Cycles' new scene renders
+# with its production threshold.
+NEW_SCENE = "FINAL"
 
 
 def preset(key):

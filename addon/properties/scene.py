@@ -1,9 +1,9 @@
 """Render settings stored on each scene as `scene.whitted`.
 
 The quality controls are the fields of properties.presets.Quality; the
-presets set them all at once (operators.WHITTED_OT_apply_preset). A control that
-sets a native setting takes its default and range from the native Settings
-(native_tables.setting).
+presets set them all at once (operators.WHITTED_OT_apply_preset), and a new scene
+holds the NEW_SCENE preset's values. A control that sets a native setting takes its
+range from the native Settings (native_tables.setting).
 """
 
 import bpy
@@ -17,10 +17,12 @@ from bpy.props import (
     StringProperty,
 )
 
-from ..export.light import DEFAULT_LIGHT_SAMPLES
 from ..native_tables import bounds, setting
 from ..result import VIEWPORT_DISPLAYS
-from .presets import PRESETS
+from .presets import NEW_SCENE, PRESETS, preset
+
+# A new scene's quality control values: the NEW_SCENE preset's.
+NEW = preset(NEW_SCENE)
 
 
 class WhittedEstimate(bpy.types.PropertyGroup):
@@ -42,7 +44,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Max Depth",
         description="Reflection and refraction bounces after the camera ray; "
         "0 traces camera rays and shadow feelers only",
-        **setting("max_depth"),
+        **setting("max_depth", default=NEW.max_depth),
     )
     aa_mode: EnumProperty(
         name="Anti-Aliasing",
@@ -57,40 +59,110 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
                 "more than the threshold, up to the depth (Whitted 1980)",
             ),
         ),
-        **setting("aa_mode"),
+        **setting("aa_mode", default=NEW.aa_mode),
     )
     aa_samples: IntProperty(
         name="AA Samples",
-        description="Anti-aliasing samples per pixel along each axis (an n x n grid); "
-        "regular and jittered",
-        # A new scene's own: 2 x 2 (the native default, 1, is the plain tracer that the
-        # native tests and benchmarks take).
-        **setting("aa_samples", default=2),
+        description="Camera samples per pixel along each axis (an n x n grid): regular and "
+        "jittered; with a noise threshold, the most a pixel takes",
+        **setting("aa_samples", default=NEW.aa_samples),
     )
     aa_threshold: FloatProperty(
         name="AA Threshold",
         description="Adaptive: split a square when its corners differ by more than this "
         "(sum over R, G, B of the spread of the values clamped to [0, 1])",
-        **setting("aa_threshold"),
+        **setting("aa_threshold", default=NEW.aa_threshold),
         precision=3,
     )
     aa_depth: IntProperty(
         name="AA Depth",
         description="Adaptive: how many times a square may be split (at most "
         "(2^depth + 1)^2 samples per pixel)",
-        **setting("aa_depth"),
+        **setting("aa_depth", default=NEW.aa_depth),
+    )
+    adaptive_sampling: BoolProperty(
+        name="Noise Threshold",
+        description="Stop taking camera samples in a pixel once its noise is below the "
+        "threshold (Cycles' adaptive sampling): converged pixels stop early, noisy ones "
+        "take up to the n x n grid; off: every pixel takes the grid",
+        default=NEW.adaptive_sampling,
+    )
+    noise_threshold: FloatProperty(
+        name="Noise Threshold",
+        description="The noise a pixel may keep (Cycles' metric: its error relative to "
+        "its brightness); lower is cleaner and slower; 0: every pixel takes the grid",
+        **setting("noise_threshold", default=NEW.noise_threshold),
+        precision=4,
+        step=0.1,
+    )
+    adaptive_min_samples: IntProperty(
+        name="Min Samples",
+        description="Camera samples every pixel takes before its noise is checked "
+        "(0: automatic, as Cycles, from the threshold)",
+        **setting("adaptive_min_samples", default=NEW.adaptive_min_samples),
+    )
+    time_limit: FloatProperty(
+        name="Time Limit",
+        description="Stop sampling after this long (with a noise threshold; each pixel "
+        "keeps the samples it took); 0: no limit",
+        default=0.0,
+        min=0.0,
+        unit="TIME_ABSOLUTE",
+    )
+    use_denoising: BoolProperty(
+        name="Denoise",
+        description="Denoise the final render with Intel Open Image Denoise, guided by "
+        "the albedo and normal the camera rays see (not in the Lecture local model)",
+        default=True,
+    )
+    use_viewport_denoising: BoolProperty(
+        name="Denoise Viewport",
+        description="Denoise the Rendered viewport with Intel Open Image Denoise once it "
+        "reaches its last sample",
+        default=False,
+    )
+    denoising_input_passes: EnumProperty(
+        name="Passes",
+        description="The passes the denoiser reads besides the noisy image",
+        items=(
+            ("RGB", "None", "The noisy image alone"),
+            ("RGB_ALBEDO", "Albedo", "The image and the albedo"),
+            ("RGB_ALBEDO_NORMAL", "Albedo and Normal", "The image, the albedo and the normal"),
+        ),
+        default="RGB_ALBEDO_NORMAL",
+    )
+    denoising_prefilter: EnumProperty(
+        name="Prefilter",
+        description="Whether the denoiser first cleans its albedo and normal inputs "
+        "(noisy where the camera sees them through depth of field or motion blur)",
+        items=(
+            ("NONE", "None", "The albedo and normal are taken as they are (noise-free)"),
+            ("FAST", "Fast", "The image's filter cleans the albedo and normal itself"),
+            ("ACCURATE", "Accurate", "Denoise the albedo and normal first"),
+        ),
+        default="ACCURATE",
+    )
+    denoising_quality: EnumProperty(
+        name="Quality",
+        description="The denoiser's network: higher quality is slower",
+        items=(
+            ("HIGH", "High", "The best quality"),
+            ("BALANCED", "Balanced", "Faster, a little less accurate"),
+            ("FAST", "Fast", "The fastest"),
+        ),
+        default="HIGH",
     )
     glossy_samples: IntProperty(
         name="Glossy Samples",
         description="Rays per axis (n x n) drawn from a rough surface's reflection lobe "
         "where a ray first meets one (later glossy bounces of that ray send one each)",
-        **setting("glossy_samples"),
+        **setting("glossy_samples", default=NEW.glossy_samples),
     )
     emitter_samples: IntProperty(
         name="Emitter Samples",
         description="Shadow feelers per axis (n x n) from each shading point to the emissive "
         "meshes, picked by emitted power (one after a glossy bounce)",
-        **setting("emitter_samples"),
+        **setting("emitter_samples", default=NEW.emitter_samples),
     )
     local_model: EnumProperty(
         name="Local Model",
@@ -115,7 +187,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Shadow Samples",
         description="Shadow feelers per axis (n x n) of a sized light (area, radius or "
         "angle) whose own Shadow Samples are 0",
-        default=DEFAULT_LIGHT_SAMPLES,
+        default=NEW.light_samples,
         **bounds("light_samples"),
     )
     fresnel: EnumProperty(
@@ -126,7 +198,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
             ("SCHLICK", "Schlick", "Schlick's approximation of the Fresnel equations"),
             ("EXACT", "Exact", "The exact dielectric Fresnel equations"),
         ),
-        **setting("fresnel"),
+        **setting("fresnel", default=NEW.fresnel),
     )
     glass_shadows: EnumProperty(
         name="Glass Shadows",
@@ -152,7 +224,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         name="Cutoff",
         description="Adaptive depth control: a reflected or refracted ray whose weight on "
         "the pixel is below this is not traced; 0 traces every ray up to the max depth",
-        **setting("cutoff"),
+        **setting("cutoff", default=NEW.cutoff),
         precision=4,
     )
     texture_filter: EnumProperty(
@@ -162,7 +234,7 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
             ("AUTHORED", "As Authored", "Each Image Texture node's interpolation"),
             ("CLOSEST", "Closest", "The closest texel everywhere (cheaper, blocky)"),
         ),
-        default="AUTHORED",
+        default=NEW.texture_filter,
     )
     ambient_strength: FloatProperty(
         name="Ambient Strength",

@@ -18,6 +18,13 @@ class WhittedViewLayerProperties(bpy.types.PropertyGroup):
         "reflection, refraction and transparent), where the time of a frame goes",
         default=True,
     )
+    use_pass_denoising_data: BoolProperty(
+        name="Denoising Data",
+        description='The "Noisy Image", "Denoising Normal" and "Denoising Albedo" passes: '
+        "the image before denoising and the denoiser's guides, for denoising in the "
+        "compositor",
+        default=False,
+    )
     use_pass_cut_weight: BoolProperty(
         name="Cut Weight",
         description='The "Whitted Cut Weight" pass: the share of each pixel\'s ray tree '

@@ -1,5 +1,7 @@
-"""The Whitted panels in Render Properties: quality (presets and controls), the
-estimate of each preset's render time and error, and the last render's statistics."""
+"""The Whitted panels in Render Properties, laid out as Cycles' (Sampling with its
+Viewport, Render and Denoise parts, Light Paths, Film, Performance), with the estimate
+of each preset's render time and error beside the presets, and the last render's
+statistics."""
 
 import json
 
@@ -19,8 +21,11 @@ class _WhittedRenderPanel:
         return context.engine in cls.COMPAT_ENGINES
 
 
-class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
-    bl_label = "Whitted"
+class WHITTED_RENDER_PT_sampling(_WhittedRenderPanel, bpy.types.Panel):
+    """Sampling, as Cycles lays it out: the presets, then the viewport's and the
+    render's sampling, their denoising, and the per-sample ray budget."""
+
+    bl_label = "Sampling"
 
     def draw(self, context):
         layout = self.layout
@@ -30,41 +35,139 @@ class WHITTED_RENDER_PT_settings(_WhittedRenderPanel, bpy.types.Panel):
         row = layout.row(align=True)
         for key, label, _, _ in PRESETS:
             row.operator("whitted.apply_preset", text=label, depress=key == current).preset = key
+
+
+class _SamplingSubPanel(_WhittedRenderPanel):
+    bl_parent_id = "WHITTED_RENDER_PT_sampling"
+
+    def draw(self, context):
+        layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        column = layout.column()
+        self.draw_settings(layout, context.scene)
+
+    def draw_settings(self, layout, scene):
+        """The panel's controls."""
+
+
+class WHITTED_RENDER_PT_sampling_viewport(_SamplingSubPanel, bpy.types.Panel):
+    bl_label = "Viewport"
+
+    def draw_settings(self, layout, scene):
+        settings = scene.whitted
+        layout.prop(settings, "viewport_preset", text="Quality")
+        layout.prop(settings, "use_viewport_denoising", text="Denoise")
+        layout.prop(settings, "viewport_display", text="Display")
+        layout.prop(scene.render, "preview_pixel_size", text="Pixel Size")
+
+
+class WHITTED_RENDER_PT_sampling_render(_SamplingSubPanel, bpy.types.Panel):
+    bl_label = "Render"
+
+    def draw_settings(self, layout, scene):
+        settings = scene.whitted
+        row = layout.row(heading="Noise Threshold")
+        row.prop(settings, "adaptive_sampling", text="")
+        value = row.row()
+        value.active = settings.adaptive_sampling
+        value.prop(settings, "noise_threshold", text="")
+        column = layout.column(align=True)
+        column.prop(settings, "aa_samples", text="Max Samples per Axis")
+        n = settings.aa_samples
+        column.label(text=f"{n} x {n} = {n * n} samples per pixel at most")
+        minimum = layout.row()
+        minimum.active = settings.adaptive_sampling
+        minimum.prop(settings, "adaptive_min_samples")
+        limit = layout.row()
+        limit.active = settings.adaptive_sampling
+        limit.prop(settings, "time_limit")
+
+
+class WHITTED_RENDER_PT_denoise(_SamplingSubPanel, bpy.types.Panel):
+    bl_label = "Denoise"
+    bl_parent_id = "WHITTED_RENDER_PT_sampling_render"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.whitted, "use_denoising", text="")
+
+    def draw_settings(self, layout, scene):
+        settings = scene.whitted
+        layout.active = settings.use_denoising and settings.local_model == "BLENDER"
+        if settings.local_model == "LECTURE":
+            layout.label(text="Off in the Lecture local model", icon="INFO")
+        layout.prop(settings, "denoising_input_passes")
+        layout.prop(settings, "denoising_prefilter")
+        layout.prop(settings, "denoising_quality")
+
+
+class WHITTED_RENDER_PT_sampling_rays(_SamplingSubPanel, bpy.types.Panel):
+    """What one camera sample traces: where its samples lie in the pixel, and the
+    feelers and lobe rays it sends."""
+
+    bl_label = "Rays per Sample"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_settings(self, layout, scene):
+        settings = scene.whitted
+        layout.prop(settings, "aa_mode")
+        if settings.aa_mode == "ADAPTIVE":
+            layout.prop(settings, "aa_threshold")
+            layout.prop(settings, "aa_depth")
+        layout.prop(settings, "light_samples")
+        glossy = layout.row()
+        glossy.active = settings.local_model == "BLENDER"
+        glossy.prop(settings, "glossy_samples")
+        layout.prop(settings, "emitter_samples")
+        layout.prop(settings, "texture_filter")
+
+
+class _TopPanel(_WhittedRenderPanel):
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        self.draw_settings(layout.column(), context.scene)
+
+
+class WHITTED_RENDER_PT_light_paths(_TopPanel, bpy.types.Panel):
+    bl_label = "Light Paths"
+
+    def draw_settings(self, column, scene):
+        settings = scene.whitted
         column.prop(settings, "local_model")
         column.prop(settings, "max_depth")
         column.prop(settings, "cutoff")
-        column.prop(settings, "aa_mode")
-        if settings.aa_mode == "ADAPTIVE":
-            column.prop(settings, "aa_threshold")
-            column.prop(settings, "aa_depth")
-        else:
-            column.prop(settings, "aa_samples")
-        column.prop(settings, "light_samples")
-        glossy = column.row()
-        glossy.active = settings.local_model == "BLENDER"
-        glossy.prop(settings, "glossy_samples")
-        column.prop(settings, "emitter_samples")
         column.prop(settings, "fresnel")
         column.prop(settings, "glass_shadows")
-        column.prop(settings, "texture_filter")
         column.prop(settings, "ambient_strength")
-        column.prop(settings, "tile_size")
-        column.prop(settings, "use_waves")
-        column.prop(settings, "viewport_preset")
-        column.prop(settings, "viewport_display")
-        column.prop(context.scene.render, "preview_pixel_size", text="Viewport Pixel Size")
-        column.prop(context.scene.render, "threads_mode")
+
+
+class WHITTED_RENDER_PT_film(_TopPanel, bpy.types.Panel):
+    bl_label = "Film"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_settings(self, column, scene):
+        column.prop(scene.render, "film_transparent")
+
+
+class WHITTED_RENDER_PT_performance(_TopPanel, bpy.types.Panel):
+    bl_label = "Performance"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_settings(self, column, scene):
+        render = scene.render
+        column.prop(render, "threads_mode")
         row = column.row()
-        row.enabled = context.scene.render.threads_mode == "FIXED"
-        row.prop(context.scene.render, "threads")
+        row.enabled = render.threads_mode == "FIXED"
+        row.prop(render, "threads")
+        column.prop(scene.whitted, "tile_size")
+        column.prop(scene.whitted, "use_waves")
 
 
 class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
     bl_label = "Time and Error Estimate"
-    bl_parent_id = "WHITTED_RENDER_PT_settings"
+    bl_parent_id = "WHITTED_RENDER_PT_sampling"
 
     def draw(self, context):
         layout = self.layout
@@ -90,7 +193,6 @@ class WHITTED_RENDER_PT_estimate(_WhittedRenderPanel, bpy.types.Panel):
 
 class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
     bl_label = "Last Render"
-    bl_parent_id = "WHITTED_RENDER_PT_settings"
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
@@ -112,6 +214,7 @@ class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
             f"reflection {rays['reflection']:,}, refraction {rays['refraction']:,}",
             f"transparent {rays['transparent']:,}, TIR {stats['total_internal_reflections']:,}",
             f"cut by depth {stats['depth_limited']:,}, by cutoff {stats['cutoff_skipped']:,}",
-            f"{stats['samples_per_pixel']:.2f} samples/px, peak {stats['peak_memory_mib']:.0f} MiB",
+            f"samples/px {stats['samples_per_pixel']:.2f} (max "
+            f"{stats['pixel_samples']['max'] or '?'}), peak {stats['peak_memory_mib']:.0f} MiB",
         ):
             column.label(text=line)

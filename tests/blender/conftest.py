@@ -3,7 +3,7 @@
 import bpy
 import pytest
 from whitted_tools import demo_scene
-from whitted_tools.blender import ADDON, addon_problem
+from whitted_tools.blender import ADDON, addon_problem, seed_quality
 from whitted_tools.render import render_exr
 
 
@@ -24,7 +24,18 @@ def pytest_report_header(config):
 
 @pytest.fixture(autouse=True)
 def empty_scene():
-    """A factory-fresh empty scene; resetting also disables add-ons, so re-enable."""
+    """A factory-fresh empty scene at whitted_tools.blender.SEED_QUALITY; resetting
+    also disables add-ons, so re-enable."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    _enable_addon()
+    seed_quality(bpy.context.scene)
+    return bpy.context.scene
+
+
+@pytest.fixture
+def new_scene():
+    """A factory-fresh empty scene with a new scene's own Whitted settings (the
+    NEW_SCENE preset, denoising on)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     _enable_addon()
     return bpy.context.scene

@@ -39,7 +39,7 @@ def test_scene_settings_defaults(empty_scene):
 
 
 def test_render_panel_polls_only_for_whitted(empty_scene):
-    panel = bpy.types.WHITTED_RENDER_PT_settings
+    panel = bpy.types.WHITTED_RENDER_PT_sampling
     empty_scene.render.engine = "WHITTED"
     assert panel.poll(bpy.context)
     empty_scene.render.engine = "CYCLES"

@@ -3,6 +3,7 @@ Reference, from a probe that traces a sample of the frame's tiles at full resolu
 
 import math
 import re
+from dataclasses import replace
 
 import bpy
 import numpy as np
@@ -74,7 +75,8 @@ def test_a_probe_traces_the_full_renders_pixels(demo, native):
     # no resolution model is needed.
     depsgraph = bpy.context.evaluated_depsgraph_get()
     frame = sync_frame(depsgraph, native)
-    quality = preset("PREVIEW")  # adaptive: splits depend on the pixel's own corners only
+    # At a fixed count of samples (a noise threshold's depend on the neighbours too: below).
+    quality = replace(preset("PREVIEW"), adaptive_sampling=False)
     settings = frame.at_quality(depsgraph, native, quality)
     full = frame.job(native, settings)
     _render(full)
@@ -91,6 +93,24 @@ def test_a_probe_traces_the_full_renders_pixels(demo, native):
     np.testing.assert_array_equal(probe.image()[traced], full.image()[traced])
     np.testing.assert_array_equal(probe.cost_image()[traced], full.cost_image()[traced])
     assert not probe.image()[~traced].any()
+
+
+def test_a_probe_takes_the_full_renders_samples_per_pixel_at_a_noise_threshold(demo, native):
+    # With a noise threshold, a pixel stops once it and its 8 neighbours are converged:
+    # the probe's pixels at its tiles' edges lack some neighbours, so its counts are not
+    # the full render's pixel by pixel, but their mean is what the estimate scales.
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    frame = sync_frame(depsgraph, native)
+    settings = frame.at_quality(depsgraph, native, preset("PREVIEW"))
+    full = frame.job(native, settings)
+    full_stats = _render(full)
+    settings.tile_size, settings.probe_stride = 2, 4
+    probe = frame.job(native, settings)
+    stats = _render(probe)
+    full_mean = full_stats["samples"] / full_stats["pixels"]
+    probe_mean = stats["samples"] / stats["pixels"]
+    assert full_stats["samples_per_pixel"][0] < full_stats["samples_per_pixel"][2]
+    assert probe_mean == pytest.approx(full_mean, rel=0.25)
 
 
 def test_the_copies_a_render_skips_are_left_out_of_the_fixed_costs(demo):

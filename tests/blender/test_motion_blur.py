@@ -259,9 +259,11 @@ def test_the_inspector_and_the_estimate_see_the_blur_f12_renders(
     assert bpy.ops.whitted.inspect_ray_tree(x=48, y=24) == {"FINISHED"}
     tree = json.loads(whitted.last_ray_tree)
     times = [ray["time"] for ray in tree["rays"] if ray["kind"] == "camera"]
-    # Final's 3 x 3 samples (a jittered grid once the camera's samples are spread over
-    # the shutter), each at its own time of its own ninth of the shutter.
-    assert len(times) == 9 and len(set(times)) == 9 and all(0.0 <= t < 1.0 for t in times)
+    # Final's n x n samples (the inspector traces the whole grid, as a noise threshold
+    # may), each at its own time of its own 1/n^2 of the shutter.
+    count = whitted.aa_samples**2
+    assert len(times) == count and len(set(times)) == count
+    assert all(0.0 <= t < 1.0 for t in times)
     assert empty_scene.frame_current == 1 and empty_scene.frame_subframe == 0.0
     assert tuple(cube.location) == pytest.approx((0.0, 0.0, 0.5))
     assert bpy.ops.whitted.estimate() == {"FINISHED"}

@@ -49,7 +49,7 @@ def test_presets_are_ordered_and_stated():
 @pytest.mark.parametrize("key", [key for key, _, _, _ in PRESETS])
 def test_apply_preset_operator_sets_every_control(empty_scene, key):
     empty_scene.render.engine = "WHITTED"
-    assert matching_preset(empty_scene.whitted) is None  # the defaults are custom
+    assert matching_preset(empty_scene.whitted) is None  # the tests' SEED_QUALITY is custom
     assert bpy.ops.whitted.apply_preset(preset=key) == {"FINISHED"}
     assert matching_preset(empty_scene.whitted) == key
     values = quality_of(empty_scene.whitted)
@@ -76,6 +76,9 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
         aa_samples=3,
         aa_threshold=0.2,
         aa_depth=2,
+        adaptive_sampling=True,
+        noise_threshold=0.03,
+        adaptive_min_samples=8,
         light_samples=5,
         glossy_samples=4,
         emitter_samples=3,
@@ -91,6 +94,9 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
     assert settings.aa_samples == 3
     assert settings.aa_threshold == pytest.approx(0.2)
     assert settings.aa_depth == 2
+    assert settings.adaptive_sampling
+    assert settings.noise_threshold == pytest.approx(0.03)
+    assert settings.adaptive_min_samples == 8
     assert settings.glossy_samples == 4
     assert settings.emitter_samples == 3
     assert settings.fresnel == native.Fresnel.SCHLICK

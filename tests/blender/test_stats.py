@@ -38,6 +38,9 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "aa_samples": 2,
         "aa_threshold": pytest.approx(0.3),
         "aa_depth": 3,
+        "adaptive_sampling": False,
+        "noise_threshold": pytest.approx(0.01),
+        "adaptive_min_samples": 16,
         "light_samples": 4,
         "glossy_samples": 2,
         "emitter_samples": 2,
@@ -59,6 +62,8 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
     assert stats["samples"] == rays["camera"]
     assert stats["pixels"] == WIDTH * HEIGHT
     assert stats["samples_per_pixel"] == 4.0
+    assert stats["pixel_samples"] == {"min": 4, "mean": 4.0, "max": 4}
+    assert stats["noisy_pixels"] == 0
     assert stats["peak_memory_mib"] > 10.0
     phases = stats["phases"]
     assert all(phases[k] >= 0.0 for k in phases)

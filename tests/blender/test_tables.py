@@ -13,7 +13,7 @@ from dataclasses import asdict, fields
 import bpy
 import pytest
 from whitted import result
-from whitted.properties.presets import PRESETS, Quality
+from whitted.properties.presets import NEW_SCENE, PRESETS, Quality, preset
 
 # scene.whitted's controls that are native Settings fields: control -> field.
 SCENE_SETTINGS = {
@@ -29,9 +29,15 @@ SCENE_SETTINGS = {
     "cutoff": "cutoff",
     "tile_size": "tile_size",
     "use_waves": "waves",
+    "adaptive_sampling": "adaptive_sampling",
+    "noise_threshold": "noise_threshold",
+    "adaptive_min_samples": "adaptive_min_samples",
 }
-# Where a new scene starts elsewhere than the native default, on purpose.
-SCENE_OWN_DEFAULTS = {"aa_samples": 2}
+# A new scene's quality controls start at the NEW_SCENE preset's values, on purpose; the
+# others at the native defaults.
+SCENE_OWN_DEFAULTS = {
+    name: value for name, value in asdict(preset(NEW_SCENE)).items() if name in SCENE_SETTINGS
+}
 
 
 def _native_default(native, field):
@@ -77,7 +83,9 @@ def test_each_pass_has_the_channels_of_its_film_pass(native):
         assert spec.first == 0
         assert len(spec.channels) == film[spec.source], spec.name
     others = {spec.source for spec in result.PASSES if spec.source not in film}
-    assert others == {"combined", "rays"}
+    assert others == set(result.DERIVED_SOURCES)
+    # What the derived passes are read from is kept by the film.
+    assert all(s in film for sources in result.DERIVED_SOURCES.values() for s in sources)
     # The per-depth passes share Contributions, one bin of its channels each.
     bins = result.contribution_passes(result.MAX_CONTRIBUTION_DEPTH)
     for depth, spec in enumerate(bins):

@@ -222,6 +222,17 @@ TEST(AdaptiveRender, FlatPixelsStopAtTheFirstCheckEdgesGoOn) {
   const Rendered r = render(flat, edge_settings(2, 8));
   EXPECT_EQ(r.stats.samples_max, 16u);
   EXPECT_EQ(r.stats.active_pixels, 0u);
+  // A probe (the Estimate's: one tile in stride^2 traced) stops there too: the pixels it
+  // skips are neither noisy nor keep their traced neighbours active.
+  Settings probe = edge_settings(2, 2);
+  probe.probe_stride = 3;
+  const Rendered p = render(flat, probe);
+  EXPECT_EQ(p.stats.samples_max, 16u);
+  EXPECT_EQ(p.stats.active_pixels, 0u);
+  size_t traced = 0;
+  for (uint32_t n : p.samples) traced += n > 0 ? 1 : 0;
+  EXPECT_GT(traced, 0u);
+  EXPECT_LT(traced, p.samples.size() / 4);
 }
 
 TEST(AdaptiveRender, ThresholdZeroIsTheFixedCountRender) {

@@ -73,6 +73,53 @@ TEST(Light, AreaLightFarAwayActsLikeAPointOfIntensityRadianceTimesArea) {
   }
 }
 
+// Jittered feelers (sample_light's jitter): jitter 0 is the lattice of stratum centres;
+// any other puts each feeler somewhere in its own stratum, a new place for each jitter;
+// one feeler per camera sample, averaged over many, gives the lamp's irradiance.
+TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(1.0f);
+  area.position = Vec3(0.0f, 0.0f, 1.0f);
+  area.direction = Vec3(0.0f, 0.0f, -1.0f);
+  area.size[0] = area.size[1] = 2.0f;
+  area.samples = 3;
+  const Light lattice(area);
+  const Vec3 p(0.0f);
+  const auto target = [&](const LightSample& ls) { return p + ls.wi * ls.distance; };
+  // Stratum 4 of 3 x 3 is the middle one: its centre is the lamp's.
+  EXPECT_NEAR(glm::length(target(sample_light(lattice, p, 4)) - area.position), 0.0f, 1e-5f);
+  for (uint32_t jitter = 1; jitter < 200; ++jitter) {
+    for (int k = 0; k < 9; ++k) {
+      const Vec3 t = target(sample_light(lattice, p, k, jitter));
+      // Cell k spans [-1 + 2/3 (k % 3), -1 + 2/3 (k % 3 + 1)] along x, likewise y.
+      const float x0 = -1.0f + 2.0f / 3.0f * static_cast<float>(k % 3);
+      const float y0 = -1.0f + 2.0f / 3.0f * static_cast<float>(k / 3);
+      EXPECT_GE(t.x, x0 - 1e-5f);
+      EXPECT_LE(t.x, x0 + 2.0f / 3.0f + 1e-5f);
+      EXPECT_GE(t.y, y0 - 1e-5f);
+      EXPECT_LE(t.y, y0 + 2.0f / 3.0f + 1e-5f);
+    }
+  }
+  EXPECT_NE(target(sample_light(lattice, p, 0, 1)), target(sample_light(lattice, p, 0, 2)));
+  // One feeler (n = 1) jittered anew 40,000 times against a 64 x 64 lattice.
+  area.samples = 1;
+  const Light one(area);
+  area.samples = 64;
+  const Light fine(area);
+  const Vec3 n(0.0f, 0.0f, 1.0f);
+  const float expected = total_irradiance(fine, p, n).x;
+  double sum = 0.0;
+  constexpr int kDraws = 40000;
+  for (uint32_t jitter = 1; jitter <= kDraws; ++jitter) {
+    const LightSample ls = sample_light(one, p, 0, jitter * 2654435761u | 1u);
+    sum += ls.irradiance.x * std::max(0.0f, glm::dot(n, ls.wi));
+  }
+  EXPECT_NEAR(sum / kDraws, expected, expected * 0.01);
+  // The lattice's single feeler is the centre's alone: it misses the lamp's edges.
+  EXPECT_GT(total_irradiance(one, p, n).x, expected * 1.2f);
+}
+
 // A small area light of Spread s sends towards angle a off its normal (tan h - tan a) /
 // (tan h - h) of a plain one's light, h = s / 2 (Cycles' soft box), none past h; summed
 // over the hemisphere its power is the plain light's.

@@ -163,11 +163,42 @@ def exit_process(code=0):
     sys.exit(code)
 
 
+# The Whitted settings the tools' scenes and the tests' expectations were made with: a
+# new scene's before issue 46 (2 x 2 regular samples, 4 x 4 feelers per sized lamp, the
+# native defaults elsewhere, no noise threshold, no denoising). A new scene now starts
+# at the Final preset (addon/properties/presets.py NEW_SCENE); scripts and tests that
+# measure something else than that keep these, so their figures stay comparable.
+SEED_QUALITY = {
+    "max_depth": 5,
+    "aa_mode": "REGULAR",
+    "aa_samples": 2,
+    "aa_threshold": 0.3,
+    "aa_depth": 3,
+    "adaptive_sampling": False,
+    "light_samples": 4,
+    "glossy_samples": 2,
+    "emitter_samples": 2,
+    "fresnel": "EXACT",
+    "cutoff": 1.0 / 255.0,
+    "texture_filter": "AUTHORED",
+    "use_denoising": False,
+}
+
+
+def seed_quality(scene):
+    """Set `scene`'s Whitted settings to SEED_QUALITY."""
+    for name, value in SEED_QUALITY.items():
+        setattr(scene.whitted, name, value)
+
+
 def factory_scene(*modules):
-    """An empty factory scene with the add-ons enabled (default: Whitted): the start
-    of every scene a script builds (a factory reset also disables add-ons)."""
+    """An empty factory scene with the add-ons enabled (default: Whitted) and Whitted's
+    SEED_QUALITY: the start of every scene a script builds (a factory reset also
+    disables add-ons)."""
     import bpy
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     enable_addon(*modules)
-    return bpy.context.scene
+    scene = bpy.context.scene
+    seed_quality(scene)
+    return scene

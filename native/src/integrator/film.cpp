@@ -263,8 +263,10 @@ size_t Film::converge(float threshold, int x, int y, int width, int height) {
       const size_t i = index(x + column, y + row);
       const uint32_t n = count_[i];
       const uint32_t half_count = (n + 1) / 2;
+      // A pixel without samples at a check is one this render does not trace (a probe's
+      // skipped tiles: probe_stride): it neither stays active nor keeps its neighbours so.
       if (n < 2) {
-        noisy[static_cast<size_t>(row) * width + column] = 1;
+        noisy[static_cast<size_t>(row) * width + column] = n == 1 ? 1 : 0;
         continue;
       }
       const float w = 1.0f / static_cast<float>(n);
@@ -284,6 +286,7 @@ size_t Film::converge(float threshold, int x, int y, int width, int height) {
           any = any || noisy[static_cast<size_t>(dy) * width + dx] != 0;
         }
       }
+      any = any && count_[index(x + column, y + row)] > 0;
       active_[index(x + column, y + row)] = any ? 1 : 0;
       active += any ? 1 : 0;
     }

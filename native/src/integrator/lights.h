@@ -90,8 +90,9 @@ class Lights {
                           light.diffuse,
                           light.glossy,
                           light.shadow_sets};
+      const uint32_t jitter = lamp_jitter(state, feeler.light);
       const auto draw = [&](int s) {
-        return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
+        return Drawing{feeler, sample_light(light, p.it.position, s, jitter), 1.0f};
       };
       feelers(p, samples, draw, state, counts, &phong);
     }
@@ -102,6 +103,18 @@ class Lights {
   }
 
  private:
+  // Where a sized lamp's feelers go in its n x n strata (sample_light): at their centres,
+  // the same for every camera sample (the seed's lattice), unless the camera samples are
+  // Monte Carlo ones (jittered_samples, settings.h); then a new jittered point in each
+  // stratum for every camera sample and depth (Cook 1984), so that many camera samples of
+  // one feeler each integrate the lamp.
+  uint32_t lamp_jitter(const NodeState& state, int32_t light) const {
+    if (!jittered_samples(in_.settings)) return 0;
+    return hash3(state.seed, static_cast<uint32_t>(state.depth),
+                 0x6c616d00u + static_cast<uint32_t>(light)) |
+           1u;
+  }
+
   // Adds the shares of `samples` light samples, draw(s) for s in order, to *phong one by
   // one, as light_sample's are; in a wave (Policy::kQueues), queues their feelers. A
   // single feeler, or those of different lights, trace faster one at a time

@@ -139,6 +139,15 @@ struct Settings {
   void validate() const;
 };
 
+// Whether the camera samples are Monte Carlo ones: jittered grid samples (Jittered, and
+// Adaptive when it samples the grid: progressive or with a noise threshold), as against
+// the regular grid's and Whitted's adaptive corners. Sized lamps' feelers are then
+// jittered anew for each camera sample too (integrator/lights.h).
+inline bool jittered_samples(const Settings& s) {
+  return s.aa_mode == AntiAliasing::kJittered ||
+         (s.aa_mode == AntiAliasing::kAdaptive && (s.progressive || s.adaptive_sampling));
+}
+
 // The bounds validate() holds each bounded setting to, inclusive, by its field's name: the
 // one definition of them (whitted_native.LIMITS; the add-on's controls take their ranges
 // from it). Whole numbers for the int fields.

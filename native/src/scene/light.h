@@ -98,7 +98,9 @@ struct LightSample {
 };
 
 // Sample `index` of light.sample_count() arriving at point p. Irradiance is zero where
-// the light cannot reach (outside a spot cone, behind an area light).
-LightSample sample_light(const Light& light, const Vec3& p, int index);
+// the light cannot reach (outside a spot cone, behind an area light). A sized light's
+// samples are its n x n strata: their centres for jitter 0 (a fixed lattice), else a
+// point in each placed by a hash of `jitter` (a new set for each camera sample).
+LightSample sample_light(const Light& light, const Vec3& p, int index, uint32_t jitter = 0);
 
 }  // namespace whitted

@@ -1,0 +1,100 @@
+"""Denoising with Intel Open Image Denoise (native denoise/oidn.*): whether a render is
+denoised and why not, its guide images, and the denoised image.
+
+The guides are Cycles' Denoising Albedo and Denoising Normal as the film already keeps
+them: the albedo is the camera hit's Diffuse, Glossy and Transmission Color plus what
+the camera sees emitted (Emission, and the world as Environment, as Cycles writes the
+background into its denoising albedo), clamped to [0, 1] as OIDN asks; the normal is the
+Normal pass (world space, which OIDN accepts as well as camera space; 0 where the camera
+sees the world). Unlike Cycles, a mirror's or glass's albedo is its own colour, not that
+of the first rough surface seen through it.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+# The film passes the albedo is summed from.
+ALBEDO_SOURCES = ("diffuse_color", "glossy_color", "transmission_color", "emission", "environment")
+NORMAL_SOURCE = "normal"
+GUIDE_SOURCES = (*ALBEDO_SOURCES, NORMAL_SOURCE)
+
+
+@dataclass(frozen=True)
+class Denoising:
+    """Whether a render is denoised, and why (as the effects report says it)."""
+
+    on: bool
+    why: str
+    # The render's options (scene.whitted): which guides, prefilter and quality.
+    input_passes: str = "RGB_ALBEDO_NORMAL"
+    prefilter: str = "ACCURATE"
+    quality: str = "HIGH"
+
+    def decision(self):
+        """The effects report's entry ({name, on, why}, as the native analysis's)."""
+        return {"name": "denoising", "on": self.on, "why": self.why}
+
+
+def denoising_of(scene, native, viewport=False):
+    """The Denoising of a render of `scene` (the viewport's when `viewport`)."""
+    whitted = scene.whitted
+    wanted = whitted.use_viewport_denoising if viewport else whitted.use_denoising
+    if not wanted:
+        return Denoising(False, "Denoise off")
+    if whitted.local_model == "LECTURE":
+        return Denoising(False, "Lecture local model: the seed's algorithm, as it renders")
+    status = native.oidn_status()
+    if not status["ok"]:
+        return Denoising(False, f"Open Image Denoise unavailable: {status['report']}")
+    guides = {
+        "RGB": "image alone",
+        "RGB_ALBEDO": "albedo",
+        "RGB_ALBEDO_NORMAL": "albedo and normal",
+    }[whitted.denoising_input_passes]
+    version = status["version"]
+    return Denoising(
+        True,
+        f"Open Image Denoise {version // 10000}.{version // 100 % 100}.{version % 100}, {guides}",
+        whitted.denoising_input_passes,
+        whitted.denoising_prefilter,
+        whitted.denoising_quality,
+    )
+
+
+def albedo_tile(job, x, y, width, height):
+    """The denoising albedo of a finished rectangle, float32[w*h, 3]."""
+    total = np.zeros((width * height, 3), dtype=np.float32)
+    for source in ALBEDO_SOURCES:
+        total += job.pass_tile(source, x, y, width, height)
+    return np.clip(total, 0.0, 1.0)
+
+
+def normal_tile(job, x, y, width, height):
+    """The denoising normal of a finished rectangle, float32[w*h, 3]."""
+    return np.ascontiguousarray(job.pass_tile(NORMAL_SOURCE, x, y, width, height))
+
+
+def denoise(native, job, rect, denoising, threads):
+    """The denoised RGBA of rectangle (x, y, w, h) of a finished `job`, float32[w*h, 4]:
+    RGB from the denoiser, alpha the render's."""
+    x, y, width, height = rect
+    noisy = np.array(job.tile(x, y, width, height), dtype=np.float32)
+    shape = (height, width, 3)
+    color = np.ascontiguousarray(noisy[:, :3]).reshape(shape)
+    albedo = normal = None
+    if denoising.input_passes != "RGB":
+        albedo = albedo_tile(job, x, y, width, height).reshape(shape)
+    if denoising.input_passes == "RGB_ALBEDO_NORMAL":
+        normal = normal_tile(job, x, y, width, height).reshape(shape)
+    clean = native.oidn_denoise(
+        color,
+        albedo,
+        normal,
+        threads=threads,
+        prefilter=denoising.prefilter.lower(),
+        quality=denoising.quality.lower(),
+    )
+    out = noisy.copy()
+    out[:, :3] = clean.reshape(-1, 3)
+    return out

@@ -1,0 +1,152 @@
+"""Noise-driven sampling and denoising in Blender (issue 46): a new scene's settings,
+the presets as noise targets, F12 with a noise threshold, and the Denoise panel's
+effect on the image, its passes and the report."""
+
+import json
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+import pytest
+from test_passes import render_multilayer
+from whitted.denoise import denoising_of
+from whitted.properties.presets import NEW_SCENE, PRESETS, apply_quality, matching_preset, preset
+
+WIDTH, HEIGHT = 64, 48
+
+
+def test_a_new_scene_starts_at_the_final_preset_and_denoises(new_scene):
+    assert NEW_SCENE == "FINAL"
+    assert matching_preset(new_scene.whitted) == "FINAL"
+    assert new_scene.whitted.adaptive_sampling
+    assert new_scene.whitted.use_denoising  # as Cycles' F12
+    assert not new_scene.whitted.use_viewport_denoising  # as Cycles' viewport
+
+
+def test_presets_are_noise_targets():
+    qualities = [values for _, _, _, values in PRESETS]
+    assert all(q.adaptive_sampling and q.aa_mode == "JITTERED" for q in qualities)
+    thresholds = [q.noise_threshold for q in qualities]
+    assert thresholds == sorted(thresholds, reverse=True) and len(set(thresholds)) == 4
+    most = [q.aa_samples**2 for q in qualities]
+    assert most == sorted(most) and most[-1] >= 1024
+    for q in qualities:
+        assert q.adaptive_min_samples <= q.aa_samples**2
+
+
+def soft_shadow(scene):
+    """A grey floor under a cube lit by a 2 m square area lamp: flat lit floor, a
+    penumbra, and the cube's top."""
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+    bpy.ops.mesh.primitive_plane_add(size=8.0)
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.5))
+    bpy.ops.object.light_add(type="AREA", location=(1.5, 0.0, 3.0))
+    light = bpy.context.object.data
+    light.size = 2.0
+    light.energy = 200.0
+    bpy.ops.object.camera_add(location=(0.0, -4.0, 6.0), rotation=(0.6, 0.0, 0.0))
+    scene.camera = bpy.context.object
+    view_layer = bpy.context.view_layer
+    view_layer.whitted.use_pass_denoising_data = True
+    view_layer.use_pass_normal = True
+    return scene
+
+
+def rgb(channels, name):
+    return np.stack([channels[f"ViewLayer.{name}.{c}"] for c in "RGB"], axis=-1)
+
+
+def rms(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+@pytest.fixture
+def scene(empty_scene):
+    return soft_shadow(empty_scene)
+
+
+def converged(scene, path):
+    """The soft shadow with 16 x 16 jittered samples a pixel, not denoised."""
+    whitted = scene.whitted
+    whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 16, 1
+    whitted.adaptive_sampling, whitted.use_denoising = False, False
+    return rgb(render_multilayer(scene, path), "Combined")
+
+
+def test_f12_denoises_a_noisy_render_towards_the_converged_one(scene, tmp_path):
+    reference = converged(scene, tmp_path / "reference.exr")
+    # 2 x 2 samples a pixel, one feeler each: a grainy penumbra.
+    scene.whitted.aa_samples, scene.whitted.use_denoising = 2, True
+    channels = render_multilayer(scene, tmp_path / "noisy.exr")
+    noisy, clean = rgb(channels, "Noisy Image"), rgb(channels, "Combined")
+    # The denoiser removes most of the noise: its error was 0.18 of the noisy image's at
+    # 160 x 120 (0.118 against 0.022).
+    assert rms(clean, reference) < 0.4 * rms(noisy, reference)
+    stats = json.loads(scene.whitted.last_stats)
+    decision = next(e for e in stats["effects"] if e["name"] == "denoising")
+    assert decision["on"] and "Open Image Denoise" in decision["why"]
+    assert stats["phases"]["denoise"] > 0.0
+    # The guides: the grey floor's albedo (0.8 in Blender's default material), Normal.
+    albedo = rgb(channels, "Denoising Albedo")
+    assert albedo.min() >= 0.0 and albedo.max() <= 1.0
+    assert np.median(albedo) == pytest.approx(0.8, abs=0.01)
+    normal = np.stack([channels[f"ViewLayer.Denoising Normal.{c}"] for c in "XYZ"], -1)
+    blender_normal = np.stack([channels[f"ViewLayer.Normal.{c}"] for c in "XYZ"], -1)
+    np.testing.assert_array_equal(normal, blender_normal)
+
+
+def test_the_lecture_model_is_never_denoised(scene, tmp_path):
+    apply_quality(scene.whitted, preset("DRAFT"))
+    scene.whitted.local_model = "LECTURE"
+    scene.whitted.use_denoising = True
+    channels = render_multilayer(scene, tmp_path / "lecture.exr")
+    np.testing.assert_array_equal(rgb(channels, "Combined"), rgb(channels, "Noisy Image"))
+    stats = json.loads(scene.whitted.last_stats)
+    decision = next(e for e in stats["effects"] if e["name"] == "denoising")
+    assert not decision["on"] and "Lecture" in decision["why"]
+
+
+def test_denoising_off_is_said_and_keeps_the_image(scene, tmp_path):
+    apply_quality(scene.whitted, preset("DRAFT"))
+    scene.whitted.use_denoising = False
+    channels = render_multilayer(scene, tmp_path / "off.exr")
+    np.testing.assert_array_equal(rgb(channels, "Combined"), rgb(channels, "Noisy Image"))
+    stats = json.loads(scene.whitted.last_stats)
+    assert {"name": "denoising", "on": False, "why": "Denoise off"} in stats["effects"]
+
+
+def test_a_missing_library_is_reported_not_raised(scene):
+    status = {"ok": False, "version": 0, "path": "", "report": "libOpenImageDenoise not found"}
+    missing = SimpleNamespace(oidn_status=lambda: status)
+    scene.whitted.use_denoising = True
+    decision = denoising_of(scene, missing)
+    assert not decision.on
+    assert decision.why == "Open Image Denoise unavailable: libOpenImageDenoise not found"
+
+
+def test_a_noise_threshold_stops_flat_pixels_and_spends_on_the_penumbra(scene, tmp_path):
+    whitted = scene.whitted
+    whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 8, 1
+    whitted.adaptive_sampling, whitted.noise_threshold = True, 0.02
+    whitted.adaptive_min_samples = 4
+    render_multilayer(scene, tmp_path / "adaptive.exr")
+    stats = json.loads(scene.whitted.last_stats)
+    samples = stats["pixel_samples"]
+    # The first check is after 16 samples (Cycles' schedule: native schedule.h); flat
+    # pixels stop there, the penumbra's go on to the grid's 64.
+    assert samples["min"] == 16 and samples["max"] == 64
+    assert 16 < samples["mean"] < 48
+    assert stats["samples"] == stats["rays"]["camera"]
+
+
+def test_threshold_zero_is_the_fixed_count_render(scene, tmp_path):
+    whitted = scene.whitted
+    whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 4, 1
+    whitted.adaptive_sampling = False
+    fixed = rgb(render_multilayer(scene, tmp_path / "fixed.exr"), "Combined")
+    whitted.adaptive_sampling, whitted.noise_threshold = True, 0.0
+    adaptive = rgb(render_multilayer(scene, tmp_path / "zero.exr"), "Combined")
+    # The same samples summed in another order.
+    np.testing.assert_allclose(adaptive, fixed, rtol=1e-5, atol=1e-6)
+    assert json.loads(whitted.last_stats)["pixel_samples"]["min"] == 16
