@@ -70,6 +70,8 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
             denoising = denoising_of(scene, native)
+            # Sampling > Render > Time Limit: F12's alone (the viewport refines until done).
+            frame.settings.time_limit = scene.whitted.time_limit
             render_result.configure(
                 frame.settings, scene, depsgraph.view_layer, passes, guides=denoising.on
             )

@@ -185,6 +185,14 @@ PASSES = (
         "cut_weight",
         panel="WHITTED",
     ),
+    PassSpec(
+        "Debug Sample Count",
+        "X",
+        "VALUE",
+        "whitted.use_pass_sample_count",
+        "sample_count",
+        panel="WHITTED",
+    ),
 )
 # The per-depth passes: "Whitted Depth 0" .. "Whitted Depth N-1" and "Whitted Depth
 # N+", N = view_layer.whitted.contribution_depth; made by contribution_passes().

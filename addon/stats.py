@@ -91,6 +91,11 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         # stops each pixel apart; and the pixels still noisy at its last check.
         "pixel_samples": _pixel_samples(quality, native_stats),
         "noisy_pixels": native_stats["active_pixels"],
+        # The final per-pixel noise estimate (mean, max; Cycles' metric, which a noise
+        # threshold t holds below 5 t), under a noise threshold; and whether the time
+        # limit ended the sampling.
+        "noise": dict(native_stats.get("noise", {})),
+        "time_limited": native_stats["time_limited"],
         "peak_memory_mib": peak_memory_mib(),
         "nonfinite_samples": native_stats["nonfinite_samples"],
         "sanitised": dict(sanitised),

@@ -32,6 +32,12 @@ class WhittedViewLayerProperties(bpy.types.PropertyGroup):
         "what raising the depth or lowering the cutoff could still change",
         default=False,
     )
+    use_pass_sample_count: BoolProperty(
+        name="Sample Count",
+        description='The "Debug Sample Count" pass (as Cycles\'): the camera samples each '
+        "pixel took, fewer where noise-driven sampling stopped it early",
+        default=False,
+    )
     use_pass_contributions: BoolProperty(
         name="Per-Depth Contributions",
         description='The "Whitted Depth N" passes: what the ray tree adds at each depth '

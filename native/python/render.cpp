@@ -55,7 +55,15 @@ py::dict stats_dict(const RenderStats& s) {
   out["waves"] = s.waves;
   out["wave_bytes"] = s.wave_bytes;
   out["active_pixels"] = s.active_pixels;
+  out["rounds"] = s.rounds;
+  out["time_limited"] = s.time_limited;
   out["samples_per_pixel"] = py::make_tuple(s.samples_min, s.samples_mean, s.samples_max);
+  if (s.noise) {
+    py::dict noise;
+    noise["mean"] = s.noise->mean;
+    noise["max"] = s.noise->max;
+    out["noise"] = noise;
+  }
   out["cancelled"] = s.cancelled;
   out["error"] = s.error;
   return out;
@@ -352,7 +360,15 @@ void bind_render(py::module_& m) {
       .def(
           "stats", [](const RenderJob& job) { return stats_dict(job.stats()); },
           "A dict of the render so far: rays by type, rays skipped by reason, effects as "
-          "{name, on, why}, times, counts, top_level_built, cancelled and error.")
+          "{name, on, why}, times, counts, top_level_built, cancelled and error. Noise-driven "
+          "sampling: active_pixels after the last check, rounds traced, time_limited (whether "
+          "Settings.time_limit ended the render early), samples_per_pixel (min, mean, max) "
+          "over the border once the render has stopped, and then noise: {mean, max} of the "
+          "pixels' final noise estimate, Cycles' metric before its x5 scale (a pixel stops "
+          "once it is below 5 x noise_threshold; divide by 5 to compare with the threshold), "
+          "over the border's pixels with one (2 or more samples, not NaN). The key is absent "
+          "without adaptive_sampling, before the render stops, and if no pixel has an "
+          "estimate.")
       .def(
           "trace_bare",
           [](const RenderJob& job) {

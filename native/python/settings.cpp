@@ -87,7 +87,7 @@ void bind_settings(py::module_& m) {
                        const std::vector<std::string>& passes, int contribution_depth,
                        float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
                        int emitter_samples, float shutter, bool adaptive_sampling,
-                       float noise_threshold, int adaptive_min_samples) {
+                       float noise_threshold, int adaptive_min_samples, double time_limit) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -119,6 +119,7 @@ void bind_settings(py::module_& m) {
              s.adaptive_sampling = adaptive_sampling;
              s.noise_threshold = noise_threshold;
              s.adaptive_min_samples = adaptive_min_samples;
+             s.time_limit = time_limit;
              s.validate();
              return s;
            }),
@@ -142,6 +143,7 @@ void bind_settings(py::module_& m) {
            py::arg("adaptive_sampling") = d.adaptive_sampling,
            py::arg("noise_threshold") = d.noise_threshold,
            py::arg("adaptive_min_samples") = d.adaptive_min_samples,
+           py::arg("time_limit") = d.time_limit,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -267,6 +269,13 @@ void bind_settings(py::module_& m) {
                             "adaptive_sampling: samples before the first noise check (at "
                             "least 4, at most the grid); 0: automatic, as Cycles' "
                             "max(4, ceil(16 / threshold^0.3)).")
+                         .c_str())
+      .def_readwrite("time_limit", &Settings::time_limit,
+                     ranged(setting_range("time_limit"),
+                            "Seconds (Cycles' Time Limit; 0: none). adaptive_sampling: a round "
+                            "after the first that would start this long after the trace began "
+                            "is not traced, and the render ends with the samples it has "
+                            "(stats()['time_limited']). Ignored without adaptive_sampling.")
                          .c_str())
       .def_readwrite("start_pixel_size", &Settings::start_pixel_size,
                      ranged(setting_range("start_pixel_size"),

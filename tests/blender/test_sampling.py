@@ -130,9 +130,15 @@ def test_a_noise_threshold_stops_flat_pixels_and_spends_on_the_penumbra(scene, t
     whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 8, 1
     whitted.adaptive_sampling, whitted.noise_threshold = True, 0.02
     whitted.adaptive_min_samples = 4
-    render_multilayer(scene, tmp_path / "adaptive.exr")
+    bpy.context.view_layer.whitted.use_pass_sample_count = True
+    channels = render_multilayer(scene, tmp_path / "adaptive.exr")
     stats = json.loads(scene.whitted.last_stats)
     samples = stats["pixel_samples"]
+    counts = channels["ViewLayer.Debug Sample Count.X"]
+    assert (counts.min(), counts.max()) == (samples["min"], samples["max"])
+    assert counts.mean() == pytest.approx(samples["mean"], rel=1e-6)
+    assert 0.0 < stats["noise"]["mean"] < stats["noise"]["max"]
+    assert not stats["time_limited"]
     # The first check is after 16 samples (Cycles' schedule: native schedule.h); flat
     # pixels stop there, the penumbra's go on to the grid's 64.
     assert samples["min"] == 16 and samples["max"] == 64
@@ -150,3 +156,13 @@ def test_threshold_zero_is_the_fixed_count_render(scene, tmp_path):
     # The same samples summed in another order.
     np.testing.assert_allclose(adaptive, fixed, rtol=1e-5, atol=1e-6)
     assert json.loads(whitted.last_stats)["pixel_samples"]["min"] == 16
+
+
+def test_the_time_limit_ends_sampling_with_the_samples_taken(scene, tmp_path):
+    apply_quality(scene.whitted, preset("FINAL"))
+    scene.whitted.time_limit = 1e-6
+    render_multilayer(scene, tmp_path / "limited.exr")
+    stats = json.loads(scene.whitted.last_stats)
+    assert stats["time_limited"]
+    # Only the first round (up to the first check, after Final's 16 minimum: 32) ran.
+    assert stats["pixel_samples"]["max"] == 32

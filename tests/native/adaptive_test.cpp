@@ -87,6 +87,21 @@ TEST(FilmConverge, ComparesWithFiveTimesTheThreshold) {
   again.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
   again.add(0, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
   EXPECT_EQ(again.converge(error / kNoiseThresholdScale * 0.99f, 0, 0, 1, 1), 1u);
+  EXPECT_EQ(again.noise(0, 0), error);  // the estimate converge compares
+}
+
+TEST(FilmNoise, NaNBelowTwoSamples) {
+  Film film(2, 1, true, 0, 1, true);
+  EXPECT_TRUE(std::isnan(film.noise(0, 0)));
+  film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  EXPECT_TRUE(std::isnan(film.noise(0, 0)));
+  film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  EXPECT_EQ(film.noise(0, 0), 0.0f);  // two equal samples
+  // Three: class A is the first and third, (1 + 0) / 2 against the mean 2 / 3.
+  film.add(1, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  film.add(1, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  film.add(1, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
+  EXPECT_EQ(film.noise(1, 0), noise_error(Color(2.0f / 3.0f), Color(0.5f)));
 }
 
 TEST(SampleOrder, EachPixelPermutesItsGridAndOnlyNoiseDrivenSampling) {
@@ -276,6 +291,182 @@ TEST(AdaptiveRender, BitIdenticalForThreadsAndTiles) {
     const Rendered r = render(scene, progressive);
     EXPECT_EQ(r.samples, reference.samples) << waves;
     EXPECT_EQ(r.pixels, reference.pixels) << waves;
+  }
+}
+
+// The camera samples the Sample Count pass shows, row by row.
+std::vector<uint32_t> sample_count_pass(const RenderJob& job) {
+  std::vector<uint32_t> out;
+  for (float v : job.film().pass(FilmPass::kSampleCount)) out.push_back(static_cast<uint32_t>(v));
+  return out;
+}
+
+TEST(SampleCountPass, EachPixelsCameraSamplesWithoutChangingTheImage) {
+  const Scene scene = testing::occluder_over_floor(0.5f);
+  for (bool waves : {false, true}) {
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    const Rendered without = render(scene, settings);
+    settings.passes = pass_bit(FilmPass::kSampleCount);
+    RenderJob job(scene, settings, scene.camera);
+    run_to_end(job);
+    EXPECT_EQ(job.film().pixels(), without.pixels) << waves;  // the kernel records nothing
+    const std::vector<uint32_t> counts = sample_count_pass(job);
+    EXPECT_EQ(counts, without.samples) << waves;
+    // Flat pixels show the minimum (the first check), the shadow's edges more.
+    EXPECT_EQ(*std::min_element(counts.begin(), counts.end()), 16u) << waves;
+    EXPECT_EQ(*std::max_element(counts.begin(), counts.end()), 36u) << waves;
+    // Whole pixels: the grid, or Whitted's adaptive anti-aliasing's camera rays.
+    for (AntiAliasing mode : {AntiAliasing::kJittered, AntiAliasing::kAdaptive}) {
+      Settings fixed = settings;
+      fixed.adaptive_sampling = false;
+      fixed.aa_mode = mode;
+      RenderJob whole(scene, fixed, scene.camera);
+      run_to_end(whole);
+      const std::vector<uint32_t> taken = sample_count_pass(whole);
+      uint64_t total = 0;
+      for (uint32_t n : taken) total += n;
+      EXPECT_EQ(total, whole.stats().samples) << waves;
+      const auto [low, high] = std::minmax_element(taken.begin(), taken.end());
+      if (mode == AntiAliasing::kJittered) {
+        EXPECT_EQ(*low, 36u);
+        EXPECT_EQ(*high, 36u);
+      } else {
+        EXPECT_EQ(*low, 4u) << waves;  // the corners of a flat pixel
+        EXPECT_GT(*high, 4u) << waves;
+      }
+    }
+  }
+}
+
+TEST(NoiseStats, FinalEstimateFallsWithSamplesAndStoppedPixelsAreBelowTheLimit) {
+  const Scene scene = testing::glass_and_mirror_scene();
+  for (bool waves : {false, true}) {
+    // Threshold 0: every pixel takes its whole grid; the estimate falls as it grows.
+    std::vector<double> means;
+    for (int n : {4, 8}) {
+      Settings settings = edge_settings(2, 8);
+      settings.waves = waves;
+      settings.aa_samples = n;
+      settings.noise_threshold = 0.0f;
+      const Rendered r = render(scene, settings);
+      ASSERT_TRUE(r.stats.noise.has_value());
+      EXPECT_GT(r.stats.noise->max, r.stats.noise->mean);
+      means.push_back(r.stats.noise->mean);
+    }
+    EXPECT_LT(means[1], 0.75 * means[0]) << waves;
+    // A pixel that stopped at a check (16 or 32 samples; one at 20 was woken by a noisy
+    // neighbour at the second check and took the last round unchecked) is below 5 x the
+    // threshold.
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    RenderJob job(scene, settings, scene.camera);
+    run_to_end(job);
+    double sum = 0.0;
+    float most = 0.0f;
+    for (int y = 0; y < settings.height; ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        const float error = job.film().noise(x, y);
+        sum += error;
+        most = std::max(most, error);
+        const uint32_t taken = job.film().samples(x, y);
+        if (taken == 16 || taken == 32) {
+          EXPECT_LT(error, kNoiseThresholdScale * settings.noise_threshold);
+        }
+      }
+    }
+    const RenderStats stats = job.stats();
+    ASSERT_TRUE(stats.noise.has_value());
+    EXPECT_EQ(stats.noise->max, most);
+    EXPECT_NEAR(stats.noise->mean, sum / (settings.width * settings.height), 1e-9);
+    // Absent without noise-driven sampling.
+    settings.adaptive_sampling = false;
+    EXPECT_FALSE(render(scene, settings).stats.noise.has_value());
+  }
+}
+
+TEST(AdaptiveSettings, TimeLimitIsBounded) {
+  Settings settings;
+  settings.time_limit = -1.0;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  settings.time_limit = 2e6;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  settings.time_limit = 0.5;
+  EXPECT_NO_THROW(settings.validate());
+}
+
+TEST(TimeLimit, AnExpiredLimitTracesTheFirstRoundOnly) {
+  const Scene scene = testing::occluder_over_floor(0.5f);
+  for (bool waves : {false, true}) {
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    settings.time_limit = 1e-9;
+    RenderJob job(scene, settings, scene.camera);
+    run_to_end(job);
+    const RenderStats stats = job.stats();
+    EXPECT_TRUE(stats.time_limited);
+    EXPECT_EQ(stats.rounds, 1);
+    EXPECT_EQ(stats.samples_min, 16u);  // the first check's count, every pixel
+    EXPECT_EQ(stats.samples_max, 16u);
+    EXPECT_EQ(stats.samples, 16u * 32u * 24u);
+    EXPECT_FALSE(stats.cancelled);
+    EXPECT_EQ(job.progress(), 1.0f);
+    EXPECT_EQ(stats.pixels, 32u * 24u);  // every tile reported finished
+    size_t tiles = 0;
+    for (const Tile& t : job.take_finished_tiles()) tiles += t.width * t.height;
+    EXPECT_EQ(tiles, 32u * 24u);
+    // Each pixel shows the mean of its first 16 samples: where the render without a
+    // limit stopped a pixel at the first check too, the two pixels are the same.
+    Settings unlimited = settings;
+    unlimited.time_limit = 0.0;
+    const Rendered full = render(scene, unlimited);
+    EXPECT_FALSE(full.stats.time_limited);
+    EXPECT_EQ(full.stats.rounds, 3);
+    size_t same = 0;
+    for (size_t i = 0; i < full.samples.size(); ++i) {
+      if (full.samples[i] != 16) continue;
+      ++same;
+      for (size_t c = 0; c < 4; ++c) {
+        EXPECT_EQ(job.film().pixels()[4 * i + c], full.pixels[4 * i + c]) << i << " " << waves;
+      }
+    }
+    EXPECT_GT(same, 32u * 24u / 2);
+  }
+}
+
+TEST(TimeLimit, ProgressiveStopsAfterItsFirstRound) {
+  const Scene scene = testing::occluder_over_floor(0.5f);
+  Settings settings = edge_settings(2, 8);
+  settings.progressive = true;
+  settings.time_limit = 1e-9;
+  const Rendered r = render(scene, settings);
+  EXPECT_TRUE(r.stats.time_limited);
+  EXPECT_EQ(r.stats.rounds, 1);  // a round per sample: one sample each
+  EXPECT_EQ(r.stats.samples_max, 1u);
+  EXPECT_EQ(r.stats.samples_min, 1u);
+}
+
+TEST(TimeLimit, ZeroOrUnreachedChangesNothingAndWithoutAdaptiveItIsIgnored) {
+  const Scene scene = testing::glass_and_mirror_scene();
+  for (bool waves : {false, true}) {
+    Settings settings = edge_settings(2, 8);
+    settings.waves = waves;
+    const Rendered none = render(scene, settings);
+    settings.time_limit = 1e6;
+    const Rendered unreached = render(scene, settings);
+    EXPECT_FALSE(unreached.stats.time_limited);
+    EXPECT_EQ(unreached.stats.rounds, none.stats.rounds);
+    EXPECT_EQ(unreached.pixels, none.pixels);
+    EXPECT_EQ(unreached.samples, none.samples);
+    // Without noise-driven sampling the limit is ignored.
+    settings.adaptive_sampling = false;
+    settings.time_limit = 0.0;
+    const Rendered fixed = render(scene, settings);
+    settings.time_limit = 1e-9;
+    const Rendered limited = render(scene, settings);
+    EXPECT_FALSE(limited.stats.time_limited);
+    EXPECT_EQ(limited.stats.rounds, 0);
+    EXPECT_EQ(limited.pixels, fixed.pixels);
   }
 }
 

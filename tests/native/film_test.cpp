@@ -11,7 +11,7 @@ namespace {
 
 TEST(Film, APixelShowsItsPreviewUntilItsFirstSampleThenTheMean) {
   Film film(3, 2, true);
-  film.set(2, 1, Sample{Color(9.0f), 1.0f}, 7.0f);
+  film.set(2, 1, Sample{Color(9.0f), 1.0f}, 7.0f, 1);
   const size_t i = 1 * 3 + 2;
   EXPECT_EQ(film.pixels()[4 * i], 9.0f);
   EXPECT_EQ(film.cost()[i], 7.0f);
@@ -49,8 +49,8 @@ TEST(Film, TheDisplayImageFitsAHalfFloatTexture) {
   Film film(4, 1, false);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  film.set(0, 0, Sample{Color(nan, 1e6f, -1.0f), 0.5f}, 0.0f);
-  film.set(1, 0, Sample{Color(inf, 65000.0f, 0.25f), 1.0f}, 0.0f);
+  film.set(0, 0, Sample{Color(nan, 1e6f, -1.0f), 0.5f}, 0.0f, 1);
+  film.set(1, 0, Sample{Color(inf, 65000.0f, 0.25f), 1.0f}, 0.0f, 1);
   float out[16];
   film.display_image(out);
   EXPECT_EQ(out[0], 0.0f);
@@ -65,9 +65,9 @@ TEST(Film, TheDisplayImageFitsAHalfFloatTexture) {
 
 TEST(Film, TheCostHeatMapRisesFromDarkBlueToYellow) {
   Film film(3, 1, false);
-  film.set(0, 0, Sample{Color(0.0f), 1.0f}, 0.0f);
-  film.set(1, 0, Sample{Color(0.0f), 1.0f}, 5.0f);
-  film.set(2, 0, Sample{Color(0.0f), 1.0f}, 10.0f);
+  film.set(0, 0, Sample{Color(0.0f), 1.0f}, 0.0f, 1);
+  film.set(1, 0, Sample{Color(0.0f), 1.0f}, 5.0f, 1);
+  film.set(2, 0, Sample{Color(0.0f), 1.0f}, 10.0f, 1);
   float out[12];
   film.display_cost(out);
   const auto luminance = [&](int p) {

@@ -409,12 +409,20 @@ def test_the_shutter_is_bound_with_the_camera():
             wn.Camera(rolling_shutter=duration)
 
 
-def test_noise_driven_sampling_stops_flat_pixels_and_reports_samples_per_pixel():
-    # A blocker's hard shadow on a lit floor: flat light and shade, noisy edges.
+def shadow_edge_scene():
+    """A blocker's hard shadow on a lit floor: flat light and shade, noisy edges."""
     scene = lit_floor_scene()
     scene.set_mesh("blocker", *quad(-0.3, 0.3, -0.3, 0.3, 1.0))
     scene.set_instance("blocker", "blocker", np.eye(4), ["white"])
-    kwargs = dict(width=24, height=24, aa_samples=6, aa_mode=wn.AntiAliasing.JITTERED)
+    return scene
+
+
+SHADOW_EDGE = dict(width=24, height=24, aa_samples=6, aa_mode=wn.AntiAliasing.JITTERED)
+
+
+def test_noise_driven_sampling_stops_flat_pixels_and_reports_samples_per_pixel():
+    scene = shadow_edge_scene()
+    kwargs = SHADOW_EDGE
     settings = wn.Settings(**kwargs, adaptive_sampling=True, adaptive_min_samples=4)
     assert (settings.noise_threshold, settings.adaptive_min_samples) == (pytest.approx(0.01), 4)
     job = wn.RenderJob(scene, settings)
@@ -429,3 +437,58 @@ def test_noise_driven_sampling_stops_flat_pixels_and_reports_samples_per_pixel()
     fixed = finish(wn.RenderJob(scene, wn.Settings(**kwargs)))
     np.testing.assert_allclose(finish(job), fixed, rtol=1e-5, atol=1e-6)
     assert job.stats()["samples_per_pixel"] == (36, 36.0, 36)
+
+
+def test_an_expired_time_limit_ends_after_the_first_round():
+    scene = shadow_edge_scene()
+    settings = wn.Settings(**SHADOW_EDGE, adaptive_sampling=True, adaptive_min_samples=4)
+    assert settings.time_limit == 0.0 and wn.LIMITS["time_limit"] == (0.0, 1e6)
+    job = wn.RenderJob(scene, settings)
+    finish(job)
+    assert not job.stats()["time_limited"] and job.stats()["rounds"] == 3  # checks 16, 32; 36
+    settings.time_limit = 1e-9
+    job = wn.RenderJob(scene, settings)
+    finish(job)
+    stats = job.stats()
+    assert stats["time_limited"] and stats["rounds"] == 1
+    assert stats["samples_per_pixel"] == (16, 16.0, 16)
+    # Ignored without noise-driven sampling.
+    fixed = wn.Settings(**SHADOW_EDGE, time_limit=1e-9)
+    job = wn.RenderJob(scene, fixed)
+    finish(job)
+    assert not job.stats()["time_limited"] and job.stats()["samples"] == 36 * 24 * 24
+    with pytest.raises(ValueError, match="time_limit"):
+        wn.Settings(time_limit=-1.0)
+
+
+def test_the_sample_count_pass_shows_each_pixels_camera_samples():
+    scene = shadow_edge_scene()
+    assert wn.FILM_PASSES["sample_count"] == 1
+    settings = wn.Settings(
+        **SHADOW_EDGE, adaptive_sampling=True, adaptive_min_samples=4, passes=["sample_count"]
+    )
+    job = wn.RenderJob(scene, settings)
+    image = finish(job)
+    counts = job.pass_tile("sample_count", 0, 0, 24, 24)[:, 0]
+    assert counts.min() == 16 and counts.max() == 36  # flat pixels, the shadow's edge
+    assert counts.sum() == job.stats()["samples"]
+    np.testing.assert_array_equal(job.pass_tile("sample_count", 3, 2, 4, 5)[:, 0].shape, (20,))
+    # Kept or not, the kernel and the image are the same.
+    settings.passes = []
+    np.testing.assert_array_equal(finish(wn.RenderJob(scene, settings)), image)
+
+
+def test_stats_give_the_final_noise_estimate_of_a_noise_driven_render():
+    scene = shadow_edge_scene()
+    means = []
+    for aa_samples in (4, 8):
+        kwargs = dict(SHADOW_EDGE, aa_samples=aa_samples)
+        job = wn.RenderJob(scene, wn.Settings(**kwargs, adaptive_sampling=True, noise_threshold=0))
+        finish(job)
+        noise = job.stats()["noise"]
+        assert set(noise) == {"mean", "max"} and 0 < noise["mean"] < noise["max"]
+        means.append(noise["mean"])
+    assert means[1] < 0.75 * means[0]  # 64 samples a pixel against 16
+    job = wn.RenderJob(scene, wn.Settings(**SHADOW_EDGE))
+    finish(job)
+    assert "noise" not in job.stats()  # absent without noise-driven sampling

@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 namespace whitted {
 namespace {
@@ -117,6 +118,7 @@ void gather(FilmPass pass, const SampleRecord& r, float* out) {
     case FilmPass::kCutWeight:
       out[0] = r.cut_weight;
       return;
+    case FilmPass::kSampleCount:  // the film's, not the record's
     case FilmPass::kCount:
       return;
   }
@@ -186,16 +188,18 @@ Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribu
   }
 }
 
-void Film::set(int x, int y, const Sample& value, float cost, const SampleRecord* record) {
+void Film::set(int x, int y, const Sample& value, float cost, uint32_t samples,
+               const SampleRecord* record) {
   const size_t i = index(x, y);
   store_rgba(&pixels_[4 * i], value);
   store(cost_[i], cost);
+  store_count(i, samples);
   if (record == nullptr) return;
   std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
   std::array<float, 3> color{};
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
-    if (!has_pass(pass)) continue;
+    if (!has_recorded(pass)) continue;
     const int n = channels_[p];
     gather(pass, *record, raw.data());
     const FilmPass divisor = color_of(pass);
@@ -224,11 +228,12 @@ void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecor
   store_rgba(&pixels_[4 * i], Sample{Color(sum[0], sum[1], sum[2]) * w, sum[3] * w});
   // The first sample's rays replace the preview's.
   store(cost_[i], count_[i] == 1 ? cost : load(cost_[i]) + cost);
+  store_count(i, count_[i]);
   if (record == nullptr) return;
   std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
-    if (!has_pass(pass)) continue;
+    if (!has_recorded(pass)) continue;
     const int n = channels_[p];
     float* pixel_sum = &sums_[p][n * i];
     gather(pass, *record, raw.data());
@@ -241,7 +246,7 @@ void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecor
   std::array<float, 3> color{};
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
-    if (!has_pass(pass)) continue;
+    if (!has_recorded(pass)) continue;
     const int n = channels_[p];
     const float scale = first_sample_only(pass) ? 1.0f : w;
     for (int c = 0; c < n; ++c) raw[c] = sums_[p][n * i + c] * scale;
@@ -254,27 +259,34 @@ void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecor
   }
 }
 
+void Film::store_count(size_t i, uint32_t samples) {
+  if (has_pass(FilmPass::kSampleCount)) {
+    store(shown_[static_cast<size_t>(FilmPass::kSampleCount)][i], static_cast<float>(samples));
+  }
+}
+
+float Film::noise(int x, int y) const {
+  const size_t i = index(x, y);
+  const uint32_t n = count_[i];
+  if (n < 2) return std::numeric_limits<float>::quiet_NaN();
+  const float w = 1.0f / static_cast<float>(n);
+  const float h = 1.0f / static_cast<float>((n + 1) / 2);  // class A: the even positions
+  const Color mean(sum_[4 * i] * w, sum_[4 * i + 1] * w, sum_[4 * i + 2] * w);
+  const Color half(half_[3 * i] * h, half_[3 * i + 1] * h, half_[3 * i + 2] * h);
+  return noise_error(mean, half);
+}
+
 size_t Film::converge(float threshold, int x, int y, int width, int height) {
   const float limit = kNoiseThresholdScale * threshold;
-  // Not converged, inside the area (row by row from its corner).
+  // Not converged, inside the area (row by row from its corner). Written as "not below"
+  // so that a NaN estimate (fewer than 2 samples, or a NaN sample) stays noisy.
   std::vector<uint8_t> noisy(static_cast<size_t>(width) * height, 0);
   for (int row = 0; row < height; ++row) {
     for (int column = 0; column < width; ++column) {
-      const size_t i = index(x + column, y + row);
-      const uint32_t n = count_[i];
-      const uint32_t half_count = (n + 1) / 2;
       // A pixel without samples at a check is one this render does not trace (a probe's
       // skipped tiles: probe_stride): it neither stays active nor keeps its neighbours so.
-      if (n < 2) {
-        noisy[static_cast<size_t>(row) * width + column] = n == 1 ? 1 : 0;
-        continue;
-      }
-      const float w = 1.0f / static_cast<float>(n);
-      const float h = 1.0f / static_cast<float>(half_count);
-      const Color mean(sum_[4 * i] * w, sum_[4 * i + 1] * w, sum_[4 * i + 2] * w);
-      const Color half(half_[3 * i] * h, half_[3 * i + 1] * h, half_[3 * i + 2] * h);
-      // Written as "not below" so that a NaN estimate stays noisy.
-      noisy[static_cast<size_t>(row) * width + column] = !(noise_error(mean, half) < limit);
+      if (count_[index(x + column, y + row)] == 0) continue;
+      noisy[static_cast<size_t>(row) * width + column] = !(noise(x + column, y + row) < limit);
     }
   }
   size_t active = 0;

@@ -47,9 +47,11 @@ class Film {
   int height() const { return height_; }
 
   // What pixel (x, y) shows, and the rays it took: the final value of a pixel rendered
-  // whole, or a preview, shown until the pixel has a sample of its own.
-  // `record`, the pixel's (the mean of its samples' records), fills the kept passes.
-  void set(int x, int y, const Sample& value, float cost, const SampleRecord* record = nullptr);
+  // whole from `samples` camera samples, or a preview (0 samples of its own), shown until
+  // the pixel has a sample of its own. `record`, the pixel's (the mean of its samples'
+  // records), fills the kept passes the kernel records; Sample Count takes `samples`.
+  void set(int x, int y, const Sample& value, float cost, uint32_t samples,
+           const SampleRecord* record = nullptr);
   // One more sample of pixel (x, y), and its rays: the pixel shows the mean so far.
   void add(int x, int y, const Sample& sample, float cost, const SampleRecord* record = nullptr);
 
@@ -59,6 +61,9 @@ class Film {
   // converged (Cycles' dilation). Returns the active pixels. All pixels start active.
   size_t converge(float threshold, int x, int y, int width, int height);
   bool active(int x, int y) const { return active_.empty() || active_[index(x, y)] != 0; }
+  // Pixel (x, y)'s noise_error, from the mean of its samples and of its class-A half
+  // (adaptive only); NaN while it has fewer than 2 samples.
+  float noise(int x, int y) const;
   // Samples taken by pixel (x, y) (accumulating only).
   uint32_t samples(int x, int y) const { return count_[index(x, y)]; }
 
@@ -89,6 +94,12 @@ class Film {
 
  private:
   size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
+  // A kept pass the kernel records (kRecordedPasses), as opposed to the film's own.
+  bool has_recorded(FilmPass pass) const {
+    return (passes_ & kRecordedPasses & pass_bit(pass)) != 0;
+  }
+  // Sample Count, where it is kept: pixel i took `samples` camera samples.
+  void store_count(size_t i, uint32_t samples);
 
   int width_;
   int height_;

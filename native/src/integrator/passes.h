@@ -37,6 +37,9 @@ enum class FilmPass : uint32_t {
   kMaterialIndex,
   kContributions,  // per depth of the ray tree: RGB for depths 0 .. N-1, then N and beyond
   kCutWeight,
+  // Camera samples the pixel took (Cycles' Sample Count debug pass): the film's own count,
+  // not recorded by the kernel.
+  kSampleCount,
   kCount,
 };
 inline constexpr size_t kFilmPassCount = static_cast<size_t>(FilmPass::kCount);
@@ -68,6 +71,7 @@ inline constexpr std::array<FilmPassInfo, kFilmPassCount> kFilmPasses = {{
     {"material_index", 1},
     {"contributions", 3},
     {"cut_weight", 1},
+    {"sample_count", 1},
 }};
 inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = [] {
   std::array<std::string_view, kFilmPassCount> names{};
@@ -87,6 +91,9 @@ inline constexpr uint32_t kLightPasses =
     pass_bit(FilmPass::kDepth) - 1;  // kEmission .. kTransmissionColor
 inline constexpr uint32_t kDataPasses =
     pass_bit(FilmPass::kContributions) - pass_bit(FilmPass::kDepth);  // kDepth .. kMaterialIndex
+// The passes the kernel records into a SampleRecord (all but Sample Count, which the film
+// counts): a render keeping none of them runs the kernels that record nothing.
+inline constexpr uint32_t kRecordedPasses = pass_bit(FilmPass::kSampleCount) - 1;
 
 // Depth where a camera sample sees no surface (as Cycles' Depth pass shows the sky).
 inline constexpr float kNoDepth = 1e10f;

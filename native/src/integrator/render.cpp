@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <new>
 #include <stdexcept>
@@ -75,7 +76,8 @@ RenderJob::RenderJob(const Settings& settings, const Camera& camera, RayRecorder
       film_(settings_.width, settings_.height, settings_.progressive || settings_.adaptive_sampling,
             settings_.passes, settings_.contribution_depth, settings_.adaptive_sampling),
       cryptomatte_(settings_),
-      recorder_(std::move(recorder)) {}
+      recorder_(std::move(recorder)),
+      passes_end_(passes_.size()) {}
 
 RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera& camera,
                      uint32_t record_stride, bool record_results)
@@ -179,7 +181,7 @@ void RenderJob::work(int worker) {
   stats_.wave_bytes = std::max(stats_.wave_bytes, wave_bytes(wave));
   if (--running_ == 0) {
     stats_.trace_seconds = now_seconds() - start_time_;
-    if (settings_.adaptive_sampling) count_samples();
+    if (settings_.adaptive_sampling) summarize_film();
     stats_.cancelled = cancel_;
   }
   changed_.notify_all();
@@ -192,9 +194,16 @@ bool RenderJob::wait_for_pass(size_t pass) {
   const size_t needed = pass * tiles_.size();
   if (done_items_ < needed) {
     std::unique_lock lock(mutex_);
-    changed_.wait(lock, [&] { return cancel_ || done_items_ >= needed; });
+    changed_.wait(lock, [&] { return cancel_ || done_items_ >= needed || pass >= passes_end_; });
   }
-  return !cancel_;
+  return !cancel_ && pass < passes_end_;
+}
+
+bool RenderJob::out_of_time(const Pass& next) const {
+  // The first round always runs, so every pixel of the border has samples of its own.
+  return settings_.adaptive_sampling && settings_.time_limit > 0.0 &&
+         next.kind == Pass::Kind::kRound && next.sample > 0 &&
+         now_seconds() - start_time_ >= settings_.time_limit;
 }
 
 void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
@@ -206,7 +215,7 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
   const int width = settings_.width;
   // What each pixel (or sample) adds to the passes, when there are any.
   SampleRecord record;
-  SampleRecord* const passes = settings_.passes != 0 ? &record : nullptr;
+  SampleRecord* const passes = (settings_.passes & kRecordedPasses) != 0 ? &record : nullptr;
   if (pass.kind == Pass::Kind::kPreview) {
     for_each_block(tile, pass.pixel_size, area_, [&](const Tile& block, const Tile& inside) {
       if (cancel_) return false;
@@ -218,7 +227,9 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
           static_cast<float>(block.y) + 0.5f * static_cast<float>(block.height), counts, passes);
       const auto cost = static_cast<float>(counts->total() - before);
       for (int y = inside.y; y < inside.y + inside.height; ++y) {
-        for (int x = inside.x; x < inside.x + inside.width; ++x) film_.set(x, y, s, cost, passes);
+        for (int x = inside.x; x < inside.x + inside.width; ++x) {
+          film_.set(x, y, s, cost, 0, passes);  // no samples of the pixel's own
+        }
       }
       return true;
     });
@@ -253,8 +264,10 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
       const uint64_t before = counts->total();
       if (passes != nullptr) record = SampleRecord{};
       if (pass.kind == Pass::Kind::kPixels) {
+        const uint64_t camera_before = counts->camera;
         const Sample s = sampler.pixel(x, y, counts, nullptr, passes, &block);
-        film_.set(x, y, s, static_cast<float>(counts->total() - before), passes);
+        film_.set(x, y, s, static_cast<float>(counts->total() - before),
+                  static_cast<uint32_t>(counts->camera - camera_before), passes);
         if (cryptomatte_.enabled()) cryptomatte_.trace_pixel(*scene_, camera_, x, y);
       } else {
         const Sample s = sampler.grid_sample(x, y, pass.sample, counts, passes);
@@ -270,6 +283,7 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
   std::vector<Sample> values;
   std::vector<uint64_t> rays;
   std::vector<SampleRecord> records;  // where (data) passes are kept
+  std::vector<uint32_t> samples;      // whole pixels: each one's camera samples
   const int end = tile.x + tile.width;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
@@ -289,14 +303,14 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
       // A round's samples as one wave, each pixel's added in its order.
       const int count = round ? pass.samples - pass.sample : 1;
       sampler.row(x0, x1, y, whole ? -1 : pass.sample, count, wave, counts, &values, &rays,
-                  &records);
+                  &records, &samples);
       for (int x = x0; x < x1; ++x) {
         for (int j = 0; j < (whole ? 1 : count); ++j) {
           const auto i = static_cast<size_t>((x - x0) * (whole ? 1 : count) + j);
           const auto cost = static_cast<float>(rays[i]);
           const SampleRecord* record = records.empty() ? nullptr : &records[i];
           if (whole) {
-            film_.set(x, y, values[i], cost, record);
+            film_.set(x, y, values[i], cost, samples[static_cast<size_t>(x - x0)], record);
           } else {
             film_.add(x, y, values[i], cost, record);
           }
@@ -323,31 +337,54 @@ void RenderJob::finish_item(size_t item, RayCounts* counts) {
   // is known before done_items_ lets the next pass start.
   const size_t done = done_items_ + 1;
   if (done % tiles_.size() == 0) {
-    const Pass& pass = passes_[done / tiles_.size() - 1];
+    const size_t complete = done / tiles_.size();
+    const Pass& pass = passes_[complete - 1];
+    if (pass.kind == Pass::Kind::kRound) stats_.rounds += 1;
     if (pass.converge) {
       // No worker writes now: the next pass's items wait for done_items_.
       stats_.active_pixels =
           film_.converge(settings_.noise_threshold, area_.x, area_.y, area_.width, area_.height);
+    }
+    if (complete < passes_.size() && out_of_time(passes_[complete])) {
+      // Decided once, between rounds, so every pixel of a round is traced or none is.
+      // This pass is now the last: its tiles are finished.
+      passes_end_ = complete;
+      stats_.time_limited = true;
+      for (const Tile& t : tiles_) {
+        finished_.push_back(t);
+        stats_.pixels += static_cast<uint64_t>(t.width) * t.height;
+      }
     }
   }
   done_items_ = done;
   if (done % tiles_.size() == 0) changed_.notify_all();  // a pass is complete
 }
 
-void RenderJob::count_samples() {
+void RenderJob::summarize_film() {
   uint64_t total = 0;
   stats_.samples_min = UINT32_MAX;
   stats_.samples_max = 0;
+  RenderStats::Noise noise;
+  uint64_t measured = 0;
   for (int y = area_.y; y < area_.y + area_.height; ++y) {
     for (int x = area_.x; x < area_.x + area_.width; ++x) {
       const uint32_t n = film_.samples(x, y);
       total += n;
       stats_.samples_min = std::min(stats_.samples_min, n);
       stats_.samples_max = std::max(stats_.samples_max, n);
+      const float error = film_.noise(x, y);
+      if (std::isnan(error)) continue;
+      noise.mean += error;
+      noise.max = std::max(noise.max, error);
+      ++measured;
     }
   }
   stats_.samples_mean = static_cast<double>(total) /
                         (static_cast<double>(area_.width) * static_cast<double>(area_.height));
+  if (measured > 0) {
+    noise.mean /= static_cast<double>(measured);
+    stats_.noise = noise;
+  }
 }
 
 void RenderJob::fail(std::exception_ptr error) {
@@ -381,7 +418,7 @@ void RenderJob::cancel() {
 
 float RenderJob::progress() const {
   return static_cast<float>(done_items_.load()) /
-         static_cast<float>(passes_.size() * tiles_.size());
+         static_cast<float>(passes_end_.load() * tiles_.size());
 }
 
 int RenderJob::frame() const {
@@ -391,7 +428,7 @@ int RenderJob::frame() const {
 PassInfo RenderJob::pass_info() const {
   PassInfo info;
   info.pass = frame();
-  info.passes = static_cast<int>(passes_.size());
+  info.passes = static_cast<int>(passes_end_.load());
   if (info.pass > 0) {
     const Pass& last = passes_[static_cast<size_t>(info.pass) - 1];
     info.pixel_size = last.pixel_size;

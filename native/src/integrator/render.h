@@ -7,6 +7,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -52,9 +53,22 @@ struct RenderStats {
   // last check (all of the border's before the first), and, once the render has stopped,
   // the samples each pixel of the border took.
   size_t active_pixels = 0;
+  // The rounds traced, and whether Settings::time_limit stopped the render before the
+  // schedule's last round.
+  int rounds = 0;
+  bool time_limited = false;
   uint32_t samples_min = 0;
   uint32_t samples_max = 0;
   double samples_mean = 0.0;
+  // Once the render has stopped, the final noise estimate (Film::noise: Cycles' metric,
+  // which a pixel stops below kNoiseThresholdScale x noise_threshold) over the border's
+  // pixels whose estimate is a number (2 samples or more, none NaN); absent without
+  // noise-driven sampling, and when no pixel has one.
+  struct Noise {
+    double mean = 0.0;
+    float max = 0.0f;
+  };
+  std::optional<Noise> noise;
 };
 
 // Where a render is in its schedule.
@@ -127,8 +141,11 @@ class RenderJob {
   void work(int worker);
   // Throws std::logic_error unless every worker has stopped.
   void check_finished(const char* what) const;
-  // Blocks until every pass before `pass` is complete; false if the job was cancelled.
+  // Blocks until every pass before `pass` is complete; false if the job was cancelled
+  // or the time limit ended it before `pass`.
   bool wait_for_pass(size_t pass);
+  // Whether Settings::time_limit stops the render before `next`, were it to start now.
+  bool out_of_time(const Pass& next) const;
   void trace(const Pass& pass, const Tile& tile, const CameraSampler& sampler, RayLog* log,
              Wave* wave, RayCounts* counts);
   // A pass over a tile's whole pixels or grid samples traced in waves, a row at a time.
@@ -137,8 +154,9 @@ class RenderJob {
   // Counts the item done; the last item of a pass followed by the film's noise check runs
   // that check first (under the lock, before the next pass may start).
   void finish_item(size_t item, RayCounts* counts);
-  // RenderStats' samples per pixel, from the film (every worker stopped; under the lock).
-  void count_samples();
+  // RenderStats' samples per pixel and final noise, from the film (every worker stopped;
+  // under the lock).
+  void summarize_film();
   // Keeps the first error for wait() and stops the other workers.
   void fail(std::exception_ptr error);
 
@@ -157,6 +175,8 @@ class RenderJob {
   std::atomic<size_t> next_item_{0};
   // Items done: passes complete in order, so the first done / tiles passes are complete.
   std::atomic<size_t> done_items_{0};
+  // The passes traced: the schedule's, or fewer once the time limit has cut it.
+  std::atomic<size_t> passes_end_;
   std::atomic<bool> cancel_{false};
   mutable std::mutex mutex_;  // guards everything below
   // Notified when a pass completes, the job is cancelled or a worker stops.

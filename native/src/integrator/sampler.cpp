@@ -178,15 +178,15 @@ void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t in
 
 void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave, RayCounts* counts,
                         std::vector<Sample>* values, std::vector<uint64_t>* rays,
-                        std::vector<SampleRecord>* records) const {
+                        std::vector<SampleRecord>* records, std::vector<uint32_t>* samples) const {
   if (sample < 0 && adaptive()) {
-    row_adaptive(x0, x1, y, wave, counts, values, rays, records);
+    row_adaptive(x0, x1, y, wave, counts, values, rays, records, samples);
     return;
   }
   const int grid = settings_.aa_samples * settings_.aa_samples;
   const int per_pixel = sample < 0 ? grid : count;
   const auto pixels = static_cast<size_t>(x1 - x0);
-  const bool passes = settings_.passes != 0;
+  const bool passes = (settings_.passes & kRecordedPasses) != 0;
   wave->reset(pixels * static_cast<size_t>(per_pixel), passes);
   // Whole pixels take their first hits from the blocks' packets, as pixel() does.
   const int width = sample < 0 ? block_width() : 0;
@@ -220,6 +220,7 @@ void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave
   values->resize(pixels);
   rays->resize(pixels);
   records->resize(passes ? pixels : 0);
+  samples->assign(pixels, static_cast<uint32_t>(per_pixel));
   const float w = 1.0f / static_cast<float>(per_pixel);
   for (size_t i = 0; i < pixels; ++i) {
     // Summed in sample order and averaged, as pixel_grid() sums its samples.
@@ -247,12 +248,13 @@ void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave
 
 void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
                                  std::vector<Sample>* values, std::vector<uint64_t>* rays,
-                                 std::vector<SampleRecord>* records) const {
+                                 std::vector<SampleRecord>* records,
+                                 std::vector<uint32_t>* samples) const {
   // pixel_adaptive's squares, breadth first, in the wave's reused buffers.
   std::vector<SubdivisionPoint>& points = wave->points;
   std::vector<SubdivisionSquare>& squares = wave->squares;
   std::vector<SampleRecord>& point_records = wave->point_records;
-  const bool passes = settings_.passes != 0;
+  const bool passes = (settings_.passes & kRecordedPasses) != 0;
   points.clear();
   squares.clear();
   point_records.clear();
@@ -356,7 +358,11 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     // The first-sample data (depth, position, indices) are the bottom-left corner's.
     out.take_first(point_records[squares[i].corners[0]]);
   }
-  for (const SubdivisionPoint& p : points) (*rays)[p.pixel] += p.rays;
+  samples->assign(pixels, 0);
+  for (const SubdivisionPoint& p : points) {
+    (*rays)[p.pixel] += p.rays;
+    (*samples)[p.pixel] += 1;
+  }
 }
 
 const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,

@@ -103,10 +103,11 @@ class CameraSampler {
   // `sample` + `count` - 1 in its order (sample_cell), each apart, (*values)[i * count + j]
   // sample `sample` + j of pixel x0 + i as grid_sample() gives it. Up to float rounding
   // (wave.h); (*rays) the rays each cost, and, where passes are kept, (*records) the
-  // records pixel() or grid_sample() fills, up to float rounding.
+  // records pixel() or grid_sample() fills, up to float rounding. Whole pixels:
+  // (*samples)[i] the camera samples pixel x0 + i took (its grid, or its points).
   void row(int x0, int x1, int y, int sample, int count, Wave* wave, RayCounts* counts,
            std::vector<Sample>* values, std::vector<uint64_t>* rays,
-           std::vector<SampleRecord>* records) const;
+           std::vector<SampleRecord>* records, std::vector<uint32_t>* samples) const;
   // One camera ray through image point (px, py), in pixels from the bottom-left corner.
   Sample point(float px, float py, RayCounts* counts, SampleRecord* record = nullptr) const;
 
@@ -136,7 +137,7 @@ class CameraSampler {
   // moves a square's spread across the threshold.
   void row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
                     std::vector<Sample>* values, std::vector<uint64_t>* rays,
-                    std::vector<SampleRecord>* records) const;
+                    std::vector<SampleRecord>* records, std::vector<uint32_t>* samples) const;
   // Camera ray `ray` of wave sample `index` (`seed` its NodeState::seed; `first` its
   // first hit, when found) traced into the wave, and counted, as shade() does; its data
   // passes into `record` (fresh) where passes are kept.

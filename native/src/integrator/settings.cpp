@@ -61,6 +61,7 @@ void Settings::validate() const {
   }
   check_setting(setting_range("noise_threshold"), noise_threshold);
   check_setting(setting_range("adaptive_min_samples"), adaptive_min_samples);
+  check_setting(setting_range("time_limit"), time_limit);
   check_setting(setting_range("fault_tile"), fault_tile);
   check_setting(setting_range("contribution_depth"), contribution_depth);
   if (passes >= pass_bit(FilmPass::kCount)) {

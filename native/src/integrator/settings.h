@@ -108,6 +108,13 @@ struct Settings {
   bool adaptive_sampling = false;
   float noise_threshold = 0.01f;
   int adaptive_min_samples = 0;
+  // Cycles' Time Limit, in seconds from the start of the trace (steady clock); 0: none.
+  // With adaptive_sampling, a round (Pass::Kind::kRound) after the first that would start
+  // past the limit is not traced: the render ends with the samples it has, each pixel the
+  // mean of those it took. Without adaptive_sampling the limit is ignored (a fixed-count
+  // render's samples come in one pass, or in the viewport's grid order, which a cut would
+  // leave stratified over part of the pixel only).
+  double time_limit = 0.0;
   // The workers' niceness (Linux: 0 is normal, 19 the lowest priority). The viewport
   // renders at a lower priority than Blender's own thread, so that on a machine whose
   // cores the workers fill the interface still draws each new pass at once.
@@ -174,6 +181,7 @@ inline constexpr std::array kSettingRanges = {
     SettingRange{"start_pixel_size", 1, 64},
     SettingRange{"noise_threshold", 0, 1},
     SettingRange{"adaptive_min_samples", 0, 4096},
+    SettingRange{"time_limit", 0, 1e6},
     SettingRange{"worker_nice", 0, 19},
     SettingRange{"fault_tile", -1, INT32_MAX},
     SettingRange{"contribution_depth", 1, kMaxContributionDepth},

@@ -116,7 +116,7 @@ constexpr auto kRenderKernels =
 // renders (LoggedQueries) run the same kernels as the others.
 template <class Queries>
 WhittedIntegrator::TraceFn render_kernel(const Settings& settings, uint32_t effects) {
-  if (settings.passes != 0) return &PassKernel<Queries, Recurse>::run;
+  if ((settings.passes & kRecordedPasses) != 0) return &PassKernel<Queries, Recurse>::run;
   return kRenderKernels<Queries>.recursive[effects & kAllEffects];
 }
 // Its wave kernel: none when the settings ask for the recursion. With passes, the pass
@@ -126,9 +126,11 @@ template <class Queries>
 WhittedIntegrator::WaveFns wave_kernel(const Settings& settings, uint32_t effects) {
   if (!settings.waves) return {};
   using Passes = PassKernel<Queries, Enqueue>;
-  if ((settings.passes & ~kDataPasses) != 0) return {&wave_camera<Passes>, &wave_rest<Passes>};
+  if ((settings.passes & kRecordedPasses & ~kDataPasses) != 0) {
+    return {&wave_camera<Passes>, &wave_rest<Passes>};
+  }
   WhittedIntegrator::WaveFns fns = kRenderKernels<Queries>.waves[effects & kAllEffects];
-  if (settings.passes != 0) fns.camera = &wave_camera<Passes>;
+  if ((settings.passes & kRecordedPasses) != 0) fns.camera = &wave_camera<Passes>;
   return fns;
 }
 

@@ -124,6 +124,13 @@ PASSES = (
         "over the reflected and refracted rays stopped by the maximum depth or the cutoff of "
         "their weight on the pixel (mean over RGB). 0: nothing cut; at most 1.",
     ),
+    (
+        "Debug Sample Count",
+        "scaled",
+        "Camera samples the pixel took (Cycles' pass of that name; the count itself): "
+        "the anti-aliasing grid, the points Whitted's adaptive anti-aliasing traced, or, "
+        "with noise-driven sampling, the samples taken before the pixel stopped.",
+    ),
     *(
         (
             f"Whitted Depth {d}",
