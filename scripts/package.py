@@ -215,6 +215,48 @@ def built_modules(build_dir, pythons):
     return [found[python] for python in pythons]
 
 
+# Open Image Denoise as scripts/stage_oidn.sh stages it in the build tree (the pyoidn
+# wheel's CPU files; its TBB renamed libtbb_oidn.so.12): the module loads it at run time
+# from libs/ (native/src/denoise/oidn.h), and the core loads the CPU device from its own
+# folder. Each file's SONAME is its file name already.
+OIDN_FILES = (
+    "libOpenImageDenoise.so.2",
+    "libOpenImageDenoise_core.so.2.5.1",
+    "libOpenImageDenoise_device_cpu.so.2.5.1",
+    "libtbb_oidn.so.12",
+)
+APACHE_LICENSE = "/usr/share/common-licenses/Apache-2.0"  # Debian's base-files
+
+
+def bundle_oidn(build_dir, libs_dir):
+    """Copy the build's Open Image Denoise into libs_dir with RUNPATH $ORIGIN (the staged
+    copy's $ORIGIN/../lib names a folder the package does not have), and its licence.
+    Returns whether it was there: without it the package carries no denoiser, and the
+    add-on reports denoising unavailable."""
+    staged = os.path.join(build_dir, "oidn", "lib")
+    if not all(os.path.isfile(os.path.join(staged, name)) for name in OIDN_FILES):
+        print(
+            f"package: WARNING: no Open Image Denoise staged in {staged} (scripts/setup.sh "
+            "stages it): the package carries no denoiser"
+        )
+        return False
+    tool = patchelf()
+    for name in OIDN_FILES:
+        target = os.path.join(libs_dir, name)
+        shutil.copy2(os.path.join(staged, name), target)
+        subprocess.run([tool, "--set-rpath", "$ORIGIN", target], check=True)
+    with open(APACHE_LICENSE, encoding="utf-8") as licence:
+        text = licence.read()
+    with open(os.path.join(libs_dir, "OpenImageDenoise.LICENSE"), "w", encoding="utf-8") as out:
+        out.write(
+            "Intel Open Image Denoise 2.5.1 (libOpenImageDenoise*), Copyright 2018 Intel "
+            "Corporation, and\noneAPI Threading Building Blocks (libtbb_oidn.so.12, renamed "
+            "from libtbb.so.12),\nCopyright 2005 Intel Corporation, as built in the pyoidn "
+            "2.5.1.0 wheel; both under\nthe Apache License, Version 2.0:\n\n" + text
+        )
+    return True
+
+
 def stage(staging, build_dir, info, pythons):
     package_dir = os.path.join(staging, PACKAGE_ID)
     for root, dirs, files in os.walk(ADDON_DIR):
@@ -231,6 +273,8 @@ def stage(staging, build_dir, info, pythons):
     libs_dir = os.path.join(package_dir, "libs")
     os.makedirs(libs_dir)
     renamed = bundle_libraries(module_paths, libs_dir)
+    if bundle_oidn(build_dir, libs_dir):
+        print("package: bundled Open Image Denoise 2.5.1 in libs/")
     with open(os.path.join(package_dir, "blender_manifest.toml"), "w", encoding="utf-8") as out:
         out.write(manifest_text(info))
     # The licence the manifest names travels with the add-on.

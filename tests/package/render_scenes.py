@@ -100,6 +100,21 @@ def render(blend, output, resolution, cycles_first):
     bpy.ops.render.render(write_still=True)
 
 
+def denoiser(native):
+    """The module's Open Image Denoise status, and whether it denoised a noisy grey image
+    in this process (its device commits beside Blender's own libraries)."""
+    import numpy as np
+
+    status = dict(native.oidn_status())
+    if status["ok"]:
+        noisy = np.random.default_rng(3).uniform(0.0, 1.0, (32, 32, 3)).astype(np.float32)
+        normal = np.zeros_like(noisy)
+        normal[..., 2] = 1.0
+        clean = native.oidn_denoise(noisy, np.full_like(noisy, 0.5), normal, threads=2)
+        status["denoised"] = float(np.std(clean)) < 0.5 * float(np.std(noisy))
+    return status
+
+
 def main():
     args = parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -123,6 +138,7 @@ def main():
         "addon_file": sys.modules[module].__file__,
         "native_file": os.path.realpath(native.__file__) if native else None,
         "mapped": mapped_libraries(),
+        "oidn": denoiser(native) if native else None,
         "dev_addon_loaded": "whitted" in sys.modules and module != "whitted",
         "errors": errors,
     }

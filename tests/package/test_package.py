@@ -56,6 +56,9 @@ def test_zip_layout(package_zip):
     assert modules == [f"whitted/whitted_native.cpython-{t}-x86_64-linux-gnu.so" for t in tags]
     libembree = [name for name in names if "libembree3" in name and name.endswith(".so.3")]
     assert len(libembree) == 1, libembree
+    # Open Image Denoise (scripts/stage_oidn.sh stages it for the build), with its licence.
+    for name in ("libOpenImageDenoise.so.2", "OpenImageDenoise.LICENSE"):
+        assert f"whitted/libs/{name}" in names, name
     assert not [name for name in names if "__pycache__" in name or name.endswith(".pyc")]
 
 
@@ -248,6 +251,10 @@ def test_installed_package_renders_like_the_development_install(label, package_z
     print(json.dumps(installed, indent=1))
     assert installed["native_file"].startswith(str(profile)), installed
     assert not installed["dev_addon_loaded"], "the development add-on was imported too"
+    # The package's own Open Image Denoise denoises in this Blender's process.
+    oidn = installed["oidn"]
+    assert oidn["ok"] and oidn["denoised"], oidn
+    assert oidn["path"].startswith(str(profile)), oidn
     if entry.is_module:
         assert installed["module"] == "bl_ext.user_default.whitted"
         mapped = installed["mapped"]

@@ -21,6 +21,7 @@ GROUPS = {
         "bench-hair": "bench.hair",
         "bench-materials": "bench.materials",
         "bench-memory": "bench.memory",
+        "bench-noise": "bench.noise",
         "bench-passes": "bench.passes",
         "bench-viewport": "bench.viewport",
     },
