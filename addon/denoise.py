@@ -10,7 +10,8 @@ sees the world). Unlike Cycles, a mirror's or glass's albedo is its own colour, 
 of the first rough surface seen through it.
 """
 
-from dataclasses import dataclass
+import threading
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -37,7 +38,8 @@ class Denoising:
 
 
 def denoising_of(scene, native, viewport=False):
-    """The Denoising of a render of `scene` (the viewport's when `viewport`)."""
+    """The Denoising of a render of `scene` (the viewport's when `viewport`: the fast
+    prefilter and balanced quality, as Cycles' viewport denoises by default)."""
     whitted = scene.whitted
     wanted = whitted.use_viewport_denoising if viewport else whitted.use_denoising
     if not wanted:
@@ -53,13 +55,14 @@ def denoising_of(scene, native, viewport=False):
         "RGB_ALBEDO_NORMAL": "albedo and normal",
     }[whitted.denoising_input_passes]
     version = status["version"]
-    return Denoising(
+    denoising = Denoising(
         True,
         f"Open Image Denoise {version // 10000}.{version // 100 % 100}.{version % 100}, {guides}",
         whitted.denoising_input_passes,
         whitted.denoising_prefilter,
         whitted.denoising_quality,
     )
+    return replace(denoising, prefilter="FAST", quality="BALANCED") if viewport else denoising
 
 
 def albedo_tile(job, x, y, width, height):
@@ -75,9 +78,10 @@ def normal_tile(job, x, y, width, height):
     return np.ascontiguousarray(job.pass_tile(NORMAL_SOURCE, x, y, width, height))
 
 
-def denoise(native, job, rect, denoising, threads):
+def denoise(native, job, rect, denoising, threads, cancel=None):
     """The denoised RGBA of rectangle (x, y, w, h) of a finished `job`, float32[w*h, 4]:
-    RGB from the denoiser, alpha the render's."""
+    RGB from the denoiser, alpha the render's. `cancel`: a native DenoiseCancel that
+    stops it (RuntimeError)."""
     x, y, width, height = rect
     noisy = np.array(job.tile(x, y, width, height), dtype=np.float32)
     shape = (height, width, 3)
@@ -94,7 +98,39 @@ def denoise(native, job, rect, denoising, threads):
         threads=threads,
         prefilter=denoising.prefilter.lower(),
         quality=denoising.quality.lower(),
+        cancel=cancel,
     )
     out = noisy.copy()
     out[:, :3] = clean.reshape(-1, 3)
     return out
+
+
+class BackgroundDenoise:
+    """One denoise of a finished viewport job on a Python thread, so that Blender's
+    interface stays live (OIDN releases the GIL). The thread reads the job's buffers
+    only, no bpy data; stop() cancels it and waits for it."""
+
+    def __init__(self, native, job, rect, denoising, threads):
+        self.result = None  # float32[w*h, 4] once done
+        self.error = ""
+        self._cancel = native.DenoiseCancel()
+        self._thread = threading.Thread(
+            target=self._run,
+            args=(native, job, rect, denoising, threads),
+            name="whitted-denoise",
+        )
+        self._thread.start()
+
+    def _run(self, native, job, rect, denoising, threads):
+        try:
+            self.result = denoise(native, job, rect, denoising, threads, self._cancel)
+        except RuntimeError as error:  # cancelled, or the library failed on the image
+            self.error = str(error)
+
+    @property
+    def done(self):
+        return not self._thread.is_alive()
+
+    def stop(self):
+        self._cancel.cancel()
+        self._thread.join()

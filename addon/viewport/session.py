@@ -17,8 +17,10 @@ import weakref
 from dataclasses import dataclass
 
 import bpy
+import numpy as np
 
 from .. import memory
+from ..denoise import GUIDE_SOURCES, BackgroundDenoise, denoising_of
 from ..export import ExportError
 from ..export.camera import image_size, lens_data, panorama_data, projection_of
 from ..export.film import FilmData
@@ -55,7 +57,7 @@ class ViewSetup:
     region_height: int
     border: tuple | None  # (xmin, ymin, xmax, ymax) render pixels, or None: all
     # Settings that change the image besides the scene: the viewport's quality
-    # preset, transparent film, render threads.
+    # preset, transparent film, render threads, the display's passes, denoising.
     settings: tuple
 
 
@@ -80,6 +82,11 @@ class ViewportSession:
         self._error = ""
         self._poll = None  # the registered timer function
         self._started = 0.0  # time.perf_counter() when the job started
+        # Sampling > Viewport > Denoise: whether the job's last pass is denoised, and
+        # the denoise running on its own thread (denoise.BackgroundDenoise).
+        self._denoising = None
+        self._denoise = None
+        self._denoised = False  # the texture shows the denoised last pass
 
     # --- view_update -------------------------------------------------------------
 
@@ -143,6 +150,7 @@ class ViewportSession:
         if self._job is not None:
             self._wait_for_first_pass()
             self._show_new_pass()
+            self._show_denoised()
         if self._display.draw(0, 0, setup.region_width, setup.region_height):
             self._log.write("draw", frame=self._shown)
         self._status()
@@ -172,6 +180,10 @@ class ViewportSession:
             settings.contribution_depth = MAX_CONTRIBUTION_DEPTH
             settings.pass_alpha_threshold = bpy.context.view_layer.pass_alpha_threshold
             settings.mist = mist_of(scene.world)
+        self._denoising = denoising_of(scene, self._native, viewport=True)
+        if self._denoising.on:
+            # The denoiser's guides (denoise.py), kept only when it runs.
+            settings.passes = sorted(set(settings.passes) | set(GUIDE_SOURCES))
         settings.progressive = True
         settings.start_pixel_size = self._start_pixel_size(setup)
         # Below the interface's priority: Blender's own thread, which polls the job
@@ -184,6 +196,7 @@ class ViewportSession:
         self._started = time.perf_counter()
         self._shown = 0
         self._converged = False
+        self._denoised = False
         self._start_polling()
 
     def _wait_for_first_pass(self):
@@ -227,6 +240,36 @@ class ViewportSession:
         if finished and info["pass"] == info["passes"]:
             self._converged = True
             self._log.write("converged", waves=stats["waves"])
+            if self._denoising.on and self._kind == ("image", 0):
+                width, height = self._setup.width, self._setup.height
+                xmin, ymin, xmax, ymax = self._setup.border or (0, 0, width, height)
+                self._denoise = BackgroundDenoise(
+                    self._native,
+                    job,
+                    (xmin, ymin, xmax - xmin, ymax - ymin),
+                    self._denoising,
+                    self._setup.settings[2],
+                )
+
+    def _show_denoised(self):
+        """Once the background denoise is done: its image in the texture (the border's
+        rectangle of the film's), or why it failed in the status line."""
+        result = self._denoise
+        if result is None or not result.done or self._kind != ("image", 0):
+            return
+        self._denoise = None
+        if result.result is None:
+            self._error = f"Whitted: viewport denoising failed: {result.error}"
+            return
+        image = self._job.display("image")
+        width, height = self._setup.width, self._setup.height
+        xmin, ymin, xmax, ymax = self._setup.border or (0, 0, width, height)
+        clean = result.result.reshape(ymax - ymin, xmax - xmin, 4)
+        # As the film's display: finite, below the half-float maximum.
+        image[ymin:ymax, xmin:xmax] = np.clip(np.nan_to_num(clean), 0.0, 65000.0)
+        self._display.upload(image)
+        self._denoised = True
+        self._log.write("denoised")
 
     def _status(self):
         engine = self._engine()
@@ -246,7 +289,7 @@ class ViewportSession:
                 parts.append(f"pass {info['pass']}/{info['passes']}, {info['samples']} spp")
             parts.append(f"{rate / 1e6:.1f} M rays/s")
             if self._converged:
-                parts.append("done")
+                parts.append("denoised" if self._denoised else "done")
         if self._last_sync is not None:
             parts.append(self._last_sync.describe())
         engine.update_stats("", " | ".join(parts))
@@ -267,15 +310,16 @@ class ViewportSession:
         bpy.app.timers.register(poll, first_interval=POLL_SECONDS)
 
     def _on_timer(self):
-        """Ask for a redraw when the job has a new pass; stop once converged."""
-        if self._job is None or self._converged:
+        """Ask for a redraw when the job has a new pass, or its denoise is done; stop once
+        converged (and denoised)."""
+        if self._job is None or (self._converged and self._denoise is None):
             self._poll = None
             return None
         engine = self._engine()
         if engine is None:
             self._poll = None
             return None
-        if self._job.frame != self._shown:
+        if self._job.frame != self._shown or (self._denoise is not None and self._denoise.done):
             try:
                 engine.tag_redraw()
             except ReferenceError:
@@ -285,6 +329,9 @@ class ViewportSession:
         return POLL_SECONDS
 
     def _stop_job(self):
+        if self._denoise is not None:
+            self._denoise.stop()
+            self._denoise = None
         if self._job is None:
             return
         self._job.cancel()
@@ -379,5 +426,6 @@ def _view_setup(context, scene, pixel_size):
             render.film_transparent,
             render.threads,
             viewport_display(scene.whitted.viewport_display).passes,
+            scene.whitted.use_viewport_denoising,
         ),
     )

@@ -98,3 +98,14 @@ def test_the_environment_variable_is_the_first_place_looked_at(tmp_path):
     status = json.loads(answer.stdout)
     assert not status["ok"] and status["path"] == str(impostor)
     assert status["report"].startswith(f"OpenImageDenoise could not be loaded from {impostor}: ")
+
+
+def test_a_cancelled_denoise_raises_and_an_uncancelled_one_runs(oidn):
+    color = noisy_constant(64, 64)
+    cancel = wn.DenoiseCancel()
+    assert not cancel.cancelled
+    wn.oidn_denoise(color, cancel=cancel)  # not cancelled: it runs to the end
+    cancel.cancel()
+    assert cancel.cancelled
+    with pytest.raises(RuntimeError, match="cancel"):
+        wn.oidn_denoise(color, cancel=cancel)

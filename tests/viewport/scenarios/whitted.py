@@ -1,6 +1,9 @@
-"""The Whitted Rendered viewport in a real window: --mode compare | dof | edits | stop.
+"""The Whitted Rendered viewport in a real window: --mode compare | dof | denoise | edits |
+stop.
 
 compare: the converged camera view, and an F12 render at the camera frame's size.
+denoise: the camera view with a strong depth of field at the Draft viewport preset,
+         converged without denoising, then with Sampling > Viewport > Denoise.
 edits:   converged screenshots before and after each of: move the cube, recolour it,
          brighten the point light, delete the cylinder (rects of the objects recorded).
 stop:    leave Rendered mode once converged and once mid-render; times recorded; then
@@ -17,7 +20,9 @@ from whitted_tools import viewport_driver as driver
 
 
 def add_arguments(parser):
-    parser.add_argument("--mode", choices=("compare", "dof", "edits", "stop"), required=True)
+    parser.add_argument(
+        "--mode", choices=("compare", "dof", "denoise", "edits", "stop"), required=True
+    )
 
 
 def start(h):
@@ -71,6 +76,28 @@ def dof(h):
     h.render_still("whitted_f12_dof", width, height)
     yield from enter_rendered(h)
     yield from h.screenshot("whitted_dof")
+
+
+def denoise(h):
+    """A grainy view (depth of field at f/0.05, Draft), then the same view denoised."""
+    yield from start(h)
+    scene = bpy.context.scene
+    camera = scene.camera
+    camera.data.dof.use_dof = True
+    camera.data.dof.aperture_fstop = 0.05
+    camera.data.dof.focus_distance = max(0.5, camera.matrix_world.translation.length - 2.0)
+    scene.whitted.viewport_preset = "DRAFT"
+    scene.whitted.use_viewport_denoising = False
+    yield from enter_rendered(h)
+    yield from h.screenshot("whitted_noisy")
+    mark = h.log.mark()
+    h.step("Viewport > Denoise on")
+    scene.whitted.use_viewport_denoising = True
+    # A click on the checkbox redraws the window; set from a script, ask for it.
+    h.region.tag_redraw()
+    yield h.until(lambda: h.log.since(mark, "denoised"), 60.0, "a 'denoised' event")
+    yield 0.3
+    yield from h.screenshot("whitted_denoised")
 
 
 def edit(h, name, change):
@@ -145,7 +172,8 @@ def stop(h):
 
 def scenario(h):
     mode = h.args.mode
-    yield from {"compare": compare, "dof": dof, "edits": edits, "stop": stop}[mode](h)
+    modes = {"compare": compare, "dof": dof, "denoise": denoise, "edits": edits, "stop": stop}
+    yield from modes[mode](h)
 
 
 driver.main(scenario, add_arguments)
