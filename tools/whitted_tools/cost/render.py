@@ -7,11 +7,12 @@ whitted_tools accuracy-cost; not meant to be run by hand).
         --python tools/whitted_tools/__main__.py -- cost-render \\
         --runs RUNS.json --out DIR --resolution W H --repeats N
 
-RUNS.json is a list of {"name": str, "quality": {field: value}} (the fields of
-addon/properties/presets.py's Quality). For each run the scene is rendered
-`--repeats` times with Whitted; DIR/NAME.exr holds the last render as a 32-bit
-multilayer OpenEXR (Combined and the "Whitted Rays" cost pass) and DIR/NAME.json
-the statistics of every repeat (scene.whitted.last_stats), in the order run.
+RUNS.json is a list of {"name": str, "quality": {field: value}, "use_denoising": bool}
+(the fields of addon/properties/presets.py's Quality, and the scene's Denoise switch).
+For each run the scene is rendered `--repeats` times with Whitted; DIR/NAME.exr
+holds the last render as a 32-bit multilayer OpenEXR (Combined and the "Whitted
+Rays" cost pass) and DIR/NAME.json the statistics of every repeat
+(scene.whitted.last_stats), in the order run.
 """
 
 import argparse
@@ -54,6 +55,7 @@ def main(argv):
         runs = json.load(runs_file)
     for run in runs:
         apply_quality(scene.whitted, Quality(**run["quality"]))
+        scene.whitted.use_denoising = run["use_denoising"]
         scene.render.filepath = os.path.join(args.out, run["name"] + ".exr")
         repeats = []
         for _ in range(args.repeats):

@@ -27,7 +27,7 @@ import math
 import statistics
 import sys
 import tempfile
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -59,29 +59,64 @@ PRESETS, preset = presets.PRESETS, presets.preset
 BASELINE = "FINAL"
 REFERENCE = "REFERENCE"
 
-# (key, title, [(label, overrides of the baseline)]): each control on its own.
+# (key, title, [(label, overrides of the baseline)]): each control on its own. The
+# override "use_denoising" is the scene's Denoise switch, not a Quality field (Run).
 SWEEPS = (
     ("max_depth", "Max depth", [(str(d), {"max_depth": d}) for d in (0, 1, 2, 3, 4, 6, 8, 12, 16)]),
     (
+        "noise_threshold",
+        "Noise threshold (each pixel stops once its noise is below it, up to the grid)",
+        [(f"{t:g}", {"noise_threshold": t}) for t in (0.1, 0.05, 0.02, 0.01, 0.005, 0.002)],
+    ),
+    (
+        "denoise",
+        "Denoising (Open Image Denoise guided by albedo and normal, after the render)",
+        [("off", {}), ("on", {"use_denoising": True})],
+    ),
+    (
         "aa_grid",
-        "Anti-aliasing: regular and jittered grids (camera samples per axis, each at its "
-        "own point of the pixel, the lens and the shutter)",
-        [(f"regular {n}", {"aa_mode": "REGULAR", "aa_samples": n}) for n in (1, 2, 3, 4, 6)]
-        + [(f"jittered {n}", {"aa_mode": "JITTERED", "aa_samples": n}) for n in (2, 4, 6)],
+        "Anti-aliasing without a noise threshold: regular and jittered grids (camera "
+        "samples per axis, each at its own point of the pixel, the lens and the shutter)",
+        [
+            (f"regular {n}", {"aa_mode": "REGULAR", "aa_samples": n, "adaptive_sampling": False})
+            for n in (1, 2, 3, 4, 6)
+        ]
+        + [
+            (f"jittered {n}", {"aa_mode": "JITTERED", "aa_samples": n, "adaptive_sampling": False})
+            for n in (2, 4, 6, 8)
+        ],
     ),
     (
         "aa_threshold",
-        "Adaptive anti-aliasing: threshold (depth 2)",
+        "Adaptive anti-aliasing (Whitted's corners, without a noise threshold): threshold "
+        "(depth 2)",
         [
-            (f"{t:g}", {"aa_mode": "ADAPTIVE", "aa_threshold": t, "aa_depth": 2})
+            (
+                f"{t:g}",
+                {
+                    "aa_mode": "ADAPTIVE",
+                    "aa_threshold": t,
+                    "aa_depth": 2,
+                    "adaptive_sampling": False,
+                },
+            )
             for t in (1.0, 0.3, 0.1, 0.03)
         ],
     ),
     (
         "aa_depth",
-        "Adaptive anti-aliasing: depth (threshold 0.1)",
+        "Adaptive anti-aliasing (Whitted's corners, without a noise threshold): depth "
+        "(threshold 0.1)",
         [
-            (str(d), {"aa_mode": "ADAPTIVE", "aa_threshold": 0.1, "aa_depth": d})
+            (
+                str(d),
+                {
+                    "aa_mode": "ADAPTIVE",
+                    "aa_threshold": 0.1,
+                    "aa_depth": d,
+                    "adaptive_sampling": False,
+                },
+            )
             for d in (0, 1, 2, 3)
         ],
     ),
@@ -125,30 +160,48 @@ def parse_args(argv):
     return parser.parse_args(argv)
 
 
-def quality_key(quality):
-    """A file-name-safe name for a set of quality values."""
-    values = asdict(quality)
-    return "-".join(f"{v:g}" if isinstance(v, float) else str(v) for v in values.values())
+@dataclass(frozen=True)
+class Run:
+    """What one render is made with: a Quality and the scene's Denoise switch."""
+
+    quality: object  # presets.Quality
+    use_denoising: bool = False
+
+
+def run_of(quality, use_denoising=False, **overrides):
+    return Run(replace(quality, **overrides), use_denoising)
+
+
+def quality_key(run):
+    """A file-name-safe name for a Run."""
+    values = asdict(run.quality)
+    name = "-".join(f"{v:g}" if isinstance(v, float) else str(v) for v in values.values())
+    return name + ("-denoised" if run.use_denoising else "")
 
 
 def plan_runs():
-    """(reference Quality, [(sweep key, label, Quality)]), presets as the sweep 'presets'."""
+    """(reference Run, [(sweep key, label, Run)]), presets as the sweep 'presets'."""
     baseline = preset(BASELINE)
     runs = [
-        (key, label, replace(baseline, **overrides))
+        (key, label, run_of(baseline, **overrides))
         for key, _, values in SWEEPS
         for label, overrides in values
     ]
-    runs += [("presets", label, values) for _, label, _, values in PRESETS]
-    return preset(REFERENCE), runs
+    runs += [("presets", label, Run(values)) for _, label, _, values in PRESETS]
+    return Run(preset(REFERENCE)), runs
 
 
 def render_all(blender, blend, qualities, resolution, repeats, workdir):
-    """Render each distinct Quality once (with repeats); name -> (stats list, exr path)."""
+    """Render each distinct Run once (with repeats); name -> (stats list, exr path)."""
     unique = {quality_key(q): q for q in qualities}
     runs_file = workdir / "runs.json"
     runs_file.write_text(
-        json.dumps([{"name": name, "quality": asdict(q)} for name, q in unique.items()])
+        json.dumps(
+            [
+                {"name": name, "quality": asdict(q.quality), "use_denoising": q.use_denoising}
+                for name, q in unique.items()
+            ]
+        )
     )
     command = verb_in_blender(
         "cost-render",
@@ -191,12 +244,13 @@ def measure(rendered, reference_name, runs):
             {
                 "sweep": sweep,
                 "label": label,
-                "quality": quality,
+                "quality": quality.quality,
+                "use_denoising": quality.use_denoising,
                 "seconds": statistics.median(s["phases"]["total"] for s in stats_list),
                 "rays": last["rays"]["total"],
                 "rays_per_pixel": last["rays"]["total"] / last["pixels"],
                 "samples_per_pixel": last["samples_per_pixel"],
-                "is_baseline": quality == preset(BASELINE),
+                "is_baseline": quality == Run(preset(BASELINE)),
                 "is_reference": quality_key(quality) == reference_name,
                 **error_figures(image, reference_image),
             }

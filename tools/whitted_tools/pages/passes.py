@@ -113,6 +113,23 @@ PASSES = (
         "film, as Cycles, where Combined leaves it out).",
     ),
     (
+        "Noisy Image",
+        "color",
+        "Combined before denoising (Render > Sampling > Denoise); Combined itself where "
+        "the render is not denoised.",
+    ),
+    (
+        "Denoising Normal",
+        "signed",
+        "The denoiser's normal guide: the Normal pass (0 where the camera ray escapes).",
+    ),
+    (
+        "Denoising Albedo",
+        "color",
+        "The denoiser's albedo guide: DiffCol + GlossCol + TransCol + Emit + Env (the world "
+        "seen directly, as Cycles writes the background into its albedo), clamped to [0, 1].",
+    ),
+    (
         "Whitted Rays",
         "scaled",
         "Rays traced for the pixel: camera, shadow, reflection, refraction and transparent.",
