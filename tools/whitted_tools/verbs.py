@@ -22,6 +22,7 @@ GROUPS = {
         "bench-materials": "bench.materials",
         "bench-memory": "bench.memory",
         "bench-passes": "bench.passes",
+        "bench-rounds": "bench.rounds",
         "bench-viewport": "bench.viewport",
     },
     "perf": {
