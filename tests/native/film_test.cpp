@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace whitted {
 namespace {
@@ -43,6 +44,43 @@ TEST(Film, TheMeanOfSamplesAddedOneByOneIsTheWholePixelsMeanToTheBit) {
   EXPECT_EQ(film.pixels()[1], sum.radiance.y * w);
   EXPECT_EQ(film.pixels()[2], sum.radiance.z * w);
   EXPECT_EQ(film.pixels()[3], sum.alpha * w);
+}
+
+// A round's samples added as one run: the sums, half sums, counts, costs and passes of
+// adding them one at a time, to the bit.
+TEST(Film, ARunOfSamplesIsAddingThemOneByOne) {
+  const uint32_t passes = pass_bit(FilmPass::kDepth) | pass_bit(FilmPass::kDiffuseDirect) |
+                          pass_bit(FilmPass::kDiffuseColor) | pass_bit(FilmPass::kSampleCount);
+  Film one(2, 1, true, passes, 1, true);
+  Film run(2, 1, true, passes, 1, true);
+  std::vector<Sample> samples;
+  std::vector<float> costs;
+  std::vector<SampleRecord> records;
+  for (int k = 0; k < 7; ++k) {
+    const float v = 0.1f + 0.37f * static_cast<float>(k % 3);
+    samples.push_back(Sample{Color(v, 2.0f * v, v * v), k == 2 ? 0.5f : 1.0f});
+    costs.push_back(static_cast<float>(3 + k));
+    SampleRecord r;
+    r.depth = 4.0f + static_cast<float>(k);
+    r.diffuse_direct = Color(v);
+    r.diffuse_color = Color(0.5f + v);
+    records.push_back(r);
+  }
+  one.set(1, 0, Sample{Color(9.0f), 1.0f}, 11.0f, 0);  // a preview the run replaces
+  run.set(1, 0, Sample{Color(9.0f), 1.0f}, 11.0f, 0);
+  for (int k = 0; k < 7; ++k) one.add(1, 0, samples[k], costs[k], &records[k]);
+  run.add(1, 0, samples.data(), costs.data(), 3, records.data());
+  run.add(1, 0, samples.data() + 3, costs.data() + 3, 4, records.data() + 3);
+  EXPECT_EQ(run.pixels(), one.pixels());
+  EXPECT_EQ(run.cost(), one.cost());
+  EXPECT_EQ(run.samples(1, 0), 7u);
+  EXPECT_EQ(run.noise(1, 0), one.noise(1, 0));
+  for (FilmPass pass : {FilmPass::kDepth, FilmPass::kDiffuseDirect, FilmPass::kDiffuseColor,
+                        FilmPass::kSampleCount}) {
+    EXPECT_EQ(run.pass(pass), one.pass(pass)) << static_cast<int>(pass);
+  }
+  EXPECT_EQ(run.pass(FilmPass::kSampleCount)[1], 7.0f);
+  EXPECT_EQ(run.pass(FilmPass::kDepth)[1], 4.0f);  // the first sample's
 }
 
 TEST(Film, TheDisplayImageFitsAHalfFloatTexture) {

@@ -23,6 +23,7 @@ GROUPS = {
         "bench-memory": "bench.memory",
         "bench-noise": "bench.noise",
         "bench-passes": "bench.passes",
+        "bench-rounds": "bench.rounds",
         "bench-viewport": "bench.viewport",
     },
     "perf": {

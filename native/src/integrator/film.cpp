@@ -210,39 +210,50 @@ void Film::set(int x, int y, const Sample& value, float cost, uint32_t samples,
 }
 
 void Film::add(int x, int y, const Sample& sample, float cost, const SampleRecord* record) {
+  add(x, y, &sample, &cost, 1, record);
+}
+
+void Film::add(int x, int y, const Sample* samples, const float* costs, int count,
+               const SampleRecord* records) {
   const size_t i = index(x, y);
   float* sum = &sum_[4 * i];
-  // The same additions, in the same order, as a whole pixel's mean (CameraSampler), so
-  // the last pass leaves exactly the value a pass of whole pixels gives.
-  sum[0] += sample.radiance.x;
-  sum[1] += sample.radiance.y;
-  sum[2] += sample.radiance.z;
-  sum[3] += sample.alpha;
-  if (!half_.empty() && count_[i] % 2 == 0) {  // class A: even positions in the order
-    half_[3 * i] += sample.radiance.x;
-    half_[3 * i + 1] += sample.radiance.y;
-    half_[3 * i + 2] += sample.radiance.z;
-  }
-  count_[i] += 1;
-  const float w = 1.0f / static_cast<float>(count_[i]);
-  store_rgba(&pixels_[4 * i], Sample{Color(sum[0], sum[1], sum[2]) * w, sum[3] * w});
   // The first sample's rays replace the preview's.
-  store(cost_[i], count_[i] == 1 ? cost : load(cost_[i]) + cost);
-  store_count(i, count_[i]);
-  if (record == nullptr) return;
+  float cost = count_[i] == 0 ? 0.0f : load(cost_[i]);
   std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
-  for (size_t p = 0; p < kFilmPassCount; ++p) {
-    const auto pass = static_cast<FilmPass>(p);
-    if (!has_recorded(pass)) continue;
-    const int n = channels_[p];
-    float* pixel_sum = &sums_[p][n * i];
-    gather(pass, *record, raw.data());
-    for (int c = 0; c < n; ++c) {
-      pixel_sum[c] = first_sample_only(pass) ? (count_[i] == 1 ? raw[c] : pixel_sum[c])
-                                             : pixel_sum[c] + raw[c];
+  for (int k = 0; k < count; ++k) {
+    const Sample& sample = samples[k];
+    // The same additions, in the same order, as a whole pixel's mean (CameraSampler), so
+    // the last pass leaves exactly the value a pass of whole pixels gives.
+    sum[0] += sample.radiance.x;
+    sum[1] += sample.radiance.y;
+    sum[2] += sample.radiance.z;
+    sum[3] += sample.alpha;
+    if (!half_.empty() && count_[i] % 2 == 0) {  // class A: even positions in the order
+      half_[3 * i] += sample.radiance.x;
+      half_[3 * i + 1] += sample.radiance.y;
+      half_[3 * i + 2] += sample.radiance.z;
+    }
+    count_[i] += 1;
+    cost += costs[k];
+    if (records == nullptr) continue;
+    for (size_t p = 0; p < kFilmPassCount; ++p) {
+      const auto pass = static_cast<FilmPass>(p);
+      if (!has_recorded(pass)) continue;
+      const int n = channels_[p];
+      float* pixel_sum = &sums_[p][n * i];
+      gather(pass, records[k], raw.data());
+      for (int c = 0; c < n; ++c) {
+        pixel_sum[c] = first_sample_only(pass) ? (count_[i] == 1 ? raw[c] : pixel_sum[c])
+                                               : pixel_sum[c] + raw[c];
+      }
     }
   }
-  // Shown: the means, resolved once every kept pass holds this sample.
+  // Shown once the run is in: the means.
+  const float w = 1.0f / static_cast<float>(count_[i]);
+  store_rgba(&pixels_[4 * i], Sample{Color(sum[0], sum[1], sum[2]) * w, sum[3] * w});
+  store(cost_[i], cost);
+  store_count(i, count_[i]);
+  if (records == nullptr) return;
   std::array<float, 3> color{};
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);

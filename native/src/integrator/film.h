@@ -54,6 +54,11 @@ class Film {
            const SampleRecord* record = nullptr);
   // One more sample of pixel (x, y), and its rays: the pixel shows the mean so far.
   void add(int x, int y, const Sample& sample, float cost, const SampleRecord* record = nullptr);
+  // `count` more samples of pixel (x, y) in order, each with its rays (`costs`) and, where
+  // passes are kept, its record: the sums of adding them one at a time, the shown values
+  // written once at the end (a round's samples of a pixel).
+  void add(int x, int y, const Sample* samples, const float* costs, int count,
+           const SampleRecord* records = nullptr);
 
   // Noise-driven sampling, between rounds (no writer running): each pixel of `area`
   // (x, y, width, height) converged when noise_error < kNoiseThresholdScale * threshold;

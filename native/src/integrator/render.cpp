@@ -239,6 +239,11 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
   // reach past the tile) go to Embree together when its first pixel in this tile comes up.
   const int block_width = pass.kind == Pass::Kind::kPixels ? sampler.block_width() : 0;
   FirstHits block;
+  // A round's samples of one pixel: their rays, values, costs and records.
+  RoundHits round;
+  std::vector<Sample> values;
+  std::vector<float> costs;
+  std::vector<SampleRecord> records;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
     for (int x = tile.x; x < tile.x + tile.width; ++x) {
@@ -249,13 +254,21 @@ void RenderJob::trace(const Pass& pass, const Tile& tile, const CameraSampler& s
       if (pass.kind == Pass::Kind::kRound && !film_.active(x, y)) continue;
       if (!recorder_.select(log, x, y, width)) continue;
       if (pass.kind == Pass::Kind::kRound) {
-        for (int i = pass.sample; i < pass.samples; ++i) {
+        const int count = pass.samples - pass.sample;
+        sampler.round_hits(x, y, pass.sample, count, &round);
+        values.resize(static_cast<size_t>(count));
+        costs.resize(static_cast<size_t>(count));
+        records.resize(passes != nullptr ? static_cast<size_t>(count) : 0);
+        for (int i = 0; i < count; ++i) {
+          const auto at = static_cast<size_t>(i);
           const uint64_t before = counts->total();
-          if (passes != nullptr) record = SampleRecord{};
-          const Sample s =
-              sampler.grid_sample(x, y, sample_cell(settings_, x, y, i), counts, passes);
-          film_.add(x, y, s, static_cast<float>(counts->total() - before), passes);
+          SampleRecord* sample_record =
+              passes != nullptr ? &(records[at] = SampleRecord{}) : nullptr;
+          values[at] = sampler.round_sample(x, y, round, i, counts, sample_record);
+          costs[at] = static_cast<float>(counts->total() - before);
         }
+        film_.add(x, y, values.data(), costs.data(), count,
+                  passes != nullptr ? records.data() : nullptr);
         if (pass.sample == 0 && cryptomatte_.enabled()) {
           cryptomatte_.trace_pixel(*scene_, camera_, x, y);
         }
@@ -284,6 +297,7 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
   std::vector<uint64_t> rays;
   std::vector<SampleRecord> records;  // where (data) passes are kept
   std::vector<uint32_t> samples;      // whole pixels: each one's camera samples
+  std::vector<float> costs;           // rays, as the film takes them
   const int end = tile.x + tile.width;
   for (int y = tile.y; y < tile.y + tile.height; ++y) {
     if (cancel_) return;  // checked per row so Esc is prompt even for slow tiles
@@ -304,16 +318,16 @@ void RenderJob::trace_rows(const Pass& pass, const Tile& tile, const CameraSampl
       const int count = round ? pass.samples - pass.sample : 1;
       sampler.row(x0, x1, y, whole ? -1 : pass.sample, count, wave, counts, &values, &rays,
                   &records, &samples);
+      costs.resize(rays.size());
+      std::transform(rays.begin(), rays.end(), costs.begin(),
+                     [](uint64_t n) { return static_cast<float>(n); });
       for (int x = x0; x < x1; ++x) {
-        for (int j = 0; j < (whole ? 1 : count); ++j) {
-          const auto i = static_cast<size_t>((x - x0) * (whole ? 1 : count) + j);
-          const auto cost = static_cast<float>(rays[i]);
-          const SampleRecord* record = records.empty() ? nullptr : &records[i];
-          if (whole) {
-            film_.set(x, y, values[i], cost, samples[static_cast<size_t>(x - x0)], record);
-          } else {
-            film_.add(x, y, values[i], cost, record);
-          }
+        const auto i = static_cast<size_t>((x - x0) * (whole ? 1 : count));
+        const SampleRecord* record = records.empty() ? nullptr : &records[i];
+        if (whole) {
+          film_.set(x, y, values[i], costs[i], samples[i], record);
+        } else {
+          film_.add(x, y, &values[i], &costs[i], count, record);
         }
       }
       if (cryptomatte_.enabled() && (whole || (round && pass.sample == 0))) {

@@ -135,7 +135,6 @@ int CameraSampler::block_width() const {
 }
 
 void CameraSampler::first_hits(int x, int y, FirstHits* out) const {
-  constexpr int kPacket = SceneAccel::kIntersectPacketSize;
   const int width = block_width();
   const int samples = settings_.aa_samples * settings_.aa_samples;
   out->x0 = x / width * width;
@@ -148,15 +147,38 @@ void CameraSampler::first_hits(int x, int y, FirstHits* out) const {
   for (int i = 0; i < count; ++i) {
     out->rays[static_cast<size_t>(i)] = grid_ray(out->x0 + i / samples, y, i % samples);
   }
-  // The block's rays in order, a packet at a time: the same packets whichever pixel of
-  // the block asks.
+  // The block's rays in order: the same packets whichever pixel of the block asks.
+  packet_hits(out->rays.data(), count, out->hits.data(), out->found.data());
+}
+
+void CameraSampler::packet_hits(const Ray* rays, int count, Hit* hits, uint8_t* found) const {
+  constexpr int kPacket = SceneAccel::kIntersectPacketSize;
   for (int first = 0; first < count; first += kPacket) {
     const int n = std::min(kPacket, count - first);
     if (n == 1) break;  // a lone ray is no packet: the integrator traces it
-    const auto at = static_cast<size_t>(first);
-    integrator_.intersect_packet(&out->rays[at], n, &out->hits[at]);
-    std::fill_n(out->found.begin() + first, n, uint8_t{1});
+    integrator_.intersect_packet(rays + first, n, hits + first);
+    std::fill_n(found + first, n, uint8_t{1});
   }
+}
+
+void CameraSampler::round_hits(int x, int y, int first, int count, RoundHits* out) const {
+  const auto n = static_cast<size_t>(count);
+  out->cells.resize(n);
+  out->rays.resize(n);
+  out->hits.resize(n);
+  out->found.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    out->cells[i] = sample_cell(settings_, x, y, first + static_cast<int>(i));
+    out->rays[i] = grid_ray(x, y, out->cells[i]);
+  }
+  if (packets_) packet_hits(out->rays.data(), count, out->hits.data(), out->found.data());
+}
+
+Sample CameraSampler::round_sample(int x, int y, const RoundHits& round, int i, RayCounts* counts,
+                                   SampleRecord* record) const {
+  const auto at = static_cast<size_t>(i);
+  return shade(round.rays[at], round.found[at] != 0 ? &round.hits[at] : nullptr, counts, record,
+               grid_seed(x, y, round.cells[at]));
 }
 
 bool CameraSampler::waves() const {
@@ -188,18 +210,27 @@ void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave
   const auto pixels = static_cast<size_t>(x1 - x0);
   const bool passes = (settings_.passes & kRecordedPasses) != 0;
   wave->reset(pixels * static_cast<size_t>(per_pixel), passes);
-  // Whole pixels take their first hits from the blocks' packets, as pixel() does.
+  // Whole pixels take their first hits from the blocks' packets, as pixel() does; a
+  // round's samples from the pixel's own packets, as round_sample() does.
   const int width = sample < 0 ? block_width() : 0;
   FirstHits block;
+  RoundHits round;
   for (int x = x0; x < x1; ++x) {
     if (width > 0 && !block.holds(x, y)) first_hits(x, y, &block);
+    if (sample >= 0) round_hits(x, y, sample, count, &round);
     for (int j = 0; j < per_pixel; ++j) {
-      const int k = sample < 0 ? j : sample_cell(settings_, x, y, sample + j);
       const auto index = static_cast<uint32_t>((x - x0) * per_pixel + j);
-      const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + k) : 0;
+      SampleRecord* record = passes ? &wave->records[index] : nullptr;
+      if (sample >= 0) {
+        const auto at = static_cast<size_t>(j);
+        start(wave, round.rays[at], grid_seed(x, y, round.cells[at]), index,
+              round.found[at] != 0 ? &round.hits[at] : nullptr, counts, record);
+        continue;
+      }
+      const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + j) : 0;
       const bool found = width > 0 && block.found[b] != 0;
-      start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, k), grid_seed(x, y, k), index,
-            found ? &block.hits[b] : nullptr, counts, passes ? &wave->records[index] : nullptr);
+      start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, j), grid_seed(x, y, j), index,
+            found ? &block.hits[b] : nullptr, counts, record);
     }
   }
   integrator_.trace_wave(wave, counts);

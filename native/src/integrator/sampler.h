@@ -47,6 +47,17 @@ struct FirstHits {
   bool holds(int x, int row) const { return row == y && x >= x0 && x < x0 + width; }
 };
 
+// The camera rays of one pixel's samples in a round of noise-driven sampling
+// (CameraSampler::round_hits), in the pixel's order, with their first hits found as Embree
+// packets of this pixel's rays alone, so which rays share a packet depends on the pixel
+// and the round only (not on tiles, threads or which neighbours are active).
+struct RoundHits {
+  std::vector<int> cells;  // each sample's grid cell (sample_cell)
+  std::vector<Ray> rays;
+  std::vector<Hit> hits;
+  std::vector<uint8_t> found;  // as FirstHits::found
+};
+
 // Where camera sample k of a pixel's n x n grid is on the lens and in the shutter. Each is
 // stratified apart from the film (and from the other) by its own permutation of the n^2
 // strata, chosen by the pixel, and jittered within its stratum; a fixed pairing (sample
@@ -94,6 +105,14 @@ class CameraSampler {
   int block_width() const;
   // The first hits of the block holding pixel (x, y) (block_width() > 0).
   void first_hits(int x, int y, FirstHits* out) const;
+  // Samples first .. first + count - 1 of pixel (x, y)'s order: their cells, rays and,
+  // where the render uses packets (choose_packets, any anti-aliasing mode: a round samples
+  // the grid), their first hits in packets of this pixel's rays.
+  void round_hits(int x, int y, int first, int count, RoundHits* out) const;
+  // Sample i of `round` (round_hits of pixel (x, y)): grid_sample of its cell, its first
+  // hit taken from the packet where one found it.
+  Sample round_sample(int x, int y, const RoundHits& round, int i, RayCounts* counts,
+                      SampleRecord* record) const;
   // Whether pixels and grid samples are traced in waves (row()): where the integrator
   // has a wave kernel.
   bool waves() const;
@@ -155,6 +174,9 @@ class CameraSampler {
     }
     return {s.radiance, s.alpha};
   }
+  // The first hits of `count` camera rays, a packet of up to kIntersectPacketSize at a
+  // time in order; found[i] 0 for a lone ray left over (the integrator traces it).
+  void packet_hits(const Ray* rays, int count, Hit* hits, uint8_t* found) const;
   // The next point sample's index into `weights` (0 without weights).
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).

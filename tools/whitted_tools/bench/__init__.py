@@ -1,1 +1,2 @@
-"""Measurements that write a docs page: effects, hair, materials, memory, passes, viewport."""
+"""Measurements that write a docs page (effects, hair, materials, memory, passes, viewport),
+and the cost of noise-driven sampling's rounds."""
