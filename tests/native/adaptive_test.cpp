@@ -107,12 +107,12 @@ TEST(FilmNoise, NaNBelowTwoSamples) {
 TEST(SampleOrder, EachPixelPermutesItsGridAndOnlyNoiseDrivenSampling) {
   Settings settings;
   settings.aa_samples = 5;
-  for (int s = 0; s < 25; ++s) EXPECT_EQ(sample_cell(settings, 3, 4, s), s);
+  for (int s = 0; s < 25; ++s) EXPECT_EQ(SampleOrder(settings, 3, 4).cell(s), s);
   settings.adaptive_sampling = true;
   std::set<std::vector<int>> orders;
   for (int x = 0; x < 4; ++x) {
     std::vector<int> order;
-    for (int s = 0; s < 25; ++s) order.push_back(sample_cell(settings, x, 7, s));
+    for (int s = 0; s < 25; ++s) order.push_back(SampleOrder(settings, x, 7).cell(s));
     std::vector<int> sorted = order;
     std::sort(sorted.begin(), sorted.end());
     for (int s = 0; s < 25; ++s) EXPECT_EQ(sorted[s], s);  // a permutation of the grid

@@ -89,23 +89,39 @@ inline uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
   return h;
 }
 
-// Element `index` of a permutation of 0 .. count-1 chosen by `seed` (index < count): a
-// bijection of the smallest power-of-two range holding `count` (xor, odd multiply and
-// xor-shift, each invertible within the range), walked until it lands below `count`;
-// O(1) per element, so a pixel's sample k finds its partner without shuffling them all.
+// A permutation of 0 .. count-1 chosen by `seed`: a bijection of the smallest
+// power-of-two range holding `count` (xor, odd multiply and xor-shift, each invertible
+// within the range), walked until it lands below `count`; O(1) per element, so a pixel's
+// sample k finds its partner without shuffling them all. Made once, it maps many indices
+// (a pixel's samples in a round) without hashing the seed again.
+class Permutation {
+ public:
+  Permutation(uint32_t count, uint32_t seed) : count_(count), mask_(count - 1) {
+    for (int shift = 1; shift < 32; shift <<= 1) mask_ |= mask_ >> shift;
+    key_ = hash3(seed, count, 0x5bd1e995u);
+  }
+  // Element `index` (< count).
+  uint32_t operator()(uint32_t index) const {
+    do {
+      index ^= key_ & mask_;
+      index = (index * 0x2c1b3c6du) & mask_;
+      index ^= (index & mask_) >> 3;
+      index = (index * (key_ | 1u)) & mask_;
+      index ^= (index & mask_) >> 5;
+      index = (index + (key_ >> 16)) & mask_;
+    } while (index >= count_);
+    return index;
+  }
+
+ private:
+  uint32_t count_;
+  uint32_t mask_;
+  uint32_t key_ = 0;
+};
+
+// Element `index` of Permutation(count, seed), alone.
 inline uint32_t permuted(uint32_t index, uint32_t count, uint32_t seed) {
-  uint32_t mask = count - 1;
-  for (int shift = 1; shift < 32; shift <<= 1) mask |= mask >> shift;
-  const uint32_t key = hash3(seed, count, 0x5bd1e995u);
-  do {
-    index ^= key & mask;
-    index = (index * 0x2c1b3c6du) & mask;
-    index ^= (index & mask) >> 3;
-    index = (index * (key | 1u)) & mask;
-    index ^= (index & mask) >> 5;
-    index = (index + (key >> 16)) & mask;
-  } while (index >= count);
-  return index;
+  return Permutation(count, seed)(index);
 }
 
 // The top 24 bits of h as a float in [0, 1) (exact).

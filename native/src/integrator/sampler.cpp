@@ -40,12 +40,10 @@ constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
 
 }  // namespace
 
-int sample_cell(const Settings& settings, int x, int y, int s) {
-  if (!settings.adaptive_sampling) return s;
-  const auto grid = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
-  const uint32_t order = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau);
-  return static_cast<int>(permuted(static_cast<uint32_t>(s), grid, order));
-}
+SampleOrder::SampleOrder(const Settings& settings, int x, int y)
+    : permute_(settings.adaptive_sampling),
+      permutation_(static_cast<uint32_t>(settings.aa_samples * settings.aa_samples),
+                   hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau)) {}
 
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings) {
@@ -167,8 +165,9 @@ void CameraSampler::round_hits(int x, int y, int first, int count, RoundHits* ou
   out->rays.resize(n);
   out->hits.resize(n);
   out->found.assign(n, 0);
+  const SampleOrder order(settings_, x, y);
   for (size_t i = 0; i < n; ++i) {
-    out->cells[i] = sample_cell(settings_, x, y, first + static_cast<int>(i));
+    out->cells[i] = order.cell(first + static_cast<int>(i));
     out->rays[i] = grid_ray(x, y, out->cells[i]);
   }
   if (packets_) packet_hits(out->rays.data(), count, out->hits.data(), out->found.data());

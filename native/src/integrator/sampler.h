@@ -52,7 +52,7 @@ struct FirstHits {
 // packets of this pixel's rays alone, so which rays share a packet depends on the pixel
 // and the round only (not on tiles, threads or which neighbours are active).
 struct RoundHits {
-  std::vector<int> cells;  // each sample's grid cell (sample_cell)
+  std::vector<int> cells;  // each sample's grid cell (SampleOrder)
   std::vector<Ray> rays;
   std::vector<Hit> hits;
   std::vector<uint8_t> found;  // as FirstHits::found
@@ -72,11 +72,22 @@ struct LensTime {
 };
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height);
 
-// The grid cell (row by row, as grid_sample's k) of sample s of pixel (x, y)'s order: with
-// noise-driven sampling a permutation of the grid chosen by the pixel, so that the first
-// samples of a pixel stopped early are a uniform subset of its strata (row order would
-// leave it its bottom rows); otherwise s itself.
-int sample_cell(const Settings& settings, int x, int y, int s);
+// The order of pixel (x, y)'s samples: cell(s) is the grid cell (row by row, as
+// grid_sample's k) of its sample s. With noise-driven sampling a permutation of the grid
+// chosen by the pixel, so that the first samples of a pixel stopped early are a uniform
+// subset of its strata (row order would leave it its bottom rows); otherwise s itself.
+// Made once per pixel and round (the permutation's key is a hash).
+class SampleOrder {
+ public:
+  SampleOrder(const Settings& settings, int x, int y);
+  int cell(int s) const {
+    return permute_ ? static_cast<int>(permutation_(static_cast<uint32_t>(s))) : s;
+  }
+
+ private:
+  bool permute_;
+  Permutation permutation_;
+};
 
 // One per worker (it traces through that worker's integrator). Everything it returns
 // depends only on the pixel and the sample, never on tiles or threads.
@@ -119,7 +130,7 @@ class CameraSampler {
   // Pixels [x0, x1) of row y traced in waves (waves()), as one wave: each pixel whole
   // when `sample` < 0 (its grid, or adaptive subdivision a wave per depth: row_adaptive),
   // (*values)[i] pixel x0 + i's value as pixel() gives it; else its samples `sample` ..
-  // `sample` + `count` - 1 in its order (sample_cell), each apart, (*values)[i * count + j]
+  // `sample` + `count` - 1 in its order (SampleOrder), each apart, (*values)[i * count + j]
   // sample `sample` + j of pixel x0 + i as grid_sample() gives it. Up to float rounding
   // (wave.h); (*rays) the rays each cost, and, where passes are kept, (*records) the
   // records pixel() or grid_sample() fills, up to float rounding. Whole pixels:

@@ -19,7 +19,7 @@ struct Pass {
     kPreview,  // one camera ray at the centre of each block, shown over the block
     kSample,   // one sample of the grid added to every pixel
     // Noise-driven sampling: samples sample .. samples - 1 of each pixel's order
-    // (sample_cell, sampler.h) added to every pixel still active (Film::active)
+    // (SampleOrder, sampler.h) added to every pixel still active (Film::active)
     kRound,
   };
   Kind kind;

@@ -100,7 +100,7 @@ struct Settings {
   int start_pixel_size = 8;  // a power of two, 1 to 64
   // Noise-driven (adaptive) sampling, as Cycles' (docs/notes/adaptive_sampling.md): the
   // pixels take their aa_samples x aa_samples grid in rounds, each pixel's samples in its
-  // own permuted order (sample_cell, sampler.h), and after each round a pixel whose noise
+  // own permuted order (SampleOrder, sampler.h), and after each round a pixel whose noise
   // estimate (Film::converge) is below noise_threshold, and whose 3 x 3 neighbours' are
   // too, takes no more. noise_threshold 0: every pixel takes the whole grid.
   // adaptive_min_samples: samples before the first check; 0: Cycles' automatic
