@@ -36,7 +36,9 @@ void bind_denoise(py::module_& m) {
       .def(
           "cancel", [](DenoiseCancel& c) { c.flag.store(true); },
           "Ask the denoise to stop; it then raises RuntimeError (OIDN's 'cancelled').")
-      .def_property_readonly("cancelled", [](const DenoiseCancel& c) { return c.flag.load(); });
+      .def_property_readonly(
+          "cancelled", [](const DenoiseCancel& c) { return c.flag.load(); },
+          "Whether cancel() was called.");
   m.def(
       "oidn_status",
       [] {
