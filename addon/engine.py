@@ -16,7 +16,7 @@ from .denoise import denoise, denoising_of
 from .export import ExportError
 from .export.instance import cryptomatte_names, writes_cryptomatte
 from .native import load_native
-from .properties.presets import quality_of
+from .properties.presets import preset, quality_of
 from .sync.frame import sync_frame
 from .viewport.session import ViewportSession
 
@@ -61,7 +61,12 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         phases = render_stats.PhaseTimes()
         started = time.perf_counter()
         scene = depsgraph.scene
-        quality = quality_of(scene.whitted)
+        # Material previews and icons sample as the viewport does (as Cycles' previews
+        # take its viewport samples): its preset and its Denoise switch.
+        if self.is_preview:
+            quality = preset(scene.whitted.viewport_preset)
+        else:
+            quality = quality_of(scene.whitted)
         passes = render_result.enabled_passes(depsgraph.view_layer)
         try:
             native = load_native()
@@ -69,7 +74,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             frame = sync_frame(depsgraph, native, quality, frame_set=frame_set)
             phases.mesh_bvh = frame.sync.scene.mesh_build_seconds
             phases.export = time.perf_counter() - started - phases.mesh_bvh
-            denoising = denoising_of(scene, native)
+            denoising = denoising_of(scene, native, viewport=self.is_preview)
             # Sampling > Render > Time Limit: F12's alone (the viewport refines until done).
             frame.settings.time_limit = scene.whitted.time_limit
             render_result.configure(
@@ -110,7 +115,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             asdict(frame.sync.sanitised),
             [spec.name for spec in passes],
         )
-        stats["effects"].append(denoising.decision())
+        stats["effects"] += [render_stats.sampling_decision(stats), denoising.decision()]
         stats["sync"] = frame.report.as_dict()
         # What the memory guard expected this render to need (docs/MEMORY.md).
         stats["memory_estimate_mib"] = frame.memory.bytes / memory.MIB

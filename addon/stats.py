@@ -115,6 +115,24 @@ def _pixel_samples(quality, native_stats):
     return {"min": quality.aa_samples**2, "mean": mean, "max": quality.aa_samples**2}
 
 
+def sampling_decision(stats):
+    """The effects report's entry for the noise threshold ({name, on, why}): the samples a
+    pixel took, and the pixels still noisy when they reached the most (or the time limit
+    ended the sampling)."""
+    settings = stats["settings"]
+    if not settings["adaptive_sampling"]:
+        return {"name": "noise threshold", "on": False, "why": "off: every pixel takes the grid"}
+    samples = stats["pixel_samples"]
+    why = (
+        f"{settings['noise_threshold']:g}: {samples['mean']:.1f} samples per pixel "
+        f"({samples['min']:.0f} to {samples['max']:.0f})"
+    )
+    if stats["noisy_pixels"]:
+        ended = "the time limit" if stats["time_limited"] else "the most samples"
+        why += f"; {stats['noisy_pixels']:,} pixels still noisy at {ended}"
+    return {"name": "noise threshold", "on": True, "why": why}
+
+
 def _most(stats):
     most = stats["pixel_samples"]["max"]
     return "?" if most is None else f"{most:.0f}"

@@ -36,18 +36,20 @@ class Quality:
 
 
 # (key, label, description, values), cheapest first. Each preset is a noise target:
-# its threshold decides how many camera samples a pixel takes, up to its grid; each
+# its threshold decides how many camera samples a pixel takes, up to its grid (the
+# fewest is the first check's: the minimum rounded up past the next multiple of 16,
+# native schedule.h); each
 # camera sample sends one feeler per lamp, one to the emitters and one glossy ray
 # (docs/notes/adaptive_sampling.md says what was measured to choose this).
 PRESETS = (
     (
         "DRAFT",
         "Draft",
-        "Noise threshold 0.1 (4 to 16 samples per pixel), two bounces, closest texels",
+        "Noise threshold 0.1 (16 to 36 samples per pixel), two bounces, closest texels",
         Quality(
             max_depth=2,
             aa_mode="JITTERED",
-            aa_samples=4,
+            aa_samples=6,
             aa_threshold=0.3,
             aa_depth=1,
             adaptive_sampling=True,
@@ -64,7 +66,7 @@ PRESETS = (
     (
         "PREVIEW",
         "Preview",
-        "Noise threshold 0.05 (8 to 64 samples per pixel), four bounces",
+        "Noise threshold 0.05 (16 to 64 samples per pixel), four bounces",
         Quality(
             max_depth=4,
             aa_mode="JITTERED",
@@ -85,7 +87,7 @@ PRESETS = (
     (
         "FINAL",
         "Final",
-        "Noise threshold 0.01 (16 to 256 samples per pixel), eight bounces, exact Fresnel",
+        "Noise threshold 0.01 (32 to 256 samples per pixel), eight bounces, exact Fresnel",
         Quality(
             max_depth=8,
             aa_mode="JITTERED",
@@ -106,7 +108,7 @@ PRESETS = (
     (
         "REFERENCE",
         "Reference",
-        "Noise threshold 0.002 (64 to 1024 samples per pixel), 16 bounces, cutoff 0.001",
+        "Noise threshold 0.002 (80 to 1024 samples per pixel), 16 bounces, cutoff 0.001",
         Quality(
             max_depth=16,
             aa_mode="JITTERED",

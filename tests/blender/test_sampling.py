@@ -166,3 +166,62 @@ def test_the_time_limit_ends_sampling_with_the_samples_taken(scene, tmp_path):
     assert stats["time_limited"]
     # Only the first round (up to the first check, after Final's 16 minimum: 32) ran.
     assert stats["pixel_samples"]["max"] == 32
+
+
+def test_a_black_image_stops_every_pixel_at_the_first_check(empty_scene, tmp_path):
+    # Nothing but a black world: no pixel has noise.
+    scene = empty_scene
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    bpy.ops.object.camera_add(location=(0.0, 0.0, 5.0))
+    scene.camera = bpy.context.object
+    apply_quality(scene.whitted, preset("FINAL"))
+    render_multilayer(scene, tmp_path / "black.exr")
+    stats = json.loads(scene.whitted.last_stats)
+    first_check = 32  # Final's minimum 16, rounded up to the next multiple of 16 past it
+    assert stats["pixel_samples"] == {"min": first_check, "mean": first_check, "max": first_check}
+    assert stats["noisy_pixels"] == 0
+
+
+def firefly(scene):
+    """A tiny, very bright sphere seen only through a rough glass pane: found by few of
+    the pane's glossy rays, the pixels behind the pane never converge."""
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    scene.render.resolution_percentage = 100
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.02, location=(0.0, 0.0, -1.0))
+    glow = bpy.data.materials.new("Glow")
+    glow.use_nodes = True
+    nodes = glow.node_tree.nodes
+    nodes.clear()
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 20000.0
+    output = nodes.new("ShaderNodeOutputMaterial")
+    glow.node_tree.links.new(emission.outputs[0], output.inputs["Surface"])
+    bpy.context.object.data.materials.append(glow)
+    bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.0, 0.0))
+    frosted = bpy.data.materials.new("Frosted")
+    frosted.use_nodes = True
+    nodes = frosted.node_tree.nodes
+    nodes.clear()
+    glass = nodes.new("ShaderNodeBsdfGlass")
+    glass.inputs["Roughness"].default_value = 0.4
+    output = nodes.new("ShaderNodeOutputMaterial")
+    frosted.node_tree.links.new(glass.outputs[0], output.inputs["Surface"])
+    bpy.context.object.data.materials.append(frosted)
+    bpy.ops.object.camera_add(location=(0.0, 0.0, 3.0))
+    scene.camera = bpy.context.object
+    return scene
+
+
+def test_a_pixel_that_never_converges_stops_at_the_most_and_is_reported(empty_scene, tmp_path):
+    scene = firefly(empty_scene)
+    whitted = scene.whitted
+    whitted.aa_mode, whitted.aa_samples, whitted.glossy_samples = "JITTERED", 8, 1
+    whitted.adaptive_sampling, whitted.noise_threshold = True, 0.01
+    whitted.adaptive_min_samples = 4
+    render_multilayer(scene, tmp_path / "firefly.exr")
+    stats = json.loads(scene.whitted.last_stats)
+    assert stats["pixel_samples"]["max"] == 64
+    assert stats["noisy_pixels"] > 0
+    decision = next(e for e in stats["effects"] if e["name"] == "noise threshold")
+    assert decision["on"]
+    assert f"{stats['noisy_pixels']:,} pixels still noisy at the most samples" in decision["why"]
