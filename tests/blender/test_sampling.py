@@ -11,6 +11,7 @@ import pytest
 from test_passes import render_multilayer
 from whitted.denoise import denoising_of
 from whitted.properties.presets import NEW_SCENE, PRESETS, apply_quality, matching_preset, preset
+from whitted_tools.material_scenes import emission_material, glass_bsdf_material, smooth_sphere
 
 WIDTH, HEIGHT = 64, 48
 
@@ -187,26 +188,9 @@ def firefly(scene):
     the pane's glossy rays, the pixels behind the pane never converge."""
     scene.render.resolution_x, scene.render.resolution_y = 32, 24
     scene.render.resolution_percentage = 100
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.02, location=(0.0, 0.0, -1.0))
-    glow = bpy.data.materials.new("Glow")
-    glow.use_nodes = True
-    nodes = glow.node_tree.nodes
-    nodes.clear()
-    emission = nodes.new("ShaderNodeEmission")
-    emission.inputs["Strength"].default_value = 20000.0
-    output = nodes.new("ShaderNodeOutputMaterial")
-    glow.node_tree.links.new(emission.outputs[0], output.inputs["Surface"])
-    bpy.context.object.data.materials.append(glow)
+    smooth_sphere("Glow", (0.0, 0.0, -1.0), 0.02, emission_material("Glow", 20000.0))
     bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.0, 0.0))
-    frosted = bpy.data.materials.new("Frosted")
-    frosted.use_nodes = True
-    nodes = frosted.node_tree.nodes
-    nodes.clear()
-    glass = nodes.new("ShaderNodeBsdfGlass")
-    glass.inputs["Roughness"].default_value = 0.4
-    output = nodes.new("ShaderNodeOutputMaterial")
-    frosted.node_tree.links.new(glass.outputs[0], output.inputs["Surface"])
-    bpy.context.object.data.materials.append(frosted)
+    bpy.context.object.data.materials.append(glass_bsdf_material("Frosted", 0.4))
     bpy.ops.object.camera_add(location=(0.0, 0.0, 3.0))
     scene.camera = bpy.context.object
     return scene
