@@ -78,6 +78,12 @@ def normal_tile(job, x, y, width, height):
     return np.ascontiguousarray(job.pass_tile(NORMAL_SOURCE, x, y, width, height))
 
 
+def rect_of(region):
+    """(x, y, width, height) of a film region (xmin, ymin, xmax, ymax)."""
+    xmin, ymin, xmax, ymax = region
+    return xmin, ymin, xmax - xmin, ymax - ymin
+
+
 def denoise(native, job, rect, denoising, threads, cancel=None):
     """The denoised RGBA of rectangle (x, y, w, h) of a finished `job`, float32[w*h, 4]:
     RGB from the denoiser, alpha the render's. `cancel`: a native DenoiseCancel that
@@ -111,6 +117,7 @@ class BackgroundDenoise:
     only, no bpy data; stop() cancels it and waits for it."""
 
     def __init__(self, native, job, rect, denoising, threads):
+        self.rect = rect  # (x, y, w, h) of the film it denoises
         self.result = None  # float32[w*h, 4] once done
         self.error = ""
         self._cancel = native.DenoiseCancel()

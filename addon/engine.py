@@ -12,7 +12,7 @@ import bpy
 from . import memory
 from . import result as render_result
 from . import stats as render_stats
-from .denoise import denoise, denoising_of
+from .denoise import denoise, denoising_of, rect_of
 from .export import ExportError
 from .export.instance import cryptomatte_names, writes_cryptomatte
 from .native import load_native
@@ -198,8 +198,7 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         self.update_stats("", "Whitted | denoising")
         started = time.perf_counter()
         region = frame.film.region
-        xmin, ymin, xmax, ymax = region
-        rect = (xmin, ymin, xmax - xmin, ymax - ymin)
+        rect = rect_of(region)
         try:
             clean = denoise(native, job, rect, denoising, frame.settings.threads)
         except RuntimeError as error:

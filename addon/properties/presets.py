@@ -38,9 +38,9 @@ class Quality:
 # (key, label, description, values), cheapest first. Each preset is a noise target:
 # its threshold decides how many camera samples a pixel takes, up to its grid (the
 # fewest is the first check's: the minimum rounded up past the next multiple of 16,
-# native schedule.h); each
-# camera sample sends one feeler per lamp, one to the emitters and one glossy ray
-# (docs/notes/adaptive_sampling.md says what was measured to choose this).
+# native schedule.h); each camera sample sends one feeler per lamp, one to the emitters
+# and one glossy ray (docs/notes/adaptive_sampling.md says what was measured to choose
+# this).
 PRESETS = (
     (
         "DRAFT",

@@ -20,7 +20,7 @@ import bpy
 import numpy as np
 
 from .. import memory
-from ..denoise import GUIDE_SOURCES, BackgroundDenoise, denoising_of
+from ..denoise import GUIDE_SOURCES, BackgroundDenoise, denoising_of, rect_of
 from ..export import ExportError
 from ..export.camera import image_size, lens_data, panorama_data, projection_of
 from ..export.film import FilmData
@@ -241,14 +241,10 @@ class ViewportSession:
             self._converged = True
             self._log.write("converged", waves=stats["waves"])
             if self._denoising.on and self._kind == ("image", 0):
-                width, height = self._setup.width, self._setup.height
-                xmin, ymin, xmax, ymax = self._setup.border or (0, 0, width, height)
+                setup = self._setup
+                region = setup.border or (0, 0, setup.width, setup.height)
                 self._denoise = BackgroundDenoise(
-                    self._native,
-                    job,
-                    (xmin, ymin, xmax - xmin, ymax - ymin),
-                    self._denoising,
-                    self._setup.settings[2],
+                    self._native, job, rect_of(region), self._denoising, stats["threads"]
                 )
 
     def _show_denoised(self):
@@ -262,11 +258,10 @@ class ViewportSession:
             self._error = f"Whitted: viewport denoising failed: {result.error}"
             return
         image = self._job.display("image")
-        width, height = self._setup.width, self._setup.height
-        xmin, ymin, xmax, ymax = self._setup.border or (0, 0, width, height)
-        clean = result.result.reshape(ymax - ymin, xmax - xmin, 4)
+        x, y, width, height = result.rect
+        clean = result.result.reshape(height, width, 4)
         # As the film's display: finite, below the half-float maximum.
-        image[ymin:ymax, xmin:xmax] = np.clip(np.nan_to_num(clean), 0.0, 65000.0)
+        image[y : y + height, x : x + width] = np.clip(np.nan_to_num(clean), 0.0, 65000.0)
         self._display.upload(image)
         self._denoised = True
         self._log.write("denoised")

@@ -21,6 +21,17 @@ Color total_irradiance(const Light& light, const Vec3& p, const Vec3& n) {
   return sum;
 }
 
+// A square area light of radiance 1 and side `size`, 1 m above the origin, facing down.
+Light square_above_origin(float size) {
+  Light area;
+  area.type = LightType::kArea;
+  area.color = Color(1.0f);
+  area.position = Vec3(0.0f, 0.0f, 1.0f);
+  area.direction = Vec3(0.0f, 0.0f, -1.0f);
+  area.size[0] = area.size[1] = size;
+  return area;
+}
+
 TEST(Light, SphereLightFarAwayGivesThePointLightsIrradiance) {
   Light light;
   light.color = Color(100.0f);
@@ -77,12 +88,7 @@ TEST(Light, AreaLightFarAwayActsLikeAPointOfIntensityRadianceTimesArea) {
 // any other puts each feeler somewhere in its own stratum, a new place for each jitter;
 // one feeler per camera sample, averaged over many, gives the lamp's irradiance.
 TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
-  Light area;
-  area.type = LightType::kArea;
-  area.color = Color(1.0f);
-  area.position = Vec3(0.0f, 0.0f, 1.0f);
-  area.direction = Vec3(0.0f, 0.0f, -1.0f);
-  area.size[0] = area.size[1] = 2.0f;
+  Light area = square_above_origin(2.0f);
   area.samples = 3;
   const Light lattice(area);
   const Vec3 p(0.0f);
@@ -124,12 +130,7 @@ TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
 // (tan h - h) of a plain one's light, h = s / 2 (Cycles' soft box), none past h; summed
 // over the hemisphere its power is the plain light's.
 TEST(Light, AreaSpreadNarrowsTheLightAndKeepsItsPower) {
-  Light area;
-  area.type = LightType::kArea;
-  area.color = Color(1.0f);
-  area.position = Vec3(0.0f, 0.0f, 1.0f);
-  area.direction = Vec3(0.0f, 0.0f, -1.0f);
-  area.size[0] = area.size[1] = 1e-3f;
+  const Light area = square_above_origin(1e-3f);
   const float h = 0.5f * 0.8f;  // a spread of 0.8 rad
   Light narrow = area;
   narrow.spread = 0.8f;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace whitted {
@@ -127,6 +128,20 @@ inline uint32_t permuted(uint32_t index, uint32_t count, uint32_t seed) {
 // The top 24 bits of h as a float in [0, 1) (exact).
 inline float unit_float(uint32_t h) {
   return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// A point in stratum k of the n x n strata of [0, 1)^2, placed in its cell by a hash of
+// `base`, k and `salt`: jittered strata, a new point for each base (the glossy rays' and
+// emitter feelers' Strata, a lamp's jittered feelers).
+inline glm::vec2 jittered_stratum(uint32_t base, uint32_t salt, int k, int n) {
+  const uint32_t h = hash3(base, static_cast<uint32_t>(k), salt);
+  const float jitter_x = unit_float(h);
+  const float jitter_y = unit_float(hash3(h, 0x7f4au, 0x85ebu));
+  // Below 1: the sum of the last cell's index and a jitter near 1 may round up to n.
+  constexpr float kBelowOne = 0x1.fffffep-1f;
+  const auto side = static_cast<float>(n);
+  return {std::min((static_cast<float>(k % n) + jitter_x) / side, kBelowOne),
+          std::min((static_cast<float>(k / n) + jitter_y) / side, kBelowOne)};
 }
 
 // Shirley and Chiu's concentric map of (x, y) in [-1, 1]^2 to the unit disc, as polar

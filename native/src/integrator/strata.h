@@ -2,7 +2,6 @@
 // n x n strata of [0, 1)^2, one point in each.
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
 
 #include "core/math.h"
@@ -29,15 +28,7 @@ struct Strata {
         base(hash3(state.seed, static_cast<uint32_t>(state.depth), salt)) {}
   int count() const { return n * n; }
   // Stratum k's point.
-  glm::vec2 point(int k) const {
-    const uint32_t h = hash3(base, static_cast<uint32_t>(k), 0x9e3779b9u);
-    const float jitter_x = unit_float(h);
-    const float jitter_y = unit_float(hash3(h, 0x7f4au, 0x85ebu));
-    // Below 1: the sum of the last cell's index and a jitter near 1 may round up to n.
-    constexpr float kBelowOne = 0x1.fffffep-1f;
-    return {std::min((static_cast<float>(k % n) + jitter_x) / static_cast<float>(n), kBelowOne),
-            std::min((static_cast<float>(k / n) + jitter_y) / static_cast<float>(n), kBelowOne)};
-  }
+  glm::vec2 point(int k) const { return jittered_stratum(base, 0x9e3779b9u, k, n); }
 };
 
 }  // namespace whitted

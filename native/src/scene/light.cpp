@@ -45,17 +45,14 @@ float spread_attenuation(float spread, float cos_l) {
 // (Cook 1984's jittered feelers, a new one for each camera sample).
 void stratum(const Light& light, int index, uint32_t jitter, float* u, float* v) {
   const int n = light.samples;
-  float ju = 0.5f;
-  float jv = 0.5f;
   if (jitter != 0) {
-    const uint32_t h = hash3(jitter, static_cast<uint32_t>(index), 0x6c69u);
-    // Below 1: a cell index plus a jitter near 1 may round up to n.
-    constexpr float kBelowOne = 0x1.fffffep-1f;
-    ju = std::min(unit_float(h), kBelowOne);
-    jv = std::min(unit_float(hash3(h, 0x7f4au, 0x85ebu)), kBelowOne);
+    const glm::vec2 point = jittered_stratum(jitter, 0x6c69u, index, n);
+    *u = point.x;
+    *v = point.y;
+    return;
   }
-  *u = (static_cast<float>(index % n) + ju) / static_cast<float>(n);
-  *v = (static_cast<float>(index / n) + jv) / static_cast<float>(n);
+  *u = (static_cast<float>(index % n) + 0.5f) / static_cast<float>(n);
+  *v = (static_cast<float>(index / n) + 0.5f) / static_cast<float>(n);
 }
 
 // Stratum `index` on the unit-diameter disc, in [-0.5, 0.5]^2.
