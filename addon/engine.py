@@ -14,6 +14,7 @@ from . import result as render_result
 from . import stats as render_stats
 from .denoise import denoise, denoising_of, rect_of
 from .export import ExportError
+from .export.film import pixel_filter_decision
 from .export.instance import cryptomatte_names, writes_cryptomatte
 from .native import load_native
 from .properties.presets import preset, quality_of
@@ -115,7 +116,11 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             asdict(frame.sync.sanitised),
             [spec.name for spec in passes],
         )
-        stats["effects"] += [render_stats.sampling_decision(stats), denoising.decision()]
+        stats["effects"] += [
+            pixel_filter_decision(frame.film, quality.aa_mode),
+            render_stats.sampling_decision(stats),
+            denoising.decision(),
+        ]
         stats["sync"] = frame.report.as_dict()
         # What the memory guard expected this render to need (docs/MEMORY.md).
         stats["memory_estimate_mib"] = frame.memory.bytes / memory.MIB

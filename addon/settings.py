@@ -6,7 +6,7 @@ from .properties.presets import quality_of
 def native_settings(native, scene, width, height, film, quality=None, shutter=0.0):
     """whitted_native.Settings for `scene` at `width` x `height` pixels.
 
-    `film` is export.film.FilmData (border, transparent sky); `quality` is a
+    `film` is export.film.FilmData (border, transparent sky, pixel filter); `quality` is a
     properties.presets.Quality, by default the one scene.whitted holds; `shutter` the
     motion blur's, in frames, for the report (0: off, as in the viewport).
     """
@@ -30,6 +30,8 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
         cutoff=quality.cutoff,
         fresnel=getattr(native.Fresnel, quality.fresnel),
         glass_shadows=getattr(native.GlassShadows, whitted.glass_shadows),
+        pixel_filter=getattr(native.PixelFilterType, film.pixel_filter.type),
+        filter_width=film.pixel_filter.width,
         # Blender's thread setting (Auto = all cores, or the -t command-line value).
         threads=scene.render.threads,
         tile_size=whitted.tile_size,

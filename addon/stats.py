@@ -44,7 +44,13 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
     pixels = native_stats["pixels"]
     return {
         "blender": blender_version,
-        "settings": {"width": settings.width, "height": settings.height, **asdict(quality)},
+        "settings": {
+            "width": settings.width,
+            "height": settings.height,
+            **asdict(quality),
+            "pixel_filter": settings.pixel_filter.name,
+            "filter_width": settings.filter_width,
+        },
         "threads": native_stats["threads"],
         "triangles": native_stats["triangles"],
         "curve_segments": native_stats["curve_segments"],

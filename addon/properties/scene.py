@@ -220,6 +220,28 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         ),
         **setting("glass_shadows"),
     )
+    pixel_filter_type: EnumProperty(
+        name="Pixel Filter",
+        description="Where a pixel's samples land about its centre, as Cycles' Film > Pixel "
+        "Filter (Whitted's adaptive anti-aliasing samples each pixel's square)",
+        items=(
+            ("BOX", "Box", "Each pixel's samples in its own square: no filtering"),
+            ("GAUSSIAN", "Gaussian", "A smooth filter: soft edges"),
+            (
+                "BLACKMAN_HARRIS",
+                "Blackman-Harris",
+                "Cycles' default: a balance between smoothness and detail",
+            ),
+        ),
+        default="BLACKMAN_HARRIS",
+    )
+    filter_width: FloatProperty(
+        name="Width",
+        description="The pixel filter's width: lower is crisper, higher softer and less aliased",
+        subtype="PIXEL",
+        precision=2,
+        **setting("filter_width", default=1.5),
+    )
     cutoff: FloatProperty(
         name="Cutoff",
         description="Adaptive depth control: a reflected or refracted ray whose weight on "

@@ -8,7 +8,7 @@ the scene's instance keys turned back into Blender object names and a summary ad
 import json
 from dataclasses import dataclass
 
-from ..export.film import FilmData
+from ..export.film import convert_film
 from ..export.instance import instance_name
 from ..export.motion import scene_frame_set
 from ..properties.presets import preset
@@ -49,10 +49,7 @@ def inspect_pixel(depsgraph, native, x, y, sample=-1, view=None):
         quality = preset(scene.whitted.viewport_preset)
         sync = SceneSync(native)
         sync.sync(depsgraph, SyncParams.of(scene, quality))
-        film = FilmData(
-            region=(0, 0, view.width, view.height),
-            transparent_background=scene.render.film_transparent,
-        )
+        film = convert_film(scene, view.width, view.height, region=(0, 0, view.width, view.height))
         settings = native_settings(native, scene, view.width, view.height, film, quality)
         job = native.RenderJob(sync.scene, settings, camera=native_camera(native, view.camera))
         source = {"source": "viewport", "width": view.width, "height": view.height}

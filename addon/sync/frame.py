@@ -96,7 +96,7 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
         )
     if sync.light_count == 0:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
-    film = convert_film(scene.render, camera.width, camera.height)
+    film = convert_film(scene, camera.width, camera.height)
     return Frame(
         sync=sync,
         report=report,

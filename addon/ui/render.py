@@ -148,6 +148,13 @@ class WHITTED_RENDER_PT_film(_TopPanel, bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw_settings(self, column, scene):
+        settings = scene.whitted
+        filtered = column.column()
+        # Whitted's adaptive anti-aliasing samples each pixel's square.
+        filtered.active = settings.aa_mode != "ADAPTIVE"
+        filtered.prop(settings, "pixel_filter_type")
+        if settings.pixel_filter_type != "BOX":  # the pixel's square, as Cycles' Box
+            filtered.prop(settings, "filter_width")
         column.prop(scene.render, "film_transparent")
 
 

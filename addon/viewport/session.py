@@ -23,7 +23,7 @@ from .. import memory
 from ..denoise import GUIDE_SOURCES, BackgroundDenoise, denoising_of, rect_of
 from ..export import ExportError
 from ..export.camera import image_size, lens_data, panorama_data, projection_of
-from ..export.film import FilmData
+from ..export.film import convert_film
 from ..properties.presets import preset
 from ..result import MAX_CONTRIBUTION_DEPTH, mist_of, viewport_display
 from ..settings import native_settings
@@ -166,9 +166,11 @@ class ViewportSession:
             scene,
             setup.width,
             setup.height,
-            FilmData(
+            convert_film(
+                scene,
+                setup.width,
+                setup.height,
                 region=setup.border or (0, 0, setup.width, setup.height),
-                transparent_background=scene.render.film_transparent,
             ),
             _quality(scene),
         )

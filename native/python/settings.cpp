@@ -77,6 +77,14 @@ void bind_settings(py::module_& m) {
       .value("OPAQUE", GlassShadows::kOpaque)
       .value("TINTED", GlassShadows::kTinted);
 
+  py::enum_<PixelFilterType>(m, "PixelFilterType",
+                             "Render > Film > Pixel Filter, as Cycles': where a pixel's grid "
+                             "samples land about its centre (Whitted's adaptive anti-aliasing "
+                             "samples the pixel's square).")
+      .value("BOX", PixelFilterType::kBox)
+      .value("GAUSSIAN", PixelFilterType::kGaussian)
+      .value("BLACKMAN_HARRIS", PixelFilterType::kBlackmanHarris);
+
   py::class_<Settings>(m, "Settings",
                       "What a RenderJob renders with: image size, depth, sampling, passes.")
       .def(py::init([](int width, int height, int max_depth, int aa_samples, int threads,
@@ -87,7 +95,8 @@ void bind_settings(py::module_& m) {
                        const std::vector<std::string>& passes, int contribution_depth,
                        float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
                        int emitter_samples, float shutter, bool adaptive_sampling,
-                       float noise_threshold, int adaptive_min_samples, double time_limit) {
+                       float noise_threshold, int adaptive_min_samples, double time_limit,
+                       PixelFilterType pixel_filter, float filter_width) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -120,6 +129,8 @@ void bind_settings(py::module_& m) {
              s.noise_threshold = noise_threshold;
              s.adaptive_min_samples = adaptive_min_samples;
              s.time_limit = time_limit;
+             s.pixel_filter = pixel_filter;
+             s.filter_width = filter_width;
              s.validate();
              return s;
            }),
@@ -143,7 +154,8 @@ void bind_settings(py::module_& m) {
            py::arg("adaptive_sampling") = d.adaptive_sampling,
            py::arg("noise_threshold") = d.noise_threshold,
            py::arg("adaptive_min_samples") = d.adaptive_min_samples,
-           py::arg("time_limit") = d.time_limit,
+           py::arg("time_limit") = d.time_limit, py::arg("pixel_filter") = d.pixel_filter,
+           py::arg("filter_width") = d.filter_width,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -155,7 +167,8 @@ void bind_settings(py::module_& m) {
            "glossy_samples: n, for n x n rays drawn from a glossy lobe at a branch's first "
            "glossy bounce (one at later ones); emitter_samples: n, for n x n feelers to the "
            "emissive meshes from a shading point (one after a glossy bounce); shutter: Render > "
-           "Motion Blur's, in frames, for the report (0: motion blur off).")
+           "Motion Blur's, in frames, for the report (0: motion blur off); pixel_filter, "
+           "filter_width: Film > Pixel Filter's type (a PixelFilterType) and width in pixels.")
       .def("validate", &Settings::validate,
            "Raise ValueError naming the first value out of its range (LIMITS), as a render "
            "does.")
@@ -210,6 +223,14 @@ void bind_settings(py::module_& m) {
       .def_readwrite("fresnel", &Settings::fresnel,
                      "How reflectivity and transmissivity split by angle: OFF (as given), "
                      "SCHLICK's approximation or EXACT dielectric Fresnel.")
+      .def_readwrite("pixel_filter", &Settings::pixel_filter,
+                     "Film > Pixel Filter's type (a PixelFilterType).")
+      .def_readwrite("filter_width", &Settings::filter_width,
+                     ranged(setting_range("filter_width"),
+                            "Film > Pixel Filter's width in pixels (Cycles': Gaussian 4 standard "
+                            "deviations, Blackman-Harris the support's half; the Box is the "
+                            "pixel's square whatever it is).")
+                         .c_str())
       .def_readwrite("glass_shadows", &Settings::glass_shadows,
                      "What a shadow feeler does at glass (a GlassShadows).")
       .def_property_readonly("border",

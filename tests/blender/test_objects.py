@@ -20,7 +20,7 @@ import bpy
 import numpy as np
 import pytest
 from exported import exported_meshes
-from whitted.export.film import FilmData, convert_film
+from whitted.export.film import FilmData, PixelFilter, convert_film
 from whitted.export.instance import RayVisibility
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, cube_mesh, ico_sphere_on_points
@@ -385,8 +385,11 @@ def set_border(scene, crop):
 
 def test_film_region_is_the_border_in_pixels_as_blender_rounds_it(scene):
     render = scene.render
-    assert convert_film(render, 100, 50) == FilmData(
-        region=(0, 0, 100, 50), transparent_background=False
+    scene.whitted.pixel_filter_type = "GAUSSIAN"
+    scene.whitted.filter_width = 2.0
+    gaussian = PixelFilter("GAUSSIAN", 2.0)
+    assert convert_film(scene, 100, 50) == FilmData(
+        region=(0, 0, 100, 50), transparent_background=False, pixel_filter=gaussian
     )
     render.use_border = True
     # 0.7 in single precision is 0.69999999; times 100 in single precision is
@@ -394,8 +397,8 @@ def test_film_region_is_the_border_in_pixels_as_blender_rounds_it(scene):
     render.border_min_x, render.border_max_x = 0.2, 0.7
     render.border_min_y, render.border_max_y = 0.1, 0.9
     render.film_transparent = True
-    assert convert_film(render, 100, 50) == FilmData(
-        region=(20, 5, 70, 45), transparent_background=True
+    assert convert_film(scene, 100, 50) == FilmData(
+        region=(20, 5, 70, 45), transparent_background=True, pixel_filter=gaussian
     )
 
 

@@ -87,7 +87,9 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
         texture_filter="CLOSEST",
     )
     apply_quality(empty_scene.whitted, quality)
-    film = convert_film(empty_scene.render, 40, 30)
+    empty_scene.whitted.pixel_filter_type = "GAUSSIAN"
+    empty_scene.whitted.filter_width = 2.5
+    film = convert_film(empty_scene, 40, 30)
     settings = native_settings(native, empty_scene, 40, 30, film)
     assert settings.max_depth == 7
     assert settings.aa_mode == native.AntiAliasing.ADAPTIVE
@@ -106,6 +108,9 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
     empty_scene.whitted.glass_shadows = "TINTED"
     tinted = native_settings(native, empty_scene, 40, 30, film)
     assert tinted.glass_shadows == native.GlassShadows.TINTED
+    # Nor is the film's pixel filter.
+    assert settings.pixel_filter == native.PixelFilterType.GAUSSIAN
+    assert settings.filter_width == pytest.approx(2.5)
 
 
 def render_stats(scene, render_pixels):

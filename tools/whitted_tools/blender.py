@@ -165,7 +165,8 @@ def exit_process(code=0):
 
 # The Whitted settings the tools' scenes and the tests' expectations were made with: a
 # new scene's before issue 46 (2 x 2 regular samples, 4 x 4 feelers per sized lamp, the
-# native defaults elsewhere, no noise threshold, no denoising). A new scene now starts
+# native defaults elsewhere, no noise threshold, no denoising, each pixel its own square
+# (a Box filter, not Cycles' Blackman-Harris 1.5)). A new scene now starts
 # at the Final preset (addon/properties/presets.py NEW_SCENE); scripts and tests that
 # measure something else than that keep these, so their figures stay comparable.
 SEED_QUALITY = {
@@ -182,6 +183,7 @@ SEED_QUALITY = {
     "cutoff": 1.0 / 255.0,
     "texture_filter": "AUTHORED",
     "use_denoising": False,
+    "pixel_filter_type": "BOX",
 }
 
 

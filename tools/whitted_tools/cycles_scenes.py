@@ -282,6 +282,7 @@ def box_filtered(scene, cycles_samples, whitted_samples):
     set_cycles_direct_light(scene, samples=cycles_samples)
     scene.cycles.pixel_filter_type = "BOX"
     scene.cycles.filter_width = 1.0
+    scene.whitted.pixel_filter_type = "BOX"
     scene.whitted.aa_mode = "JITTERED"
     scene.whitted.aa_samples = whitted_samples
 

@@ -21,6 +21,7 @@ CryptomatteFilm::CryptomatteFilm(const Settings& settings)
     : width_(settings.width),
       height_(settings.height),
       samples_per_axis_(samples_per_axis(settings)),
+      filter_(settings),
       kinds_(settings.cryptomatte_kinds),
       depth_(settings.cryptomatte_depth) {
   if (!enabled()) return;
@@ -39,10 +40,12 @@ void CryptomatteFilm::trace_pixel(const CompiledScene& scene, const Camera& came
   const bool moves = scene.moves || camera.motion != nullptr;
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
-      const float px =
-          static_cast<float>(x) + (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
-      const float py =
-          static_cast<float>(y) + (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
+      // Placed by the pixel filter as the image's grid samples are (its coverage is
+      // the image's).
+      const float px = static_cast<float>(x) +
+                       filter_.position((static_cast<float>(i) + 0.5f) / static_cast<float>(n));
+      const float py = static_cast<float>(y) +
+                       filter_.position((static_cast<float>(j) + 0.5f) / static_cast<float>(n));
       // On the lens and in the shutter as the image's samples are (depth of field and
       // motion blur spread an object's coverage as they spread its colour).
       const LensTime at = lens_and_time(camera, moves, x, y, j * n + i, n, height_);

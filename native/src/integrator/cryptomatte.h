@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "integrator/pixel_filter.h"
 #include "integrator/settings.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -41,8 +42,8 @@ class CryptomatteFilm {
   }
 
   // Traces the coverage samples of pixel (x, y) and ranks what they meet: an n x n grid
-  // of camera rays at its cells' centres (n: aa_samples for regular and jittered
-  // anti-aliasing, 2^aa_depth for adaptive: its finest squares). A ray passes through
+  // of camera rays at its cells' centres placed by the pixel filter (n: aa_samples for regular and
+  // jittered anti-aliasing, 2^aa_depth for adaptive: its finest squares). A ray passes through
   // cut-outs, each surface covering its alpha of what is left (as the image); a holdout
   // or the world covers nothing.
   void trace_pixel(const CompiledScene& scene, const Camera& camera, int x, int y);
@@ -51,6 +52,7 @@ class CryptomatteFilm {
   int width_;
   int height_;
   int samples_per_axis_;
+  PixelFilter filter_;
   uint32_t kinds_;
   int depth_;
   std::array<std::vector<float>, kCryptomatteKinds> ranks_;

@@ -97,6 +97,7 @@ CameraSampler::CameraSampler(const WhittedIntegrator& integrator, const Camera& 
       settings_(integrator.settings()),
       camera_(camera),
       frame_(camera),
+      filter_(integrator.settings()),
       packets_(packets),
       moves_(camera.motion != nullptr || integrator.scene().moves),
       distributed_(moves_ || camera.lens.blurs()),
@@ -448,8 +449,9 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
 }
 
 Ray CameraSampler::grid_ray(int x, int y, int k) const {
-  // An n x n grid over the pixel; jittered inside each cell (adaptive anti-aliasing,
-  // when sampled one grid sample at a time, is jittered too).
+  // An n x n grid over the unit square; jittered inside each cell (adaptive
+  // anti-aliasing, when sampled one grid sample at a time, is jittered too); then placed
+  // about the pixel's centre by the pixel filter (the square itself for a Box of 1).
   const int n = settings_.aa_samples;
   const int i = k % n;
   const int j = k / n;
@@ -461,8 +463,8 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
     du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h);
     dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h + 1);
   }
-  const float px = static_cast<float>(x) + (static_cast<float>(i) + du) * cell;
-  const float py = static_cast<float>(y) + (static_cast<float>(j) + dv) * cell;
+  const float px = static_cast<float>(x) + filter_.position((static_cast<float>(i) + du) * cell);
+  const float py = static_cast<float>(y) + filter_.position((static_cast<float>(j) + dv) * cell);
   const LensTime at = lens_and_time(camera_, moves_, x, y, k, n, settings_.height);
   return camera_ray(px, py, at.lens, at.time);
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "integrator/film.h"
+#include "integrator/pixel_filter.h"
 #include "integrator/wave.h"
 #include "integrator/whitted.h"
 #include "scene/camera.h"
@@ -208,8 +209,9 @@ class CameraSampler {
   const WhittedIntegrator& integrator_;
   const Settings& settings_;
   const Camera& camera_;
-  const CameraFrame frame_;  // camera_'s, made once: not per camera ray
-  const bool packets_;       // choose_packets' answer, made once per render
+  const CameraFrame frame_;   // camera_'s, made once: not per camera ray
+  const PixelFilter filter_;  // where grid samples land about the pixel's centre
+  const bool packets_;        // choose_packets' answer, made once per render
   // Whether the camera or an instance moves within the shutter: camera samples then
   // spread over it (motion blur), else all are at time 0.
   const bool moves_;

@@ -21,11 +21,12 @@ void check_range(std::string_view name, int64_t value, int64_t low, int64_t high
   }
 }
 
-// A setting against its kSettingRanges entry (a float NaN is out of every range).
+// A setting against its kSettingRanges entry (a float NaN is out of every range), a
+// float field against its bounds rounded to float (0.01 is 0.0099999998 there).
 template <typename T>
 void check_setting(const SettingRange& range, T value) {
   if constexpr (std::is_floating_point_v<T>) {
-    if (!(value >= range.min && value <= range.max)) {
+    if (!(value >= static_cast<T>(range.min) && value <= static_cast<T>(range.max))) {
       std::ostringstream message;
       message << range.name << " must be between " << range.min << " and " << range.max;
       throw std::invalid_argument(message.str());
@@ -48,6 +49,8 @@ void Settings::validate() const {
   check_setting(setting_range("aa_samples"), aa_samples);
   check_setting(setting_range("aa_depth"), aa_depth);
   check_setting(setting_range("aa_threshold"), aa_threshold);
+  check_setting(setting_range("filter_width"), filter_width);
+  check_range("pixel_filter", static_cast<int64_t>(pixel_filter), 0, 2);
   check_setting(setting_range("threads"), threads);
   check_setting(setting_range("tile_size"), tile_size);
   check_setting(setting_range("probe_stride"), probe_stride);

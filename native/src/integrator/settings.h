@@ -23,6 +23,11 @@ enum class GlassShadows { kOpaque, kTinted };
 // split in four while its corners differ by more than the threshold, to a depth.
 enum class AntiAliasing { kRegular, kJittered, kAdaptive };
 
+// Render > Film > Pixel Filter, as Cycles' (integrator/pixel_filter.h): where a pixel's
+// regular and jittered grid samples land around its centre. Box of width 1 is the seed's
+// pixel square; Whitted's adaptive corners always sample the square.
+enum class PixelFilterType { kBox, kGaussian, kBlackmanHarris };
+
 // The deepest separate bin of the Contributions pass (Settings::contribution_depth).
 inline constexpr int kMaxContributionDepth = 8;
 
@@ -45,7 +50,9 @@ struct Settings {
   // (Instance::motion, Camera::motion).
   float shutter = 0.0f;
   AntiAliasing aa_mode = AntiAliasing::kRegular;
-  int aa_samples = 1;         // per axis, regular and jittered: n x n samples
+  int aa_samples = 1;  // per axis, regular and jittered: n x n samples
+  PixelFilterType pixel_filter = PixelFilterType::kBox;
+  float filter_width = 1.0f;  // in pixels (Cycles' Width: see PixelFilter)
   float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)
   int aa_depth = 3;           // adaptive: how many times a square may be split
   int threads = 0;            // 0: all hardware threads
@@ -170,6 +177,7 @@ inline constexpr std::array kSettingRanges = {
     SettingRange{"glossy_samples", 1, 16},
     SettingRange{"emitter_samples", 1, 16},
     SettingRange{"aa_samples", 1, 64},
+    SettingRange{"filter_width", 0.01, 10},
     SettingRange{"aa_threshold", 0, 3},
     SettingRange{"aa_depth", 0, 6},
     SettingRange{"threads", 0, 1024},
