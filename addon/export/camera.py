@@ -170,8 +170,9 @@ def panorama_data(camera, width, height, render):
 def lens_data(camera_object, projection):
     """The camera's Depth of Field as a thin lens, as Cycles sets it up: the aperture's
     radius is the focal length (mm, to m) over twice the f-number (an orthographic
-    camera's 1 / (2 f), in scene units); the focus distance is the focus object's
-    depth along the view axis when there is one, else Focus Distance."""
+    camera's 1 / (2 f), in scene units); the focus distance is the depth of
+    focus_point's point along the view axis when there is a focus object, else Focus
+    Distance."""
     camera = camera_object.data
     dof = camera.dof
     if not dof.use_dof:
@@ -185,9 +186,7 @@ def lens_data(camera_object, projection):
     if dof.focus_object is not None:
         view = np.array(camera_object.matrix_world)[:3, 2]
         view = view / np.linalg.norm(view)
-        offset = np.array(dof.focus_object.matrix_world.translation) - np.array(
-            camera_object.matrix_world.translation
-        )
+        offset = focus_point(dof) - np.array(camera_object.matrix_world.translation)
         focus = abs(float(view @ offset))
     return LensData(
         aperture_radius=radius,
@@ -197,6 +196,21 @@ def lens_data(camera_object, projection):
         ratio=dof.aperture_ratio,
         fstop=dof.aperture_fstop,
     )
+
+
+def focus_point(dof):
+    """Where a camera's Depth of Field (`dof`, with a focus object) focuses, in world
+    space, as Cycles reads it: the focus object's origin, or with Focus on Bone (an
+    armature's focus_subtarget) that bone's head as the armature is posed. Of an
+    evaluated camera the focus object is the depsgraph's evaluated copy (Blender points
+    evaluated data at evaluated objects), so its place is the frame's even where the
+    original object was left elsewhere (a script's scene not yet updated, a farm's
+    `blender -b FILE -f N`)."""
+    target = dof.focus_object
+    bone = target.pose.bones.get(dof.focus_subtarget) if target.pose is not None else None
+    if bone is None:
+        return np.array(target.matrix_world.translation)
+    return np.array(target.matrix_world @ bone.head)
 
 
 def _aspect_ratios(width, height, render):

@@ -175,11 +175,7 @@ def _read(mesh, domain, owner, uv_map, warnings, needs=NO_NEEDS):
     triangles.foreach_get("vertices", corners.reshape(-1))
     normals = vertex_normals = None
     if domain == "POINT":
-        vertex_normals = np.empty_like(positions)
-        if hasattr(mesh, "normals_domain"):  # Blender 4.1+: a plain array, a block copy
-            mesh.vertex_normals.foreach_get("vector", vertex_normals.reshape(-1))
-        else:
-            vertex_normals = _vertex_normals(mesh, positions)
+        vertex_normals = _vertex_normals(mesh, positions)
     elif domain == "CORNER":
         normals = np.empty((count, 3, 3), dtype=np.float32)
         triangles.foreach_get("split_normals", normals.reshape(-1))
@@ -193,22 +189,36 @@ def _vertex_normals(mesh, positions):
     """float32[N,3]: Blender's vertex normals (the face normals around each vertex
     weighted by the face's corner angle there, normalised), computed here.
 
-    Blender before 4.1 sums them on several threads in no fixed order, so two reads
-    of one unchanged mesh can differ in the last bit, and a render would not be a
-    pure function of the scene. The native core sums them in a fixed order, in double
-    (whitted_native.vertex_normals: 0.12 s for 1M quads; the numpy code it replaced,
-    with the same operations and so the same bits, took 1.1 s on the million scene).
+    Blender sums them in floats in the order of the faces (before 4.1 on several
+    threads, in no fixed order), and one mesh can come in several face orders: its UV
+    sphere operator gives the same faces in a new order each call, and one to two
+    vertex normals in twenty then differ in the last bit, which moved pixels of the
+    gallery scenes by up to 1e-4 (bpy 5.0). The native core sums them in fixed point,
+    which no order changes (whitted_native.vertex_normals: 0.1 s for 1M quads in bpy 5.0,
+    reads included, against 0.001 s for a copy of Blender's).
     """
-    # uint32, the type Blender stores the indices in: int32 is copied item by item, 10x
-    # slower (a million triangles: 0.19 s against 0.02 s in 3.4).
-    vertex = np.empty(len(mesh.loops), dtype=np.uint32)
-    mesh.loops.foreach_get("vertex_index", vertex)
-    starts = np.empty(len(mesh.polygons), dtype=np.uint32)
-    sizes = np.empty(len(mesh.polygons), dtype=np.uint32)
+    polygons = len(mesh.polygons)
+    starts = np.empty(polygons, dtype=np.uint32)
     mesh.polygons.foreach_get("loop_start", starts)
-    mesh.polygons.foreach_get("loop_total", sizes)
-    face_normals = np.empty((len(mesh.polygons), 3), dtype=np.float32)
-    mesh.polygons.foreach_get("normal", face_normals.reshape(-1))  # one face each: exact
+    face_normals = np.empty((polygons, 3), dtype=np.float32)
+    if hasattr(mesh, "normals_domain"):
+        # Blender 4.1+: block copies of plain arrays (MeshLoop.vertex_index is read item
+        # by item: 0.14 s for 1M quads against 0.002 s), the faces' loops consecutive, and
+        # the face normals Blender's own vertex normals sum (MeshPolygon.normal is
+        # computed again, differently: up to 2e-5 apart on a UV sphere).
+        vertex = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.attributes[".corner_vert"].data.foreach_get("value", vertex)
+        vertex = vertex.view(np.uint32)
+        sizes = np.diff(starts, append=np.uint32(len(mesh.loops)))
+        mesh.polygon_normals.foreach_get("vector", face_normals.reshape(-1))
+    else:
+        # uint32, the type Blender stores the indices in: int32 is copied item by item,
+        # 10x slower (a million triangles: 0.19 s against 0.02 s in 3.4).
+        vertex = np.empty(len(mesh.loops), dtype=np.uint32)
+        mesh.loops.foreach_get("vertex_index", vertex)
+        sizes = np.empty(polygons, dtype=np.uint32)
+        mesh.polygons.foreach_get("loop_total", sizes)
+        mesh.polygons.foreach_get("normal", face_normals.reshape(-1))  # one face each: exact
     # A vertex of no face (or of zero-area faces only) keeps a zero normal, which
     # `_finish` repairs.
     return load_native().vertex_normals(positions, vertex, starts, sizes, face_normals)

@@ -115,7 +115,8 @@ void bind_mesh(py::module_& m) {
         py::arg("face_normals"),
         "float32[N,3]: Blender's smooth vertex normals of a polygon mesh (each vertex's "
         "face normals weighted by the corner angle, normalised; (0, 0, 0) at a vertex of no "
-        "face), summed in a fixed order so that one mesh always gives the same bits. "
+        "face), summed in fixed point so that the same faces in any order give the same "
+        "bits. "
         "positions float32[N,3]; loop_vertices uint32[L]; loop_starts, loop_totals uint32[P] "
         "(polygon p owns loops loop_starts[p] .. + loop_totals[p] - 1); face_normals "
         "float32[P,3].");

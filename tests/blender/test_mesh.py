@@ -17,6 +17,12 @@ from whitted.export.sanitise import Sanitised
 from whitted_tools import scenes
 from whitted_tools.scenes import add_object, bmesh_mesh, ico_sphere_on_points, sphere_mesh
 
+# How far the exported vertex normals may lie from Blender's own: before 4.1 Blender
+# weights by the exact corner angle, as the export does; from 4.1 by an approximate
+# arc cosine (safe_acos_approx in its mesh_normals.cc), measured 1.7e-5 apart on the
+# jittered cylinder below.
+BLENDERS_NORMALS_ATOL = 1e-6 if bpy.app.version < (4, 1, 0) else 5e-5
+
 
 def cube_mesh(name="Cube"):
     return scenes.cube_mesh(name, size=2.0)
@@ -68,7 +74,7 @@ def test_smooth_sphere_has_radial_vertex_normals(empty_scene, warnings):
     mesh = bpy.data.objects["Sphere"].data
     vertex_normals = np.empty((len(mesh.vertices), 3), dtype=np.float32)
     mesh.vertices.foreach_get("normal", vertex_normals.reshape(-1))
-    np.testing.assert_allclose(data.vertex_normals, vertex_normals, atol=1e-6)
+    np.testing.assert_allclose(data.vertex_normals, vertex_normals, atol=BLENDERS_NORMALS_ATOL)
     corners = data.corner_normals()
     assert corners.shape == (len(data.triangles), 3, 3)
     # On a unit sphere they point nearly along the position (within 2 degrees).
@@ -96,7 +102,7 @@ def test_vertex_normals_of_n_gons_equal_blenders_and_repeat_to_the_bit(empty_sce
     (data,) = convert(warnings).meshes
     blenders = np.empty((len(mesh.vertices), 3), dtype=np.float32)
     mesh.vertices.foreach_get("normal", blenders.reshape(-1))
-    np.testing.assert_allclose(data.vertex_normals, blenders, atol=1e-6)
+    np.testing.assert_allclose(data.vertex_normals, blenders, atol=BLENDERS_NORMALS_ATOL)
     for _ in range(3):
         mesh.update()  # Blender computes its normals again, on threads
         assert convert(warnings).meshes[0].vertex_normals.tobytes() == data.vertex_normals.tobytes()

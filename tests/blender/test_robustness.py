@@ -258,7 +258,9 @@ def _render_with(render, build, threads, tile_size):
 
 
 @pytest.mark.parametrize(
-    "build", [hard_cases.water_in_glass, hard_cases.coplanar_quads], ids=["glass", "coplanar"]
+    "build",
+    [hard_cases.water_in_glass, hard_cases.coplanar_quads, hard_cases.operator_sphere],
+    ids=["glass", "coplanar", "operator_sphere"],
 )
 def test_bit_identical_across_threads_tiles_and_repeats(empty_scene, render, build):
     reference = _render_with(render, build, threads=1, tile_size=64)

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -191,6 +194,54 @@ TEST(MeshVertexNormals, FacesAreWeightedByTheirCornerAngle) {
   EXPECT_NEAR(n[0], 0.25f / length, 1e-6f);  // x: face 1 with pi/4
   EXPECT_NEAR(n[1], 0.0f, 1e-7f);
   EXPECT_NEAR(n[2], 0.5f / length, 1e-6f);  // z: face 0 with pi/2
+}
+
+// One closed mesh, its faces listed in shuffled orders (Blender's UV sphere operator hands
+// over the same faces in a new order each time): every normal keeps its bits.
+TEST(MeshVertexNormals, TheSameFacesInAnyOrderGiveTheSameBits) {
+  // A 24 x 12 UV sphere of quads, its vertices jittered so the corner angles all differ.
+  constexpr uint32_t kSegments = 24, kRings = 12;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> jitter(-0.02f, 0.02f);
+  std::vector<float> positions;
+  for (uint32_t i = 0; i <= kRings; ++i) {
+    for (uint32_t j = 0; j < kSegments; ++j) {
+      const double theta = kPi * i / kRings, phi = 2.0 * kPi * j / kSegments;
+      positions.insert(positions.end(),
+                       {static_cast<float>(std::sin(theta) * std::cos(phi)) + jitter(random),
+                        static_cast<float>(std::sin(theta) * std::sin(phi)) + jitter(random),
+                        static_cast<float>(std::cos(theta)) + jitter(random)});
+    }
+  }
+  std::vector<std::array<uint32_t, 4>> quads;
+  for (uint32_t i = 0; i < kRings; ++i) {
+    for (uint32_t j = 0; j < kSegments; ++j) {
+      const uint32_t a = i * kSegments + j, b = i * kSegments + (j + 1) % kSegments;
+      quads.push_back({a, a + kSegments, b + kSegments, b});
+    }
+  }
+  const auto normals_in = [&](const std::vector<std::array<uint32_t, 4>>& order) {
+    std::vector<uint32_t> loops, starts, totals(order.size(), 4);
+    std::vector<float> faces;
+    for (const auto& quad : order) {
+      starts.push_back(static_cast<uint32_t>(loops.size()));
+      loops.insert(loops.end(), quad.begin(), quad.end());
+      // The face normal of the quad's diagonals, as Blender's is its own per face.
+      const auto at = [&](int k) {
+        return glm::vec3(positions[3 * quad[k]], positions[3 * quad[k] + 1],
+                         positions[3 * quad[k] + 2]);
+      };
+      const glm::vec3 n = glm::normalize(glm::cross(at(2) - at(0), at(3) - at(1)));
+      faces.insert(faces.end(), {n.x, n.y, n.z});
+    }
+    return vertex_normals(positions.data(), positions.size() / 3, loops.data(), loops.size(),
+                          starts.data(), totals.data(), faces.data(), order.size());
+  };
+  const std::vector<float> expected = normals_in(quads);
+  for (int trial = 0; trial < 8; ++trial) {
+    std::shuffle(quads.begin(), quads.end(), random);
+    ASSERT_EQ(normals_in(quads), expected) << trial;
+  }
 }
 
 TEST(MeshVertexNormals, AVertexOfNoFaceGetsZero) {

@@ -387,6 +387,21 @@ def coplanar_quads(scene):
     return settings(scene, max_depth=1)
 
 
+def operator_sphere(scene):
+    """A smooth, shiny UV sphere (64 x 32) on a floor, made by Blender's operator, which
+    hands over the same faces in a new order each call: its vertex normals, summed
+    around each vertex, must not depend on that order."""
+    world(scene)
+    floor(scene, 10.0)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, location=(0.0, 0.0, 1.0))
+    ball = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    assign(ball, material("Shiny", diffuse=(0.6, 0.4, 0.2), specular=0.5, reflectivity=(0.3,) * 3))
+    sun(scene, 40.0)
+    camera(scene, (0.0, -4.0, 1.4), (0.0, 0.0, 1.0), lens=60.0)
+    return settings(scene, max_depth=4)
+
+
 # --- image measures ---------------------------------------------------------------
 
 

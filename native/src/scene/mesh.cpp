@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -199,49 +200,43 @@ std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
     const float* v = &positions[3 * size_t{loop_vertices[loop]}];
     return glm::dvec3(v[0], v[1], v[2]);
   };
-  // The sums of the add-on's earlier numpy code, operation for operation, so that
-  // moving them here changed no normal's bits: blocks of 65536 polygons, each summed
-  // per vertex in loop order from zero, then added to the running sums.
-  constexpr size_t kBlock = size_t{1} << 16;
-  std::vector<double> sums(3 * vertex_count, 0.0);
-  std::vector<double> block_sums(3 * vertex_count, 0.0);
   const auto squared = [](const glm::dvec3& a) { return (a.x * a.x + a.y * a.y) + a.z * a.z; };
-  for (size_t first = 0; first < polygon_count; first += kBlock) {
-    const size_t last = std::min(first + kBlock, polygon_count);
-    for (size_t p = first; p < last; ++p) {
-      const size_t start = loop_starts[p];
-      const size_t total = loop_totals[p];
-      for (size_t k = 0; k < total; ++k) {
-        // The corner's angle between the edges to its two neighbours in the polygon; a
-        // zero-length edge gives NaN, counted as a right angle.
-        const glm::dvec3 here = at(start + k);
-        const glm::dvec3 a = at(start + (k + total - 1) % total) - here;
-        const glm::dvec3 b = at(start + (k + 1) % total) - here;
-        double cosine =
-            ((a.x * b.x + a.y * b.y) + a.z * b.z) / (std::sqrt(squared(a)) * std::sqrt(squared(b)));
-        if (std::isnan(cosine)) cosine = 0.0;
-        const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
-        const uint32_t v = loop_vertices[start + k];
-        for (size_t i = 0; i < 3; ++i) {
-          block_sums[3 * size_t{v} + i] += static_cast<double>(face_normals[3 * p + i]) * angle;
-        }
-      }
-    }
-    // The block's vertices are those of its loops: each sum moves over once (a repeat
-    // finds it already moved and zeroed).
-    for (size_t p = first; p < last; ++p) {
-      for (size_t l = loop_starts[p]; l < size_t{loop_starts[p]} + loop_totals[p]; ++l) {
-        const size_t v = loop_vertices[l];
-        for (size_t i = 0; i < 3; ++i) {
-          sums[3 * v + i] += block_sums[3 * v + i];
-          block_sums[3 * v + i] = 0.0;
-        }
+  // Each corner's share, its face normal times its angle, rounded to a multiple of
+  // 2^-kFixedBits and summed as an integer: integer sums do not depend on the order of
+  // their terms, float and double sums do in their last bits, and one mesh can come in
+  // several face orders (Blender's UV sphere operator gives the same faces in a new order
+  // each time). A share is at most pi (unit face normals); one beyond kMaxShare (NaN,
+  // infinite) is skipped, so a vertex of fewer than 2^32 corners cannot overflow its sum.
+  constexpr int kFixedBits = 28;
+  constexpr int64_t kMaxShare = 4;
+  static_assert((kMaxShare << kFixedBits) <= (std::numeric_limits<int64_t>::max() >> 32));
+  const double scale = std::ldexp(1.0, kFixedBits);
+  std::vector<int64_t> sums(3 * vertex_count, 0);
+  for (size_t p = 0; p < polygon_count; ++p) {
+    const size_t start = loop_starts[p];
+    const size_t total = loop_totals[p];
+    for (size_t k = 0; k < total; ++k) {
+      // The corner's angle between the edges to its two neighbours in the polygon; a
+      // zero-length edge gives NaN, counted as a right angle.
+      const glm::dvec3 here = at(start + k);
+      const glm::dvec3 a = at(start + (k + total - 1) % total) - here;
+      const glm::dvec3 b = at(start + (k + 1) % total) - here;
+      double cosine =
+          ((a.x * b.x + a.y * b.y) + a.z * b.z) / (std::sqrt(squared(a)) * std::sqrt(squared(b)));
+      if (std::isnan(cosine)) cosine = 0.0;
+      const double angle = std::acos(std::clamp(cosine, -1.0, 1.0));
+      const uint32_t v = loop_vertices[start + k];
+      for (size_t i = 0; i < 3; ++i) {
+        const double share = static_cast<double>(face_normals[3 * p + i]) * angle;
+        if (std::fabs(share) <= static_cast<double>(kMaxShare))
+          sums[3 * size_t{v} + i] += std::llround(share * scale);
       }
     }
   }
   std::vector<float> normals(3 * vertex_count, 0.0f);
   for (size_t v = 0; v < vertex_count; ++v) {
-    const glm::dvec3 sum(sums[3 * v], sums[3 * v + 1], sums[3 * v + 2]);
+    const glm::dvec3 sum(static_cast<double>(sums[3 * v]), static_cast<double>(sums[3 * v + 1]),
+                         static_cast<double>(sums[3 * v + 2]));
     const double length = std::sqrt(squared(sum));
     if (!(length > 0.0)) continue;  // no face, or zero-area faces only
     for (int i = 0; i < 3; ++i) normals[3 * v + i] = static_cast<float>(sum[i] / length);

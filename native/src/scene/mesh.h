@@ -168,11 +168,11 @@ Points make_points(const float* spheres, size_t count, const int32_t* slots);
 
 // Blender's smooth vertex normals of a polygon mesh: at each vertex, the sum of the face
 // normals around it, each weighted by the face's corner angle there, normalised (a vertex
-// of no face, or of zero-area faces only, gets (0, 0, 0)). Summed in double, in loop
-// order, so the same mesh always gives the same bits (Blender before 4.1 sums on threads
-// in no fixed order). `loop_vertices` holds each loop's vertex; polygon p owns loops
-// loop_starts[p] .. loop_starts[p] + loop_totals[p] - 1; `face_normals` 3 floats a polygon.
-// Throws std::invalid_argument naming the first index out of range.
+// of no face, or of zero-area faces only, gets (0, 0, 0)). Summed in fixed point, so the
+// same faces in any order give the same bits (Blender sums floats in face order, and
+// before 4.1 on threads in no fixed order). `loop_vertices` holds each loop's vertex; polygon p
+// owns loops loop_starts[p] .. loop_starts[p] + loop_totals[p] - 1; `face_normals` 3 floats a
+// polygon. Throws std::invalid_argument naming the first index out of range.
 std::vector<float> vertex_normals(const float* positions, size_t vertex_count,
                                   const uint32_t* loop_vertices, size_t loop_count,
                                   const uint32_t* loop_starts, const uint32_t* loop_totals,
