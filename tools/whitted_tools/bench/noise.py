@@ -19,7 +19,8 @@ Each render's error is its RMSE against the Cycles reference as a display shows 
 (linear RGB clipped to [0, 1], sRGB-encoded, in levels of 255: metrics.srgb_encode, the
 Estimate's measure; a few emitter edges of linear value 6 would otherwise carry most of
 a linear RMSE, which the page gives too), and its noise the same RMSE against its own
-engine's converged image (Cycles': the reference; Whitted's: CONVERGED).
+engine's converged image (Cycles': the reference; Whitted's: CONVERGED). Both engines
+filter pixels as a new scene does (Film > Pixel Filter: Blackman-Harris, 1.5 px).
 Where the two engines' converged images differ (their bias: how Whitted's shading
 differs from Cycles', docs/DISTRIBUTED.md), no number of samples closes that part of the
 error; the noise is what sampling and denoising decide. Time: the wall-clock time of
@@ -138,6 +139,10 @@ def measure_scene(entry, resolution, repeats):
     with tempfile.TemporaryDirectory() as work:
         scene = factory_scene("whitted", "cycles")
         build(scene)
+        # A new scene's film in both engines: Blackman-Harris 1.5 px (the tools' scenes
+        # start with Whitted's Box, SEED_QUALITY).
+        scene.whitted.property_unset("pixel_filter_type")
+        scene.whitted.property_unset("filter_width")
         scene.render.resolution_x, scene.render.resolution_y = resolution
         scene.render.resolution_percentage = 100
         scene.render.film_transparent = True
@@ -199,7 +204,8 @@ def write_markdown(out, results, command, resolution, repeats):
         "distributed ray tracing gallery (docs/DISTRIBUTED.md) at "
         f"{resolution[0]}x{resolution[1]}, against a reference rendered by Cycles with "
         f"{REFERENCE_SAMPLES} samples a pixel limited to the light paths Whitted traces "
-        "(direct light, specular bounces). Error: RMSE against the reference as a display "
+        "(direct light, specular bounces); both engines filter pixels as a new scene does "
+        "(Blackman-Harris, 1.5 px). Error: RMSE against the reference as a display "
         "shows both (clipped to [0, 1], sRGB, in levels of 255; the linear RMSE, which a few "
         "bright emitter edges dominate, beside it); time: the wall-clock time of the render "
         "call, median of "
