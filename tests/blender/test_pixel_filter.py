@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 import pytest
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
-from whitted_tools.material_scenes import dark_stage, emission_material
+from whitted_tools.material_scenes import dark_stage, emission_material, top_camera
 
 SIZE = (48, 32)
 
@@ -17,14 +17,7 @@ def _edge_scene(scene):
     """A bright half plane on black seen straight down by an orthographic camera: a
     vertical edge 0.37 pixels right of the image's middle."""
     dark_stage(scene, *SIZE)
-    # An orthographic camera 4.8 m wide over 48 pixels: 0.1 m a pixel.
-    data = bpy.data.cameras.new("Camera")
-    data.type = "ORTHO"
-    data.ortho_scale = 4.8
-    camera = bpy.data.objects.new("Camera", data)
-    camera.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
+    top_camera(scene, 4.8)  # 4.8 m over 48 pixels: 0.1 m a pixel
     mesh = bpy.data.meshes.new("Half")
     x0 = 0.037
     mesh.from_pydata([(x0, -9, 0), (9, -9, 0), (9, 9, 0), (x0, 9, 0)], [], [(0, 1, 2, 3)])

@@ -16,6 +16,7 @@ import pytest
 from exported import exported_meshes
 from whitted.export.material import convert_material
 from whitted.export.texture import MISSING_COLOR, image_pixels
+from whitted_tools.material_scenes import top_camera
 
 SIZE = 8  # render width and height in pixels
 # Texels of a 2 x 2 test image, rows bottom to top, straight RGBA.
@@ -75,13 +76,7 @@ def lit_scene(empty_scene):
     scene.render.resolution_x = scene.render.resolution_y = SIZE
     scene.render.resolution_percentage = 100
     scene.whitted.aa_samples = 1
-    camera = bpy.data.cameras.new("Camera")
-    camera.type = "ORTHO"
-    camera.ortho_scale = 2.0
-    camera_object = bpy.data.objects.new("Camera", camera)
-    camera_object.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(camera_object)
-    scene.camera = camera_object
+    top_camera(scene, 2.0)
     sun = bpy.data.lights.new("Sun", "SUN")
     sun.energy = math.pi
     sun.angle = 0.0

@@ -43,6 +43,17 @@ def side_camera(scene, width):
     scene.camera = camera
 
 
+def top_camera(scene, width):
+    """An orthographic camera 5 m above the origin looking straight down, its frame `width`
+    m wide: the plane z = 0 seen square-on, image x along +X."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = width
+    camera.location = (0.0, 0.0, 5.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+
 def add_sun(scene, rotation=(40.0, 10.0, 30.0), strength=3.0):
     """A sun of `strength` W/m^2 and no angular size; `rotation` Euler XYZ in degrees."""
     sun = bpy.data.lights.new("Sun", "SUN")
