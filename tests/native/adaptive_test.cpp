@@ -110,6 +110,23 @@ TEST(FilmNoise, NaNWithoutAClassASample) {
   EXPECT_EQ(film.noise(1, 0), noise_error(Color(2.0f / 3.0f), Color(0.0f)));
 }
 
+TEST(RegularCell, EachPixelPermutesItsGridOnlyWithNoiseDrivenSampling) {
+  Settings settings;
+  settings.aa_samples = 5;
+  for (int s = 0; s < 25; ++s) EXPECT_EQ(regular_cell(settings, 3, 4, s), s);
+  settings.adaptive_sampling = true;
+  std::set<std::vector<int>> orders;
+  for (int x = 0; x < 4; ++x) {
+    std::vector<int> order;
+    for (int s = 0; s < 25; ++s) order.push_back(regular_cell(settings, x, 7, s));
+    std::vector<int> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (int s = 0; s < 25; ++s) EXPECT_EQ(sorted[s], s);  // a permutation of the grid
+    orders.insert(order);
+  }
+  EXPECT_EQ(orders.size(), 4u);  // each pixel its own
+}
+
 TEST(AdaptiveSchedule, MinimumAsCycles) {
   Settings settings;
   settings.aa_samples = 64;

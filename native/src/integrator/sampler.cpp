@@ -438,12 +438,13 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
   const auto fx = static_cast<float>(x);
   const auto fy = static_cast<float>(y);
   if (settings_.aa_mode == AntiAliasing::kRegular) {
-    // The centre of cell k of an n x n grid over the unit square, row by row.
+    // The centre of its cell c of an n x n grid over the unit square, row by row.
     const int n = settings_.aa_samples;
+    const int c = regular_cell(settings_, x, y, k);
     const float cell = 1.0f / static_cast<float>(n);
-    const float px = fx + filter_.position((static_cast<float>(k % n) + 0.5f) * cell);
-    const float py = fy + filter_.position((static_cast<float>(k / n) + 0.5f) * cell);
-    const LensTime at = lens_and_time(camera_, moves_, x, y, k, n, settings_.height);
+    const float px = fx + filter_.position((static_cast<float>(c % n) + 0.5f) * cell);
+    const float py = fy + filter_.position((static_cast<float>(c / n) + 0.5f) * cell);
+    const LensTime at = lens_and_time(camera_, moves_, x, y, c, n, settings_.height);
     return camera_ray(px, py, at.lens, at.time);
   }
   // Point k of the pixel's Owen-scrambled Sobol sequences (core/sobol.h), one for the film,
@@ -470,10 +471,19 @@ NodeState CameraSampler::film_root(float px, float py) const {
 
 NodeState CameraSampler::grid_root(int x, int y, int k) const {
   NodeState root = root_;
-  root.seed = grid_seed(x, y, k);
+  root.seed = grid_seed(
+      x, y, settings_.aa_mode == AntiAliasing::kRegular ? regular_cell(settings_, x, y, k) : k);
   root.pixel = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x70786cu);
   root.index = static_cast<uint32_t>(k);
   return root;
+}
+
+int regular_cell(const Settings& settings, int x, int y, int k) {
+  if (!settings.adaptive_sampling) return k;
+  const auto cells = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
+  return static_cast<int>(
+      permuted(static_cast<uint32_t>(k), cells,
+               hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau)));
 }
 
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height) {

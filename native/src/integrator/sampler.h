@@ -74,6 +74,13 @@ struct LensTime {
 };
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height);
 
+// The cell (row by row) of a regular grid's sample k of pixel (x, y): k itself, but with
+// noise-driven sampling a permutation of the grid chosen by the pixel, so that the first
+// samples of a pixel stopped early are a uniform subset of its cells (row order would
+// leave it its bottom rows). The Monte Carlo samples need none: their index is their
+// order, every power-of-two prefix stratified (CameraSampler::grid_ray).
+int regular_cell(const Settings& settings, int x, int y, int k);
+
 // One per worker (it traces through that worker's integrator). Everything it returns
 // depends only on the pixel and the sample, never on tiles or threads.
 class CameraSampler {
@@ -93,8 +100,8 @@ class CameraSampler {
   // otherwise the sampler finds them itself, the same way.
   Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr,
                SampleRecord* record = nullptr, const FirstHits* block = nullptr) const;
-  // Grid sample k of pixel (x, y), alone: the centre of cell k (row by row) for regular
-  // anti-aliasing, else point k of the pixel's Sobol sequences (grid_ray). The same ray as
+  // Grid sample k of pixel (x, y), alone: the centre of its cell (regular_cell) for
+  // regular anti-aliasing, else point k of the pixel's Sobol sequences (grid_ray). The same ray as
   // in pixel(), traced on its own.
   Sample grid_sample(int x, int y, int k, RayCounts* counts, SampleRecord* record = nullptr) const;
   // Pixels per block of pixel() (whole pixels' camera rays in packets); 0 when camera rays

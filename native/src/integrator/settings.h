@@ -108,7 +108,8 @@ struct Settings {
   // Noise-driven (adaptive) sampling, as Cycles' (docs/notes/adaptive_sampling.md): the
   // pixels take their aa_samples x aa_samples samples in rounds, in the order of their
   // index (the Monte Carlo samples' Sobol points: each power-of-two prefix stratified over
-  // the pixel; a regular grid's cells row by row), and after each round a pixel whose noise
+  // the pixel; a regular grid's cells in a permutation per pixel: regular_cell, sampler.h),
+  // and after each round a pixel whose noise
   // estimate (Film::converge) is below noise_threshold, and whose 3 x 3 neighbours' are
   // too, takes no more. noise_threshold 0: every pixel takes the whole grid.
   // adaptive_min_samples: samples before the first check; 0: Cycles' automatic
