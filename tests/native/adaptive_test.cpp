@@ -1,5 +1,5 @@
 // Noise-driven (adaptive) sampling: the error estimate, the film's check and dilation,
-// the pixels' sample order, the schedule's rounds, and renders that stop where the noise
+// the schedule's rounds, and renders that stop where the noise
 // is low, whatever the threads and tiles.
 #include <gtest/gtest.h>
 
@@ -32,14 +32,16 @@ TEST(NoiseError, RelativeAboveOneSqrtBelow) {
   EXPECT_EQ(noise_error(Color(0.0f), Color(0.0f)), 0.0f);
 }
 
-// A film whose pixels all took two equal samples, but `noisy`, which took 1 then 0.
-Film two_samples(int width, int height, std::vector<std::pair<int, int>> noisy) {
+// A film whose pixels all took four equal samples, but `noisy`, which took 0, 0, 1, 1
+// (samples 2 and 3 are its class A: core/sobol.h class_a).
+Film four_samples(int width, int height, std::vector<std::pair<int, int>> noisy) {
   Film film(width, height, true, 0, 1, true);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const bool odd = std::find(noisy.begin(), noisy.end(), std::pair{x, y}) != noisy.end();
-      film.add(x, y, Sample{Color(1.0f), 1.0f}, 1.0f);
-      film.add(x, y, Sample{Color(odd ? 0.0f : 1.0f), 1.0f}, 1.0f);
+      for (int k = 0; k < 4; ++k) {
+        film.add(x, y, Sample{Color(odd && k < 2 ? 0.0f : 1.0f), 1.0f}, 1.0f);
+      }
     }
   }
   return film;
@@ -56,7 +58,7 @@ std::set<std::pair<int, int>> active(const Film& film) {
 }
 
 TEST(FilmConverge, ANoisyPixelKeepsItsNeighboursActiveInsideTheArea) {
-  Film film = two_samples(5, 4, {{2, 2}});
+  Film film = four_samples(5, 4, {{2, 2}});
   EXPECT_EQ(active(film).size(), 20u);  // all active before the first check
   EXPECT_EQ(film.converge(0.01f, 0, 0, 5, 4), 9u);
   std::set<std::pair<int, int>> expected;
@@ -65,7 +67,7 @@ TEST(FilmConverge, ANoisyPixelKeepsItsNeighboursActiveInsideTheArea) {
   }
   EXPECT_EQ(active(film), expected);
 
-  Film corner = two_samples(5, 4, {{0, 0}});
+  Film corner = four_samples(5, 4, {{0, 0}});
   EXPECT_EQ(corner.converge(0.01f, 0, 0, 5, 4), 4u);  // clipped at the image's corner
   EXPECT_EQ(active(corner), (std::set<std::pair<int, int>>{{0, 0}, {1, 0}, {0, 1}, {1, 1}}));
   // An area without the noisy pixel: its neighbours converge, pixels outside stay as
@@ -76,43 +78,47 @@ TEST(FilmConverge, ANoisyPixelKeepsItsNeighboursActiveInsideTheArea) {
 }
 
 TEST(FilmConverge, ComparesWithFiveTimesTheThreshold) {
-  // Mean 0.5, class-A half (the first sample) 1: error 3 * 0.5 / (3 * 0.5 + 1e-4).
-  Film film(1, 1, true, 0, 1, true);
-  film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
-  film.add(0, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
+  // Samples 0, 0, 1, 1: mean 0.5, class-A half (samples 2 and 3) 1: error 3 * 0.5 /
+  // (3 * 0.5 + 1e-4).
+  const auto noisy = [] {
+    Film film(1, 1, true, 0, 1, true);
+    for (float v : {0.0f, 0.0f, 1.0f, 1.0f}) film.add(0, 0, Sample{Color(v), 1.0f}, 1.0f);
+    return film;
+  };
+  Film film = noisy();
   const float error = noise_error(Color(0.5f), Color(1.0f));
   EXPECT_NEAR(error, 1.5f / (1.5f + 1e-4f), 1e-6f);
   EXPECT_EQ(film.converge(error / kNoiseThresholdScale * 1.01f, 0, 0, 1, 1), 0u);
-  Film again(1, 1, true, 0, 1, true);
-  again.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
-  again.add(0, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
+  Film again = noisy();
   EXPECT_EQ(again.converge(error / kNoiseThresholdScale * 0.99f, 0, 0, 1, 1), 1u);
   EXPECT_EQ(again.noise(0, 0), error);  // the estimate converge compares
 }
 
-TEST(FilmNoise, NaNBelowTwoSamples) {
+TEST(FilmNoise, NaNWithoutAClassASample) {
   Film film(2, 1, true, 0, 1, true);
   EXPECT_TRUE(std::isnan(film.noise(0, 0)));
   film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
   EXPECT_TRUE(std::isnan(film.noise(0, 0)));
   film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
-  EXPECT_EQ(film.noise(0, 0), 0.0f);  // two equal samples
-  // Three: class A is the first and third, (1 + 0) / 2 against the mean 2 / 3.
+  EXPECT_TRUE(std::isnan(film.noise(0, 0)));  // samples 0 and 1 are class B
+  film.add(0, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
+  EXPECT_EQ(film.noise(0, 0), 0.0f);  // three equal samples
+  // Three: class A is the third alone, 0 against the mean 2 / 3.
   film.add(1, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
   film.add(1, 0, Sample{Color(1.0f), 1.0f}, 1.0f);
   film.add(1, 0, Sample{Color(0.0f), 1.0f}, 1.0f);
-  EXPECT_EQ(film.noise(1, 0), noise_error(Color(2.0f / 3.0f), Color(0.5f)));
+  EXPECT_EQ(film.noise(1, 0), noise_error(Color(2.0f / 3.0f), Color(0.0f)));
 }
 
-TEST(SampleOrder, EachPixelPermutesItsGridAndOnlyNoiseDrivenSampling) {
+TEST(RegularCell, EachPixelPermutesItsGridOnlyWithNoiseDrivenSampling) {
   Settings settings;
   settings.aa_samples = 5;
-  for (int s = 0; s < 25; ++s) EXPECT_EQ(SampleOrder(settings, 3, 4).cell(s), s);
+  for (int s = 0; s < 25; ++s) EXPECT_EQ(regular_cell(settings, 3, 4, s), s);
   settings.adaptive_sampling = true;
   std::set<std::vector<int>> orders;
   for (int x = 0; x < 4; ++x) {
     std::vector<int> order;
-    for (int s = 0; s < 25; ++s) order.push_back(SampleOrder(settings, x, 7).cell(s));
+    for (int s = 0; s < 25; ++s) order.push_back(regular_cell(settings, x, 7, s));
     std::vector<int> sorted = order;
     std::sort(sorted.begin(), sorted.end());
     for (int s = 0; s < 25; ++s) EXPECT_EQ(sorted[s], s);  // a permutation of the grid

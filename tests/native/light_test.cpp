@@ -87,7 +87,7 @@ TEST(Light, AreaLightFarAwayActsLikeAPointOfIntensityRadianceTimesArea) {
 // Jittered feelers (sample_light's jitter): jitter 0 is the lattice of stratum centres;
 // any other puts each feeler somewhere in its own stratum, a new place for each jitter;
 // one feeler per camera sample, averaged over many, gives the lamp's irradiance.
-TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
+TEST(Light, AGivenPointLandsThereAndUniformPointsAverageToTheLamp) {
   Light area = square_above_origin(2.0f);
   area.samples = 3;
   const Light lattice(area);
@@ -95,20 +95,15 @@ TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
   const auto target = [&](const LightSample& ls) { return p + ls.wi * ls.distance; };
   // Stratum 4 of 3 x 3 is the middle one: its centre is the lamp's.
   EXPECT_NEAR(glm::length(target(sample_light(lattice, p, 4)) - area.position), 0.0f, 1e-5f);
-  for (uint32_t jitter = 1; jitter < 200; ++jitter) {
-    for (int k = 0; k < 9; ++k) {
-      const Vec3 t = target(sample_light(lattice, p, k, jitter));
-      // Cell k spans [-1 + 2/3 (k % 3), -1 + 2/3 (k % 3 + 1)] along x, likewise y.
-      const float x0 = -1.0f + 2.0f / 3.0f * static_cast<float>(k % 3);
-      const float y0 = -1.0f + 2.0f / 3.0f * static_cast<float>(k / 3);
-      EXPECT_GE(t.x, x0 - 1e-5f);
-      EXPECT_LE(t.x, x0 + 2.0f / 3.0f + 1e-5f);
-      EXPECT_GE(t.y, y0 - 1e-5f);
-      EXPECT_LE(t.y, y0 + 2.0f / 3.0f + 1e-5f);
+  // Given a point of [0, 1)^2, any sample lands there on the 2 x 2 square: [-1, 1]^2.
+  for (const glm::vec2 at : {glm::vec2(0.0f), glm::vec2(0.25f, 0.9f), glm::vec2(0.99f, 0.5f)}) {
+    for (int k : {0, 4, 8}) {
+      const Vec3 t = target(sample_light(lattice, p, k, &at));
+      EXPECT_NEAR(t.x, -1.0f + 2.0f * at.x, 1e-5f);
+      EXPECT_NEAR(t.y, -1.0f + 2.0f * at.y, 1e-5f);
     }
   }
-  EXPECT_NE(target(sample_light(lattice, p, 0, 1)), target(sample_light(lattice, p, 0, 2)));
-  // One feeler (n = 1) jittered anew 40,000 times against a 64 x 64 lattice.
+  // One feeler (n = 1) at 40,000 uniform points against a 64 x 64 lattice.
   area.samples = 1;
   const Light one(area);
   area.samples = 64;
@@ -117,8 +112,10 @@ TEST(Light, JitteredFeelersStayInTheirStrataAndAverageToTheLamp) {
   const float expected = total_irradiance(fine, p, n).x;
   double sum = 0.0;
   constexpr int kDraws = 40000;
-  for (uint32_t jitter = 1; jitter <= kDraws; ++jitter) {
-    const LightSample ls = sample_light(one, p, 0, jitter * 2654435761u | 1u);
+  for (uint32_t draw = 1; draw <= kDraws; ++draw) {
+    const uint32_t h = hash3(draw, 0x6c69u, 0u);
+    const glm::vec2 at(unit_float(h), unit_float(hash3(h, 1u, 2u)));
+    const LightSample ls = sample_light(one, p, 0, &at);
     sum += ls.irradiance.x * std::max(0.0f, glm::dot(n, ls.wi));
   }
   EXPECT_NEAR(sum / kDraws, expected, expected * 0.01);

@@ -94,7 +94,7 @@ inline uint32_t hash3(uint32_t a, uint32_t b, uint32_t c) {
 // power-of-two range holding `count` (xor, odd multiply and xor-shift, each invertible
 // within the range), walked until it lands below `count`; O(1) per element, so a pixel's
 // sample k finds its partner without shuffling them all. Made once, it maps many indices
-// (a pixel's samples in a round) without hashing the seed again.
+// without hashing the seed again.
 class Permutation {
  public:
   Permutation(uint32_t count, uint32_t seed) : count_(count), mask_(count - 1) {
@@ -132,7 +132,7 @@ inline float unit_float(uint32_t h) {
 
 // A point in stratum k of the n x n strata of [0, 1)^2, placed in its cell by a hash of
 // `base`, k and `salt`: jittered strata, a new point for each base (the glossy rays' and
-// emitter feelers' Strata, a lamp's jittered feelers).
+// emitter feelers' Strata where the camera samples are not Monte Carlo ones).
 inline glm::vec2 jittered_stratum(uint32_t base, uint32_t salt, int k, int n) {
   const uint32_t h = hash3(base, static_cast<uint32_t>(k), salt);
   const float jitter_x = unit_float(h);

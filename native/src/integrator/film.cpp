@@ -1,5 +1,7 @@
 #include "integrator/film.h"
 
+#include "core/sobol.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -228,7 +230,7 @@ void Film::add(int x, int y, const Sample* samples, const float* costs, int coun
     sum[1] += sample.radiance.y;
     sum[2] += sample.radiance.z;
     sum[3] += sample.alpha;
-    if (!half_.empty() && count_[i] % 2 == 0) {  // class A: even positions in the order
+    if (!half_.empty() && class_a(count_[i])) {  // the sample's index is its position
       half_[3 * i] += sample.radiance.x;
       half_[3 * i + 1] += sample.radiance.y;
       half_[3 * i + 2] += sample.radiance.z;
@@ -279,9 +281,10 @@ void Film::store_count(size_t i, uint32_t samples) {
 float Film::noise(int x, int y) const {
   const size_t i = index(x, y);
   const uint32_t n = count_[i];
-  if (n < 2) return std::numeric_limits<float>::quiet_NaN();
+  const uint32_t a = class_a_count(n);
+  if (a == 0) return std::numeric_limits<float>::quiet_NaN();
   const float w = 1.0f / static_cast<float>(n);
-  const float h = 1.0f / static_cast<float>((n + 1) / 2);  // class A: the even positions
+  const float h = 1.0f / static_cast<float>(a);
   const Color mean(sum_[4 * i] * w, sum_[4 * i + 1] * w, sum_[4 * i + 2] * w);
   const Color half(half_[3 * i] * h, half_[3 * i + 1] * h, half_[3 * i + 2] * h);
   return noise_error(mean, half);

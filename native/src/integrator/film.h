@@ -19,8 +19,8 @@ struct Sample {
 // Noise-driven sampling's estimate of a pixel's error (Cycles' film_adaptive_sampling_
 // convergence_check, after "A hierarchical automatic stopping condition for Monte Carlo
 // global illumination", section 2.1): `mean` the mean of all its samples, `half` the mean
-// of its class-A samples (those of even position in its order). The summed absolute RGB
-// difference, over sqrt(luminance sum) below 1 and the sum itself above, plus 1e-4.
+// of its class-A samples (core/sobol.h class_a, by the sample's index, as Cycles'). The summed
+// absolute RGB difference, over sqrt(luminance sum) below 1 and the sum itself above, plus 1e-4.
 float noise_error(const Color& mean, const Color& half);
 
 // Cycles scales the user's noise threshold by this before comparing ("an arbitrary
@@ -67,7 +67,7 @@ class Film {
   size_t converge(float threshold, int x, int y, int width, int height);
   bool active(int x, int y) const { return active_.empty() || active_[index(x, y)] != 0; }
   // Pixel (x, y)'s noise_error, from the mean of its samples and of its class-A half
-  // (adaptive only); NaN while it has fewer than 2 samples.
+  // (adaptive only); NaN while it has no class-A sample (fewer than 3 samples).
   float noise(int x, int y) const;
   // Samples taken by pixel (x, y) (accumulating only).
   uint32_t samples(int x, int y) const { return count_[index(x, y)]; }

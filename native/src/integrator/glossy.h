@@ -42,16 +42,16 @@ inline Lobe reflection_lobe(const ShadingPoint& p, const Split& split, bool glos
 }
 
 // Glossy reflection: n x n rays drawn from the lobe, each weighing sigma_r * G2/G1 / n^2
-// (the lobe over its density). Each stratum's point is placed by a hash of the camera
-// sample's seed (NodeState::seed; Strata), so every render of a scene draws the same rays,
-// whatever its scale, and neighbouring samples different ones. A ray the lobe sends below
-// the surface is lost, as light the single-scattering lobe does not return. Returns the
-// mean of what they bring, per unit sigma_r.
+// (the lobe over its density). Their points (Strata) depend only on the pixel and the
+// camera sample (a Sobol sequence's, or a hash of the sample's seed), so every render of a
+// scene draws the same rays, whatever its scale, and neighbouring samples different ones. A ray the
+// lobe sends below the surface is lost, as light the single-scattering lobe does not return.
+// Returns the mean of what they bring, per unit sigma_r.
 template <uint32_t kEffects, class Queries, class Branch>
 Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p,
                         const Color& sigma_r, const Lobe& lobe_of, const NodeState& state,
                         const Branch& branch) {
-  const Strata strata(state, in.settings.glossy_samples, 0x6c6fu);
+  const Strata strata(state, in.settings.glossy_samples, 0x6c6fu, jittered_samples(in.settings));
   // Rays per emitter feeler, for each ray's MIS density (0: no emitters to weigh).
   const float per_feeler = in.emitters ? rays_per_feeler(in.settings, state) : 0.0f;
   Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
@@ -72,7 +72,8 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     const float mis = per_feeler > 0.0f
                           ? per_feeler * ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha)
                           : 0.0f;
-    const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu), mis};
+    const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu),
+                      strata.index(k), mis};
     const Color brought = branch(spawn_ray(p.it.position, p.it.position_error,
                                            p.it.geometric_normal, p.it.time, wi, kReflectionRay),
                                  weight, state.media, drawn);
@@ -90,7 +91,7 @@ template <uint32_t kEffects, class Queries, class Branch>
 Color rough_transmission(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p,
                          const Color& sigma_t, const Crossing& beyond, const NodeState& state,
                          const Branch& branch) {
-  const Strata strata(state, in.settings.glossy_samples, 0x7472u);
+  const Strata strata(state, in.settings.glossy_samples, 0x7472u, jittered_samples(in.settings));
   const float cos_o = glm::dot(p.ns, p.wo);
   const bool fresnel = in.settings.fresnel != Fresnel::kOff;
   const float kept = fresnel ? 1.0f - fresnel_exact(cos_o, beyond.eta) : 1.0f;
@@ -112,7 +113,8 @@ Color rough_transmission(const KernelInputs<kEffects, Queries>& in, const Shadin
       lobe *= (1.0f - fresnel_exact(std::max(0.0f, glm::dot(p.wo, m)), beyond.eta)) / kept;
     }
     // No feeler reaches an emitter through glass: what these rays meet counts whole.
-    const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x7463u), 0.0f};
+    const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x7463u),
+                      strata.index(k), 0.0f};
     const Color brought =
         branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, t,
                          through ? kRefractionRay : kReflectionRay),

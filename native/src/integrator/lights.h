@@ -12,6 +12,7 @@
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
+#include "core/sobol.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/local.h"
 #include "integrator/mis.h"
@@ -90,9 +91,11 @@ class Lights {
                           light.diffuse,
                           light.glossy,
                           light.shadow_sets};
-      const uint32_t jitter = lamp_jitter(state, feeler.light);
+      const LampPoints points(state, feeler.light, samples, jittered_samples(in_.settings));
       const auto draw = [&](int s) {
-        return Drawing{feeler, sample_light(light, p.it.position, s, jitter), 1.0f};
+        if (!points.sobol) return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
+        const glm::vec2 at = points.point(s);
+        return Drawing{feeler, sample_light(light, p.it.position, s, &at), 1.0f};
       };
       feelers(p, samples, draw, state, counts, &phong);
     }
@@ -103,17 +106,23 @@ class Lights {
   }
 
  private:
-  // Where a sized lamp's feelers go in its n x n strata (sample_light): at their centres,
-  // the same for every camera sample (the seed's lattice), unless the camera samples are
-  // Monte Carlo ones (jittered_samples, settings.h); then a new jittered point in each
-  // stratum for every camera sample and depth (Cook 1984), so that many camera samples of
-  // one feeler each integrate the lamp.
-  uint32_t lamp_jitter(const NodeState& state, int32_t light) const {
-    if (!jittered_samples(in_.settings)) return 0;
-    return hash3(state.seed, static_cast<uint32_t>(state.depth),
-                 0x6c616d00u + static_cast<uint32_t>(light)) |
-           1u;
-  }
+  // Where a sized lamp's n x n feelers go (sample_light): at its strata's centres, the
+  // same for every camera sample (the seed's lattice), unless the camera samples are Monte
+  // Carlo ones (jittered_samples, settings.h); then feeler s of a camera sample is point
+  // index * n^2 + s of the pixel's Sobol sequence of this depth and lamp (NodeState::pixel,
+  // index; core/sobol.h), so that many camera samples of one feeler each integrate the lamp
+  // (Cook 1984), stratified across the pixel's samples.
+  struct LampPoints {
+    bool sobol;
+    uint32_t seed;
+    uint32_t first;
+    LampPoints(const NodeState& state, int32_t light, int samples, bool sobol_points)
+        : sobol(sobol_points),
+          seed(hash3(state.pixel, static_cast<uint32_t>(state.depth),
+                     0x6c616d00u + static_cast<uint32_t>(light))),
+          first(state.index * static_cast<uint32_t>(samples)) {}
+    glm::vec2 point(int s) const { return sobol_point(first + static_cast<uint32_t>(s), seed); }
+  };
 
   // Adds the shares of `samples` light samples, draw(s) for s in order, to *phong one by
   // one, as light_sample's are; in a wave (Policy::kQueues), queues their feelers. A
@@ -142,8 +151,8 @@ class Lights {
     }
   }
 
-  // The feelers to the emissive meshes: n x n samples of their power table (the strata
-  // shifted per branch, as glossy rays'), each a point on a triangle lighting p as a patch
+  // The feelers to the emissive meshes: n x n samples of their power table (drawn as
+  // glossy rays are: Strata), each a point on a triangle lighting p as a patch
   // of an area light, E = L cos_e / (d^2 density) / n^2. The glossy share of each is
   // weighed against the glossy rays that may meet the same point (MIS; emission_weight).
   // Out of line, and light_sample and prepare_sample always inlined: as GCC chose, the
@@ -154,7 +163,8 @@ class Lights {
                                   const NodeState& state, RayCounts* counts, Color* phong) const {
     const CompiledScene& scene = in_.scene;
     const MeshLights& lights = *scene.mesh_lights;
-    const Strata strata(state, in_.settings.emitter_samples, 0x656du);
+    const Strata strata(state, in_.settings.emitter_samples, 0x656du,
+                        jittered_samples(in_.settings));
     const uint32_t receiver = scene.instances[p.it.instance].links.light_set;
     const auto draw = [&](int k) {
       const glm::vec2 u = strata.point(k);

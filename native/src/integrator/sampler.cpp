@@ -5,14 +5,10 @@
 #include <cstring>
 #include <optional>
 
+#include "core/sobol.h"
+
 namespace whitted {
 namespace {
-
-// A hash of (x, y, i) to [0, 1): jitter that depends only on the pixel and the sample,
-// so images do not depend on tiles or threads.
-float hash01(uint32_t x, uint32_t y, uint32_t i) {
-  return unit_float(hash3(x, y, i));
-}
 
 // The seed of grid sample k of pixel (x, y) (NodeState::seed).
 uint32_t grid_seed(int x, int y, int k) {
@@ -39,11 +35,6 @@ uint32_t film_seed(float px, float py) {
 constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
 
 }  // namespace
-
-SampleOrder::SampleOrder(const Settings& settings, int x, int y)
-    : permute_(settings.adaptive_sampling),
-      permutation_(static_cast<uint32_t>(settings.aa_samples * settings.aa_samples),
-                   hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau)) {}
 
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings) {
@@ -117,7 +108,7 @@ Sample CameraSampler::pixel(int x, int y, RayCounts* counts, std::vector<float>*
 
 Sample CameraSampler::grid_sample(int x, int y, int k, RayCounts* counts,
                                   SampleRecord* record) const {
-  return shade(grid_ray(x, y, k), nullptr, counts, record, grid_seed(x, y, k));
+  return shade(grid_ray(x, y, k), nullptr, counts, record, grid_root(x, y, k));
 }
 
 int CameraSampler::block_width() const {
@@ -162,15 +153,11 @@ void CameraSampler::packet_hits(const Ray* rays, int count, Hit* hits, uint8_t* 
 
 void CameraSampler::round_hits(int x, int y, int first, int count, RoundHits* out) const {
   const auto n = static_cast<size_t>(count);
-  out->cells.resize(n);
+  out->first = first;
   out->rays.resize(n);
   out->hits.resize(n);
   out->found.assign(n, 0);
-  const SampleOrder order(settings_, x, y);
-  for (size_t i = 0; i < n; ++i) {
-    out->cells[i] = order.cell(first + static_cast<int>(i));
-    out->rays[i] = grid_ray(x, y, out->cells[i]);
-  }
+  for (size_t i = 0; i < n; ++i) out->rays[i] = grid_ray(x, y, first + static_cast<int>(i));
   if (packets_) packet_hits(out->rays.data(), count, out->hits.data(), out->found.data());
 }
 
@@ -178,7 +165,7 @@ Sample CameraSampler::round_sample(int x, int y, const RoundHits& round, int i, 
                                    SampleRecord* record) const {
   const auto at = static_cast<size_t>(i);
   return shade(round.rays[at], round.found[at] != 0 ? &round.hits[at] : nullptr, counts, record,
-               grid_seed(x, y, round.cells[at]));
+               grid_root(x, y, round.first + i));
 }
 
 bool CameraSampler::waves() const {
@@ -189,12 +176,10 @@ bool CameraSampler::adaptive() const {
   return settings_.aa_mode == AntiAliasing::kAdaptive && !distributed_;
 }
 
-void CameraSampler::start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index,
+void CameraSampler::start(Wave* wave, const Ray& ray, const NodeState& root, uint32_t index,
                           const Hit* first, RayCounts* counts, SampleRecord* record) const {
   counts->camera += 1;
   if (ray.kind == kNoRay) return;  // outside a fisheye's circle: opaque black (shade())
-  NodeState root = root_;
-  root.seed = seed;
   integrator_.trace_camera(wave, ray, root, index, first, counts, record);
 }
 
@@ -223,13 +208,13 @@ void CameraSampler::row(int x0, int x1, int y, int sample, int count, Wave* wave
       SampleRecord* record = passes ? &wave->records[index] : nullptr;
       if (sample >= 0) {
         const auto at = static_cast<size_t>(j);
-        start(wave, round.rays[at], grid_seed(x, y, round.cells[at]), index,
+        start(wave, round.rays[at], grid_root(x, y, sample + j), index,
               round.found[at] != 0 ? &round.hits[at] : nullptr, counts, record);
         continue;
       }
       const size_t b = width > 0 ? static_cast<size_t>((x - block.x0) * grid + j) : 0;
       const bool found = width > 0 && block.found[b] != 0;
-      start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, j), grid_seed(x, y, j), index,
+      start(wave, width > 0 ? block.rays[b] : grid_ray(x, y, j), grid_root(x, y, j), index,
             found ? &block.hits[b] : nullptr, counts, record);
     }
   }
@@ -301,7 +286,7 @@ void CameraSampler::row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* c
     for (size_t i = from; i < points.size(); ++i) {
       const SubdivisionPoint& p = points[i];
       start(wave, camera_ray(p.x, p.y, film_lens(p.x, p.y), film_time(p.x, p.y)),
-            film_seed(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts,
+            film_root(p.x, p.y), static_cast<uint32_t>(i - from), nullptr, counts,
             passes ? &point_records[i] : nullptr);
     }
     integrator_.trace_wave(wave, counts);
@@ -406,7 +391,7 @@ const FirstHits* CameraSampler::block_for(int x, int y, const FirstHits* block,
 
 Sample CameraSampler::point(float px, float py, RayCounts* counts, SampleRecord* record) const {
   return shade(camera_ray(px, py, film_lens(px, py), film_time(px, py)), nullptr, counts, record,
-               film_seed(px, py));
+               film_root(px, py));
 }
 
 Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<float>* weights,
@@ -433,7 +418,7 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
     const Hit* hit = hits != nullptr && hits->found[i] != 0 ? &hits->hits[i] : nullptr;
     const Sample s =
         shade(hits != nullptr ? hits->rays[i] : grid_ray(x, y, k), hit, counts,
-              record != nullptr ? &sample_record.emplace() : nullptr, grid_seed(x, y, k));
+              record != nullptr ? &sample_record.emplace() : nullptr, grid_root(x, y, k));
     sum.radiance += s.radiance;
     sum.alpha += s.alpha;
     if (record != nullptr) {
@@ -449,24 +434,56 @@ Sample CameraSampler::pixel_grid(int x, int y, RayCounts* counts, std::vector<fl
 }
 
 Ray CameraSampler::grid_ray(int x, int y, int k) const {
-  // An n x n grid over the unit square; jittered inside each cell (adaptive
-  // anti-aliasing, when sampled one grid sample at a time, is jittered too); then placed
-  // about the pixel's centre by the pixel filter (the square itself for a Box of 1).
-  const int n = settings_.aa_samples;
-  const int i = k % n;
-  const int j = k / n;
-  const float cell = 1.0f / static_cast<float>(n);
-  float du = 0.5f;
-  float dv = 0.5f;
-  if (settings_.aa_mode != AntiAliasing::kRegular) {
-    const auto h = static_cast<uint32_t>(k);
-    du = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h);
-    dv = hash01(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 2 * h + 1);
+  // Placed about the pixel's centre by the pixel filter (the square itself for a Box of 1).
+  const auto fx = static_cast<float>(x);
+  const auto fy = static_cast<float>(y);
+  if (settings_.aa_mode == AntiAliasing::kRegular) {
+    // The centre of its cell c of an n x n grid over the unit square, row by row.
+    const int n = settings_.aa_samples;
+    const int c = regular_cell(settings_, x, y, k);
+    const float cell = 1.0f / static_cast<float>(n);
+    const float px = fx + filter_.position((static_cast<float>(c % n) + 0.5f) * cell);
+    const float py = fy + filter_.position((static_cast<float>(c / n) + 0.5f) * cell);
+    const LensTime at = lens_and_time(camera_, moves_, x, y, c, n, settings_.height);
+    return camera_ray(px, py, at.lens, at.time);
   }
-  const float px = static_cast<float>(x) + filter_.position((static_cast<float>(i) + du) * cell);
-  const float py = static_cast<float>(y) + filter_.position((static_cast<float>(j) + dv) * cell);
-  const LensTime at = lens_and_time(camera_, moves_, x, y, k, n, settings_.height);
-  return camera_ray(px, py, at.lens, at.time);
+  // Point k of the pixel's Owen-scrambled Sobol sequences (core/sobol.h), one for the film,
+  // one for the lens and one for the time, each seeded by the pixel and its dimension: every
+  // power-of-two prefix of the pixel's samples is stratified on the film, on the lens and in
+  // the shutter, in every 2D projection, and the three are not paired alike.
+  const auto ux = static_cast<uint32_t>(x);
+  const auto uy = static_cast<uint32_t>(y);
+  const auto index = static_cast<uint32_t>(k);
+  const glm::vec2 film = sobol_point(index, hash3(ux, uy, 0xf11du));
+  const glm::vec2 lens =
+      camera_.lens.blurs() ? sobol_point(index, hash3(ux, uy, 0x1e45u)) : glm::vec2(0.5f);
+  const float time =
+      moves_ ? camera_.shutter.time(sobol_value(index, hash3(ux, uy, 0x7a3du)), y, settings_.height)
+             : 0.0f;
+  return camera_ray(fx + filter_.position(film.x), fy + filter_.position(film.y), lens, time);
+}
+
+NodeState CameraSampler::film_root(float px, float py) const {
+  NodeState root = root_;
+  root.seed = film_seed(px, py);
+  return root;
+}
+
+NodeState CameraSampler::grid_root(int x, int y, int k) const {
+  NodeState root = root_;
+  root.seed = grid_seed(
+      x, y, settings_.aa_mode == AntiAliasing::kRegular ? regular_cell(settings_, x, y, k) : k);
+  root.pixel = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x70786cu);
+  root.index = static_cast<uint32_t>(k);
+  return root;
+}
+
+int regular_cell(const Settings& settings, int x, int y, int k) {
+  if (!settings.adaptive_sampling) return k;
+  const auto cells = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
+  return static_cast<int>(
+      permuted(static_cast<uint32_t>(k), cells,
+               hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau)));
 }
 
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height) {
@@ -539,15 +556,13 @@ size_t CameraSampler::new_weight(std::vector<float>* weights) {
 }
 
 Sample CameraSampler::shade(const Ray& ray, const Hit* first, RayCounts* counts,
-                            SampleRecord* record, uint32_t seed) const {
+                            SampleRecord* record, const NodeState& root) const {
   counts->camera += 1;
   if (ray.kind == kNoRay) {  // outside a fisheye's circle: opaque black, as Cycles
     if (record != nullptr) *record = SampleRecord{};
     return {Color(0.0f), 1.0f};
   }
   float alpha = 1.0f;
-  NodeState root = root_;
-  root.seed = seed;
   const Color c = first != nullptr
                       ? integrator_.trace_from(ray, *first, root, counts, &alpha, record)
                       : integrator_.trace(ray, root, counts, &alpha, record);

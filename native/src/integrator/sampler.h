@@ -49,46 +49,37 @@ struct FirstHits {
 };
 
 // The camera rays of one pixel's samples in a round of noise-driven sampling
-// (CameraSampler::round_hits), in the pixel's order, with their first hits found as Embree
-// packets of this pixel's rays alone, so which rays share a packet depends on the pixel
-// and the round only (not on tiles, threads or which neighbours are active).
+// (CameraSampler::round_hits), in the order of their index, with their first hits found as
+// Embree packets of this pixel's rays alone, so which rays share a packet depends on the
+// pixel and the round only (not on tiles, threads or which neighbours are active).
 struct RoundHits {
-  std::vector<int> cells;  // each sample's grid cell (SampleOrder)
+  int first = 0;  // the index of the round's first sample
   std::vector<Ray> rays;
   std::vector<Hit> hits;
   std::vector<uint8_t> found;  // as FirstHits::found
 };
 
-// Where camera sample k of a pixel's n x n grid is on the lens and in the shutter. Each is
-// stratified apart from the film (and from the other) by its own permutation of the n^2
-// strata, chosen by the pixel, and jittered within its stratum; a fixed pairing (sample
-// (i, j) with stratum (j, i) in every pixel) covers only n^2 of the n^4 joint cells of
-// film and lens, the same in every pixel, and blurs wrongly (against Cycles, a
-// panorama's defocus erred 0.006 where this errs less than 0.001). The time goes
-// through the camera's Shutter. The lens centre and time 0 where `camera` has no
-// aperture and nothing `moves`.
+// Where camera sample k of a pixel's regular n x n grid (and Cryptomatte's coverage
+// sample k) is on the lens and in the shutter; the Monte Carlo camera samples take theirs
+// from Sobol sequences instead (CameraSampler::grid_ray). Each is stratified apart from the
+// film (and from the other) by its own permutation of the n^2 strata, chosen by the pixel,
+// and jittered within its stratum; a fixed pairing (sample (i, j) with stratum (j, i) in
+// every pixel) covers only n^2 of the n^4 joint cells of film and lens, the same in every
+// pixel, and blurs wrongly (against Cycles, a panorama's defocus erred 0.006 where this
+// errs less than 0.001). The time goes through the camera's Shutter. The lens centre and
+// time 0 where `camera` has no aperture and nothing `moves`.
 struct LensTime {
   glm::vec2 lens{0.5f};
   float time = 0.0f;
 };
 LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height);
 
-// The order of pixel (x, y)'s samples: cell(s) is the grid cell (row by row, as
-// grid_sample's k) of its sample s. With noise-driven sampling a permutation of the grid
-// chosen by the pixel, so that the first samples of a pixel stopped early are a uniform
-// subset of its strata (row order would leave it its bottom rows); otherwise s itself.
-// Made once per pixel and round (the permutation's key is a hash).
-class SampleOrder {
- public:
-  SampleOrder(const Settings& settings, int x, int y);
-  int cell(int s) const {
-    return permute_ ? static_cast<int>(permutation_(static_cast<uint32_t>(s))) : s;
-  }
-
- private:
-  bool permute_;
-  Permutation permutation_;
-};
+// The cell (row by row) of a regular grid's sample k of pixel (x, y): k itself, but with
+// noise-driven sampling a permutation of the grid chosen by the pixel, so that the first
+// samples of a pixel stopped early are a uniform subset of its cells (row order would
+// leave it its bottom rows). The Monte Carlo samples need none: their index is their
+// order, every power-of-two prefix stratified (CameraSampler::grid_ray).
+int regular_cell(const Settings& settings, int x, int y, int k);
 
 // One per worker (it traces through that worker's integrator). Everything it returns
 // depends only on the pixel and the sample, never on tiles or threads.
@@ -109,20 +100,21 @@ class CameraSampler {
   // otherwise the sampler finds them itself, the same way.
   Sample pixel(int x, int y, RayCounts* counts, std::vector<float>* weights = nullptr,
                SampleRecord* record = nullptr, const FirstHits* block = nullptr) const;
-  // Grid sample k (row by row) of pixel (x, y), alone: the cell's centre for regular
-  // anti-aliasing, jittered otherwise. The same ray as in pixel(), traced on its own.
+  // Grid sample k of pixel (x, y), alone: the centre of its cell (regular_cell) for
+  // regular anti-aliasing, else point k of the pixel's Sobol sequences (grid_ray). The same ray as
+  // in pixel(), traced on its own.
   Sample grid_sample(int x, int y, int k, RayCounts* counts, SampleRecord* record = nullptr) const;
   // Pixels per block of pixel() (whole pixels' camera rays in packets); 0 when camera rays
   // are traced one by one: packets off, adaptive anti-aliasing, or one sample per pixel.
   int block_width() const;
   // The first hits of the block holding pixel (x, y) (block_width() > 0).
   void first_hits(int x, int y, FirstHits* out) const;
-  // Samples first .. first + count - 1 of pixel (x, y)'s order: their cells, rays and,
+  // Samples first .. first + count - 1 of pixel (x, y): their rays and,
   // where the render uses packets (choose_packets, any anti-aliasing mode: a round samples
   // the grid), their first hits in packets of this pixel's rays.
   void round_hits(int x, int y, int first, int count, RoundHits* out) const;
-  // Sample i of `round` (round_hits of pixel (x, y)): grid_sample of its cell, its first
-  // hit taken from the packet where one found it.
+  // Sample i of `round` (round_hits of pixel (x, y)): grid_sample of index round.first + i,
+  // its first hit taken from the packet where one found it.
   Sample round_sample(int x, int y, const RoundHits& round, int i, RayCounts* counts,
                       SampleRecord* record) const;
   // Whether pixels and grid samples are traced in waves (row()): where the integrator
@@ -131,7 +123,7 @@ class CameraSampler {
   // Pixels [x0, x1) of row y traced in waves (waves()), as one wave: each pixel whole
   // when `sample` < 0 (its grid, or adaptive subdivision a wave per depth: row_adaptive),
   // (*values)[i] pixel x0 + i's value as pixel() gives it; else its samples `sample` ..
-  // `sample` + `count` - 1 in its order (SampleOrder), each apart, (*values)[i * count + j]
+  // `sample` + `count` - 1, each apart, (*values)[i * count + j]
   // sample `sample` + j of pixel x0 + i as grid_sample() gives it. Up to float rounding
   // (wave.h); (*rays) the rays each cost, and, where passes are kept, (*records) the
   // records pixel() or grid_sample() fills, up to float rounding. Whole pixels:
@@ -169,10 +161,10 @@ class CameraSampler {
   void row_adaptive(int x0, int x1, int y, Wave* wave, RayCounts* counts,
                     std::vector<Sample>* values, std::vector<uint64_t>* rays,
                     std::vector<SampleRecord>* records, std::vector<uint32_t>* samples) const;
-  // Camera ray `ray` of wave sample `index` (`seed` its NodeState::seed; `first` its
-  // first hit, when found) traced into the wave, and counted, as shade() does; its data
-  // passes into `record` (fresh) where passes are kept.
-  void start(Wave* wave, const Ray& ray, uint32_t seed, uint32_t index, const Hit* first,
+  // Camera ray `ray` of wave sample `index` (`root` its NodeState; `first` its first hit,
+  // when found) traced into the wave, and counted, as shade() does; its data passes into
+  // `record` (fresh) where passes are kept.
+  void start(Wave* wave, const Ray& ray, const NodeState& root, uint32_t index, const Hit* first,
              RayCounts* counts, SampleRecord* record) const;
   // A wave sample's value as shade() returns it: not finite, it is counted and dropped,
   // and its record (if any) emptied. Inline: called out of line (through the PLT, as
@@ -193,6 +185,12 @@ class CameraSampler {
   static size_t new_weight(std::vector<float>* weights);
   // The camera ray of grid sample k of pixel (x, y).
   Ray grid_ray(int x, int y, int k) const;
+  // Where grid sample k of pixel (x, y) starts: root_ with the sample's seed, the pixel's
+  // key and the sample's index (NodeState::seed, pixel, index).
+  NodeState grid_root(int x, int y, int k) const;
+  // Where a camera sample at film position (px, py) that is no grid sample starts
+  // (Whitted's adaptive corners): root_ with a seed hashed from the position.
+  NodeState film_root(float px, float py) const;
   // The camera ray through film position (px, py), in pixels, from aperture sample `lens`
   // at shutter time `time`.
   Ray camera_ray(float px, float py, glm::vec2 lens, float time) const;
@@ -201,10 +199,10 @@ class CameraSampler {
   glm::vec2 film_lens(float px, float py) const;
   // Its shutter time likewise (0 when nothing moves).
   float film_time(float px, float py) const;
-  // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr).
-  // `seed`: the sample's (NodeState::seed), from its pixel and index or film position.
+  // The radiance and coverage of a camera ray whose first hit is known, or not (nullptr),
+  // starting from `root` (grid_root, or a film position's seed).
   Sample shade(const Ray& ray, const Hit* first, RayCounts* counts, SampleRecord* record,
-               uint32_t seed) const;
+               const NodeState& root) const;
 
   const WhittedIntegrator& integrator_;
   const Settings& settings_;

@@ -18,8 +18,9 @@ struct Pass {
     kPixels,   // each pixel whole: every sample at once, by the anti-aliasing mode
     kPreview,  // one camera ray at the centre of each block, shown over the block
     kSample,   // one sample of the grid added to every pixel
-    // Noise-driven sampling: samples sample .. samples - 1 of each pixel's order
-    // (SampleOrder, sampler.h) added to every pixel still active (Film::active)
+    // Noise-driven sampling: samples sample .. samples - 1 of each pixel (by index: every
+    // power-of-two prefix stratified, sampler.h) added to every pixel still active
+    // (Film::active)
     kRound,
   };
   Kind kind;

@@ -106,8 +106,10 @@ struct Settings {
   bool progressive = false;
   int start_pixel_size = 8;  // a power of two, 1 to 64
   // Noise-driven (adaptive) sampling, as Cycles' (docs/notes/adaptive_sampling.md): the
-  // pixels take their aa_samples x aa_samples grid in rounds, each pixel's samples in its
-  // own permuted order (SampleOrder, sampler.h), and after each round a pixel whose noise
+  // pixels take their aa_samples x aa_samples samples in rounds, in the order of their
+  // index (the Monte Carlo samples' Sobol points: each power-of-two prefix stratified over
+  // the pixel; a regular grid's cells in a permutation per pixel: regular_cell, sampler.h),
+  // and after each round a pixel whose noise
   // estimate (Film::converge) is below noise_threshold, and whose 3 x 3 neighbours' are
   // too, takes no more. noise_threshold 0: every pixel takes the whole grid.
   // adaptive_min_samples: samples before the first check; 0: Cycles' automatic
@@ -155,8 +157,11 @@ struct Settings {
 
 // Whether the camera samples are Monte Carlo ones: jittered grid samples (Jittered, and
 // Adaptive when it samples the grid: progressive or with a noise threshold), as against
-// the regular grid's and Whitted's adaptive corners. Sized lamps' feelers are then
-// jittered anew for each camera sample too (integrator/lights.h).
+// the regular grid's and Whitted's adaptive corners. Every 2D draw along such a sample's
+// chain (sized lamps' feelers, glossy lobes, emitter feelers) is then a point of the
+// pixel's Owen-scrambled Sobol sequence of that draw (core/sobol.h, NodeState::pixel and
+// index), as its film point, lens point and time are (CameraSampler::grid_ray, which
+// takes them so for every mode but the regular grid).
 inline bool jittered_samples(const Settings& s) {
   return s.aa_mode == AntiAliasing::kJittered ||
          (s.aa_mode == AntiAliasing::kAdaptive && (s.progressive || s.adaptive_sampling));

@@ -57,10 +57,12 @@ struct RayCounts {
 };
 
 // A ray drawn from a glossy lobe, as the kernel's branch takes it: its share of the lobe,
-// the seed of the strata below it, and its density for MIS (NodeState::mis).
+// the seed of the strata below it, its index in the pixel's sequences (NodeState::index)
+// and its density for MIS (NodeState::mis).
 struct Drawn {
   float share;
   uint32_t seed;
+  uint32_t index;
   float mis;
 };
 
@@ -74,9 +76,19 @@ struct NodeState {
   Color weight{1.0f};
   MediumStack media;
   int glossy = 0;  // glossy bounces on the way here (Settings::glossy_samples)
-  // Where the strata of glossy rays start: the camera sample's seed (sampler.cpp), mixed
-  // at each glossy bounce with the ray's index, so each branch has its own.
+  // Where the strata of glossy rays start where the camera samples are not Monte Carlo
+  // ones (the regular grid, Whitted's adaptive corners): the camera sample's seed
+  // (sampler.cpp), mixed at each glossy bounce with the ray's index, so each branch has
+  // its own.
   uint32_t seed = 0;
+  // Where the camera samples are Monte Carlo ones (jittered_samples, settings.h), each 2D
+  // draw along the sample's chain (a lamp's feelers, a glossy lobe, the emitter feelers)
+  // is point `index` of the pixel's Owen-scrambled Sobol sequence of its dimension
+  // (core/sobol.h), seeded by hash3(pixel, depth, the dimension's salt): `pixel` a key of
+  // the pixel, `index` the camera sample's; a split into m rays gives its ray j the index
+  // index * m + j, so that all the rays of a pixel in one dimension form one sequence.
+  uint32_t pixel = 0;
+  uint32_t index = 0;
   // A ray drawn from a glossy lobe: its density there per unit solid angle, times its
   // lobe's rays per emitter feeler, for the MIS weight of the emission it meets
   // (mis.h); 0 for every other ray, which counts emission whole.
@@ -97,6 +109,8 @@ inline NodeState NodeState::child(const Color& w, const MediumStack& m, bool bou
   NodeState next{bounce ? depth + 1 : depth, weight * w, m};
   next.glossy = glossy + (drawn != nullptr ? 1 : 0);
   next.seed = drawn != nullptr ? drawn->seed : seed;
+  next.pixel = pixel;
+  next.index = drawn != nullptr ? drawn->index : index;
   // A continuation straight on is still the same ray; a bounce of any other kind counts
   // the emission it meets whole.
   next.mis = drawn != nullptr ? drawn->mis : (bounce ? 0.0f : mis);

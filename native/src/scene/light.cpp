@@ -40,26 +40,24 @@ float spread_attenuation(float spread, float cos_l) {
   return std::max(0.0f, (std::tan(h) - tan_a) * normalise);
 }
 
-// A point of stratum `index` of an n x n grid, in [0, 1]^2: its centre for jitter 0 (the
-// lattice of the seed's soft shadows), else a point placed by a hash of jitter and index
-// (Cook 1984's jittered feelers, a new one for each camera sample).
-void stratum(const Light& light, int index, uint32_t jitter, float* u, float* v) {
-  const int n = light.samples;
-  if (jitter != 0) {
-    const glm::vec2 point = jittered_stratum(jitter, 0x6c69u, index, n);
-    *u = point.x;
-    *v = point.y;
+// The point of sample `index` of an n x n grid, in [0, 1]^2: its stratum's centre (the
+// lattice of the seed's soft shadows), or *at where given (a Monte Carlo draw).
+void stratum(const Light& light, int index, const glm::vec2* at, float* u, float* v) {
+  if (at != nullptr) {
+    *u = at->x;
+    *v = at->y;
     return;
   }
+  const int n = light.samples;
   *u = (static_cast<float>(index % n) + 0.5f) / static_cast<float>(n);
   *v = (static_cast<float>(index / n) + 0.5f) / static_cast<float>(n);
 }
 
-// Stratum `index` on the unit-diameter disc, in [-0.5, 0.5]^2.
-void disc_offset(const Light& light, int index, uint32_t jitter, float* a, float* b) {
+// Sample `index` (stratum) on the unit-diameter disc, in [-0.5, 0.5]^2.
+void disc_offset(const Light& light, int index, const glm::vec2* at, float* a, float* b) {
   float u = 0.0f;
   float v = 0.0f;
-  stratum(light, index, jitter, &u, &v);
+  stratum(light, index, at, &u, &v);
   // The concentric map keeps the strata equal in area on the disk.
   float r = 0.0f;
   float phi = 0.0f;
@@ -68,13 +66,13 @@ void disc_offset(const Light& light, int index, uint32_t jitter, float* a, float
   *b = 0.5f * r * std::sin(phi);
 }
 
-// Stratum `index` on an area light's shape, in [-0.5, 0.5]^2.
-void area_offset(const Light& light, int index, uint32_t jitter, float* a, float* b) {
+// Sample `index` (stratum) on an area light's shape, in [-0.5, 0.5]^2.
+void area_offset(const Light& light, int index, const glm::vec2* at, float* a, float* b) {
   if (light.shape == AreaShape::kEllipse) {
-    disc_offset(light, index, jitter, a, b);
+    disc_offset(light, index, at, a, b);
     return;
   }
-  stratum(light, index, jitter, a, b);
+  stratum(light, index, at, a, b);
   *a -= 0.5f;
   *b -= 0.5f;
 }
@@ -86,29 +84,29 @@ void basis(const Vec3& w, Vec3* u, Vec3* v) {
   *v = glm::cross(w, *u);
 }
 
-// Stratum `index` of a sized light, on its shape: the disc of a sun or a sphere light, an
+// Sample `index` (stratum) of a sized light, on its shape: the disc of a sun or a sphere light, an
 // area light's rectangle or ellipse. From the constructor's table where it has one.
-glm::vec2 strata_offset(const Light& light, int index, uint32_t jitter) {
-  if (jitter == 0 && static_cast<size_t>(index) < light.offsets.size()) {
+glm::vec2 strata_offset(const Light& light, int index, const glm::vec2* at) {
+  if (at == nullptr && static_cast<size_t>(index) < light.offsets.size()) {
     return light.offsets[static_cast<size_t>(index)];
   }
   glm::vec2 out(0.0f);
   if (light.type == LightType::kArea) {
-    area_offset(light, index, jitter, &out.x, &out.y);
+    area_offset(light, index, at, &out.x, &out.y);
   } else {
-    disc_offset(light, index, jitter, &out.x, &out.y);
+    disc_offset(light, index, at, &out.x, &out.y);
   }
   return out;
 }
 
 // The direction towards sample `index` of a sun with a disc.
-Vec3 sun_direction(const Light& light, int index, uint32_t jitter) {
+Vec3 sun_direction(const Light& light, int index, const glm::vec2* at) {
   const Vec3 towards = -glm::normalize(light.direction);
   // Directions spread over the sun's disc, of angular radius angle/2.
   Vec3 u;
   Vec3 v;
   basis(towards, &u, &v);
-  const glm::vec2 o = strata_offset(light, index, jitter);
+  const glm::vec2 o = strata_offset(light, index, at);
   const float spread = 2.0f * std::tan(0.5f * std::min(light.angle, 3.0f));
   return glm::normalize(towards + spread * (o.x * u + o.y * v));
 }
@@ -143,23 +141,23 @@ Light::Light(const LightParams& params) : LightParams(params) {
   max_bounces = std::max(max_bounces, 0);
   if (sized()) {
     const int count = sample_count();
-    for (int i = 0; i < count; ++i) offsets.push_back(strata_offset(*this, i, 0));
+    for (int i = 0; i < count; ++i) offsets.push_back(strata_offset(*this, i, nullptr));
     if (type == LightType::kSun) {
-      for (int i = 0; i < count; ++i) sun_directions.push_back(sun_direction(*this, i, 0));
+      for (int i = 0; i < count; ++i) sun_directions.push_back(sun_direction(*this, i, nullptr));
     }
   }
 }
 
-LightSample sample_light(const Light& light, const Vec3& p, int index, uint32_t jitter) {
+LightSample sample_light(const Light& light, const Vec3& p, int index, const glm::vec2* at) {
   // What each of a sized light's feelers carries of it; asked only there (not per feeler
   // of a sun without a disc, the common case).
   const auto share = [&] { return 1.0f / static_cast<float>(light.sample_count()); };
   if (light.type == LightType::kSun) {
     if (light.angle <= 0.0f) return {-glm::normalize(light.direction), kInfinity, light.color};
     const auto i = static_cast<size_t>(index);
-    const Vec3 wi = jitter == 0 && i < light.sun_directions.size()
+    const Vec3 wi = at == nullptr && i < light.sun_directions.size()
                         ? light.sun_directions[i]
-                        : sun_direction(light, index, jitter);
+                        : sun_direction(light, index, at);
     return {wi, kInfinity, light.color * share()};
   }
   Vec3 target = light.position;
@@ -172,12 +170,12 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, uint32_t 
       Vec3 u;
       Vec3 v;
       basis(axis / length, &u, &v);
-      const glm::vec2 o = strata_offset(light, index, jitter);
+      const glm::vec2 o = strata_offset(light, index, at);
       target += 2.0f * light.radius * (o.x * u + o.y * v);
     }
     weight = share();  // each feeler carries its share of the intensity
   } else if (light.type == LightType::kArea) {
-    const glm::vec2 o = strata_offset(light, index, jitter);
+    const glm::vec2 o = strata_offset(light, index, at);
     target += o.x * light.size[0] * light.axis_u + o.y * light.size[1] * light.axis_v;
     const float area =
         light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);

@@ -99,8 +99,9 @@ struct LightSample {
 
 // Sample `index` of light.sample_count() arriving at point p. Irradiance is zero where
 // the light cannot reach (outside a spot cone, behind an area light). A sized light's
-// samples are its n x n strata: their centres for jitter 0 (a fixed lattice), else a
-// point in each placed by a hash of `jitter` (a new set for each camera sample).
-LightSample sample_light(const Light& light, const Vec3& p, int index, uint32_t jitter = 0);
+// samples are the centres of its n x n strata (a fixed lattice), or, given `at`, the point
+// *at of [0, 1)^2 placed on its shape (a Monte Carlo camera sample's draw: lights.h).
+LightSample sample_light(const Light& light, const Vec3& p, int index,
+                         const glm::vec2* at = nullptr);
 
 }  // namespace whitted
