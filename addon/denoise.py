@@ -1,13 +1,15 @@
 """Denoising with Intel Open Image Denoise (native denoise/oidn.*): whether a render is
 denoised and why not, its guide images, and the denoised image.
 
-The guides are Cycles' Denoising Albedo and Denoising Normal as the film already keeps
-them: the albedo is the camera hit's Diffuse, Glossy and Transmission Color plus what
-the camera sees emitted (Emission, and the world as Environment, as Cycles writes the
-background into its denoising albedo), clamped to [0, 1] as OIDN asks; the normal is the
-Normal pass (world space, which OIDN accepts as well as camera space; 0 where the camera
-sees the world). Unlike Cycles, a mirror's or glass's albedo is its own colour, not that
-of the first rough surface seen through it.
+The guides are the film's Denoising Albedo and Denoising Normal passes, written as Cycles
+writes its own (native integrator/passes.h, SampleRecord): along each camera path, at the
+first surface that is not near-specular, its rough colours plus its emission, clamped to
+[0, 1] as OIDN asks, and its shading normal (world space, which OIDN accepts as well as
+camera space). A mirror, clear glass or a sharp coat passes the path on: the albedo is
+then that of what is seen in it, times the tint of the branches followed (the world's
+colour, clamped, where a branch leaves the scene), and Whitted's two branches at glass
+each add their share. So what a mirror reflects or glass lets through is detail to keep,
+not lighting to smooth.
 """
 
 import threading
@@ -15,10 +17,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-# The film passes the albedo is summed from.
-ALBEDO_SOURCES = ("diffuse_color", "glossy_color", "transmission_color", "emission", "environment")
-NORMAL_SOURCE = "normal"
-GUIDE_SOURCES = (*ALBEDO_SOURCES, NORMAL_SOURCE)
+# The film passes of the guides.
+ALBEDO_SOURCE = "denoising_albedo"
+NORMAL_SOURCE = "denoising_normal"
+GUIDE_SOURCES = (ALBEDO_SOURCE, NORMAL_SOURCE)
 
 
 @dataclass(frozen=True)
@@ -65,19 +67,6 @@ def denoising_of(scene, native, viewport=False):
     return replace(denoising, prefilter="FAST", quality="BALANCED") if viewport else denoising
 
 
-def albedo_tile(job, x, y, width, height):
-    """The denoising albedo of a finished rectangle, float32[w*h, 3]."""
-    total = np.zeros((width * height, 3), dtype=np.float32)
-    for source in ALBEDO_SOURCES:
-        total += job.pass_tile(source, x, y, width, height)
-    return np.clip(total, 0.0, 1.0)
-
-
-def normal_tile(job, x, y, width, height):
-    """The denoising normal of a finished rectangle, float32[w*h, 3]."""
-    return np.ascontiguousarray(job.pass_tile(NORMAL_SOURCE, x, y, width, height))
-
-
 def rect_of(region):
     """(x, y, width, height) of a film region (xmin, ymin, xmax, ymax)."""
     xmin, ymin, xmax, ymax = region
@@ -94,9 +83,9 @@ def denoise(native, job, rect, denoising, threads, cancel=None):
     color = np.ascontiguousarray(noisy[:, :3]).reshape(shape)
     albedo = normal = None
     if denoising.input_passes != "RGB":
-        albedo = albedo_tile(job, x, y, width, height).reshape(shape)
+        albedo = job.pass_tile(ALBEDO_SOURCE, x, y, width, height).reshape(shape)
     if denoising.input_passes == "RGB_ALBEDO_NORMAL":
-        normal = normal_tile(job, x, y, width, height).reshape(shape)
+        normal = job.pass_tile(NORMAL_SOURCE, x, y, width, height).reshape(shape)
     clean = native.oidn_denoise(
         color,
         albedo,

@@ -278,8 +278,6 @@ DERIVED_SOURCES = {
     "combined": (),
     "rays": (),
     "noisy": (),
-    "denoising_albedo": denoise.ALBEDO_SOURCES,
-    "denoising_normal": (denoise.NORMAL_SOURCE,),
 }
 
 
@@ -403,10 +401,6 @@ def write_tile(engine, job, tile, region, passes, combined=None):
 def _pixels(job, spec, x, y, width, height):
     if spec.source in ("combined", "noisy"):
         return job.tile(x, y, width, height)
-    if spec.source == "denoising_albedo":
-        return denoise.albedo_tile(job, x, y, width, height)
-    if spec.source == "denoising_normal":
-        return denoise.normal_tile(job, x, y, width, height)
     if spec.source == "rays":
         return job.cost_tile(x, y, width, height)
     if spec.source.startswith(CRYPTOMATTE_SOURCE):

@@ -1,5 +1,6 @@
 // Render passes (integrator/passes.*): the light passes and the per-depth contributions
-// give back Combined, passes leave Combined as it was, the cut weight, the data passes.
+// give back Combined, passes leave Combined as it was, the cut weight, the data passes,
+// the denoising guides through mirrors and glass.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -119,7 +120,7 @@ TEST(Passes, EachGroupAloneGivesWhatEveryPassGives) {
   testing::run_to_end(every);
   for (const uint32_t group :
        {pass_bit(FilmPass::kDepth), kDataPasses, kLightPasses, pass_bit(FilmPass::kContributions),
-        pass_bit(FilmPass::kCutWeight)}) {
+        pass_bit(FilmPass::kCutWeight), kGuidePasses}) {
     settings.passes = group;
     RenderJob alone(scene, settings, scene.camera);
     testing::run_to_end(alone);
@@ -193,6 +194,123 @@ TEST(Passes, DataPassesOfAPlaneSeenFromAbove) {
     const float y = film.pass(FilmPass::kPosition)[3 * i + 1];
     const float distance = std::sqrt(x * x + y * y + 16.0f);
     EXPECT_NEAR(film.pass(FilmPass::kMist)[i], (distance - 1.0f) / 6.0f, 1e-4f);
+  }
+}
+
+Color pixel3(const Film& film, FilmPass pass, size_t i) {
+  const std::vector<float>& v = film.pass(pass);
+  return {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+}
+
+void expect_near3(const Color& got, const Color& want, float tolerance, const char* what) {
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], tolerance) << what << " channel " << c;
+}
+
+// Looking down on the plane z = 0: a mirror of tint T where y > 0, a diffuse quad of
+// colour D (and a Phong ks) where y < 0; above the camera, at z = 8, a diffuse ceiling of
+// colour A over x < 0, the world W (brighter than 1 in green) over x > 0. The guides
+// follow the mirror: T * A and the ceiling's normal facing the ray where it shows the
+// ceiling, T * W clamped and no normal where it shows the world; the quad writes its own.
+// By the camera hit's Position pass, away from the borders.
+TEST(Passes, DenoisingGuidesFollowAMirrorToWhatItShows) {
+  const Color tint(0.9f, 0.6f, 0.3f);
+  const Color ceiling(0.2f, 0.5f, 0.7f);
+  const Color quad_kd(0.1f, 0.4f, 0.8f);
+  const Color quad_ks(0.05f);
+  const Color world(0.3f, 2.0f, 0.5f);
+  Scene scene;
+  Material mirror;
+  mirror.diffuse = Color(0.0f);
+  mirror.reflectivity = tint;
+  testing::add_object(&scene, "mirror", testing::quad(-10, 10, 0, 10, 0), mirror);
+  Material diffuse;
+  diffuse.diffuse = quad_kd;
+  diffuse.specular = quad_ks;
+  testing::add_object(&scene, "quad", testing::quad(-10, 10, -10, 0, 0), diffuse);
+  Material above;
+  above.diffuse = ceiling;
+  testing::add_object(&scene, "ceiling", testing::quad(-50, 0, -50, 50, 8), above);
+  scene.set_background(world);
+  scene.camera = testing::looking_down(Vec3(0.0f, 0.0f, 4.0f), 0.5f);
+  for (const bool waves : {false, true}) {
+    Settings settings =
+        small(kGuidePasses | pass_bit(FilmPass::kPosition) | pass_bit(FilmPass::kNormal));
+    settings.aa_samples = 1;
+    settings.waves = waves;
+    RenderJob job(scene, settings, scene.camera);
+    testing::run_to_end(job);
+    const Film& film = job.film();
+    int seen[3] = {0, 0, 0};
+    for (size_t i = 0; i < film.pixels().size() / 4; ++i) {
+      const Color at = pixel3(film, FilmPass::kPosition, i);
+      const Color albedo = pixel3(film, FilmPass::kDenoisingAlbedo, i);
+      const Color normal = pixel3(film, FilmPass::kDenoisingNormal, i);
+      if (std::abs(at.x) < 0.1f || std::abs(at.y) < 0.1f) continue;
+      if (at.y < 0.0f) {
+        expect_near3(albedo, quad_kd + quad_ks, 1e-5f, "diffuse albedo");
+        expect_near3(normal, Color(0, 0, 1), 1e-6f, "diffuse normal");
+        seen[0] += 1;
+      } else if (at.x < 0.0f) {
+        expect_near3(albedo, tint * ceiling, 1e-5f, "mirrored ceiling");
+        expect_near3(normal, Color(0, 0, -1), 1e-6f, "mirrored ceiling's normal");
+        // The Normal pass is the mirror's own.
+        expect_near3(pixel3(film, FilmPass::kNormal, i), Color(0, 0, 1), 1e-6f, "mirror");
+        seen[1] += 1;
+      } else {
+        expect_near3(albedo, tint * Color(0.3f, 1.0f, 0.5f), 1e-5f, "mirrored world");
+        expect_near3(normal, Color(0.0f), 0.0f, "mirrored world's normal");
+        seen[2] += 1;
+      }
+    }
+    for (const int n : seen) EXPECT_GT(n, 50) << "waves " << waves;
+  }
+}
+
+// Clear glass over a diffuse floor, under a diffuse ceiling: Whitted splits at the pane
+// into its reflection (Fresnel's sigma_r, about 0.04 looking straight down) and its
+// refraction (sigma_t); the guides are their weighted sum: sigma_r * ceiling + sigma_t *
+// floor, the normal sigma_r / (sigma_r + sigma_t) of the ceiling's (facing down) and the
+// rest of the floor's (facing up). A rough pane (frosted, GGX alpha above Cycles' 0.075)
+// writes its own: its transmission colour and normal.
+TEST(Passes, DenoisingGuidesSplitAtGlassByTheBranchesWeights) {
+  const Color floor_kd(0.7f, 0.3f, 0.1f);
+  const Color ceiling_kd(0.1f, 0.2f, 0.9f);
+  Scene scene;
+  Material floor;
+  floor.diffuse = floor_kd;
+  testing::add_object(&scene, "floor", testing::quad(-50, 50, -50, 50, -1), floor);
+  Material ceiling;
+  ceiling.diffuse = ceiling_kd;
+  testing::add_object(&scene, "ceiling", testing::quad(-50, 50, -50, 50, 8), ceiling);
+  Material glass = testing::clear(1.5f);
+  testing::add_object(&scene, "glass", testing::quad(-50, 50, -50, 50, 0), glass);
+  scene.camera = testing::looking_down(Vec3(0.0f, 0.0f, 4.0f), 0.01f);
+  const float f = fresnel_exact(1.0f, 1.5f);  // the camera's rays are within 0.6 degrees
+  for (const bool waves : {false, true}) {
+    Settings settings = small(kGuidePasses);
+    settings.cutoff = 0.0f;
+    settings.waves = waves;
+    RenderJob job(scene, settings, scene.camera);
+    testing::run_to_end(job);
+    for (size_t i = 0; i < job.film().pixels().size() / 4; ++i) {
+      expect_near3(pixel3(job.film(), FilmPass::kDenoisingAlbedo, i),
+                   f * ceiling_kd + (1.0f - f) * floor_kd, 1e-4f, "glass albedo");
+      expect_near3(pixel3(job.film(), FilmPass::kDenoisingNormal, i),
+                   Color(0.0f, 0.0f, 1.0f - 2.0f * f), 1e-4f, "glass normal");
+    }
+  }
+  glass.roughness = 0.5f;  // alpha 0.25
+  glass.transmissivity = Color(0.8f, 0.9f, 1.0f);
+  scene.set_material("glass", glass);
+  Settings settings = small(kGuidePasses);
+  RenderJob job(scene, settings, scene.camera);
+  testing::run_to_end(job);
+  for (size_t i = 0; i < job.film().pixels().size() / 4; ++i) {
+    // sigma_r + sigma_t: the pane's transmissivity, split by Fresnel.
+    expect_near3(pixel3(job.film(), FilmPass::kDenoisingAlbedo, i), glass.transmissivity, 1e-4f,
+                 "frosted albedo");
+    expect_near3(pixel3(job.film(), FilmPass::kDenoisingNormal, i), Color(0, 0, 1), 1e-4f,
+                 "frosted normal");
   }
 }
 

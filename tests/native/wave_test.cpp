@@ -200,17 +200,17 @@ TEST(Waves, DataPassesAreTheRecursions) {
                     const std::vector<float>& recursive) { EXPECT_TRUE(waves == recursive); });
 }
 
-// The light passes, Contributions and Cut Weight are traced in waves too: each queued ray
-// and feeler takes along where its terms go (PassRecorder::resume, FeelerPasses), so
-// every pass is the recursion's up to rounding, and none is empty where the scene shows
-// it.
-TEST(Waves, LightPassesContributionsAndCutWeightAreTheRecursions) {
+// The light passes, Contributions, Cut Weight and the denoising guides are traced in waves
+// too: each queued ray and feeler takes along where its terms go (PassRecorder::resume,
+// PassPath, FeelerPasses), so every pass is the recursion's up to rounding, and none is
+// empty where the scene shows it.
+TEST(Waves, LightPassesContributionsCutWeightAndGuidesAreTheRecursions) {
   Settings settings = small_render(41, 29, 2, 2, 16);
   settings.glass_shadows = GlassShadows::kTinted;
   settings.max_depth = 3;  // some rays cut by depth: Cut Weight is not all zero
   settings.contribution_depth = 2;
   const uint32_t bits = kLightPasses | pass_bit(FilmPass::kContributions) |
-                        pass_bit(FilmPass::kCutWeight) | pass_bit(FilmPass::kDepth);
+                        pass_bit(FilmPass::kCutWeight) | pass_bit(FilmPass::kDepth) | kGuidePasses;
   compare_passes(
       every_effect(), settings, bits,
       [](FilmPass pass, const std::vector<float>& waves, const std::vector<float>& recursive) {

@@ -20,6 +20,9 @@ inline constexpr float kInvPi = 1.0f / kPi;
 inline float max_component(const Color& c) {
   return std::max({c.x, c.y, c.z});
 }
+inline float mean_component(const Color& c) {
+  return (c.x + c.y + c.z) * (1.0f / 3.0f);
+}
 inline bool is_black(const Color& c) {
   return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f;
 }

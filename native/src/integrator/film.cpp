@@ -120,6 +120,10 @@ void gather(FilmPass pass, const SampleRecord& r, float* out) {
     case FilmPass::kCutWeight:
       out[0] = r.cut_weight;
       return;
+    case FilmPass::kDenoisingAlbedo:
+      return put(out, r.denoising_albedo);
+    case FilmPass::kDenoisingNormal:
+      return put(out, r.denoising_normal);
     case FilmPass::kSampleCount:  // the film's, not the record's
     case FilmPass::kCount:
       return;

@@ -57,10 +57,10 @@ class Kernel {
 
   // A ray a wave queued (wave.h), traced as trace() traces it, the recorder resumed where
   // the recursion would have had it: the sample's record, the ray's factor on the
-  // sample, the indirect pass it feeds.
-  Color resume(const Ray& ray, const NodeState& state, const Color& factor, IndirectPass feeds,
+  // sample, what it carries on the passes.
+  Color resume(const Ray& ray, const NodeState& state, const Color& factor, const PassPath& path,
                SampleRecord* record, RayCounts* counts) const {
-    recorder_.resume(record, factor, feeds);
+    recorder_.resume(record, factor, path);
     return trace(ray, state, counts, nullptr);
   }
 
@@ -145,6 +145,7 @@ class Kernel {
         bounces ? split_weights(ray, p, beyond.eta, in_.has(kReflectionEffect),
                                 in_.has(kRefractionEffect), in_.settings.fresnel, counts)
                 : Split{};
+    recorder_.split(p, split, (in_.effects & kGlossyEffect) != 0);
     const Lights<kEffects, Recorder, Queries, Policy> lights(in_, recorder_, policy_);
     Color radiance = lights.local(p, glossy_rays(in_, p, split, state),
                                   emission_weight(in_, ray, p, state), state, counts);
@@ -247,7 +248,7 @@ class Kernel {
     counts->traced(ray.kind, bounce, drawn != nullptr);
     if constexpr (Policy::kQueues) {
       // Traced in a later generation of the wave.
-      policy_.child(ray, next, weight * share, recorder_.indirect());
+      policy_.child(ray, next, weight * share, recorder_.path(weight, share));
       return Color(0.0f);
     } else {
       [[maybe_unused]] const auto scope = recorder_.branch(weight, share, kind);

@@ -18,11 +18,24 @@ namespace whitted {
 
 class WhittedIntegrator;
 struct SampleRecord;
+struct Split;
 
 // The indirect light pass of the camera hit (passes.h) that the rays being traced
 // feed: none at the camera's depth, Glossy Indirect under its reflected term,
 // Transmission Indirect under its refracted term.
 enum class IndirectPass : uint8_t { kNone, kGlossy, kTransmission };
+
+// What a ray carries on its sample's passes besides its weight (PassRecorder, passes.h):
+// the indirect pass it feeds, and, while the path from the camera has met only
+// near-specular surfaces, its part in the denoising guides: the tint those surfaces put
+// on the albedo (the weights of the branches followed, times the coverage of
+// cut-outs) and its share of the normal (each branch's weight as a fraction of the
+// surface's branches' sum). Both 0 once the guides of its path are written.
+struct PassPath {
+  IndirectPass indirect = IndirectPass::kNone;
+  Color guide_tint{0.0f};
+  float guide_share = 0.0f;
+};
 
 // Every hook gets what the recorder needs of the kernel's step, and the recursion's
 // depth where it matters; the recorder keeps its own position in the recursion (a node
@@ -80,6 +93,9 @@ struct NoRecorder {
                 int /*depth*/) {
     return {};
   }
+  // The surface being shaded splits its weight into `split`'s sigma_r and sigma_t (split.h),
+  // its rays drawn from its glossy lobes where `glossy` (the glossy effect is on).
+  void split(const ShadingPoint& /*p*/, const Split& /*split*/, bool /*glossy*/) {}
   // The local term of the surface being shaded: its emission, its ambient term, and
   // emission + the whole local term as the kernel summed it.
   void local(const ShadingPoint& /*p*/, int /*depth*/, const Color& /*emission*/,
@@ -94,11 +110,12 @@ struct NoRecorder {
   // Such a ray, at `depth`, was not traced.
   void cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& /*weight*/,
            float /*share*/, TreeCut /*why*/) {}
-  // The pass the rays now traced feed, handed to those a wave queues (wave.h).
-  IndirectPass indirect() const { return IndirectPass::kNone; }
+  // What a child ray of `weight` times `share` carries on the passes (PassPath), handed to
+  // those a wave queues (wave.h).
+  PassPath path(const Color& /*weight*/, float /*share*/) const { return {}; }
   // A ray a wave queued takes up the position the recursion would have had there: its
-  // sample's record, its factor on the sample, the pass it feeds.
-  void resume(SampleRecord* /*record*/, const Color& /*factor*/, IndirectPass /*feeds*/) {}
+  // sample's record, its factor on the sample, what it carries on the passes.
+  void resume(SampleRecord* /*record*/, const Color& /*factor*/, const PassPath& /*path*/) {}
 };
 
 }  // namespace whitted

@@ -3,17 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "integrator/glossy.h"
+#include "integrator/split.h"
 #include "integrator/whitted.h"
 
 namespace whitted {
-namespace {
-
-float mean(const Color& c) {
-  return (c.x + c.y + c.z) * (1.0f / 3.0f);
-}
-
-}  // namespace
-
 void SampleRecord::add(const SampleRecord& s, uint32_t passes) {
   if ((passes & kLightPasses) != 0) {
     emission += s.emission;
@@ -34,6 +28,8 @@ void SampleRecord::add(const SampleRecord& s, uint32_t passes) {
   mist += s.mist;
   normal += s.normal;
   uv += s.uv;
+  denoising_albedo += s.denoising_albedo;
+  denoising_normal += s.denoising_normal;
 }
 
 void SampleRecord::take_first(const SampleRecord& s) {
@@ -64,6 +60,8 @@ void SampleRecord::scale(float w, uint32_t passes) {
   mist *= w;
   normal *= w;
   uv *= w;
+  denoising_albedo *= w;
+  denoising_normal *= w;
 }
 
 PassRecorder::PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record)
@@ -74,7 +72,11 @@ PassRecorder::PassRecorder(const WhittedIntegrator& integrator, SampleRecord* re
       light_((settings_.passes & kLightPasses) != 0),
       data_((settings_.passes & kDataPasses) != 0),
       contributions_((settings_.passes & pass_bit(FilmPass::kContributions)) != 0),
-      cut_weight_((settings_.passes & pass_bit(FilmPass::kCutWeight)) != 0) {}
+      cut_weight_((settings_.passes & pass_bit(FilmPass::kCutWeight)) != 0),
+      guides_((settings_.passes & kGuidePasses) != 0) {
+  // A camera ray seeks its guides, with all of the sample's tint and share.
+  if (guides_) path_ = {IndirectPass::kNone, Color(1.0f), 1.0f};
+}
 
 void PassRecorder::camera_surface(const Interaction& it, const SurfaceParams& surface,
                                   const Vec3& normal, float share) const {
@@ -133,6 +135,38 @@ void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission
   specular_ = Color(0.0f);
 }
 
+void PassRecorder::split(const ShadingPoint& p, const Split& split, bool glossy) {
+  if (!(path_.guide_share > 0.0f)) return;  // written, or not kept
+  // The surface's lobes as Cycles' closures: rough (the diffuse, the Phong and coat
+  // highlights, the reflection and the refraction where drawn from a lobe rougher than
+  // kSharpGuideAlpha) or near-specular (the others), each weighing its colour.
+  const bool rough_reflection = reflection_lobe(p, split, glossy).alpha > kSharpGuideAlpha;
+  const bool rough_refraction = glossy && p.alpha > kSharpGuideAlpha;
+  const Color rough = p.base * (p.surface.diffuse + p.surface.specular) + Color(p.coat.highlight) +
+                      (rough_reflection ? split.sigma_r : Color(0.0f)) +
+                      (rough_refraction ? split.sigma_t : Color(0.0f));
+  const Color sharp = (rough_reflection ? Color(0.0f) : split.sigma_r) +
+                      (rough_refraction ? Color(0.0f) : split.sigma_t);
+  const Color emission = glm::clamp(p.surface.emission, 0.0f, 1.0f);
+  const float rough_weight = mean_component(rough);
+  const float sharp_weight = mean_component(sharp);
+  // Cycles waits for the next bounce where three quarters or more of the weight is
+  // near-specular.
+  if (!(sharp_weight > 0.0f) || 4.0f * rough_weight > rough_weight + sharp_weight) {
+    record_->denoising_albedo += path_.guide_tint * glm::min(rough + emission, Color(1.0f));
+    record_->denoising_normal += path_.guide_share * p.ns;
+    path_.guide_tint = Color(0.0f);
+    path_.guide_share = 0.0f;
+    return;
+  }
+  // Followed: each branch traced takes the tint of its weight (PassRecorder::path) and
+  // its share of the normal as a fraction of the branches' sum (the rays drawn from a
+  // lobe sum to about their sigma; a rough lobe, under a quarter of the weight, is
+  // followed too, as Cycles' path may sample it).
+  record_->denoising_albedo += path_.guide_tint * emission;
+  path_.guide_share /= mean_component(split.sigma_r + split.sigma_t);
+}
+
 FeelerPasses PassRecorder::queued(const ShadingPoint& p, const LightTerms& t,
                                   const Color& irradiance, int depth) const {
   FeelerPasses out;
@@ -142,7 +176,7 @@ FeelerPasses PassRecorder::queued(const ShadingPoint& p, const LightTerms& t,
     out.specular *= throughput_;
   }
   if (contributions_) out.bin = std::min(depth, settings_.contribution_depth);
-  if (depth > 0 && light_) out.indirect = indirect_;
+  if (depth > 0 && light_) out.indirect = path_.indirect;
   return out;
 }
 
@@ -157,7 +191,7 @@ void FeelerPasses::arrived(const Color& transmittance, const Color& light,
 
 Color* PassRecorder::indirect_field() const {
   if (!light_) return nullptr;
-  switch (indirect_) {
+  switch (path_.indirect) {
     case IndirectPass::kGlossy:
       return &record_->glossy_indirect;
     case IndirectPass::kTransmission:
@@ -169,15 +203,15 @@ Color* PassRecorder::indirect_field() const {
 }
 
 PassRecorder::Scope PassRecorder::reflected(int depth, const Color& sigma_r) {
-  if (depth > 0) return {this, throughput_, indirect_};
+  if (depth > 0) return {this, throughput_, path_};
   if (light_) record_->glossy_color += throughput_ * sigma_r;
-  return {this, throughput_, IndirectPass::kGlossy};
+  return {this, throughput_, {IndirectPass::kGlossy, path_.guide_tint, path_.guide_share}};
 }
 
 PassRecorder::Scope PassRecorder::refracted(int depth, const Color& sigma_t) {
-  if (depth > 0) return {this, throughput_, indirect_};
+  if (depth > 0) return {this, throughput_, path_};
   if (light_) record_->transmission_color += throughput_ * sigma_t;
-  return {this, throughput_, IndirectPass::kTransmission};
+  return {this, throughput_, {IndirectPass::kTransmission, path_.guide_tint, path_.guide_share}};
 }
 
 void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& world,
@@ -194,11 +228,15 @@ void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& 
   } else if (Color* indirect = indirect_field(); indirect != nullptr && shown) {
     *indirect += throughput * world;
   }
+  // The world where it shows, as Cycles writes the background into its albedo.
+  if (shown) {
+    record_->denoising_albedo += path_.guide_tint * behind * glm::clamp(world, 0.0f, 1.0f);
+  }
 }
 
 void PassRecorder::cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& weight,
                        float share, TreeCut /*why*/) const {
-  if (cut_weight_) record_->cut_weight += mean(throughput_ * weight * share);
+  if (cut_weight_) record_->cut_weight += mean_component(throughput_ * weight * share);
 }
 
 }  // namespace whitted

@@ -37,6 +37,10 @@ enum class FilmPass : uint32_t {
   kMaterialIndex,
   kContributions,  // per depth of the ray tree: RGB for depths 0 .. N-1, then N and beyond
   kCutWeight,
+  // Cycles' Denoising Albedo and Normal: the guides of the denoiser (addon/denoise.py),
+  // from the first rough surface along each path, through mirrors and clear glass.
+  kDenoisingAlbedo,
+  kDenoisingNormal,
   // Camera samples the pixel took (Cycles' Sample Count debug pass): the film's own count,
   // not recorded by the kernel.
   kSampleCount,
@@ -71,6 +75,8 @@ inline constexpr std::array<FilmPassInfo, kFilmPassCount> kFilmPasses = {{
     {"material_index", 1},
     {"contributions", 3},
     {"cut_weight", 1},
+    {"denoising_albedo", 3},
+    {"denoising_normal", 3},
     {"sample_count", 1},
 }};
 inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = [] {
@@ -86,17 +92,24 @@ constexpr uint32_t pass_bit(FilmPass pass) {
 // The passes by what they ask of the kernel, so a render pays only for the groups it
 // keeps: the Light panel's split each camera hit's light into its terms, the Data
 // panel's read the first surface the camera sees, Contributions sums every node by its
-// depth, Cut Weight sums the rays not traced.
+// depth, Cut Weight sums the rays not traced, the denoising guides follow the camera rays
+// through near-specular surfaces.
 inline constexpr uint32_t kLightPasses =
     pass_bit(FilmPass::kDepth) - 1;  // kEmission .. kTransmissionColor
 inline constexpr uint32_t kDataPasses =
     pass_bit(FilmPass::kContributions) - pass_bit(FilmPass::kDepth);  // kDepth .. kMaterialIndex
+inline constexpr uint32_t kGuidePasses =
+    pass_bit(FilmPass::kDenoisingAlbedo) | pass_bit(FilmPass::kDenoisingNormal);
 // The passes the kernel records into a SampleRecord (all but Sample Count, which the film
 // counts): a render keeping none of them runs the kernels that record nothing.
 inline constexpr uint32_t kRecordedPasses = pass_bit(FilmPass::kSampleCount) - 1;
 
 // Depth where a camera sample sees no surface (as Cycles' Depth pass shows the sky).
 inline constexpr float kNoDepth = 1e10f;
+// The GGX alpha at or below which a lobe is near-specular for the denoising guides, as
+// Cycles' (film/denoising_passes.h: a closure whose alpha_x * alpha_y exceeds 0.075^2 is
+// rough).
+inline constexpr float kSharpGuideAlpha = 0.075f;
 
 // What one camera sample (or, summed and scaled, one pixel) adds to each pass. The light
 // terms belong to the camera hit (depth 0; through cut-outs, every layer the camera ray
@@ -132,6 +145,15 @@ struct SampleRecord {
   float object_index = 0.0f;
   float material_index = 0.0f;
   bool data_found = false;  // whether the data surface was met (set by the kernel)
+  // The denoising guides, as Cycles writes them (film/denoising_passes.h), summed over
+  // the ray tree: along each path from the camera, at the first surface whose rough
+  // lobes (diffuse, Phong, glossy rougher than kSharpGuideAlpha) carry over a quarter of
+  // its weight, that surface's rough colours plus its emission, clamped to [0, 1], times
+  // the path's PassPath::guide_tint, and its shading normal (world space, facing the
+  // ray) times the path's guide_share; where a path escapes, the world, clamped, times
+  // its tint (the normal adds nothing there).
+  Color denoising_albedo{0.0f};
+  Vec3 denoising_normal{0.0f};
 
   // Sums the per-sample terms of `s` into these (those the kept `passes`, bits of
   // FilmPass, read; the others stay as they are).
@@ -162,7 +184,7 @@ struct FeelerPasses {
 // SampleRecord that the kept passes (Settings::passes) read; the others stay 0. Its
 // position in the recursion is the throughput of the node being shaded (its weight on
 // the sample: the sigma_r and sigma_t along the way times the coverage of cut-outs) and
-// the indirect pass of the camera hit that the node feeds. A node's terms go, by its
+// what the node carries on the passes (PassPath). A node's terms go, by its
 // depth, to the camera hit's Direct, Emission and Environment passes, or to the
 // indirect pass its path feeds: recursively or in waves, the same terms in the same
 // passes.
@@ -171,14 +193,14 @@ class PassRecorder : public NoRecorder {
   // The position set while the kernel shades a surface or traces a child ray.
   class Scope {
    public:
-    Scope(PassRecorder* recorder, const Color& throughput, IndirectPass indirect)
-        : recorder_(recorder), throughput_(recorder->throughput_), indirect_(recorder->indirect_) {
+    Scope(PassRecorder* recorder, const Color& throughput, const PassPath& path)
+        : recorder_(recorder), throughput_(recorder->throughput_), path_(recorder->path_) {
       recorder->throughput_ = throughput;
-      recorder->indirect_ = indirect;
+      recorder->path_ = path;
     }
     ~Scope() {
       recorder_->throughput_ = throughput_;
-      recorder_->indirect_ = indirect_;
+      recorder_->path_ = path_;
     }
     Scope(const Scope&) = delete;
     Scope& operator=(const Scope&) = delete;
@@ -186,7 +208,7 @@ class PassRecorder : public NoRecorder {
    private:
     PassRecorder* recorder_;
     Color throughput_;
-    IndirectPass indirect_;
+    PassPath path_;
   };
   using Queued = FeelerPasses;
   // The Environment pass keeps the world where a transparent film leaves it out.
@@ -196,7 +218,10 @@ class PassRecorder : public NoRecorder {
 
   void escaped(Node node, int depth, float behind, const Color& world, bool shown) const;
   Scope cover(Node /*node*/, float behind, float a) {
-    return {this, throughput_ * (behind * a), indirect_};
+    const float share = behind * a;
+    return {this,
+            throughput_ * share,
+            {path_.indirect, path_.guide_tint * share, path_.guide_share * share}};
   }
   // The data passes come from the first surface the camera ray meets (depth 0) whose
   // alpha reaches the threshold; Mist from all of them, by their coverage.
@@ -214,6 +239,9 @@ class PassRecorder : public NoRecorder {
     diffuse_ += diffuse;
     specular_ += specular;
   }
+  // Where the path still seeks its denoising guides: writes them at a rough surface (and
+  // ends the search on its rays), or follows its branches.
+  void split(const ShadingPoint& p, const Split& split, bool glossy);
   FeelerPasses queued(const ShadingPoint& p, const LightTerms& t, const Color& irradiance,
                       int depth) const;
   // The node's own terms (`total`: emission + local term as the kernel summed it, into
@@ -225,15 +253,18 @@ class PassRecorder : public NoRecorder {
   Scope reflected(int depth, const Color& sigma_r);
   Scope refracted(int depth, const Color& sigma_t);
   Scope branch(const Color& weight, float share, TreeRayKind /*kind*/) {
-    return {this, throughput_ * weight * share, indirect_};
+    return {this, throughput_ * weight * share, path(weight, share)};
   }
   void cut(const Ray& ray, int depth, TreeRayKind kind, const Color& weight, float share,
            TreeCut why) const;
-  IndirectPass indirect() const { return indirect_; }
-  void resume(SampleRecord* record, const Color& factor, IndirectPass feeds) {
+  PassPath path(const Color& weight, float share) const {
+    const Color w = weight * share;
+    return {path_.indirect, path_.guide_tint * w, path_.guide_share * mean_component(w)};
+  }
+  void resume(SampleRecord* record, const Color& factor, const PassPath& path) {
     record_ = record;
     throughput_ = factor;
-    indirect_ = feeds;
+    path_ = path;
   }
 
  private:
@@ -263,8 +294,9 @@ class PassRecorder : public NoRecorder {
   bool data_;           // a pass of kDataPasses is kept
   bool contributions_;  // Contributions is kept
   bool cut_weight_;     // Cut Weight is kept
+  bool guides_;         // a pass of kGuidePasses is kept
   Color throughput_{1.0f};
-  IndirectPass indirect_ = IndirectPass::kNone;
+  PassPath path_;
   // What the lights of the node being shaded add, summed as they arrive: kd/pi * E *
   // (n.l) * feeler transmittance, and the same for the Phong lobe and the coat's highlight.
   Color diffuse_{0.0f};

@@ -45,7 +45,7 @@ struct WaveRay {
   NodeState state;
   Color factor{1.0f};
   uint32_t sample = 0;
-  IndirectPass indirect = IndirectPass::kNone;  // the camera hit's pass it feeds (passes.h)
+  PassPath path;  // what it carries on its sample's passes (passes.h)
 };
 
 // A shadow feeler waiting in a wave: its first query (ray.h's opaque query where some
@@ -138,11 +138,11 @@ struct Enqueue {
 
   // The surface being shaded covers `share` of the ray.
   void shading(float share) const { at->layer = at->factor * share; }
-  // A child ray of `weight` relative to the surface, at `state`, feeding the camera
-  // hit's pass `feeds`: the next generation's.
+  // A child ray of `weight` relative to the surface, at `state`, carrying `path` on the
+  // passes: the next generation's.
   void child(const Ray& ray, const NodeState& state, const Color& weight,
-             IndirectPass feeds) const {
-    at->wave->next.push_back({ray, state, at->layer * weight, at->sample, feeds});
+             const PassPath& path) const {
+    at->wave->next.push_back({ray, state, at->layer * weight, at->sample, path});
   }
   // A light sample's feeler (its first query), its share if all of its light arrives,
   // and what the kernel's recorder needs of it then (Recorder::Queued).
@@ -252,7 +252,7 @@ void wave_rest(const WhittedIntegrator& w, Wave* wave, RayCounts* counts) {
       cursor.sample = r.sample;
       const uint64_t before = counts->total();
       sample.radiance +=
-          r.factor * kernel.resume(r.ray, r.state, r.factor, r.indirect, sample.record, counts);
+          r.factor * kernel.resume(r.ray, r.state, r.factor, r.path, sample.record, counts);
       sample.rays += counts->total() - before;
     }
   }

@@ -121,13 +121,20 @@ PASSES = (
     (
         "Denoising Normal",
         "signed",
-        "The denoiser's normal guide: the Normal pass (0 where the camera ray escapes).",
+        "The denoiser's normal guide, as Cycles': the shading normal (world space) of the "
+        "first surface along the camera path that is not near-specular; a mirror or clear "
+        "glass passes the path on, glass's reflection and refraction each adding their "
+        "share of sigma_r + sigma_t (0 where a path escapes).",
     ),
     (
         "Denoising Albedo",
         "color",
-        "The denoiser's albedo guide: DiffCol + GlossCol + TransCol + Emit + Env (the world "
-        "seen directly, as Cycles writes the background into its albedo), clamped to [0, 1].",
+        "The denoiser's albedo guide, as Cycles': at the first surface along the camera path "
+        "whose rough lobes (diffuse, Phong, glossy rougher than GGX alpha 0.075) carry over "
+        "a quarter of its weight, their colours plus its emission, clamped to [0, 1]; "
+        "through a mirror, clear glass or a sharp coat, that of what is seen in it times "
+        "the sigma_r or sigma_t of each branch followed (the world, clamped, where a branch "
+        "escapes).",
     ),
     (
         "Whitted Rays",
