@@ -78,13 +78,16 @@ def converged(scene, path):
 
 def test_f12_denoises_a_noisy_render_towards_the_converged_one(scene, tmp_path):
     reference = converged(scene, tmp_path / "reference.exr")
-    # 2 x 2 samples a pixel, one feeler each: a grainy penumbra.
-    scene.whitted.aa_samples, scene.whitted.use_denoising = 2, True
+    # One sample a pixel, one feeler: a grainy penumbra (2 x 2 samples, stratified
+    # together since the Sobol draws, leave the denoiser little to do).
+    scene.whitted.aa_samples, scene.whitted.use_denoising = 1, True
     channels = render_multilayer(scene, tmp_path / "noisy.exr")
     noisy, clean = rgb(channels, "Noisy Image"), rgb(channels, "Combined")
-    # The denoiser removes most of the noise: its error was 0.18 of the noisy image's at
-    # 160 x 120 (0.118 against 0.022).
-    assert rms(clean, reference) < 0.4 * rms(noisy, reference)
+    errors = rms(clean, reference), rms(noisy, reference)
+    print(f"denoised / noisy error: {errors[0]:.4f} / {errors[1]:.4f}")
+    # The denoiser removes most of the noise: its error was 0.25 of the noisy image's
+    # (Blender 3.4, 160 x 120: 0.0575 against 0.2298).
+    assert errors[0] < 0.4 * errors[1]
     stats = json.loads(scene.whitted.last_stats)
     decision = next(e for e in stats["effects"] if e["name"] == "denoising")
     assert decision["on"] and "Open Image Denoise" in decision["why"]
@@ -279,7 +282,7 @@ def test_f12_keeps_the_edges_a_mirror_shows(empty_scene, tmp_path, native):
     whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 16, 4
     whitted.adaptive_sampling, whitted.use_denoising = False, False
     reference = rgb(render_multilayer(scene, tmp_path / "reference.exr"), "Combined")
-    whitted.aa_samples, whitted.light_samples, whitted.use_denoising = 2, 1, True
+    whitted.aa_samples, whitted.light_samples, whitted.use_denoising = 1, 1, True
     whitted.denoising_input_passes = "RGB_ALBEDO_NORMAL"
     channels = render_multilayer(scene, tmp_path / "noisy.exr")
     noisy, clean = rgb(channels, "Noisy Image"), rgb(channels, "Combined")
@@ -320,8 +323,8 @@ def test_f12_keeps_the_edges_a_mirror_shows(empty_scene, tmp_path, native):
     }
     error = {name: rms(image, reference) for name, image in (("new", clean), ("old", old))}
     print(f"edge contrast / reference's: {contrast}; rms against the reference: {error}")
-    # Measured (Blender 3.4): the step 1.014 of the reference's, 0.898 with the old
-    # guides; the error 0.070 against 0.149.
+    # Measured (Blender 3.4, one sample a pixel): the step 1.015 of the reference's,
+    # 0.901 with the old guides; the error 0.112 against 0.233.
     assert abs(contrast["new"] - 1.0) < 0.05
     assert contrast["old"] < contrast["new"] - 0.05
     assert error["new"] < 0.6 * error["old"]
