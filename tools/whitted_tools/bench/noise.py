@@ -211,7 +211,10 @@ def write_markdown(out, results, command, resolution, repeats):
         "call, median of "
         f"{repeats} renders taken in turns in one process (bpy "
         f"{bpy.app.version_string}). Noise: RMSE against the engine's own converged image "
-        f"(Whitted's: {CONVERGED}); bias: Whitted's converged image against the "
+        f"(Whitted's: {CONVERGED}; its first samples are a Final render's, drawn from "
+        "the same Sobol sequences, so Whitted's noise is somewhat flattered: the error "
+        "against the Cycles reference is the independent figure); bias: Whitted's "
+        "converged image against the "
         "reference, the part of the error no sampling removes. The target: Whitted's "
         "Final preset, denoised, no noisier than Cycles' default (noise threshold 0.01, "
         "denoised) in at most a third of its time.",
