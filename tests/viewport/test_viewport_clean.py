@@ -34,6 +34,6 @@ def test_quick_run_times_every_row_and_compares_the_references(tmp_path):
         assert float(cells[4]) < 4.0, row  # the last capture's RMSE
         if label.startswith("Whitted"):
             # It reached its Preview preset's last pass (and, with Denoise, denoised it).
-            assert cells[5].endswith("(1/1)"), row
+            assert cells[5].endswith("(done 1/1)"), row
     cross = re.search(r"Cycles' reference against Whitted's: RMSE (\d+\.\d+) levels", page)
     assert cross and 0.0 < float(cross.group(1)) < 10.0, page
