@@ -7,8 +7,9 @@ view) reaches only `view_draw`, which compares the view with the one the job
 renders and restarts it without a sync. The job refines progressively (coarse
 blocks, then full resolution, then anti-aliasing samples up to the viewport's
 quality preset); a main-thread timer polls its frame counter and asks for a
-redraw only when a new pass exists, and stops once the last pass is shown, so
-a converged viewport costs no CPU. No bpy data is read off the main thread.
+redraw only when a new pass exists or the job has ended, and stops once the last
+pass is shown and the job has ended, so a converged viewport costs no CPU. No bpy
+data is read off the main thread.
 """
 
 import math
@@ -230,16 +231,19 @@ class ViewportSession:
             self._stop_job()
             return
         frame = job.frame
-        if frame == self._shown:
+        if frame != self._shown:
+            self._display.upload(job.display(*self._kind))
+            self._shown = frame
+            self._log.write("frame", frame=frame, **job.pass_info())
+        # The last pass is published before the workers end: the job may finish after
+        # its last frame was shown, at a later draw (the timer asks for one).
+        if not finished or self._converged:
             return
-        self._display.upload(job.display(*self._kind))
-        self._shown = frame
         info = job.pass_info()
-        self._log.write("frame", frame=frame, **info)
         stats = job.stats()
         if stats["trace_seconds"] > 0.0 and stats["samples"] > 0:
             self._samples_per_second = stats["samples"] / stats["trace_seconds"]
-        if finished and info["pass"] == info["passes"]:
+        if info["pass"] == info["passes"]:
             self._converged = True
             self._log.write("converged", waves=stats["waves"])
             if self._denoising.on and self._kind == ("image", 0):
@@ -316,7 +320,11 @@ class ViewportSession:
         if engine is None:
             self._poll = None
             return None
-        if self._job.frame != self._shown or (self._denoise is not None and self._denoise.done):
+        if (
+            self._job.frame != self._shown
+            or self._ended_unseen()
+            or (self._denoise is not None and self._denoise.done)
+        ):
             try:
                 engine.tag_redraw()
             except ReferenceError:
@@ -324,6 +332,16 @@ class ViewportSession:
                 self._poll = None
                 return None
         return POLL_SECONDS
+
+    def _ended_unseen(self):
+        """The job has ended since the last draw took in its state: its last pass may have
+        been shown while the workers were still finishing, or a worker failed."""
+        if self._converged:
+            return False
+        try:
+            return self._job.wait(0.0)
+        except (MemoryError, RuntimeError):
+            return True  # the draw reports it
 
     def _stop_job(self):
         if self._denoise is not None:

@@ -25,6 +25,7 @@ GROUPS = {
         "bench-passes": "bench.passes",
         "bench-rounds": "bench.rounds",
         "bench-viewport": "bench.viewport",
+        "bench-viewport-clean": "bench.viewport_clean",
     },
     "perf": {
         "bench-performance": "perf.suite",
