@@ -273,12 +273,8 @@ def enabled_passes(view_layer):
     return passes + cryptomatte_passes(view_layer)
 
 
-# The film passes a pass made from others is read from (the rest are film passes).
-DERIVED_SOURCES = {
-    "combined": (),
-    "rays": (),
-    "noisy": (),
-}
+# The passes read from the film's image and ray cost, not from a film pass of their own.
+IMAGE_SOURCES = frozenset(("combined", "rays", "noisy"))
 
 
 def configure(settings, scene, view_layer, passes, guides=False):
@@ -288,7 +284,8 @@ def configure(settings, scene, view_layer, passes, guides=False):
     layer enables."""
     sources = set(denoise.GUIDE_SOURCES) if guides else set()
     for spec in passes:
-        sources.update(DERIVED_SOURCES.get(spec.source, (spec.source,)))
+        if spec.source not in IMAGE_SOURCES:
+            sources.add(spec.source)
     settings.passes = sorted(s for s in sources if not s.startswith(CRYPTOMATTE_SOURCE))
     settings.contribution_depth = view_layer.whitted.contribution_depth
     settings.pass_alpha_threshold = view_layer.pass_alpha_threshold
@@ -350,7 +347,7 @@ VIEWPORT_DISPLAYS = (
         "of a frame goes",
         "cost",
     ),
-    *(_display_of(spec) for spec in PASSES if spec.source not in DERIVED_SOURCES),
+    *(_display_of(spec) for spec in PASSES if spec.source not in IMAGE_SOURCES),
     # The viewport keeps all depths apart, up to the deepest the passes can.
     *(
         _display_of(spec)

@@ -83,9 +83,7 @@ def test_each_pass_has_the_channels_of_its_film_pass(native):
         assert spec.first == 0
         assert len(spec.channels) == film[spec.source], spec.name
     others = {spec.source for spec in result.PASSES if spec.source not in film}
-    assert others == set(result.DERIVED_SOURCES)
-    # What the derived passes are read from is kept by the film.
-    assert all(s in film for sources in result.DERIVED_SOURCES.values() for s in sources)
+    assert others == result.IMAGE_SOURCES
     # The per-depth passes share Contributions, one bin of its channels each.
     bins = result.contribution_passes(result.MAX_CONTRIBUTION_DEPTH)
     for depth, spec in enumerate(bins):
