@@ -32,6 +32,7 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
         glass_shadows=getattr(native.GlassShadows, whitted.glass_shadows),
         pixel_filter=getattr(native.PixelFilterType, film.pixel_filter.type),
         filter_width=film.pixel_filter.width,
+        seed=render_seed(whitted.seed, whitted.use_animated_seed, scene.frame_current),
         # Blender's thread setting (Auto = all cores, or the -t command-line value).
         threads=scene.render.threads,
         tile_size=whitted.tile_size,
@@ -41,3 +42,14 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
     # rounding (native integrator/wave.h).
     settings.waves = whitted.use_waves
     return settings
+
+
+def render_seed(seed, animated, frame):
+    """The native seed: the scene's Seed, or with Use Animated Seed one of each frame's
+    own (a hash of the frame and the seed, as Cycles'; within the native range)."""
+    if not animated:
+        return seed
+    mixed = (frame * 0x9E3779B1 ^ seed * 0x85EBCA6B) & 0xFFFFFFFF
+    mixed ^= mixed >> 16
+    mixed = (mixed * 0x7FEB352D) & 0xFFFFFFFF
+    return (mixed ^ (mixed >> 15)) & 0x7FFFFFFF

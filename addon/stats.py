@@ -50,6 +50,7 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
             **asdict(quality),
             "pixel_filter": settings.pixel_filter.name,
             "filter_width": settings.filter_width,
+            "seed": settings.seed,
         },
         "threads": native_stats["threads"],
         "triangles": native_stats["triangles"],

@@ -101,6 +101,18 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         "(0: automatic, as Cycles, from the threshold)",
         **setting("adaptive_min_samples", default=NEW.adaptive_min_samples),
     )
+    seed: IntProperty(
+        name="Seed",
+        description="Which of the equally good sets of random samples the render draws "
+        "(Cycles' Seed): another seed moves the noise, not the image",
+        **setting("seed"),
+    )
+    use_animated_seed: BoolProperty(
+        name="Use Animated Seed",
+        description="A seed of its own for each frame, so an animation's noise does not "
+        "stand still while the scene moves",
+        default=False,
+    )
     time_limit: FloatProperty(
         name="Time Limit",
         description="Stop sampling after this long (with a noise threshold; each pixel "
@@ -112,7 +124,8 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     use_denoising: BoolProperty(
         name="Denoise",
         description="Denoise the final render with Intel Open Image Denoise, guided by "
-        "the albedo and normal the camera rays see (not in the Lecture local model)",
+        "the albedo and normal of the first rough surface the camera sees, through "
+        "mirrors and glass (not in the Lecture local model)",
         default=True,
     )
     use_viewport_denoising: BoolProperty(

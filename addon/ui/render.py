@@ -120,6 +120,9 @@ class WHITTED_RENDER_PT_sampling_rays(_SamplingSubPanel, bpy.types.Panel):
         glossy.prop(settings, "glossy_samples")
         layout.prop(settings, "emitter_samples")
         layout.prop(settings, "texture_filter")
+        seed = layout.row(align=True)
+        seed.prop(settings, "seed")
+        seed.prop(settings, "use_animated_seed", text="", icon="TIME")
 
 
 class _TopPanel(_WhittedRenderPanel):

@@ -96,7 +96,7 @@ void bind_settings(py::module_& m) {
                        float pass_alpha_threshold, std::array<float, 3> mist, int glossy_samples,
                        int emitter_samples, float shutter, bool adaptive_sampling,
                        float noise_threshold, int adaptive_min_samples, double time_limit,
-                       PixelFilterType pixel_filter, float filter_width) {
+                       PixelFilterType pixel_filter, float filter_width, uint32_t seed) {
              Settings s;
              s.width = width;
              s.height = height;
@@ -131,6 +131,7 @@ void bind_settings(py::module_& m) {
              s.time_limit = time_limit;
              s.pixel_filter = pixel_filter;
              s.filter_width = filter_width;
+             s.seed = seed;
              s.validate();
              return s;
            }),
@@ -155,7 +156,7 @@ void bind_settings(py::module_& m) {
            py::arg("noise_threshold") = d.noise_threshold,
            py::arg("adaptive_min_samples") = d.adaptive_min_samples,
            py::arg("time_limit") = d.time_limit, py::arg("pixel_filter") = d.pixel_filter,
-           py::arg("filter_width") = d.filter_width,
+           py::arg("filter_width") = d.filter_width, py::arg("seed") = d.seed,
            "border: (xmin, ymin, xmax, ymax) pixels traced, end exclusive, rows from the "
            "bottom; all zero for the whole image. progressive: coarse previews from blocks "
            "of start_pixel_size (a power of two, 1 to 64) down to 2 pixels, then one pass "
@@ -168,7 +169,9 @@ void bind_settings(py::module_& m) {
            "glossy bounce (one at later ones); emitter_samples: n, for n x n feelers to the "
            "emissive meshes from a shading point (one after a glossy bounce); shutter: Render > "
            "Motion Blur's, in frames, for the report (0: motion blur off); pixel_filter, "
-           "filter_width: Film > Pixel Filter's type (a PixelFilterType) and width in pixels.")
+           "filter_width: Film > Pixel Filter's type (a PixelFilterType) and width in pixels; "
+           "seed: which set of random draws the render takes (0: those of before the "
+           "setting).")
       .def("validate", &Settings::validate,
            "Raise ValueError naming the first value out of its range (LIMITS), as a render "
            "does.")
@@ -230,6 +233,11 @@ void bind_settings(py::module_& m) {
                             "Film > Pixel Filter's width in pixels (Cycles': Gaussian 4 standard "
                             "deviations, Blackman-Harris the support's half; the Box is the "
                             "pixel's square whatever it is).")
+                         .c_str())
+      .def_readwrite("seed", &Settings::seed,
+                     ranged(setting_range("seed"),
+                            "Cycles' Seed: which of the equally good sets of random draws the "
+                            "render takes; 0: those of before the setting.")
                          .c_str())
       .def_readwrite("glass_shadows", &Settings::glass_shadows,
                      "What a shadow feeler does at glass (a GlassShadows).")

@@ -328,3 +328,33 @@ def test_f12_keeps_the_edges_a_mirror_shows(empty_scene, tmp_path, native):
     assert abs(contrast["new"] - 1.0) < 0.05
     assert contrast["old"] < contrast["new"] - 0.05
     assert error["new"] < 0.6 * error["old"]
+
+
+def test_a_seed_moves_the_noise_not_the_image(scene, tmp_path):
+    # Cycles' Seed: another set of draws, as good; with Use Animated Seed each frame its own.
+    whitted = scene.whitted
+    whitted.aa_mode, whitted.aa_samples, whitted.light_samples = "JITTERED", 2, 1
+    whitted.adaptive_sampling, whitted.use_denoising = False, False
+
+    def image(name):
+        return rgb(render_multilayer(scene, tmp_path / f"{name}.exr"), "Combined")
+
+    first = image("seed0")
+    assert json.loads(whitted.last_stats)["settings"]["seed"] == 0
+    whitted.seed = 5
+    seeded = image("seed5")
+    assert json.loads(whitted.last_stats)["settings"]["seed"] == 5
+    assert np.array_equal(image("seed5again"), seeded)
+    changed = np.any(seeded != first, axis=-1).mean()
+    means = f"{first.mean():.4f} {seeded.mean():.4f}"
+    print(f"pixels changed by the seed: {changed:.3f}; means {means}")
+    assert changed > 0.02  # the penumbra's pixels
+    assert seeded.mean() == pytest.approx(first.mean(), rel=0.01)
+    whitted.use_animated_seed = True
+    scene.frame_set(1)
+    frame_1 = image("frame1")
+    scene.frame_set(2)
+    frame_2 = image("frame2")
+    assert not np.array_equal(frame_1, frame_2)
+    scene.frame_set(1)
+    assert np.array_equal(image("frame1again"), frame_1)

@@ -49,6 +49,7 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "texture_filter": "AUTHORED",
         "pixel_filter": "BOX",
         "filter_width": pytest.approx(1.5),  # unused by the Box
+        "seed": 0,
     }
     rays = stats["rays"]
     assert rays["camera"] == WIDTH * HEIGHT * 4

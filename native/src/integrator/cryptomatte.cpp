@@ -21,6 +21,7 @@ CryptomatteFilm::CryptomatteFilm(const Settings& settings)
     : width_(settings.width),
       height_(settings.height),
       samples_per_axis_(samples_per_axis(settings)),
+      seed_(settings.seed),
       filter_(settings),
       kinds_(settings.cryptomatte_kinds),
       depth_(settings.cryptomatte_depth) {
@@ -48,7 +49,7 @@ void CryptomatteFilm::trace_pixel(const CompiledScene& scene, const Camera& came
                        filter_.position((static_cast<float>(j) + 0.5f) / static_cast<float>(n));
       // On the lens and in the shutter as the image's samples are (depth of field and
       // motion blur spread an object's coverage as they spread its colour).
-      const LensTime at = lens_and_time(camera, moves, x, y, j * n + i, n, height_);
+      const LensTime at = lens_and_time(camera, moves, seed_, x, y, j * n + i, n, height_);
       Ray ray = camera.generate_ray(px / static_cast<float>(width_),
                                     py / static_cast<float>(height_), at.lens, at.time);
       float behind = 1.0f;  // the share of the sample not yet covered

@@ -52,6 +52,7 @@ class CryptomatteFilm {
   int width_;
   int height_;
   int samples_per_axis_;
+  uint32_t seed_;  // Settings::seed: its samples' lens and time are the image's
   PixelFilter filter_;
   uint32_t kinds_;
   int depth_;

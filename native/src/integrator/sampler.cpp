@@ -10,20 +10,25 @@
 namespace whitted {
 namespace {
 
+// What the render's Seed changes a key by: nothing for seed 0 (the images of before the
+// setting), else a hash of the seed and the key's salt.
+uint32_t seed_mix(uint32_t seed, uint32_t salt) {
+  return seed == 0 ? 0u : hash3(seed, salt, 0x5eed5eedu);
+}
+
 // The seed of grid sample k of pixel (x, y) (NodeState::seed).
-uint32_t grid_seed(int x, int y, int k) {
-  return hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y),
-               0x9e37u + static_cast<uint32_t>(k));
+uint32_t grid_seed(uint32_t seed, int x, int y, int k) {
+  return pixel_key(seed, x, y, 0x9e37u + static_cast<uint32_t>(k));
 }
 
 // The seed of a camera sample (NodeState::seed) at film position (px, py), in pixels:
 // its bits, hashed.
-uint32_t film_seed(float px, float py) {
+uint32_t film_seed(uint32_t seed, float px, float py) {
   uint32_t a = 0;
   uint32_t b = 0;
   std::memcpy(&a, &px, sizeof a);
   std::memcpy(&b, &py, sizeof b);
-  return hash3(a, b, 0x5eedu);
+  return hash3(a, b, 0x5eedu) ^ seed_mix(seed, 0x5eedu);
 }
 
 // Where packets stop paying: at about one instance in view per 500 pixels. Callgrind's
@@ -35,6 +40,10 @@ uint32_t film_seed(float px, float py) {
 constexpr double kPacketInstancesPerPixel = 1.0 / 500.0;
 
 }  // namespace
+
+uint32_t pixel_key(uint32_t seed, int x, int y, uint32_t salt) {
+  return hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), salt) ^ seed_mix(seed, salt);
+}
 
 PacketChoice choose_packets(const CompiledScene& scene, const Camera& camera,
                             const Settings& settings) {
@@ -444,36 +453,38 @@ Ray CameraSampler::grid_ray(int x, int y, int k) const {
     const float cell = 1.0f / static_cast<float>(n);
     const float px = fx + filter_.position((static_cast<float>(c % n) + 0.5f) * cell);
     const float py = fy + filter_.position((static_cast<float>(c / n) + 0.5f) * cell);
-    const LensTime at = lens_and_time(camera_, moves_, x, y, c, n, settings_.height);
+    const LensTime at =
+        lens_and_time(camera_, moves_, settings_.seed, x, y, c, n, settings_.height);
     return camera_ray(px, py, at.lens, at.time);
   }
   // Point k of the pixel's Owen-scrambled Sobol sequences (core/sobol.h), one for the film,
   // one for the lens and one for the time, each seeded by the pixel and its dimension: every
   // power-of-two prefix of the pixel's samples is stratified on the film, on the lens and in
   // the shutter, in every 2D projection, and the three are not paired alike.
-  const auto ux = static_cast<uint32_t>(x);
-  const auto uy = static_cast<uint32_t>(y);
+  const uint32_t seed = settings_.seed;
   const auto index = static_cast<uint32_t>(k);
-  const glm::vec2 film = sobol_point(index, hash3(ux, uy, 0xf11du));
+  const glm::vec2 film = sobol_point(index, pixel_key(seed, x, y, 0xf11du));
   const glm::vec2 lens =
-      camera_.lens.blurs() ? sobol_point(index, hash3(ux, uy, 0x1e45u)) : glm::vec2(0.5f);
-  const float time =
-      moves_ ? camera_.shutter.time(sobol_value(index, hash3(ux, uy, 0x7a3du)), y, settings_.height)
-             : 0.0f;
+      camera_.lens.blurs() ? sobol_point(index, pixel_key(seed, x, y, 0x1e45u)) : glm::vec2(0.5f);
+  const float time = moves_
+                         ? camera_.shutter.time(sobol_value(index, pixel_key(seed, x, y, 0x7a3du)),
+                                                y, settings_.height)
+                         : 0.0f;
   return camera_ray(fx + filter_.position(film.x), fy + filter_.position(film.y), lens, time);
 }
 
 NodeState CameraSampler::film_root(float px, float py) const {
   NodeState root = root_;
-  root.seed = film_seed(px, py);
+  root.seed = film_seed(settings_.seed, px, py);
   return root;
 }
 
 NodeState CameraSampler::grid_root(int x, int y, int k) const {
   NodeState root = root_;
-  root.seed = grid_seed(
-      x, y, settings_.aa_mode == AntiAliasing::kRegular ? regular_cell(settings_, x, y, k) : k);
-  root.pixel = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x70786cu);
+  root.seed =
+      grid_seed(settings_.seed, x, y,
+                settings_.aa_mode == AntiAliasing::kRegular ? regular_cell(settings_, x, y, k) : k);
+  root.pixel = pixel_key(settings_.seed, x, y, 0x70786cu);
   root.index = static_cast<uint32_t>(k);
   return root;
 }
@@ -482,14 +493,14 @@ int regular_cell(const Settings& settings, int x, int y, int k) {
   if (!settings.adaptive_sampling) return k;
   const auto cells = static_cast<uint32_t>(settings.aa_samples * settings.aa_samples);
   return static_cast<int>(
-      permuted(static_cast<uint32_t>(k), cells,
-               hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xadau)));
+      permuted(static_cast<uint32_t>(k), cells, pixel_key(settings.seed, x, y, 0xadau)));
 }
 
-LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height) {
+LensTime lens_and_time(const Camera& camera, bool moves, uint32_t seed, int x, int y, int k, int n,
+                       int height) {
   LensTime out;
   const auto samples = static_cast<uint32_t>(n * n);
-  const auto pixel = hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x1e45u);
+  const auto pixel = pixel_key(seed, x, y, 0x1e45u);
   const auto sample = static_cast<uint32_t>(k);
   if (moves) {
     const uint32_t order = hash3(pixel, 0x7a3du, 0x51edu);
@@ -515,13 +526,13 @@ Ray CameraSampler::camera_ray(float px, float py, glm::vec2 lens, float time) co
 
 float CameraSampler::film_time(float px, float py) const {
   if (!moves_) return 0.0f;
-  const float u = unit_float(hash3(film_seed(px, py), 0x7a3du, 0x51edu));
+  const float u = unit_float(hash3(film_seed(settings_.seed, px, py), 0x7a3du, 0x51edu));
   return camera_.shutter.time(u, static_cast<int>(std::floor(py)), settings_.height);
 }
 
 glm::vec2 CameraSampler::film_lens(float px, float py) const {
   if (!frame_.camera.lens.blurs()) return glm::vec2(0.5f);
-  const uint32_t h = hash3(film_seed(px, py), 0x1e45u, 0x2f1du);
+  const uint32_t h = hash3(film_seed(settings_.seed, px, py), 0x1e45u, 0x2f1du);
   return {unit_float(h), unit_float(hash3(h, 0x6b43u, 0x2f1du))};
 }
 

@@ -72,7 +72,14 @@ struct LensTime {
   glm::vec2 lens{0.5f};
   float time = 0.0f;
 };
-LensTime lens_and_time(const Camera& camera, bool moves, int x, int y, int k, int n, int height);
+LensTime lens_and_time(const Camera& camera, bool moves, uint32_t seed, int x, int y, int k, int n,
+                       int height);
+
+// Pixel (x, y)'s random key for `salt` (each kind of draw its own salt): a hash of the
+// pixel and the salt, changed by the render's Seed (Settings::seed; 0 changes nothing).
+// Every key a pixel's samples are drawn from comes from it, so another seed draws other,
+// equally distributed samples.
+uint32_t pixel_key(uint32_t seed, int x, int y, uint32_t salt);
 
 // The cell (row by row) of a regular grid's sample k of pixel (x, y): k itself, but with
 // noise-driven sampling a permutation of the grid chosen by the pixel, so that the first

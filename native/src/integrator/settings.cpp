@@ -50,6 +50,7 @@ void Settings::validate() const {
   check_setting(setting_range("aa_depth"), aa_depth);
   check_setting(setting_range("aa_threshold"), aa_threshold);
   check_setting(setting_range("filter_width"), filter_width);
+  check_setting(setting_range("seed"), seed);
   check_range("pixel_filter", static_cast<int64_t>(pixel_filter), 0, 2);
   check_setting(setting_range("threads"), threads);
   check_setting(setting_range("tile_size"), tile_size);

@@ -53,6 +53,10 @@ struct Settings {
   int aa_samples = 1;  // per axis, regular and jittered: n x n samples
   PixelFilterType pixel_filter = PixelFilterType::kBox;
   float filter_width = 1.0f;  // in pixels (Cycles' Width: see PixelFilter)
+  // Cycles' Seed (Sampling > Advanced): which of the equally good sets of random draws a
+  // render takes (pixel_key, sampler.h); 0 is the draws of before the setting. The add-on
+  // gives each frame its own with Use Animated Seed.
+  uint32_t seed = 0;
   float aa_threshold = 0.3f;  // adaptive: split when corners differ by more (sum over RGB)
   int aa_depth = 3;           // adaptive: how many times a square may be split
   int threads = 0;            // 0: all hardware threads
@@ -183,6 +187,7 @@ inline constexpr std::array kSettingRanges = {
     SettingRange{"emitter_samples", 1, 16},
     SettingRange{"aa_samples", 1, 64},
     SettingRange{"filter_width", 0.01, 10},
+    SettingRange{"seed", 0, INT32_MAX},
     SettingRange{"aa_threshold", 0, 3},
     SettingRange{"aa_depth", 0, 6},
     SettingRange{"threads", 0, 1024},

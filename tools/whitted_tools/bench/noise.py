@@ -13,7 +13,8 @@ plastic and glass, emissive meshes, depth of field, motion blur), at --resolutio
   automatic minimum, Open Image Denoise on), and its threshold ladder without denoising;
 - Whitted at each preset (noise thresholds), denoised and not, and its own converged
   image (the Reference preset without its noise threshold: every pixel takes its 32 x 32
-  grid, 1,024 samples, not denoised; with the threshold it keeps noise of its own).
+  grid, 1,024 samples, not denoised; with the threshold it keeps noise of its own; Seed
+  1, so its draws are not those of the renders it measures).
 
 Each render's error is its RMSE against the Cycles reference as a display shows both
 (linear RGB clipped to [0, 1], sRGB-encoded, in levels of 255: metrics.srgb_encode, the
@@ -52,7 +53,9 @@ from whitted_tools.render import render_exr
 
 REFERENCE_SAMPLES = 2048
 # Whitted's converged image: the Reference preset at threshold 0 (its whole grid).
-CONVERGED = "the Reference preset at threshold 0 (32 x 32 samples a pixel)"
+# Seed 1: draws of its own, so that the measured renders' noise (seed 0, a new scene's)
+# is not measured against their own first samples.
+CONVERGED = "the Reference preset at threshold 0 (32 x 32 samples a pixel), Seed 1"
 # Cycles' new scene (its Sampling > Render defaults).
 CYCLES_DEFAULT = {"threshold": 0.01, "samples": 4096, "denoise": True}
 CYCLES_LADDER = (0.1, 0.05, 0.02, 0.01)
@@ -151,7 +154,9 @@ def measure_scene(entry, resolution, repeats):
         reference, reference_seconds = timed(scene, "CYCLES", os.path.join(work, "ref.exr"))
         set_whitted(scene, "REFERENCE", False)
         scene.whitted.noise_threshold = 0.0
+        scene.whitted.seed = 1
         converged, converged_seconds = timed(scene, "WHITTED", os.path.join(work, "own.exr"))
+        scene.whitted.seed = 0
         own = {"CYCLES": reference, "WHITTED": converged}
         measured = runs()
         seconds = {label: [] for label, _, _ in measured}
@@ -211,10 +216,8 @@ def write_markdown(out, results, command, resolution, repeats):
         "call, median of "
         f"{repeats} renders taken in turns in one process (bpy "
         f"{bpy.app.version_string}). Noise: RMSE against the engine's own converged image "
-        f"(Whitted's: {CONVERGED}; its first samples are a Final render's, drawn from "
-        "the same Sobol sequences, so Whitted's noise is somewhat flattered: the error "
-        "against the Cycles reference is the independent figure); bias: Whitted's "
-        "converged image against the "
+        f"(Whitted's: {CONVERGED}, so its draws are not the measured renders'); bias: "
+        "Whitted's converged image against the "
         "reference, the part of the error no sampling removes. The target: Whitted's "
         "Final preset, denoised, no noisier than Cycles' default (noise threshold 0.01, "
         "denoised) in at most a third of its time.",
