@@ -87,9 +87,13 @@ COMPAT_PANELS = (
     "MATERIAL_PT_preview",
     "EEVEE_MATERIAL_PT_context_material",
     "EEVEE_MATERIAL_PT_surface",
-    # World.
+    # World, and Cycles' world settings Whitted reads: Ray Visibility (Diffuse, Glossy),
+    # Settings > Surface (Sampling, Map Resolution, Max Bounces).
     "WORLD_PT_context_world",
     "EEVEE_WORLD_PT_surface",
+    "CYCLES_WORLD_PT_ray_visibility",
+    "CYCLES_WORLD_PT_settings",
+    "CYCLES_WORLD_PT_settings_surface",
     # View layer: its name and use, and the Passes panel that Whitted's own pass
     # sub-panels (ui/passes.py) go under, as Cycles' do.
     "VIEWLAYER_PT_context_layer",

@@ -21,6 +21,7 @@ import bpy
 
 from .export import ExportError
 from .export.curves import STRAND_TYPES, hair_keys, hair_systems
+from .export.world import map_size
 from .preferences import memory_budget_mib
 
 MIB = 1024 * 1024
@@ -43,6 +44,9 @@ TEXEL_BYTES = 32
 # whitted_tools bench-memory's fur scene (900,000 keys) measured about 140-175 B a key
 # beyond the rest of its estimate (docs/MEMORY.md).
 KEY_BYTES = 160
+# A texel of the world light's importance map (native scene/world_light.h): its
+# conditional CDF and density as floats, and its weight as a double while it is built.
+MAP_TEXEL_BYTES = 16
 
 
 @dataclass(frozen=True)
@@ -52,6 +56,7 @@ class MemoryEstimate:
     texels: int
     pixels: int
     keys: int = 0  # curve keys and points: hair, Curves objects, point clouds
+    map_texels: int = 0  # the world light's importance map
 
     @property
     def parts(self):
@@ -62,6 +67,10 @@ class MemoryEstimate:
             (f"{self.texels:,} texels of textures", self.texels * TEXEL_BYTES),
             (f"{self.pixels:,} pixels", self.pixels * PIXEL_BYTES),
             (f"{self.keys:,} curve keys and points", self.keys * KEY_BYTES),
+            (
+                f"{self.map_texels:,} texels of the world's light map",
+                self.map_texels * MAP_TEXEL_BYTES,
+            ),
         ]
         return sorted(parts, key=lambda part: -part[1])
 
@@ -102,7 +111,8 @@ def estimate(depsgraph, pixels):
         for block in depsgraph.ids
         if isinstance(block, bpy.types.Image)
     )
-    return MemoryEstimate(triangles, instances, texels, pixels, keys)
+    width, height = map_size(depsgraph.scene.world)
+    return MemoryEstimate(triangles, instances, texels, pixels, keys, width * height)
 
 
 def budget():

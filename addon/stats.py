@@ -77,6 +77,9 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         "cutoff_skipped": native_stats["cutoff_skipped"],
         # Shadow feelers not sent, by reason (backfacing, unlit, below the cutoff).
         "shadow_rays_skipped": dict(native_stats["shadow_rays_skipped"]),
+        # Light samples drawn towards the world where it lights the scene (native
+        # scene/world_light.h); their shadow feelers are among rays["shadow"].
+        "world_feelers": native_stats["world_feelers"],
         # Whether each pixel's camera rays went to Embree as one packet, and the instances
         # in view that chose it (packets up to one per 500 pixels: native sampler.h,
         # choose_packets).

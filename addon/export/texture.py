@@ -143,7 +143,25 @@ def image_pixels(image, warnings):
     if image.alpha_mode == "NONE":
         pixels[..., 3] = 1.0
     _to_linear(image, pixels, warnings)
+    _sanitise_texels(image, pixels, warnings)
     return pixels
+
+
+def _sanitise_texels(image, pixels, warnings):
+    """NaN and infinite texels become 0, and so do negative colours (an HDRI's broken
+    texels: a world lit by one would light the scene with them), each reported; a
+    non-colour (data) image keeps its negative values, which vectors need."""
+    bad = ~np.isfinite(pixels)
+    if not image.colorspace_settings.is_data:
+        bad[..., :3] |= pixels[..., :3] < 0.0
+    count = int(bad.any(axis=2).sum())
+    if count:
+        pixels[bad] = 0.0
+        warn(
+            warnings,
+            f"Whitted: image '{image.name}' has {count} texel(s) with NaN, infinite or "
+            "negative values; they render black",
+        )
 
 
 def _to_linear(image, pixels, warnings):

@@ -1,4 +1,10 @@
-"""The world: the background a missed ray sees, and the ambient light Ia.
+"""The world: the background a missed ray sees, and the light it gives surfaces.
+
+In the Blender local model the world is a light at infinite distance (native
+scene/world_light.h): feelers go to it from every shading point, drawn from an
+importance map of its radiance, wherever it lights diffuse surfaces (its Ray
+Visibility), as Cycles shows direct light. In the Lecture model, or where it lights
+nothing, the seed's ambient term `Ia * ka` stands for it.
 
 The Background node's Color and Strength may be driven by a graph (an
 Environment Texture of an HDRI, with its Mapping, say): then the world gets a
@@ -7,7 +13,8 @@ every ray that misses, and from which it takes the ambient light: its
 cosine-weighted mean over the upper hemisphere (scene.h world_upward_mean).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from types import SimpleNamespace
 
 from .nodes import surface_node, uses_nodes
 from .nodes import warn as _warn
@@ -29,14 +36,114 @@ class WorldData:
     textures: tuple = ()  # ImageTextureSpec the program samples
     # With a program: Ia is this times its upward mean, computed by the native scene.
     ambient_strength: float = 0.0
+    light: "WorldLightData" = None  # how it lights surfaces (None: no world)
 
 
-def convert_world(world, ambient_strength, warnings):
+# Cycles' importance map when World > Settings > Sampling is Auto and no image sets it,
+# and the widest map Auto takes from an image (evaluating the world at every texel is
+# the map's cost: 2048 x 1024 texels, 4 directions each).
+AUTO_MAP = (1024, 512)
+AUTO_MAP_LIMIT = 2048
+
+
+@dataclass(frozen=True)
+class WorldLightData:
+    """The native Scene.set_world_light's arguments (scene/world_light.h)."""
+
+    on: bool
+    why: str  # the effects report's words, on or off
+    width: int = 0  # importance map texels; 0 x 0: none (one colour, Sampling None)
+    height: int = 0
+    diffuse: bool = True  # Ray Visibility > Diffuse
+    glossy: bool = True  # Ray Visibility > Glossy
+    max_bounces: int = 1024  # World > Settings > Light Paths > Max Bounces
+
+
+def convert_world(world, ambient_strength, warnings, local_model="BLENDER"):
     """Convert the scene's world (None renders black, as in Cycles).
 
-    `ambient_strength` (scene.whitted.ambient_strength) scales the ambient light
-    the world gives; 0 turns the ambient term off.
+    `local_model` (scene.whitted.local_model): BLENDER lights surfaces with the world
+    as a light where it lights diffuse surfaces (then there is no ambient term);
+    LECTURE keeps the seed's ambient term, which `ambient_strength`
+    (scene.whitted.ambient_strength) scales (0 turns it off).
     """
+    data = _convert_world(world, ambient_strength, warnings)
+    light = world_light(world, data, local_model)
+    if light.on:
+        black = (0.0, 0.0, 0.0)
+        return replace(data, ambient=black, ambient_strength=0.0, light=light)
+    return replace(data, light=light)
+
+
+def world_light(world, data, local_model):
+    """The WorldLightData of a converted world: on in the Blender local model wherever
+    the world lights diffuse surfaces and is not black."""
+    if world is None:
+        return WorldLightData(False, "no world")
+    if local_model == "LECTURE":
+        return WorldLightData(
+            False, "the Lecture local model: the ambient term Ia*ka stands for it"
+        )
+    if not lights_diffuse(world):
+        return WorldLightData(
+            False, "the world lights no diffuse surface (World > Ray Visibility > Diffuse off)"
+        )
+    if data.program is None and max(data.background) <= 0.0:
+        return WorldLightData(False, "the world is black")
+    visibility = getattr(world, "cycles_visibility", None)
+    glossy = True if visibility is None else bool(visibility.glossy)
+    settings = getattr(world, "cycles", None)
+    bounces = 1024 if settings is None else int(getattr(settings, "max_bounces", 1024))
+    common = {"glossy": glossy, "max_bounces": bounces}
+    if data.program is None:
+        return WorldLightData(True, "a world of one colour: feelers by the cosine", **common)
+    wanted = _map(world, data.textures)
+    if wanted is None:
+        return WorldLightData(
+            True,
+            "no importance map (World > Settings > Sampling None): feelers by the cosine",
+            **common,
+        )
+    (width, height), source = wanted
+    return WorldLightData(True, f"map {width}x{height} ({source})", width, height, **common)
+
+
+def map_size(world):
+    """The importance map a world's light asks for, (width, height), read from its
+    settings and images alone (the memory guard's estimate, before any export): (0, 0)
+    where it has none."""
+    if world is None or not uses_nodes(world) or not lights_diffuse(world):
+        return (0, 0)
+    images = [
+        SimpleNamespace(image=node.image)
+        for node in world.node_tree.nodes
+        if node.bl_idname == "ShaderNodeTexEnvironment" and node.image is not None
+    ]
+    wanted = _map(world, images)
+    return (0, 0) if wanted is None else wanted[0]
+
+
+def _map(world, textures):
+    """((width, height), its source) of the importance map World > Settings > Sampling
+    asks for (None: Sampling None). Manual: its Map Resolution by half of it; Auto: the
+    widest image the world reads (`textures`' images), by half of it, at most
+    AUTO_MAP_LIMIT wide, else AUTO_MAP."""
+    settings = getattr(world, "cycles", None)
+    method = "AUTOMATIC" if settings is None else settings.sampling_method
+    if method == "NONE":
+        return None
+    if method == "MANUAL":
+        side = int(settings.sample_map_resolution)
+        return (side, max(1, side // 2)), "Manual"
+    widths = [spec.image.size[0] for spec in textures if hasattr(spec, "image")]
+    widths = [w for w in widths if w > 0]
+    if not widths:
+        return AUTO_MAP, "Auto, procedural"
+    width = min(max(widths), AUTO_MAP_LIMIT)
+    return (width, max(1, width // 2)), f"Auto, image {max(widths)} wide"
+
+
+def _convert_world(world, ambient_strength, warnings):
     # A uniform sky of radiance L lights an open surface with irradiance pi*L, of
     # which the diffuse term kd/pi * E keeps kd*L: the ambient term with Ia = L,
     # which the scene's ambient strength scales. For a sky that varies (a program), L

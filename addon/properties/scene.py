@@ -174,7 +174,8 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     emitter_samples: IntProperty(
         name="Emitter Samples",
         description="Shadow feelers per axis (n x n) from each shading point to the emissive "
-        "meshes, picked by emitted power (one after a glossy bounce)",
+        "meshes, picked by emitted power, and to the world where it lights the scene, "
+        "drawn by its radiance (one after a glossy bounce)",
         **setting("emitter_samples", default=NEW.emitter_samples),
     )
     local_model: EnumProperty(
@@ -273,8 +274,9 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
     )
     ambient_strength: FloatProperty(
         name="Ambient Strength",
-        description="Scale of the ambient light Ia that the world's colour gives every "
-        "surface (the Phong ambient term); 0 disables it",
+        description="Lecture local model: scale of the ambient light Ia that the world's "
+        "colour gives every surface (the Phong ambient term); 0 disables it. The Blender "
+        "model lights surfaces with the world itself, as Cycles (World > Ray Visibility)",
         default=1.0,
         min=0.0,
         soft_max=2.0,

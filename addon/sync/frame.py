@@ -94,7 +94,7 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
             f"Whitted: {len(motion.deforming)} object(s) change their vertex count within the "
             f"shutter ({names}); their movement blurs, their deformation cannot (as in Cycles)"
         )
-    if sync.light_count == 0:
+    if sync.light_count == 0 and not sync.world_lights:
         warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
     film = convert_film(scene, camera.width, camera.height)
     return Frame(

@@ -173,6 +173,11 @@ class SceneSync:
     def light_count(self):
         return len(self._lights)
 
+    @property
+    def world_lights(self):
+        """Whether the world lights the scene as a light (export.world.WorldLightData)."""
+        return self._world is not None and self._world.light is not None and self._world.light.on
+
     def sync(self, depsgraph, params):
         """Bring the native scene up to date with evaluated `depsgraph`; a SyncReport.
 
@@ -499,7 +504,9 @@ class SceneSync:
     # --- world -------------------------------------------------------------------
 
     def _sync_world(self, blender_scene, params, report, warnings):
-        world = convert_world(blender_scene.world, params.ambient_strength, warnings)
+        world = convert_world(
+            blender_scene.world, params.ambient_strength, warnings, params.local_model
+        )
         if world != self._world:
             # The textures its program samples, before the program names them.
             new = {s.name: s for s in world.textures if s.name not in self._textures}
@@ -516,6 +523,9 @@ class SceneSync:
                     else native_data.native_program(self._native, world.program)
                 )
                 self.scene.set_world(program, world.output, world.ambient_strength)
+            # The world light's map is built anew by the next compile: only when the world,
+            # its images or these change (an edit elsewhere keeps it).
+            self.scene.set_world_light(**asdict(world.light))
             self._world = world
             report.world = True
 

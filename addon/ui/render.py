@@ -143,7 +143,11 @@ class WHITTED_RENDER_PT_light_paths(_TopPanel, bpy.types.Panel):
         column.prop(settings, "cutoff")
         column.prop(settings, "fresnel")
         column.prop(settings, "glass_shadows")
-        column.prop(settings, "ambient_strength")
+        # The Blender model lights surfaces with the world itself (its Ray Visibility);
+        # the ambient term is the Lecture model's.
+        ambient = column.row()
+        ambient.active = settings.local_model == "LECTURE"
+        ambient.prop(settings, "ambient_strength")
 
 
 class WHITTED_RENDER_PT_film(_TopPanel, bpy.types.Panel):

@@ -37,6 +37,7 @@ py::dict stats_dict(const RenderStats& s) {
   }
   out["effects"] = effects;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
+  out["world_feelers"] = s.rays.world_feelers;
   out["compile_seconds"] = s.compile_seconds;
   out["top_level_built"] = s.top_level_built;
   out["trace_seconds"] = s.trace_seconds;

@@ -114,6 +114,49 @@ void bind_scene(py::module_& m) {
           "ambient light Ia is ambient_strength times the program's radiance averaged over "
           "the upper hemisphere with weight cos(theta)/pi (what a uniform sky's radiance "
           "equals; 24 x 24 directions).")
+      .def(
+          "set_world_light",
+          [](Scene& s, bool on, const std::string& why, int width, int height, bool diffuse,
+             bool glossy, int max_bounces, Vec3 sun_direction, float sun_angle) {
+            WorldLightParams params;
+            params.on = on;
+            params.why = why;
+            params.width = width;
+            params.height = height;
+            params.diffuse = diffuse;
+            params.glossy = glossy;
+            params.max_bounces = max_bounces;
+            params.sun_direction = sun_direction;
+            params.sun_angle = sun_angle;
+            s.set_world_light(params);
+          },
+          py::arg("on"), py::arg("why") = "", py::arg("width") = 0, py::arg("height") = 0,
+          py::arg("diffuse") = true, py::arg("glossy") = true, py::arg("max_bounces") = 1024,
+          py::arg("sun_direction") = Vec3(0.0f, 0.0f, 1.0f), py::arg("sun_angle") = 0.0f,
+          "The world as a light (native scene/world_light.h): `on`, feelers go to it from "
+          "every shading point (`why`: the effects report's words either way); an importance "
+          "map of width x height texels over directions (0 x 0: none, a world of one colour, "
+          "drawn by the cosine); whether it lights diffuse lobes and shows in glossy ones; "
+          "the bounces it lights; a sky's sun disc (unit direction towards it, angular "
+          "diameter in radians, 0: none), sampled apart. Raises ValueError for a map over "
+          "8192 a side or a non-finite sun.")
+      .def_property_readonly(
+          "world_light",
+          [](const Scene& s) {
+            const auto compiled = s.compile();
+            py::dict out;
+            const WorldLight* light = compiled->world_light.get();
+            out["on"] = light != nullptr;
+            out["why"] = compiled->world_light_params.why;
+            out["map"] = light != nullptr && light->has_map()
+                             ? py::object(py::make_tuple(compiled->world_light_params.width,
+                                                         compiled->world_light_params.height))
+                             : py::object(py::none());
+            out["bytes"] = light != nullptr ? light->bytes() : size_t{0};
+            return out;
+          },
+          "What the last compile built of the world light: {on, why, map: (width, height) "
+          "or None, bytes}.")
       .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"),
            "Adds or replaces the material instances name by this one.")
       .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"),

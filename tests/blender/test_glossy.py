@@ -160,10 +160,12 @@ def test_a_scene_without_rough_reflection_renders_the_same_in_both_models(
     demo_scene_module, empty_scene, render_pixels
 ):
     # What calls for no glossy reflection renders as the seed does: the Blender model
-    # changes only rough reflections. The demo's mirror, glass and checker floor have
-    # none; its blue cube and green cylinder have the Principled BSDF's default rough
-    # specular layer, taken off here.
+    # changes only rough reflections and the world's light. The demo's mirror, glass and
+    # checker floor have none; its blue cube and green cylinder have the Principled
+    # BSDF's default rough specular layer, taken off here; its sky is set to light no
+    # diffuse surface (then neither model has an ambient term or a world light).
     scene = demo_scene_module.build_demo_scene(empty_scene)
+    scene.world.cycles_visibility.diffuse = False
     for name in ("Diffuse Blue", "Diffuse Green"):
         bsdf = bpy.data.materials[name].node_tree.nodes["Principled BSDF"]
         level = "Specular IOR Level" if "Specular IOR Level" in bsdf.inputs else "Specular"

@@ -132,9 +132,12 @@ def test_every_pass_is_in_the_exr_and_the_light_and_depth_passes_rebuild_combine
         color = rgb(channels, f"{component}Col")
         rebuilt += color * (rgb(channels, f"{component}Dir") + rgb(channels, f"{component}Ind"))
     assert np.abs(rebuilt - combined).max() < 1e-4
-    # The demo has all of them: lights, ambient, a mirror, glass, the world.
-    for name in ("DiffDir", "DiffInd", "GlossDir", "GlossInd", "TransInd", "Env"):
+    # The demo has all of them: lights, the sky as a light, a mirror, glass, the world.
+    # DiffInd is the Lecture model's ambient term: the Blender model's sky is a light,
+    # whose feelers are direct light (DiffDir), as Cycles' world light is.
+    for name in ("DiffDir", "GlossDir", "GlossInd", "TransInd", "Env"):
         assert rgb(channels, name).max() > 0.0, name
+    assert rgb(channels, "DiffInd").max() == 0.0
     depths = sum(
         rgb(channels, n) for n in ("Whitted Depth 0", "Whitted Depth 1", "Whitted Depth 2+")
     )

@@ -157,6 +157,8 @@ def test_shadow_is_ambient_only_and_darker_by_the_expected_ratio(demo, render_pi
     kd = floor_cell_color(demo_scene, SHADOWED)
     assert floor_cell_color(demo_scene, LIT) == pytest.approx(kd)
 
+    # The seed's ambient term: the Lecture model's (the Blender model lights with the sky).
+    scene.whitted.local_model = "LECTURE"
     pixels = render_pixels(scene)
     shadowed = pixels[pixel_of(scene, SHADOWED)][:3]
     lit = pixels[pixel_of(scene, LIT)][:3]
@@ -174,6 +176,7 @@ def test_scene_without_lights_renders_ambient_light_only(demo, render_pixels):
     scene, demo_scene = demo
     for obj in [obj for obj in scene.objects if obj.type == "LIGHT"]:
         bpy.data.objects.remove(obj)
+    scene.whitted.local_model = "LECTURE"  # the seed's ambient term
     pixels = render_pixels(scene)
     kd = floor_cell_color(demo_scene, LIT)
     expected = kd * np.array(demo_scene.SKY_COLOR)

@@ -1,4 +1,6 @@
-"""World export: background radiance and ambient light."""
+"""World export: background radiance, and the light the world gives surfaces: the
+ambient term of the Lecture model, the world light of the Blender model
+(test_world_light.py compares that with Cycles)."""
 
 import bpy
 import pytest
@@ -24,10 +26,15 @@ def test_no_world_is_black(warnings):
 
 
 def test_background_node_color_times_strength(warnings):
-    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), 1.0, warnings)
+    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), 1.0, warnings, "LECTURE")
     assert world.background == pytest.approx((0.4, 0.8, 1.6))
     assert world.ambient == pytest.approx((0.4, 0.8, 1.6))
+    assert not world.light.on and "Lecture" in world.light.why
     assert warnings == []
+    # The Blender model: the world is a light, and there is no ambient term.
+    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), 1.0, warnings)
+    assert world.ambient == (0.0, 0.0, 0.0)
+    assert world.light.on and world.light.width == 0  # one colour: no map
 
 
 def test_linked_background_color_warns(warnings):
@@ -48,7 +55,7 @@ def test_a_background_colour_from_an_rgb_node_is_used(warnings):
     rgb = tree.nodes.new("ShaderNodeRGB")
     rgb.outputs[0].default_value = (0.2, 0.4, 0.8, 1.0)
     tree.links.new(rgb.outputs[0], tree.nodes["Background"].inputs["Color"])
-    converted = convert_world(world, 1.0, warnings)
+    converted = convert_world(world, 1.0, warnings, "LECTURE")
     assert converted.background == pytest.approx((0.4, 0.8, 1.6))
     assert converted.ambient == pytest.approx((0.4, 0.8, 1.6))
     assert converted.program is None
@@ -67,17 +74,23 @@ def test_world_without_nodes_uses_its_colour(warnings):
 def test_world_not_lighting_diffuse_surfaces_gives_no_ambient(warnings):
     world = node_world((0.2, 0.4, 0.8), 2.0)
     world.cycles_visibility.diffuse = False
-    exported = convert_world(world, 1.0, warnings)
+    exported = convert_world(world, 1.0, warnings, "LECTURE")
     assert exported.background == pytest.approx((0.4, 0.8, 1.6))
     assert exported.ambient == (0.0, 0.0, 0.0)
+    blender = convert_world(world, 1.0, warnings)
+    assert blender.ambient == (0.0, 0.0, 0.0)
+    assert not blender.light.on and "Diffuse off" in blender.light.why
     world.cycles_visibility.diffuse = True
     world.cycles_visibility.glossy = False  # only diffuse visibility matters
-    assert convert_world(world, 1.0, warnings).ambient == pytest.approx((0.4, 0.8, 1.6))
+    lecture = convert_world(world, 1.0, warnings, "LECTURE")
+    assert lecture.ambient == pytest.approx((0.4, 0.8, 1.6))
+    blender = convert_world(world, 1.0, warnings)
+    assert blender.light.on and not blender.light.glossy
 
 
 @pytest.mark.parametrize("ambient_strength", [0.5, 0.0])
 def test_ambient_strength_scales_the_ambient_light_only(warnings, ambient_strength):
-    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), ambient_strength, warnings)
+    world = convert_world(node_world((0.2, 0.4, 0.8), 2.0), ambient_strength, warnings, "LECTURE")
     assert world.background == pytest.approx((0.4, 0.8, 1.6))
     assert world.ambient == pytest.approx(tuple(ambient_strength * c for c in (0.4, 0.8, 1.6)))
 
@@ -98,6 +111,7 @@ def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     empty_scene.collection.objects.link(bpy.data.objects.new("Quad", quad))
     empty_scene.world = node_world((0.2, 0.4, 0.8), 0.5)
     empty_scene.whitted.ambient_strength = ambient_strength
+    empty_scene.whitted.local_model = "LECTURE"
     render = empty_scene.render
     render.resolution_x = render.resolution_y = 8
     render.resolution_percentage = 100
@@ -106,6 +120,12 @@ def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     assert pixels[0, 0, :3] == pytest.approx(sky, rel=1e-5)
     surface = tuple(0.8 * ambient_strength * c for c in sky)
     assert pixels[4, 4, :3] == pytest.approx(surface, rel=1e-5, abs=1e-7)
+    # The Blender model: the sky is a light over the open quad, which returns albedo x
+    # sky exactly (a world of one colour is drawn by the cosine: no noise), whatever the
+    # ambient strength.
+    empty_scene.whitted.local_model = "BLENDER"
+    pixels = render_pixels(empty_scene)
+    assert pixels[4, 4, :3] == pytest.approx(tuple(0.8 * c for c in sky), rel=1e-5)
 
 
 def synced_ambient(scene, native):
@@ -129,7 +149,7 @@ def test_environment_texture_becomes_a_world_program(empty_scene, native, warnin
     image.pixels.foreach_set(pixels.reshape(-1))
     environment.image = image
     tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    exported = convert_world(world, 1.0, warnings)
+    exported = convert_world(world, 1.0, warnings, "LECTURE")
     program = exported.program
     assert [int(r[0]) for r in program.code] == [ops.INPUT, ops.ENVIRONMENT, ops.VECTOR_MATH]
     assert int(program.code[0][1]) == ops.IN_POSITION  # the ray's direction
@@ -139,6 +159,7 @@ def test_environment_texture_becomes_a_world_program(empty_scene, native, warnin
     # The ambient: what a surface facing up receives, the bright upper half only, at 2.
     empty_scene.world = world
     empty_scene.whitted.ambient_strength = 0.5
+    empty_scene.whitted.local_model = "LECTURE"
     assert synced_ambient(empty_scene, native) == pytest.approx((1.0, 1.0, 1.0), rel=1e-6)
 
 
@@ -159,6 +180,7 @@ def test_ambient_is_the_cosine_weighted_mean_of_the_upper_hemisphere(empty_scene
     tree.links.new(line.outputs[0], tree.nodes["Background"].inputs["Strength"])
     empty_scene.world = world
     empty_scene.whitted.ambient_strength = 0.5
+    empty_scene.whitted.local_model = "LECTURE"
     # 24 x 24 cells, one direction at each centre: the quadrature's error is ~1e-4.
     expected = (0.5 * (a + 2.0 * b / 3.0),) * 3
     assert synced_ambient(empty_scene, native) == pytest.approx(expected, rel=1e-3)

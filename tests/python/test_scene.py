@@ -342,6 +342,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
     assert [e["name"] for e in pruned.stats()["effects"]] == [
         "shadows",
         "emissive meshes as lights",
+        "world light",
         "reflection",
         "glossy reflection",
         "refraction",

@@ -283,6 +283,9 @@ def camera_inside_glass(scene, ior=GLASS_IOR, sphere=True, inner_ball=False, off
     # pass the globe tinted by its transmissivity (Glass Shadows: Tinted), so the floor
     # outside stays lit, and an index-1 globe changes nothing at all.
     scene.whitted.glass_shadows = "TINTED"
+    # Nor about the sky's light: feelers to the world would be drawn one bounce deeper
+    # behind the globe's surface (other draws, other noise), so the sky lights nothing.
+    scene.world.cycles_visibility.diffuse = False
     return settings(scene, max_depth=12, fresnel="OFF")
 
 

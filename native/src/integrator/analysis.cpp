@@ -91,7 +91,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
     translucent |=
         mat.cut_out() || (settings.glass_shadows == GlassShadows::kTinted && mat.transmissive());
   }
-  bool casting = !scene.mesh_lights->empty();  // an emissive mesh's feelers are shadowed
+  // An emissive mesh's feelers are shadowed, and the world's.
+  bool casting = !scene.mesh_lights->empty() || scene.world_light != nullptr;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
   decide(effects, kShadowEffect, casting && any_blocker, "shadows",
          !casting      ? "no light casts shadows"
@@ -105,6 +106,9 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
              ? "no mesh emits with its Emission Sampling on"
              : std::to_string(objects) + (objects == 1 ? " object, " : " objects, ") +
                    thousands(triangles) + (triangles == 1 ? " triangle" : " triangles"));
+  const WorldLightParams& world = scene.world_light_params;
+  decide(effects, kWorldLightEffect, scene.world_light != nullptr, "world light",
+         scene.world_light != nullptr || !world.on ? world.why : "the world is black");
   // At maximum depth 0 no mirror or refracted ray is traced, unless the Cut Weight pass
   // asks: then the kernel reaches them to count what the depth cuts (and adds nothing).
   const bool cut_weight = (settings.passes & pass_bit(FilmPass::kCutWeight)) != 0;

@@ -27,6 +27,8 @@ enum EffectBits : uint32_t {
   kGlossyEffect = 1u << 5,
   // Feelers to emissive meshes (scene/mesh_light.h), read at run time likewise.
   kEmitterEffect = 1u << 6,
+  // Feelers to the world as a light (scene/world_light.h), read at run time likewise.
+  kWorldLightEffect = 1u << 7,
 };
 
 // One decision of the analysis: an effect's name, whether it is simulated, and why
@@ -40,7 +42,7 @@ struct EffectDecision {
 };
 
 struct Effects {
-  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect;
+  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect | kWorldLightEffect;
   // One per effect, in EffectBits order (glossy after reflection, emitters after shadows),
   // then what is named without a bit: hair and points, light linking, the camera's.
   std::vector<EffectDecision> decisions;

@@ -52,8 +52,12 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
                         const Color& sigma_r, const Lobe& lobe_of, const NodeState& state,
                         const Branch& branch) {
   const Strata strata(state, in.settings.glossy_samples, 0x6c6fu, jittered_samples(in.settings));
-  // Rays per emitter feeler, for each ray's MIS density (0: no emitters to weigh).
-  const float per_feeler = in.emitters ? rays_per_feeler(in.settings, state) : 0.0f;
+  // The world light the rays' glossy share is weighed against (null: none), and rays per
+  // emitter or world feeler, for each ray's MIS density (0: no emitters to weigh).
+  const WorldLight* world =
+      in.lit_by_world(state.depth) && in.world->params().glossy ? in.world : nullptr;
+  const float per_feeler =
+      in.emitters || world != nullptr ? rays_per_feeler(in.settings, state) : 0.0f;
   Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
   for (int k = 0; k < strata.count(); ++k) {
     const glm::vec2 u = strata.point(k);
@@ -69,11 +73,13 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     }
     const Color weight = sigma_r * lobe_of.energy * lobe;
     // Its density, for the MIS weight of the emission it may meet (emission_weight).
-    const float mis = per_feeler > 0.0f
-                          ? per_feeler * ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha)
-                          : 0.0f;
+    const float density = per_feeler * ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha);
+    const float mis = in.emitters ? density : 0.0f;
+    // Its weight on the world where it escapes, against the world's feelers.
+    const float world_weight =
+        world != nullptr ? power_heuristic(density, world->pdf(wi, p.ns)) : 1.0f;
     const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu),
-                      strata.index(k), mis};
+                      strata.index(k), mis, world_weight};
     const Color brought = branch(spawn_ray(p.it.position, p.it.position_error,
                                            p.it.geometric_normal, p.it.time, wi, kReflectionRay),
                                  weight, state.media, drawn);

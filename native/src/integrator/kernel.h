@@ -122,7 +122,9 @@ class Kernel {
                float behind, float* coverage) const {
     const bool shown = !(in_.settings.transparent_background && camera);
     if (!shown && !Recorder::kHiddenWorld) return Color(0.0f);
-    const Color world = in_.scene.world_radiance(r, in_.context(state));
+    // A ray drawn from a glossy lobe counts the world as its MIS weight against the world
+    // light's feelers says (NodeState::world_weight; 1 for every other ray).
+    const Color world = state.world_weight * in_.scene.world_radiance(r, in_.context(state));
     recorder_.escaped(node, state.depth, behind, world, shown);
     if (!shown) return Color(0.0f);
     *coverage += behind;

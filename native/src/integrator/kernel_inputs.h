@@ -27,7 +27,8 @@ struct KernelInputs {
         camera(w.camera()),
         queries(w),
         effects(w.effects().bits),
-        emitters((effects & kEmitterEffect) != 0 && !scene.mesh_lights->empty()) {}
+        emitters((effects & kEmitterEffect) != 0 && !scene.mesh_lights->empty()),
+        world((effects & kWorldLightEffect) != 0 ? scene.world_light.get() : nullptr) {}
 
   bool has(uint32_t bit) const {
     if constexpr (kEffects == kRuntimeEffects) {
@@ -44,8 +45,13 @@ struct KernelInputs {
   const Settings& settings;
   const Camera& camera;
   Queries queries;
-  uint32_t effects;  // EffectBits
-  bool emitters;     // feelers go to emissive meshes (kEmitterEffect, and there are some)
+  uint32_t effects;         // EffectBits
+  bool emitters;            // feelers go to emissive meshes (kEmitterEffect, and there are some)
+  const WorldLight* world;  // feelers go to the world (kWorldLightEffect); null: none
+  // Whether a hit at `depth` sends feelers to the world (its Max Bounces).
+  bool lit_by_world(int depth) const {
+    return world != nullptr && depth <= world->params().max_bounces;
+  }
 };
 
 }  // namespace whitted

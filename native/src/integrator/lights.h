@@ -1,5 +1,5 @@
 // The local term: the surface's emission, its ambient term, and the light it receives
-// from each lamp and emissive mesh (emitter) through their samples, each a Phong sum
+// from each lamp, emissive mesh (emitter) and the world through their samples, each a Phong sum
 // (local.h) gated by its shadow feeler (shadow.h). Where a feeler goes is the kernel's
 // policy (kernel.h): traced now in the recursion, queued in a wave (wave.h).
 #pragma once
@@ -21,6 +21,7 @@
 #include "integrator/strata.h"
 #include "scene/light.h"
 #include "scene/mesh_light.h"
+#include "scene/world_light.h"
 
 namespace whitted {
 
@@ -100,6 +101,7 @@ class Lights {
       feelers(p, samples, draw, state, counts, &phong);
     }
     if (in_.emitters) emitters(p, rays, state, counts, &phong);
+    if (in_.lit_by_world(state.depth)) world(p, rays, state, counts, &phong);
     const Color radiance = emission + phong;
     recorder_.local(p, state.depth, emission, ambient, radiance);
     return radiance;
@@ -197,6 +199,37 @@ class Lights {
         out.mis = power_heuristic(
             s.density * dist2 / cos_e,
             rays.count * ggx_reflection_pdf(rays.normal, p.wo, out.sample.wi, rays.alpha));
+      }
+      return out;
+    };
+    feelers(p, strata.count(), draw, state, counts, phong);
+  }
+
+  // The feelers to the world as a light (scene/world_light.h): n x n directions drawn by
+  // its importance map (n = Emitter Samples at the first glossy hit and before, as the
+  // emitter feelers'), each bringing the world's radiance there over its density, E =
+  // L / (pdf n^2), for the Phong sum to weigh by (l.n) as any light's irradiance. A shadow
+  // feeler to infinity decides what arrives. The glossy share is weighed against the
+  // glossy rays that escape the same way (MIS; their NodeState::world_weight).
+  [[gnu::noinline]] void world(const ShadingPoint& p, const GlossyRays& rays,
+                               const NodeState& state, RayCounts* counts, Color* phong) const {
+    const WorldLight& light = *in_.world;
+    const WorldLightParams& params = light.params();
+    const Strata strata(state, in_.settings.emitter_samples, 0x776cu,
+                        jittered_samples(in_.settings));
+    const auto draw = [&](int k) {
+      const WorldLight::Sample s = light.sample(strata.point(k), p.ns);
+      Drawing out{{true, strata.count(), -1, -1, params.diffuse, params.glossy, kAllLightSets},
+                  {s.wi, kInfinity, Color(0.0f)},
+                  1.0f};
+      counts->world_feelers += 1;
+      // Behind the surface it adds nothing: the world's program unread.
+      if (!(s.pdf > 0.0f) || glm::dot(p.ns, s.wi) <= 0.0f) return out;
+      const Color radiance = in_.scene.world_light_radiance(s.wi, state.depth + 1);
+      out.sample.irradiance = radiance * (strata.share / s.pdf);
+      if (rays.count > 0.0f && params.glossy) {
+        out.mis = power_heuristic(
+            s.pdf, rays.count * ggx_reflection_pdf(rays.normal, p.wo, s.wi, rays.alpha));
       }
       return out;
     };

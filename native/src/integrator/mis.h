@@ -1,5 +1,6 @@
 // Multiple importance sampling (Veach 1995) between the two techniques that reach an
-// emissive mesh: the feelers to the emitters (lights.h) and the glossy rays (glossy.h).
+// emissive mesh or the world: the feelers to the emitters and to the world (lights.h)
+// and the glossy rays (glossy.h).
 // Each weighs what it brings by the power heuristic against the other's density.
 #pragma once
 
@@ -44,16 +45,17 @@ inline float rays_per_feeler(const Settings& settings, const NodeState& state) {
   return static_cast<float>(glossy * glossy) / static_cast<float>(feelers * feelers);
 }
 
-// The glossy rays the reflected term will send from this hit, for the emitter feelers'
-// MIS weights: none without emitters, a glossy lobe, depth left or a weight above the
-// cutoff.
+// The glossy rays the reflected term will send from this hit, for the emitter and world
+// feelers' MIS weights: none without emitters or a world light, a glossy lobe, depth left
+// or a weight above the cutoff.
 // Always inlined into the step, as split_weights (split.h says why).
 template <uint32_t kEffects, class Queries>
 [[gnu::always_inline]] inline GlossyRays glossy_rays(const KernelInputs<kEffects, Queries>& in,
                                                      const ShadingPoint& p, const Split& split,
                                                      const NodeState& state) {
   GlossyRays rays;
-  if (!in.emitters || (in.effects & kGlossyEffect) == 0 || !in.has(kReflectionEffect)) {
+  if (!(in.emitters || in.lit_by_world(state.depth)) || (in.effects & kGlossyEffect) == 0 ||
+      !in.has(kReflectionEffect)) {
     return rays;
   }
   if (split.total_internal_reflection || is_black(split.sigma_r)) return rays;

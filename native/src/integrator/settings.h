@@ -41,7 +41,8 @@ struct Settings {
   // bounces of the same branch send one each (the ray tree would otherwise grow by n^2
   // at every glossy bounce).
   int glossy_samples = 2;
-  // Feelers to the emissive meshes (scene/mesh_light.h) from each shading point: n x n,
+  // Feelers to the emissive meshes (scene/mesh_light.h) and to the world where it lights
+  // the scene (scene/world_light.h) from each shading point: n x n,
   // stratified over the power table and the triangles, at a branch's first glossy
   // bounce and before it; one after, as glossy rays.
   int emitter_samples = 2;

@@ -156,6 +156,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   shadow_rays_skipped.unlit += o.shadow_rays_skipped.unlit;
   shadow_rays_skipped.cutoff += o.shadow_rays_skipped.cutoff;
   nonfinite_samples += o.nonfinite_samples;
+  world_feelers += o.world_feelers;
   return *this;
 }
 

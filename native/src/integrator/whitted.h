@@ -39,6 +39,7 @@ struct RayCounts {
     uint64_t cutoff = 0;      // the light's contribution is below the cutoff
   } shadow_rays_skipped;
   uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
+  uint64_t world_feelers = 0;      // light samples drawn towards the world (scene/world_light.h)
 
   RayCounts& operator+=(const RayCounts& o);
   // A secondary ray of kind `kind` traced: drawn from a glossy lobe (`glossy`), or a
@@ -64,6 +65,7 @@ struct Drawn {
   uint32_t seed;
   uint32_t index;
   float mis;
+  float world_weight = 1.0f;  // NodeState::world_weight
 };
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
@@ -93,6 +95,11 @@ struct NodeState {
   // lobe's rays per emitter feeler, for the MIS weight of the emission it meets
   // (mis.h); 0 for every other ray, which counts emission whole.
   float mis = 0.0f;
+  // What of the world this ray counts where it escapes: a ray drawn from a glossy lobe
+  // its MIS weight against the feelers to the world (scene/world_light.h), decided where
+  // it was drawn (the world is as far in every direction, so the weight holds along the
+  // ray); 1 for every other ray.
+  float world_weight = 1.0f;
   // Light linking: the light set of the surface this ray left, whose emitters it sees;
   // -1 for a camera ray, which sees every emitter (as in Cycles).
   int receiver = -1;
@@ -114,6 +121,7 @@ inline NodeState NodeState::child(const Color& w, const MediumStack& m, bool bou
   // A continuation straight on is still the same ray; a bounce of any other kind counts
   // the emission it meets whole.
   next.mis = drawn != nullptr ? drawn->mis : (bounce ? 0.0f : mis);
+  next.world_weight = drawn != nullptr ? drawn->world_weight : (bounce ? 1.0f : world_weight);
   // Light linking: what it meets is lit for the surface it left (emission_weight).
   next.receiver = bounce ? light_set : receiver;
   return next;

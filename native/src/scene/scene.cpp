@@ -91,6 +91,18 @@ void Scene::changed(bool geometry) {
   }
 }
 
+void Scene::world_changed() {
+  changed(false);
+  state_.world_light.reset();
+  state_.world_light_built = false;
+}
+
+bool Scene::world_reads(const std::string& texture) const {
+  if (!state_.world) return false;
+  const std::vector<std::string>& names = state_.world->textures();
+  return std::find(names.begin(), names.end(), texture) != names.end();
+}
+
 void Scene::set_mesh(const std::string& name, Mesh mesh) {
   // The BVH is built outside the lock: it is the slow part, and touches no scene state.
   const auto t0 = std::chrono::steady_clock::now();
@@ -129,6 +141,7 @@ void Scene::set_texture(const std::string& name, Texture texture) {
   std::lock_guard lock(mutex_);
   state_.textures[name] = std::move(shared);
   changed(false);
+  if (world_reads(name)) world_changed();
 }
 void Scene::remove_mesh(const std::string& name) {
   std::lock_guard lock(mutex_);
@@ -154,11 +167,12 @@ void Scene::remove_texture(const std::string& name) {
   std::lock_guard lock(mutex_);
   erase_or_throw(&state_.textures, name, "texture");
   changed(false);
+  if (world_reads(name)) world_changed();
 }
 void Scene::set_background(const Color& background) {
   std::lock_guard lock(mutex_);
   state_.background = background;
-  changed(false);
+  world_changed();
 }
 void Scene::set_ambient(const Color& ambient) {
   std::lock_guard lock(mutex_);
@@ -179,7 +193,32 @@ void Scene::set_world(std::shared_ptr<const Program> program, uint32_t output,
   state_.world = std::move(program);
   state_.world_output = output;
   state_.world_ambient_strength = ambient_strength;
-  changed(false);
+  world_changed();
+}
+void Scene::set_world_light(const WorldLightParams& params) {
+  if (params.width < 0 || params.height < 0 || params.width > kMaxWorldMap ||
+      params.height > kMaxWorldMap) {
+    throw std::invalid_argument("the world light's map must be 0 to " +
+                                std::to_string(kMaxWorldMap) + " texels a side");
+  }
+  if (!std::isfinite(params.sun_angle) || !is_finite(params.sun_direction)) {
+    throw std::invalid_argument("the world's sun must have a finite direction and size");
+  }
+  WorldLightParams checked = params;
+  checked.sun_angle = std::clamp(params.sun_angle, 0.0f, kPi);
+  if (checked.sun_angle > 0.0f) {
+    const float length = glm::length(params.sun_direction);
+    if (!(length > 0.0f)) throw std::invalid_argument("the world's sun needs a direction");
+    checked.sun_direction = params.sun_direction / length;
+  }
+  checked.max_bounces = std::max(0, params.max_bounces);
+  std::lock_guard lock(mutex_);
+  state_.world_light_params = checked;
+  world_changed();
+}
+WorldLightParams Scene::world_light_params() const {
+  std::lock_guard lock(mutex_);
+  return state_.world_light_params;
 }
 Color Scene::background() const {
   std::lock_guard lock(mutex_);
@@ -218,6 +257,14 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
     compiled->world_images = resolve_images(*state_.world, state_.textures, "the world");
     compiled->ambient = state_.world_ambient_strength * compiled->world_upward_mean();
   }
+  // The world light's map is evaluated once per world: kept across the snapshots of
+  // other edits (the viewport's), rebuilt when the world, its images or its settings change.
+  if (!state_.world_light_built) {
+    state_.world_light = WorldLight::build(*compiled, state_.world_light_params);
+    state_.world_light_built = true;
+  }
+  compiled->world_light = state_.world_light;
+  compiled->world_light_params = state_.world_light_params;
   std::map<std::string, int32_t> texture_index;
   for (const auto& [name, texture] : state_.textures) {
     texture_index[name] = static_cast<int32_t>(compiled->textures.size());

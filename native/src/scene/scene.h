@@ -18,6 +18,7 @@
 #include "scene/mesh.h"
 #include "scene/motion.h"
 #include "scene/texture.h"
+#include "scene/world_light.h"
 
 namespace whitted {
 
@@ -154,6 +155,9 @@ struct Placement {
   static Placement of(const glm::mat4& to_world);
 };
 
+// The largest world light map a side, texels (Cycles' Map Resolution goes to 8192).
+inline constexpr int kMaxWorldMap = 8192;
+
 struct CompiledScene {
   struct Instance {
     std::shared_ptr<const MeshEntry> mesh;
@@ -191,6 +195,11 @@ struct CompiledScene {
   std::shared_ptr<const Program> world;
   uint32_t world_output = 0;
   std::vector<const ImageTexture*> world_images;
+  // The world as a light (scene/world_light.h): null where it lights nothing (then the
+  // ambient term stands for it); `world_light_params` as the exporter asked, its `why`
+  // the report's reason.
+  std::shared_ptr<const WorldLight> world_light;
+  WorldLightParams world_light_params;
   // Shared by successive snapshots while no mesh or instance changes.
   std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
@@ -223,6 +232,9 @@ struct CompiledScene {
   // E/pi of a surface facing up, which a uniform sky's radiance equals. Quadrature over
   // kAmbientCells^2 directions, each read as a diffuse ray one bounce deep sees it.
   Color world_upward_mean() const;
+  // The world's radiance towards `direction` as a diffuse ray `depth` bounces deep sees
+  // it: what a feeler to the world brings (scene/world_light.h).
+  Color world_light_radiance(const Vec3& direction, int depth) const;
   static constexpr int kAmbientCells = 24;
 };
 
@@ -255,6 +267,10 @@ class Scene {
   // ambient light is `ambient_strength` times its upward mean (CompiledScene).
   void set_world(std::shared_ptr<const Program> program, uint32_t output,
                  float ambient_strength = 1.0f);
+  // Whether and how the world lights surfaces (scene/world_light.h); its map is built by
+  // the next compile() and kept while neither the world, its textures nor these change.
+  void set_world_light(const WorldLightParams& params);
+  WorldLightParams world_light_params() const;
   // The ambient light Ia of a world without program.
   void set_ambient(const Color& ambient);
   Color background() const;
@@ -281,6 +297,10 @@ class Scene {
  private:
   // Marks the snapshot stale, and with `geometry` the top-level BVH too. Needs mutex_.
   void changed(bool geometry);
+  // Marks the snapshot and the world light's map stale. Needs mutex_.
+  void world_changed();
+  // Whether the world's program reads texture `name`. Needs mutex_.
+  bool world_reads(const std::string& name) const;
 
   std::shared_ptr<AccelDevice> device_;
   mutable std::mutex mutex_;  // guards state_
@@ -297,6 +317,9 @@ class Scene {
     std::shared_ptr<const Program> world;
     uint32_t world_output = 0;
     float world_ambient_strength = 1.0f;
+    WorldLightParams world_light_params;
+    std::shared_ptr<const WorldLight> world_light;  // the last one built (null: stale)
+    bool world_light_built = false;
     double mesh_build_seconds = 0.0;
     // The compile cache: the last snapshot (null once anything changed), and the
     // top-level BVH with the instance masks it was built with (null once geometry changed).

@@ -441,6 +441,15 @@ Color CompiledScene::world_radiance(const Ray& ray, const RayContext& context) c
                    [&](uint32_t mode) { return light_path_input(mode, ray, context); });
 }
 
+Color CompiledScene::world_light_radiance(const Vec3& direction, int depth) const {
+  if (!world) return background;
+  const auto light_path = [depth](uint32_t mode) {
+    if (mode == kInputRayDepth) return glm::vec4(static_cast<float>(depth));
+    return glm::vec4(mode == kInputIsDiffuseRay ? 1.0f : 0.0f);
+  };
+  return run_world(*this, direction, light_path);
+}
+
 Color CompiledScene::world_upward_mean() const {
   if (!world) return background;
   // Malley's method: the cells' centres of the unit square mapped onto the upper

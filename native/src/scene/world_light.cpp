@@ -1,0 +1,220 @@
+#include "scene/world_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "core/math.h"
+#include "scene/microfacet.h"
+#include "scene/scene.h"
+
+namespace whitted {
+
+namespace {
+
+constexpr float kTwoPi = 2.0f * kPi;
+constexpr double kTwoPiD = 2.0 * 3.14159265358979323846;
+constexpr double kPiD = 3.14159265358979323846;
+
+// The floor under every texel's weight, relative to the mean texel's radiance: small
+// enough to cost no visible noise, large enough that no lit direction is never drawn.
+constexpr double kFloor = 1e-3;
+
+float channel_mean(const Color& c) {
+  return (c.r + c.g + c.b) / 3.0f;
+}
+
+// A direction of polar angle acos(cos_theta) from +Z and azimuth phi from +X.
+Vec3 direction(double cos_theta, double phi) {
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return {static_cast<float>(sin_theta * std::cos(phi)),
+          static_cast<float>(sin_theta * std::sin(phi)), static_cast<float>(cos_theta)};
+}
+
+// The index of the first entry of the ascending cdf[0..n) above u (the last if none).
+int find(const float* cdf, int n, float u) {
+  const float* found = std::upper_bound(cdf, cdf + n, u);
+  return std::min(static_cast<int>(found - cdf), n - 1);
+}
+
+// Draws (u, v) by the cosine about n: density cos(theta)/pi.
+Vec3 cosine_direction(const glm::vec2& u, const Vec3& n) {
+  float r = 0.0f;
+  float phi = 0.0f;
+  concentric_disc(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, &r, &phi);
+  const float x = r * std::cos(phi);
+  const float y = r * std::sin(phi);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
+  return Frame(n).to_world(Vec3(x, y, z));
+}
+
+}  // namespace
+
+std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
+                                                    const WorldLightParams& params) {
+  if (!params.on) return nullptr;
+  if (!scene.world && max_component(scene.background) <= 0.0f) return nullptr;
+  std::shared_ptr<WorldLight> light(new WorldLight());
+  light->params_ = params;
+  if (!scene.world || params.width <= 0 || params.height <= 0) return light;
+  const int w = params.width;
+  const int h = params.height;
+  // Each texel's mean radiance over 2 x 2 points spread evenly in azimuth and in cos(theta)
+  // (equal solid angles), rows in parallel: each texel is its own, so the map does not
+  // depend on how rows fall to threads.
+  std::vector<double> weight(static_cast<size_t>(w) * h);
+  const auto rows = [&](int first, int step) {
+    for (int j = first; j < h; j += step) {
+      const double cos0 = std::cos(kPiD * j / h);
+      const double cos1 = std::cos(kPiD * (j + 1) / h);
+      const double solid_angle = (kTwoPiD / w) * (cos0 - cos1);
+      for (int i = 0; i < w; ++i) {
+        double sum = 0.0;
+        for (int s = 0; s < 4; ++s) {
+          const double a = 0.25 + 0.5 * (s & 1);
+          const double b = 0.25 + 0.5 * (s >> 1);
+          const Vec3 d = direction(cos0 + (cos1 - cos0) * b, kTwoPiD * (i + a) / w);
+          const float value = channel_mean(scene.world_light_radiance(d, 1));
+          if (std::isfinite(value) && value > 0.0f) sum += value;
+        }
+        weight[static_cast<size_t>(j) * w + i] = 0.25 * sum * solid_angle;
+      }
+    }
+  };
+  const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(rows, t, threads);
+  rows(0, threads);
+  for (std::thread& t : pool) t.join();
+
+  double total = 0.0;
+  for (const double x : weight) total += x;
+  if (!(total > 0.0)) return nullptr;  // a black world lights nothing
+  // The floor: kFloor of the mean radiance, over each texel's solid angle.
+  const double floor = kFloor * total / (4.0 * kPiD);
+  light->width_ = w;
+  light->height_ = h;
+  light->rows_.resize(static_cast<size_t>(h));
+  light->columns_.resize(static_cast<size_t>(w) * h);
+  light->density_.resize(static_cast<size_t>(w) * h);
+  std::vector<double> row_sum(static_cast<size_t>(h));
+  double all = 0.0;
+  for (int j = 0; j < h; ++j) {
+    const double solid_angle =
+        (kTwoPiD / w) * (std::cos(kPiD * j / h) - std::cos(kPiD * (j + 1) / h));
+    double sum = 0.0;
+    for (int i = 0; i < w; ++i) {
+      double& x = weight[static_cast<size_t>(j) * w + i];
+      x += floor * solid_angle;
+      sum += x;
+    }
+    double running = 0.0;
+    for (int i = 0; i < w; ++i) {
+      running += weight[static_cast<size_t>(j) * w + i];
+      light->columns_[static_cast<size_t>(j) * w + i] = static_cast<float>(running / sum);
+    }
+    light->columns_[static_cast<size_t>(j) * w + w - 1] = 1.0f;
+    row_sum[static_cast<size_t>(j)] = sum;
+    all += sum;
+  }
+  double running = 0.0;
+  for (int j = 0; j < h; ++j) {
+    running += row_sum[static_cast<size_t>(j)];
+    light->rows_[static_cast<size_t>(j)] = static_cast<float>(running / all);
+    const double solid_angle =
+        (kTwoPiD / w) * (std::cos(kPiD * j / h) - std::cos(kPiD * (j + 1) / h));
+    for (int i = 0; i < w; ++i) {
+      light->density_[static_cast<size_t>(j) * w + i] =
+          static_cast<float>(weight[static_cast<size_t>(j) * w + i] / (all * solid_angle));
+    }
+  }
+  light->rows_.back() = 1.0f;
+  if (params.sun_angle > 0.0f) {
+    light->sun_cos_ = std::cos(0.5f * params.sun_angle);
+    // The disc's share of the world's power, by 8 x 8 directions over it, bounded so that
+    // neither part is starved: the map still covers the disc, the disc the map's blur.
+    const Frame frame(params.sun_direction);
+    double sun = 0.0;
+    for (int s = 0; s < 64; ++s) {
+      const double c = 1.0 - (1.0 - light->sun_cos_) * ((s % 8) + 0.5) / 8.0;
+      const Vec3 d = frame.to_world(direction(c, kTwoPiD * ((s / 8) + 0.5) / 8.0));
+      const float value = channel_mean(scene.world_light_radiance(d, 1));
+      if (std::isfinite(value) && value > 0.0f) sun += value;
+    }
+    sun *= kTwoPiD * (1.0 - light->sun_cos_) / 64.0;
+    light->sun_share_ = static_cast<float>(std::clamp(sun / (sun + total), 0.1, 0.9));
+  }
+  return light;
+}
+
+int WorldLight::texel(const Vec3& wi) const {
+  float phi = std::atan2(wi.y, wi.x);
+  if (phi < 0.0f) phi += kTwoPi;
+  const int i =
+      std::clamp(static_cast<int>(phi / kTwoPi * static_cast<float>(width_)), 0, width_ - 1);
+  const int j = std::clamp(static_cast<int>(std::acos(std::clamp(wi.z, -1.0f, 1.0f)) / kPi *
+                                            static_cast<float>(height_)),
+                           0, height_ - 1);
+  return j * width_ + i;
+}
+
+float WorldLight::map_pdf(const Vec3& wi) const {
+  return density_[static_cast<size_t>(texel(wi))];
+}
+
+float WorldLight::sun_pdf(const Vec3& wi) const {
+  if (glm::dot(wi, params_.sun_direction) < sun_cos_) return 0.0f;
+  return 1.0f / (kTwoPi * (1.0f - sun_cos_));
+}
+
+WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n) const {
+  Sample out;
+  if (!has_map()) {
+    out.wi = cosine_direction(u, n);
+    out.pdf = pdf(out.wi, n);
+    return out;
+  }
+  glm::vec2 v = u;
+  if (sun_share_ > 0.0f) {
+    if (v.x < sun_share_) {
+      // Uniformly over the disc's cone.
+      v.x /= sun_share_;
+      const float c = 1.0f - (1.0f - sun_cos_) * v.x;
+      out.wi = Frame(params_.sun_direction).to_world(direction(c, kTwoPiD * v.y));
+      out.pdf = pdf(out.wi, n);
+      return out;
+    }
+    v.x = std::min((v.x - sun_share_) / (1.0f - sun_share_), 0x1.fffffep-1f);
+  }
+  // A row by the marginal CDF, a column by the row's conditional one, each number
+  // rescaled within the chosen entry to place the direction inside the texel.
+  const int j = find(rows_.data(), height_, v.y);
+  const float row_low = j > 0 ? rows_[static_cast<size_t>(j) - 1] : 0.0f;
+  const float row_t = std::clamp(
+      (v.y - row_low) / std::max(rows_[static_cast<size_t>(j)] - row_low, 1e-30f), 0.0f, 1.0f);
+  const float* row = columns_.data() + static_cast<size_t>(j) * width_;
+  const int i = find(row, width_, v.x);
+  const float column_low = i > 0 ? row[i - 1] : 0.0f;
+  const float column_t =
+      std::clamp((v.x - column_low) / std::max(row[i] - column_low, 1e-30f), 0.0f, 1.0f);
+  const double cos0 = std::cos(kPiD * j / height_);
+  const double cos1 = std::cos(kPiD * (j + 1) / height_);
+  out.wi = direction(cos0 + (cos1 - cos0) * row_t, kTwoPiD * (i + column_t) / width_);
+  // Rounding may carry a direction on a texel's edge into its neighbour: the density
+  // is the one pdf() gives, so both techniques of MIS agree.
+  out.pdf = pdf(out.wi, n);
+  return out;
+}
+
+float WorldLight::pdf(const Vec3& wi, const Vec3& n) const {
+  if (!has_map()) return std::max(0.0f, glm::dot(wi, n)) * kInvPi;
+  const float map = map_pdf(wi);
+  if (sun_share_ <= 0.0f) return map;
+  return sun_share_ * sun_pdf(wi) + (1.0f - sun_share_) * map;
+}
+
+size_t WorldLight::bytes() const {
+  return sizeof(WorldLight) + sizeof(float) * (rows_.size() + columns_.size() + density_.size());
+}
+
+}  // namespace whitted
