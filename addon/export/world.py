@@ -13,13 +13,16 @@ every ray that misses, and from which it takes the ambient light: its
 cosine-weighted mean over the upper hemisphere (scene.h world_upward_mean).
 """
 
+import math
 from dataclasses import dataclass, replace
 from types import SimpleNamespace
 
-from .nodes import surface_node, uses_nodes
+import numpy as np
+
+from .nodes import ops, surface_node, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
-from .nodes.ir import COLOR, FLOAT
+from .nodes.ir import COLOR, FLOAT, evaluate
 from .nodes.program import emit
 from .nodes.values import Lowering
 from .unrendered import volume_warning
@@ -36,6 +39,9 @@ class WorldData:
     textures: tuple = ()  # ImageTextureSpec the program samples
     # With a program: Ia is this times its upward mean, computed by the native scene.
     ambient_strength: float = 0.0
+    # A Sky Texture's sun disc seen in the program's output: (unit direction towards it,
+    # world space, Blender's axes; its angular diameter in radians), else None.
+    sun: tuple | None = None
     light: "WorldLightData" = None  # how it lights surfaces (None: no world)
 
 
@@ -57,6 +63,10 @@ class WorldLightData:
     diffuse: bool = True  # Ray Visibility > Diffuse
     glossy: bool = True  # Ray Visibility > Glossy
     max_bounces: int = 1024  # World > Settings > Light Paths > Max Bounces
+    # A sky's sun disc (WorldData.sun): unit direction towards it, angular diameter
+    # (radians; 0: none).
+    sun_direction: tuple = (0.0, 0.0, 1.0)
+    sun_angle: float = 0.0
 
 
 def convert_world(world, ambient_strength, warnings, local_model="BLENDER"):
@@ -105,7 +115,14 @@ def world_light(world, data, local_model):
             **common,
         )
     (width, height), source = wanted
-    return WorldLightData(True, f"map {width}x{height} ({source})", width, height, **common)
+    why = f"map {width}x{height} ({source})"
+    if data.sun is not None:
+        # A sky's sun disc: sampled as its own part, so a tiny bright disc gives no
+        # fireflies (the map alone would spread it over a texel or two).
+        direction, diameter = data.sun
+        common.update(sun_direction=tuple(direction), sun_angle=float(diameter))
+        why += f", sun disc {math.degrees(diameter):.2g} degrees sampled apart"
+    return WorldLightData(True, why, width, height, **common)
 
 
 def map_size(world):
@@ -217,4 +234,57 @@ def _programmed(world, ambient_strength, warnings):
     program, outputs = emit({"emission": radiance})
     textures = tuple(lowering.textures[name] for name in program.textures)
     black = (0.0, 0.0, 0.0)
-    return WorldData(black, black, program, outputs["emission"], textures, ambient_strength)
+    sun = _visible_sun(lowering.suns, radiance)
+    return WorldData(black, black, program, outputs["emission"], textures, ambient_strength, sun)
+
+
+# The INPUT modes that give a world program the ray's direction.
+_DIRECTION_INPUTS = ("IN_POSITION", "IN_NORMAL", "IN_GENERATED", "IN_OBJECT")
+
+
+def _at(expr, direction):
+    """`expr` (four floats) for the world ray `direction`: NaN where it reads anything
+    but the direction (an image, say)."""
+    modes = {getattr(ops, name) for name in _DIRECTION_INPUTS}
+
+    def leaf(node):
+        if node.op == ops.INPUT and node.mode in modes:
+            return (*direction, 0.0)
+        return (math.nan,) * 4
+
+    return np.array(evaluate(expr, leaf)[:3], dtype=np.float64)
+
+
+def _world_direction(vector, target):
+    """The world direction that `vector` (a sky's Vector, an Expr of the ray's
+    direction) maps to `target`, when that map is linear (the node's or a Mapping
+    node's rotation and scale, no translation); else None."""
+    basis = np.eye(3)
+    columns = np.stack([_at(vector, axis) for axis in basis], axis=1)
+    origin = _at(vector, (0.0, 0.0, 0.0))
+    linear = np.allclose(origin, 0.0, atol=1e-6) and np.allclose(
+        _at(vector, (1.0, 1.0, 1.0)), columns.sum(axis=1), rtol=1e-4, atol=1e-6
+    )
+    if not (np.all(np.isfinite(columns)) and linear) or abs(np.linalg.det(columns)) < 1e-12:
+        return None
+    direction = np.linalg.solve(columns, np.asarray(target, dtype=np.float64))
+    return direction / np.linalg.norm(direction)
+
+
+def _visible_sun(suns, radiance):
+    """(direction, angular diameter) of the first sky sun disc that the world's
+    `radiance` shows: at its centre at least twice as bright as beside it (a disc the
+    graph darkens away, or mixes out, is not a sun). None without one."""
+    for vector, target, diameter in suns:
+        direction = _world_direction(vector, target)
+        if direction is None:
+            continue
+        # Beside the disc: turned away from it by three diameters about a perpendicular.
+        side = np.cross(direction, (0.0, 0.0, 1.0) if abs(direction[2]) < 0.9 else (1.0, 0, 0))
+        side /= np.linalg.norm(side)
+        angle = max(3.0 * diameter, 0.01)
+        beside = direction * math.cos(angle) + side * math.sin(angle)
+        centre, around = _at(radiance, direction).sum(), _at(radiance, beside).sum()
+        if math.isfinite(centre) and math.isfinite(around) and centre > 2.0 * around:
+            return (tuple(float(x) for x in direction), float(diameter))
+    return None

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "shader/sky.h"
 
 namespace whitted::python {
 namespace {
@@ -85,6 +86,59 @@ void bind_program(py::module_& m) {
       "The four floats of one op of constant operands (each a 4-sequence, or None: unused; "
       "`constants` its COLOR_RAMP or CURVE table), computed by the program's own code; None "
       "for an op that reads the hit. ValueError for an instruction a program would refuse.");
+
+  m.def(
+      "preetham_table",
+      [](const std::array<float, 3>& sun, float turbidity) {
+        const std::vector<float> t = sky::preetham_table(Vec3(sun[0], sun[1], sun[2]), turbidity);
+        return py::array_t<float>(static_cast<py::ssize_t>(t.size()), t.data());
+      },
+      py::arg("sun"), py::arg("turbidity"),
+      "The constants of op SKY's PREETHAM model (shader/sky.h): the Perez/Preetham sky of "
+      "`turbidity` with the sun towards `sun` (unit, +Z up).");
+  m.def(
+      "scattering_table",
+      [](float sun_elevation, float sun_rotation, bool sun_disc, float sun_size,
+         float sun_intensity, float altitude, float air_density, float dust_density,
+         float ozone_density, std::string_view disc_style, uint32_t azimuths, uint32_t rows) {
+        if (disc_style != "NISHITA" && disc_style != "SINGLE_SCATTERING") {
+          throw py::value_error("disc_style is NISHITA or SINGLE_SCATTERING, not " +
+                                std::string(disc_style));
+        }
+        const sky::ScatteringParams params{
+            sun_elevation,
+            sun_rotation,
+            sun_disc,
+            sun_size,
+            sun_intensity,
+            altitude,
+            air_density,
+            dust_density,
+            ozone_density,
+            disc_style == "NISHITA" ? sky::DiscStyle::kNishita : sky::DiscStyle::kSingleScattering};
+        std::vector<float> t;
+        {
+          py::gil_scoped_release release;
+          t = sky::scattering_table(params, azimuths, rows);
+        }
+        return py::array_t<float>(static_cast<py::ssize_t>(t.size()), t.data());
+      },
+      py::arg("sun_elevation"), py::arg("sun_rotation"), py::arg("sun_disc"), py::arg("sun_size"),
+      py::arg("sun_intensity"), py::arg("altitude"), py::arg("air_density"),
+      py::arg("dust_density"), py::arg("ozone_density"), py::arg("disc_style"),
+      py::arg("azimuths") = sky::kScatteringAzimuths, py::arg("rows") = sky::kScatteringRows,
+      "The constants of op SKY's SINGLE_SCATTERING model (shader/sky.h): Blender's Sky "
+      "Texture parameters (radians, metres), the disc drawn as 3.x/4.x's NISHITA or 5.x's "
+      "SINGLE_SCATTERING; the sky tabulated at `azimuths` x `rows` directions.");
+  m.def(
+      "sun_direction",
+      [](float elevation, float rotation) {
+        const Vec3 d = sky::sun_direction(elevation, rotation);
+        return py::make_tuple(d.x, d.y, d.z);
+      },
+      py::arg("elevation"), py::arg("rotation"),
+      "The unit direction towards a sky's sun of Sun Elevation and Sun Rotation (radians), "
+      "+Z up, rotation from +Y towards +X.");
 
   py::class_<Program, std::shared_ptr<Program>>(
       m, "Program",

@@ -89,7 +89,7 @@ def emit(fields):
             if expr.e not in textures:
                 textures.append(expr.e)
             e = textures.index(expr.e)
-        elif expr.op in (ops.COLOR_RAMP, ops.CURVE):
+        elif expr.op in (ops.COLOR_RAMP, ops.CURVE, ops.SKY):
             if expr.e not in constant_offsets:
                 constant_offsets[expr.e] = len(constants)
                 constants.extend(expr.e)

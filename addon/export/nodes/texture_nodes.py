@@ -1,9 +1,12 @@
 """The texture nodes as Exprs: images and environments (native textures the program
 samples), and the procedural textures the program computes (Checker, Gradient, Noise,
-Voronoi, Wave, Magic, Brick), each at the coordinates its Vector input gives."""
+Voronoi, Wave, Magic, Brick, Sky), each at the coordinates its Vector input gives."""
+
+import math
 
 import bpy
 
+from ...native import load_native
 from ..texture import INTERPOLATIONS, ImageTextureSpec, image_texture_spec
 from . import ops
 from .graph import source
@@ -218,6 +221,79 @@ def _brick(c, out):
     return c.b.vlerp(mortar, bricks, mortar_color)
 
 
+def _texture_mapping(c, node, vector):
+    """`vector` through the node's own Texture Mapping (its sidebar's Location, Rotation
+    and Scale, as a Mapping node of its Vector Type); min/max clipping and axis remaps
+    are not applied (warned)."""
+    mapping = node.texture_mapping
+    axes = (mapping.mapping_x, mapping.mapping_y, mapping.mapping_z)
+    if mapping.use_min or mapping.use_max or axes != ("X", "Y", "Z"):
+        c.warn(node, "its Texture Mapping's clipping and axis remapping are not applied")
+    identity = (tuple(mapping.translation), tuple(mapping.rotation), tuple(mapping.scale)) == (
+        (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0))  # fmt: skip
+    if identity:
+        return vector
+    mode = ops.pack("MAPPING", vector_type=mapping.vector_type)
+    location = c.b.const(tuple(mapping.translation), VECTOR)
+    rotation = c.b.const(tuple(mapping.rotation), VECTOR)
+    scale = c.b.const(tuple(mapping.scale), VECTOR)
+    return c.b.op(ops.MAPPING, mode, (vector, location, rotation, scale), kind=VECTOR)
+
+
+def _sky(c, out):
+    """Blender's Sky Texture (native shader/sky.h). Perez/Preetham analytic; Nishita
+    (3.x/4.x) and 5.x's Single Scattering a table built natively here; Hosek/Wilkie
+    rendered as Preetham and 5.x's Multiple Scattering as Single Scattering, warned."""
+    node = out.node
+    native = load_native()
+    vector = _texture_mapping(c, node, _texture_vector(c, out))
+    model = node.sky_type
+    if model in ("PREETHAM", "HOSEK_WILKIE"):
+        if model == "HOSEK_WILKIE":
+            c.warn(
+                node,
+                "Hosek/Wilkie needs the authors' fitted dataset, which Whitted does not "
+                "have; rendered as Preetham (same Sun Direction and Turbidity)",
+            )
+        sun = tuple(node.sun_direction)
+        norm = math.sqrt(sum(x * x for x in sun)) or 1.0
+        table = native.preetham_table(tuple(x / norm for x in sun), node.turbidity)
+        mode = ops.pack("SKY", model="PREETHAM")
+    else:
+        if model == "MULTIPLE_SCATTERING":
+            c.warn(
+                node,
+                "Multiple Scattering is not implemented; rendered as Single Scattering "
+                "(the sky darker and bluer, most near the horizon and at a low sun)",
+            )
+        style = "NISHITA" if model == "NISHITA" else "SINGLE_SCATTERING"
+        dust = getattr(node, "aerosol_density", None)
+        if dust is None:
+            dust = node.dust_density
+        elevation, rotation = _sun_position(node.sun_elevation, node.sun_rotation)
+        table = native.scattering_table(
+            elevation, rotation, node.sun_disc, node.sun_size, node.sun_intensity,
+            node.altitude, node.air_density, dust, node.ozone_density, style,
+        )  # fmt: skip
+        mode = ops.pack("SKY", model="SINGLE_SCATTERING")
+        half = node.sun_size / 2.0
+        if node.sun_disc and node.sun_intensity > 0.0 and elevation + half > 0.0:
+            c.suns.append((vector, native.sun_direction(elevation, rotation), node.sun_size))
+    table = tuple(float(x) for x in table)
+    return c.b.op(ops.SKY, mode, (vector,), e=table, kind=COLOR)
+
+
+def _sun_position(elevation, rotation):
+    """Sun Elevation and Rotation as the sky draws them: an elevation past the zenith
+    (or below the nadir) is the same position seen from the other side, as Cycles
+    folds it into [-pi/2, pi/2] with the rotation turned half way."""
+    elevation = math.remainder(elevation, 2.0 * math.pi)
+    if abs(elevation) > math.pi / 2.0:
+        elevation = math.copysign(math.pi, elevation) - elevation
+        rotation += math.pi
+    return elevation, rotation
+
+
 TEXTURE_NODES = {
     "ShaderNodeTexImage": _image,
     "ShaderNodeTexEnvironment": _environment,
@@ -228,4 +304,5 @@ TEXTURE_NODES = {
     "ShaderNodeTexWave": _wave,
     "ShaderNodeTexMagic": _magic,
     "ShaderNodeTexBrick": _brick,
+    "ShaderNodeTexSky": _sky,
 }

@@ -22,7 +22,6 @@ from .texture_nodes import TEXTURE_NODES
 PROCEDURALS = {
     "ShaderNodeTexMusgrave": "Musgrave Texture",
     "ShaderNodeTexWhiteNoise": "White Noise Texture",
-    "ShaderNodeTexSky": "Sky Texture",
     "ShaderNodeTexGabor": "Gabor Texture",
 }
 
@@ -58,6 +57,9 @@ class Lowering:
         self.b = Builder()
         self.needs = Needs()
         self.textures = {}  # name -> ImageTextureSpec
+        # Each Sky Texture with a sun disc: (its Vector Expr, the sun in the node's space,
+        # the disc's angular diameter), for the world's sun (export/world.py).
+        self.suns = []
         self._outputs = {}  # Output.key -> Expr
         self._active = set()
 

@@ -43,6 +43,7 @@ enum class Op : uint32_t {
   kPack = 30,
   kRgbToBw = 31,
   kBump = 32,
+  kSky = 33,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -57,7 +58,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBump) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kSky) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -91,6 +92,7 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBump) + 1> kOpTable
     {"PACK", 4, false},
     {"RGB_TO_BW", 1, false},
     {"BUMP", 5, true},
+    {"SKY", 1, false},  // a direction; e: its table's offset in the constants (shader/sky.h)
 }};
 
 // The modes of op INPUT: what a hit offers a program.
@@ -371,6 +373,8 @@ inline constexpr std::array<std::string_view, 4> kVoronoiMetricNames = {"EUCLIDE
 // point (Position, W).
 inline constexpr std::array<std::string_view, 3> kVoronoiOutputNames = {"DISTANCE", "COLOR",
                                                                         "POSITION"};
+// sky::Model, in its order.
+inline constexpr std::array<std::string_view, 2> kSkyModelNames = {"PREETHAM", "SINGLE_SCATTERING"};
 inline constexpr std::array<std::string_view, 2> kWaveTypeNames = {"BANDS", "RINGS"};
 inline constexpr std::array<std::string_view, 4> kWaveBandsNames = {"X", "Y", "Z", "DIAGONAL"};
 inline constexpr std::array<std::string_view, 4> kWaveRingsNames = {"X", "Y", "Z", "SPHERICAL"};
@@ -400,6 +404,7 @@ inline constexpr ModeField kGradient = choice("gradient_type", 0, 3, kGradientNa
 inline constexpr ModeField kLayerWeight = choice("output", 0, 1, kLayerWeightNames);
 inline constexpr ModeField kNormalMapSpace = choice("space", 0, 2, kNormalMapSpaceNames);
 inline constexpr ModeField kBumpInvert = flag("invert", 0);  // BUMP: the height negated
+inline constexpr ModeField kSkyModel = choice("model", 0, 1, kSkyModelNames);
 inline constexpr ModeField kDimensions = choice("dimensions", 0, 2, kDimensionNames);
 inline constexpr ModeField kNoiseType = choice("noise_type", 2, 3, kNoiseTypeNames);
 inline constexpr ModeField kNormalize = flag("normalize", 8);  // NOISE, VORONOI: to [0, 1]
@@ -435,6 +440,7 @@ inline constexpr std::array kGradientOp = {kGradient};
 inline constexpr std::array kLayerWeightOp = {kLayerWeight};
 inline constexpr std::array kNormalMap = {kNormalMapSpace};
 inline constexpr std::array kBump = {kBumpInvert};
+inline constexpr std::array kSkyOp = {kSkyModel};
 inline constexpr std::array kNoise = {kDimensions, kNoiseType, kNormalize, kNoiseColor};
 inline constexpr std::array kVoronoi = {kDimensions,         kVoronoiFeature, kVoronoiMetric,
                                         kVoronoiIntegerHash, kNormalize,      kVoronoiOutput};
@@ -450,7 +456,7 @@ struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 23> kOpModes = {{
+inline constexpr std::array<OpMode, 24> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
@@ -474,6 +480,7 @@ inline constexpr std::array<OpMode, 23> kOpModes = {{
     {Op::kMagic, mode_field::kMagic},
     {Op::kBrick, mode_field::kBrick},
     {Op::kBump, mode_field::kBump},
+    {Op::kSky, mode_field::kSkyOp},
 }};
 
 // The fields of op's mode; empty for INPUT and an op without a mode.

@@ -12,6 +12,7 @@
 
 #include "shader/node_math.h"
 #include "shader/procedural.h"
+#include "shader/sky.h"
 
 namespace whitted {
 namespace {
@@ -70,7 +71,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       throw std::invalid_argument("instruction " + std::to_string(row) + " (" +
                                   std::string(op_name(op)) + "): " + what);
     };
-    if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kBump)) {
+    if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kSky)) {
       throw std::invalid_argument("instruction " + std::to_string(row) + ": unknown op " +
                                   std::to_string(op));
     }
@@ -158,6 +159,16 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
           }
         }
         s.e = e;
+        break;
+      }
+      case Op::kSky: {
+        s.a = reg(3);
+        const auto model = static_cast<sky::Model>(mode_field::kSkyModel.in(mode));
+        if (c[7] >= constants_.size() ||
+            sky::table_size(model, &constants_[c[7]], constants_.size() - c[7]) == 0) {
+          fail("constants at " + std::to_string(c[7]) + " do not hold a sky table");
+        }
+        s.e = c[7];
         break;
       }
       case Op::kCurve:
@@ -367,6 +378,11 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = vec4((1.0f - fac) * Vec3(b) + fac * mapped, kind == 0 ? b.w : 0.0f);
         break;
       }
+      case Op::kSky:
+        out = vec4(sky::radiance(static_cast<sky::Model>(mode_field::kSkyModel.in(s.mode)),
+                                 &constants_[s.e], Vec3(a)),
+                   1.0f);
+        break;
       case Op::kMapping:
         out = vector(
             mapping(mode_field::kMapping.in(s.mode), Vec3(a), Vec3(b), Vec3(c), Vec3(r[s.d])));
@@ -460,7 +476,8 @@ std::optional<vec4> Program::fold(uint32_t op, uint32_t mode,
   const auto out = static_cast<uint32_t>(registers.size() / 4);
   registers.insert(registers.end(), 4, 0.0f);
   row[2] = out;
-  if (op == static_cast<uint32_t>(Op::kColorRamp) || op == static_cast<uint32_t>(Op::kCurve)) {
+  if (op == static_cast<uint32_t>(Op::kColorRamp) || op == static_cast<uint32_t>(Op::kCurve) ||
+      op == static_cast<uint32_t>(Op::kSky)) {
     row[7] = 0;  // the table is the whole of `constants`
   }
   const Program program(row, 1, registers.data(), out + 1, std::move(constants), {});

@@ -1,0 +1,440 @@
+#include "shader/sky.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+namespace whitted::sky {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+constexpr float kHalfPi = kPi / 2.0f;
+
+// ---------------------------------------------------------------------------------------
+// Perez / Preetham.
+
+// Table offsets: the sun's zenith angle and azimuth (from +Y towards +X), the zenith's
+// Y, x, y (each divided by its Perez function at the zenith), then five Perez
+// coefficients each for Y, x and y.
+enum PreethamSlot : size_t { kSunTheta = 0, kSunPhi, kZenith, kPerez = kZenith + 3 };
+constexpr size_t kPreethamSize = kPerez + 15;
+
+// The Perez distribution: theta the view's zenith angle, gamma its angle from the sun.
+float perez(const float* lam, float theta, float gamma) {
+  const float cos_gamma = std::cos(gamma);
+  return (1.0f + lam[0] * std::exp(lam[1] / std::cos(theta))) *
+         (1.0f + lam[2] * std::exp(lam[3] * gamma) + lam[4] * cos_gamma * cos_gamma);
+}
+
+// The zenith chromaticity polynomial of Preetham's appendix: rows of T^2, T, 1 by
+// theta^3, theta^2, theta, 1.
+float zenith_chromaticity(const std::array<std::array<float, 4>, 3>& m, float theta, float t) {
+  const std::array<float, 4> powers = {theta * theta * theta, theta * theta, theta, 1.0f};
+  float sum = 0.0f;
+  const std::array<float, 3> tp = {t * t, t, 1.0f};
+  for (size_t i = 0; i < 3; ++i) {
+    float row = 0.0f;
+    for (size_t j = 0; j < 4; ++j) row += m[i][j] * powers[j];
+    sum += tp[i] * row;
+  }
+  return sum;
+}
+
+// Zenith and azimuth (from +Y towards +X) of a direction, as Cycles' sky reads them:
+// the zenith angle from z alone.
+float zenith_angle(Vec3 d) {
+  return std::acos(std::clamp(d.z, -1.0f, 1.0f));
+}
+float azimuth(Vec3 d) {
+  return std::atan2(d.x, d.y);
+}
+
+Vec3 preetham(const float* t, Vec3 direction) {
+  float theta = zenith_angle(direction);
+  const float phi = azimuth(direction);
+  const float sun_theta = t[kSunTheta];
+  const float cos_gamma = std::sin(theta) * std::sin(sun_theta) * std::cos(t[kSunPhi] - phi) +
+                          std::cos(theta) * std::cos(sun_theta);
+  const float gamma = std::acos(std::clamp(cos_gamma, -1.0f, 1.0f));
+  theta = std::min(theta, kHalfPi - 0.001f);  // the horizon's value below it
+  const float luminance = t[kZenith] * perez(t + kPerez, theta, gamma);
+  const float x = t[kZenith + 1] * perez(t + kPerez + 5, theta, gamma);
+  const float y = t[kZenith + 2] * perez(t + kPerez + 10, theta, gamma);
+  if (y == 0.0f) return Vec3(0.0f);
+  return xyz_to_rec709(Vec3(x / y * luminance, luminance, (1.0f - x - y) / y * luminance));
+}
+
+// ---------------------------------------------------------------------------------------
+// Single scattering: the atmosphere of Nishita et al. as Blender parameterises it.
+
+constexpr double kEarthRadius = 6360e3;       // m
+constexpr double kAtmosphereRadius = 6420e3;  // m
+constexpr float kRayleighHeight = 8e3f;       // scale heights, m
+constexpr float kMieHeight = 1.2e3f;
+constexpr float kMieScattering = 2e-5f;  // m^-1; extinction 1.11 times that
+constexpr float kMieExtinction = 1.11f * kMieScattering;
+constexpr float kMieG = 0.76f;  // the aerosols' anisotropy
+constexpr int kViewSteps = 32;  // midpoint steps along a view ray
+constexpr size_t kWavelengths = 21;
+constexpr float kWavelengthStep = 20.0f;  // nm, 380 to 780
+
+// Per wavelength: the sun's irradiance above the atmosphere (W m^-2 nm^-1), the Rayleigh
+// scattering coefficient at sea level (m^-1), the ozone absorption coefficient (m^-1)
+// and the CIE 1931 colour matching functions.
+constexpr std::array<float, kWavelengths> kSolarIrradiance = {
+    1.45756829855592995315f, 1.56596305559738380175f, 1.65148449067670455293f,
+    1.71496242737209314555f, 1.75797983805020541226f, 1.78256407885924539336f,
+    1.79095108475838560302f, 1.78541550133410664714f, 1.76815554864306845317f,
+    1.74122069647250410362f, 1.70647127164943679389f, 1.66556087452739887134f,
+    1.61993437242451854274f, 1.57083597368892080581f, 1.51932335059305478886f,
+    1.46628494965214395407f, 1.41245852740172450623f, 1.35844961970384092709f,
+    1.30474913844739281998f, 1.25174963272610817455f, 1.19975998755420620867f};
+constexpr std::array<float, kWavelengths> kRayleigh = {
+    5.424820087636473e-05f, 4.418549866505454e-05f, 3.635151910165377e-05f, 3.017929012024763e-05f,
+    2.526320226989157e-05f, 2.130859310621843e-05f, 1.809838025320633e-05f, 1.547057129129042e-05f,
+    1.330284977336850e-05f, 1.150184784075764e-05f, 9.99557429990163e-06f,  8.72799973630707e-06f,
+    7.65513700977967e-06f,  6.74217203751443e-06f,  5.96134125832052e-06f,  5.29034598065810e-06f,
+    4.71115687557433e-06f,  4.20910481110487e-06f,  3.77218381260133e-06f,  3.39051255477280e-06f,
+    3.05591531679811e-06f};
+constexpr std::array<float, kWavelengths> kOzone = {
+    3.25126849861e-09f,    5.85395365047e-09f,    1.977191155085e-08f,   7.309568762914e-08f,
+    2.0084561514287e-07f,  4.0383958096161e-07f,  6.3551335912363e-07f,  9.6707041180970e-07f,
+    1.54797400424410e-06f, 2.09038647223331e-06f, 2.46128056164565e-06f, 2.73551299461512e-06f,
+    2.15125863128643e-06f, 1.59051840791988e-06f, 1.12356197979857e-06f, 7.3527551487574e-07f,
+    4.6450130357806e-07f,  3.3096079921048e-07f,  2.2512612292678e-07f,  1.4879129266490e-07f,
+    1.6828623364192e-07f};
+constexpr std::array<std::array<float, 3>, kWavelengths> kColorMatching = {{
+    {0.00136800000f, 0.00003900000f, 0.00645000100f},
+    {0.01431000000f, 0.00039600000f, 0.06785001000f},
+    {0.13438000000f, 0.00400000000f, 0.64560000000f},
+    {0.34828000000f, 0.02300000000f, 1.74706000000f},
+    {0.29080000000f, 0.06000000000f, 1.66920000000f},
+    {0.09564000000f, 0.13902000000f, 0.81295010000f},
+    {0.00490000000f, 0.32300000000f, 0.27200000000f},
+    {0.06327000000f, 0.71000000000f, 0.07824999000f},
+    {0.29040000000f, 0.95400000000f, 0.02030000000f},
+    {0.59450000000f, 0.99500000000f, 0.00390000000f},
+    {0.91630000000f, 0.87000000000f, 0.00165000100f},
+    {1.06220000000f, 0.63100000000f, 0.00080000000f},
+    {0.85444990000f, 0.38100000000f, 0.00019000000f},
+    {0.44790000000f, 0.17500000000f, 0.00002000000f},
+    {0.16490000000f, 0.06100000000f, 0.00000000000f},
+    {0.04677000000f, 0.01700000000f, 0.00000000000f},
+    {0.01135916000f, 0.00410200000f, 0.00000000000f},
+    {0.00289932700f, 0.00104700000f, 0.00000000000f},
+    {0.00069007860f, 0.00024920000f, 0.00000000000f},
+    {0.00016615050f, 0.00006000000f, 0.00000000000f},
+    {0.00004150994f, 0.00001499000f, 0.00000000000f},
+}};
+
+// Optical depth towards the sun by 8-point Gauss-Laguerre quadrature over the path to
+// the atmosphere's edge (the densities fall off about exponentially along it), its
+// nodes scaled so that the last lies inside: nodes x_i / 25 of the path, weights
+// w_i e^(x_i) / 25.
+constexpr std::array<float, 8> kQuadratureNodes = {0.006811185292f, 0.03614807107f, 0.09004346519f,
+                                                   0.1706680068f,   0.2818362161f,  0.4303406404f,
+                                                   0.6296271457f,   0.9145252695f};
+constexpr std::array<float, 8> kQuadratureWeights = {0.01750893642f, 0.04135477391f, 0.06678839063f,
+                                                     0.09507698807f, 0.1283416365f,  0.1707430204f,
+                                                     0.2327233347f,  0.3562490486f};
+
+using DVec3 = glm::dvec3;
+using Spectrum = std::array<float, kWavelengths>;
+
+// Relative densities of air (Rayleigh), aerosols (Mie) and ozone at `height` metres.
+Vec3 densities(double height) {
+  const auto h = static_cast<float>(height);
+  return {std::exp(-h / kRayleighHeight), std::exp(-h / kMieHeight),
+          std::max(0.0f, 1.0f - std::fabs(h - 25e3f) / 15e3f)};
+}
+
+double to_atmosphere_edge(const DVec3& p, const DVec3& d) {
+  const double b = glm::dot(p, d);
+  const double c = glm::dot(p, p) - kAtmosphereRadius * kAtmosphereRadius;
+  return -b + std::sqrt(std::max(0.0, b * b - c));
+}
+
+bool meets_ground(const DVec3& p, const DVec3& d) {
+  if (d.z >= 0.0) return false;
+  const double b = glm::dot(p, d);
+  return b * b - (glm::dot(p, p) - kEarthRadius * kEarthRadius) >= 0.0;
+}
+
+Vec3 optical_depth(const DVec3& p, const DVec3& d) {
+  const double length = to_atmosphere_edge(p, d);
+  Vec3 depth(0.0f);
+  for (size_t i = 0; i < kQuadratureNodes.size(); ++i) {
+    const DVec3 q = p + static_cast<double>(kQuadratureNodes[i]) * length * d;
+    depth += densities(glm::length(q) - kEarthRadius) * kQuadratureWeights[i];
+  }
+  return depth * static_cast<float>(length);
+}
+
+Vec3 to_xyz(const Spectrum& s) {
+  Vec3 xyz(0.0f);
+  for (size_t i = 0; i < kWavelengths; ++i) {
+    xyz += Vec3(kColorMatching[i][0], kColorMatching[i][1], kColorMatching[i][2]) * s[i];
+  }
+  return xyz * kWavelengthStep;
+}
+
+struct Atmosphere {
+  DVec3 eye;
+  Vec3 scale;  // air, dust, ozone densities
+};
+
+float rayleigh_phase(float mu) {
+  return 3.0f / (16.0f * kPi) * (1.0f + mu * mu);
+}
+
+float mie_phase(float mu) {  // Cornette-Shanks
+  const float g2 = kMieG * kMieG;
+  return 3.0f * (1.0f - g2) * (1.0f + mu * mu) /
+         (8.0f * kPi * (2.0f + g2) * std::pow(1.0f + g2 - 2.0f * kMieG * mu, 1.5f));
+}
+
+// The sunlight scattered once towards the eye along `view` (XYZ).
+Vec3 inscattered(const Atmosphere& a, const DVec3& view, const DVec3& sun) {
+  const double step = to_atmosphere_edge(a.eye, view) / kViewSteps;
+  const auto fstep = static_cast<float>(step);
+  const auto mu = static_cast<float>(glm::dot(view, sun));
+  const float rayleigh = rayleigh_phase(mu);
+  const float mie = mie_phase(mu);
+  Spectrum spectrum{};
+  Vec3 depth(0.0f);  // from the eye to the current point
+  for (int i = 0; i < kViewSteps; ++i) {
+    const DVec3 p = a.eye + (i + 0.5) * step * view;
+    const Vec3 density = a.scale * densities(glm::length(p) - kEarthRadius);
+    depth += fstep * density;
+    if (meets_ground(p, sun)) continue;
+    const Vec3 total = depth + a.scale * optical_depth(p, sun);
+    for (size_t w = 0; w < kWavelengths; ++w) {
+      const float transmittance =
+          std::exp(-(total.x * kRayleigh[w] + total.y * kMieExtinction + total.z * kOzone[w]));
+      const float scattering =
+          rayleigh * density.x * kRayleigh[w] + mie * density.y * kMieScattering;
+      spectrum[w] += transmittance * scattering * kSolarIrradiance[w] * fstep;
+    }
+  }
+  return to_xyz(spectrum);
+}
+
+// The sun's radiance seen at `elevation` (XYZ): its irradiance spread over the disc's
+// solid angle, through air and aerosols (Cycles leaves ozone out of the disc).
+Vec3 sun_radiance(const Atmosphere& a, float elevation, float solid_angle) {
+  const DVec3 towards(std::cos(elevation), 0.0, std::sin(elevation));
+  const Vec3 depth = optical_depth(a.eye, towards);
+  Spectrum spectrum{};
+  for (size_t w = 0; w < kWavelengths; ++w) {
+    const float tau = kRayleigh[w] * depth.x * a.scale.x + kMieExtinction * depth.y * a.scale.y;
+    spectrum[w] = kSolarIrradiance[w] * std::exp(-tau) / solid_angle;
+  }
+  return to_xyz(spectrum);
+}
+
+// Table offsets of the single-scattering model.
+enum ScatteringSlot : size_t {
+  kSun = 0,           // xyz, unit
+  kSunElevation = 3,  //
+  kSunDiameter = 4,   // negative: no disc
+  kSunIntensity = 5,  //
+  kDiscBottom = 6,    // XYZ at the disc's lowest point
+  kDiscTop = 9,       // and at its highest
+  kDiscStyle = 12,    // DiscStyle
+  kAzimuths = 13,     // columns
+  kRows = 14,         // rows
+  kScatteringHeader = 15,
+};
+
+Vec3 lerp(Vec3 a, Vec3 b, float t) {
+  return a + (b - a) * t;
+}
+
+// The tabulated sky (XYZ) at elevation `elevation` >= 0 and azimuth `relative` in [0, pi]
+// from the sun, bilinear between the grid's nodes.
+Vec3 sky_xyz(const float* t, float elevation, float relative) {
+  const auto columns = static_cast<uint32_t>(t[kAzimuths]);
+  const auto rows = static_cast<uint32_t>(t[kRows]);
+  const float u = std::clamp(relative / kPi, 0.0f, 1.0f) * static_cast<float>(columns - 1);
+  const float v =
+      std::sqrt(std::clamp(elevation / kHalfPi, 0.0f, 1.0f)) * static_cast<float>(rows - 1);
+  const auto u0 = std::min(static_cast<uint32_t>(u), columns - 2);
+  const auto v0 = std::min(static_cast<uint32_t>(v), rows - 2);
+  const float fu = u - static_cast<float>(u0);
+  const float fv = v - static_cast<float>(v0);
+  const float* grid = t + kScatteringHeader;
+  const auto at = [&](uint32_t row, uint32_t column) {
+    const float* c = grid + 3 * (static_cast<size_t>(row) * columns + column);
+    return Vec3(c[0], c[1], c[2]);
+  };
+  return lerp(lerp(at(v0, u0), at(v0, u0 + 1), fu), lerp(at(v0 + 1, u0), at(v0 + 1, u0 + 1), fu),
+              fv);
+}
+
+Vec3 single_scattering(const float* t, Vec3 d) {
+  const Vec3 sun(t[kSun], t[kSun + 1], t[kSun + 2]);
+  const float elevation = kHalfPi - zenith_angle(d);
+  float relative = std::fabs(std::remainder(azimuth(d) - azimuth(sun), 2.0f * kPi));
+  if (!std::isfinite(relative)) relative = 0.0f;
+  if (d.z < 0.0f) {
+    // Below the horizon: the horizon's colour fading to black at z = -0.4.
+    if (d.z < -0.4f) return Vec3(0.0f);
+    const float fade = 1.0f + 2.5f * d.z;
+    return xyz_to_rec709(sky_xyz(t, 0.0f, relative)) * (fade * fade * fade);
+  }
+  const Vec3 sky = xyz_to_rec709(sky_xyz(t, elevation, relative));
+  const float diameter = t[kSunDiameter];
+  if (diameter < 0.0f) return sky;
+  const float half = diameter / 2.0f;
+  const float angle = std::atan2(glm::length(glm::cross(d, sun)), glm::dot(d, sun));
+  if (!(angle < half)) return sky;
+  const Vec3 bottom(t[kDiscBottom], t[kDiscBottom + 1], t[kDiscBottom + 2]);
+  const Vec3 top(t[kDiscTop], t[kDiscTop + 1], t[kDiscTop + 2]);
+  const float sun_elevation = t[kSunElevation];
+  const float ratio = angle / half;
+  const float limb = 1.0f - 0.6f * (1.0f - std::sqrt(std::max(0.0f, 1.0f - ratio * ratio)));
+  if (static_cast<DiscStyle>(t[kDiscStyle]) == DiscStyle::kSingleScattering) {
+    // 5.x: the disc over the sky, its colour from its lowest to its highest point.
+    const float y = (elevation - sun_elevation) / diameter + 0.5f;
+    return sky + xyz_to_rec709(lerp(bottom, top, y)) * (limb * t[kSunIntensity]);
+  }
+  // 3.x/4.x: the disc instead of the sky; a disc the horizon cuts spans its visible part.
+  if (sun_elevation + half <= 0.0f) return Vec3(0.0f);
+  const float y = sun_elevation - half > 0.0f ? (elevation - sun_elevation) / diameter + 0.5f
+                                              : elevation / (sun_elevation + half);
+  return xyz_to_rec709(lerp(bottom, top, y) * (t[kSunIntensity] * limb));
+}
+
+Vec3 finite_or_black(Vec3 c) {
+  return is_finite(c) ? glm::max(c, Vec3(0.0f)) : Vec3(0.0f);
+}
+
+}  // namespace
+
+Vec3 xyz_to_rec709(Vec3 xyz) {
+  const Vec3 rgb(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
+                 -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
+                 0.0556434f * xyz.x - 0.2040259f * xyz.y + 1.0572252f * xyz.z);
+  return glm::max(rgb, Vec3(0.0f));
+}
+
+float preetham_zenith_luminance(float theta_sun, float turbidity) {
+  const float chi = (4.0f / 9.0f - turbidity / 120.0f) * (kPi - 2.0f * theta_sun);
+  return (4.0453f * turbidity - 4.9710f) * std::tan(chi) - 0.2155f * turbidity + 2.4192f;
+}
+
+std::vector<float> preetham_table(Vec3 sun, float turbidity) {
+  const float t = turbidity;
+  const float theta = zenith_angle(sun);
+  std::vector<float> table(kPreethamSize);
+  table[kSunTheta] = theta;
+  table[kSunPhi] = azimuth(sun);
+  // Cycles scales the zenith luminance (kcd/m^2) by 0.06.
+  table[kZenith] = preetham_zenith_luminance(theta, t) * 0.06f;
+  table[kZenith + 1] = zenith_chromaticity({{{0.00166f, -0.00375f, 0.00209f, 0.0f},
+                                             {-0.02903f, 0.06377f, -0.03202f, 0.00394f},
+                                             {0.11693f, -0.21196f, 0.06052f, 0.25886f}}},
+                                           theta, t);
+  table[kZenith + 2] = zenith_chromaticity({{{0.00275f, -0.00610f, 0.00317f, 0.0f},
+                                             {-0.04214f, 0.08970f, -0.04153f, 0.00516f},
+                                             {0.15346f, -0.26756f, 0.06670f, 0.26688f}}},
+                                           theta, t);
+  // The Perez coefficients A..E of Y, x and y, linear in turbidity (Preetham's appendix).
+  constexpr std::array<std::array<float, 2>, 15> kCoefficients = {{
+      {0.1787f, -1.4630f},
+      {-0.3554f, 0.4275f},
+      {-0.0227f, 5.3251f},
+      {0.1206f, -2.5771f},
+      {-0.0670f, 0.3703f},
+      {-0.0193f, -0.2592f},
+      {-0.0665f, 0.0008f},
+      {-0.0004f, 0.2125f},
+      {-0.0641f, -0.8989f},
+      {-0.0033f, 0.0452f},
+      {-0.0167f, -0.2608f},
+      {-0.0950f, 0.0092f},
+      {-0.0079f, 0.2102f},
+      {-0.0441f, -1.6537f},
+      {-0.0109f, 0.0529f},
+  }};
+  for (size_t i = 0; i < kCoefficients.size(); ++i) {
+    table[kPerez + i] = kCoefficients[i][0] * t + kCoefficients[i][1];
+  }
+  // Each zenith value is the distribution's there: divide by its Perez function.
+  for (size_t c = 0; c < 3; ++c) table[kZenith + c] /= perez(&table[kPerez + 5 * c], 0.0f, theta);
+  return table;
+}
+
+Vec3 sun_direction(float elevation, float rotation) {
+  return {std::cos(elevation) * std::sin(rotation), std::cos(elevation) * std::cos(rotation),
+          std::sin(elevation)};
+}
+
+std::vector<float> scattering_table(const ScatteringParams& p, uint32_t azimuths, uint32_t rows) {
+  azimuths = std::max(azimuths, 2u);
+  rows = std::max(rows, 2u);
+  const float altitude = std::clamp(p.altitude, 1.0f, 59999.0f);
+  const Atmosphere atmosphere{DVec3(0.0, 0.0, kEarthRadius + altitude),
+                              Vec3(p.air_density, p.dust_density, p.ozone_density)};
+  std::vector<float> table(kScatteringHeader + 3 * static_cast<size_t>(azimuths) * rows);
+  const Vec3 sun = sun_direction(p.sun_elevation, p.sun_rotation);
+  for (size_t i = 0; i < 3; ++i) table[kSun + i] = sun[i];
+  table[kSunElevation] = p.sun_elevation;
+  table[kSunDiameter] = p.sun_disc ? p.sun_size : -1.0f;
+  table[kSunIntensity] = p.sun_intensity;
+  // The disc's colour at its lowest and highest points (each at the horizon at least).
+  const float half = p.sun_size / 2.0f;
+  const float solid_angle = 2.0f * kPi * (1.0f - std::cos(half));
+  const bool risen = p.sun_elevation + half > 0.0f;
+  if (p.sun_disc && risen && solid_angle > 0.0f) {
+    const Vec3 bottom =
+        sun_radiance(atmosphere, std::max(p.sun_elevation - half, 0.0f), solid_angle);
+    const Vec3 top = sun_radiance(atmosphere, p.sun_elevation + half, solid_angle);
+    for (size_t i = 0; i < 3; ++i) table[kDiscBottom + i] = bottom[i], table[kDiscTop + i] = top[i];
+  }
+  table[kDiscStyle] = static_cast<float>(p.disc_style);
+  table[kAzimuths] = static_cast<float>(azimuths);
+  table[kRows] = static_cast<float>(rows);
+  // The sky in the sun's frame: the sun at azimuth 0 (towards +X here).
+  const DVec3 towards_sun(std::cos(p.sun_elevation), 0.0, std::sin(p.sun_elevation));
+  for (uint32_t r = 0; r < rows; ++r) {
+    const double v = static_cast<double>(r) / (rows - 1);
+    const double elevation = std::numbers::pi / 2.0 * v * v;
+    for (uint32_t c = 0; c < azimuths; ++c) {
+      const double relative = std::numbers::pi * c / (azimuths - 1);
+      const DVec3 view(std::cos(elevation) * std::cos(relative),
+                       std::cos(elevation) * std::sin(relative), std::sin(elevation));
+      const Vec3 xyz = inscattered(atmosphere, view, towards_sun);
+      float* out = &table[kScatteringHeader + 3 * (static_cast<size_t>(r) * azimuths + c)];
+      out[0] = xyz.x, out[1] = xyz.y, out[2] = xyz.z;
+    }
+  }
+  return table;
+}
+
+size_t table_size(Model model, const float* table, size_t available) {
+  if (model == Model::kPreetham) return available >= kPreethamSize ? kPreethamSize : 0;
+  if (model != Model::kSingleScattering || available < kScatteringHeader) return 0;
+  const float columns = table[kAzimuths];
+  const float rows = table[kRows];
+  const float style = table[kDiscStyle];
+  if (!(columns >= 2.0f && rows >= 2.0f && columns <= 65536.0f && rows <= 65536.0f) ||
+      columns != std::floor(columns) || rows != std::floor(rows) ||
+      !(style == 0.0f || style == 1.0f)) {
+    return 0;
+  }
+  const size_t size =
+      kScatteringHeader + 3 * static_cast<size_t>(columns) * static_cast<size_t>(rows);
+  return size <= available ? size : 0;
+}
+
+Vec3 radiance(Model model, const float* table, Vec3 direction) {
+  if (!is_finite(direction)) return Vec3(0.0f);
+  return finite_or_black(model == Model::kPreetham ? preetham(table, direction)
+                                                   : single_scattering(table, direction));
+}
+
+}  // namespace whitted::sky

@@ -1,0 +1,76 @@
+// The Sky Texture node (op SKY): Blender's daylight models as Cycles evaluates them, each
+// a function of a direction over a table of constants built once at export.
+//
+// - Perez / Preetham (Preetham, Shirley & Smits 1999): the Perez luminance and
+//   chromaticity distributions fitted to turbidity, in CIE xyY, scaled to the zenith
+//   values of the paper's formulas. Analytic; the table is 20 numbers.
+// - Single scattering (Nishita et al. 1993, Blender's "Nishita" / "Single Scattering"):
+//   Rayleigh, Mie and ozone in a spherical atmosphere over 21 wavelengths, integrated
+//   along each view ray, tabulated by elevation and azimuth from the sun (the sky is
+//   symmetric about the sun's vertical plane), plus the sun's disc from the light that
+//   crosses the atmosphere to the viewer.
+//
+// Directions are in the node's space (after its Vector input): +Z up. Radiance is linear
+// Rec.709 (the XYZ of the models through the D65 XYZ-to-Rec.709 matrix, negatives
+// clipped, as Cycles' xyz_to_rgb_clamped).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace whitted::sky {
+
+// The mode field "model" of op SKY (ops.h kSkyModelNames), in this order.
+enum class Model : uint32_t { kPreetham = 0, kSingleScattering = 1 };
+
+// Perez / Preetham: `sun` the direction towards the sun (unit, +Z up).
+std::vector<float> preetham_table(Vec3 sun, float turbidity);
+
+// How a Blender version draws the single-scattering sun disc (sky.cpp says the
+// difference): 3.x/4.x's Nishita, or 5.x's Single Scattering.
+enum class DiscStyle : uint32_t { kNishita = 0, kSingleScattering = 1 };
+
+struct ScatteringParams {
+  float sun_elevation = 0.0f;  // radians above the horizon
+  float sun_rotation = 0.0f;   // radians, from +Y towards +X (Blender's Sun Rotation)
+  bool sun_disc = true;
+  float sun_size = 0.0f;  // the disc's angular diameter, radians
+  float sun_intensity = 1.0f;
+  float altitude = 0.0f;  // metres (clamped to [1, 59999] as Cycles)
+  float air_density = 1.0f;
+  float dust_density = 1.0f;  // Blender 5.x's aerosol density
+  float ozone_density = 1.0f;
+  DiscStyle disc_style = DiscStyle::kNishita;
+};
+
+// The table's grid: `azimuths` columns from the sun's azimuth to its opposite, `rows`
+// elevations from the horizon to the zenith, spaced evenly in sqrt(elevation) (denser at
+// the horizon, where the sky changes fastest).
+inline constexpr uint32_t kScatteringAzimuths = 128;
+inline constexpr uint32_t kScatteringRows = 64;
+
+std::vector<float> scattering_table(const ScatteringParams& params,
+                                    uint32_t azimuths = kScatteringAzimuths,
+                                    uint32_t rows = kScatteringRows);
+
+// The direction towards the sun of `params` (unit, +Z up).
+Vec3 sun_direction(float elevation, float rotation);
+
+// How many constants the table of `model` at `table` holds, or 0 when the `available`
+// constants there do not hold one (the program's check).
+size_t table_size(Model model, const float* table, size_t available);
+
+// The sky's radiance towards `direction` (any length; Cycles reads its z as the cosine
+// of the zenith angle as it is): finite and non-negative.
+Vec3 radiance(Model model, const float* table, Vec3 direction);
+
+// CIE XYZ to linear Rec.709 (D65), negatives clipped.
+Vec3 xyz_to_rec709(Vec3 xyz);
+
+// Preetham's zenith luminance (kcd/m^2) for the sun at zenith angle `theta_sun`.
+float preetham_zenith_luminance(float theta_sun, float turbidity);
+
+}  // namespace whitted::sky

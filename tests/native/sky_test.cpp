@@ -1,0 +1,122 @@
+// The Sky Texture's models (shader/sky.h) against what their papers and Cycles fix:
+// Preetham's zenith luminance, the symmetry about the sun's vertical plane, an empty
+// atmosphere, and finite, non-negative radiance everywhere.
+#include "shader/sky.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace whitted {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+float luminance(Vec3 c) {
+  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+Vec3 towards(float elevation_degrees, float azimuth_degrees) {
+  const float e = elevation_degrees * kPi / 180.0f;
+  const float a = azimuth_degrees * kPi / 180.0f;
+  return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
+}
+
+sky::ScatteringParams scattering(float elevation_degrees, float rotation_degrees) {
+  sky::ScatteringParams p;
+  p.sun_elevation = elevation_degrees * kPi / 180.0f;
+  p.sun_rotation = rotation_degrees * kPi / 180.0f;
+  p.sun_size = 0.009512f;
+  return p;
+}
+
+TEST(Sky, PreethamZenithLuminanceFollowsThePaper) {
+  // Preetham et al. 1999, appendix: Y_z = (4.0453 T - 4.9710) tan(chi) - 0.2155 T + 2.4192,
+  // chi = (4/9 - T/120)(pi - 2 theta_s); at T = 2 and the sun at the zenith (chi = 1.3439, tan chi
+  // = 4.3311), 15.50 kcd/m^2.
+  EXPECT_NEAR(sky::preetham_zenith_luminance(0.0f, 2.0f), 15.50f, 0.01f);
+  // The sky's luminance straight up is that value (Cycles' 0.06 scale) for any sun.
+  for (const float sun_elevation : {10.0f, 30.0f, 60.0f}) {
+    for (const float turbidity : {2.0f, 2.2f, 6.0f}) {
+      const Vec3 sun = towards(sun_elevation, 30.0f);
+      const std::vector<float> t = sky::preetham_table(sun, turbidity);
+      const float zenith = luminance(sky::radiance(sky::Model::kPreetham, t.data(), {0, 0, 1}));
+      const float expected = 0.06f * sky::preetham_zenith_luminance(std::acos(sun.z), turbidity);
+      EXPECT_NEAR(zenith, expected, 1e-3f * expected) << sun_elevation << " " << turbidity;
+    }
+  }
+}
+
+TEST(Sky, SymmetricAboutTheSunsAzimuth) {
+  const float sun_azimuth = 30.0f;
+  const std::vector<float> preetham = sky::preetham_table(towards(20.0f, sun_azimuth), 3.0f);
+  const std::vector<float> single = sky::scattering_table(scattering(20.0f, sun_azimuth));
+  for (const float elevation : {-5.0f, 1.0f, 10.0f, 40.0f, 80.0f}) {
+    for (const float offset : {5.0f, 45.0f, 100.0f, 170.0f}) {
+      const Vec3 left = towards(elevation, sun_azimuth - offset);
+      const Vec3 right = towards(elevation, sun_azimuth + offset);
+      for (const auto& [model, table] : {std::pair{sky::Model::kPreetham, &preetham},
+                                         std::pair{sky::Model::kSingleScattering, &single}}) {
+        const Vec3 a = sky::radiance(model, table->data(), left);
+        const Vec3 b = sky::radiance(model, table->data(), right);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-4f * (1.0f + a[c]));
+      }
+    }
+  }
+}
+
+TEST(Sky, ScatteringSkyIsBrightestTowardsTheSunAndBluerOverhead) {
+  sky::ScatteringParams p = scattering(15.0f, 0.0f);
+  p.sun_disc = false;
+  const std::vector<float> t = sky::scattering_table(p);
+  const auto at = [&](float e, float a) {
+    return sky::radiance(sky::Model::kSingleScattering, t.data(), towards(e, a));
+  };
+  EXPECT_GT(luminance(at(15.0f, 0.0f)), 5.0f * luminance(at(15.0f, 180.0f)));
+  const Vec3 zenith = at(90.0f, 0.0f);
+  EXPECT_GT(zenith.z, zenith.x);  // Rayleigh scattering: blue overhead
+}
+
+TEST(Sky, AnEmptyAtmosphereShowsOnlyTheSunAtItsFullRadiance) {
+  // No air, aerosols or ozone: a black sky, and the disc as bright at any elevation (no
+  // extinction), Intensity scaling it.
+  float first = 0.0f;
+  for (const float elevation : {5.0f, 30.0f, 70.0f}) {
+    sky::ScatteringParams p = scattering(elevation, 10.0f);
+    p.air_density = p.dust_density = p.ozone_density = 0.0f;
+    p.sun_intensity = 2.0f;
+    const std::vector<float> t = sky::scattering_table(p);
+    const Vec3 sun = sky::sun_direction(p.sun_elevation, p.sun_rotation);
+    const float disc = luminance(sky::radiance(sky::Model::kSingleScattering, t.data(), sun));
+    EXPECT_EQ(luminance(sky::radiance(sky::Model::kSingleScattering, t.data(),
+                                      towards(elevation + 10.0f, 10.0f))),
+              0.0f);
+    if (first == 0.0f) first = disc;
+    EXPECT_GT(disc, 1e6f);
+    EXPECT_NEAR(disc, first, 1e-4f * first);
+  }
+}
+
+TEST(Sky, FiniteAndNonNegativeEverywhere) {
+  for (const float sun_elevation : {-40.0f, -0.2f, 0.0f, 0.2f, 45.0f, 90.0f}) {
+    const std::vector<float> tables[] = {
+        sky::preetham_table(towards(sun_elevation, 0.0f), 2.2f),
+        sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8)};
+    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering};
+    for (int m = 0; m < 2; ++m) {
+      for (float e = -90.0f; e <= 90.0f; e += 7.5f) {
+        for (float a = -180.0f; a <= 180.0f; a += 15.0f) {
+          const Vec3 c = sky::radiance(models[m], tables[m].data(), towards(e, a));
+          EXPECT_TRUE(is_finite(c) && c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f)
+              << m << " " << sun_elevation << " " << e << " " << a;
+        }
+      }
+      const Vec3 zero = sky::radiance(models[m], tables[m].data(), Vec3(0.0f));
+      EXPECT_TRUE(is_finite(zero) && zero.x >= 0.0f);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace whitted
