@@ -206,20 +206,24 @@ class Lights {
   }
 
   // The feelers to the world as a light (scene/world_light.h): n x n directions drawn by
-  // its importance map (n = Emitter Samples at the first glossy hit and before, as the
-  // emitter feelers'), each bringing the world's radiance there over its density, E =
-  // L / (pdf n^2), for the Phong sum to weigh by (l.n) as any light's irradiance. A shadow
-  // feeler to infinity decides what arrives. The glossy share is weighed against the
-  // glossy rays that escape the same way (MIS; their NodeState::world_weight).
+  // its importance map, and as many over a sky's sun disc (n = Emitter Samples at the
+  // first glossy hit and before, as the emitter feelers'), each bringing the world's
+  // radiance there over the techniques' summed density, E = L / (pdf n^2), for the Phong sum to
+  // weigh by (l.n) as any light's irradiance. A shadow feeler to infinity decides what arrives. The
+  // glossy share is weighed against the glossy rays that escape the same way (MIS; their
+  // NodeState::world_weight).
   [[gnu::noinline]] void world(const ShadingPoint& p, const GlossyRays& rays,
                                const NodeState& state, RayCounts* counts, Color* phong) const {
     const WorldLight& light = *in_.world;
     const WorldLightParams& params = light.params();
     const Strata strata(state, in_.settings.emitter_samples, 0x776cu,
                         jittered_samples(in_.settings));
+    // Each stratum's point gives one direction per technique (the map, a sun disc).
+    const int count = strata.count() * light.techniques();
     const auto draw = [&](int k) {
-      const WorldLight::Sample s = light.sample(strata.point(k), p.ns);
-      Drawing out{{true, strata.count(), -1, -1, params.diffuse, params.glossy, kAllLightSets},
+      const WorldLight::Sample s =
+          light.sample(strata.point(k % strata.count()), p.ns, k / strata.count());
+      Drawing out{{true, count, -1, -1, params.diffuse, params.glossy, kAllLightSets},
                   {s.wi, kInfinity, Color(0.0f)},
                   1.0f};
       counts->world_feelers += 1;
@@ -233,7 +237,7 @@ class Lights {
       }
       return out;
     };
-    feelers(p, strata.count(), draw, state, counts, phong);
+    feelers(p, count, draw, state, counts, phong);
   }
 
   // A light sample in a wave: its share added now if no feeler is sent, else its feeler

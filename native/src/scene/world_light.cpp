@@ -62,22 +62,46 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
   // Each texel's mean radiance over 2 x 2 points spread evenly in azimuth and in cos(theta)
   // (equal solid angles), rows in parallel: each texel is its own, so the map does not
   // depend on how rows fall to threads.
+  // A sun disc sampled apart is left out of the map: the map would blur it over its
+  // texels, and its draws, landing on the disc or beside it, would add the variance the
+  // disc's own draws avoid. The texels about the disc take the most of 8 x 8 points
+  // outside it instead: the sky just beside a low sun (its aureole) is thousands of times
+  // brighter than elsewhere, and a texel the disc mostly covers must still be drawn as
+  // often as the bright sliver beside it asks (else a feeler finding the sliver brings
+  // it over a tiny density: a firefly).
+  const bool sun = params.sun_angle > 0.0f;
+  const double sun_cos = sun ? std::cos(0.5 * params.sun_angle) : 2.0;
+  // Within the disc's radius and two texels' diagonal of it: the texels about the disc.
+  const double near_cos =
+      std::cos(std::min(kPiD, 0.5 * params.sun_angle + 2.0 * kTwoPiD / std::min(w, 2 * h)));
+  const Vec3 sun_direction = params.sun_direction;
   std::vector<double> weight(static_cast<size_t>(w) * h);
+  const auto texel = [&](int i, int j, double cos0, double cos1) {
+    const double centre_cos = 0.5 * (cos0 + cos1);
+    const Vec3 centre = direction(centre_cos, kTwoPiD * (i + 0.5) / w);
+    const bool near = sun && glm::dot(centre, sun_direction) >= near_cos;
+    const int n = near ? 8 : 2;
+    double sum = 0.0;
+    double most = 0.0;
+    for (int s = 0; s < n * n; ++s) {
+      const double a = ((s % n) + 0.5) / n;
+      const double b = ((s / n) + 0.5) / n;
+      const Vec3 d = direction(cos0 + (cos1 - cos0) * b, kTwoPiD * (i + a) / w);
+      if (glm::dot(d, sun_direction) >= sun_cos) continue;
+      const float value = channel_mean(scene.world_light_radiance(d, 1));
+      if (!(std::isfinite(value) && value > 0.0f)) continue;
+      sum += value;
+      most = std::max(most, static_cast<double>(value));
+    }
+    return near ? most : sum / (n * n);
+  };
   const auto rows = [&](int first, int step) {
     for (int j = first; j < h; j += step) {
       const double cos0 = std::cos(kPiD * j / h);
       const double cos1 = std::cos(kPiD * (j + 1) / h);
       const double solid_angle = (kTwoPiD / w) * (cos0 - cos1);
       for (int i = 0; i < w; ++i) {
-        double sum = 0.0;
-        for (int s = 0; s < 4; ++s) {
-          const double a = 0.25 + 0.5 * (s & 1);
-          const double b = 0.25 + 0.5 * (s >> 1);
-          const Vec3 d = direction(cos0 + (cos1 - cos0) * b, kTwoPiD * (i + a) / w);
-          const float value = channel_mean(scene.world_light_radiance(d, 1));
-          if (std::isfinite(value) && value > 0.0f) sum += value;
-        }
-        weight[static_cast<size_t>(j) * w + i] = 0.25 * sum * solid_angle;
+        weight[static_cast<size_t>(j) * w + i] = texel(i, j, cos0, cos1) * solid_angle;
       }
     }
   };
@@ -129,21 +153,7 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
     }
   }
   light->rows_.back() = 1.0f;
-  if (params.sun_angle > 0.0f) {
-    light->sun_cos_ = std::cos(0.5f * params.sun_angle);
-    // The disc's share of the world's power, by 8 x 8 directions over it, bounded so that
-    // neither part is starved: the map still covers the disc, the disc the map's blur.
-    const Frame frame(params.sun_direction);
-    double sun = 0.0;
-    for (int s = 0; s < 64; ++s) {
-      const double c = 1.0 - (1.0 - light->sun_cos_) * ((s % 8) + 0.5) / 8.0;
-      const Vec3 d = frame.to_world(direction(c, kTwoPiD * ((s / 8) + 0.5) / 8.0));
-      const float value = channel_mean(scene.world_light_radiance(d, 1));
-      if (std::isfinite(value) && value > 0.0f) sun += value;
-    }
-    sun *= kTwoPiD * (1.0 - light->sun_cos_) / 64.0;
-    light->sun_share_ = static_cast<float>(std::clamp(sun / (sun + total), 0.1, 0.9));
-  }
+  if (sun) light->sun_cos_ = static_cast<float>(sun_cos);
   return light;
 }
 
@@ -167,25 +177,24 @@ float WorldLight::sun_pdf(const Vec3& wi) const {
   return 1.0f / (kTwoPi * (1.0f - sun_cos_));
 }
 
-WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n) const {
+WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n, int technique) const {
   Sample out;
   if (!has_map()) {
     out.wi = cosine_direction(u, n);
     out.pdf = pdf(out.wi, n);
     return out;
   }
-  glm::vec2 v = u;
-  if (sun_share_ > 0.0f) {
-    if (v.x < sun_share_) {
-      // Uniformly over the disc's cone.
-      v.x /= sun_share_;
-      const float c = 1.0f - (1.0f - sun_cos_) * v.x;
-      out.wi = Frame(params_.sun_direction).to_world(direction(c, kTwoPiD * v.y));
-      out.pdf = pdf(out.wi, n);
-      return out;
-    }
-    v.x = std::min((v.x - sun_share_) / (1.0f - sun_share_), 0x1.fffffep-1f);
+  if (technique == 1) {
+    // Uniformly over the sun disc's cone.
+    const float c = 1.0f - (1.0f - sun_cos_) * u.x;
+    out.wi = Frame(params_.sun_direction).to_world(direction(c, kTwoPiD * u.y));
+    // Drawn in the cone: its own density whatever the rounding of wi says (a direction
+    // on the cone's edge may test outside it, and over the map's density alone, which
+    // leaves the disc out, bring the disc as a firefly).
+    out.pdf = map_pdf(out.wi) + 1.0f / (kTwoPi * (1.0f - sun_cos_));
+    return out;
   }
+  const glm::vec2 v = u;
   // A row by the marginal CDF, a column by the row's conditional one, each number
   // rescaled within the chosen entry to place the direction inside the texel.
   const int j = find(rows_.data(), height_, v.y);
@@ -209,8 +218,7 @@ WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n) const {
 float WorldLight::pdf(const Vec3& wi, const Vec3& n) const {
   if (!has_map()) return std::max(0.0f, glm::dot(wi, n)) * kInvPi;
   const float map = map_pdf(wi);
-  if (sun_share_ <= 0.0f) return map;
-  return sun_share_ * sun_pdf(wi) + (1.0f - sun_share_) * map;
+  return techniques() == 2 ? map + sun_pdf(wi) : map;
 }
 
 size_t WorldLight::bytes() const {

@@ -41,7 +41,7 @@ struct WorldLightParams {
   int max_bounces = 1024;  // World > Settings > Light Paths > Max Bounces
   // A sky's sun disc (Sky Texture, sun disc on): its direction (unit, towards the sun)
   // and angular diameter (radians); 0: none. Sampled as its own part of the world, so a
-  // tiny bright disc gives no fireflies.
+  // tiny bright disc gives no fireflies (with a map only: Sampling None samples none).
   Vec3 sun_direction{0.0f, 0.0f, 1.0f};
   float sun_angle = 0.0f;
 };
@@ -56,14 +56,23 @@ class WorldLight {
   static std::shared_ptr<const WorldLight> build(const CompiledScene& scene,
                                                  const WorldLightParams& params);
 
+  // How many directions each draw gives: one from the map (or the cosine), and with a
+  // sun disc one more, uniformly over the disc's cone. Both are kept, each weighed by
+  // the balance heuristic (Veach's multi-sample estimator, f / (p_map + p_sun)): no
+  // draw chooses between them, so neither the shadowed ground (lit by the sky alone) nor
+  // the sunlit one (by the disc) pays for the other's choice.
+  int techniques() const { return params_.sun_angle > 0.0f && has_map() ? 2 : 1; }
+
   struct Sample {
     Vec3 wi;           // unit, towards the world
-    float pdf = 0.0f;  // per unit solid angle
+    float pdf = 0.0f;  // pdf(wi, n): the techniques' densities summed
   };
-  // The direction of the two numbers u in [0, 1)^2 for a shading point of normal n
-  // (used by a world of one colour; a map's density does not depend on it).
-  Sample sample(const glm::vec2& u, const Vec3& n) const;
-  // The density with which sample() draws direction wi at normal n.
+  // Technique `technique`'s direction of the two numbers u in [0, 1)^2 for a shading
+  // point of normal n (a world of one colour is drawn by the cosine about n; a map's
+  // density does not depend on it).
+  Sample sample(const glm::vec2& u, const Vec3& n, int technique = 0) const;
+  // The sum over the techniques of the density with which each draws direction wi at
+  // normal n, per unit solid angle: what a draw's radiance is divided by.
   float pdf(const Vec3& wi, const Vec3& n) const;
 
   const WorldLightParams& params() const { return params_; }
@@ -82,7 +91,6 @@ class WorldLight {
   std::vector<float> rows_;     // H: the marginal CDF over rows, ending at 1
   std::vector<float> columns_;  // H x W: each row's conditional CDF, ending at 1
   std::vector<float> density_;  // H x W: each texel's probability over its solid angle
-  float sun_share_ = 0.0f;      // the probability of a feeler drawn towards the sun's disc
   float sun_cos_ = 1.0f;        // the cosine of the disc's angular radius
 };
 
