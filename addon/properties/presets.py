@@ -87,11 +87,13 @@ PRESETS = (
     (
         "FINAL",
         "Final",
-        "Noise threshold 0.01 (32 to 256 samples per pixel), eight bounces, exact Fresnel",
+        "Noise threshold 0.01 (32 to 1024 samples per pixel), eight bounces, exact Fresnel",
         Quality(
             max_depth=8,
             aa_mode="JITTERED",
-            aa_samples=16,
+            # Up to 32 x 32: with 16 x 16 a bright emitter's edges and a wide lens's blur
+            # stopped noisy at the most (docs/notes/adaptive_sampling.md, session 27).
+            aa_samples=32,
             aa_threshold=0.1,
             aa_depth=2,
             adaptive_sampling=True,

@@ -12,7 +12,6 @@
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
-#include "core/sobol.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/local.h"
 #include "integrator/mis.h"
@@ -92,9 +91,15 @@ class Lights {
                           light.diffuse,
                           light.glossy,
                           light.shadow_sets};
-      const LampPoints points(state, feeler.light, samples, jittered_samples(in_.settings));
+      // Where a sized lamp's n x n feelers go (sample_light): at its strata's centres, the
+      // same for every camera sample (the seed's lattice), unless the camera samples are
+      // Monte Carlo ones (jittered_samples, settings.h); then at the chain's points of this
+      // lamp (ChainPoints, strata.h), so that many camera samples of one feeler each
+      // integrate the lamp (Cook 1984), stratified across the pixel's samples.
+      const bool sobol = jittered_samples(in_.settings);
+      const ChainPoints points(state, 0x6c616d00u + static_cast<uint32_t>(feeler.light), samples);
       const auto draw = [&](int s) {
-        if (!points.sobol) return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
+        if (!sobol) return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
         const glm::vec2 at = points.point(s);
         return Drawing{feeler, sample_light(light, p.it.position, s, &at), 1.0f};
       };
@@ -108,24 +113,6 @@ class Lights {
   }
 
  private:
-  // Where a sized lamp's n x n feelers go (sample_light): at its strata's centres, the
-  // same for every camera sample (the seed's lattice), unless the camera samples are Monte
-  // Carlo ones (jittered_samples, settings.h); then feeler s of a camera sample is point
-  // index * n^2 + s of the pixel's Sobol sequence of this depth and lamp (NodeState::pixel,
-  // index; core/sobol.h), so that many camera samples of one feeler each integrate the lamp
-  // (Cook 1984), stratified across the pixel's samples.
-  struct LampPoints {
-    bool sobol;
-    uint32_t seed;
-    uint32_t first;
-    LampPoints(const NodeState& state, int32_t light, int samples, bool sobol_points)
-        : sobol(sobol_points),
-          seed(hash3(state.pixel, static_cast<uint32_t>(state.depth),
-                     0x6c616d00u + static_cast<uint32_t>(light))),
-          first(state.index * static_cast<uint32_t>(samples)) {}
-    glm::vec2 point(int s) const { return sobol_point(first + static_cast<uint32_t>(s), seed); }
-  };
-
   // Adds the shares of `samples` light samples, draw(s) for s in order, to *phong one by
   // one, as light_sample's are; in a wave (Policy::kQueues), queues their feelers. A
   // single feeler, or those of different lights, trace faster one at a time
