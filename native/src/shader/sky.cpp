@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -243,35 +244,75 @@ enum ScatteringSlot : size_t {
   kSunIntensity = 5,  //
   kDiscBottom = 6,    // XYZ at the disc's lowest point
   kDiscTop = 9,       // and at its highest
-  kDiscStyle = 12,    // DiscStyle
-  kAzimuths = 13,     // columns
-  kRows = 14,         // rows
-  kScatteringHeader = 15,
+  kStyle = 12,        // Style
+  kColumns = 13,      // texels from the sun's opposite to the sun (half the texture's width)
+  kRows = 14,         // texels from the horizon up
+  kDiscLowest = 15,   // 5.x: the elevation above which the disc is drawn
+  kScatteringHeader = 16,
 };
 
 Vec3 lerp(Vec3 a, Vec3 b, float t) {
   return a + (b - a) * t;
 }
 
-// The tabulated sky (XYZ) at elevation `elevation` >= 0 and azimuth `relative` in [0, pi]
-// from the sun, bilinear between the grid's nodes.
+// The elevation of the table's row `r` of `rows`: 5.x's texture holds the sky at
+// pi/2 (r / rows)^2 in the rows above its middle; 3.x's, a texture of `rows` rows, at
+// (pi/2 + half a row's step) (r / rows)^2.
+double row_elevation(Style style, uint32_t r, uint32_t rows) {
+  const double s = static_cast<double>(r) / rows;
+  const double top = std::numbers::pi / 2.0;
+  return (style == Style::kNishita ? top + top / (2.0 * rows) : top) * s * s;
+}
+
+// 5.x's texture below its middle row `row` (of `rows` there): the horizon's colour
+// faded by (1 - 2.5 sin(e))^3 to black at sin(e) = 0.4, e the row's depth
+// pi/2 (1 - row / rows)^2.
+float below_horizon_fade(uint32_t row, uint32_t rows) {
+  const float s = 1.0f - static_cast<float>(row) / static_cast<float>(rows);
+  const float z = std::sin(kHalfPi * s * s);
+  if (!(z < 0.4f)) return 0.0f;
+  const float fade = 1.0f - 2.5f * z;
+  return fade * fade * fade;
+}
+
+// The baked texture (XYZ) at texel (`x`, `y`), both clamped to it (Cycles' Extend):
+// 2 * columns wide, its right half the left's mirror image; 3.x's `rows` high, 5.x's
+// twice that, the lower half the horizon's row faded.
+Vec3 texel(const float* t, int x, int y) {
+  const auto columns = static_cast<int>(t[kColumns]);
+  const auto rows = static_cast<int>(t[kRows]);
+  const bool v5 = static_cast<Style>(t[kStyle]) == Style::kSingleScattering;
+  x = std::clamp(x, 0, 2 * columns - 1);
+  if (x >= columns) x = 2 * columns - 1 - x;
+  y = std::clamp(y, 0, (v5 ? 2 * rows : rows) - 1);
+  float scale = 1.0f;
+  if (v5) {
+    if (y < rows) scale = below_horizon_fade(static_cast<uint32_t>(y), static_cast<uint32_t>(rows));
+    y = std::max(y - rows, 0);
+  }
+  const float* c = t + kScatteringHeader + 3 * (static_cast<size_t>(y) * columns + x);
+  return Vec3(c[0], c[1], c[2]) * scale;
+}
+
+// The sky (XYZ) at `elevation` and azimuth `relative` in [0, pi] from the sun, read from
+// the baked texture as Cycles' kernel reads it: the sun's azimuth at the middle of its
+// width, the elevation through sqrt (5.x signed, over its height; 3.x over the upper
+// hemisphere, clamped), bilinear between texel centres.
 Vec3 sky_xyz(const float* t, float elevation, float relative) {
-  const auto columns = static_cast<uint32_t>(t[kAzimuths]);
-  const auto rows = static_cast<uint32_t>(t[kRows]);
-  const float u = std::clamp(relative / kPi, 0.0f, 1.0f) * static_cast<float>(columns - 1);
-  const float v =
-      std::sqrt(std::clamp(elevation / kHalfPi, 0.0f, 1.0f)) * static_cast<float>(rows - 1);
-  const auto u0 = std::min(static_cast<uint32_t>(u), columns - 2);
-  const auto v0 = std::min(static_cast<uint32_t>(v), rows - 2);
-  const float fu = u - static_cast<float>(u0);
-  const float fv = v - static_cast<float>(v0);
-  const float* grid = t + kScatteringHeader;
-  const auto at = [&](uint32_t row, uint32_t column) {
-    const float* c = grid + 3 * (static_cast<size_t>(row) * columns + column);
-    return Vec3(c[0], c[1], c[2]);
-  };
-  return lerp(lerp(at(v0, u0), at(v0, u0 + 1), fu), lerp(at(v0 + 1, u0), at(v0 + 1, u0 + 1), fu),
-              fv);
+  const float width = 2.0f * t[kColumns];
+  const bool v5 = static_cast<Style>(t[kStyle]) == Style::kSingleScattering;
+  const float height = v5 ? 2.0f * t[kRows] : t[kRows];
+  const float u = 0.5f - std::clamp(relative, 0.0f, kPi) / (2.0f * kPi);
+  const float root = std::sqrt(std::min(std::fabs(elevation) / kHalfPi, 1.0f));
+  const float v = v5 ? 0.5f + 0.5f * std::copysign(root, elevation) : root;
+  const float px = u * width - 0.5f;
+  const float py = v * height - 0.5f;
+  const float fx = std::floor(px);
+  const float fy = std::floor(py);
+  const auto x = static_cast<int>(fx);
+  const auto y = static_cast<int>(fy);
+  return lerp(lerp(texel(t, x, y), texel(t, x + 1, y), px - fx),
+              lerp(texel(t, x, y + 1), texel(t, x + 1, y + 1), px - fx), py - fy);
 }
 
 Vec3 single_scattering(const float* t, Vec3 d) {
@@ -279,27 +320,30 @@ Vec3 single_scattering(const float* t, Vec3 d) {
   const float elevation = kHalfPi - zenith_angle(d);
   float relative = std::fabs(std::remainder(azimuth(d) - azimuth(sun), 2.0f * kPi));
   if (!std::isfinite(relative)) relative = 0.0f;
-  if (d.z < 0.0f) {
-    // Below the horizon: the horizon's colour fading to black at z = -0.4.
+  const auto style = static_cast<Style>(t[kStyle]);
+  if (style == Style::kNishita && d.z < 0.0f) {
+    // 3.x below the horizon: the horizon's colour fading to black at z = -0.4.
     if (d.z < -0.4f) return Vec3(0.0f);
     const float fade = 1.0f + 2.5f * d.z;
     return xyz_to_rec709(sky_xyz(t, 0.0f, relative)) * (fade * fade * fade);
   }
-  const Vec3 sky = xyz_to_rec709(sky_xyz(t, elevation, relative));
+  const Vec3 sky = sky_xyz(t, elevation, relative);
   const float diameter = t[kSunDiameter];
-  if (diameter < 0.0f) return sky;
+  if (diameter < 0.0f) return xyz_to_rec709(sky);
   const float half = diameter / 2.0f;
   const float angle = std::atan2(glm::length(glm::cross(d, sun)), glm::dot(d, sun));
-  if (!(angle < half)) return sky;
+  if (!(angle < half)) return xyz_to_rec709(sky);
   const Vec3 bottom(t[kDiscBottom], t[kDiscBottom + 1], t[kDiscBottom + 2]);
   const Vec3 top(t[kDiscTop], t[kDiscTop + 1], t[kDiscTop + 2]);
   const float sun_elevation = t[kSunElevation];
   const float ratio = angle / half;
   const float limb = 1.0f - 0.6f * (1.0f - std::sqrt(std::max(0.0f, 1.0f - ratio * ratio)));
-  if (static_cast<DiscStyle>(t[kDiscStyle]) == DiscStyle::kSingleScattering) {
-    // 5.x: the disc over the sky, its colour from its lowest to its highest point.
+  if (style == Style::kSingleScattering) {
+    // 5.x: the disc over the sky down to a little below the horizon (the Earth's edge
+    // seen from the altitude), its colour from its lowest to its highest point.
+    if (!(elevation > t[kDiscLowest])) return xyz_to_rec709(sky);
     const float y = (elevation - sun_elevation) / diameter + 0.5f;
-    return sky + xyz_to_rec709(lerp(bottom, top, y)) * (limb * t[kSunIntensity]);
+    return xyz_to_rec709(sky + lerp(bottom, top, y) * (limb * t[kSunIntensity]));
   }
   // 3.x/4.x: the disc instead of the sky; a disc the horizon cuts spans its visible part.
   if (sun_elevation + half <= 0.0f) return Vec3(0.0f);
@@ -373,13 +417,13 @@ Vec3 sun_direction(float elevation, float rotation) {
           std::sin(elevation)};
 }
 
-std::vector<float> scattering_table(const ScatteringParams& p, uint32_t azimuths, uint32_t rows) {
-  azimuths = std::max(azimuths, 2u);
-  rows = std::max(rows, 2u);
+std::vector<float> scattering_table(const ScatteringParams& p, uint32_t columns, uint32_t rows) {
+  columns = std::max(columns, 1u);
+  rows = std::max(rows, 1u);
   const float altitude = std::clamp(p.altitude, 1.0f, 59999.0f);
   const Atmosphere atmosphere{DVec3(0.0, 0.0, kEarthRadius + altitude),
                               Vec3(p.air_density, p.dust_density, p.ozone_density)};
-  std::vector<float> table(kScatteringHeader + 3 * static_cast<size_t>(azimuths) * rows);
+  std::vector<float> table(kScatteringHeader + 3 * static_cast<size_t>(columns) * rows);
   const Vec3 sun = sun_direction(p.sun_elevation, p.sun_rotation);
   for (size_t i = 0; i < 3; ++i) table[kSun + i] = sun[i];
   table[kSunElevation] = p.sun_elevation;
@@ -395,33 +439,47 @@ std::vector<float> scattering_table(const ScatteringParams& p, uint32_t azimuths
     const Vec3 top = sun_radiance(atmosphere, p.sun_elevation + half, solid_angle);
     for (size_t i = 0; i < 3; ++i) table[kDiscBottom + i] = bottom[i], table[kDiscTop + i] = top[i];
   }
-  table[kDiscStyle] = static_cast<float>(p.disc_style);
-  table[kAzimuths] = static_cast<float>(azimuths);
+  table[kStyle] = static_cast<float>(p.style);
+  table[kColumns] = static_cast<float>(columns);
   table[kRows] = static_cast<float>(rows);
-  // The sky in the sun's frame: the sun at azimuth 0 (towards +X here).
+  // 5.x draws the disc down to the Earth's edge seen from the altitude (as its multiple-
+  // scattering model sizes the Earth, 6371 km, and the altitude unclamped).
+  constexpr double kDiscEarthRadius = 6371e3;
+  table[kDiscLowest] = static_cast<float>(
+      -(std::numbers::pi / 2.0 -
+        std::asin(kDiscEarthRadius / (kDiscEarthRadius + static_cast<double>(p.altitude)))));
+  // The sky in the sun's frame (the sun towards +X): column c at the azimuth Cycles bakes
+  // its texel c at, pi (1 - c / columns) from the sun (half a texel further than the
+  // texel's centre, which its kernel reads).
   const DVec3 towards_sun(std::cos(p.sun_elevation), 0.0, std::sin(p.sun_elevation));
-  for (uint32_t r = 0; r < rows; ++r) {
-    const double v = static_cast<double>(r) / (rows - 1);
-    const double elevation = std::numbers::pi / 2.0 * v * v;
-    for (uint32_t c = 0; c < azimuths; ++c) {
-      const double relative = std::numbers::pi * c / (azimuths - 1);
-      const DVec3 view(std::cos(elevation) * std::cos(relative),
-                       std::cos(elevation) * std::sin(relative), std::sin(elevation));
-      const Vec3 xyz = inscattered(atmosphere, view, towards_sun);
-      float* out = &table[kScatteringHeader + 3 * (static_cast<size_t>(r) * azimuths + c)];
-      out[0] = xyz.x, out[1] = xyz.y, out[2] = xyz.z;
+  const auto fill = [&](uint32_t first, uint32_t step) {
+    for (uint32_t r = first; r < rows; r += step) {
+      const double elevation = row_elevation(p.style, r, rows);
+      for (uint32_t c = 0; c < columns; ++c) {
+        const double relative = std::numbers::pi * (1.0 - static_cast<double>(c) / columns);
+        const DVec3 view(std::cos(elevation) * std::cos(relative),
+                         std::cos(elevation) * std::sin(relative), std::sin(elevation));
+        const Vec3 xyz = inscattered(atmosphere, view, towards_sun);
+        float* out = &table[kScatteringHeader + 3 * (static_cast<size_t>(r) * columns + c)];
+        out[0] = xyz.x, out[1] = xyz.y, out[2] = xyz.z;
+      }
     }
-  }
+  };
+  const auto threads = std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
+  std::vector<std::thread> pool;
+  for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(fill, t, threads);
+  fill(0, threads);
+  for (std::thread& t : pool) t.join();
   return table;
 }
 
 size_t table_size(Model model, const float* table, size_t available) {
   if (model == Model::kPreetham) return available >= kPreethamSize ? kPreethamSize : 0;
   if (model != Model::kSingleScattering || available < kScatteringHeader) return 0;
-  const float columns = table[kAzimuths];
+  const float columns = table[kColumns];
   const float rows = table[kRows];
-  const float style = table[kDiscStyle];
-  if (!(columns >= 2.0f && rows >= 2.0f && columns <= 65536.0f && rows <= 65536.0f) ||
+  const float style = table[kStyle];
+  if (!(columns >= 1.0f && rows >= 1.0f && columns <= 65536.0f && rows <= 65536.0f) ||
       columns != std::floor(columns) || rows != std::floor(rows) ||
       !(style == 0.0f || style == 1.0f)) {
     return 0;

@@ -7,8 +7,10 @@
 // - Single scattering (Nishita et al. 1993, Blender's "Nishita" / "Single Scattering"):
 //   Rayleigh, Mie and ozone in a spherical atmosphere over 21 wavelengths, integrated
 //   along each view ray, tabulated by elevation and azimuth from the sun (the sky is
-//   symmetric about the sun's vertical plane), plus the sun's disc from the light that
-//   crosses the atmosphere to the viewer.
+//   symmetric about the sun's vertical plane) on the texels of the texture Cycles bakes
+//   and read back as its kernel reads that texture (the difference is up to several
+//   percent near and below the horizon, which a diffuse scene sees), plus the sun's
+//   disc from the light that crosses the atmosphere to the viewer.
 //
 // Directions are in the node's space (after its Vector input): +Z up. Radiance is linear
 // Rec.709 (the XYZ of the models through the D65 XYZ-to-Rec.709 matrix, negatives
@@ -29,9 +31,9 @@ enum class Model : uint32_t { kPreetham = 0, kSingleScattering = 1 };
 // Perez / Preetham: `sun` the direction towards the sun (unit, +Z up).
 std::vector<float> preetham_table(Vec3 sun, float turbidity);
 
-// How a Blender version draws the single-scattering sun disc (sky.cpp says the
-// difference): 3.x/4.x's Nishita, or 5.x's Single Scattering.
-enum class DiscStyle : uint32_t { kNishita = 0, kSingleScattering = 1 };
+// How a Blender version tabulates the single-scattering sky and draws its sun disc
+// (sky.cpp says the differences): 3.x/4.x's Nishita, or 5.x's Single Scattering.
+enum class Style : uint32_t { kNishita = 0, kSingleScattering = 1 };
 
 struct ScatteringParams {
   float sun_elevation = 0.0f;  // radians above the horizon
@@ -43,17 +45,19 @@ struct ScatteringParams {
   float air_density = 1.0f;
   float dust_density = 1.0f;  // Blender 5.x's aerosol density
   float ozone_density = 1.0f;
-  DiscStyle disc_style = DiscStyle::kNishita;
+  Style style = Style::kNishita;
 };
 
-// The table's grid: `azimuths` columns from the sun's azimuth to its opposite, `rows`
-// elevations from the horizon to the zenith, spaced evenly in sqrt(elevation) (denser at
-// the horizon, where the sky changes fastest).
-inline constexpr uint32_t kScatteringAzimuths = 128;
-inline constexpr uint32_t kScatteringRows = 64;
+// The table is the texture Cycles bakes, read as Cycles reads it (bilinear between
+// texel centres, clamped at the edges): `columns` texels from the sun's opposite to the
+// sun (the texture's other half their mirror image), `rows` from the horizon towards
+// the zenith, spaced evenly in sqrt(elevation). Cycles' texture is 512 wide with 128
+// such rows.
+inline constexpr uint32_t kScatteringColumns = 256;
+inline constexpr uint32_t kScatteringRows = 128;
 
 std::vector<float> scattering_table(const ScatteringParams& params,
-                                    uint32_t azimuths = kScatteringAzimuths,
+                                    uint32_t columns = kScatteringColumns,
                                     uint32_t rows = kScatteringRows);
 
 // The direction towards the sun of `params` (unit, +Z up).
