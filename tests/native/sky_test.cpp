@@ -52,12 +52,16 @@ TEST(Sky, SymmetricAboutTheSunsAzimuth) {
   const float sun_azimuth = 30.0f;
   const std::vector<float> preetham = sky::preetham_table(towards(20.0f, sun_azimuth), 3.0f);
   const std::vector<float> single = sky::scattering_table(scattering(20.0f, sun_azimuth));
+  sky::ScatteringParams p = scattering(20.0f, sun_azimuth);
+  p.style = sky::Style::kMultipleScattering;
+  const std::vector<float> multiple = sky::scattering_table(p);
   for (const float elevation : {-5.0f, 1.0f, 10.0f, 40.0f, 80.0f}) {
     for (const float offset : {5.0f, 45.0f, 100.0f, 170.0f}) {
       const Vec3 left = towards(elevation, sun_azimuth - offset);
       const Vec3 right = towards(elevation, sun_azimuth + offset);
       for (const auto& [model, table] : {std::pair{sky::Model::kPreetham, &preetham},
-                                         std::pair{sky::Model::kSingleScattering, &single}}) {
+                                         std::pair{sky::Model::kSingleScattering, &single},
+                                         std::pair{sky::Model::kSingleScattering, &multiple}}) {
         const Vec3 a = sky::radiance(model, table->data(), left);
         const Vec3 b = sky::radiance(model, table->data(), right);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-4f * (1.0f + a[c]));
@@ -146,11 +150,15 @@ TEST(Sky, AnEmptyAtmosphereShowsOnlyTheSunAtItsFullRadiance) {
 
 TEST(Sky, FiniteAndNonNegativeEverywhere) {
   for (const float sun_elevation : {-40.0f, -0.2f, 0.0f, 0.2f, 45.0f, 90.0f}) {
+    sky::ScatteringParams multiple = scattering(sun_elevation, 0.0f);
+    multiple.style = sky::Style::kMultipleScattering;
     const std::vector<float> tables[] = {
         sky::preetham_table(towards(sun_elevation, 0.0f), 2.2f),
-        sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8)};
-    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering};
-    for (int m = 0; m < 2; ++m) {
+        sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8),
+        sky::scattering_table(multiple, 16, 8)};
+    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering,
+                                 sky::Model::kSingleScattering};
+    for (int m = 0; m < 3; ++m) {
       for (float e = -90.0f; e <= 90.0f; e += 7.5f) {
         for (float a = -180.0f; a <= 180.0f; a += 15.0f) {
           const Vec3 c = sky::radiance(models[m], tables[m].data(), towards(e, a));
