@@ -100,36 +100,39 @@ void bind_program(py::module_& m) {
       "scattering_table",
       [](float sun_elevation, float sun_rotation, bool sun_disc, float sun_size,
          float sun_intensity, float altitude, float air_density, float dust_density,
-         float ozone_density, std::string_view disc_style, uint32_t azimuths, uint32_t rows) {
-        if (disc_style != "NISHITA" && disc_style != "SINGLE_SCATTERING") {
-          throw py::value_error("disc_style is NISHITA or SINGLE_SCATTERING, not " +
-                                std::string(disc_style));
+         float ozone_density, std::string_view style, uint32_t columns, uint32_t rows) {
+        if (style != "NISHITA" && style != "SINGLE_SCATTERING" && style != "MULTIPLE_SCATTERING") {
+          throw py::value_error("style is NISHITA, SINGLE_SCATTERING or MULTIPLE_SCATTERING, not " +
+                                std::string(style));
         }
-        const sky::ScatteringParams params{
-            sun_elevation,
-            sun_rotation,
-            sun_disc,
-            sun_size,
-            sun_intensity,
-            altitude,
-            air_density,
-            dust_density,
-            ozone_density,
-            disc_style == "NISHITA" ? sky::DiscStyle::kNishita : sky::DiscStyle::kSingleScattering};
+        const sky::ScatteringParams params{sun_elevation,
+                                           sun_rotation,
+                                           sun_disc,
+                                           sun_size,
+                                           sun_intensity,
+                                           altitude,
+                                           air_density,
+                                           dust_density,
+                                           ozone_density,
+                                           style == "NISHITA" ? sky::Style::kNishita
+                                           : style == "SINGLE_SCATTERING"
+                                               ? sky::Style::kSingleScattering
+                                               : sky::Style::kMultipleScattering};
         std::vector<float> t;
         {
           py::gil_scoped_release release;
-          t = sky::scattering_table(params, azimuths, rows);
+          t = sky::scattering_table(params, columns, rows);
         }
         return py::array_t<float>(static_cast<py::ssize_t>(t.size()), t.data());
       },
       py::arg("sun_elevation"), py::arg("sun_rotation"), py::arg("sun_disc"), py::arg("sun_size"),
       py::arg("sun_intensity"), py::arg("altitude"), py::arg("air_density"),
-      py::arg("dust_density"), py::arg("ozone_density"), py::arg("disc_style"),
-      py::arg("azimuths") = sky::kScatteringAzimuths, py::arg("rows") = sky::kScatteringRows,
+      py::arg("dust_density"), py::arg("ozone_density"), py::arg("style"),
+      py::arg("columns") = sky::kScatteringColumns, py::arg("rows") = sky::kScatteringRows,
       "The constants of op SKY's SINGLE_SCATTERING model (shader/sky.h): Blender's Sky "
-      "Texture parameters (radians, metres), the disc drawn as 3.x/4.x's NISHITA or 5.x's "
-      "SINGLE_SCATTERING; the sky tabulated at `azimuths` x `rows` directions.");
+      "Texture parameters (radians, metres), the sky baked and its disc drawn as 3.x/4.x's "
+      "NISHITA or 5.x's SINGLE_SCATTERING or MULTIPLE_SCATTERING; the sky tabulated at "
+      "`columns` x `rows` texels (a hemisphere's).");
   m.def(
       "sun_direction",
       [](float elevation, float rotation) {

@@ -52,12 +52,16 @@ TEST(Sky, SymmetricAboutTheSunsAzimuth) {
   const float sun_azimuth = 30.0f;
   const std::vector<float> preetham = sky::preetham_table(towards(20.0f, sun_azimuth), 3.0f);
   const std::vector<float> single = sky::scattering_table(scattering(20.0f, sun_azimuth));
+  sky::ScatteringParams p = scattering(20.0f, sun_azimuth);
+  p.style = sky::Style::kMultipleScattering;
+  const std::vector<float> multiple = sky::scattering_table(p);
   for (const float elevation : {-5.0f, 1.0f, 10.0f, 40.0f, 80.0f}) {
     for (const float offset : {5.0f, 45.0f, 100.0f, 170.0f}) {
       const Vec3 left = towards(elevation, sun_azimuth - offset);
       const Vec3 right = towards(elevation, sun_azimuth + offset);
       for (const auto& [model, table] : {std::pair{sky::Model::kPreetham, &preetham},
-                                         std::pair{sky::Model::kSingleScattering, &single}}) {
+                                         std::pair{sky::Model::kSingleScattering, &single},
+                                         std::pair{sky::Model::kSingleScattering, &multiple}}) {
         const Vec3 a = sky::radiance(model, table->data(), left);
         const Vec3 b = sky::radiance(model, table->data(), right);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-4f * (1.0f + a[c]));
@@ -76,6 +80,52 @@ TEST(Sky, ScatteringSkyIsBrightestTowardsTheSunAndBluerOverhead) {
   EXPECT_GT(luminance(at(15.0f, 0.0f)), 5.0f * luminance(at(15.0f, 180.0f)));
   const Vec3 zenith = at(90.0f, 0.0f);
   EXPECT_GT(zenith.z, zenith.x);  // Rayleigh scattering: blue overhead
+}
+
+TEST(Sky, BelowTheHorizonEachVersionFadesTheHorizonAsCyclesDoes) {
+  // 3.x fades the horizon's colour by (1 + 2.5 z)^3 along the direction's z; 5.x bakes
+  // that fade into the texture's rows below its middle, each at its row's depth
+  // pi/2 (1 - y / rows)^2, and reads them bilinearly (up to 5% brighter at -9 degrees
+  // with 3.x's fade, 30% at -20: Cycles 5.0 measured per pixel).
+  constexpr uint32_t kRows = 16;
+  for (const sky::Style style : {sky::Style::kNishita, sky::Style::kSingleScattering}) {
+    sky::ScatteringParams p = scattering(10.0f, 0.0f);
+    p.sun_disc = false;
+    p.style = style;
+    const std::vector<float> t = sky::scattering_table(p, 32, kRows);
+    const auto at = [&](float elevation, float azimuth_degrees) {
+      const float a = azimuth_degrees * kPi / 180.0f;
+      return sky::radiance(sky::Model::kSingleScattering, t.data(),
+                           {std::cos(elevation) * std::sin(a), std::cos(elevation) * std::cos(a),
+                            std::sin(elevation)});
+    };
+    for (const float azimuth : {20.0f, 75.0f, 160.0f}) {
+      // 5.x: the horizon's stored row alone at its texel centre just above the horizon.
+      const float just_above = kPi / 2.0f * std::pow(0.5f / kRows, 2.0f);
+      const Vec3 horizon =
+          style == sky::Style::kNishita ? at(0.0f, azimuth) : at(just_above, azimuth);
+      ASSERT_GT(luminance(horizon), 0.0f);
+      for (const uint32_t row : {2u, 5u, 9u, 14u}) {
+        // The depth of row `row`'s centre as 5.x reads it.
+        const float s = 1.0f - (static_cast<float>(row) + 0.5f) / kRows;
+        const float depth = kPi / 2.0f * s * s;
+        float fade = 0.0f;
+        if (style == sky::Style::kNishita) {
+          fade = std::pow(1.0f - 2.5f * std::sin(depth), 3.0f);
+          if (std::sin(depth) > 0.4f) fade = 0.0f;
+        } else {
+          const float r = 1.0f - static_cast<float>(row) / kRows;
+          const float z = std::sin(kPi / 2.0f * r * r);
+          fade = z < 0.4f ? std::pow(1.0f - 2.5f * z, 3.0f) : 0.0f;
+        }
+        const Vec3 below = at(-depth, azimuth);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(below[c], horizon[c] * fade, 1e-3f * horizon[c] + 1e-7f)
+              << static_cast<int>(style) << " " << azimuth << " " << row << " " << c;
+        }
+      }
+    }
+  }
 }
 
 TEST(Sky, AnEmptyAtmosphereShowsOnlyTheSunAtItsFullRadiance) {
@@ -100,11 +150,15 @@ TEST(Sky, AnEmptyAtmosphereShowsOnlyTheSunAtItsFullRadiance) {
 
 TEST(Sky, FiniteAndNonNegativeEverywhere) {
   for (const float sun_elevation : {-40.0f, -0.2f, 0.0f, 0.2f, 45.0f, 90.0f}) {
+    sky::ScatteringParams multiple = scattering(sun_elevation, 0.0f);
+    multiple.style = sky::Style::kMultipleScattering;
     const std::vector<float> tables[] = {
         sky::preetham_table(towards(sun_elevation, 0.0f), 2.2f),
-        sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8)};
-    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering};
-    for (int m = 0; m < 2; ++m) {
+        sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8),
+        sky::scattering_table(multiple, 16, 8)};
+    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering,
+                                 sky::Model::kSingleScattering};
+    for (int m = 0; m < 3; ++m) {
       for (float e = -90.0f; e <= 90.0f; e += 7.5f) {
         for (float a = -180.0f; a <= 180.0f; a += 15.0f) {
           const Vec3 c = sky::radiance(models[m], tables[m].data(), towards(e, a));

@@ -242,8 +242,8 @@ def _texture_mapping(c, node, vector):
 
 def _sky(c, out):
     """Blender's Sky Texture (native shader/sky.h). Perez/Preetham analytic; Nishita
-    (3.x/4.x) and 5.x's Single Scattering a table built natively here; Hosek/Wilkie
-    rendered as Preetham and 5.x's Multiple Scattering as Single Scattering, warned."""
+    (3.x/4.x) and 5.x's Single and Multiple Scattering a table built natively here;
+    Hosek/Wilkie rendered as Preetham, warned."""
     node = out.node
     native = load_native()
     vector = _texture_mapping(c, node, _texture_vector(c, out))
@@ -260,20 +260,13 @@ def _sky(c, out):
         table = native.preetham_table(tuple(x / norm for x in sun), node.turbidity)
         mode = ops.pack("SKY", model="PREETHAM")
     else:
-        if model == "MULTIPLE_SCATTERING":
-            c.warn(
-                node,
-                "Multiple Scattering is not implemented; rendered as Single Scattering "
-                "(the sky darker and bluer, most near the horizon and at a low sun)",
-            )
-        style = "NISHITA" if model == "NISHITA" else "SINGLE_SCATTERING"
         dust = getattr(node, "aerosol_density", None)
         if dust is None:
             dust = node.dust_density
         elevation, rotation = _sun_position(node.sun_elevation, node.sun_rotation)
         table = native.scattering_table(
             elevation, rotation, node.sun_disc, node.sun_size, node.sun_intensity,
-            node.altitude, node.air_density, dust, node.ozone_density, style,
+            node.altitude, node.air_density, dust, node.ozone_density, model,
         )  # fmt: skip
         mode = ops.pack("SKY", model="SINGLE_SCATTERING")
         half = node.sun_size / 2.0

@@ -3,9 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <thread>
 
+#include <glm/common.hpp>
+#include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 namespace whitted::sky {
 namespace {
@@ -235,6 +240,173 @@ Vec3 sun_radiance(const Atmosphere& a, float elevation, float solid_angle) {
   return to_xyz(spectrum);
 }
 
+// ---------------------------------------------------------------------------------------
+// Multiple scattering (5.x): Garcia Linan's atmosphere in km, at 630, 560, 490 and 430 nm.
+
+using Vec4 = glm::vec4;
+
+constexpr float kMsEarthRadius = 6371.0f;      // km
+constexpr float kMsAtmosphereHeight = 100.0f;  // km
+constexpr float kMsAtmosphereRadius = kMsEarthRadius + kMsAtmosphereHeight;
+constexpr int kMsSteps = 64;        // midpoint steps along a ray
+constexpr int kMsLutCosines = 256;  // transmittance table: cosine of the zenith angle
+constexpr int kMsLutHeights = 64;   // by height (0 to the atmosphere's top)
+constexpr float kMsAerosolG = 0.8f;
+constexpr float kMsGroundAlbedo = 0.3f;
+const Vec4 kMsSunIrradiance(1.679f, 1.828f, 1.986f, 1.307f);
+const Vec4 kMsMolecularScattering(6.605e-3f, 1.067e-2f, 1.842e-2f,
+                                  3.156e-2f);  // km^-1 at sea level
+const Vec4 kMsOzoneCrossSection(3.472e-25f, 3.914e-25f, 1.349e-25f, 11.03e-27f);
+constexpr float kMsOzoneDobson = 334.5f;
+const Vec4 kMsAerosolAbsorption(2.8722e-24f, 4.6168e-24f, 7.9706e-24f, 1.3578e-23f);
+const Vec4 kMsAerosolScattering(1.5908e-22f, 1.7711e-22f, 2.0942e-22f, 2.4033e-22f);
+constexpr float kMsAerosolDensity = 1.3681e20f;
+constexpr float kMsAerosolBackground = 2e6f;
+constexpr float kMsAerosolHeight = 0.73f;  // km
+// Each wavelength's radiance to XYZ.
+constexpr std::array<std::array<float, 3>, 4> kMsToXyz = {{
+    {53.386917738564668f, 22.981337506691025f, 0.0f},
+    {43.904844466369358f, 71.347795700053394f, 0.102506867965741f},
+    {1.6137278251608962f, 18.422960591455485f, 31.742921188390806f},
+    {20.762668673810577f, 2.3614213523314369f, 110.48009643252140f},
+}};
+
+Vec3 ms_to_xyz(Vec4 l) {
+  Vec3 xyz(0.0f);
+  for (int i = 0; i < 4; ++i) xyz += Vec3(kMsToXyz[i][0], kMsToXyz[i][1], kMsToXyz[i][2]) * l[i];
+  return xyz;
+}
+
+// The distance from `p` along `d` to the sphere of `radius` about the Earth's centre
+// (the nearer crossing ahead), or -1 for none.
+float ms_to_sphere(Vec3 p, Vec3 d, float radius) {
+  const float b = glm::dot(p, d);
+  const float c = glm::dot(p, p) - radius * radius;
+  if (c > 0.0f && b > 0.0f) return -1.0f;
+  const float disc = b * b - c;
+  if (disc < 0.0f) return -1.0f;
+  return disc >= b * b ? -b + std::sqrt(disc) : -b - std::sqrt(disc);
+}
+
+// The sun in the bake's frame: towards -X, `cos_zenith` up.
+Vec3 ms_sun(float cos_zenith) {
+  return {-std::sqrt(std::max(0.0f, 1.0f - cos_zenith * cos_zenith)), 0.0f, cos_zenith};
+}
+
+class MultipleScattering {
+ public:
+  explicit MultipleScattering(Vec3 scale) : scale_(scale) {}
+
+  struct Coefficients {
+    Vec4 scattering_air, scattering_aerosol, extinction;
+  };
+
+  // Air (Rayleigh), ozone and aerosols at `altitude` km.
+  Coefficients at(float altitude) const {
+    const float aerosol =
+        kMsAerosolDensity *
+        (std::exp(-altitude / kMsAerosolHeight) + kMsAerosolBackground / kMsAerosolDensity) *
+        scale_.y;
+    const float log_h = std::log(std::max(altitude, 1e-4f));
+    const float ozone =
+        3.78547397e20f * std::exp(-(log_h - 3.22261f) * (log_h - 3.22261f) * 5.55555555f - log_h);
+    const Vec4 air = kMsMolecularScattering *
+                     (std::exp(-0.07771971f * std::pow(altitude, 1.16364243f)) * scale_.x);
+    const Vec4 scattering_aerosol = kMsAerosolScattering * aerosol;
+    const Vec4 extinction = kMsAerosolAbsorption * aerosol + scattering_aerosol +
+                            kMsOzoneCrossSection * (kMsOzoneDobson * ozone * scale_.z) + air;
+    return {air, scattering_aerosol, extinction};
+  }
+
+  // The transmittance to the sun `cos_zenith` up from `height` (0 to 1 of the atmosphere).
+  Vec4 transmittance(float cos_zenith, float height) const {
+    const Vec3 sun = ms_sun(cos_zenith);
+    const Vec3 origin(0.0f, 0.0f, kMsEarthRadius + (kMsAtmosphereRadius - kMsEarthRadius) * height);
+    const float step = ms_to_sphere(origin, sun, kMsAtmosphereRadius) / kMsSteps;
+    Vec4 depth(0.0f);
+    for (int i = 0; i < kMsSteps; ++i) {
+      const Vec3 x = origin + sun * ((static_cast<float>(i) + 0.5f) * step);
+      depth += at(std::max(glm::length(x) - kMsEarthRadius, 0.0f)).extinction * step;
+    }
+    return glm::exp(-depth);
+  }
+
+  void tabulate() {
+    lut_.resize(static_cast<size_t>(kMsLutCosines) * kMsLutHeights);
+    for (int y = 0; y < kMsLutHeights; ++y) {
+      for (int x = 0; x < kMsLutCosines; ++x) {
+        lut_[static_cast<size_t>(y) * kMsLutCosines + x] =
+            transmittance(2.0f * static_cast<float>(x) / (kMsLutCosines - 1) - 1.0f,
+                          static_cast<float>(y) / (kMsLutHeights - 1));
+      }
+    }
+  }
+
+  // The sunlight scattered towards the eye at `origin` along `view` over `length` km.
+  Vec4 inscattered(Vec3 sun, Vec3 origin, Vec3 view, float length) const {
+    const float mu = glm::dot(-view, sun);
+    const float air_phase = 3.0f / (16.0f * kPi) * (1.0f + mu * mu);
+    const float g2 = kMsAerosolG * kMsAerosolG;
+    const float den = 1.0f + g2 + 2.0f * kMsAerosolG * mu;
+    const float aerosol_phase = (1.0f - g2) / (4.0f * kPi * den * std::sqrt(den));
+    const float dt = length / kMsSteps;
+    Vec4 radiance(0.0f);
+    Vec4 transmitted(1.0f);
+    for (int i = 0; i < kMsSteps; ++i) {
+      const Vec3 x = origin + view * ((static_cast<float>(i) + 0.5f) * dt);
+      const float r = glm::length(x);
+      const float altitude = std::max(r - kMsEarthRadius, 0.0f);
+      const float height = altitude / kMsAtmosphereHeight;
+      const float cos_sun = glm::dot(x / r, sun);
+      const Coefficients k = at(altitude);
+      const Vec4 to_sun = lookup(cos_sun, height);
+      const Vec4 more = multiple(cos_sun, height, r);
+      const Vec4 source =
+          kMsSunIrradiance * (k.scattering_air * (air_phase * to_sun + more) +
+                              k.scattering_aerosol * (aerosol_phase * to_sun + more));
+      const Vec4 step = glm::exp(-dt * k.extinction);
+      // Each step's in-scattering integrated exactly over its extinction (Hillaire 2016).
+      radiance += transmitted * (source - source * step) / glm::max(k.extinction, Vec4(1e-7f));
+      transmitted *= step;
+    }
+    return radiance;
+  }
+
+ private:
+  Vec4 texel(int x, int y) const { return lut_[static_cast<size_t>(y) * kMsLutCosines + x]; }
+
+  Vec4 lookup(float cos_zenith, float height) const {
+    const float x = (kMsLutCosines - 1) * std::clamp(cos_zenith * 0.5f + 0.5f, 0.0f, 1.0f);
+    const float y = (kMsLutHeights - 1) * std::clamp(height, 0.0f, 1.0f);
+    const int x0 = static_cast<int>(x);
+    const int y0 = static_cast<int>(y);
+    const int x1 = std::min(x0 + 1, kMsLutCosines - 1);
+    const int y1 = std::min(y0 + 1, kMsLutHeights - 1);
+    const float fx = x - static_cast<float>(x0);
+    const float fy = y - static_cast<float>(y0);
+    const Vec4 bottom = glm::mix(texel(x0, y0), texel(x1, y0), fx);
+    return glm::mix(bottom, glm::mix(texel(x0, y1), texel(x1, y1), fx), fy);
+  }
+
+  // The light scattered more than once, per unit scattering: the ground's (lit by the
+  // sun, seen over the solid angle it subtends from `r` km) and an analytic fit of the
+  // atmosphere's own.
+  Vec4 multiple(float cos_zenith, float height, float r) const {
+    const float ratio = kMsEarthRadius / r;
+    const float omega = 2.0f * kPi * (1.0f - std::sqrt(1.0f - ratio * ratio));
+    const Vec4 ground_to_sun = lookup(cos_zenith, 0.0f);
+    const Vec4 ground_to_here = lookup(1.0f, 0.0f) / lookup(1.0f, height);
+    const Vec4 ground = (omega / (4.0f * kPi)) * (kMsGroundAlbedo / kPi) * ground_to_sun *
+                        ground_to_here * cos_zenith;
+    const Vec4 atmosphere =
+        0.02f * Vec4(0.217f, 0.347f, 0.594f, 1.0f) / (1.0f + 5.0f * std::exp(-17.92f * cos_zenith));
+    return atmosphere + ground;
+  }
+
+  Vec3 scale_;  // air, aerosol, ozone densities
+  std::vector<Vec4> lut_;
+};
+
 // Table offsets of the single-scattering model.
 enum ScatteringSlot : size_t {
   kSun = 0,           // xyz, unit
@@ -243,35 +415,80 @@ enum ScatteringSlot : size_t {
   kSunIntensity = 5,  //
   kDiscBottom = 6,    // XYZ at the disc's lowest point
   kDiscTop = 9,       // and at its highest
-  kDiscStyle = 12,    // DiscStyle
-  kAzimuths = 13,     // columns
-  kRows = 14,         // rows
-  kScatteringHeader = 15,
+  kStyle = 12,        // Style
+  kColumns = 13,      // texels from the sun's opposite to the sun (half the texture's width)
+  kRows = 14,         // texels from the horizon up
+  kDiscLowest = 15,   // 5.x: the elevation above which the disc is drawn
+  kScatteringHeader = 16,
 };
 
 Vec3 lerp(Vec3 a, Vec3 b, float t) {
   return a + (b - a) * t;
 }
 
-// The tabulated sky (XYZ) at elevation `elevation` >= 0 and azimuth `relative` in [0, pi]
-// from the sun, bilinear between the grid's nodes.
+// The elevation of the table's row `r`: 5.x's Single Scattering texture holds the sky
+// at pi/2 (r / rows)^2 in the `rows` rows above its middle; 3.x's, a texture of `rows`
+// rows, at (pi/2 + half a row's step) (r / rows)^2; Multiple Scattering's, 2 `rows`
+// rows over the whole sphere, at its rows' centres, pi/2 l |l| for l from -1 to 1.
+double row_elevation(Style style, uint32_t r, uint32_t rows) {
+  const double top = std::numbers::pi / 2.0;
+  if (style == Style::kMultipleScattering) {
+    const double l = (r + 0.5) / rows - 1.0;
+    return top * l * std::fabs(l);
+  }
+  const double s = static_cast<double>(r) / rows;
+  return (style == Style::kNishita ? top + top / (2.0 * rows) : top) * s * s;
+}
+
+// 5.x's texture below its middle row `row` (of `rows` there): the horizon's colour
+// faded by (1 - 2.5 sin(e))^3 to black at sin(e) = 0.4, e the row's depth
+// pi/2 (1 - row / rows)^2.
+float below_horizon_fade(uint32_t row, uint32_t rows) {
+  const float s = 1.0f - static_cast<float>(row) / static_cast<float>(rows);
+  const float z = std::sin(kHalfPi * s * s);
+  if (!(z < 0.4f)) return 0.0f;
+  const float fade = 1.0f - 2.5f * z;
+  return fade * fade * fade;
+}
+
+// The baked texture (XYZ) at texel (`x`, `y`), both clamped to it (Cycles' Extend):
+// 2 * columns wide, its right half the left's mirror image; 3.x's `rows` high, 5.x's
+// twice that (Single Scattering's lower half the horizon's row faded).
+Vec3 texel(const float* t, int x, int y) {
+  const auto columns = static_cast<int>(t[kColumns]);
+  const auto rows = static_cast<int>(t[kRows]);
+  const auto style = static_cast<Style>(t[kStyle]);
+  x = std::clamp(x, 0, 2 * columns - 1);
+  if (x >= columns) x = 2 * columns - 1 - x;
+  y = std::clamp(y, 0, (style == Style::kNishita ? rows : 2 * rows) - 1);
+  float scale = 1.0f;
+  if (style == Style::kSingleScattering) {
+    if (y < rows) scale = below_horizon_fade(static_cast<uint32_t>(y), static_cast<uint32_t>(rows));
+    y = std::max(y - rows, 0);
+  }
+  const float* c = t + kScatteringHeader + 3 * (static_cast<size_t>(y) * columns + x);
+  return Vec3(c[0], c[1], c[2]) * scale;
+}
+
+// The sky (XYZ) at `elevation` and azimuth `relative` in [0, pi] from the sun, read from
+// the baked texture as Cycles' kernel reads it: the sun's azimuth at the middle of its
+// width, the elevation through sqrt (5.x signed, over its height; 3.x over the upper
+// hemisphere, clamped), bilinear between texel centres.
 Vec3 sky_xyz(const float* t, float elevation, float relative) {
-  const auto columns = static_cast<uint32_t>(t[kAzimuths]);
-  const auto rows = static_cast<uint32_t>(t[kRows]);
-  const float u = std::clamp(relative / kPi, 0.0f, 1.0f) * static_cast<float>(columns - 1);
-  const float v =
-      std::sqrt(std::clamp(elevation / kHalfPi, 0.0f, 1.0f)) * static_cast<float>(rows - 1);
-  const auto u0 = std::min(static_cast<uint32_t>(u), columns - 2);
-  const auto v0 = std::min(static_cast<uint32_t>(v), rows - 2);
-  const float fu = u - static_cast<float>(u0);
-  const float fv = v - static_cast<float>(v0);
-  const float* grid = t + kScatteringHeader;
-  const auto at = [&](uint32_t row, uint32_t column) {
-    const float* c = grid + 3 * (static_cast<size_t>(row) * columns + column);
-    return Vec3(c[0], c[1], c[2]);
-  };
-  return lerp(lerp(at(v0, u0), at(v0, u0 + 1), fu), lerp(at(v0 + 1, u0), at(v0 + 1, u0 + 1), fu),
-              fv);
+  const float width = 2.0f * t[kColumns];
+  const bool v5 = static_cast<Style>(t[kStyle]) != Style::kNishita;
+  const float height = v5 ? 2.0f * t[kRows] : t[kRows];
+  const float u = 0.5f - std::clamp(relative, 0.0f, kPi) / (2.0f * kPi);
+  const float root = std::sqrt(std::min(std::fabs(elevation) / kHalfPi, 1.0f));
+  const float v = v5 ? 0.5f + 0.5f * std::copysign(root, elevation) : root;
+  const float px = u * width - 0.5f;
+  const float py = v * height - 0.5f;
+  const float fx = std::floor(px);
+  const float fy = std::floor(py);
+  const auto x = static_cast<int>(fx);
+  const auto y = static_cast<int>(fy);
+  return lerp(lerp(texel(t, x, y), texel(t, x + 1, y), px - fx),
+              lerp(texel(t, x, y + 1), texel(t, x + 1, y + 1), px - fx), py - fy);
 }
 
 Vec3 single_scattering(const float* t, Vec3 d) {
@@ -279,27 +496,30 @@ Vec3 single_scattering(const float* t, Vec3 d) {
   const float elevation = kHalfPi - zenith_angle(d);
   float relative = std::fabs(std::remainder(azimuth(d) - azimuth(sun), 2.0f * kPi));
   if (!std::isfinite(relative)) relative = 0.0f;
-  if (d.z < 0.0f) {
-    // Below the horizon: the horizon's colour fading to black at z = -0.4.
+  const auto style = static_cast<Style>(t[kStyle]);
+  if (style == Style::kNishita && d.z < 0.0f) {
+    // 3.x below the horizon: the horizon's colour fading to black at z = -0.4.
     if (d.z < -0.4f) return Vec3(0.0f);
     const float fade = 1.0f + 2.5f * d.z;
     return xyz_to_rec709(sky_xyz(t, 0.0f, relative)) * (fade * fade * fade);
   }
-  const Vec3 sky = xyz_to_rec709(sky_xyz(t, elevation, relative));
+  const Vec3 sky = sky_xyz(t, elevation, relative);
   const float diameter = t[kSunDiameter];
-  if (diameter < 0.0f) return sky;
+  if (diameter < 0.0f) return xyz_to_rec709(sky);
   const float half = diameter / 2.0f;
   const float angle = std::atan2(glm::length(glm::cross(d, sun)), glm::dot(d, sun));
-  if (!(angle < half)) return sky;
+  if (!(angle < half)) return xyz_to_rec709(sky);
   const Vec3 bottom(t[kDiscBottom], t[kDiscBottom + 1], t[kDiscBottom + 2]);
   const Vec3 top(t[kDiscTop], t[kDiscTop + 1], t[kDiscTop + 2]);
   const float sun_elevation = t[kSunElevation];
   const float ratio = angle / half;
   const float limb = 1.0f - 0.6f * (1.0f - std::sqrt(std::max(0.0f, 1.0f - ratio * ratio)));
-  if (static_cast<DiscStyle>(t[kDiscStyle]) == DiscStyle::kSingleScattering) {
-    // 5.x: the disc over the sky, its colour from its lowest to its highest point.
+  if (style != Style::kNishita) {
+    // 5.x: the disc over the sky down to a little below the horizon (the Earth's edge
+    // seen from the altitude), its colour from its lowest to its highest point.
+    if (!(elevation > t[kDiscLowest])) return xyz_to_rec709(sky);
     const float y = (elevation - sun_elevation) / diameter + 0.5f;
-    return sky + xyz_to_rec709(lerp(bottom, top, y)) * (limb * t[kSunIntensity]);
+    return xyz_to_rec709(sky + lerp(bottom, top, y) * (limb * t[kSunIntensity]));
   }
   // 3.x/4.x: the disc instead of the sky; a disc the horizon cuts spans its visible part.
   if (sun_elevation + half <= 0.0f) return Vec3(0.0f);
@@ -373,61 +593,109 @@ Vec3 sun_direction(float elevation, float rotation) {
           std::sin(elevation)};
 }
 
-std::vector<float> scattering_table(const ScatteringParams& p, uint32_t azimuths, uint32_t rows) {
-  azimuths = std::max(azimuths, 2u);
-  rows = std::max(rows, 2u);
-  const float altitude = std::clamp(p.altitude, 1.0f, 59999.0f);
-  const Atmosphere atmosphere{DVec3(0.0, 0.0, kEarthRadius + altitude),
-                              Vec3(p.air_density, p.dust_density, p.ozone_density)};
-  std::vector<float> table(kScatteringHeader + 3 * static_cast<size_t>(azimuths) * rows);
+std::vector<float> scattering_table(const ScatteringParams& p, uint32_t columns, uint32_t rows) {
+  columns = std::max(columns, 1u);
+  rows = std::max(rows, 1u);
+  const bool multiple = p.style == Style::kMultipleScattering;
+  const uint32_t stored_rows = multiple ? 2 * rows : rows;
+  std::vector<float> table(kScatteringHeader + 3 * static_cast<size_t>(columns) * stored_rows);
   const Vec3 sun = sun_direction(p.sun_elevation, p.sun_rotation);
   for (size_t i = 0; i < 3; ++i) table[kSun + i] = sun[i];
   table[kSunElevation] = p.sun_elevation;
   table[kSunDiameter] = p.sun_disc ? p.sun_size : -1.0f;
   table[kSunIntensity] = p.sun_intensity;
-  // The disc's colour at its lowest and highest points (each at the horizon at least).
+  table[kStyle] = static_cast<float>(p.style);
+  table[kColumns] = static_cast<float>(columns);
+  table[kRows] = static_cast<float>(rows);
+  // 5.x draws the disc down to the Earth's edge seen from the altitude (as its multiple-
+  // scattering model sizes the Earth, and the altitude unclamped).
+  constexpr double kDiscEarthRadius = kMsEarthRadius * 1e3;
+  table[kDiscLowest] = static_cast<float>(
+      -(std::numbers::pi / 2.0 -
+        std::asin(kDiscEarthRadius / (kDiscEarthRadius + static_cast<double>(p.altitude)))));
   const float half = p.sun_size / 2.0f;
   const float solid_angle = 2.0f * kPi * (1.0f - std::cos(half));
-  const bool risen = p.sun_elevation + half > 0.0f;
-  if (p.sun_disc && risen && solid_angle > 0.0f) {
-    const Vec3 bottom =
-        sun_radiance(atmosphere, std::max(p.sun_elevation - half, 0.0f), solid_angle);
-    const Vec3 top = sun_radiance(atmosphere, p.sun_elevation + half, solid_angle);
+  const auto set_disc = [&](Vec3 bottom, Vec3 top) {
     for (size_t i = 0; i < 3; ++i) table[kDiscBottom + i] = bottom[i], table[kDiscTop + i] = top[i];
-  }
-  table[kDiscStyle] = static_cast<float>(p.disc_style);
-  table[kAzimuths] = static_cast<float>(azimuths);
-  table[kRows] = static_cast<float>(rows);
-  // The sky in the sun's frame: the sun at azimuth 0 (towards +X here).
+  };
+  const Vec3 scale(p.air_density, p.dust_density, p.ozone_density);
+  std::function<Vec3(uint32_t, uint32_t)> bake;
+  MultipleScattering ms(scale);
   const DVec3 towards_sun(std::cos(p.sun_elevation), 0.0, std::sin(p.sun_elevation));
-  for (uint32_t r = 0; r < rows; ++r) {
-    const double v = static_cast<double>(r) / (rows - 1);
-    const double elevation = std::numbers::pi / 2.0 * v * v;
-    for (uint32_t c = 0; c < azimuths; ++c) {
-      const double relative = std::numbers::pi * c / (azimuths - 1);
+  const Atmosphere atmosphere{
+      DVec3(0.0, 0.0, kEarthRadius + std::clamp(p.altitude, 1.0f, 59999.0f)), scale};
+  if (multiple) {
+    const float altitude = std::clamp(p.altitude, 1.0f, 99999.0f) / 1000.0f;  // km
+    const float height = altitude / kMsAtmosphereHeight;
+    // The disc's colour at its lowest and highest points, through the atmosphere
+    // without the horizon's cut.
+    if (p.sun_disc && solid_angle > 0.0f) {
+      const auto disc = [&](float elevation) {
+        return ms_to_xyz(kMsSunIrradiance * ms.transmittance(std::sin(elevation), height) /
+                         solid_angle);
+      };
+      set_disc(disc(p.sun_elevation - half), disc(p.sun_elevation + half));
+    }
+    ms.tabulate();
+    // Texel (c, r) at its centre: azimuth 2 pi (c + 0.5) / width with the sun at pi.
+    const Vec3 towards(ms_sun(std::sin(p.sun_elevation)));
+    const Vec3 origin(0.0f, 0.0f, kMsEarthRadius + altitude);
+    bake = [&, towards, origin](uint32_t r, uint32_t c) {
+      const auto elevation = static_cast<float>(row_elevation(p.style, r, rows));
+      const float az = kPi * (static_cast<float>(c) + 0.5f) / static_cast<float>(columns);
+      const Vec3 view(std::cos(elevation) * std::cos(az), std::cos(elevation) * std::sin(az),
+                      std::sin(elevation));
+      const float ground = ms_to_sphere(origin, view, kMsEarthRadius);
+      const float length = ground < 0.0f ? ms_to_sphere(origin, view, kMsAtmosphereRadius) : ground;
+      return ms_to_xyz(ms.inscattered(towards, origin, view, length));
+    };
+  } else {
+    // The disc's colour at its lowest and highest points (each at the horizon at least).
+    if (p.sun_disc && p.sun_elevation + half > 0.0f && solid_angle > 0.0f) {
+      set_disc(sun_radiance(atmosphere, std::max(p.sun_elevation - half, 0.0f), solid_angle),
+               sun_radiance(atmosphere, p.sun_elevation + half, solid_angle));
+    }
+    // The sun towards +X; column c at the azimuth Cycles bakes its texel c at,
+    // pi (1 - c / columns) from the sun (half a texel further than the texel's centre,
+    // which its kernel reads).
+    bake = [&](uint32_t r, uint32_t c) {
+      const double elevation = row_elevation(p.style, r, rows);
+      const double relative = std::numbers::pi * (1.0 - static_cast<double>(c) / columns);
       const DVec3 view(std::cos(elevation) * std::cos(relative),
                        std::cos(elevation) * std::sin(relative), std::sin(elevation));
-      const Vec3 xyz = inscattered(atmosphere, view, towards_sun);
-      float* out = &table[kScatteringHeader + 3 * (static_cast<size_t>(r) * azimuths + c)];
-      out[0] = xyz.x, out[1] = xyz.y, out[2] = xyz.z;
-    }
+      return inscattered(atmosphere, view, towards_sun);
+    };
   }
+  const auto fill = [&](uint32_t first, uint32_t step) {
+    for (uint32_t r = first; r < stored_rows; r += step) {
+      for (uint32_t c = 0; c < columns; ++c) {
+        const Vec3 xyz = bake(r, c);
+        float* out = &table[kScatteringHeader + 3 * (static_cast<size_t>(r) * columns + c)];
+        out[0] = xyz.x, out[1] = xyz.y, out[2] = xyz.z;
+      }
+    }
+  };
+  const auto threads = std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
+  std::vector<std::thread> pool;
+  for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(fill, t, threads);
+  fill(0, threads);
+  for (std::thread& t : pool) t.join();
   return table;
 }
 
 size_t table_size(Model model, const float* table, size_t available) {
   if (model == Model::kPreetham) return available >= kPreethamSize ? kPreethamSize : 0;
   if (model != Model::kSingleScattering || available < kScatteringHeader) return 0;
-  const float columns = table[kAzimuths];
+  const float columns = table[kColumns];
   const float rows = table[kRows];
-  const float style = table[kDiscStyle];
-  if (!(columns >= 2.0f && rows >= 2.0f && columns <= 65536.0f && rows <= 65536.0f) ||
+  const float style = table[kStyle];
+  if (!(columns >= 1.0f && rows >= 1.0f && columns <= 65536.0f && rows <= 65536.0f) ||
       columns != std::floor(columns) || rows != std::floor(rows) ||
-      !(style == 0.0f || style == 1.0f)) {
+      !(style == 0.0f || style == 1.0f || style == 2.0f)) {
     return 0;
   }
-  const size_t size =
-      kScatteringHeader + 3 * static_cast<size_t>(columns) * static_cast<size_t>(rows);
+  const size_t stored = static_cast<size_t>(rows) * (style == 2.0f ? 2 : 1);
+  const size_t size = kScatteringHeader + 3 * static_cast<size_t>(columns) * stored;
   return size <= available ? size : 0;
 }
 

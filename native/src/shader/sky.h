@@ -7,8 +7,16 @@
 // - Single scattering (Nishita et al. 1993, Blender's "Nishita" / "Single Scattering"):
 //   Rayleigh, Mie and ozone in a spherical atmosphere over 21 wavelengths, integrated
 //   along each view ray, tabulated by elevation and azimuth from the sun (the sky is
-//   symmetric about the sun's vertical plane), plus the sun's disc from the light that
-//   crosses the atmosphere to the viewer.
+//   symmetric about the sun's vertical plane) on the texels of the texture Cycles bakes
+//   and read back as its kernel reads that texture (the difference is up to several
+//   percent near and below the horizon, which a diffuse scene sees), plus the sun's
+//   disc from the light that crosses the atmosphere to the viewer.
+// - Multiple scattering (Blender 5.x; the model of Fernando Garcia Linan's 2022
+//   thesis, "Physically Based Rendering of the Sky and Atmosphere"): air, aerosols and
+//   ozone over 4 wavelengths, single scattering plus an analytic fit of the light
+//   scattered more than once and of the ground's, integrated along each view ray down
+//   to the ground; the same texture layout and read-back, its texels at their centres
+//   over the whole sphere.
 //
 // Directions are in the node's space (after its Vector input): +Z up. Radiance is linear
 // Rec.709 (the XYZ of the models through the D65 XYZ-to-Rec.709 matrix, negatives
@@ -29,9 +37,10 @@ enum class Model : uint32_t { kPreetham = 0, kSingleScattering = 1 };
 // Perez / Preetham: `sun` the direction towards the sun (unit, +Z up).
 std::vector<float> preetham_table(Vec3 sun, float turbidity);
 
-// How a Blender version draws the single-scattering sun disc (sky.cpp says the
-// difference): 3.x/4.x's Nishita, or 5.x's Single Scattering.
-enum class DiscStyle : uint32_t { kNishita = 0, kSingleScattering = 1 };
+// Which of Blender's tabulated skies, baked and its sun disc drawn as that version's
+// Cycles does (sky.cpp says the differences): 3.x/4.x's Nishita, 5.x's Single
+// Scattering, or 5.x's Multiple Scattering.
+enum class Style : uint32_t { kNishita = 0, kSingleScattering = 1, kMultipleScattering = 2 };
 
 struct ScatteringParams {
   float sun_elevation = 0.0f;  // radians above the horizon
@@ -39,21 +48,23 @@ struct ScatteringParams {
   bool sun_disc = true;
   float sun_size = 0.0f;  // the disc's angular diameter, radians
   float sun_intensity = 1.0f;
-  float altitude = 0.0f;  // metres (clamped to [1, 59999] as Cycles)
+  float altitude = 0.0f;  // metres (clamped to [1, 59999], Multiple Scattering 99999)
   float air_density = 1.0f;
   float dust_density = 1.0f;  // Blender 5.x's aerosol density
   float ozone_density = 1.0f;
-  DiscStyle disc_style = DiscStyle::kNishita;
+  Style style = Style::kNishita;
 };
 
-// The table's grid: `azimuths` columns from the sun's azimuth to its opposite, `rows`
-// elevations from the horizon to the zenith, spaced evenly in sqrt(elevation) (denser at
-// the horizon, where the sky changes fastest).
-inline constexpr uint32_t kScatteringAzimuths = 128;
-inline constexpr uint32_t kScatteringRows = 64;
+// The table is the texture Cycles bakes, read as Cycles reads it (bilinear between
+// texel centres, clamped at the edges): `columns` texels from the sun's opposite to the
+// sun (the texture's other half their mirror image), `rows` from the horizon towards
+// the zenith, spaced evenly in sqrt(elevation). Cycles' texture is 512 wide with 128
+// such rows.
+inline constexpr uint32_t kScatteringColumns = 256;
+inline constexpr uint32_t kScatteringRows = 128;
 
 std::vector<float> scattering_table(const ScatteringParams& params,
-                                    uint32_t azimuths = kScatteringAzimuths,
+                                    uint32_t columns = kScatteringColumns,
                                     uint32_t rows = kScatteringRows);
 
 // The direction towards the sun of `params` (unit, +Z up).
