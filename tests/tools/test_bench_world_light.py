@@ -44,8 +44,9 @@ def test_one_scene_and_one_file_give_each_preset_its_times_map_and_errors(tmp_pa
             assert row["samples_on"] > 0.0 and row["samples_off"] > 0.0, row
             for key in ("error_converged", "error_cycles", "luminance_ratio", "ssim"):
                 assert math.isfinite(row[key]), row
-    # The HDRI's map is built in every render (a new scene each time); one colour needs none.
+    # The HDRI's map is built in every render (a new scene each time); one colour needs
+    # none (its light is built in microseconds).
     assert all(r["map_seconds"] > 0.0 for r in forest["rows"])
-    assert all(r["map_seconds"] == 0.0 for r in authored["rows"])
+    assert all(r["map_seconds"] < 1e-3 for r in authored["rows"])
     # Under the HDRI alone its feelers are the only shadow rays: more rays with it.
     assert all(r["rays_on"] > r["rays_off"] for r in forest["rows"])

@@ -323,6 +323,20 @@ def _summary(results):
     )
 
 
+def _one_colour_build(results):
+    """The longest world light build of the renders of `results` lit by a world of one
+    colour (0 for none)."""
+    return max(
+        (
+            r["map_seconds"]
+            for result in results
+            if result["world_light"].startswith("a world of one colour")
+            for r in result["rows"]
+        ),
+        default=0.0,
+    )
+
+
 def write_markdown(out, data, command, args):
     width, height = args.resolution
     file_width, file_height = args.file_resolution
@@ -340,8 +354,10 @@ def write_markdown(out, data, command, args):
         f"{args.converged_grid} samples a pixel, Seed 1) and with Cycles limited to direct "
         f"light ({CYCLES_SAMPLES} samples). Time: the wall-clock time of the render call "
         f"(median of {args.repeats}), its trace phase, and the importance map's build "
-        "(the render statistics' `world_light` phase; 0 where the world is of one colour "
-        "and needs no map). Error: display RMSE in levels of 255 (the Estimate's measure); "
+        "(the render statistics' `world_light` phase, the world light's whole build: at "
+        f"most {_one_colour_build(data['scenes'] + data['files']) * 1e6:.0f} microseconds "
+        "where the world is of one colour and needs no map). Error: display RMSE in levels "
+        "of 255 (the Estimate's measure); "
         "against Cycles also the summed luminance ratio and the SSIM after a 3 x 3 blur. "
         f"Both engines filter pixels with a one-pixel box. bpy {data['blender']}.",
         "",
