@@ -43,6 +43,9 @@ class WorldData:
     # world space, Blender's axes; its angular diameter in radians), else None.
     sun: tuple | None = None
     light: "WorldLightData" = None  # how it lights surfaces (None: no world)
+    # World > Ray Visibility: whether camera, glossy (reflected) and transmission
+    # (refracted) rays see it; the others see black, as in Cycles.
+    visibility: tuple = (True, True, True)
 
 
 # Cycles' importance map when World > Settings > Sampling is Auto and no image sets it,
@@ -78,11 +81,19 @@ def convert_world(world, ambient_strength, warnings, local_model="BLENDER"):
     (scene.whitted.ambient_strength) scales (0 turns it off).
     """
     data = _convert_world(world, ambient_strength, warnings)
-    light = world_light(world, data, local_model)
-    if light.on:
+    data = replace(data, light=world_light(world, data, local_model), visibility=_seen_by(world))
+    if data.light.on:
         black = (0.0, 0.0, 0.0)
-        return replace(data, ambient=black, ambient_strength=0.0, light=light)
-    return replace(data, light=light)
+        return replace(data, ambient=black, ambient_strength=0.0)
+    return data
+
+
+def _seen_by(world):
+    """(camera, glossy, transmission): World > Ray Visibility's, all on without one."""
+    visibility = None if world is None else getattr(world, "cycles_visibility", None)
+    if visibility is None:
+        return (True, True, True)
+    return (bool(visibility.camera), bool(visibility.glossy), bool(visibility.transmission))
 
 
 def world_light(world, data, local_model):

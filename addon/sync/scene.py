@@ -526,6 +526,7 @@ class SceneSync:
             # The world light's map is built anew by the next compile: only when the world,
             # its images or these change (an edit elsewhere keeps it).
             self.scene.set_world_light(**asdict(world.light))
+            self.scene.set_world_visibility(*world.visibility)
             self._world = world
             report.world = True
 

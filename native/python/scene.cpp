@@ -140,6 +140,15 @@ void bind_scene(py::module_& m) {
           "the bounces it lights; a sky's sun disc (unit direction towards it, angular "
           "diameter in radians, 0: none), sampled apart. Raises ValueError for a map over "
           "8192 a side or a non-finite sun.")
+      .def(
+          "set_world_visibility",
+          [](Scene& s, bool camera, bool glossy, bool transmission) {
+            s.set_world_visibility((camera ? kCameraRay : 0u) | (glossy ? kReflectionRay : 0u) |
+                                   (transmission ? kRefractionRay : 0u));
+          },
+          py::arg("camera") = true, py::arg("glossy") = true, py::arg("transmission") = true,
+          "Which rays see the world where they escape (World > Ray Visibility): camera rays, "
+          "reflected (mirror and glossy) rays, refracted rays; the others see black.")
       .def_property_readonly(
           "world_light",
           [](const Scene& s) {

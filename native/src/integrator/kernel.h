@@ -123,8 +123,11 @@ class Kernel {
     const bool shown = !(in_.settings.transparent_background && camera);
     if (!shown && !Recorder::kHiddenWorld) return Color(0.0f);
     // A ray drawn from a glossy lobe counts the world as its MIS weight against the world
-    // light's feelers says (NodeState::world_weight; 1 for every other ray).
-    const Color world = state.world_weight * in_.scene.world_radiance(r, in_.context(state));
+    // light's feelers says (NodeState::world_weight; 1 for every other ray); a kind of
+    // ray the world's Ray Visibility hides from it sees black.
+    const Color world = (in_.scene.world_visibility & r.kind) != 0
+                            ? state.world_weight * in_.scene.world_radiance(r, in_.context(state))
+                            : Color(0.0f);
     recorder_.escaped(node, state.depth, behind, world, shown);
     if (!shown) return Color(0.0f);
     *coverage += behind;

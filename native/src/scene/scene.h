@@ -200,6 +200,10 @@ struct CompiledScene {
   // the report's reason.
   std::shared_ptr<const WorldLight> world_light;
   WorldLightParams world_light_params;
+  // The RayKind bits of the rays that see the world where they escape (World > Ray
+  // Visibility: Camera, Glossy for reflected rays, Transmission for refracted ones);
+  // the others see black.
+  uint32_t world_visibility = kCameraRay | kReflectionRay | kRefractionRay;
   // Shared by successive snapshots while no mesh or instance changes.
   std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
@@ -270,6 +274,9 @@ class Scene {
   // Whether and how the world lights surfaces (scene/world_light.h); its map is built by
   // the next compile() and kept while neither the world, its textures nor these change.
   void set_world_light(const WorldLightParams& params);
+  // Which rays see the world (CompiledScene::world_visibility): RayKind bits among
+  // camera, reflection and refraction; others are ignored.
+  void set_world_visibility(uint32_t kinds);
   WorldLightParams world_light_params() const;
   // The ambient light Ia of a world without program.
   void set_ambient(const Color& ambient);
@@ -323,6 +330,7 @@ class Scene {
     uint32_t world_output = 0;
     float world_ambient_strength = 1.0f;
     WorldLightParams world_light_params;
+    uint32_t world_visibility = kCameraRay | kReflectionRay | kRefractionRay;
     std::shared_ptr<const WorldLight> world_light;  // the last one built (null: stale)
     bool world_light_built = false;
     double mesh_build_seconds = 0.0;
