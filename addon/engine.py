@@ -194,7 +194,8 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             # What was finished is kept, even when the render failed.
             self._write(job, pending + job.take_finished_tiles(), region, phases, passes)
         native_stats = job.stats()
-        phases.scene_bvh = native_stats["compile_seconds"]
+        phases.world_light = native_stats["world_light_seconds"]
+        phases.scene_bvh = native_stats["compile_seconds"] - phases.world_light
         phases.trace = native_stats["trace_seconds"]
 
     def _denoise(self, native, job, frame, phases, passes, denoising):

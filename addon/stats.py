@@ -19,6 +19,7 @@ class PhaseTimes:
     export: float = 0.0  # Blender data -> native scene, less the mesh BVH builds
     mesh_bvh: float = 0.0  # per-mesh BVHs, built as meshes are set
     scene_bvh: float = 0.0  # name resolution and the top-level BVH of instances
+    world_light: float = 0.0  # the world light's importance map (built once per world)
     trace: float = 0.0  # worker threads, first tile to last
     writeback: float = 0.0  # tiles into Blender's render result
     denoise: float = 0.0  # Open Image Denoise on the finished image (addon/denoise.py)
@@ -63,6 +64,7 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
             "export": phases.export,
             "mesh_bvh": phases.mesh_bvh,
             "scene_bvh": phases.scene_bvh,
+            "world_light": phases.world_light,
             "trace": trace,
             "writeback": phases.writeback,  # all of `passes`
             "denoise": phases.denoise,
@@ -154,7 +156,8 @@ def summary_line(stats):
     return (
         f"Whitted | {stats['settings']['width']}x{stats['settings']['height']} "
         f"in {p['total']:.2f} s (export {p['export']:.2f}, BVH "
-        f"{p['mesh_bvh'] + p['scene_bvh']:.2f}, trace {p['trace']:.2f}, write-back "
+        f"{p['mesh_bvh'] + p['scene_bvh']:.2f}, world map {p['world_light']:.2f}, trace "
+        f"{p['trace']:.2f}, write-back "
         f"{p['writeback']:.3f}, denoise {p['denoise']:.2f}) | {_rays_line(stats['rays'])}, "
         f"{stats['rays_per_second'] / 1e6:.1f} M rays/s on {stats['threads']} threads "
         f"| {stats['samples_per_pixel']:.1f} samples/px (max {_most(stats)}) "

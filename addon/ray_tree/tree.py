@@ -24,6 +24,11 @@ MISS_LENGTH = 0.5
 KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "glossy")
 
 
+def feeler_source(ray):
+    """What a feeler samples: its lamp's name, the emissive object's, or "world"."""
+    return "world" if ray.get("world") else ray["light"] or ray.get("emitter")
+
+
 @dataclass(frozen=True)
 class PixelView:
     """A 3D view to inspect instead of the scene camera: its region's size in pixels

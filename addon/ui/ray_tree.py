@@ -3,7 +3,7 @@
 
 import bpy
 
-from ..ray_tree.tree import KINDS, loads
+from ..ray_tree.tree import KINDS, feeler_source, loads
 
 # Rows of the outline at most: a deep tree of a soft-shadowed scene has thousands.
 MAX_ROWS = 80
@@ -19,9 +19,7 @@ def _ray_label(ray):
         state = {True: "blocked", False: "lit", None: ray["cut"]}[ray["blocked"]]
         if ray["blocked"] and ray["object"]:
             state = f"blocked by {ray['object']}"
-        # A lamp, or an emissive mesh (the object it is a light of).
-        source = ray["light"] or ray.get("emitter")
-        return f"shadow -> {source}: {state}"
+        return f"shadow -> {feeler_source(ray)}: {state}"
     if ray["cut"]:
         return f"{ray['kind']}: cut ({ray['cut']})"
     if ray["kind"] == "camera":

@@ -221,7 +221,9 @@ class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
         column = layout.column(align=True)
         for line in (
             f"{phases['total']:.2f} s: export {phases['export']:.2f}, BVH "
-            f"{phases['mesh_bvh'] + phases['scene_bvh']:.2f}, trace {phases['trace']:.2f}, "
+            f"{phases['mesh_bvh'] + phases['scene_bvh']:.2f}, world map "
+            # Statistics saved before the phase was split from scene_bvh lack it.
+            f"{phases.get('world_light', 0.0):.2f}, trace {phases['trace']:.2f}, "
             f"write-back {phases['writeback']:.3f}",
             f"{rays['total']:,} rays, {stats['rays_per_second'] / 1e6:.1f} M rays/s",
             f"camera {rays['camera']:,}, shadow {rays['shadow']:,}",

@@ -1,5 +1,5 @@
 // The inspector's ray tree as plain Python data: names instead of indices, colours and
-// points as lists, what a feeler found as "blocked".
+// points as lists, what a feeler found as "blocked", a feeler to the world as "world".
 #include "integrator/ray_tree.h"
 
 #include "bindings.h"
@@ -80,6 +80,8 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     ray["material"] = name_at(scene.material_names, node.material);
     ray["light"] = name_at(scene.light_names, node.light);
     ray["emitter"] = name_at(instances, node.emitter);  // a feeler to an emissive mesh
+    // A feeler to neither a lamp nor an emitter goes to the world (scene/world_light.h).
+    ray["world"] = feeler && node.light < 0 && node.emitter < 0;
     ray["weight"] = list3(node.weight);
     ray["contribution"] = list3(node.contribution());
     ray["cut"] = cut_name(node.cut);

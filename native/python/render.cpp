@@ -39,6 +39,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["world_feelers"] = s.rays.world_feelers;
   out["compile_seconds"] = s.compile_seconds;
+  out["world_light_seconds"] = s.world_light_seconds;
   out["top_level_built"] = s.top_level_built;
   out["trace_seconds"] = s.trace_seconds;
   out["threads"] = s.threads;
@@ -361,7 +362,9 @@ void bind_render(py::module_& m) {
       .def(
           "stats", [](const RenderJob& job) { return stats_dict(job.stats()); },
           "A dict of the render so far: rays by type, rays skipped by reason, effects as "
-          "{name, on, why}, times, counts, top_level_built, cancelled and error. Noise-driven "
+          "{name, on, why}, times (world_light_seconds: of compile_seconds, the world light's map "
+          "built by this job's compile, 0 when kept), counts, top_level_built, cancelled and "
+          "error. Noise-driven "
           "sampling: active_pixels after the last check, rounds traced, time_limited (whether "
           "Settings.time_limit ended the render early), samples_per_pixel (min, mean, max) "
           "over the border once the render has stopped, and then noise: {mean, max} of the "

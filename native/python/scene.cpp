@@ -208,7 +208,12 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("top_level_builds", &Scene::top_level_builds,
                              "How many times this scene has built a top-level BVH: a render "
                              "after a camera, material, texture, light or world change reuses "
-                             "the last one; a mesh or instance change builds a new one.");
+                             "the last one; a mesh or instance change builds a new one.")
+      .def_property_readonly("world_light_builds", &Scene::world_light_builds,
+                             "How many times this scene has built its world light (the "
+                             "importance map): a change of the world, an image it reads or "
+                             "set_world_light builds it anew at the next compile; any other "
+                             "edit keeps it.");
 }
 
 }  // namespace whitted::python

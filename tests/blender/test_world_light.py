@@ -9,72 +9,20 @@ from pathlib import Path
 import bpy
 import numpy as np
 import pytest
-from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
+from whitted_tools.cycles_scenes import render_rgba
 from whitted_tools.material_scenes import (
-    add_camera,
-    add_floor,
     lambert_material,
     numpy_image,
     principled_sphere_material,
-    smooth_sphere,
 )
-from whitted_tools.metrics import luminance, srgb_encode, ssim
-
-# Blender's own studio HDRIs (Poly Haven's, CC0), shipped in every Blender: a low sun
-# over a harbour, a forest under an overcast sky, a room lit by its windows.
-HDRIS = ("sunset", "forest", "interior")
-
-
-def studio_hdri(name):
-    folder = Path(bpy.utils.system_resource("DATAFILES", path="studiolights/world"))
-    return str(folder / f"{name}.exr")
-
-
-def environment_world(scene, image):
-    """A world whose Background is `image` (an Environment Texture), lighting diffuse
-    surfaces as a new world does."""
-    world = bpy.data.worlds.new("HDRI")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    tree = world.node_tree
-    texture = tree.nodes.new("ShaderNodeTexEnvironment")
-    texture.image = image
-    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    scene.world = world
-    return world
-
-
-def lit_by(scene, image, material, size=(96, 72), samples=6):
-    """A sphere of `material` on a grey floor under the world `image`, both engines
-    averaging each pixel's square: Cycles at 256 samples of direct light, Whitted on a
-    jittered samples x samples grid."""
-    scene.render.resolution_x, scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    environment_world(scene, image)
-    smooth_sphere("Ball", (0.0, 0.0, 1.0), 1.0, material)
-    add_floor(scene, size=8.0, albedo=0.5)
-    add_camera(scene, (0.0, -7.0, 3.0), (0.0, 0.0, 0.8))
-    set_cycles_direct_light(scene, samples=256)
-    scene.cycles.pixel_filter_type = "BOX"
-    scene.cycles.filter_width = 1.0
-    scene.whitted.pixel_filter_type = "BOX"
-    scene.whitted.aa_mode = "JITTERED"
-    scene.whitted.aa_samples = samples
-
-
-def compare(cycles, whitted):
-    """(Whitted's summed luminance over Cycles', the SSIM of their display images after
-    a 3 x 3 blur)."""
-    ratio = float(luminance(whitted[..., :3]).sum() / luminance(cycles[..., :3]).sum())
-
-    def shown(image):
-        display = srgb_encode(np.clip(image[..., :3], 0.0, 1.0))
-        padded = np.pad(display, ((1, 1), (1, 1), (0, 0)), mode="edge")
-        h, w = display.shape[:2]
-        return sum(padded[y : y + h, x : x + w] for y in range(3) for x in range(3)) / 9.0
-
-    return ratio, ssim(shown(cycles), shown(whitted), data_range=1.0)
+from whitted_tools.world_scenes import (
+    HDRIS,
+    compare,
+    lit_by,
+    scattering_model,
+    sky_world,
+    studio_hdri,
+)
 
 
 def stats_of(path):
@@ -97,37 +45,6 @@ def test_an_hdri_lights_a_diffuse_scene_as_cycles(hdri, empty_scene, tmp_path, m
     assert stats["world_feelers"] > 0
     world = next(e for e in stats["effects"] if e["name"] == "world light")
     assert world["on"] and "map" in world["why"]
-
-
-def sky_world(scene, model, elevation_degrees):
-    """A world of a Sky Texture of `model` (its sun disc on where the model has one), the
-    sun `elevation_degrees` up and 30 degrees round, at a tenth of its strength (a clear
-    sky's radiance is tens of W/(m^2 sr))."""
-    import math
-
-    world = bpy.data.worlds.new("Sky")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    tree = world.node_tree
-    sky = tree.nodes.new("ShaderNodeTexSky")
-    sky.sky_type = model
-    if model == "PREETHAM":
-        elevation = math.radians(elevation_degrees)
-        sky.sun_direction = (
-            math.cos(elevation) * math.sin(math.radians(30.0)),
-            math.cos(elevation) * math.cos(math.radians(30.0)),
-            math.sin(elevation),
-        )
-    else:
-        sky.sun_elevation = math.radians(elevation_degrees)
-        sky.sun_rotation = math.radians(30.0)
-    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    tree.nodes["Background"].inputs["Strength"].default_value = 0.1
-    scene.world = world
-
-
-def scattering_model():
-    return "NISHITA" if bpy.app.version < (5, 0, 0) else "SINGLE_SCATTERING"
 
 
 SKY_MODELS = ["SCATTERING", "PREETHAM"] + (
@@ -221,6 +138,54 @@ def test_threads_do_not_change_a_world_lit_image(empty_scene, render_pixels):
     empty_scene.render.threads = 2
     two = render_pixels(empty_scene)
     assert np.array_equal(one, two)
+
+
+def test_the_inspector_names_the_world_feelers_and_the_rays_pass_counts_those_sent(
+    empty_scene,
+):
+    # No lamp, no emitter: every feeler goes to the world (native ray_tree.cpp: a feeler
+    # to neither a lamp nor an emissive mesh). A floor pixel's feelers below the horizon
+    # are not sent (cut "backfacing"); the Whitted Rays pass counts the camera rays and
+    # the feelers sent, as the inspector traces them again.
+    from whitted.native import load_native
+    from whitted.sync.frame import sync_frame
+
+    image = bpy.data.images.load(studio_hdri("forest"))
+    lit_by(empty_scene, image, lambert_material("Ball", 0.8), size=(32, 24), samples=3)
+    empty_scene.render.engine = "WHITTED"
+    empty_scene.whitted.adaptive_sampling = False
+    empty_scene.whitted.emitter_samples = 1
+    native = load_native()
+    x, y = 16, 2  # the floor, in front of the sphere
+
+    def rays_pass():
+        job = sync_frame(bpy.context.evaluated_depsgraph_get(), native).job(native)
+        job.start()
+        while not job.wait(1.0):
+            pass
+        return float(job.cost_tile(x, y, 1, 1)[0, 0])
+
+    assert bpy.ops.whitted.inspect_ray_tree(x=x, y=y) == {"FINISHED"}
+    rays = json.loads(empty_scene.whitted.last_ray_tree)["rays"]
+    camera = [r for r in rays if r["kind"] == "camera"]
+    feelers = [r for r in rays if r["kind"] == "shadow"]
+    assert len(camera) == 9 and all(r["object"] == "Floor" for r in camera)
+    assert len(feelers) == 9  # Emitter Samples 1: one a camera sample
+    assert all(r["world"] and r["light"] is None and r["emitter"] is None for r in feelers)
+    assert not any(r["world"] for r in camera)
+    sent = [r for r in feelers if r["cut"] is None]
+    assert sent and all(r["cut"] in (None, "backfacing") for r in feelers), [
+        r["cut"] for r in feelers
+    ]
+    # To infinity: an end only where the sphere blocks one.
+    assert all((r["end"] is not None) == r["blocked"] for r in sent)
+    assert rays_pass() == len(camera) + len(sent)
+    # With the world not lighting diffuse surfaces there is no feeler: camera rays alone.
+    empty_scene.world.cycles_visibility.diffuse = False
+    assert rays_pass() == len(camera)
+    assert bpy.ops.whitted.inspect_ray_tree(x=x, y=y) == {"FINISHED"}
+    rays = json.loads(empty_scene.whitted.last_ray_tree)["rays"]
+    assert [r["kind"] for r in rays] == ["camera"] * 9
 
 
 @pytest.mark.parametrize("hidden", ["camera", "glossy"])

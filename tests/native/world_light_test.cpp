@@ -286,13 +286,19 @@ TEST(WorldLight, ASunInAnImageGivesNoFireflies) {
 
 TEST(WorldLight, AnEditElsewhereKeepsTheMapAndAWorldEditRebuildsIt) {
   Scene scene = floor_under(lit(64, 32), sky_of_z(0.0f));
-  const auto first = scene.compile()->world_light;
+  double seconds = -1.0;
+  const auto first = scene.compile(nullptr, &seconds)->world_light;
+  EXPECT_GT(seconds, 0.0);  // the compile that built the map says how long it took
+  EXPECT_EQ(scene.world_light_builds(), 1u);
   Material grey;
   grey.diffuse = Color(0.5f);
   scene.set_material("floor", grey);
-  EXPECT_EQ(scene.compile()->world_light, first);
+  EXPECT_EQ(scene.compile(nullptr, &seconds)->world_light, first);
+  EXPECT_EQ(seconds, 0.0);
+  EXPECT_EQ(scene.world_light_builds(), 1u);
   scene.set_world(sky_of_z(0.1f), 6, 0.0f);
   EXPECT_NE(scene.compile()->world_light, first);
+  EXPECT_EQ(scene.world_light_builds(), 2u);
 }
 
 TEST(WorldLight, BadSettingsAreRefused) {

@@ -52,13 +52,14 @@ def use_multilayer_exr(image_settings):
     image_settings.color_depth = "32"
 
 
-def save_side_by_side(left, right, path, gap=4, grey=0.18):
-    """Two linear RGBA renders of one size side by side in an 8-bit PNG at `path`
-    (Whitted left, Cycles right, in the galleries), each over a mid grey where its film
-    is transparent, so cut-outs show; `gap` pixels of white between them."""
-    height, width, _ = left.shape
-    pair = np.ones((height, 2 * width + gap, 4), dtype=np.float32)
-    for offset, image in ((0, left), (width + gap, right)):
+def save_side_by_side(images, path, gap=4, grey=0.18):
+    """Linear RGBA renders of one size side by side in an 8-bit PNG at `path` (Whitted
+    left, Cycles right, in the galleries), each over a mid grey where its film is
+    transparent, so cut-outs show; `gap` pixels of white between them."""
+    height, width, _ = images[0].shape
+    pair = np.ones((height, len(images) * (width + gap) - gap, 4), dtype=np.float32)
+    for index, image in enumerate(images):
+        offset = index * (width + gap)
         alpha = image[..., 3:4]
         pair[:, offset : offset + width, :3] = image[..., :3] + (1.0 - alpha) * grey
     out = bpy.data.images.new("pair", pair.shape[1], height, float_buffer=True)

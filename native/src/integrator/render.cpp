@@ -83,7 +83,7 @@ RenderJob::RenderJob(const Scene& scene, const Settings& settings, const Camera&
                      uint32_t record_stride, bool record_results)
     : RenderJob(settings, camera, RayRecorder(record_stride, record_results)) {
   const double t0 = now_seconds();
-  scene_ = scene.compile(&stats_.top_level_built);
+  scene_ = scene.compile(&stats_.top_level_built, &stats_.world_light_seconds);
   stats_.compile_seconds = now_seconds() - t0;
   describe_scene();
 }

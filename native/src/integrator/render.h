@@ -26,6 +26,8 @@ namespace whitted {
 struct RenderStats {
   RayCounts rays;                // so far: merged after every tile
   double compile_seconds = 0.0;  // name resolution and top-level BVH build
+  // Of compile_seconds, building the world light's map (0 when the compile kept the last).
+  double world_light_seconds = 0.0;
   bool top_level_built = false;  // whether the compile built a top-level BVH (else reused)
   double trace_seconds = 0.0;
   int threads = 0;

@@ -248,10 +248,16 @@ uint64_t Scene::top_level_builds() const {
   std::lock_guard lock(mutex_);
   return state_.top_level_builds;
 }
+uint64_t Scene::world_light_builds() const {
+  std::lock_guard lock(mutex_);
+  return state_.world_light_builds;
+}
 
-std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const {
+std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
+                                                    double* world_light_seconds) const {
   std::lock_guard lock(mutex_);
   if (built_top_level != nullptr) *built_top_level = false;
+  if (world_light_seconds != nullptr) *world_light_seconds = 0.0;
   if (state_.snapshot) return state_.snapshot;
   auto compiled = std::make_shared<CompiledScene>();
   compiled->background = state_.background;
@@ -265,8 +271,14 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level) const
   // The world light's map is evaluated once per world: kept across the snapshots of
   // other edits (the viewport's), rebuilt when the world, its images or its settings change.
   if (!state_.world_light_built) {
+    const auto t0 = std::chrono::steady_clock::now();
     state_.world_light = WorldLight::build(*compiled, state_.world_light_params);
     state_.world_light_built = true;
+    state_.world_light_builds += 1;
+    if (world_light_seconds != nullptr) {
+      *world_light_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
   }
   compiled->world_light = state_.world_light;
   compiled->world_light_params = state_.world_light_params;

@@ -290,9 +290,11 @@ class Scene {
   // names resolved anew, the top-level BVH rebuilt only when a mesh or instance changed
   // or an instance's shadow mask did (a material turned translucent or opaque); mesh
   // BVHs were built by set_mesh. `built_top_level`, when given, says whether this call
-  // built one. Throws std::invalid_argument for an instance whose mesh or material is
-  // missing (and keeps nothing of that attempt).
-  std::shared_ptr<const CompiledScene> compile(bool* built_top_level = nullptr) const;
+  // built one; `world_light_seconds`, the seconds it spent building the world light's
+  // map (0 when it kept the last one). Throws std::invalid_argument for an instance whose
+  // mesh or material is missing (and keeps nothing of that attempt).
+  std::shared_ptr<const CompiledScene> compile(bool* built_top_level = nullptr,
+                                               double* world_light_seconds = nullptr) const;
 
   size_t mesh_count() const;
   // Seconds spent copying meshes and building their BVHs in set_mesh, summed.
@@ -300,6 +302,9 @@ class Scene {
   size_t instance_count() const;
   // How many times compile() has built a top-level BVH for this scene.
   uint64_t top_level_builds() const;
+  // How many times compile() has built the world light (scene/world_light.h): once per
+  // world, its images and its settings, whatever else changes.
+  uint64_t world_light_builds() const;
 
  private:
   // Marks the snapshot stale, and with `geometry` the top-level BVH too. Needs mutex_.
@@ -335,6 +340,7 @@ class Scene {
     std::shared_ptr<const SceneAccel> accel;
     std::vector<uint32_t> accel_masks;
     uint64_t top_level_builds = 0;
+    uint64_t world_light_builds = 0;
   };
   mutable State state_;  // mutable: compile(), const to its callers, fills the cache
 };

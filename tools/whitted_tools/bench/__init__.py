@@ -1,2 +1,2 @@
-"""Measurements that write a docs page (effects, hair, materials, memory, passes, viewport),
-and the cost of noise-driven sampling's rounds."""
+"""Measurements that write a docs page (effects, hair, materials, memory, passes, viewport,
+world light), and the cost of noise-driven sampling's rounds."""

@@ -195,7 +195,7 @@ def measure(path, resolution, repeats, workdir):
                 actual=statistics.median(p["total"] for p in phases),
                 predicted_fixed=probe.fixed_seconds,
                 actual_fixed=statistics.median(
-                    p["export"] + p["mesh_bvh"] + p["scene_bvh"] for p in phases
+                    p["export"] + p["mesh_bvh"] + p["scene_bvh"] + p["world_light"] for p in phases
                 ),
                 predicted_trace=estimate.seconds - probe.fixed_seconds,
                 actual_trace=statistics.median(p["trace"] for p in phases),

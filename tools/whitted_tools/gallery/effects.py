@@ -207,7 +207,7 @@ def render_scene(entry, image_dir, repeats):
         alone = render_exr(scene, os.path.join(work, "subject.exr"), engine="WHITTED")
         floor.hide_render = False
         ssim, ratio = subject_figures(whitted, cycles, alone[..., 3] > 0.99)
-        save_side_by_side(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
+        save_side_by_side((whitted, cycles), os.path.join(image_dir, f"{name}.png"))
         # On and off alternating, so a change in the machine's load hits both alike.
         on, off = [], []
         for _ in range(repeats):

@@ -387,7 +387,7 @@ def render_scene(name, build, image_dir):
             floor.hide_render = False
             subject = alone[..., 3] > 0.99
         ssim, ratio = subject_figures(whitted, cycles, subject)
-        save_side_by_side(whitted, cycles, os.path.join(image_dir, f"{name}.png"))
+        save_side_by_side((whitted, cycles), os.path.join(image_dir, f"{name}.png"))
     passed = ssim >= TARGET_SSIM and TARGET_RATIO[0] <= ratio <= TARGET_RATIO[1]
     print(f"gallery_materials: {name}: SSIM {ssim:.3f}, ratio {ratio:.3f}, passed {passed}")
     return {"scene": name, "ssim": ssim, "ratio": ratio, "passed": passed}

@@ -100,6 +100,8 @@ def _rgb(values):
 
 
 def _page(tree, args, image_rel):
+    from whitted.ray_tree.tree import feeler_source
+
     s = tree["summary"]
     lines = [
         "# The ray tree of a pixel",
@@ -150,8 +152,8 @@ def _page(tree, args, image_rel):
             what = f"blocked by {what}"
         lines.append(
             f"| {ray['id']} | {ray['kind']} | {ray['depth']} | {ray['parent']} | {what} | "
-            f"{ray['light'] or ''} | {max(ray['weight']):.4f} | {_rgb(ray['contribution'])} | "
-            f"{ray['cut'] or ''} |"
+            f"{feeler_source(ray) or ''} | {max(ray['weight']):.4f} | "
+            f"{_rgb(ray['contribution'])} | {ray['cut'] or ''} |"
         )
     if len(tree["rays"]) > ROWS:
         lines.append(f"| ... | {len(tree['rays']) - ROWS} more | | | | | | | |")
@@ -171,9 +173,12 @@ def _page(tree, args, image_rel):
         "surface's depth); the ray whose surface spawned it (-1: a camera ray); the camera "
         "sample it belongs to; its index |",
         "| `origin`, `direction`, `end` | world space; `end` is where it met a surface (a "
-        "feeler: its light sample, or its blocker), null for a miss or a feeler to the sun |",
-        "| `object`, `instance`, `material`, `light` | what it met (Blender names; `instance` "
-        "is the instance key for instanced objects); a feeler's light |",
+        "feeler: its light sample, or its blocker), null for a miss or a feeler to the sun "
+        "or the world |",
+        "| `object`, `instance`, `material`, `light`, `emitter`, `world` | what it met "
+        "(Blender names; `instance` is the instance key for instanced objects); a feeler's "
+        "light, or the emissive object it samples, or `world` true for a feeler to the world "
+        "as a light |",
         "| `weight` | its share of the pixel: the anti-aliasing weight times the cut-out "
         "coverage in front times every sigma_r / sigma_t on the way |",
         "| `contribution` | what it adds itself: a surface ray its surface's emission and "

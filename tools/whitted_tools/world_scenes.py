@@ -1,0 +1,101 @@
+"""Scenes lit by their world (issue 47; bpy): Blender's studio HDRIs and Sky Texture
+worlds over a sphere on a floor, set up alike for Cycles (direct light) and Whitted, and
+the figures that compare two renders of them. tests/blender/test_world_light.py and the
+bench-world-light verb share them."""
+
+import math
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+from whitted_tools.cycles_scenes import set_cycles_direct_light
+from whitted_tools.material_scenes import add_camera, add_floor, smooth_sphere
+from whitted_tools.metrics import luminance, srgb_encode, ssim
+
+# Blender's own studio HDRIs (Poly Haven's, CC0), shipped in every Blender: a low sun
+# over a harbour, a forest under an overcast sky, a room lit by its windows.
+HDRIS = ("sunset", "forest", "interior")
+
+
+def studio_hdri(name):
+    folder = Path(bpy.utils.system_resource("DATAFILES", path="studiolights/world"))
+    return str(folder / f"{name}.exr")
+
+
+def environment_world(scene, image):
+    """A world whose Background is `image` (an Environment Texture), lighting diffuse
+    surfaces as a new world does."""
+    world = bpy.data.worlds.new("HDRI")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    tree = world.node_tree
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = image
+    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    scene.world = world
+    return world
+
+
+def lit_by(scene, image, material, size=(96, 72), samples=6):
+    """A sphere of `material` on a grey floor under the world `image`, both engines
+    averaging each pixel's square: Cycles at 256 samples of direct light, Whitted on a
+    jittered samples x samples grid."""
+    scene.render.resolution_x, scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    environment_world(scene, image)
+    smooth_sphere("Ball", (0.0, 0.0, 1.0), 1.0, material)
+    add_floor(scene, size=8.0, albedo=0.5)
+    add_camera(scene, (0.0, -7.0, 3.0), (0.0, 0.0, 0.8))
+    set_cycles_direct_light(scene, samples=256)
+    scene.cycles.pixel_filter_type = "BOX"
+    scene.cycles.filter_width = 1.0
+    scene.whitted.pixel_filter_type = "BOX"
+    scene.whitted.aa_mode = "JITTERED"
+    scene.whitted.aa_samples = samples
+
+
+def sky_world(scene, model, elevation_degrees):
+    """A world of a Sky Texture of `model` (its sun disc on where the model has one), the
+    sun `elevation_degrees` up and 30 degrees round, at a tenth of its strength (a clear
+    sky's radiance is tens of W/(m^2 sr))."""
+    world = bpy.data.worlds.new("Sky")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    tree = world.node_tree
+    sky = tree.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = model
+    if model == "PREETHAM":
+        elevation = math.radians(elevation_degrees)
+        sky.sun_direction = (
+            math.cos(elevation) * math.sin(math.radians(30.0)),
+            math.cos(elevation) * math.cos(math.radians(30.0)),
+            math.sin(elevation),
+        )
+    else:
+        sky.sun_elevation = math.radians(elevation_degrees)
+        sky.sun_rotation = math.radians(30.0)
+    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 0.1
+    scene.world = world
+
+
+def scattering_model():
+    """The Sky Texture's physical model: Nishita before Blender 5.0, Single Scattering
+    from it."""
+    return "NISHITA" if bpy.app.version < (5, 0, 0) else "SINGLE_SCATTERING"
+
+
+def compare(cycles, whitted):
+    """(Whitted's summed luminance over Cycles', the SSIM of their display images after
+    a 3 x 3 blur)."""
+    ratio = float(luminance(whitted[..., :3]).sum() / luminance(cycles[..., :3]).sum())
+
+    def shown(image):
+        display = srgb_encode(np.clip(image[..., :3], 0.0, 1.0))
+        padded = np.pad(display, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        h, w = display.shape[:2]
+        return sum(padded[y : y + h, x : x + w] for y in range(3) for x in range(3)) / 9.0
+
+    return ratio, ssim(shown(cycles), shown(whitted), data_range=1.0)
