@@ -46,7 +46,11 @@ def record(label, key, value):
 # colours replaced by their mean scores SSIM 0.934, and 3.4's renders scaled by 0.9 a
 # ratio of 0.90.
 MIN_SSIM = {"demo": 0.99, "nodes": 0.99}
-RATIO_RANGE = {"demo": (0.98, 1.02), "nodes": (0.98, 1.02)}
+# The demo's sky lights its Principled surfaces from every direction since the world is
+# a light (issue 47): 4.x+'s specular layer dims the base beneath it more for grazing
+# light than 3.x's, and the demo renders 0.979 of 3.4's luminance in every bpy from 4.2
+# to 5.3 (CI, session 27; SSIM above 0.99).
+RATIO_RANGE = {"demo": (0.97, 1.02), "nodes": (0.98, 1.02)}
 
 
 def _environment(entry):
