@@ -31,6 +31,16 @@ Vec3 direction(double cos_theta, double phi) {
           static_cast<float>(sin_theta * std::sin(phi)), static_cast<float>(cos_theta)};
 }
 
+// The cosines of the polar angles bounding row j of a map h rows high.
+double row_cos(int j, int h) {
+  return std::cos(kPiD * j / h);
+}
+
+// The solid angle of each texel of row j of a w x h map.
+double texel_solid_angle(int j, int w, int h) {
+  return (kTwoPiD / w) * (row_cos(j, h) - row_cos(j + 1, h));
+}
+
 // The index of the first entry of the ascending cdf[0..n) above u (the last if none).
 int find(const float* cdf, int n, float u) {
   const float* found = std::upper_bound(cdf, cdf + n, u);
@@ -97,9 +107,9 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
   };
   const auto rows = [&](int first, int step) {
     for (int j = first; j < h; j += step) {
-      const double cos0 = std::cos(kPiD * j / h);
-      const double cos1 = std::cos(kPiD * (j + 1) / h);
-      const double solid_angle = (kTwoPiD / w) * (cos0 - cos1);
+      const double cos0 = row_cos(j, h);
+      const double cos1 = row_cos(j + 1, h);
+      const double solid_angle = texel_solid_angle(j, w, h);
       for (int i = 0; i < w; ++i) {
         weight[static_cast<size_t>(j) * w + i] = texel(i, j, cos0, cos1) * solid_angle;
       }
@@ -124,8 +134,7 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
   std::vector<double> row_sum(static_cast<size_t>(h));
   double all = 0.0;
   for (int j = 0; j < h; ++j) {
-    const double solid_angle =
-        (kTwoPiD / w) * (std::cos(kPiD * j / h) - std::cos(kPiD * (j + 1) / h));
+    const double solid_angle = texel_solid_angle(j, w, h);
     double sum = 0.0;
     for (int i = 0; i < w; ++i) {
       double& x = weight[static_cast<size_t>(j) * w + i];
@@ -145,8 +154,7 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
   for (int j = 0; j < h; ++j) {
     running += row_sum[static_cast<size_t>(j)];
     light->rows_[static_cast<size_t>(j)] = static_cast<float>(running / all);
-    const double solid_angle =
-        (kTwoPiD / w) * (std::cos(kPiD * j / h) - std::cos(kPiD * (j + 1) / h));
+    const double solid_angle = texel_solid_angle(j, w, h);
     for (int i = 0; i < w; ++i) {
       light->density_[static_cast<size_t>(j) * w + i] =
           static_cast<float>(weight[static_cast<size_t>(j) * w + i] / (all * solid_angle));
@@ -173,8 +181,7 @@ float WorldLight::map_pdf(const Vec3& wi) const {
 }
 
 float WorldLight::sun_pdf(const Vec3& wi) const {
-  if (glm::dot(wi, params_.sun_direction) < sun_cos_) return 0.0f;
-  return 1.0f / (kTwoPi * (1.0f - sun_cos_));
+  return glm::dot(wi, params_.sun_direction) < sun_cos_ ? 0.0f : sun_density();
 }
 
 WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n, int technique) const {
@@ -191,7 +198,7 @@ WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n, int tec
     // Drawn in the cone: its own density whatever the rounding of wi says (a direction
     // on the cone's edge may test outside it, and over the map's density alone, which
     // leaves the disc out, bring the disc as a firefly).
-    out.pdf = map_pdf(out.wi) + 1.0f / (kTwoPi * (1.0f - sun_cos_));
+    out.pdf = map_pdf(out.wi) + sun_density();
     return out;
   }
   const glm::vec2 v = u;
@@ -206,8 +213,8 @@ WorldLight::Sample WorldLight::sample(const glm::vec2& u, const Vec3& n, int tec
   const float column_low = i > 0 ? row[i - 1] : 0.0f;
   const float column_t =
       std::clamp((v.x - column_low) / std::max(row[i] - column_low, 1e-30f), 0.0f, 1.0f);
-  const double cos0 = std::cos(kPiD * j / height_);
-  const double cos1 = std::cos(kPiD * (j + 1) / height_);
+  const double cos0 = row_cos(j, height_);
+  const double cos1 = row_cos(j + 1, height_);
   out.wi = direction(cos0 + (cos1 - cos0) * row_t, kTwoPiD * (i + column_t) / width_);
   // Rounding may carry a direction on a texel's edge into its neighbour: the density
   // is the one pdf() gives, so both techniques of MIS agree.

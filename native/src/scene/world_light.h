@@ -20,6 +20,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "core/math.h"
 #include "core/ray.h"
 
 namespace whitted {
@@ -84,6 +85,8 @@ class WorldLight {
   int texel(const Vec3& wi) const;
   float map_pdf(const Vec3& wi) const;
   float sun_pdf(const Vec3& wi) const;
+  // The sun technique's density inside the disc's cone: uniform over its solid angle.
+  float sun_density() const { return 1.0f / (2.0f * kPi * (1.0f - sun_cos_)); }
 
   WorldLightParams params_;
   int width_ = 0;
