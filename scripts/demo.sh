@@ -49,7 +49,7 @@ rm -f "$output"
 # --factory-startup ignores user preferences (and so user add-ons): demo_scene.py
 # enables the add-on itself, so the demo does not depend on this user's settings.
 blender -b --factory-startup --python-exit-code 1 --python scripts/demo_scene.py -- \
-  --output "$output" --resolution "$width" "$height"
+  --output "$output" --resolution "$width" "$height" --preset PREVIEW
 [[ -s $output ]] || { echo "[demo] error: Blender finished but wrote no $output" >&2; exit 1; }
 echo "<== [demo] rendered in $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s"
 echo

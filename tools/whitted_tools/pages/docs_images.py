@@ -2,7 +2,8 @@
 
     .venv/bin/python -m whitted_tools docs-images
 
-Renders scripts/demo_scene.py (the demo's own scene script) in Blender 3.4 at 480 x 360;
+Renders scripts/demo_scene.py (the demo's own scene script) in Blender 3.4 at 480 x 360
+at the Preview preset, as scripts/demo.sh does;
 needs the set-up (scripts/setup.sh): Blender 3.4 with the add-on installed.
 """
 
@@ -22,7 +23,7 @@ def main(argv):
     image.parent.mkdir(parents=True, exist_ok=True)
     command = blender_command(
         REPO / "scripts" / "demo_scene.py",
-        *("--output", image, "--resolution", 480, 360),
+        *("--output", image, "--resolution", 480, 360, "--preset", "PREVIEW"),
         blender=args.blender,
     )
     _, problem = run_process(command, 600)
