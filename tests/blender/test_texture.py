@@ -9,6 +9,7 @@ origin exactly: pixel (row, column) of an 8 x 8 render shows UV
 """
 
 import math
+import os
 
 import bpy
 import numpy as np
@@ -155,6 +156,36 @@ def test_non_color_image_is_read_as_is(tmp_path, warnings):
     image = saved_png(new_image("data", TEXELS), tmp_path / "data.png")
     image.colorspace_settings.name = "Non-Color"
     np.testing.assert_array_equal(image_pixels(image, warnings), stored_values(image))
+
+
+def _float_image(name, pixels):
+    height, width, _ = pixels.shape
+    image = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
+    image.pixels.foreach_set(pixels.reshape(-1))
+    return image
+
+
+def test_broken_texels_become_0_and_only_visible_ones_are_reported(warnings):
+    pixels = np.ones((8, 16, 4), dtype=np.float32)
+    pixels[1, 2, 0] = -0.003  # an HDR tool's ringing: set to 0, not reported
+    pixels[2, 3, 1] = -0.004
+    read = image_pixels(_float_image("ringing", pixels), warnings)
+    assert read[1, 2, 0] == 0.0 and read[2, 3, 1] == 0.0 and warnings == []
+    pixels[3, 4, :3] = -4.0  # a broken texel, reported
+    pixels[5, 6, 2] = np.nan
+    pixels[6, 7, 0] = np.inf
+    read = image_pixels(_float_image("broken", pixels), warnings)
+    assert np.isfinite(read).all() and read.min() == 0.0
+    assert read[3, 4, :3].tolist() == [0.0, 0.0, 0.0]
+    assert len(warnings) == 1 and "image 'broken' has 3 texel(s)" in warnings[0]
+
+
+def test_blenders_studio_hdris_read_without_a_warning(warnings):
+    # Each holds tiny negative texels (forest.exr 784, the most negative -0.0016).
+    folder = bpy.utils.system_resource("DATAFILES", path="studiolights/world")
+    image = bpy.data.images.load(os.path.join(folder, "forest.exr"))
+    read = image_pixels(image, warnings)
+    assert read[..., :3].min() == 0.0 and warnings == []
 
 
 def test_missing_image_is_magenta_and_reported(tmp_path, warnings):
