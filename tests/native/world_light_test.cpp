@@ -8,6 +8,7 @@
 
 #include "core/math.h"
 #include "integrator/whitted.h"
+#include "program_builder.h"
 #include "scene/world_light.h"
 #include "scene_builders.h"
 #include "shader/program.h"
@@ -18,48 +19,24 @@ namespace {
 using testing::add_object;
 using testing::quad;
 
-constexpr uint32_t kU = Program::kUnused;
+using testing::make;
+
+// A program of `rows` over `registers` shared as a world's.
+std::shared_ptr<const Program> make_program(const std::vector<testing::Row>& rows,
+                                            const std::vector<glm::vec4>& registers) {
+  return std::make_shared<const Program>(make(rows, registers));
+}
 
 // A world of radiance max(d.z, 0) + `floor` by direction d: a sky brightest overhead,
 // as its program would come from a graph (Texture Coordinate > Vector Math > Math).
 std::shared_ptr<const Program> sky_of_z(float floor) {
   // r0 the direction, r1 +Z, r2 d.z, r3 0, r4 max(d.z, 0), r5 `floor`, r6 the sum.
-  const uint32_t code[] = {static_cast<uint32_t>(Op::kInput),
-                           kInputPosition,
-                           0,
-                           kU,
-                           kU,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kVectorMath),
-                           static_cast<uint32_t>(VectorMathOp::kDotProduct),
-                           2,
-                           0,
-                           1,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kMath),
-                           static_cast<uint32_t>(MathOp::kMaximum),
-                           4,
-                           2,
-                           3,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kMath),
-                           static_cast<uint32_t>(MathOp::kAdd),
-                           6,
-                           4,
-                           5,
-                           kU,
-                           kU,
-                           kU};
-  const float registers[] = {0, 0, 0, 0, 0, 0, 1,     0,     0,     0,     0, 0, 0, 0,
-                             0, 0, 0, 0, 0, 0, floor, floor, floor, floor, 0, 0, 0, 0};
-  return std::make_shared<const Program>(code, 4, registers, 7, std::vector<float>{},
-                                         std::vector<std::string>{});
+  return make_program({{Op::kInput, kInputPosition, 0},
+                       {Op::kVectorMath, static_cast<uint32_t>(VectorMathOp::kDotProduct), 2, 0, 1},
+                       {Op::kMath, static_cast<uint32_t>(MathOp::kMaximum), 4, 2, 3},
+                       {Op::kMath, static_cast<uint32_t>(MathOp::kAdd), 6, 4, 5}},
+                      {glm::vec4(0.0f), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f), glm::vec4(0.0f),
+                       glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(floor), glm::vec4(0.0f)});
 }
 
 // A world of radiance `disc` within `radius` radians of `sun` and `sky` elsewhere: a sun
@@ -67,53 +44,14 @@ std::shared_ptr<const Program> sky_of_z(float floor) {
 std::shared_ptr<const Program> sun_in_sky(const Vec3& sun, float radius, float disc, float sky) {
   // r0 the direction, r1 the sun, r2 d.sun, r3 cos(radius), r4 inside (1/0), r5 the
   // disc's radiance less the sky's, r6 inside * r5, r7 the sky, r8 the sum.
-  const uint32_t code[] = {static_cast<uint32_t>(Op::kInput),
-                           kInputPosition,
-                           0,
-                           kU,
-                           kU,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kVectorMath),
-                           static_cast<uint32_t>(VectorMathOp::kDotProduct),
-                           2,
-                           0,
-                           1,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kMath),
-                           static_cast<uint32_t>(MathOp::kGreaterThan),
-                           4,
-                           2,
-                           3,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kMath),
-                           static_cast<uint32_t>(MathOp::kMultiply),
-                           6,
-                           4,
-                           5,
-                           kU,
-                           kU,
-                           kU,
-                           static_cast<uint32_t>(Op::kMath),
-                           static_cast<uint32_t>(MathOp::kAdd),
-                           8,
-                           6,
-                           7,
-                           kU,
-                           kU,
-                           kU};
-  const float c = std::cos(radius);
-  const float d = disc - sky;
-  const float registers[] = {0, 0, 0, 0, sun.x, sun.y, sun.z, 0,   0, 0, 0, 0,
-                             c, c, c, c, 0,     0,     0,     0,   d, d, d, d,
-                             0, 0, 0, 0, sky,   sky,   sky,   sky, 0, 0, 0, 0};
-  return std::make_shared<const Program>(code, 5, registers, 9, std::vector<float>{},
-                                         std::vector<std::string>{});
+  return make_program(
+      {{Op::kInput, kInputPosition, 0},
+       {Op::kVectorMath, static_cast<uint32_t>(VectorMathOp::kDotProduct), 2, 0, 1},
+       {Op::kMath, static_cast<uint32_t>(MathOp::kGreaterThan), 4, 2, 3},
+       {Op::kMath, static_cast<uint32_t>(MathOp::kMultiply), 6, 4, 5},
+       {Op::kMath, static_cast<uint32_t>(MathOp::kAdd), 8, 6, 7}},
+      {glm::vec4(0.0f), glm::vec4(sun, 0.0f), glm::vec4(0.0f), glm::vec4(std::cos(radius)),
+       glm::vec4(0.0f), glm::vec4(disc - sky), glm::vec4(0.0f), glm::vec4(sky), glm::vec4(0.0f)});
 }
 
 WorldLightParams lit(int width = 0, int height = 0) {
