@@ -1,7 +1,7 @@
 """The world as a light (issue 47; native scene/world_light.h, addon/export/world.py):
 HDRI worlds lighting diffuse and glossy surfaces against Cycles limited to direct light,
 the world's Ray Visibility and the Lecture model keeping the ambient term, broken texels,
-threads."""
+threads and tiles, a world seen only through glass."""
 
 import json
 from pathlib import Path
