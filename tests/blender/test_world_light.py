@@ -1,7 +1,7 @@
 """The world as a light (issue 47; native scene/world_light.h, addon/export/world.py):
 HDRI worlds lighting diffuse and glossy surfaces against Cycles limited to direct light,
 the world's Ray Visibility and the Lecture model keeping the ambient term, broken texels,
-threads."""
+threads and tiles, a world seen only through glass."""
 
 import json
 from pathlib import Path
@@ -15,10 +15,12 @@ from whitted_tools.material_scenes import (
     numpy_image,
     principled_sphere_material,
 )
+from whitted_tools.metrics import luminance
 from whitted_tools.world_scenes import (
     HDRIS,
     compare,
     lit_by,
+    room_with_a_glass_wall,
     scattering_model,
     sky_world,
     studio_hdri,
@@ -150,15 +152,55 @@ def test_broken_texels_are_reported_and_light_nothing(empty_scene, tmp_path, ren
     assert image[..., :3].min() >= 0.0
 
 
-def test_threads_do_not_change_a_world_lit_image(empty_scene, render_pixels):
+def test_threads_and_tiles_do_not_change_a_world_lit_image(empty_scene, render_pixels):
     image = bpy.data.images.load(studio_hdri("sunset"))
     lit_by(empty_scene, image, lambert_material("Ball", 0.8), size=(40, 30), samples=2)
     empty_scene.render.threads_mode = "FIXED"
     empty_scene.render.threads = 1
+    empty_scene.whitted.tile_size = 32
     one = render_pixels(empty_scene)
     empty_scene.render.threads = 2
     two = render_pixels(empty_scene)
+    # Tiles of 7 pixels: the frame's 40 x 30 split unevenly, each tile's feelers drawn
+    # from its own pixels' sequences.
+    empty_scene.whitted.tile_size = 7
+    tiles = render_pixels(empty_scene)
     assert np.array_equal(one, two)
+    assert np.array_equal(one, tiles)
+
+
+def test_a_world_seen_only_through_glass_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # A closed room whose one wall is a glass pane, the forest HDRI outside: the camera
+    # sees the world, and the floor and sphere it lights, through two refractions. As
+    # Cycles' shadow rays (direct light, no caustics), the world's feelers do not pass
+    # the glass (Glass Shadows Opaque): the room's inside is black in both engines.
+    # Cutoff 0: every feeler is traced (else one whose whole light is under the cutoff
+    # is added unshadowed: measured up to 4.6e-5 on the room's floor, under 1/255).
+    image = bpy.data.images.load(studio_hdri("forest"))
+    room_with_a_glass_wall(empty_scene, image)
+    empty_scene.whitted.cutoff = 0.0
+    stats_path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(stats_path))
+    cycles = render_rgba(empty_scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(empty_scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    assert np.isfinite(whitted).all()
+    ratio, similarity = compare(cycles, whitted)
+    inside = luminance(cycles[..., :3]) == 0.0  # what no light reaches in Cycles
+    print(
+        f"through glass: summed luminance {ratio:.4f}, SSIM {similarity:.4f}, "
+        f"{inside.mean():.3f} of the frame dark inside"
+    )
+    assert abs(ratio - 1.0) < 0.01
+    assert similarity >= 0.98
+    assert inside.mean() > 0.2
+    assert whitted[inside][:, :3].max() == 0.0
+    assert stats_of(stats_path)["world_feelers"] > 0
+    # Glass Shadows Tinted (Whitted's own; Cycles would need caustics): the feelers
+    # through the pane light the room's floor by the world.
+    empty_scene.whitted.glass_shadows = "TINTED"
+    tinted = render_rgba(empty_scene, "WHITTED", str(tmp_path / "tinted.exr"))
+    assert np.isfinite(tinted).all()
+    assert luminance(tinted[inside][:, :3]).mean() > 0.01
 
 
 def test_the_inspector_names_the_world_feelers_and_the_rays_pass_counts_those_sent(

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "program_builder.h"
 #include "shader/program.h"
 
 namespace whitted {
@@ -108,10 +109,7 @@ TEST(Procedural, OpsReadTheirModesAndOperands) {
   EXPECT_TRUE(valid_mode(mode_fields(Op::kBrick), 2u | (2u << 8)));
   EXPECT_TRUE(mode_fields(Op::kInput).empty());
   // A program refuses a mode the op does not have.
-  const std::vector<uint32_t> code = {
-      static_cast<uint32_t>(Op::kMagic), 11, 0, 0, 0, 0, Program::kUnused, Program::kUnused};
-  const std::vector<float> registers(4, 0.0f);
-  EXPECT_THROW(Program(code.data(), 1, registers.data(), 1, {}, {}), std::invalid_argument);
+  EXPECT_THROW(testing::make({{Op::kMagic, 11, 0, 0, 0, 0}}, {vec4(0.0f)}), std::invalid_argument);
 }
 
 }  // namespace

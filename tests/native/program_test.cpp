@@ -9,27 +9,15 @@
 #include <stdexcept>
 #include <vector>
 
+#include "program_builder.h"
+
 namespace whitted {
 namespace {
 
 using glm::vec4;
-constexpr uint32_t kU = Program::kUnused;
-
-struct Row {
-  Op op;
-  uint32_t mode = 0, out = 0, a = kU, b = kU, c = kU, d = kU, e = kU;
-};
-
-Program make(const std::vector<Row>& rows, const std::vector<vec4>& registers,
-             std::vector<float> constants = {}, std::vector<std::string> textures = {}) {
-  std::vector<uint32_t> code;
-  for (const Row& r : rows) {
-    code.insert(code.end(), {static_cast<uint32_t>(r.op), r.mode, r.out, r.a, r.b, r.c, r.d, r.e});
-  }
-  const float* values = registers.empty() ? nullptr : &registers[0].x;
-  return Program(code.data(), rows.size(), values, registers.size(), std::move(constants),
-                 std::move(textures));
-}
+using testing::kU;
+using testing::make;
+using testing::Row;
 
 vec4 run(const Program& program, uint32_t reg, const ProgramHit& hit = {}) {
   std::vector<vec4> r(Program::kMaxRegisters + 1);

@@ -6,11 +6,19 @@ bench-world-light verb share them."""
 import math
 from pathlib import Path
 
+import bmesh
 import bpy
 import numpy as np
+from mathutils import Vector
 
 from whitted_tools.cycles_scenes import set_cycles_direct_light
-from whitted_tools.material_scenes import add_camera, add_floor, smooth_sphere
+from whitted_tools.material_scenes import (
+    add_camera,
+    add_floor,
+    glass_bsdf_material,
+    lambert_material,
+    smooth_sphere,
+)
 from whitted_tools.metrics import luminance, srgb_encode, ssim
 
 # Blender's own studio HDRIs (Poly Haven's, CC0), shipped in every Blender: a low sun
@@ -54,6 +62,52 @@ def lit_by(scene, image, material, size=(96, 72), samples=6):
     scene.whitted.pixel_filter_type = "BOX"
     scene.whitted.aa_mode = "JITTERED"
     scene.whitted.aa_samples = samples
+
+
+def room_with_a_glass_wall(scene, image, size=(96, 72), samples=6):
+    """A closed room under the world `image`: a floor, three walls and a ceiling (grey
+    Lambertian), its fourth wall (towards -Y) a clear glass pane 4 cm thick. The camera
+    inside looks out through the pane at a sphere on the floor outside: what it sees
+    outside, the world and what the world lights, it sees only through glass. Both
+    engines as lit_by sets them, with the two refractions through the pane (and a
+    reflection off it) traced: Cycles' glossy and transmission bounces 2, Whitted's
+    depth 2."""
+    lit_by(scene, image, lambert_material("Ball", 0.8), size, samples)
+    scene.objects["Ball"].location = (0.6, -3.0, 0.6)
+    scene.objects["Ball"].scale = (0.6, 0.6, 0.6)
+    scene.objects["Floor"].scale = (2.5, 2.5, 1.0)  # 20 m: out of the camera's view
+    wall = lambert_material("Wall", 0.5)
+    # A box over x in [-1.5, 1.5], y in [-1, 1.5], z in [0, 2], open towards -Y and
+    # below; its walls reach a centimetre under the floor, so no feeler leaks at a seam.
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    room = bpy.context.active_object
+    room.name = "Room"
+    room.scale = (3.0, 2.5, 2.01)
+    room.location = (0.0, 0.25, 0.995)
+    mesh = room.data
+    bpy.ops.object.transform_apply(location=True, scale=True)
+    shell = bmesh.new()
+    shell.from_mesh(mesh)
+    open_sides = [f for f in shell.faces if f.normal.y < -0.5 or f.normal.z < -0.5]
+    bmesh.ops.delete(shell, geom=open_sides, context="FACES")
+    shell.to_mesh(mesh)
+    shell.free()
+    mesh.materials.append(wall)
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, -1.0, 1.0))
+    pane = bpy.context.active_object
+    pane.name = "Pane"
+    pane.scale = (3.02, 0.04, 2.02)
+    pane.data.materials.append(glass_bsdf_material("Glass", 0.0, ior=1.5))
+    scene.camera.location = (0.0, 1.2, 1.3)
+    scene.camera.rotation_euler = (
+        (Vector((0.0, -4.0, 0.4)) - Vector(scene.camera.location))
+        .to_track_quat("-Z", "Y")
+        .to_euler()
+    )
+    scene.camera.data.lens = 20.0
+    scene.cycles.max_bounces = 2
+    scene.cycles.glossy_bounces = scene.cycles.transmission_bounces = 2
+    scene.whitted.max_depth = 2
 
 
 def sky_world(scene, model, elevation_degrees):

@@ -10,6 +10,7 @@ namespace {
 
 // Resolves texel index i of an axis of n texels, or returns -1 outside a clipped image.
 int wrap(int i, int n, Extension extension) {
+  if (i >= 0 && i < n) return i;  // inside the image, as every extension leaves it
   switch (extension) {
     case Extension::kRepeat:
       i %= n;

@@ -86,32 +86,60 @@ std::shared_ptr<const WorldLight> WorldLight::build(const CompiledScene& scene,
       std::cos(std::min(kPiD, 0.5 * params.sun_angle + 2.0 * kTwoPiD / std::min(w, 2 * h)));
   const Vec3 sun_direction = params.sun_direction;
   std::vector<double> weight(static_cast<size_t>(w) * h);
-  const auto texel = [&](int i, int j, double cos0, double cos1) {
-    const double centre_cos = 0.5 * (cos0 + cos1);
-    const Vec3 centre = direction(centre_cos, kTwoPiD * (i + 0.5) / w);
-    const bool near = sun && glm::dot(centre, sun_direction) >= near_cos;
-    const int n = near ? 8 : 2;
-    double sum = 0.0;
-    double most = 0.0;
-    for (int s = 0; s < n * n; ++s) {
-      const double a = ((s % n) + 0.5) / n;
-      const double b = ((s / n) + 0.5) / n;
-      const Vec3 d = direction(cos0 + (cos1 - cos0) * b, kTwoPiD * (i + a) / w);
-      if (glm::dot(d, sun_direction) >= sun_cos) continue;
-      const float value = channel_mean(scene.world_light_radiance(d, 1));
-      if (!(std::isfinite(value) && value > 0.0f)) continue;
-      sum += value;
-      most = std::max(most, static_cast<double>(value));
+  // A texel's n x n points: at cos(theta) cos0 + (cos1 - cos0) b and azimuth 2 pi (i + a) / w,
+  // a and b ((k + 0.5) / n for k < n). The 2 x 2 points' azimuths are shared by every row and
+  // their polar angles by every column: their cosines and sines are taken once, the same
+  // numbers direction() would give each point.
+  const auto offset = [](int k, int n) { return (k + 0.5) / n; };
+  std::vector<glm::dvec2> azimuths(2 * static_cast<size_t>(w));  // (cos phi, sin phi)
+  for (int i = 0; i < w; ++i) {
+    for (int k = 0; k < 2; ++k) {
+      const double phi = kTwoPiD * (i + offset(k, 2)) / w;
+      azimuths[2 * static_cast<size_t>(i) + k] = {std::cos(phi), std::sin(phi)};
     }
-    return near ? most : sum / (n * n);
+  }
+  // A point's radiance, 0 on the disc and where the program gives no light.
+  const auto seen = [&](const Vec3& d) {
+    if (glm::dot(d, sun_direction) >= sun_cos) return 0.0;
+    const float value = channel_mean(scene.world_light_radiance(d, 1));
+    return std::isfinite(value) && value > 0.0f ? static_cast<double>(value) : 0.0;
+  };
+  // The most of a texel's 8 x 8 points, for the texels about the disc.
+  const auto near_sun = [&](int i, double cos0, double cos1) {
+    double most = 0.0;
+    for (int s = 0; s < 64; ++s) {
+      most = std::max(most, seen(direction(cos0 + (cos1 - cos0) * offset(s / 8, 8),
+                                           kTwoPiD * (i + offset(s % 8, 8)) / w)));
+    }
+    return most;
   };
   const auto rows = [&](int first, int step) {
     for (int j = first; j < h; j += step) {
       const double cos0 = row_cos(j, h);
       const double cos1 = row_cos(j + 1, h);
       const double solid_angle = texel_solid_angle(j, w, h);
+      double z[2];
+      double sin_theta[2];
+      for (int k = 0; k < 2; ++k) {
+        z[k] = cos0 + (cos1 - cos0) * offset(k, 2);
+        sin_theta[k] = std::sqrt(std::max(0.0, 1.0 - z[k] * z[k]));
+      }
       for (int i = 0; i < w; ++i) {
-        weight[static_cast<size_t>(j) * w + i] = texel(i, j, cos0, cos1) * solid_angle;
+        double value = 0.0;
+        if (sun && glm::dot(direction(0.5 * (cos0 + cos1), kTwoPiD * (i + 0.5) / w),
+                            sun_direction) >= near_cos) {
+          value = near_sun(i, cos0, cos1);
+        } else {
+          double sum = 0.0;
+          for (int s = 0; s < 4; ++s) {
+            const glm::dvec2& azimuth = azimuths[2 * static_cast<size_t>(i) + s % 2];
+            const double st = sin_theta[s / 2];
+            sum += seen(Vec3(static_cast<float>(st * azimuth.x), static_cast<float>(st * azimuth.y),
+                             static_cast<float>(z[s / 2])));
+          }
+          value = sum / 4;
+        }
+        weight[static_cast<size_t>(j) * w + i] = value * solid_angle;
       }
     }
   };
