@@ -45,13 +45,11 @@ PRESETS = (
     (
         "DRAFT",
         "Draft",
-        "Noise threshold 0.1 (16 to 144 samples per pixel), two bounces, closest texels",
+        "Noise threshold 0.1 (16 to 36 samples per pixel), two bounces, closest texels",
         Quality(
             max_depth=2,
             aa_mode="JITTERED",
-            # Up to 12 x 12: with 6 x 6 a bright emitter's edges stopped noisy at the most
-            # (docs/notes/adaptive_sampling.md, session 28).
-            aa_samples=12,
+            aa_samples=6,
             aa_threshold=0.3,
             aa_depth=1,
             adaptive_sampling=True,
@@ -68,13 +66,11 @@ PRESETS = (
     (
         "PREVIEW",
         "Preview",
-        "Noise threshold 0.05 (16 to 256 samples per pixel), four bounces",
+        "Noise threshold 0.05 (16 to 64 samples per pixel), four bounces",
         Quality(
             max_depth=4,
             aa_mode="JITTERED",
-            # Up to 16 x 16: with 8 x 8 a bright emitter's edges and a wide lens's blur
-            # stopped noisy at the most (docs/notes/adaptive_sampling.md, session 28).
-            aa_samples=16,
+            aa_samples=8,
             aa_threshold=0.3,
             aa_depth=1,
             adaptive_sampling=True,
