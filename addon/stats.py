@@ -82,6 +82,11 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         # Light samples drawn towards the world where it lights the scene (native
         # scene/world_light.h); their shadow feelers are among rays["shadow"].
         "world_feelers": native_stats["world_feelers"],
+        # Feelers to the lamps from points inside a medium (native integrator/volume.h),
+        # among rays["shadow"] too, and the queries that walked shadow feelers through
+        # volume bounds (transmittance.h); both 0 without media.
+        "volume_feelers": native_stats["volume_feelers"],
+        "volume_queries": native_stats["volume_queries"],
         # Whether each pixel's camera rays went to Embree as one packet, and the instances
         # in view that chose it (packets up to one per 500 pixels: native sampler.h,
         # choose_packets).

@@ -38,6 +38,7 @@ from .nodes.shaders import finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
+from .volume import Medium, NotHomogeneous, homogeneous_medium
 
 __all__ = [
     "MAX_SHININESS",
@@ -172,28 +173,32 @@ def map_material(material, warnings, local_model="BLENDER"):
     Without nodes, the viewport display values are used. A material without a
     surface shader renders as in Cycles (Blender 3.4 and 5.0 seen, docs/SUPPORT.md):
     black and opaque, unless it has a volume shader: then it is no surface at all
-    (MaterialData.surface False), which rays pass through and which casts no shadow.
+    (MaterialData.surface False), which rays pass through and which casts no shadow. A
+    constant volume shader fills the meshes with its medium (export/volume.py).
     """
     if not uses_nodes(material):
         return MaterialExport(_viewport_material(material))
     owner = f"material '{material.name}'"
     output_node = material.node_tree.get_output_node("CYCLES")
-    volume = None if output_node is None else volume_warning(owner, output_node)
-    if volume is not None:
-        _warn(warnings, volume)
+    medium = Medium()
+    volume = False
+    if output_node is not None:
+        try:
+            found_medium = homogeneous_medium(output_node)
+        except NotHomogeneous as why:
+            _warn(warnings, volume_warning(owner, output_node, str(why)))
+            volume = True
+        else:
+            volume = found_medium is not None
+            medium = found_medium or medium
     if output_node is None or source(output_node.inputs["Surface"])[0] is None:
-        if volume is None:
+        if not volume:
             _warn(
                 warnings, f"Whitted: {owner} has no surface shader; it renders black, as in Cycles"
             )
             return MaterialExport(_black())
-        _warn(
-            warnings,
-            f"Whitted: {owner} has a volume shader and no surface shader: its meshes are no "
-            "surface (rays pass through them and they cast no shadow: an invisible boundary, "
-            "as in Cycles)",
-        )
-        return MaterialExport(material_data_type()(surface=False))
+        # Cycles lets rays through a volume's bounds: no surface (docs/notes/no_surface.md).
+        return MaterialExport(material_data_type()(surface=False, **medium.fields()))
     found = []
     lowering = Lowering(owner, found)
     closure = surface(lowering, output_node, local_model=local_model)
@@ -213,7 +218,10 @@ def map_material(material, warnings, local_model="BLENDER"):
     if closure.multiscatter:
         exported = replace(exported, data=replace(exported.data, multiscatter=True))
     sampling = _emission_sampling(material)
-    return replace(exported, data=replace(exported.data, emission_sampling=sampling))
+    # A surface's volume fills what its refraction enters (glass with an absorbing volume).
+    return replace(
+        exported, data=replace(exported.data, emission_sampling=sampling, **medium.fields())
+    )
 
 
 def _emission_sampling(material):

@@ -2,8 +2,9 @@
 depsgraph is walked, so that nothing vanishes from the image without a report line
 naming it (the object, what it is, and why).
 
-Cycles renders, and Whitted skips: volumes, Volume objects (OpenVDB) and the Volume
-output of a material or the world. Cycles renders otherwise, and Whitted as ordinary
+Cycles renders, and Whitted skips: Volume objects (OpenVDB), the world's Volume output,
+and a material's Volume output that is not a constant (homogeneous) one (export/volume.py
+says which are rendered). Cycles renders otherwise, and Whitted as ordinary
 objects: shadow catchers (Object > Visibility > Shadow Catcher). (Hair curves, point
 clouds and particle hair are rendered: export/curves.py. A geometry-nodes curve on a
 mesh object reaches a render as an empty legacy curve, which Cycles skips too: it is not
@@ -26,7 +27,7 @@ PHRASE = {
     "shadow catchers": "set as shadow catchers, rendered as ordinary objects",
 }
 WHY = {
-    "volumes": "Whitted does not render volumes (participating media are out of its scope)",
+    "volumes": "Whitted does not render Volume objects (OpenVDB grids) yet",
     "shadow catchers": "Cycles shows only the shadows cast on them; Whitted has no shadow "
     "catcher yet",
 }
@@ -57,10 +58,11 @@ def unrendered_warnings(found):
     return lines
 
 
-def volume_warning(owner, output_node):
+def volume_warning(owner, output_node, why):
     """A report line when the Volume input of a material's or world's output node
-    `output_node` is linked (`owner`: "material 'Smoke'"), else None."""
+    `output_node` is linked (`owner`: "material 'Smoke'"), saying `why` it is not
+    rendered, else None."""
     socket = output_node.inputs.get("Volume")
     if socket is None or source(socket)[0] is None:  # reroutes followed, muted links not
         return None
-    return f"Whitted: {owner} has a volume shader, which is not rendered: {WHY['volumes']}"
+    return f"Whitted: {owner} has a volume shader, which is not rendered: {why}"

@@ -186,7 +186,11 @@ def _convert_world(world, ambient_strength, warnings):
     elif uses_nodes(world):
         output_node = world.node_tree.get_output_node("CYCLES")
         volume = (
-            None if output_node is None else volume_warning(f"world '{world.name}'", output_node)
+            None
+            if output_node is None
+            else volume_warning(
+                f"world '{world.name}'", output_node, "Whitted does not render a world's volume yet"
+            )
         )
         if volume is not None:
             warnings.append(volume)

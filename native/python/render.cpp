@@ -38,6 +38,8 @@ py::dict stats_dict(const RenderStats& s) {
   out["effects"] = effects;
   out["nonfinite_samples"] = s.rays.nonfinite_samples;
   out["world_feelers"] = s.rays.world_feelers;
+  out["volume_feelers"] = s.rays.volume_feelers;
+  out["volume_queries"] = s.rays.volume_queries;
   out["compile_seconds"] = s.compile_seconds;
   out["world_light_seconds"] = s.world_light_seconds;
   out["top_level_built"] = s.top_level_built;

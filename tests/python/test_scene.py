@@ -347,6 +347,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "glossy reflection",
         "refraction",
         "translucency",
+        "volumes",
         "hair and points",
         "light linking",
         "depth of field",

@@ -34,6 +34,10 @@ inline constexpr int kMaxTransparentLayers = 64;
 // this many surfaces; no sane nesting of glass comes near it.
 inline constexpr int kMaxMediaCrossings = 1024;
 
+// A shadow feeler's walk through volume bounds (integrator/volume.h) records at most this
+// many crossings; beyond them the media are as the last one left them.
+inline constexpr int kMaxVolumeCrossings = 64;
+
 // --- absolute bounds: float32 and Embree ----------------------------------------------
 
 // The exporter drops triangles with an object-space coordinate beyond 1e7

@@ -26,6 +26,10 @@ enum RayKind : uint32_t {
   // instance seen by shadow rays carries one of these two bits (Scene::compile).
   kOpaqueShadowRay = 1u << 4,
   kTranslucentShadowRay = 1u << 5,
+  // The bounds of a volume (a mesh without a surface whose material encloses a medium:
+  // integrator/volume.h): seen only by queries that carry this bit besides their kind,
+  // in scenes with media, to enter and leave them.
+  kVolumeBoundRay = 1u << 6,
   // A camera ray where there is none: an image point outside a fisheye's circle. It
   // is traced as nothing (no instance's mask matches it) and shades as opaque black,
   // as Cycles shows it.

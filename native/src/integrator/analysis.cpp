@@ -66,6 +66,21 @@ EffectDecision light_linking(const CompiledScene& scene) {
               " in light or shadow sets"};
 }
 
+// The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
+// their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume.
+size_t media_objects(const CompiledScene& scene) {
+  size_t objects = 0;
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    bool participating = false;
+    for (uint32_t m : instance.materials) {
+      const Material& material = scene.materials[m];
+      participating |= material.participating() && (!material.surface || material.transmissive());
+    }
+    objects += participating ? 1 : 0;
+  }
+  return objects;
+}
+
 // Which of shadows, reflection, refraction and translucency the scene can show.
 void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects* effects) {
   // Only materials some instance uses can contribute, and only where some ray sees it.
@@ -91,12 +106,15 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
     translucent |=
         mat.cut_out() || (settings.glass_shadows == GlassShadows::kTinted && mat.transmissive());
   }
-  // An emissive mesh's feelers are shadowed, and the world's.
+  // An emissive mesh's feelers are shadowed, and the world's. Media dim the feelers that
+  // cross them whether or not anything blocks them.
   bool casting = !scene.mesh_lights->empty() || scene.world_light != nullptr;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
-  decide(effects, kShadowEffect, casting && any_blocker, "shadows",
+  const size_t media = media_objects(scene);
+  decide(effects, kShadowEffect, casting && (any_blocker || media > 0), "shadows",
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
+         : media > 0   ? "lights cast shadows through media"
                        : "nothing is visible to shadow rays");
   const MeshLights& emitters = *scene.mesh_lights;
   const size_t objects = emitters.objects();
@@ -129,6 +147,10 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   decide(effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
+  decide(effects, kVolumeEffect, media > 0, "volumes",
+         media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") +
+                         ": homogeneous, single scattering of the lamps' light"
+                   : "no mesh encloses a medium (a material's constant volume shader)");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
 }

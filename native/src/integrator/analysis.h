@@ -29,6 +29,10 @@ enum EffectBits : uint32_t {
   kEmitterEffect = 1u << 6,
   // Feelers to the world as a light (scene/world_light.h), read at run time likewise.
   kWorldLightEffect = 1u << 7,
+  // Homogeneous media (integrator/volume.h): segments inside them, their bounds, and
+  // shadow feelers through them. Read at run time likewise; the step's queries meet
+  // volume bounds only where it is on.
+  kVolumeEffect = 1u << 8,
 };
 
 // One decision of the analysis: an effect's name, whether it is simulated, and why
@@ -42,7 +46,7 @@ struct EffectDecision {
 };
 
 struct Effects {
-  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect | kWorldLightEffect;
+  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect | kWorldLightEffect | kVolumeEffect;
   // One per effect, in EffectBits order (glossy after reflection, emitters after shadows),
   // then what is named without a bit: hair and points, light linking, the camera's.
   std::vector<EffectDecision> decisions;

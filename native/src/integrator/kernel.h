@@ -29,6 +29,7 @@
 #include "integrator/shading_point.h"
 #include "integrator/split.h"
 #include "integrator/strata.h"
+#include "integrator/volume.h"
 #include "integrator/whitted.h"
 
 namespace whitted {
@@ -65,41 +66,69 @@ class Kernel {
   }
 
   // Along a ray, through cut-outs: each surface adds its share, the rest goes on behind.
-  // `first`, when given, is the ray's first hit, already found.
+  // `first`, when given, is the ray's first hit, already found. In a scene with media
+  // (kVolumeEffect, volume.h) the ray also meets the bounds of media without a surface,
+  // entered and left as it crosses them, and each segment inside a medium adds what it
+  // scatters and emits and dims what lies beyond it.
   Color trace(const Ray& ray, const NodeState& state, RayCounts* counts, float* alpha,
               const Hit* first = nullptr) const {
     Color radiance(0.0f);
     float coverage = 0.0f;
-    float behind = 1.0f;  // the share of the ray not yet covered by a surface
+    float behind = 1.0f;     // the share of the ray not yet covered by a surface
+    Color through(1.0f);     // what the media in front let through (kVolumeEffect)
+    NodeState here = state;  // its media change where it crosses a volume's bounds
     Ray r = ray;
     typename Recorder::Node in_front{};  // the recorder's node of the layer in front
     for (int layer = 0; behind > 0.0f; ++layer) {
       Hit hit;
       bool found = false;
-      if (layer == 0 && first != nullptr) {
+      if (layer == 0 && first != nullptr && !in_.has(kVolumeEffect)) {
         hit = *first;
         found = hit.t < kInfinity;
       } else {
-        found = in_.queries.intersect(r, &hit);
+        found = in_.queries.intersect(query(r), &hit);
       }
-      const auto node = recorder_.ray(r, state.depth, in_front, behind);
+      const auto node = recorder_.ray(r, here.depth, in_front, behind);
+      if (in_.has(kVolumeEffect)) {
+        if (const Material* m = medium_of(in_.scene, here.media.current())) {
+          const float length = found ? hit.t : kInfinity;
+          radiance +=
+              (behind * through) * segment_radiance(in_, r, length, *m, here, layer, counts);
+          through *= transmittance(extinction(*m), length);
+          if (is_black(through)) break;
+        }
+      }
       if (!found) {
-        radiance += escape(r, ray.kind == kCameraRay, state, node, behind, &coverage);
+        radiance += through * escape(r, ray.kind == kCameraRay, here, node, behind, &coverage);
         break;
       }
       const Interaction it = in_.scene.interaction(r, hit);
+      if (in_.has(kVolumeEffect) && !it.material->surface) {
+        // A volume's bound: the ray goes on into (or out of) its medium.
+        if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
+          here.media.enter(it.material_index, it.material->priority);
+        } else {
+          here.media.leave(it.material_index);
+        }
+        const float left = r.t_max - glm::length(it.position - r.origin);
+        if (!(left > 0.0f) || layer >= limits::kMaxMediaCrossings) break;
+        r = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, r.direction,
+                      RayKind(r.kind), left);
+        counts->volume_bounds += 1;
+        continue;
+      }
       recorder_.hit(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
-      const SurfaceParams surface = in_.scene.surface(it, r, in_.context(state));
+      const SurfaceParams surface = in_.scene.surface(it, r, in_.context(here));
       float a = 1.0f;
       if (in_.has(kTranslucencyEffect)) {
         a = layer == limits::kMaxTransparentLayers ? 1.0f : surface.alpha;
       }
       if (a > 0.0f) {
-        if constexpr (Policy::kQueues) policy_.shading(behind * a);
+        if constexpr (Policy::kQueues) policy_.shading((behind * a) * through);
         [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a);
-        recorder_.surface(state.depth, r, it, surface);
-        radiance += (behind * a) * shade(r, it, surface, state, counts);
+        recorder_.surface(here.depth, r, it, surface);
+        radiance += (behind * a) * through * shade(r, it, surface, here, counts);
         coverage += behind * a;
       }
       in_front = node;
@@ -114,6 +143,15 @@ class Kernel {
     }
     if (alpha != nullptr) *alpha = coverage;
     return radiance;
+  }
+
+  // What the step asks Embree for a ray: its kind, and in a scene with media the
+  // volumes' bounds too (a camera ray where there is none, kNoRay, sees nothing still).
+  Ray query(const Ray& r) const {
+    if (!in_.has(kVolumeEffect) || r.kind == kNoRay) return r;
+    Ray q = r;
+    q.kind |= kVolumeBoundRay;
+    return q;
   }
 
   // The world where a ray escapes, `behind` of it uncovered, and the coverage it adds:

@@ -18,7 +18,8 @@ inline constexpr uint32_t kRuntimeEffects = ~0u;
 
 // The effects are read with has(): constants in the kernels compiled per set of effects
 // (kEffects, for renders without passes: measured faster, docs/EFFECTS.md), run-time
-// flags in the others (kRuntimeEffects). The code is the same either way.
+// flags in the others (kRuntimeEffects) and for the bits above kAllEffects. The code is
+// the same either way.
 template <uint32_t kEffects, class Queries>
 struct KernelInputs {
   explicit KernelInputs(const WhittedIntegrator& w)
@@ -34,7 +35,8 @@ struct KernelInputs {
     if constexpr (kEffects == kRuntimeEffects) {
       return (effects & bit) != 0;
     } else {
-      return (kEffects & bit) != 0;
+      // The bits above kAllEffects are read at run time in every kernel (EffectBits).
+      return bit > kAllEffects ? (effects & bit) != 0 : (kEffects & bit) != 0;
     }
   }
 

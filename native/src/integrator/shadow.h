@@ -9,6 +9,7 @@
 #include "core/limits.h"
 #include "core/ray.h"
 #include "integrator/kernel_inputs.h"
+#include "integrator/transmittance.h"
 #include "scene/light.h"
 
 namespace whitted {
@@ -34,14 +35,10 @@ Ray first_query(const KernelInputs<kEffects, Queries>& in, Ray ray) {
   return ray;
 }
 
-// Fraction of light that reaches the end of a shadow ray whose first query answered
-// `blocked` (both among `linked`, null: every instance): 0 behind anything opaque; through a
-// surface of coverage a, 1 - a passes (cut-outs), and of its covered part a*T with glass_shadows
-// tinted (coloured shadows behind glass, transmissivity T), else none (settings.h).
+// What the surfaces on a shadow ray let through (shadow_transmittance, below).
 template <uint32_t kEffects, class Queries>
-Color shadow_transmittance(const KernelInputs<kEffects, Queries>& in, Ray ray, bool blocked,
-                           const Blockers* linked, int depth, RayCounts* counts) {
-  counts->shadow += 1;
+Color surfaces_transmittance(const KernelInputs<kEffects, Queries>& in, Ray ray, bool blocked,
+                             const Blockers* linked, int depth, RayCounts* counts) {
   if (blocked) return Color(0.0f);
   if (!in.has(kTranslucencyEffect)) return Color(1.0f);
   ray.kind = kTranslucentShadowRay;
@@ -66,6 +63,20 @@ Color shadow_transmittance(const KernelInputs<kEffects, Queries>& in, Ray ray, b
     counts->shadow += 1;
   }
   return Color(0.0f);
+}
+
+// Fraction of light that reaches the end of a shadow ray whose first query answered
+// `blocked` (both among `linked`, null: every instance): 0 behind anything opaque; through a
+// surface of coverage a, 1 - a passes (cut-outs), and of its covered part a*T with glass_shadows
+// tinted (coloured shadows behind glass, transmissivity T), else none (settings.h); in a
+// scene with media (kVolumeEffect), times what the media it crosses let through.
+template <uint32_t kEffects, class Queries>
+Color shadow_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& ray, bool blocked,
+                           const Blockers* linked, int depth, RayCounts* counts) {
+  counts->shadow += 1;
+  Color through = surfaces_transmittance(in, ray, blocked, linked, depth, counts);
+  if (in.has(kVolumeEffect) && !is_black(through)) through *= media_transmittance(in, ray, counts);
+  return through;
 }
 
 }  // namespace whitted

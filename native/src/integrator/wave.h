@@ -136,8 +136,9 @@ struct Enqueue {
   static constexpr bool kQueues = true;
   WaveCursor* at;
 
-  // The surface being shaded covers `share` of the ray.
-  void shading(float share) const { at->layer = at->factor * share; }
+  // The surface being shaded covers `share` of the ray (the coverage in front, and in a
+  // scene with media what they let through).
+  void shading(const Color& share) const { at->layer = at->factor * share; }
   // A child ray of `weight` relative to the surface, at `state`, carrying `path` on the
   // passes: the next generation's.
   void child(const Ray& ray, const NodeState& state, const Color& weight,

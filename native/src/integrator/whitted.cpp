@@ -157,6 +157,9 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   shadow_rays_skipped.cutoff += o.shadow_rays_skipped.cutoff;
   nonfinite_samples += o.nonfinite_samples;
   world_feelers += o.world_feelers;
+  volume_feelers += o.volume_feelers;
+  volume_queries += o.volume_queries;
+  volume_bounds += o.volume_bounds;
   return *this;
 }
 
@@ -182,18 +185,22 @@ WhittedIntegrator::WhittedIntegrator(const CompiledScene& scene, const Settings&
   }
 }
 
-// Walks a ray from p through every surface: a transmissive surface the walk leaves
-// without having entered it encloses p. The first such surface is the innermost medium.
+// Walks a ray from p through every surface: a transmissive surface (or, in a scene with
+// media, a volume's bound) the walk leaves without having entered it encloses p. The
+// first such surface is the innermost medium.
 MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
+  const bool volumes = effects_.has(kVolumeEffect);
   // An arbitrary direction unlikely to graze edges of axis-aligned models.
-  Ray ray{p, glm::normalize(Vec3(0.3717f, 0.5419f, 0.7537f)), 0.0f, kInfinity, kRefractionRay};
+  Ray ray{p, glm::normalize(Vec3(0.3717f, 0.5419f, 0.7537f)), 0.0f, kInfinity,
+          volumes ? kRefractionRay | kVolumeBoundRay : kRefractionRay};
   std::vector<uint32_t> enclosing;  // innermost first
   std::vector<int> entered(scene_.materials.size(), 0);
   for (int i = 0; i < limits::kMaxMediaCrossings; ++i) {
     Hit hit;
     if (!scene_.accel->intersect(ray, &hit)) break;
     const Interaction it = scene_.interaction(ray, hit);
-    if (it.material->transmissive()) {
+    const Material& m = *it.material;
+    if (m.transmissive() || (volumes && !m.surface && m.participating())) {
       if (glm::dot(ray.direction, it.geometric_normal) < 0.0f) {
         entered[it.material_index] += 1;
       } else if (entered[it.material_index] > 0) {
@@ -203,7 +210,7 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
       }
     }
     ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, ray.direction,
-                    kRefractionRay);
+                    RayKind(ray.kind));
   }
   MediumStack media;
   for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) {

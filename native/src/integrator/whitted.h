@@ -40,6 +40,11 @@ struct RayCounts {
   } shadow_rays_skipped;
   uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
   uint64_t world_feelers = 0;      // light samples drawn towards the world (scene/world_light.h)
+  // Feelers to the lamps from points inside a medium (in-scattering, integrator/volume.h),
+  // and the queries that walked shadow feelers through volume bounds (transmittance.h).
+  uint64_t volume_feelers = 0;
+  uint64_t volume_queries = 0;
+  uint64_t volume_bounds = 0;  // volume bounds a ray crossed on its way (kernel.h)
 
   RayCounts& operator+=(const RayCounts& o);
   // A secondary ray of kind `kind` traced: drawn from a glossy lobe (`glossy`), or a

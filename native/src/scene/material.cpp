@@ -35,6 +35,14 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     throw std::invalid_argument("bump_shadowing is not a BumpShadowing");
   }
   alpha = std::clamp(alpha, 0.0f, 1.0f);
+  for (Color* c : {&volume_absorption, &volume_scattering, &volume_emission}) {
+    if (!is_finite(*c)) throw std::invalid_argument("volume coefficients must be finite");
+    *c = glm::max(*c, Color(0.0f));
+  }
+  if (!std::isfinite(volume_anisotropy)) {
+    throw std::invalid_argument("volume_anisotropy must be finite");
+  }
+  volume_anisotropy = std::clamp(volume_anisotropy, -0.999f, 0.999f);  // as Cycles' HG setup
   if (!surface) {
     if (program || !diffuse_texture.empty() || !alpha_texture.empty()) {
       throw std::invalid_argument("a material without a surface has no program or texture");

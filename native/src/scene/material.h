@@ -116,6 +116,12 @@ struct MaterialParams {
   EmissionSampling emission_sampling = EmissionSampling::kBoth;  // scene/mesh_light.h
   float alpha = 1.0f;
   bool surface = true;
+  // The homogeneous medium its mesh encloses (integrator/volume.h): coefficients per
+  // Blender unit of length (per metre at unit scale 1), RGB.
+  Color volume_absorption{0.0f};
+  Color volume_scattering{0.0f};
+  float volume_anisotropy = 0.0f;
+  Color volume_emission{0.0f};
   int32_t priority = 0;  // medium.h
   int32_t pass_index = 0;
   // The coat (lobes.h, Coat): a clear dielectric layer over everything above.
@@ -185,6 +191,18 @@ inline constexpr auto kMaterialParams = std::tuple{
                   "Surface): rays pass through it untouched and it casts no shadow. A mesh "
                   "whose every face has such a material stays in the scene, seen by no ray; "
                   "elsewhere its faces are cut-outs of alpha 0. It has no program or texture."},
+    MaterialParam{"volume_absorption", &MaterialParams::volume_absorption,
+                  "Absorption coefficient sigma_a (RGB, per Blender unit of length: per metre at "
+                  "unit scale 1) of the homogeneous medium the mesh encloses; negative is 0."},
+    MaterialParam{"volume_scattering", &MaterialParams::volume_scattering,
+                  "Scattering coefficient sigma_s (RGB, per Blender unit of length) of that "
+                  "medium, scattered once towards the camera (Henyey-Greenstein); negative is 0."},
+    MaterialParam{"volume_anisotropy", &MaterialParams::volume_anisotropy,
+                  "Henyey-Greenstein anisotropy g of that medium's scattering, clamped to "
+                  "[-0.999, 0.999]: 0 isotropic, above 0 forwards."},
+    MaterialParam{"volume_emission", &MaterialParams::volume_emission,
+                  "Radiance the medium emits per Blender unit of length (W/(m^2 sr) per unit, "
+                  "RGB); negative is 0."},
     MaterialParam{"priority", &MaterialParams::priority,
                   "Nested dielectrics: where volumes overlap, the material of higher priority owns "
                   "the overlap."},
@@ -232,7 +250,8 @@ struct Material : MaterialParams {
   // Throws std::invalid_argument for what cannot be a material (a non-finite colour,
   // shininess, ambient, IOR, alpha or coat value; an IOR or coat IOR not above 0; outputs
   // without a program, or naming a register it does not have; a program or texture on a
-  // material without a surface) and clamps alpha to [0, 1], 0 without a surface.
+  // material without a surface) and clamps alpha to [0, 1], 0 without a surface, the volume's
+  // coefficients to at least 0 and its anisotropy to [-0.999, 0.999].
   explicit Material(const MaterialParams& params);
 
   // Indices into CompiledScene::textures, resolved by Scene::compile (-1: none).
@@ -256,6 +275,12 @@ struct Material : MaterialParams {
   bool reflective() const {
     return !is_black(reflectivity) || driven(kReflectivityField) || coat_reflectivity > 0.0f ||
            driven(kCoatReflectivityField);
+  }
+  // Whether the mesh encloses a medium that absorbs, scatters or emits (a volume shader's
+  // constant coefficients: integrator/volume.h); a zero volume is none.
+  bool participating() const {
+    return !is_black(volume_absorption) || !is_black(volume_scattering) ||
+           !is_black(volume_emission);
   }
   bool transmissive() const { return !is_black(transmissivity) || driven(kTransmissivityField); }
   // Lets some light through: transmission, or coverage below 1 (after compile, which

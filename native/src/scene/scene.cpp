@@ -376,6 +376,11 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
       for (uint32_t index : out.materials) translucent |= compiled->materials[index].translucent();
       mask |= translucent ? kTranslucentShadowRay : kOpaqueShadowRay;
     }
+    // The bounds of a medium without a surface: found by the queries of scenes with media.
+    for (uint32_t index : out.materials) {
+      const Material& material = compiled->materials[index];
+      if (!material.surface && material.participating()) mask |= kVolumeBoundRay;
+    }
     // Aliasing pointer: the mesh BVH, keeping its whole entry (the arrays) alive.
     accel_instances.push_back({std::shared_ptr<const MeshAccel>(out.mesh, &out.mesh->accel),
                                out.placement.to_world, mask, out.motion});

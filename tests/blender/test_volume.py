@@ -1,0 +1,172 @@
+"""Homogeneous fog (issue 48; native integrator/volume.h, addon/export/volume.py): a fog
+cube of Principled Volume density 0.1 lit by a spot lamp, a box inside it casting its
+shadow into the fog, beside Cycles with volume, diffuse and glossy bounces 0; what each
+volume node exports; the report and the statistics."""
+
+import json
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pytest
+from whitted.export.material import convert_material
+from whitted.sync.frame import sync_frame
+from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
+from whitted_tools.scenes import add_object, cube_mesh, facing, mesh_from_faces
+from whitted_tools.world_scenes import compare
+
+
+def _material(name, build):
+    """A material whose output's Volume is what build(nodes) returns (an output socket),
+    and no Surface."""
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    for node in [n for n in tree.nodes if n.bl_idname != "ShaderNodeOutputMaterial"]:
+        tree.nodes.remove(node)
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(build(tree), output.inputs["Volume"])
+    return material
+
+
+def _principled(density, colour=(1.0, 1.0, 1.0), anisotropy=0.0):
+    def build(tree):
+        node = tree.nodes.new("ShaderNodeVolumePrincipled")
+        node.inputs["Density"].default_value = density
+        node.inputs["Color"].default_value = (*colour, 1.0)
+        node.inputs["Anisotropy"].default_value = anisotropy
+        return node.outputs[0]
+
+    return build
+
+
+def _fog_stage(scene):
+    """A 12 x 12 floor under a spot lamp, inside a fog cube of edge 6 standing on it, a
+    box in the cone casting its shadow into the fog, no world; the camera outside."""
+    scene.render.resolution_x, scene.render.resolution_y = 48, 36
+    corners = np.array([(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], dtype=np.float32)
+    add_object(scene, "Floor", mesh_from_faces("Floor", corners, [np.array([[0, 1, 2, 3]])]))
+    add_object(scene, "Box", cube_mesh("Box", 0.8), location=(0.3, 0.0, 1.5))
+    lamp = bpy.data.lights.new("Spot", "SPOT")
+    lamp.energy, lamp.spot_size, lamp.spot_blend, lamp.shadow_soft_size = 1000.0, 0.9, 0.1, 0.0
+    add_object(scene, "Spot", lamp, location=(0.0, 0.0, 5.0)).rotation_euler = facing((0, 0, -1))
+    fog = add_object(scene, "Fog", cube_mesh("Fog", 6.0), location=(0.0, 0.0, 3.0))
+    fog.data.materials.append(_material("Fog", _principled(0.1)))
+    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
+    camera.location, camera.rotation_euler = (0.0, -11.0, 3.5), facing((0.0, 11.0, -2.0))
+    scene.camera = camera
+    return scene
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="not yet as Cycles (Blender 3.4, seen): the fog above the floor 0.993 of Cycles' "
+    "luminance, the whole image 2.08 (SSIM 0.70): the lit floor, which shares its plane with "
+    "the fog cube's bottom face, is not yet understood",
+)
+def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    scene = _fog_stage(empty_scene)
+    set_cycles_reference(scene, samples=256)
+    scene.cycles.pixel_filter_type = "BOX"
+    scene.cycles.filter_width = 1.0
+    scene.whitted.pixel_filter_type = "BOX"
+    scene.whitted.aa_mode = "JITTERED"
+    scene.whitted.aa_samples = 8
+    scene.whitted.max_depth = 0
+    stats_path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(stats_path))
+    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
+    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    ratio, similarity = compare(cycles, whitted)
+    print(f"\nfog box: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
+    top = slice(-8, None)  # the fog above the floor (rows bottom to top)
+    print(f"fog alone: {whitted[top, :, :3].sum() / cycles[top, :, :3].sum():.4f} of Cycles'")
+    assert abs(ratio - 1.0) < 0.02
+    assert similarity >= 0.97
+    stats = json.loads(Path(stats_path).read_text())
+    assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
+    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
+    assert volumes["on"] and "1 object" in volumes["why"], volumes
+
+
+def test_the_fog_shows_and_dims_what_is_behind_it(empty_scene, render_pixels):
+    scene = _fog_stage(empty_scene)
+    scene.whitted.aa_samples = 2
+    fog = render_pixels(scene).copy()
+    bpy.data.materials["Fog"].node_tree.nodes["Principled Volume"].inputs[
+        "Density"
+    ].default_value = 0.0
+    clear = render_pixels(scene)
+    # The sky above the floor is black without fog and lit with it (the cone); the floor
+    # under the lamp is dimmed by the fog the light and the view cross.
+    top = slice(-6, None)  # rows bottom to top
+    assert clear[top, :, :3].max() == 0.0 and fog[top, :, :3].max() > 0.0
+    floor = slice(0, 12)  # the near floor, under the fog
+    assert fog[floor, :, :3].sum() < clear[floor, :, :3].sum()
+
+
+def _nodes(tree, kind, **inputs):
+    node = tree.nodes.new(kind)
+    for name, value in inputs.items():
+        node.inputs[name].default_value = value
+    return node
+
+
+@pytest.mark.parametrize(
+    ("case", "expected"),
+    [
+        (
+            "absorption",
+            {"volume_absorption": (0.4, 0.2, 0.0), "volume_scattering": (0.0, 0.0, 0.0)},
+        ),
+        ("scatter", {"volume_scattering": (0.6, 0.4, 0.2), "volume_anisotropy": 0.5}),
+        ("principled", {"volume_scattering": (0.25, 0.25, 0.25)}),
+        ("mix", {"volume_absorption": (0.1, 0.05, 0.0), "volume_scattering": (0.45, 0.3, 0.15)}),
+    ],
+)
+def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scene):
+    def build(tree):
+        absorption = _nodes(
+            tree, "ShaderNodeVolumeAbsorption", Color=(0.0, 0.5, 1.0, 1.0), Density=0.4
+        )
+        scatter = _nodes(
+            tree, "ShaderNodeVolumeScatter", Color=(0.3, 0.2, 0.1, 1.0), Density=2.0, Anisotropy=0.5
+        )
+        if case == "absorption":
+            return absorption.outputs[0]
+        if case == "scatter":
+            return scatter.outputs[0]
+        if case == "principled":
+            # Absorption Color 1 (its sqrt 1): no absorption beyond 1 - Color's; Color 0.5.
+            return _nodes(
+                tree,
+                "ShaderNodeVolumePrincipled",
+                Color=(0.5, 0.5, 0.5, 1.0),
+                Density=0.5,
+                **{"Absorption Color": (1.0, 1.0, 1.0, 1.0)},
+            ).outputs[0]
+        mix = _nodes(tree, "ShaderNodeMixShader", Fac=0.75)
+        tree.links.new(absorption.outputs[0], mix.inputs[1])
+        tree.links.new(scatter.outputs[0], mix.inputs[2])
+        return mix.outputs[0]
+
+    warnings = []
+    data = convert_material(_material(case.title(), build), warnings).data
+    assert not data.surface and not warnings, warnings
+    for name, value in expected.items():
+        np.testing.assert_allclose(getattr(data, name), value, rtol=1e-6, atol=1e-7)
+
+
+def test_a_linked_density_is_reported_as_not_rendered(empty_scene, native):
+    def build(tree):
+        volume = tree.nodes.new("ShaderNodeVolumePrincipled")
+        noise = tree.nodes.new("ShaderNodeTexNoise")
+        tree.links.new(noise.outputs[0], volume.inputs["Density"])
+        return volume.outputs[0]
+
+    scene = _fog_stage(empty_scene)
+    scene.objects["Fog"].data.materials[0] = _material("Cloud", build)
+    warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
+    cloud = [w for w in warnings if "'Cloud'" in w]
+    assert len(cloud) == 1 and "Density is linked (a heterogeneous volume" in cloud[0], warnings

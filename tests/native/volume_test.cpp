@@ -1,0 +1,247 @@
+// Homogeneous media (integrator/volume.h, issue 48): a slab's transmittance, a point
+// lamp's single scattering in an effectively infinite medium against the line integral,
+// density 0 and a huge density, glass with a volume, and a fog box rendered the same
+// whatever the threads and tiles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "integrator/analysis.h"
+#include "integrator/render.h"
+#include "integrator/volume.h"
+#include "scene_builders.h"
+
+namespace whitted {
+namespace {
+
+using testing::add_object;
+using testing::looking_down;
+using testing::quad;
+using testing::small_render;
+
+// A closed axis-aligned box from `lo` to `hi`, its faces wound outwards.
+Mesh box(Vec3 lo, Vec3 hi) {
+  const float p[] = {lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z,
+                     lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z};
+  const uint32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                        1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  return make_mesh(p, 8, t, 12, nullptr, nullptr);
+}
+
+// What the exporter makes of a material whose output has only a constant volume shader.
+Material fog(Color absorption, Color scattering, float anisotropy = 0.0f) {
+  MaterialParams m;
+  m.surface = false;
+  m.volume_absorption = absorption;
+  m.volume_scattering = scattering;
+  m.volume_anisotropy = anisotropy;
+  return Material(m);
+}
+
+struct Rendered {
+  std::vector<float> pixels;
+  RenderStats stats;
+};
+
+Rendered render(const Scene& scene, const Settings& settings) {
+  RenderJob job(scene, settings, scene.camera);
+  testing::run_to_end(job);
+  return {job.film().pixels(), job.stats()};
+}
+
+// One pixel looking straight down -z from `eye`: its one ray is the camera's axis.
+Settings one_ray(int samples) {
+  Settings settings = small_render(1, 1, samples, 2, 8);
+  settings.aa_mode = AntiAliasing::kJittered;
+  return settings;
+}
+
+TEST(Volume, SlabTransmittanceIsExpOfMinusSigmaTTimesDepth) {
+  const Color sigma_a(0.5f, 1.0f, 2.0f);
+  for (const float depth : {0.1f, 0.7f, 2.5f}) {
+    Scene scene;
+    scene.set_background(Color(1.0f));
+    // Narrow about the camera's axis: each bound's crossing starts the next segment off the
+    // face by its rounding error bound, which grows with the vertices' coordinates (4e-5
+    // of length at +-50, ray.h's offset_ray_origin).
+    add_object(&scene, "slab", box(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 1.0f + depth)),
+               fog(sigma_a, Color(0.0f)));
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1e-5f);
+    const Rendered r = render(scene, one_ray(1));
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(r.pixels[static_cast<size_t>(c)], std::exp(-sigma_a[c] * depth), 1e-5f)
+          << "depth " << depth << " channel " << c;
+    }
+  }
+}
+
+// The single-scatter radiance reaching the origin along -z from a point lamp of intensity
+// I at c = (D, 0, -h) in a medium filling [-L, L]^3: the line integral
+//   L = int_0^L exp(-sigma_t t) sigma_s p(cos) I exp(-sigma_t r) / r^2 dt,
+//   r = |x(t) - c|, x(t) = (0, 0, -t), cos the angle between the light's way to x and -z,
+// by Simpson's rule in double precision (2e5 intervals).
+double line_integral(double sigma_s, double sigma_t, double g, double intensity, double d, double h,
+                     double length) {
+  const int n = 200000;
+  const double step = length / n;
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double t = i * step;
+    const double dz = -h + t;  // c - x along z
+    const double r2 = d * d + dz * dz;
+    const double r = std::sqrt(r2);
+    const double cos_theta = -dz / r;  // wi . (0, 0, -1), wi = (c - x) / r
+    const double denominator = 1.0 + g * g - 2.0 * g * cos_theta;
+    const double phase = (1.0 - g * g) / (4.0 * M_PI * denominator * std::sqrt(denominator));
+    const double f =
+        std::exp(-sigma_t * t) * sigma_s * phase * intensity * std::exp(-sigma_t * r) / r2;
+    sum += f * (i == 0 || i == n ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0));
+  }
+  return sum * step / 3.0;
+}
+
+TEST(Volume, PointLampSingleScatteringMatchesTheLineIntegral) {
+  const float half = 1000.0f;  // effectively infinite: the camera's ray leaves at t = 1000
+  struct Case {
+    float sigma_a, sigma_s, g, tolerance;
+  };
+  // Without extinction and isotropic, equiangular sampling has no variance at all.
+  for (const Case k : {Case{0.0f, 0.05f, 0.0f, 1e-4f}, Case{0.03f, 0.1f, 0.0f, 0.01f},
+                       Case{0.02f, 0.1f, 0.6f, 0.01f}, Case{0.02f, 0.1f, -0.4f, 0.01f}}) {
+    SCOPED_TRACE(::testing::Message()
+                 << "sigma_a " << k.sigma_a << " sigma_s " << k.sigma_s << " g " << k.g);
+    Scene scene;
+    add_object(&scene, "medium", box(Vec3(-half), Vec3(half)),
+               fog(Color(k.sigma_a), Color(k.sigma_s), k.g));
+    Light lamp;
+    lamp.color = Color(10.0f);
+    lamp.position = Vec3(1.0f, 0.0f, -3.0f);
+    scene.set_light("lamp", lamp);
+    scene.camera = looking_down(Vec3(0.0f), 1e-5f);
+    const Rendered r = render(scene, one_ray(32));
+    const double expected =
+        line_integral(k.sigma_s, k.sigma_a + k.sigma_s, k.g, 10.0, 1.0, 3.0, half);
+    EXPECT_NEAR(r.pixels[0] / expected, 1.0, k.tolerance) << r.pixels[0] << " " << expected;
+    EXPECT_EQ(r.stats.rays.nonfinite_samples, 0u);
+    EXPECT_GT(r.stats.rays.volume_feelers, 0u);
+  }
+}
+
+// A floor lit by a point lamp, seen from above, with a box around the floor's middle.
+Scene floor_scene() {
+  Scene scene;
+  Material white;
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), white);
+  Light light;
+  light.color = Color(30.0f);
+  light.position = Vec3(0.5f, 0.3f, 4.0f);
+  scene.set_light("light", light);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 0.8f);
+  return scene;
+}
+
+TEST(Volume, DensityZeroIsNoMediumAtAll) {
+  const Scene without = floor_scene();
+  Scene with = without;
+  add_object(&with, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)),
+             fog(Color(0.0f), Color(0.0f)));
+  const Settings settings = small_render(16, 16, 2, 2, 8);
+  const Rendered a = render(with, settings);
+  const Rendered b = render(without, settings);
+  ASSERT_EQ(a.pixels, b.pixels);
+  EXPECT_EQ(a.stats.rays.total(), b.stats.rays.total());
+  for (const EffectDecision& d : a.stats.effects) {
+    if (d.name == "volumes") EXPECT_FALSE(d.on) << d.why;
+  }
+}
+
+TEST(Volume, HugeDensityIsOpaqueWithoutNaN) {
+  for (const float density : {1e6f, 1e20f, 1e30f}) {
+    SCOPED_TRACE(density);
+    Scene scene = floor_scene();
+    // Around the lamp and the floor's middle: the camera's rays and the lamp's feelers cross it.
+    add_object(&scene, "fog", box(Vec3(-1.0f, -1.0f, -1.0f), Vec3(1.0f, 1.0f, 5.0f)),
+               fog(Color(density), Color(density)));
+    const Rendered r = render(scene, small_render(16, 16, 2, 2, 8));
+    EXPECT_EQ(r.stats.rays.nonfinite_samples, 0u);
+    float brightest_outside = 0.0f;
+    for (int y = 0; y < 16; ++y) {
+      for (int x = 0; x < 16; ++x) {
+        const size_t at = (static_cast<size_t>(y) * 16 + static_cast<size_t>(x)) * 4;
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(r.pixels[at + c]));
+        // The middle pixels look through the box's top: nothing gets through it.
+        if (x >= 6 && x < 10 && y >= 6 && y < 10) {
+          for (int c = 0; c < 3; ++c) EXPECT_LT(r.pixels[at + c], 1e-6f) << x << " " << y;
+        } else {
+          brightest_outside = std::max(brightest_outside, r.pixels[at]);
+        }
+      }
+    }
+    // Outside it the floor is dark too: the lamp is inside the box.
+    EXPECT_LT(brightest_outside, 1e-6f);
+  }
+}
+
+TEST(Volume, AbsorbingFogDimsTheLampOnTheFloorAsTheLineSays) {
+  // The lamp above a fog layer: the floor under it gets exp(-sigma_t d) of the light whose
+  // feeler crosses d of fog, seen through the same layer again by the camera.
+  const float sigma = 0.4f;
+  Scene without = floor_scene();
+  without.camera = looking_down(Vec3(0.5f, 0.3f, 6.0f), 1e-5f);
+  Scene with = without;
+  add_object(&with, "fog", box(Vec3(-10.0f, -10.0f, 1.0f), Vec3(10.0f, 10.0f, 2.0f)),
+             fog(Color(sigma), Color(0.0f)));
+  const Rendered a = render(with, one_ray(1));
+  const Rendered b = render(without, one_ray(1));
+  EXPECT_NEAR(a.pixels[0] / b.pixels[0], std::exp(-2.0f * sigma), 1e-5f);
+}
+
+TEST(Volume, GlassWithAVolumeAbsorbsAlongTheRefractedRay) {
+  // A slab of glass of index 1 (no bending, no Fresnel loss worth counting at normal
+  // incidence: 0) whose material also holds an absorbing volume: what passes is exp(-sigma d).
+  Scene scene;
+  scene.set_background(Color(1.0f));
+  MaterialParams glass = testing::clear(1.0f);
+  glass.volume_absorption = Color(0.3f, 0.6f, 0.9f);
+  add_object(&scene, "glass", box(Vec3(-50.0f, -50.0f, 1.0f), Vec3(50.0f, 50.0f, 2.0f)),
+             Material(glass));
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1e-5f);
+  const Rendered r = render(scene, one_ray(1));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(r.pixels[static_cast<size_t>(c)], std::exp(-glass.volume_absorption[c]), 1e-5f)
+        << c;
+  }
+}
+
+TEST(Volume, FogBoxIsTheSameWhateverTheThreadsTilesAndWaves) {
+  Scene scene = floor_scene();
+  add_object(&scene, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)),
+             fog(Color(0.05f), Color(0.3f), 0.3f));
+  Material blocker;
+  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.5f), blocker);
+  Settings settings = small_render(24, 24, 3, 1, 8);
+  settings.aa_mode = AntiAliasing::kJittered;
+  settings.waves = false;
+  const Rendered reference = render(scene, settings);
+  settings.threads = 2;
+  settings.tile_size = 5;
+  EXPECT_EQ(render(scene, settings).pixels, reference.pixels);
+  settings.waves = true;
+  const Rendered waves = render(scene, settings);
+  for (size_t i = 0; i < reference.pixels.size(); ++i) {
+    EXPECT_NEAR(waves.pixels[i], reference.pixels[i], 1e-5f * (1.0f + reference.pixels[i])) << i;
+  }
+  // The fog shows: lit where the lamp's light crosses it, the blocker's shadow cut in it.
+  EXPECT_GT(reference.stats.rays.volume_feelers, 0u);
+  EXPECT_GT(reference.stats.rays.volume_queries, 0u);
+  bool named = false;
+  for (const EffectDecision& d : reference.stats.effects) {
+    if (d.name == "volumes") named = d.on;
+  }
+  EXPECT_TRUE(named);
+}
+
+}  // namespace
+}  // namespace whitted
