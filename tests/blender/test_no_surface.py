@@ -120,7 +120,8 @@ def test_as_cycles_renders_the_box_without_its_volume(empty_scene, tmp_path, nat
     # The fog box of density 0 (its bounds alone) changes Cycles' image no more than its
     # sampling noise, and Whitted's not at all: Whitted stands to Cycles as without it.
     # (Whitted's spot-lit floor is Cycles' to 1% in Blender 3.4; 5.0's differs by about 6%,
-    # with the box or without.)
+    # with the box or without: the floor has no material, which Cycles 5.0 shades as its
+    # default Principled BSDF and Whitted as a diffuse 0.8, Cycles' default to 4.2.)
     scene = _stage(empty_scene, inside=False)
     set_cycles(scene)
 

@@ -12,6 +12,7 @@ import pytest
 from whitted.export.material import convert_material
 from whitted.sync.frame import sync_frame
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
+from whitted_tools.material_scenes import lambert_material
 from whitted_tools.scenes import add_object, cube_mesh, facing, mesh_from_faces
 from whitted_tools.world_scenes import compare
 
@@ -41,17 +42,23 @@ def _principled(density, colour=(1.0, 1.0, 1.0), anisotropy=0.0):
     return build
 
 
-def _fog_stage(scene):
-    """A 12 x 12 floor under a spot lamp, inside a fog cube of edge 6 standing on it, a
-    box in the cone casting its shadow into the fog, no world; the camera outside."""
+def _fog_stage(scene, fog_bottom=-0.3):
+    """A 12 x 12 floor under a spot lamp, inside a fog cube of edge 6 standing on it (its
+    bottom face `fog_bottom` below the floor's plane), a box in the cone casting its shadow
+    into the fog, no world; the camera outside."""
     scene.render.resolution_x, scene.render.resolution_y = 48, 36
     corners = np.array([(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], dtype=np.float32)
-    add_object(scene, "Floor", mesh_from_faces("Floor", corners, [np.array([[0, 1, 2, 3]])]))
+    floor = add_object(
+        scene, "Floor", mesh_from_faces("Floor", corners, [np.array([[0, 1, 2, 3]])])
+    )
+    # A diffuse floor of its own: an object without a material is Cycles' default
+    # Principled BSDF in Blender 5.0 (a diffuse 0.8 in 3.4 and 4.2, as Whitted's still is).
+    floor.data.materials.append(lambert_material("Floor", 0.8))
     add_object(scene, "Box", cube_mesh("Box", 0.8), location=(0.3, 0.0, 1.5))
     lamp = bpy.data.lights.new("Spot", "SPOT")
     lamp.energy, lamp.spot_size, lamp.spot_blend, lamp.shadow_soft_size = 1000.0, 0.9, 0.1, 0.0
     add_object(scene, "Spot", lamp, location=(0.0, 0.0, 5.0)).rotation_euler = facing((0, 0, -1))
-    fog = add_object(scene, "Fog", cube_mesh("Fog", 6.0), location=(0.0, 0.0, 3.0))
+    fog = add_object(scene, "Fog", cube_mesh("Fog", 6.0), location=(0.0, 0.0, 3.0 + fog_bottom))
     fog.data.materials.append(_material("Fog", _principled(0.1)))
     camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
     camera.location, camera.rotation_euler = (0.0, -11.0, 3.5), facing((0.0, 11.0, -2.0))
@@ -59,15 +66,13 @@ def _fog_stage(scene):
     return scene
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="not yet as Cycles (Blender 3.4, seen): the fog above the floor 0.993 of Cycles' "
-    "luminance, the whole image 2.08 (SSIM 0.70): the lit floor, which shares its plane with "
-    "the fog cube's bottom face, is not yet understood",
-)
-def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
-    scene = _fog_stage(empty_scene)
+ENGINES = ("CYCLES", "WHITTED")
+
+
+def _fog_against_cycles(scene, tmp_path, monkeypatch):
     set_cycles_reference(scene, samples=256)
+    # Cycles counts a volume bound a shadow ray crosses as a transparent bounce.
+    scene.cycles.transparent_max_bounces = 8
     scene.cycles.pixel_filter_type = "BOX"
     scene.cycles.filter_width = 1.0
     scene.whitted.pixel_filter_type = "BOX"
@@ -76,18 +81,32 @@ def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch
     scene.whitted.max_depth = 0
     stats_path = tmp_path / "stats.json"
     monkeypatch.setenv("WHITTED_STATS", str(stats_path))
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
+    cycles, whitted = (render_rgba(scene, e, str(tmp_path / f"{e}.exr")) for e in ENGINES)
     ratio, similarity = compare(cycles, whitted)
     print(f"\nfog box: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
-    top = slice(-8, None)  # the fog above the floor (rows bottom to top)
-    print(f"fog alone: {whitted[top, :, :3].sum() / cycles[top, :, :3].sum():.4f} of Cycles'")
     assert abs(ratio - 1.0) < 0.02
     assert similarity >= 0.97
     stats = json.loads(Path(stats_path).read_text())
     assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
     volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
     assert volumes["on"] and "1 object" in volumes["why"], volumes
+
+
+def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # Blender 3.4, seen: summed luminance 0.9985 of Cycles', SSIM 0.9995.
+    _fog_against_cycles(_fog_stage(empty_scene), tmp_path, monkeypatch)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="a fog box whose bottom face lies in the floor's plane (Blender 3.4, seen): "
+    "Whitted lights the floor under the fog unattenuated (2.5 times Cycles' floor, about "
+    "1 / (0.61 x 0.7), the feeler's and the camera ray's transmittance); with the bottom "
+    "0.3 below the floor both agree. Cycles at transparent bounces 0 shows that floor "
+    "black (its shadow rays stop at the coplanar bound)",
+)
+def test_a_fog_box_standing_on_the_floor_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    _fog_against_cycles(_fog_stage(empty_scene, fog_bottom=0.0), tmp_path, monkeypatch)
 
 
 def test_the_fog_shows_and_dims_what_is_behind_it(empty_scene, render_pixels):
