@@ -226,6 +226,10 @@ OIDN_FILES = (
     "libtbb_oidn.so.12",
 )
 APACHE_LICENSE = "/usr/share/common-licenses/Apache-2.0"  # Debian's base-files
+# Written beside the table by `python -m whitted_tools hosek-wilkie-data`.
+HOSEK_WILKIE_NOTICE = os.path.join(
+    REPO_ROOT, "native", "src", "shader", "hosek_wilkie_data.LICENSE"
+)
 
 
 def bundle_oidn(build_dir, libs_dir):
@@ -275,6 +279,9 @@ def stage(staging, build_dir, info, pythons):
     renamed = bundle_libraries(module_paths, libs_dir)
     if bundle_oidn(build_dir, libs_dir):
         print("package: bundled Open Image Denoise 2.5.1 in libs/")
+    # The notice of the third-party data compiled into the module (the Hosek/Wilkie sky
+    # dataset, BSD: its binary form reproduces it).
+    shutil.copy2(HOSEK_WILKIE_NOTICE, os.path.join(libs_dir, "HosekWilkie.LICENSE"))
     with open(os.path.join(package_dir, "blender_manifest.toml"), "w", encoding="utf-8") as out:
         out.write(manifest_text(info))
     # The licence the manifest names travels with the add-on.

@@ -97,6 +97,16 @@ void bind_program(py::module_& m) {
       "The constants of op SKY's PREETHAM model (shader/sky.h): the Perez/Preetham sky of "
       "`turbidity` with the sun towards `sun` (unit, +Z up).");
   m.def(
+      "hosek_wilkie_table",
+      [](const std::array<float, 3>& sun, float turbidity, float ground_albedo) {
+        const std::vector<float> t =
+            sky::hosek_wilkie_table(Vec3(sun[0], sun[1], sun[2]), turbidity, ground_albedo);
+        return py::array_t<float>(static_cast<py::ssize_t>(t.size()), t.data());
+      },
+      py::arg("sun"), py::arg("turbidity"), py::arg("ground_albedo"),
+      "The constants of op SKY's HOSEK_WILKIE model (shader/sky.h): the Hosek/Wilkie sky of "
+      "`turbidity` and `ground_albedo` with the sun towards `sun` (unit, +Z up).");
+  m.def(
       "scattering_table",
       [](float sun_elevation, float sun_rotation, bool sun_disc, float sun_size,
          float sun_intensity, float altitude, float air_density, float dust_density,

@@ -85,13 +85,16 @@ def render_both(scene, tmp_path):
 # docs/SUPPORT.md): Preetham the same pixels; Nishita (3.4) and Single Scattering (5.0),
 # their sky baked on Cycles' texels and read as its kernel reads them, per pixel within
 # 2.5e-4 of Cycles at 1024 x 512 (summed luminance within 1e-4); Multiple Scattering
-# (5.0) likewise, 95th percentile 4e-5, all within 0.4%; Hosek/Wilkie, rendered as
-# Preetham, 4 to 18 times as bright.
+# (5.0) likewise, 95th percentile 4e-5, all within 0.4%; Hosek/Wilkie from the authors'
+# RGB dataset (Cycles cooks their XYZ one, which no package here ships; the two fits
+# differ) at 2, 15, 60 degrees: summed luminance 0.9825, 0.9958, 0.9973, per-pixel
+# median 0.024, 0.005, 0.005, 95th percentile 0.043, 0.022, 0.007 (3.4.1): looser
+# than Preetham's bounds at 2 degrees, where the fits differ most near the horizon.
 BOUNDS = {  # model: (summed luminance, median per-pixel, 95th percentile per-pixel)
     "PREETHAM": (0.01, 0.01, 0.03),
     "NISHITA": (0.002, 0.001, 0.002),
     "SINGLE_SCATTERING": (0.002, 0.001, 0.002),
-    "HOSEK_WILKIE": (20.0, 20.0, 25.0),
+    "HOSEK_WILKIE": (0.02, 0.03, 0.05),
     "MULTIPLE_SCATTERING": (0.002, 0.001, 0.002),
 }
 
@@ -104,7 +107,7 @@ def test_each_sky_model_as_cycles(empty_scene, tmp_path, warnings, model, elevat
     world, _ = sky_world(scene, model, elevation, sun_disc=False)
     exported = convert_world(world, 1.0, warnings)
     assert exported.program is not None
-    assert any("Sky" in w for w in warnings) == (model == "HOSEK_WILKIE")
+    assert not warnings
     whitted, cycles = render_both(scene, tmp_path)
     ratio, median, high = figures(whitted, cycles)
     print(f"\n{model} at {elevation} degrees: luminance ratio {ratio:.4f}, per-pixel "
@@ -168,7 +171,7 @@ def test_a_sky_mixed_out_gives_no_sun(empty_scene, warnings):
     assert convert_world(world, 1.0, warnings).sun is None
 
 
-@pytest.mark.parametrize("model", ("PREETHAM", SCATTERING, *MODELS[3:]))
+@pytest.mark.parametrize("model", MODELS)
 def test_finite_and_non_negative_everywhere(empty_scene, native, warnings, model):
     # Sun below, at and above the horizon; every direction of a fine grid, and the poles.
     from whitted.export.nodes import ops

@@ -70,7 +70,7 @@ def test_a_rotated_and_scaled_hdri_lights_the_scene_as_cycles(empty_scene, tmp_p
     assert similarity >= 0.98
 
 
-SKY_MODELS = ["SCATTERING", "PREETHAM"] + (
+SKY_MODELS = ["SCATTERING", "PREETHAM", "HOSEK_WILKIE"] + (
     ["MULTIPLE_SCATTERING"] if bpy.app.version >= (5, 0, 0) else []
 )
 

@@ -1,7 +1,10 @@
 // The Sky Texture's models (shader/sky.h) against what their papers and Cycles fix:
 // Preetham's zenith luminance, the symmetry about the sun's vertical plane, an empty
-// atmosphere, and finite, non-negative radiance everywhere.
+// atmosphere, Hosek/Wilkie's generated dataset and its cooking, and finite,
+// non-negative radiance everywhere.
 #include "shader/sky.h"
+
+#include "shader/hosek_wilkie_data.inc"
 
 #include <gtest/gtest.h>
 
@@ -51,6 +54,7 @@ TEST(Sky, PreethamZenithLuminanceFollowsThePaper) {
 TEST(Sky, SymmetricAboutTheSunsAzimuth) {
   const float sun_azimuth = 30.0f;
   const std::vector<float> preetham = sky::preetham_table(towards(20.0f, sun_azimuth), 3.0f);
+  const std::vector<float> hosek = sky::hosek_wilkie_table(towards(20.0f, sun_azimuth), 3.0f, 0.3f);
   const std::vector<float> single = sky::scattering_table(scattering(20.0f, sun_azimuth));
   sky::ScatteringParams p = scattering(20.0f, sun_azimuth);
   p.style = sky::Style::kMultipleScattering;
@@ -60,6 +64,7 @@ TEST(Sky, SymmetricAboutTheSunsAzimuth) {
       const Vec3 left = towards(elevation, sun_azimuth - offset);
       const Vec3 right = towards(elevation, sun_azimuth + offset);
       for (const auto& [model, table] : {std::pair{sky::Model::kPreetham, &preetham},
+                                         std::pair{sky::Model::kHosekWilkie, &hosek},
                                          std::pair{sky::Model::kSingleScattering, &single},
                                          std::pair{sky::Model::kSingleScattering, &multiple}}) {
         const Vec3 a = sky::radiance(model, table->data(), left);
@@ -148,17 +153,63 @@ TEST(Sky, AnEmptyAtmosphereShowsOnlyTheSunAtItsFullRadiance) {
   }
 }
 
+TEST(Sky, HosekWilkieTableHoldsTheDatasetTheWheelHolds) {
+  // The first and last values of each field of Mitsuba 3.9.1's sunsky_datasets.bin, as
+  // tools/whitted_tools/generate/hosek_wilkie.py reads them.
+  namespace data = sky::hosek_wilkie_data;
+  EXPECT_EQ(data::kParameters.front(), -1.099459);
+  EXPECT_EQ(data::kParameters.back(), 0.6966285);
+  EXPECT_EQ(data::kRadiances.front(), 1.962684);
+  EXPECT_EQ(data::kRadiances.back(), 28.93432);
+}
+
+TEST(Sky, HosekWilkieCooksTheBezierEndsAndBlendsAlbedoAndTurbidity) {
+  // The sun on the horizon reads the first control point, at the zenith the last; an
+  // albedo or turbidity between two of the dataset's is their mean.
+  namespace data = sky::hosek_wilkie_data;
+  constexpr double kScale = 2.0 * std::numbers::pi / 683.0;
+  const auto parameter = [](size_t turbidity, size_t albedo, size_t point, size_t channel,
+                            size_t k) {
+    return data::kParameters[(((turbidity * 2 + albedo) * 6 + point) * 3 + channel) * 9 + k];
+  };
+  const auto radiance = [](size_t turbidity, size_t albedo, size_t point, size_t channel) {
+    return data::kRadiances[((turbidity * 2 + albedo) * 6 + point) * 3 + channel];
+  };
+  for (const auto& [elevation, point] : {std::pair{0.0f, size_t{0}}, std::pair{90.0f, size_t{5}}}) {
+    const std::vector<float> t = sky::hosek_wilkie_table(towards(elevation, 0.0f), 4.0f, 0.0f);
+    const std::vector<float> mean_albedo =
+        sky::hosek_wilkie_table(towards(elevation, 0.0f), 4.0f, 0.5f);
+    const std::vector<float> mean_turbidity =
+        sky::hosek_wilkie_table(towards(elevation, 0.0f), 4.5f, 0.0f);
+    for (size_t c = 0; c < 3; ++c) {
+      for (size_t k = 0; k < 9; ++k) {
+        const double at = parameter(3, 0, point, c, k);
+        EXPECT_NEAR(t[2 + 10 * c + k], at, 1e-5 * (1.0 + std::fabs(at)));
+        const double albedos = (at + parameter(3, 1, point, c, k)) / 2.0;
+        EXPECT_NEAR(mean_albedo[2 + 10 * c + k], albedos, 1e-5 * (1.0 + std::fabs(albedos)));
+        const double turbidities = (at + parameter(4, 0, point, c, k)) / 2.0;
+        EXPECT_NEAR(mean_turbidity[2 + 10 * c + k], turbidities,
+                    1e-5 * (1.0 + std::fabs(turbidities)));
+      }
+      EXPECT_NEAR(t[2 + 10 * c + 9], radiance(3, 0, point, c) * kScale, 1e-6);
+    }
+  }
+}
+
 TEST(Sky, FiniteAndNonNegativeEverywhere) {
   for (const float sun_elevation : {-40.0f, -0.2f, 0.0f, 0.2f, 45.0f, 90.0f}) {
     sky::ScatteringParams multiple = scattering(sun_elevation, 0.0f);
     multiple.style = sky::Style::kMultipleScattering;
     const std::vector<float> tables[] = {
         sky::preetham_table(towards(sun_elevation, 0.0f), 2.2f),
+        sky::hosek_wilkie_table(towards(sun_elevation, 0.0f), 10.0f, 1.0f),
+        sky::hosek_wilkie_table(towards(sun_elevation, 0.0f), 1.0f, 0.0f),
         sky::scattering_table(scattering(sun_elevation, 0.0f), 16, 8),
         sky::scattering_table(multiple, 16, 8)};
-    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kSingleScattering,
+    const sky::Model models[] = {sky::Model::kPreetham, sky::Model::kHosekWilkie,
+                                 sky::Model::kHosekWilkie, sky::Model::kSingleScattering,
                                  sky::Model::kSingleScattering};
-    for (int m = 0; m < 3; ++m) {
+    for (int m = 0; m < 5; ++m) {
       for (float e = -90.0f; e <= 90.0f; e += 7.5f) {
         for (float a = -180.0f; a <= 180.0f; a += 15.0f) {
           const Vec3 c = sky::radiance(models[m], tables[m].data(), towards(e, a));

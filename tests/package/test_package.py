@@ -56,8 +56,9 @@ def test_zip_layout(package_zip):
     assert modules == [f"whitted/whitted_native.cpython-{t}-x86_64-linux-gnu.so" for t in tags]
     libembree = [name for name in names if "libembree3" in name and name.endswith(".so.3")]
     assert len(libembree) == 1, libembree
-    # Open Image Denoise (scripts/stage_oidn.sh stages it for the build), with its licence.
-    for name in ("libOpenImageDenoise.so.2", "OpenImageDenoise.LICENSE"):
+    # Open Image Denoise (scripts/stage_oidn.sh stages it for the build), with its licence,
+    # and the notice of the Hosek/Wilkie sky dataset compiled into the module.
+    for name in ("libOpenImageDenoise.so.2", "OpenImageDenoise.LICENSE", "HosekWilkie.LICENSE"):
         assert f"whitted/libs/{name}" in names, name
     assert not [name for name in names if "__pycache__" in name or name.endswith(".pyc")]
 

@@ -67,6 +67,9 @@ GROUPS = {
         "compare-builds": "builds",
         "codebase": "check.codebase",
     },
+    "generate": {
+        "hosek-wilkie-data": "generate.hosek_wilkie",
+    },
     "profiling": {
         "profile-trace": "profiling.trace",
     },

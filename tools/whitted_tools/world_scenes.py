@@ -113,14 +113,15 @@ def room_with_a_glass_wall(scene, image, size=(96, 72), samples=6):
 def sky_world(scene, model, elevation_degrees):
     """A world of a Sky Texture of `model` (its sun disc on where the model has one), the
     sun `elevation_degrees` up and 30 degrees round, at a tenth of its strength (a clear
-    sky's radiance is tens of W/(m^2 sr))."""
+    sky's radiance is tens of W/(m^2 sr)); Hosek/Wilkie at ten times its strength (Cycles
+    scales that model's radiance by 2 pi / 683, about a hundredth of Preetham's)."""
     world = bpy.data.worlds.new("Sky")
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     tree = world.node_tree
     sky = tree.nodes.new("ShaderNodeTexSky")
     sky.sky_type = model
-    if model == "PREETHAM":
+    if model in ("PREETHAM", "HOSEK_WILKIE"):
         elevation = math.radians(elevation_degrees)
         sky.sun_direction = (
             math.cos(elevation) * math.sin(math.radians(30.0)),
@@ -131,7 +132,8 @@ def sky_world(scene, model, elevation_degrees):
         sky.sun_elevation = math.radians(elevation_degrees)
         sky.sun_rotation = math.radians(30.0)
     tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    tree.nodes["Background"].inputs["Strength"].default_value = 0.1
+    strength = 10.0 if model == "HOSEK_WILKIE" else 0.1
+    tree.nodes["Background"].inputs["Strength"].default_value = strength
     scene.world = world
 
 

@@ -241,24 +241,22 @@ def _texture_mapping(c, node, vector):
 
 
 def _sky(c, out):
-    """Blender's Sky Texture (native shader/sky.h). Perez/Preetham analytic; Nishita
-    (3.x/4.x) and 5.x's Single and Multiple Scattering a table built natively here;
-    Hosek/Wilkie rendered as Preetham, warned."""
+    """Blender's Sky Texture (native shader/sky.h). Perez/Preetham and Hosek/Wilkie
+    analytic from Sun Direction and Turbidity (and Ground Albedo); Nishita (3.x/4.x) and
+    5.x's Single and Multiple Scattering a table built natively here."""
     node = out.node
     native = load_native()
     vector = _texture_mapping(c, node, _texture_vector(c, out))
     model = node.sky_type
     if model in ("PREETHAM", "HOSEK_WILKIE"):
-        if model == "HOSEK_WILKIE":
-            c.warn(
-                node,
-                "Hosek/Wilkie needs the authors' fitted dataset, which Whitted does not "
-                "have; rendered as Preetham (same Sun Direction and Turbidity)",
-            )
         sun = tuple(node.sun_direction)
         norm = math.sqrt(sum(x * x for x in sun)) or 1.0
-        table = native.preetham_table(tuple(x / norm for x in sun), node.turbidity)
-        mode = ops.pack("SKY", model="PREETHAM")
+        sun = tuple(x / norm for x in sun)
+        if model == "PREETHAM":
+            table = native.preetham_table(sun, node.turbidity)
+        else:
+            table = native.hosek_wilkie_table(sun, node.turbidity, node.ground_albedo)
+        mode = ops.pack("SKY", model=model)
     else:
         dust = getattr(node, "aerosol_density", None)
         if dust is None:

@@ -374,7 +374,8 @@ inline constexpr std::array<std::string_view, 4> kVoronoiMetricNames = {"EUCLIDE
 inline constexpr std::array<std::string_view, 3> kVoronoiOutputNames = {"DISTANCE", "COLOR",
                                                                         "POSITION"};
 // sky::Model, in its order.
-inline constexpr std::array<std::string_view, 2> kSkyModelNames = {"PREETHAM", "SINGLE_SCATTERING"};
+inline constexpr std::array<std::string_view, 3> kSkyModelNames = {"PREETHAM", "SINGLE_SCATTERING",
+                                                                   "HOSEK_WILKIE"};
 inline constexpr std::array<std::string_view, 2> kWaveTypeNames = {"BANDS", "RINGS"};
 inline constexpr std::array<std::string_view, 4> kWaveBandsNames = {"X", "Y", "Z", "DIAGONAL"};
 inline constexpr std::array<std::string_view, 4> kWaveRingsNames = {"X", "Y", "Z", "SPHERICAL"};
@@ -404,7 +405,7 @@ inline constexpr ModeField kGradient = choice("gradient_type", 0, 3, kGradientNa
 inline constexpr ModeField kLayerWeight = choice("output", 0, 1, kLayerWeightNames);
 inline constexpr ModeField kNormalMapSpace = choice("space", 0, 2, kNormalMapSpaceNames);
 inline constexpr ModeField kBumpInvert = flag("invert", 0);  // BUMP: the height negated
-inline constexpr ModeField kSkyModel = choice("model", 0, 1, kSkyModelNames);
+inline constexpr ModeField kSkyModel = choice("model", 0, 2, kSkyModelNames);
 inline constexpr ModeField kDimensions = choice("dimensions", 0, 2, kDimensionNames);
 inline constexpr ModeField kNoiseType = choice("noise_type", 2, 3, kNoiseTypeNames);
 inline constexpr ModeField kNormalize = flag("normalize", 8);  // NOISE, VORONOI: to [0, 1]

@@ -1,5 +1,7 @@
 #include "shader/sky.h"
 
+#include "shader/hosek_wilkie_data.inc"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -57,19 +59,94 @@ float azimuth(Vec3 d) {
   return std::atan2(d.x, d.y);
 }
 
+// The angle between the directions of zenith angles and azimuths (theta, phi) and
+// (sun_theta, sun_phi).
+float angle_from_sun(float theta, float phi, float sun_theta, float sun_phi) {
+  const float cos_gamma = std::sin(theta) * std::sin(sun_theta) * std::cos(sun_phi - phi) +
+                          std::cos(theta) * std::cos(sun_theta);
+  return std::acos(std::clamp(cos_gamma, -1.0f, 1.0f));
+}
+
+// The zenith angle at which the analytic models read a direction below the horizon (the
+// horizon's value there), as Cycles.
+constexpr float kHorizonTheta = kHalfPi - 0.001f;
+
 Vec3 preetham(const float* t, Vec3 direction) {
   float theta = zenith_angle(direction);
-  const float phi = azimuth(direction);
-  const float sun_theta = t[kSunTheta];
-  const float cos_gamma = std::sin(theta) * std::sin(sun_theta) * std::cos(t[kSunPhi] - phi) +
-                          std::cos(theta) * std::cos(sun_theta);
-  const float gamma = std::acos(std::clamp(cos_gamma, -1.0f, 1.0f));
-  theta = std::min(theta, kHalfPi - 0.001f);  // the horizon's value below it
+  const float gamma = angle_from_sun(theta, azimuth(direction), t[kSunTheta], t[kSunPhi]);
+  theta = std::min(theta, kHorizonTheta);
   const float luminance = t[kZenith] * perez(t + kPerez, theta, gamma);
   const float x = t[kZenith + 1] * perez(t + kPerez + 5, theta, gamma);
   const float y = t[kZenith + 2] * perez(t + kPerez + 10, theta, gamma);
   if (y == 0.0f) return Vec3(0.0f);
   return xyz_to_rec709(Vec3(x / y * luminance, luminance, (1.0f - x - y) / y * luminance));
+}
+
+// ---------------------------------------------------------------------------------------
+// Hosek / Wilkie.
+
+// Table offsets: the sun's zenith angle and azimuth, then per channel (R, G, B) the 9
+// parameters A..I and the channel's radiance (times Cycles' 2 pi / 683).
+enum HosekSlot : size_t { kHosekSunTheta = 0, kHosekSunPhi, kHosekChannels };
+constexpr size_t kHosekParameters = 9;
+constexpr size_t kHosekChannel = kHosekParameters + 1;
+constexpr size_t kHosekSize = kHosekChannels + 3 * kHosekChannel;
+
+// The dataset's extents: turbidities 1..10, ground albedos 0 and 1, 6 control points.
+constexpr size_t kHosekTurbidities = 10;
+constexpr size_t kHosekControlPoints = 6;
+
+// Their extended Perez formula: `p` the parameters A..I, `cos_theta` the view's zenith
+// cosine, `gamma` its angle from the sun.
+float hosek_wilkie_formula(const float* p, float cos_theta, float gamma) {
+  const float cos_gamma = std::cos(gamma);
+  const float rayleigh = cos_gamma * cos_gamma;
+  const float mie =
+      (1.0f + rayleigh) / std::pow(1.0f + p[8] * p[8] - 2.0f * p[8] * cos_gamma, 1.5f);
+  return (1.0f + p[0] * std::exp(p[1] / (cos_theta + 0.01f))) *
+         (p[2] + p[3] * std::exp(p[4] * gamma) + p[5] * rayleigh + p[6] * mie +
+          p[7] * std::sqrt(cos_theta));
+}
+
+Vec3 hosek_wilkie(const float* t, Vec3 direction) {
+  const float theta = zenith_angle(direction);
+  const float gamma = angle_from_sun(theta, azimuth(direction), t[kHosekSunTheta], t[kHosekSunPhi]);
+  const float cos_theta = std::cos(std::min(theta, kHorizonTheta));
+  Vec3 rgb;
+  for (size_t c = 0; c < 3; ++c) {
+    const float* channel = t + kHosekChannels + c * kHosekChannel;
+    rgb[c] = hosek_wilkie_formula(channel, cos_theta, gamma) * channel[kHosekParameters];
+  }
+  return glm::max(rgb, Vec3(0.0f));
+}
+
+// A value of the dataset `data` (turbidity x albedo x control point x channel x
+// `count` values) cooked for the sun: each of the `count` values of `channel` at
+// Bezier parameter `s` over the control points, linear in albedo and turbidity.
+void cook(const double* data, size_t count, size_t channel, double turbidity, double albedo,
+          double s, float* out) {
+  const auto at = [&](size_t turbidity_index, size_t albedo_index, size_t value) {
+    // The quintic Bezier (Bernstein form) over the 6 control points.
+    constexpr std::array<double, kHosekControlPoints> kBinomial = {1, 5, 10, 10, 5, 1};
+    double sum = 0.0;
+    for (size_t k = 0; k < kHosekControlPoints; ++k) {
+      const size_t index =
+          (((turbidity_index * 2 + albedo_index) * kHosekControlPoints + k) * 3 + channel) * count +
+          value;
+      sum += kBinomial[k] * std::pow(1.0 - s, static_cast<double>(5 - k)) *
+             std::pow(s, static_cast<double>(k)) * data[index];
+    }
+    return sum;
+  };
+  const auto lower = static_cast<size_t>(turbidity);  // 1..10
+  const double fraction = turbidity - static_cast<double>(lower);
+  const size_t upper = std::min(lower + 1, kHosekTurbidities);
+  for (size_t v = 0; v < count; ++v) {
+    const auto blend = [&](size_t t) {
+      return (1.0 - albedo) * at(t - 1, 0, v) + albedo * at(t - 1, 1, v);
+    };
+    out[v] = static_cast<float>((1.0 - fraction) * blend(lower) + fraction * blend(upper));
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -588,6 +665,30 @@ std::vector<float> preetham_table(Vec3 sun, float turbidity) {
   return table;
 }
 
+std::vector<float> hosek_wilkie_table(Vec3 sun, float turbidity, float ground_albedo) {
+  std::vector<float> table(kHosekSize);
+  const float theta = std::min(zenith_angle(sun), kHalfPi);
+  table[kHosekSunTheta] = theta;
+  table[kHosekSunPhi] = azimuth(sun);
+  const double t =
+      std::isnan(turbidity) ? 1.0 : std::clamp(static_cast<double>(turbidity), 1.0, 10.0);
+  const double albedo =
+      std::isnan(ground_albedo) ? 0.0 : std::clamp(static_cast<double>(ground_albedo), 0.0, 1.0);
+  // The Bezier's parameter: the cube root of the solar elevation over pi/2, the
+  // elevation in float as Cycles takes it (0 for the sun at or below the horizon).
+  const float elevation = kHalfPi - theta;
+  const double s = std::cbrt(static_cast<double>(elevation) / (std::numbers::pi / 2.0));
+  // Cycles' scale of the model's radiance.
+  constexpr double kScale = 2.0 * std::numbers::pi / 683.0;
+  for (size_t c = 0; c < 3; ++c) {
+    float* channel = &table[kHosekChannels + c * kHosekChannel];
+    cook(hosek_wilkie_data::kParameters.data(), kHosekParameters, c, t, albedo, s, channel);
+    cook(hosek_wilkie_data::kRadiances.data(), 1, c, t, albedo, s, channel + kHosekParameters);
+    channel[kHosekParameters] = static_cast<float>(channel[kHosekParameters] * kScale);
+  }
+  return table;
+}
+
 Vec3 sun_direction(float elevation, float rotation) {
   return {std::cos(elevation) * std::sin(rotation), std::cos(elevation) * std::cos(rotation),
           std::sin(elevation)};
@@ -685,6 +786,7 @@ std::vector<float> scattering_table(const ScatteringParams& p, uint32_t columns,
 
 size_t table_size(Model model, const float* table, size_t available) {
   if (model == Model::kPreetham) return available >= kPreethamSize ? kPreethamSize : 0;
+  if (model == Model::kHosekWilkie) return available >= kHosekSize ? kHosekSize : 0;
   if (model != Model::kSingleScattering || available < kScatteringHeader) return 0;
   const float columns = table[kColumns];
   const float rows = table[kRows];
@@ -701,8 +803,15 @@ size_t table_size(Model model, const float* table, size_t available) {
 
 Vec3 radiance(Model model, const float* table, Vec3 direction) {
   if (!is_finite(direction)) return Vec3(0.0f);
-  return finite_or_black(model == Model::kPreetham ? preetham(table, direction)
-                                                   : single_scattering(table, direction));
+  switch (model) {
+    case Model::kPreetham:
+      return finite_or_black(preetham(table, direction));
+    case Model::kHosekWilkie:
+      return finite_or_black(hosek_wilkie(table, direction));
+    case Model::kSingleScattering:
+      break;
+  }
+  return finite_or_black(single_scattering(table, direction));
 }
 
 }  // namespace whitted::sky

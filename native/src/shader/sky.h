@@ -32,10 +32,18 @@
 namespace whitted::sky {
 
 // The mode field "model" of op SKY (ops.h kSkyModelNames), in this order.
-enum class Model : uint32_t { kPreetham = 0, kSingleScattering = 1 };
+enum class Model : uint32_t { kPreetham = 0, kSingleScattering = 1, kHosekWilkie = 2 };
 
 // Perez / Preetham: `sun` the direction towards the sun (unit, +Z up).
 std::vector<float> preetham_table(Vec3 sun, float turbidity);
+
+// Hosek / Wilkie: `sun` the direction towards the sun (unit, +Z up; below the horizon
+// the sun at the horizon, as Cycles clamps it), `turbidity` clamped to the dataset's
+// [1, 10] and `ground_albedo` to [0, 1]. The table: the sun's zenith angle and azimuth,
+// then per channel (R, G, B) the parameters A..I and the channel's radiance times
+// 2 pi / 683 (Cycles' scale), each cooked from the dataset: a quintic Bezier over its 6
+// control points at (elevation / (pi / 2))^(1/3), linear in albedo and in turbidity.
+std::vector<float> hosek_wilkie_table(Vec3 sun, float turbidity, float ground_albedo);
 
 // Which of Blender's tabulated skies, baked and its sun disc drawn as that version's
 // Cycles does (sky.cpp says the differences): 3.x/4.x's Nishita, 5.x's Single
