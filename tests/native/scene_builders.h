@@ -19,6 +19,15 @@ inline Mesh quad(float x0, float x1, float y0, float y1, float z) {
   return make_mesh(p, 4, t, 2, nullptr, nullptr);
 }
 
+// A closed axis-aligned box from `lo` to `hi`, its faces wound outwards.
+inline Mesh box(Vec3 lo, Vec3 hi) {
+  const float p[] = {lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z,
+                     lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z};
+  const uint32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                        1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  return make_mesh(p, 8, t, 12, nullptr, nullptr);
+}
+
 inline void add_object(Scene* scene, const std::string& name, Mesh mesh, const Material& material,
                        const glm::mat4& to_world = glm::mat4(1.0f)) {
   scene->set_mesh(name, std::move(mesh));

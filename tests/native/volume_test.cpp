@@ -16,18 +16,10 @@ namespace whitted {
 namespace {
 
 using testing::add_object;
+using testing::box;
 using testing::looking_down;
 using testing::quad;
 using testing::small_render;
-
-// A closed axis-aligned box from `lo` to `hi`, its faces wound outwards.
-Mesh box(Vec3 lo, Vec3 hi) {
-  const float p[] = {lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z,
-                     lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z};
-  const uint32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                        1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
-  return make_mesh(p, 8, t, 12, nullptr, nullptr);
-}
 
 // What the exporter makes of a material whose output has only a constant volume shader.
 Material fog(Color absorption, Color scattering, float anisotropy = 0.0f) {
