@@ -20,6 +20,7 @@ from whitted_tools.material_scenes import (
     smooth_sphere,
 )
 from whitted_tools.metrics import luminance, srgb_encode, ssim
+from whitted_tools.scenes import background_world
 
 # Blender's own studio HDRIs (Poly Haven's, CC0), shipped in every Blender: a low sun
 # over a harbour, a forest under an overcast sky, a room lit by its windows.
@@ -34,9 +35,7 @@ def studio_hdri(name):
 def environment_world(scene, image):
     """A world whose Background is `image` (an Environment Texture), lighting diffuse
     surfaces as a new world does."""
-    world = bpy.data.worlds.new("HDRI")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
+    world = background_world("HDRI", (1.0, 1.0, 1.0))
     tree = world.node_tree
     texture = tree.nodes.new("ShaderNodeTexEnvironment")
     texture.image = image
@@ -115,9 +114,7 @@ def sky_world(scene, model, elevation_degrees):
     sun `elevation_degrees` up and 30 degrees round, at a tenth of its strength (a clear
     sky's radiance is tens of W/(m^2 sr)); Hosek/Wilkie at ten times its strength (Cycles
     scales that model's radiance by 2 pi / 683, about a hundredth of Preetham's)."""
-    world = bpy.data.worlds.new("Sky")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
+    world = background_world("Sky", (1.0, 1.0, 1.0))
     tree = world.node_tree
     sky = tree.nodes.new("ShaderNodeTexSky")
     sky.sky_type = model

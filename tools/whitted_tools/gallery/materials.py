@@ -58,6 +58,7 @@ from whitted_tools.materials_page import (
 )
 from whitted_tools.metrics import subject_figures
 from whitted_tools.render import render_exr, save_side_by_side
+from whitted_tools.world_scenes import environment_world
 
 WIDTH, HEIGHT = 240, 180
 
@@ -284,14 +285,8 @@ def scene_hdri_mirror_glass(scene, work):
     sky[bands] = (3.0, 1.0, 0.2, 1.0)
     sky[..., 3] = 1.0
     image = numpy_image("sky", sky)
-    world = bpy.data.worlds.new("HDRI")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    tree = world.node_tree
-    environment = tree.nodes.new("ShaderNodeTexEnvironment")
-    environment.image = image
-    tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    scene.world = world  # before its Cycles settings, whose update reads the scene's world
+    # Set as the scene's world before its Cycles settings, whose update reads it.
+    world = environment_world(scene, image)
     world.cycles_visibility.diffuse = False
     mirror = shader_graphs.new_material("Mirror")
     mirror_bsdf = shader_graphs.principled(mirror)
