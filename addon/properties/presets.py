@@ -29,7 +29,7 @@ class Quality:
     adaptive_min_samples: int
     light_samples: int  # shadow feelers per axis of a sized light whose own setting is 0
     glossy_samples: int  # rays per axis drawn from a rough reflection lobe
-    emitter_samples: int  # feelers per axis to the emissive meshes from a shading point
+    emitter_samples: int  # feelers per axis to the emissive meshes and the world light
     fresnel: str  # OFF | SCHLICK | EXACT
     cutoff: float  # a secondary ray whose weight is below this is not traced
     texture_filter: str  # AUTHORED (each Image Texture node's) | CLOSEST

@@ -190,6 +190,30 @@ TEST(Volume, AbsorbingFogDimsTheLampOnTheFloorAsTheLineSays) {
   EXPECT_NEAR(a.pixels[0] / b.pixels[0], std::exp(-2.0f * sigma), 1e-5f);
 }
 
+TEST(Volume, AFogBoxStandingOnTheFloorRendersAsOneSunkIntoIt) {
+  // The fog box's bottom face in the floor's plane, given in place or placed there by its
+  // instance's transform (as Blender's objects are): a camera ray reaching the floor meets
+  // two coplanar faces, and if it crossed the bound first, going on from beyond it, it
+  // would miss the floor and see the world. The floor is met first, so the images are
+  // those of a box whose bottom is 1 below the floor, hidden.
+  const Material absorbing = fog(Color(0.2f), Color(0.1f));
+  Scene sunk = floor_scene();
+  add_object(&sunk, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)), absorbing);
+  Scene in_place = floor_scene();
+  add_object(&in_place, "fog", box(Vec3(-2.0f, -2.0f, 0.0f), Vec3(2.0f, 2.0f, 5.0f)), absorbing);
+  Scene placed = floor_scene();
+  add_object(&placed, "fog", box(Vec3(-2.0f, -2.0f, -2.5f), Vec3(2.0f, 2.0f, 2.5f)), absorbing,
+             glm::translate(glm::mat4(1.0f), Vec3(0.0f, 0.0f, 2.5f)));
+  const Settings settings = small_render(16, 16, 2, 2, 8);
+  const Rendered reference = render(sunk, settings);
+  for (const Scene* standing : {&in_place, &placed}) {
+    const Rendered r = render(*standing, settings);
+    for (size_t i = 0; i < r.pixels.size(); ++i) {
+      EXPECT_NEAR(r.pixels[i], reference.pixels[i], 1e-4f * (1.0f + reference.pixels[i])) << i;
+    }
+  }
+}
+
 TEST(Volume, GlassWithAVolumeAbsorbsAlongTheRefractedRay) {
   // A slab of glass of index 1 (no bending, no Fresnel loss worth counting at normal
   // incidence: 0) whose material also holds an absorbing volume: what passes is exp(-sigma d).

@@ -102,8 +102,11 @@ class Kernel {
         radiance += through * escape(r, ray.kind == kCameraRay, here, node, behind, &coverage);
         break;
       }
-      const Interaction it = in_.scene.interaction(r, hit);
-      if (in_.has(kVolumeEffect) && !it.material->surface) {
+      Interaction it = in_.scene.interaction(r, hit);
+      if (in_.has(kVolumeEffect) && !it.material->surface &&
+          surface_in_bound(it, counts, &r, &hit)) {
+        it = in_.scene.interaction(r, hit);  // the surface, met before the bound is crossed
+      } else if (in_.has(kVolumeEffect) && !it.material->surface) {
         // A volume's bound: the ray goes on into (or out of) its medium.
         if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
           here.media.enter(it.material_index, it.material->priority);
@@ -143,6 +146,34 @@ class Kernel {
     }
     if (alpha != nullptr) *alpha = coverage;
     return radiance;
+  }
+
+  // A surface lying in the plane of the volume bound `bound` that ray *r met (a fog box
+  // standing on the floor): the ray going on from beyond the bound, off it by its rounding
+  // error, would pass it, and which of two coplanar faces Embree reports first changes from
+  // ray to ray. So a surface within the bound's error is met first, as if just in front of
+  // it, and the bound is not crossed: *r becomes the short ray that found it (from the
+  // bound's near side to its far side, surfaces only) and *hit its hit.
+  bool surface_in_bound(const Interaction& bound, RayCounts* counts, Ray* r, Hit* hit) const {
+    const Vec3& n = bound.geometric_normal;
+    const float cos = glm::dot(r->direction, n);
+    if (cos == 0.0f) return false;
+    const Vec3 beyond = cos > 0.0f ? n : -n;
+    const Vec3 near = offset_ray_origin(bound.position, bound.position_error, -beyond);
+    const Vec3 far = offset_ray_origin(bound.position, bound.position_error, beyond);
+    const Ray across{near,   r->direction, 0.0f, glm::dot(far - near, n) / cos, RayKind(r->kind),
+                     r->time};
+    Hit found;
+    counts->volume_queries += 1;
+    if (!in_.queries.intersect(across, &found)) return false;
+    if (!in_.scene.interaction(across, found).material->surface) {
+      return false;  // a bound of another medium (or of this one), crossed as bounds are
+    }
+    // The rest of the ray, from the near side: as far as it was allowed to go.
+    const float left = r->t_max - glm::length(bound.position - r->origin);
+    *r = Ray{near, r->direction, 0.0f, left, RayKind(r->kind), r->time};
+    *hit = found;
+    return true;
   }
 
   // What the step asks Embree for a ray: its kind, and in a scene with media the

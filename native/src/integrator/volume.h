@@ -2,11 +2,11 @@
 // scattering as Cycles renders it with Volume Bounces 0): a material's constant volume
 // coefficients (Material::volume_*) fill the meshes it covers. A ray's segment inside one,
 // from its origin to the next hit (or the world), lets exp(-sigma_t d) of what lies beyond
-// through, and adds what the medium scatters towards it from each lamp (a distance drawn
-// along the segment, a feeler to the lamp weighed by the Henyey-Greenstein phase) and what
-// it emits. The medium of a segment is the MediumStack's current one (medium.h): the
-// bounds of a medium without a surface are entered and left in the kernel's trace()
-// (kernel.h), glass with a volume by the refraction's crossing. Shadow feelers carry the
+// through, and adds what the medium scatters towards it from each lamp, emissive mesh and
+// the world light (a distance drawn along the segment, a feeler to the light weighed by the
+// Henyey-Greenstein phase) and what it emits. The medium of a segment is the MediumStack's current
+// one (medium.h): the bounds of a medium without a surface are entered and left in the kernel's
+// trace() (kernel.h), glass with a volume by the refraction's crossing. Shadow feelers carry the
 // transmittance of the media they cross (media_transmittance). Only in scenes the
 // analysis finds media in (kVolumeEffect); the others never reach this file.
 #pragma once
@@ -23,6 +23,8 @@
 #include "integrator/strata.h"
 #include "integrator/transmittance.h"
 #include "scene/light.h"
+#include "scene/mesh_light.h"
+#include "scene/world_light.h"
 
 namespace whitted {
 
@@ -71,6 +73,110 @@ inline DrawnDistance by_transmittance(float length, float sigma, float u) {
   return {t, sigma * std::exp(-sigma * t) / kept};
 }
 
+// What of the light arriving at x = r(drawn.t) from direction wi the medium sends back
+// towards r's origin, per unit of that light, before its feeler: T(t) sigma_s phase / pdf(t).
+inline Color scattered_share(const Material& m, const Ray& r, const DrawnDistance& drawn,
+                             const Vec3& wi) {
+  const float phase = henyey_greenstein(glm::dot(wi, r.direction), m.volume_anisotropy);
+  return transmittance(extinction(m), drawn.t) * m.volume_scattering * (phase / drawn.pdf);
+}
+
+// What a feeler from a point in the medium lets through to its light (shadow.h), counted.
+template <uint32_t kEffects, class Queries>
+Color volume_feeler(const KernelInputs<kEffects, Queries>& in, const Ray& feeler,
+                    uint64_t shadow_sets, int depth, RayCounts* counts) {
+  Blockers storage;
+  const Blockers* linked = blockers(in.scene, shadow_sets, &storage);
+  counts->volume_feelers += 1;
+  return shadow_transmittance(in, feeler, in.queries.occluded(first_query(in, feeler), linked),
+                              linked, depth, counts);
+}
+
+// The single scattering of the emissive meshes' light along a segment (the surfaces'
+// emitter feelers, lights.h, from points in the medium): Emitter Samples x Emitter Samples
+// points drawn from the emitters' power table, each seen from its own distance along the
+// segment, drawn by transmittance, with a feeler each. Out of line: only scenes with media
+// and emitters call it.
+template <uint32_t kEffects, class Queries>
+[[gnu::noinline]] Color scattered_emitters(const KernelInputs<kEffects, Queries>& in, const Ray& r,
+                                           float length, const Material& m, const NodeState& state,
+                                           int layer, RayCounts* counts) {
+  const CompiledScene& scene = in.scene;
+  const bool sobol = jittered_samples(in.settings);
+  const auto salt = 0x766d6500u ^ static_cast<uint32_t>(layer);
+  const Strata where(state, in.settings.emitter_samples, salt, sobol);
+  const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
+  const Color sigma_t = extinction(m);
+  const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
+  Color radiance(0.0f);
+  for (int k = 0; k < where.count(); ++k) {
+    const DrawnDistance drawn = by_transmittance(length, sigma, along.point(k).x);
+    if (!(drawn.pdf > 0.0f)) continue;
+    const Vec3 x = r.origin + drawn.t * r.direction;
+    const glm::vec2 u = where.point(k);
+    const MeshLights::Sample s = scene.mesh_lights->sample(scene, u.x, u.y, r.time);
+    const Vec3 d = s.point - x;
+    const float dist2 = glm::dot(d, d);
+    const float dist = std::sqrt(dist2);
+    if (!(dist > 0.0f)) continue;
+    const Vec3 wi = d / dist;
+    if (!s.triangle.lights(-wi)) continue;  // a side it does not light
+    // An emitter's patch lights x as an area light's: L cos_e / (d^2 density) / n^2.
+    const float cos_e = std::fabs(glm::dot(wi, s.triangle.normal));
+    const Ray towards{x, wi, 0.0f, dist, 0u, r.time};
+    const Color emitted_radiance =
+        emitted(scene, s.triangle, s.barycentric, towards, in.context(state));
+    Color arriving = scattered_share(m, r, drawn, wi) * emitted_radiance *
+                     (cos_e * where.share / (dist2 * s.density));
+    if (is_black(arriving)) continue;
+    const Ray feeler{x, wi, 0.0f, dist * (1.0f - limits::kShadowRayShortening), kShadowRay, r.time};
+    arriving *= volume_feeler(in, feeler, scene.instances[s.triangle.instance].links.shadow_sets,
+                              state.depth, counts);
+    radiance += arriving;
+  }
+  return radiance;
+}
+
+// The single scattering of the world's light along a segment (the surfaces' world feelers,
+// lights.h, from points in the medium): Emitter Samples x Emitter Samples directions drawn
+// by the world's importance map (and its sun disc), each seen from its own distance along
+// the segment, drawn by transmittance, with a feeler to infinity each. A point in a medium
+// has no surface to face: a world drawn by the cosine (one colour) is drawn about the ray's
+// direction or its opposite, one of the two by a coin, over the whole sphere.
+template <uint32_t kEffects, class Queries>
+[[gnu::noinline]] Color scattered_world(const KernelInputs<kEffects, Queries>& in, const Ray& r,
+                                        float length, const Material& m, const NodeState& state,
+                                        int layer, RayCounts* counts) {
+  const WorldLight& light = *in.world;
+  const bool sobol = jittered_samples(in.settings);
+  const auto salt = 0x76776c00u ^ static_cast<uint32_t>(layer);
+  const Strata where(state, in.settings.emitter_samples, salt, sobol);
+  const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
+  const Color sigma_t = extinction(m);
+  const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
+  Color radiance(0.0f);
+  for (int k = 0; k < where.count(); ++k) {
+    const glm::vec2 v = along.point(k);
+    const DrawnDistance drawn = by_transmittance(length, sigma, v.x);
+    if (!(drawn.pdf > 0.0f)) continue;
+    const Vec3 x = r.origin + drawn.t * r.direction;
+    const Vec3 n = v.y < 0.5f ? r.direction : -r.direction;
+    for (int technique = 0; technique < light.techniques(); ++technique) {
+      const WorldLight::Sample s = light.sample(where.point(k), n, technique);
+      counts->world_feelers += 1;
+      if (!(s.pdf > 0.0f)) continue;
+      const float pdf = 0.5f * (light.pdf(s.wi, n) + light.pdf(s.wi, -n));
+      const Color world_radiance = in.scene.world_light_radiance(s.wi, state.depth + 1);
+      Color arriving = scattered_share(m, r, drawn, s.wi) * world_radiance * (where.share / pdf);
+      if (is_black(arriving)) continue;
+      const Ray feeler{x, s.wi, 0.0f, kInfinity, kShadowRay, r.time};
+      arriving *= volume_feeler(in, feeler, kAllLightSets, state.depth, counts);
+      radiance += arriving;
+    }
+  }
+  return radiance;
+}
+
 // What the medium `m` sends back along a segment [0, length] of ray r (length may be
 // infinite), seen from r's origin: its emission, integral of T(t) e dt = e (1 - T(length)) /
 // sigma_t, and the light of every lamp it scatters once, integral of T(t) sigma_s
@@ -103,8 +209,6 @@ template <uint32_t kEffects, class Queries>
     const Strata strata(state, light.sized() ? light.samples : 1,
                         0x766f6c00u ^ (index << 8) ^ static_cast<uint32_t>(layer),
                         jittered_samples(in.settings));
-    Blockers storage;
-    const Blockers* linked = blockers(scene, light.shadow_sets, &storage);
     for (int k = 0; k < strata.count(); ++k) {
       const float u = strata.point(k).x;
       const DrawnDistance drawn = light.type == LightType::kSun
@@ -114,21 +218,20 @@ template <uint32_t kEffects, class Queries>
       const Vec3 x = r.origin + drawn.t * r.direction;
       const LightSample ls = sample_light(light, x, k);
       if (is_black(ls.irradiance)) continue;  // outside a spot's cone, behind an area light
-      const float phase = henyey_greenstein(glm::dot(ls.wi, r.direction), m.volume_anisotropy);
-      Color arriving = transmittance(sigma_t, drawn.t) * m.volume_scattering * (phase / drawn.pdf) *
-                       ls.irradiance;
+      Color arriving = scattered_share(m, r, drawn, ls.wi) * ls.irradiance;
       if (light.cast_shadows) {
         const float t_max = std::isinf(ls.distance)
                                 ? kInfinity
                                 : ls.distance * (1.0f - limits::kShadowRayShortening);
         const Ray feeler{x, ls.wi, 0.0f, t_max, kShadowRay, r.time};
-        counts->volume_feelers += 1;
-        arriving *=
-            shadow_transmittance(in, feeler, in.queries.occluded(first_query(in, feeler), linked),
-                                 linked, state.depth, counts);
+        arriving *= volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
       }
       radiance += arriving;
     }
+  }
+  if (in.emitters) radiance += scattered_emitters(in, r, length, m, state, layer, counts);
+  if (in.lit_by_world(state.depth)) {
+    radiance += scattered_world(in, r, length, m, state, layer, counts);
   }
   return radiance;
 }

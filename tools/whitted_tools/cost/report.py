@@ -132,7 +132,7 @@ SWEEPS = (
     ),
     (
         "emitter_samples",
-        "Emitter feelers per axis (emissive meshes)",
+        "Emitter feelers per axis (emissive meshes and the world light)",
         [(str(n), {"emitter_samples": n}) for n in (1, 2, 3, 4, 6)],
     ),
     ("fresnel", "Fresnel", [(f, {"fresnel": f}) for f in ("OFF", "SCHLICK", "EXACT")]),
