@@ -231,6 +231,30 @@ TEST(Volume, GlassWithAVolumeAbsorbsAlongTheRefractedRay) {
   }
 }
 
+TEST(Volume, FogGoesOnInsideGlassAndOverlappingFogsAddUp) {
+  // Down the camera's axis: an absorbing fog from z = 0.5 to 3.5 around a slab of glass of
+  // index 1 (z from 1 to 2, no volume of its own) and a second fog from 2.5 to 3 inside the
+  // first: the ray crosses 3 of the first fog, the glass included (Cycles fills it with the
+  // volumes around it), and 0.5 of both.
+  const Color first(0.3f, 0.2f, 0.1f);
+  const Color second(0.4f, 0.0f, 0.8f);
+  Scene scene;
+  scene.set_background(Color(1.0f));
+  add_object(&scene, "fog", box(Vec3(-1.0f, -1.0f, 0.5f), Vec3(1.0f, 1.0f, 3.5f)),
+             fog(first, Color(0.0f)));
+  add_object(&scene, "denser", box(Vec3(-1.0f, -1.0f, 2.5f), Vec3(1.0f, 1.0f, 3.0f)),
+             fog(second, Color(0.0f)));
+  add_object(&scene, "glass", box(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 2.0f)),
+             Material(testing::clear(1.0f)));
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1e-5f);
+  const Rendered r = render(scene, one_ray(1));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(r.pixels[static_cast<size_t>(c)], std::exp(-3.0f * first[c] - 0.5f * second[c]),
+                1e-5f)
+        << c;
+  }
+}
+
 TEST(Volume, FogBoxIsTheSameWhateverTheThreadsTilesAndWaves) {
   Scene scene = floor_scene();
   add_object(&scene, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)),

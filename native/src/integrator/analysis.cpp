@@ -81,6 +81,21 @@ size_t media_objects(const CompiledScene& scene) {
   return objects;
 }
 
+// What light a medium scatters, in the volumes' report line: the lights the effects
+// decided on, the lamps always.
+std::string scattered_light(const CompiledScene& scene, const Effects& effects) {
+  std::vector<std::string> lights;
+  if (!scene.lights.empty()) lights.push_back("the lamps'");
+  if (effects.has(kEmitterEffect)) lights.push_back("the emissive meshes'");
+  if (effects.has(kWorldLightEffect)) lights.push_back("the world's");
+  if (lights.empty()) return "no light (none in the scene)";
+  std::string text = lights[0];
+  for (size_t i = 1; i < lights.size(); ++i) {
+    text += (i + 1 == lights.size() ? " and " : ", ") + lights[i];
+  }
+  return text + " light";
+}
+
 // Which of shadows, reflection, refraction and translucency the scene can show.
 void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects* effects) {
   // Only materials some instance uses can contribute, and only where some ray sees it.
@@ -149,7 +164,7 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
                      : "no material lets shadow feelers through");
   decide(effects, kVolumeEffect, media > 0, "volumes",
          media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") +
-                         ": homogeneous, single scattering of the lamps' light"
+                         ": homogeneous, single scattering of " + scattered_light(scene, *effects)
                    : "no mesh encloses a medium (a material's constant volume shader)");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));

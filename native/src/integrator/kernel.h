@@ -90,11 +90,15 @@ class Kernel {
       }
       const auto node = recorder_.ray(r, here.depth, in_front, behind);
       if (in_.has(kVolumeEffect)) {
-        if (const Material* m = medium_of(in_.scene, here.media.current())) {
-          const float length = found ? hit.t : kInfinity;
+        if (const Medium m = medium_at(in_.scene, here.media); !m.empty) {
+          // The segment from where the ray starts to count (a camera ray's clip start) to
+          // its hit, or as far as it may go.
+          const float length = (found ? hit.t : r.t_max) - r.t_min;
+          const Ray segment{
+              r.origin + r.t_min * r.direction, r.direction, 0.0f, length, RayKind(r.kind), r.time};
           radiance +=
-              (behind * through) * segment_radiance(in_, r, length, *m, here, layer, counts);
-          through *= transmittance(extinction(*m), length);
+              (behind * through) * segment_radiance(in_, segment, length, m, here, layer, counts);
+          through *= transmittance(m.extinction(), length);
           if (is_black(through)) break;
         }
       }
@@ -109,7 +113,7 @@ class Kernel {
       } else if (in_.has(kVolumeEffect) && !it.material->surface) {
         // A volume's bound: the ray goes on into (or out of) its medium.
         if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
-          here.media.enter(it.material_index, it.material->priority);
+          here.media.enter_bound(it.material_index);
         } else {
           here.media.leave(it.material_index);
         }

@@ -7,6 +7,10 @@
 // owns the point. Crossing a surface whose medium does not become or stop being the
 // current one is a false interface: the ray goes on straight and unshaded. Priorities
 // default to 0, so by default the medium entered last is the current one.
+//
+// The stack also holds the bounds of media without a surface (a fog box, entered and left
+// by kernel.h's trace()): they own no point and bend no ray, so the rule above passes them
+// by; the media a point is inside are summed (transmittance.h's medium_at).
 #pragma once
 
 #include <array>
@@ -24,19 +28,22 @@ class MediumStack {
   int32_t current() const {
     int best = -1;
     for (int i = 0; i < size_; ++i) {
+      if (entries_[i].bound) continue;
       if (best < 0 || entries_[i].priority >= entries_[best].priority) best = i;
     }
     return best < 0 ? -1 : static_cast<int32_t>(entries_[best].material);
   }
   bool empty() const { return size_ == 0; }
 
-  void enter(uint32_t material, int32_t priority) {
-    if (size_ == kCapacity) {
-      for (int i = 1; i < kCapacity; ++i) entries_[i - 1] = entries_[i];
-      --size_;
-    }
-    entries_[size_++] = {material, priority};
-  }
+  // Into a dielectric (glass, water) of `priority`.
+  void enter(uint32_t material, int32_t priority) { push({material, priority, false}); }
+  // Into the bounds of a medium without a surface.
+  void enter_bound(uint32_t material) { push({material, 0, true}); }
+
+  // The entries, oldest first: material(i) for i < size(), a bound where is_bound(i).
+  int size() const { return size_; }
+  uint32_t material(int i) const { return entries_[static_cast<size_t>(i)].material; }
+  bool is_bound(int i) const { return entries_[static_cast<size_t>(i)].bound; }
 
   // Removes the most recent entry of `material`; false if the ray was not inside it.
   bool leave(uint32_t material) {
@@ -53,7 +60,15 @@ class MediumStack {
   struct Entry {
     uint32_t material;
     int32_t priority;
+    bool bound;  // a medium's bound (enter_bound), not a dielectric
   };
+  void push(const Entry& entry) {
+    if (size_ == kCapacity) {
+      for (int i = 1; i < kCapacity; ++i) entries_[i - 1] = entries_[i];
+      --size_;
+    }
+    entries_[size_++] = entry;
+  }
   std::array<Entry, kCapacity> entries_{};
   int size_ = 0;
 };

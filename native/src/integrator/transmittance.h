@@ -1,5 +1,6 @@
-// What a homogeneous medium (integrator/volume.h) lets through: exp(-sigma_t d) along a
-// segment, and along a shadow feeler through the volume bounds it crosses.
+// What fills a point (the media it is inside, summed) and what homogeneous media
+// (integrator/volume.h) let through: exp(-sigma_t d) along a segment, and along a shadow
+// feeler through the volume bounds it crosses.
 #pragma once
 
 #include <array>
@@ -14,17 +15,42 @@
 
 namespace whitted {
 
-// The material of `medium` (a MediumStack's current()) when it fills its inside with a
-// medium (Material::participating), else null.
-inline const Material* medium_of(const CompiledScene& scene, int32_t medium) {
-  if (medium < 0) return nullptr;
-  const Material& m = scene.materials[static_cast<size_t>(medium)];
-  return m.participating() ? &m : nullptr;
-}
+// What fills a point, per unit length: the sum of the media it is inside, as Cycles sums
+// the closures of overlapping volumes; a glass ball in fog is filled with the fog (and
+// its own volume, if it has one). Those are every medium whose bounds enclose the point and
+// the dielectric owning it (MediumStack::current, the nested-dielectric rule). Several
+// scatterings keep one Henyey-Greenstein lobe of their mean anisotropy weighted by their
+// scattering, as the exporter does within a material (export/volume.py).
+struct Medium {
+  Color absorption{0.0f};  // sigma_a
+  Color scattering{0.0f};  // sigma_s
+  Color emission{0.0f};    // radiance per unit length
+  float anisotropy = 0.0f;
+  bool empty = true;  // no medium: nothing to absorb, scatter or emit
+  // sigma_t = sigma_a + sigma_s.
+  Color extinction() const { return absorption + scattering; }
+};
 
-// sigma_t = sigma_a + sigma_s, per unit length.
-inline Color extinction(const Material& m) {
-  return m.volume_absorption + m.volume_scattering;
+inline Medium medium_at(const CompiledScene& scene, const MediumStack& media) {
+  Medium out;
+  float weighed = 0.0f;  // sum of the scatterings' means, weighing the anisotropies
+  const auto add = [&](uint32_t index) {
+    const Material& m = scene.materials[index];
+    if (!m.participating()) return;
+    out.absorption += m.volume_absorption;
+    out.scattering += m.volume_scattering;
+    out.emission += m.volume_emission;
+    const float w = (m.volume_scattering.x + m.volume_scattering.y + m.volume_scattering.z) / 3.0f;
+    out.anisotropy += w * m.volume_anisotropy;
+    weighed += w;
+    out.empty = false;
+  };
+  for (int i = 0; i < media.size(); ++i) {
+    if (media.is_bound(i)) add(media.material(i));
+  }
+  if (const int32_t owner = media.current(); owner >= 0) add(static_cast<uint32_t>(owner));
+  out.anisotropy = weighed > 0.0f ? out.anisotropy / weighed : 0.0f;
+  return out;
 }
 
 // exp(-sigma_t d) per channel; d may be infinite (a ray escaping inside an open mesh):
@@ -79,14 +105,14 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
         entered = true;
       }
     }
-    if (!entered) media.enter(b.material, in.scene.materials[b.material].priority);
+    if (!entered) media.enter_bound(b.material);
   }
   // The optical depth along [0, t_max], segment by segment.
   Color depth(0.0f);
   float from = 0.0f;
   const auto cross = [&](float to) {
-    if (const Material* m = medium_of(in.scene, media.current())) {
-      depth += extinction(*m) * (to - from);
+    if (const Medium m = medium_at(in.scene, media); !m.empty) {
+      depth += m.extinction() * (to - from);
     }
     from = to;
   };
@@ -95,14 +121,14 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
     if (!(b.t < feeler.t_max)) break;
     cross(std::max(b.t, from));
     if (b.entering) {
-      media.enter(b.material, in.scene.materials[b.material].priority);
+      media.enter_bound(b.material);
     } else {
       media.leave(b.material);
     }
   }
   Color through = transmittance(depth, 1.0f);  // exp(-depth)
-  if (const Material* m = medium_of(in.scene, media.current())) {
-    through *= transmittance(extinction(*m), feeler.t_max - from);  // t_max may be infinite
+  if (const Medium m = medium_at(in.scene, media); !m.empty) {
+    through *= transmittance(m.extinction(), feeler.t_max - from);  // t_max may be infinite
   }
   return through;
 }

@@ -75,10 +75,10 @@ inline DrawnDistance by_transmittance(float length, float sigma, float u) {
 
 // What of the light arriving at x = r(drawn.t) from direction wi the medium sends back
 // towards r's origin, per unit of that light, before its feeler: T(t) sigma_s phase / pdf(t).
-inline Color scattered_share(const Material& m, const Ray& r, const DrawnDistance& drawn,
+inline Color scattered_share(const Medium& m, const Ray& r, const DrawnDistance& drawn,
                              const Vec3& wi) {
-  const float phase = henyey_greenstein(glm::dot(wi, r.direction), m.volume_anisotropy);
-  return transmittance(extinction(m), drawn.t) * m.volume_scattering * (phase / drawn.pdf);
+  const float phase = henyey_greenstein(glm::dot(wi, r.direction), m.anisotropy);
+  return transmittance(m.extinction(), drawn.t) * m.scattering * (phase / drawn.pdf);
 }
 
 // What a feeler from a point in the medium lets through to its light (shadow.h), counted.
@@ -99,14 +99,14 @@ Color volume_feeler(const KernelInputs<kEffects, Queries>& in, const Ray& feeler
 // and emitters call it.
 template <uint32_t kEffects, class Queries>
 [[gnu::noinline]] Color scattered_emitters(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                           float length, const Material& m, const NodeState& state,
+                                           float length, const Medium& m, const NodeState& state,
                                            int layer, RayCounts* counts) {
   const CompiledScene& scene = in.scene;
   const bool sobol = jittered_samples(in.settings);
   const auto salt = 0x766d6500u ^ static_cast<uint32_t>(layer);
   const Strata where(state, in.settings.emitter_samples, salt, sobol);
   const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
-  const Color sigma_t = extinction(m);
+  const Color sigma_t = m.extinction();
   const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
   Color radiance(0.0f);
   for (int k = 0; k < where.count(); ++k) {
@@ -145,14 +145,14 @@ template <uint32_t kEffects, class Queries>
 // direction or its opposite, one of the two by a coin, over the whole sphere.
 template <uint32_t kEffects, class Queries>
 [[gnu::noinline]] Color scattered_world(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                        float length, const Material& m, const NodeState& state,
+                                        float length, const Medium& m, const NodeState& state,
                                         int layer, RayCounts* counts) {
   const WorldLight& light = *in.world;
   const bool sobol = jittered_samples(in.settings);
   const auto salt = 0x76776c00u ^ static_cast<uint32_t>(layer);
   const Strata where(state, in.settings.emitter_samples, salt, sobol);
   const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
-  const Color sigma_t = extinction(m);
+  const Color sigma_t = m.extinction();
   const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
   Color radiance(0.0f);
   for (int k = 0; k < where.count(); ++k) {
@@ -188,19 +188,19 @@ template <uint32_t kEffects, class Queries>
 // threads and tiles change nothing. Out of line: only scenes with media call it.
 template <uint32_t kEffects, class Queries>
 [[gnu::noinline]] Color segment_radiance(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                         float length, const Material& m, const NodeState& state,
+                                         float length, const Medium& m, const NodeState& state,
                                          int layer, RayCounts* counts) {
-  const Color sigma_t = extinction(m);
+  const Color sigma_t = m.extinction();
   Color radiance(0.0f);
   for (int i = 0; i < 3; ++i) {
-    if (!(m.volume_emission[i] > 0.0f)) continue;
+    if (!(m.emission[i] > 0.0f)) continue;
     if (sigma_t[i] > 0.0f) {
-      radiance[i] += m.volume_emission[i] * -std::expm1(-sigma_t[i] * length) / sigma_t[i];
+      radiance[i] += m.emission[i] * -std::expm1(-sigma_t[i] * length) / sigma_t[i];
     } else if (std::isfinite(length)) {
-      radiance[i] += m.volume_emission[i] * length;
+      radiance[i] += m.emission[i] * length;
     }
   }
-  if (is_black(m.volume_scattering)) return radiance;
+  if (is_black(m.scattering)) return radiance;
   const CompiledScene& scene = in.scene;
   const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
   for (const Light& light : scene.lights) {

@@ -214,7 +214,12 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
   }
   MediumStack media;
   for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) {
-    media.enter(*m, scene_.materials[*m].priority);
+    const Material& material = scene_.materials[*m];
+    if (material.surface) {
+      media.enter(*m, material.priority);
+    } else {
+      media.enter_bound(*m);  // a volume's bound
+    }
   }
   return media;
 }
