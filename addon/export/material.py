@@ -34,7 +34,7 @@ from .nodes.graph import source
 from .nodes.ir import evaluate
 from .nodes.program import emit, material_fields
 from .nodes.shader_fields import MAX_SHININESS, phong_exponent
-from .nodes.shaders import finish, fixed_texture, surface
+from .nodes.shaders import default_surface, finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
@@ -208,6 +208,31 @@ def map_material(material, warnings, local_model="BLENDER"):
         exported = _programmed(fields, lowering, _bump_shadowing(material))
     for message in found:
         _warn(warnings, message)
+    exported = _with_lobe_models(exported, closure)
+    sampling = _emission_sampling(material)
+    # A surface's volume fills what its refraction enters (glass with an absorbing volume).
+    return replace(
+        exported, data=replace(exported.data, emission_sampling=sampling, **medium.fields())
+    )
+
+
+def default_material(local_model="BLENDER"):
+    """What an object without a material, or an empty material slot, renders with, as
+    Cycles renders it: from Blender 5.0 its default surface, a Principled BSDF of a new
+    material's inputs (nodes/principled.py's DEFAULT_SURFACE), set as the native scene's
+    default material (instance.DEFAULT_MATERIAL); before 5.0 None, the native default
+    (a Diffuse BSDF of 0.8) being Cycles' own."""
+    if bpy.app.version < (5, 0, 0):
+        return None
+    lowering = Lowering("the default surface", [])
+    closure = default_surface(lowering, local_model)
+    fields = finish(lowering, closure)
+    exported = _fixed(fields, lowering) or _programmed(fields, lowering, "NONE")
+    return _with_lobe_models(exported, closure)
+
+
+def _with_lobe_models(exported, closure):
+    """`exported` with the diffuse model and multiple scattering its closure asks for."""
     if closure.diffuse_model is not None:
         model = closure.diffuse_model
         if model == "OREN_NAYAR" and bpy.app.version >= (4, 3, 0):
@@ -217,11 +242,7 @@ def map_material(material, warnings, local_model="BLENDER"):
         exported = replace(exported, data=replace(exported.data, diffuse_model=model))
     if closure.multiscatter:
         exported = replace(exported, data=replace(exported.data, multiscatter=True))
-    sampling = _emission_sampling(material)
-    # A surface's volume fills what its refraction enters (glass with an absorbing volume).
-    return replace(
-        exported, data=replace(exported.data, emission_sampling=sampling, **medium.fields())
-    )
+    return exported
 
 
 def _emission_sampling(material):

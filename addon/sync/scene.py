@@ -32,10 +32,10 @@ import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.geometry_key import GeometryKeys
-from ..export.instance import instance_data
+from ..export.instance import DEFAULT_MATERIAL, instance_data
 from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
-from ..export.material import convert_material
+from ..export.material import convert_material, default_material
 from ..export.mesh import export_geometry, is_renderable_mesh
 from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
 from ..export.sanitise import Sanitised
@@ -243,6 +243,11 @@ class SceneSync:
         redo = (
             changes is None or changes.node_groups or params.local_model != self._params.local_model
         )
+        if redo and (default := default_material(params.local_model)) is not None:
+            # Blender 5.0+: what an object without a material renders with.
+            self.scene.set_material(
+                DEFAULT_MATERIAL, native_data.native_material(self._native, default)
+            )
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
                 exported = replace(

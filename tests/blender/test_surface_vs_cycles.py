@@ -122,3 +122,24 @@ def test_diffuse_lobe_under_a_sun_as_cycles(node, inputs, empty_scene, tmp_path,
     low, high = np.percentile(ratio, [2, 98])
     print(f"\n{node} {inputs}: Whitted / Cycles {low:.4f}..{high:.4f}")
     assert low > 0.99 and high < 1.01
+
+
+def test_an_object_without_a_material_renders_as_in_cycles(empty_scene, tmp_path, native):
+    # Cycles renders an object without a material with its default surface: a Diffuse
+    # BSDF of 0.8 up to 4.5, a new material's Principled BSDF from 5.0 (its highlight
+    # included; export/material.py's default_material).
+    from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
+
+    sphere_under_sun(empty_scene, None, 48, segments=96, rings=48)
+    set_cycles_direct_light(empty_scene, samples=4)
+    empty_scene.whitted.aa_samples = 1
+    empty_scene.whitted.max_depth = 1
+    cycles = render_rgba(empty_scene, "CYCLES", str(tmp_path / "default_cycles.exr"))
+    whitted = render_rgba(empty_scene, "WHITTED", str(tmp_path / "default_whitted.exr"))
+    lit = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99) & (cycles[..., 0] > 0.01)
+    assert lit.sum() > 400
+    ratio = whitted[lit][:, :3] / cycles[lit][:, :3]
+    low, high = np.percentile(ratio, [2, 98])
+    summed = whitted[lit][:, :3].sum() / cycles[lit][:, :3].sum()
+    print(f"\nno material: Whitted / Cycles {low:.4f}..{high:.4f}, summed {summed:.4f}")
+    assert low > 0.99 and high < 1.01

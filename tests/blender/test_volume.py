@@ -86,8 +86,8 @@ def _fog_stage(scene, fog_bottom=-0.3, light="spot"):
     floor = add_object(
         scene, "Floor", mesh_from_faces("Floor", corners, [np.array([[0, 1, 2, 3]])])
     )
-    # A diffuse floor of its own: an object without a material is Cycles' default
-    # Principled BSDF in Blender 5.0 (a diffuse 0.8 in 3.4 and 4.2, as Whitted's still is).
+    # A diffuse floor and box, the same in every Blender (without a material they would be
+    # a Principled BSDF from 5.0 on, a Diffuse BSDF before: export/material.py).
     floor.data.materials.append(lambert_material("Floor", 0.8))
     box = add_object(scene, "Box", cube_mesh("Box", 0.8), location=(0.3, 0.0, 1.5))
     box.data.materials.append(floor.data.materials[0])

@@ -2,6 +2,8 @@
 transmission), its specular layer, its coat and its sheen, with the socket names of every
 Blender version."""
 
+from dataclasses import dataclass
+
 from . import ops
 from .graph import socket_type, source
 from .ir import COLOR, FLOAT
@@ -284,3 +286,49 @@ def _warn_ignored_principled_inputs(s, out):
 PRINCIPLED_SHADERS = {
     "ShaderNodeBsdfPrincipled": (_principled, PRINCIPLED_READ | {"Weight"}),
 }
+
+
+@dataclass(frozen=True)
+class _Unlinked:
+    """An input socket of a node made here rather than read from Blender: unlinked, of
+    a fixed value (graph.source, values.Lowering.default and socket_type read these)."""
+
+    name: str
+    default_value: object
+    type: str
+    is_linked: bool = False
+    enabled: bool = True
+
+
+@dataclass(frozen=True)
+class _MadeNode:
+    bl_idname: str
+    name: str
+    inputs: tuple
+    distribution: str
+
+
+# Blender 5.0's default surface, what Cycles renders an object without a material (or an
+# empty slot) with: a Principled BSDF of a new material's inputs (5.0's names and
+# defaults). Measured in bpy 5.0.1: such a sphere renders as one with a new material, to
+# 2e-7; Blender 3.4 and 4.5 render it as a Diffuse BSDF of 0.8, the native default.
+DEFAULT_SURFACE = _MadeNode(
+    "ShaderNodeBsdfPrincipled",
+    "Principled BSDF",
+    (
+        _Unlinked("Base Color", (0.8, 0.8, 0.8, 1.0), "RGBA"),
+        _Unlinked("Metallic", 0.0, "VALUE"),
+        _Unlinked("Roughness", 0.5, "VALUE"),
+        _Unlinked("IOR", 1.5, "VALUE"),
+        _Unlinked("Alpha", 1.0, "VALUE"),
+        _Unlinked("Diffuse Roughness", 0.0, "VALUE"),
+        _Unlinked("Specular IOR Level", 0.5, "VALUE"),
+        _Unlinked("Specular Tint", (1.0, 1.0, 1.0, 1.0), "RGBA"),
+        _Unlinked("Transmission Weight", 0.0, "VALUE"),
+        _Unlinked("Coat Weight", 0.0, "VALUE"),
+        _Unlinked("Sheen Weight", 0.0, "VALUE"),
+        _Unlinked("Emission Color", (1.0, 1.0, 1.0, 1.0), "RGBA"),
+        _Unlinked("Emission Strength", 0.0, "VALUE"),
+    ),
+    "MULTI_GGX",
+)

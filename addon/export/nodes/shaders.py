@@ -24,9 +24,9 @@ from dataclasses import dataclass, replace
 
 from . import ops
 from .bsdfs import BSDF_SHADERS
-from .graph import socket_type, source
+from .graph import Output, socket_type, source
 from .ir import COLOR, FLOAT, VECTOR
-from .principled import PRINCIPLED_SHADERS
+from .principled import DEFAULT_SURFACE, PRINCIPLED_SHADERS
 from .shader_fields import is_one, is_zero
 from .sockets import find_socket
 
@@ -282,6 +282,13 @@ def surface(c, output_node, local_model="BLENDER"):
     lowering = ShaderLowering(c, local_model)
     socket = output_node.inputs["Surface"]
     return lowering.shader(socket, ())
+
+
+def default_surface(c, local_model="BLENDER"):
+    """The closure of Blender 5.0's default surface (principled.DEFAULT_SURFACE), made by
+    the Principled BSDF's own converter."""
+    convert, _ = _SHADERS[DEFAULT_SURFACE.bl_idname]
+    return convert(ShaderLowering(c, local_model), Output(DEFAULT_SURFACE, None, ()))
 
 
 def finish(c, closure):

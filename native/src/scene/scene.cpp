@@ -297,17 +297,26 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     }
     return found->second;
   };
+  // Index 0 is the default material, what an empty slot renders with: the material set
+  // as "" (Blender 5.0+'s default surface, export/material.py), else Material{}.
   std::map<std::string, uint32_t> material_index;
   compiled->materials.push_back(Material{});
   compiled->material_names.emplace_back();
   for (const auto& [name, material] : state_.materials) {
-    material_index[name] = static_cast<uint32_t>(compiled->materials.size());
+    const bool default_material = name.empty();
+    if (!default_material) {
+      material_index[name] = static_cast<uint32_t>(compiled->materials.size());
+    }
     Material resolved = material;
     resolved.diffuse_texture_index = resolve_texture(name, material.diffuse_texture);
     resolved.alpha_texture_index = resolve_texture(name, material.alpha_texture);
     if (material.program) {
       resolved.program_images =
           resolve_images(*material.program, state_.textures, "material '" + name + "'");
+    }
+    if (default_material) {
+      compiled->materials[0] = std::move(resolved);
+      continue;
     }
     compiled->materials.push_back(std::move(resolved));
     compiled->material_names.push_back(name);
