@@ -165,3 +165,19 @@ def _value(node, name):
 
 def _colour(node, name):
     return tuple(float(c) for c in _input(node, name).default_value[:3])
+
+
+def volume_bounces_warning(scene, materials):
+    """The report's line when media are rendered and the scene asks Cycles for volume
+    bounces (Render > Light Paths > Max Bounces > Volume, `scene.cycles.volume_bounces`),
+    which Whitted does not trace; None otherwise. `materials`: the exported materials'
+    native data."""
+    cycles = getattr(scene, "cycles", None)
+    bounces = getattr(cycles, "volume_bounces", 0)
+    scattering = any(max(m.volume_scattering) > 0.0 for m in materials)
+    if bounces <= 0 or not scattering:
+        return None
+    return (
+        f"Whitted: Volume Bounces is {bounces} (Light Paths): media scatter light once, "
+        "as Cycles renders them with Volume Bounces 0"
+    )

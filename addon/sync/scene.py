@@ -41,6 +41,7 @@ from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_ma
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.unrendered import unrendered_kind, unrendered_warnings
+from ..export.volume import volume_bounces_warning
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -189,6 +190,11 @@ class SceneSync:
         self.warnings = warnings = []
         if self._materials_touched(changes, params):
             self._sync_materials(depsgraph, changes, params, report, warnings)
+        bounces = volume_bounces_warning(
+            depsgraph.scene, (m.data for m in self._materials.values())
+        )
+        if bounces is not None:
+            warnings.append(bounces)
         # Light linking is the whole scene's: when it changes, every instance may change.
         # Reading it visits every object (44 ms for 10,000 in Blender 5.2), so an update
         # that only moved objects or edited materials, lights or the world keeps it.

@@ -3,9 +3,10 @@ negative and non-uniform scale, custom normals, many instances, animation
 frames, and the render border.
 
 The scenes are tiny: an orthographic camera at -Y looking along +Y (image
-right is +X, image up is +Z), no world (so no ambient light), and objects
-without materials (the tracer's default: diffuse, albedo 0.8). Pixels are
-linear radiance, rows bottom to top.
+right is +X, image up is +Z), no world (so no ambient light), and meshes of one
+diffuse material of albedo 0.8 (what an object without a material renders with up to
+Blender 4.5; from 5.0 that is a Principled BSDF with a highlight). Pixels are linear
+radiance, rows bottom to top.
 """
 
 import functools
@@ -23,6 +24,7 @@ from exported import exported_meshes
 from whitted.export.film import FilmData, PixelFilter, convert_film
 from whitted.export.instance import RayVisibility
 from whitted_tools import scenes
+from whitted_tools.material_scenes import lambert_material
 from whitted_tools.scenes import add_object, cube_mesh, ico_sphere_on_points
 
 SIZE = 32  # image width and height, pixels
@@ -36,6 +38,10 @@ def pixel(x, z):
 
 
 def link(scene, name, data, location=(0.0, 0.0, 0.0), collection=None):
+    if isinstance(data, bpy.types.Mesh) and not data.materials:
+        data.materials.append(
+            bpy.data.materials.get("Lambert 0.8") or lambert_material("Lambert 0.8", 0.8)
+        )
     return add_object(collection or scene, name, data, location)
 
 
@@ -93,7 +99,7 @@ def stage(scene):
 CENTER = pixel(0.0, 0.0)  # the cube, or its shadow on the backdrop
 BACKDROP = pixel(1.0, 1.0)  # the lit backdrop, beside the cube
 SKY = (0, 0)  # nothing: outside the backdrop
-LIT = 0.8 * SUN_STRENGTH / math.pi  # radiance of the default material facing the sun
+LIT = 0.8 * SUN_STRENGTH / math.pi  # radiance of the diffuse material facing the sun
 
 
 # --- Ray visibility and holdout ---------------------------------------------------
@@ -203,6 +209,7 @@ def test_non_uniform_scale_shades_like_the_scaled_mesh(scene, render_pixels):
     by_object = render_pixels(scene)
     sphere.scale = (1.0, 1.0, 1.0)
     sphere.data = sphere_mesh("Scaled", segments=48, rings=24, scale=scale)
+    sphere.data.materials.append(bpy.data.materials["Lambert 0.8"])
     by_mesh = render_pixels(scene)
     covered = by_mesh[..., 0] > 0.0
     assert np.abs(by_object - by_mesh)[covered][:, :3].mean() < 0.01 * LIT

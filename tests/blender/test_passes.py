@@ -11,6 +11,7 @@ import pytest
 from whitted import result
 from whitted.sync.frame import sync_frame
 from whitted.ui import passes as passes_ui
+from whitted_tools.material_scenes import lambert_material
 from whitted_tools.render import enable_every_pass, use_multilayer_exr
 
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -63,6 +64,8 @@ def small_scene(empty_scene):
     scene.render.resolution_y = 16
     scene.render.resolution_percentage = 100
     bpy.ops.mesh.primitive_plane_add(size=4.0)
+    # Diffuse in every Blender (5.0+ renders a mesh without a material as a Principled BSDF).
+    bpy.context.object.data.materials.append(lambert_material("Lambert", 0.8))
     bpy.ops.object.camera_add(location=(0.0, 0.0, 3.0))
     scene.camera = bpy.context.object
     bpy.ops.object.light_add(type="POINT", location=(1.0, 1.0, 2.0))

@@ -281,3 +281,13 @@ def test_a_linked_density_is_reported_as_not_rendered(empty_scene, native):
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
     cloud = [w for w in warnings if "'Cloud'" in w]
     assert len(cloud) == 1 and "Density is linked (a heterogeneous volume" in cloud[0], warnings
+
+
+def test_volume_bounces_above_0_are_reported_as_not_simulated(empty_scene, native):
+    scene = _fog_stage(empty_scene)
+    warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
+    assert not [w for w in warnings if "Volume Bounces" in w], warnings
+    scene.cycles.volume_bounces = 2
+    warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
+    said = [w for w in warnings if "Volume Bounces is 2" in w]
+    assert len(said) == 1 and "scatter light once" in said[0], warnings

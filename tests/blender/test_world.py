@@ -7,6 +7,7 @@ import pytest
 from whitted.export.world import convert_world
 from whitted.properties.presets import preset
 from whitted.sync import SceneSync, SyncParams
+from whitted_tools.material_scenes import lambert_material
 
 
 def node_world(color, strength):
@@ -99,7 +100,7 @@ def test_ambient_strength_scales_the_ambient_light_only(warnings, ambient_streng
 def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     empty_scene, render_pixels, ambient_strength
 ):
-    # No lights: a surface of the default material (albedo 0.8) facing the
+    # No lights: a diffuse surface (albedo 0.8) facing the
     # orthographic camera shows only the ambient term ka * Ia * kd, with
     # Ia = world radiance * ambient strength; the sky shows the world itself.
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
@@ -108,6 +109,7 @@ def test_world_lights_an_unlit_scene_by_its_ambient_strength(
     empty_scene.camera = camera
     quad = bpy.data.meshes.new("Quad")
     quad.from_pydata([(-1, -1, -5), (1, -1, -5), (1, 1, -5), (-1, 1, -5)], [], [(0, 1, 2, 3)])
+    quad.materials.append(lambert_material("Lambert", 0.8))
     empty_scene.collection.objects.link(bpy.data.objects.new("Quad", quad))
     empty_scene.world = node_world((0.2, 0.4, 0.8), 0.5)
     empty_scene.whitted.ambient_strength = ambient_strength
