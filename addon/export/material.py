@@ -198,7 +198,7 @@ def map_material(material, warnings, local_model="BLENDER"):
             )
             return MaterialExport(_black())
         # Cycles lets rays through a volume's bounds: no surface (docs/notes/no_surface.md).
-        return MaterialExport(material_data_type()(surface=False, **medium.fields()))
+        return medium_material(medium)
     found = []
     lowering = Lowering(owner, found)
     closure = surface(lowering, output_node, local_model=local_model)
@@ -214,6 +214,12 @@ def map_material(material, warnings, local_model="BLENDER"):
     return replace(
         exported, data=replace(exported.data, emission_sampling=sampling, **medium.fields())
     )
+
+
+def medium_material(medium):
+    """A material of no surface filled with `medium` (an export.volume.Medium): the
+    bounds of a volume, or the world's volume (Scene.set_world_medium)."""
+    return MaterialExport(material_data_type()(surface=False, **medium.fields()))
 
 
 def default_material(local_model="BLENDER"):

@@ -26,6 +26,7 @@ from .nodes.ir import COLOR, FLOAT, evaluate
 from .nodes.program import emit
 from .nodes.values import Lowering
 from .unrendered import volume_warning
+from .volume import NotHomogeneous, homogeneous_medium
 
 Color = tuple[float, float, float]
 
@@ -46,6 +47,8 @@ class WorldData:
     # World > Ray Visibility: whether camera, glossy (reflected) and transmission
     # (refracted) rays see it; the others see black, as in Cycles.
     visibility: tuple = (True, True, True)
+    # The world's Volume output: an export.volume.Medium filling all space, or None.
+    medium: object = None
 
 
 # Cycles' importance map when World > Settings > Sampling is Auto and no image sets it,
@@ -81,11 +84,32 @@ def convert_world(world, ambient_strength, warnings, local_model="BLENDER"):
     (scene.whitted.ambient_strength) scales (0 turns it off).
     """
     data = _convert_world(world, ambient_strength, warnings)
-    data = replace(data, light=world_light(world, data, local_model), visibility=_seen_by(world))
+    data = replace(
+        data,
+        light=world_light(world, data, local_model),
+        visibility=_seen_by(world),
+        medium=world_medium(world, warnings),
+    )
     if data.light.on:
         black = (0.0, 0.0, 0.0)
         return replace(data, ambient=black, ambient_strength=0.0)
     return data
+
+
+def world_medium(world, warnings):
+    """The world's Volume output as a homogeneous Medium filling all space, as Cycles
+    fills it (export/volume.py's coefficients); None where nothing is linked, or where it
+    is a volume shader not rendered here (then warned)."""
+    if world is None or not uses_nodes(world):
+        return None
+    output_node = world.node_tree.get_output_node("CYCLES")
+    if output_node is None:
+        return None
+    try:
+        return homogeneous_medium(output_node)
+    except NotHomogeneous as why:
+        warnings.append(volume_warning(f"world '{world.name}'", output_node, str(why)))
+        return None
 
 
 def _seen_by(world):
@@ -184,16 +208,6 @@ def _convert_world(world, ambient_strength, warnings):
     if world is None:
         background = (0.0, 0.0, 0.0)
     elif uses_nodes(world):
-        output_node = world.node_tree.get_output_node("CYCLES")
-        volume = (
-            None
-            if output_node is None
-            else volume_warning(
-                f"world '{world.name}'", output_node, "Whitted does not render a world's volume yet"
-            )
-        )
-        if volume is not None:
-            warnings.append(volume)
         found = _programmed(world, ambient_strength, warnings)
         if isinstance(found, WorldData):
             return found

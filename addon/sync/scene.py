@@ -35,13 +35,13 @@ from ..export.geometry_key import GeometryKeys
 from ..export.instance import DEFAULT_MATERIAL, instance_data
 from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
-from ..export.material import convert_material, default_material
+from ..export.material import convert_material, default_material, medium_material
 from ..export.mesh import export_geometry, is_renderable_mesh
 from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.unrendered import unrendered_kind, unrendered_warnings
-from ..export.volume import volume_bounces_warning
+from ..export.volume import Medium, volume_bounces_warning
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -538,6 +538,8 @@ class SceneSync:
             # its images or these change (an edit elsewhere keeps it).
             self.scene.set_world_light(**asdict(world.light))
             self.scene.set_world_visibility(*world.visibility)
+            medium = medium_material(world.medium or Medium())
+            self.scene.set_world_medium(native_data.native_material(self._native, medium))
             self._world = world
             report.world = True
 

@@ -166,6 +166,9 @@ void bind_scene(py::module_& m) {
           },
           "What the last compile built of the world light: {on, why, map: (width, height) "
           "or None, bytes}.")
+      .def("set_world_medium", &Scene::set_world_medium, py::arg("medium"),
+           "The world's Volume output: a material of no surface whose volume coefficients "
+           "fill all space (a default Material: none).")
       .def("set_material", &Scene::set_material, py::arg("name"), py::arg("material"),
            "Adds or replaces the material instances name by this one.")
       .def("set_light", &Scene::set_light, py::arg("name"), py::arg("light"),

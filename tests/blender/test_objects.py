@@ -3,10 +3,10 @@ negative and non-uniform scale, custom normals, many instances, animation
 frames, and the render border.
 
 The scenes are tiny: an orthographic camera at -Y looking along +Y (image
-right is +X, image up is +Z), no world (so no ambient light), and meshes of one
-diffuse material of albedo 0.8 (what an object without a material renders with up to
-Blender 4.5; from 5.0 that is a Principled BSDF with a highlight). Pixels are linear
-radiance, rows bottom to top.
+right is +X, image up is +Z), no world (so no ambient light), and meshes of a diffuse
+albedo 0.8: without a material up to Blender 4.5 (what it renders with there), with a
+Diffuse BSDF material from 5.0 (where no material is a Principled BSDF with a highlight).
+Pixels are linear radiance, rows bottom to top.
 """
 
 import functools
@@ -38,7 +38,10 @@ def pixel(x, z):
 
 
 def link(scene, name, data, location=(0.0, 0.0, 0.0), collection=None):
-    if isinstance(data, bpy.types.Mesh) and not data.materials:
+    # Blender 3.4 and 4.x: no material, the native default. (A Diffuse BSDF material
+    # instead gives the quad whose custom normal faces away from the sun 0.005 of LIT in
+    # 3.4, not 0: not yet explained.)
+    if bpy.app.version >= (5, 0, 0) and isinstance(data, bpy.types.Mesh) and not data.materials:
         data.materials.append(
             bpy.data.materials.get("Lambert 0.8") or lambert_material("Lambert 0.8", 0.8)
         )
@@ -209,7 +212,8 @@ def test_non_uniform_scale_shades_like_the_scaled_mesh(scene, render_pixels):
     by_object = render_pixels(scene)
     sphere.scale = (1.0, 1.0, 1.0)
     sphere.data = sphere_mesh("Scaled", segments=48, rings=24, scale=scale)
-    sphere.data.materials.append(bpy.data.materials["Lambert 0.8"])
+    if bpy.app.version >= (5, 0, 0):
+        sphere.data.materials.append(bpy.data.materials["Lambert 0.8"])
     by_mesh = render_pixels(scene)
     covered = by_mesh[..., 0] > 0.0
     assert np.abs(by_object - by_mesh)[covered][:, :3].mean() < 0.01 * LIT

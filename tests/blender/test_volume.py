@@ -201,6 +201,35 @@ def test_fog_at_tiny_and_huge_scales_renders_as_cycles(scale, empty_scene, tmp_p
     _fog_against_cycles(_fog_stage(empty_scene), tmp_path, monkeypatch, then=scaled)
 
 
+def _world_fog(scene, density, colour=(0.0, 0.0, 0.0)):
+    """The stage without its fog box, in a world of `colour` whose Volume output is a
+    Principled Volume of `density`: fog everywhere."""
+    bpy.data.objects.remove(scene.objects["Fog"])
+    scene.world = background_world("Foggy", colour)
+    tree = scene.world.node_tree
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    tree.links.new(_principled(density)(tree), output.inputs["Volume"])
+    return scene
+
+
+def test_a_world_volume_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # Fog everywhere, lit by the spot, in front of a grey world the camera sees through
+    # 100 m of it (its clip end).
+    scene = _world_fog(_fog_stage(empty_scene), 0.05, colour=(0.5, 0.5, 0.5))
+    why = _fog_against_cycles(scene, tmp_path, monkeypatch)
+    assert why.startswith("the world: "), why
+
+
+def test_a_world_volume_lets_no_sunlight_through_as_in_cycles(empty_scene, tmp_path):
+    # The sun's light crosses infinitely much of the world's fog: none arrives, in Cycles
+    # too (seen in 3.4 and 5.0: a black image).
+    scene = _world_fog(_fog_stage(empty_scene, light="sun"), 0.05)
+    set_cycles_reference(scene, samples=16)
+    for engine in ("CYCLES", "WHITTED"):
+        pixels = render_rgba(scene, engine, str(tmp_path / f"{engine}.exr"))
+        assert pixels[..., :3].max() < 1e-6, engine
+
+
 def test_the_fog_shows_and_dims_what_is_behind_it(empty_scene, render_pixels):
     scene = _fog_stage(empty_scene)
     scene.whitted.aa_samples = 2

@@ -126,10 +126,12 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   bool casting = !scene.mesh_lights->empty() || scene.world_light != nullptr;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
   const size_t media = media_objects(scene);
-  decide(effects, kShadowEffect, casting && (any_blocker || media > 0), "shadows",
+  const bool world_medium = scene.world_medium.participating();
+  const bool any_medium = media > 0 || world_medium;
+  decide(effects, kShadowEffect, casting && (any_blocker || any_medium), "shadows",
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
-         : media > 0   ? "lights cast shadows through media"
+         : any_medium  ? "lights cast shadows through media"
                        : "nothing is visible to shadow rays");
   const MeshLights& emitters = *scene.mesh_lights;
   const size_t objects = emitters.objects();
@@ -162,10 +164,13 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   decide(effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
-  decide(effects, kVolumeEffect, media > 0, "volumes",
-         media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") +
-                         ": homogeneous, single scattering of " + scattered_light(scene, *effects)
-                   : "no mesh encloses a medium (a material's constant volume shader)");
+  std::string filled = media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") : "";
+  if (world_medium) filled += media > 0 ? " and the world" : "the world";
+  decide(effects, kVolumeEffect, any_medium, "volumes",
+         any_medium
+             ? filled + ": homogeneous, single scattering of " + scattered_light(scene, *effects)
+             : "no mesh encloses a medium (a material's constant volume shader) and the "
+               "world has no volume");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
 }

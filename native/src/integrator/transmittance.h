@@ -17,8 +17,9 @@ namespace whitted {
 
 // What fills a point, per unit length: the sum of the media it is inside, as Cycles sums
 // the closures of overlapping volumes; a glass ball in fog is filled with the fog (and
-// its own volume, if it has one). Those are every medium whose bounds enclose the point and
-// the dielectric owning it (MediumStack::current, the nested-dielectric rule). Several
+// its own volume, if it has one). Those are the world's volume (everywhere), every medium
+// whose bounds enclose the point and the dielectric owning it (MediumStack::current, the
+// nested-dielectric rule). Several
 // scatterings keep one Henyey-Greenstein lobe of their mean anisotropy weighted by their
 // scattering, as the exporter does within a material (export/volume.py).
 struct Medium {
@@ -34,8 +35,7 @@ struct Medium {
 inline Medium medium_at(const CompiledScene& scene, const MediumStack& media) {
   Medium out;
   float weighed = 0.0f;  // sum of the scatterings' means, weighing the anisotropies
-  const auto add = [&](uint32_t index) {
-    const Material& m = scene.materials[index];
+  const auto add_material = [&](const Material& m) {
     if (!m.participating()) return;
     out.absorption += m.volume_absorption;
     out.scattering += m.volume_scattering;
@@ -45,6 +45,8 @@ inline Medium medium_at(const CompiledScene& scene, const MediumStack& media) {
     weighed += w;
     out.empty = false;
   };
+  const auto add = [&](uint32_t index) { add_material(scene.materials[index]); };
+  add_material(scene.world_medium);  // the world's volume fills everything
   for (int i = 0; i < media.size(); ++i) {
     if (media.is_bound(i)) add(media.material(i));
   }

@@ -221,6 +221,11 @@ void Scene::set_world_visibility(uint32_t kinds) {
   state_.world_visibility = kinds & (kCameraRay | kReflectionRay | kRefractionRay);
   changed(false);
 }
+void Scene::set_world_medium(const Material& medium) {
+  std::lock_guard lock(mutex_);
+  state_.world_medium = medium;
+  changed(false);
+}
 WorldLightParams Scene::world_light_params() const {
   std::lock_guard lock(mutex_);
   return state_.world_light_params;
@@ -283,6 +288,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
   compiled->world_light = state_.world_light;
   compiled->world_light_params = state_.world_light_params;
   compiled->world_visibility = state_.world_visibility;
+  compiled->world_medium = state_.world_medium;
   std::map<std::string, int32_t> texture_index;
   for (const auto& [name, texture] : state_.textures) {
     texture_index[name] = static_cast<int32_t>(compiled->textures.size());

@@ -204,6 +204,10 @@ struct CompiledScene {
   // Visibility: Camera, Glossy for reflected rays, Transmission for refracted ones);
   // the others see black.
   uint32_t world_visibility = kCameraRay | kReflectionRay | kRefractionRay;
+  // The world's Volume output (Scene::set_world_medium): a medium filling all space,
+  // added to whatever media a point is inside (integrator/transmittance.h), where it is
+  // participating().
+  Material world_medium;
   // Shared by successive snapshots while no mesh or instance changes.
   std::shared_ptr<const SceneAccel> accel;
   size_t degenerate_instances = 0;  // left out: transforms with (near) zero scale
@@ -277,6 +281,9 @@ class Scene {
   // Which rays see the world (CompiledScene::world_visibility): RayKind bits among
   // camera, reflection and refraction; others are ignored.
   void set_world_visibility(uint32_t kinds);
+  // The world's Volume output as a material of no surface whose volume_* coefficients
+  // fill all space (a default Material: none).
+  void set_world_medium(const Material& medium);
   WorldLightParams world_light_params() const;
   // The ambient light Ia of a world without program.
   void set_ambient(const Color& ambient);
@@ -331,6 +338,7 @@ class Scene {
     float world_ambient_strength = 1.0f;
     WorldLightParams world_light_params;
     uint32_t world_visibility = kCameraRay | kReflectionRay | kRefractionRay;
+    Material world_medium;
     std::shared_ptr<const WorldLight> world_light;  // the last one built (null: stale)
     bool world_light_built = false;
     double mesh_build_seconds = 0.0;
