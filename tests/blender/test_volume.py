@@ -1,7 +1,9 @@
-"""Homogeneous fog (issue 48; native integrator/volume.h, addon/export/volume.py): a fog
-cube of Principled Volume density 0.1 lit by a spot lamp, a box inside it casting its
-shadow into the fog, beside Cycles with volume, diffuse and glossy bounces 0; what each
-volume node exports; the report and the statistics."""
+"""Fog and clouds (issue 48; native integrator/volume.h, heterogeneous.h,
+addon/export/volume.py): a fog cube of Principled Volume density 0.1 lit by a spot lamp,
+a box inside it casting its shadow into the fog, and a procedural cloud (its Density a
+Noise Texture through a Color Ramp) lit by a spot and by a sun, beside Cycles with
+volume, diffuse and glossy bounces 0; what each volume node exports; the report and the
+statistics."""
 
 import json
 from pathlib import Path
@@ -69,7 +71,9 @@ def _fog_stage(scene, fog_bottom=-0.3):
 ENGINES = ("CYCLES", "WHITTED")
 
 
-def _fog_against_cycles(scene, tmp_path, monkeypatch):
+def _fog_against_cycles(scene, tmp_path, monkeypatch, label="fog box"):
+    """Renders `scene` in Cycles and Whitted and compares them; the statistics Whitted
+    wrote (WHITTED_STATS)."""
     set_cycles_reference(scene, samples=256)
     # Cycles counts a volume bound a shadow ray crosses as a transparent bounce.
     scene.cycles.transparent_max_bounces = 8
@@ -83,13 +87,14 @@ def _fog_against_cycles(scene, tmp_path, monkeypatch):
     monkeypatch.setenv("WHITTED_STATS", str(stats_path))
     cycles, whitted = (render_rgba(scene, e, str(tmp_path / f"{e}.exr")) for e in ENGINES)
     ratio, similarity = compare(cycles, whitted)
-    print(f"\nfog box: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
+    print(f"\n{label}: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
     assert abs(ratio - 1.0) < 0.02
     assert similarity >= 0.97
     stats = json.loads(Path(stats_path).read_text())
     assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
     volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
     assert volumes["on"] and "1 object" in volumes["why"], volumes
+    return stats
 
 
 def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
@@ -177,15 +182,63 @@ def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scen
         np.testing.assert_allclose(getattr(data, name), value, rtol=1e-6, atol=1e-7)
 
 
-def test_a_linked_density_is_reported_as_not_rendered(empty_scene, native):
+def _cloud(tree):
+    """A Principled Volume whose Density is a Noise Texture (of the cube's Generated
+    coordinates, its default) through a Color Ramp: dense where the noise is above 0.4,
+    0.25 at most (a grey ramp: the colour's luminance is its value)."""
+    volume = tree.nodes.new("ShaderNodeVolumePrincipled")
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 2.0
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    low, high = ramp.color_ramp.elements
+    low.position, low.color = 0.4, (0.0, 0.0, 0.0, 1.0)
+    high.position, high.color = 0.7, (0.25, 0.25, 0.25, 1.0)
+    tree.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Color"], volume.inputs["Density"])
+    return volume.outputs[0]
+
+
+def _cloud_stage(scene, lamp="SPOT"):
+    """The fog stage with a procedural cloud in the fog cube, lit by its spot lamp or
+    instead by a sun."""
+    _fog_stage(scene)
+    scene.objects["Fog"].data.materials[0] = _material("Cloud", _cloud)
+    if lamp == "SUN":
+        bpy.data.objects.remove(scene.objects["Spot"])
+        sun = bpy.data.lights.new("Sun", "SUN")
+        sun.energy, sun.angle = 3.0, 0.0
+        add_object(scene, "Sun", sun).rotation_euler = facing((0.3, 0.4, -1.0))
+    return scene
+
+
+@pytest.mark.parametrize("lamp", ["SPOT", "SUN"])
+def test_a_procedural_cloud_renders_as_cycles(lamp, empty_scene, tmp_path, monkeypatch):
+    stats = _fog_against_cycles(
+        _cloud_stage(empty_scene, lamp), tmp_path, monkeypatch, label=f"cloud ({lamp})"
+    )
+    assert stats["volume_steps"] > 0
+    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
+    assert "heterogeneous" in volumes["why"], volumes
+
+
+def test_a_cloud_exports_its_density_as_a_program(empty_scene):
+    warnings = []
+    exported = convert_material(_material("Cloud", _cloud), warnings)
+    assert exported.program is not None and not warnings, warnings
+    assert not exported.data.surface
+    # Density drives both; the emission and the anisotropy stay constants.
+    assert {name for name, _ in exported.outputs} == {"volume_absorption", "volume_scattering"}
+
+
+def test_a_volume_node_it_cannot_render_is_reported(empty_scene, native):
     def build(tree):
         volume = tree.nodes.new("ShaderNodeVolumePrincipled")
         noise = tree.nodes.new("ShaderNodeTexNoise")
-        tree.links.new(noise.outputs[0], volume.inputs["Density"])
+        tree.links.new(noise.outputs[0], volume.inputs["Blackbody Intensity"])
         return volume.outputs[0]
 
     scene = _fog_stage(empty_scene)
-    scene.objects["Fog"].data.materials[0] = _material("Cloud", build)
+    scene.objects["Fog"].data.materials[0] = _material("Fire", build)
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
-    cloud = [w for w in warnings if "'Cloud'" in w]
-    assert len(cloud) == 1 and "Density is linked (a heterogeneous volume" in cloud[0], warnings
+    fire = [w for w in warnings if "'Fire'" in w]
+    assert len(fire) == 1 and "has blackbody emission" in fire[0], warnings

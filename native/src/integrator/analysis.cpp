@@ -67,18 +67,46 @@ EffectDecision light_linking(const CompiledScene& scene) {
 }
 
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
-// their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume.
-size_t media_objects(const CompiledScene& scene) {
-  size_t objects = 0;
+// their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume;
+// those with a medium a program drives (heterogeneous.h) counted apart.
+struct MediaObjects {
+  size_t homogeneous = 0;
+  size_t heterogeneous = 0;
+  size_t total() const { return homogeneous + heterogeneous; }
+};
+MediaObjects media_objects(const CompiledScene& scene) {
+  MediaObjects objects;
   for (const CompiledScene::Instance& instance : scene.instances) {
     bool participating = false;
+    bool varying = false;
     for (uint32_t m : instance.materials) {
       const Material& material = scene.materials[m];
-      participating |= material.participating() && (!material.surface || material.transmissive());
+      const bool medium =
+          material.participating() && (!material.surface || material.transmissive());
+      participating |= medium;
+      varying |= medium && material.heterogeneous();
     }
-    objects += participating ? 1 : 0;
+    if (varying) {
+      objects.heterogeneous += 1;
+    } else if (participating) {
+      objects.homogeneous += 1;
+    }
   }
   return objects;
+}
+
+// The report's reason for the volumes: "1 object: homogeneous, ..." or, with media a
+// program drives, how many of each and the march's step rate.
+std::string media_why(const MediaObjects& media, const Settings& settings) {
+  const size_t total = media.total();
+  std::string why = thousands(total) + (total == 1 ? " object: " : " objects: ");
+  if (media.heterogeneous == 0) return why + "homogeneous, single scattering of the lamps' light";
+  if (media.homogeneous > 0) why += thousands(media.homogeneous) + " homogeneous, ";
+  if (total > 1) why += thousands(media.heterogeneous) + " ";
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", static_cast<double>(settings.volume_step_rate));
+  return why + "heterogeneous (ray marched, step rate " + rate +
+         "), single scattering of the lamps' light";
 }
 
 // Which of shadows, reflection, refraction and translucency the scene can show.
@@ -110,7 +138,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   // cross them whether or not anything blocks them.
   bool casting = !scene.mesh_lights->empty() || scene.world_light != nullptr;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
-  const size_t media = media_objects(scene);
+  const MediaObjects volumes = media_objects(scene);
+  const size_t media = volumes.total();
   decide(effects, kShadowEffect, casting && (any_blocker || media > 0), "shadows",
          !casting      ? "no light casts shadows"
          : any_blocker ? "lights cast shadows"
@@ -148,9 +177,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
   decide(effects, kVolumeEffect, media > 0, "volumes",
-         media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") +
-                         ": homogeneous, single scattering of the lamps' light"
-                   : "no mesh encloses a medium (a material's constant volume shader)");
+         media > 0 ? media_why(volumes, settings)
+                   : "no mesh encloses a medium (a material's volume shader)");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
 }

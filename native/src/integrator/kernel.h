@@ -21,6 +21,7 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/glossy.h"
+#include "integrator/heterogeneous.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/lights.h"
 #include "integrator/medium.h"
@@ -92,9 +93,16 @@ class Kernel {
       if (in_.has(kVolumeEffect)) {
         if (const Material* m = medium_of(in_.scene, here.media.current())) {
           const float length = found ? hit.t : kInfinity;
-          radiance +=
-              (behind * through) * segment_radiance(in_, r, length, *m, here, layer, counts);
-          through *= transmittance(extinction(*m), length);
+          if (m->heterogeneous()) {
+            const SegmentLight segment =
+                heterogeneous_segment(in_, r, length, here.media, here, layer, counts);
+            radiance += (behind * through) * segment.radiance;
+            through *= segment.transmittance;
+          } else {
+            radiance +=
+                (behind * through) * segment_radiance(in_, r, length, *m, here, layer, counts);
+            through *= transmittance(extinction(*m), length);
+          }
           if (is_black(through)) break;
         }
       }
@@ -106,7 +114,7 @@ class Kernel {
       if (in_.has(kVolumeEffect) && !it.material->surface) {
         // A volume's bound: the ray goes on into (or out of) its medium.
         if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
-          here.media.enter(it.material_index, it.material->priority);
+          here.media.enter(it.material_index, it.instance, it.material->priority);
         } else {
           here.media.leave(it.material_index);
         }

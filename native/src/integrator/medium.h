@@ -22,20 +22,24 @@ class MediumStack {
 
   // Material index of the current medium, or -1 for the surrounding air (IOR 1).
   int32_t current() const {
-    int best = -1;
-    for (int i = 0; i < size_; ++i) {
-      if (best < 0 || entries_[i].priority >= entries_[best].priority) best = i;
-    }
-    return best < 0 ? -1 : static_cast<int32_t>(entries_[best].material);
+    const int owner = current_entry();
+    return owner < 0 ? -1 : static_cast<int32_t>(entries_[owner].material);
+  }
+  // The instance whose mesh bounds the current medium (what a heterogeneous medium's
+  // program reads its object coordinates of); 0 in the surrounding air.
+  uint32_t current_instance() const {
+    const int owner = current_entry();
+    return owner < 0 ? 0 : entries_[owner].instance;
   }
   bool empty() const { return size_ == 0; }
 
-  void enter(uint32_t material, int32_t priority) {
+  // Entering the medium of `material` through the mesh of `instance`.
+  void enter(uint32_t material, uint32_t instance, int32_t priority) {
     if (size_ == kCapacity) {
       for (int i = 1; i < kCapacity; ++i) entries_[i - 1] = entries_[i];
       --size_;
     }
-    entries_[size_++] = {material, priority};
+    entries_[size_++] = {material, instance, priority};
   }
 
   // Removes the most recent entry of `material`; false if the ray was not inside it.
@@ -52,8 +56,17 @@ class MediumStack {
  private:
   struct Entry {
     uint32_t material;
+    uint32_t instance;
     int32_t priority;
   };
+  // The entry that owns the point (the rule above), -1 for none.
+  int current_entry() const {
+    int best = -1;
+    for (int i = 0; i < size_; ++i) {
+      if (best < 0 || entries_[i].priority >= entries_[best].priority) best = i;
+    }
+    return best;
+  }
   std::array<Entry, kCapacity> entries_{};
   int size_ = 0;
 };
@@ -86,7 +99,7 @@ struct Crossing {
   const int32_t from = media.current();
   if (entering) {
     beyond.false_interface = from >= 0 && m.priority < scene.materials[from].priority;
-    beyond.media.enter(it.material_index, m.priority);
+    beyond.media.enter(it.material_index, it.instance, m.priority);
     beyond.eta = ior_of(scene, from) / surface.ior;
   } else if (beyond.media.leave(it.material_index)) {
     beyond.false_interface = from != static_cast<int32_t>(it.material_index);

@@ -1,5 +1,6 @@
-// What a homogeneous medium (integrator/volume.h) lets through: exp(-sigma_t d) along a
-// segment, and along a shadow feeler through the volume bounds it crosses.
+// What a medium lets through: a homogeneous one's (integrator/volume.h) exp(-sigma_t d)
+// along a segment, and along a shadow feeler through the volume bounds it crosses (a
+// heterogeneous one's marched, march.h).
 #pragma once
 
 #include <array>
@@ -10,6 +11,7 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/kernel_inputs.h"
+#include "integrator/march.h"
 #include "integrator/medium.h"
 
 namespace whitted {
@@ -42,13 +44,15 @@ inline Color transmittance(const Color& sigma_t, float d) {
 // Which media enclose its origin is read off the feeler's own line, walked past its end to
 // the world: a bound it leaves without having entered it encloses the origin (as media_at
 // finds the camera's), so a feeler needs nothing of the media stack of the ray it left and
-// the recursion and the waves give the same answer.
+// the recursion and the waves give the same answer. `depth`: the feeler's node's, for a
+// heterogeneous medium's program.
 template <uint32_t kEffects, class Queries>
-Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler,
+Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler, int depth,
                           RayCounts* counts) {
   struct Bound {
     float t;
     uint32_t material;
+    uint32_t instance;
     bool entering;
   };
   std::array<Bound, limits::kMaxVolumeCrossings> bounds;
@@ -60,7 +64,7 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
     if (!in.queries.intersect(r, &hit)) break;
     const Interaction it = in.scene.interaction(r, hit);
     bounds[static_cast<size_t>(count)] = {glm::dot(it.position - feeler.origin, feeler.direction),
-                                          it.material_index,
+                                          it.material_index, it.instance,
                                           glm::dot(feeler.direction, it.geometric_normal) < 0.0f};
     r = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, feeler.direction,
                   kVolumeBoundRay);
@@ -79,14 +83,20 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
         entered = true;
       }
     }
-    if (!entered) media.enter(b.material, in.scene.materials[b.material].priority);
+    if (!entered) media.enter(b.material, b.instance, in.scene.materials[b.material].priority);
   }
   // The optical depth along [0, t_max], segment by segment.
-  Color depth(0.0f);
+  Color optical(0.0f);
   float from = 0.0f;
+  const RayContext context{&in.camera, depth};
+  // A heterogeneous medium's optical depth over [from, to] (march.h).
+  const auto marched = [&](float to) {
+    return optical_depth(in.scene, in.settings, context, feeler, from, to,
+                         static_cast<uint32_t>(media.current()), media.current_instance(), counts);
+  };
   const auto cross = [&](float to) {
     if (const Material* m = medium_of(in.scene, media.current())) {
-      depth += extinction(*m) * (to - from);
+      optical += m->heterogeneous() ? marched(to) : extinction(*m) * (to - from);
     }
     from = to;
   };
@@ -95,14 +105,16 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
     if (!(b.t < feeler.t_max)) break;
     cross(std::max(b.t, from));
     if (b.entering) {
-      media.enter(b.material, in.scene.materials[b.material].priority);
+      media.enter(b.material, b.instance, in.scene.materials[b.material].priority);
     } else {
       media.leave(b.material);
     }
   }
-  Color through = transmittance(depth, 1.0f);  // exp(-depth)
+  Color through = transmittance(optical, 1.0f);  // exp(-optical)
   if (const Material* m = medium_of(in.scene, media.current())) {
-    through *= transmittance(extinction(*m), feeler.t_max - from);  // t_max may be infinite
+    // t_max may be infinite (a heterogeneous medium ends at its object's box then).
+    through *= m->heterogeneous() ? transmittance(marched(feeler.t_max), 1.0f)
+                                  : transmittance(extinction(*m), feeler.t_max - from);
   }
   return through;
 }
