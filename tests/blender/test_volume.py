@@ -184,15 +184,15 @@ def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scen
 
 def _cloud(tree):
     """A Principled Volume whose Density is a Noise Texture (of the cube's Generated
-    coordinates, its default) through a Color Ramp: dense where the noise is above 0.4,
-    0.25 at most (a grey ramp: the colour's luminance is its value)."""
+    coordinates, its default) through a Color Ramp: none where the noise is below 0.45,
+    0.4 where it is above 0.6 (a grey ramp: the colour's luminance is its value)."""
     volume = tree.nodes.new("ShaderNodeVolumePrincipled")
     noise = tree.nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 2.0
+    noise.inputs["Scale"].default_value = 3.0
     ramp = tree.nodes.new("ShaderNodeValToRGB")
     low, high = ramp.color_ramp.elements
-    low.position, low.color = 0.4, (0.0, 0.0, 0.0, 1.0)
-    high.position, high.color = 0.7, (0.25, 0.25, 0.25, 1.0)
+    low.position, low.color = 0.45, (0.0, 0.0, 0.0, 1.0)
+    high.position, high.color = 0.6, (0.4, 0.4, 0.4, 1.0)
     tree.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
     tree.links.new(ramp.outputs["Color"], volume.inputs["Density"])
     return volume.outputs[0]
