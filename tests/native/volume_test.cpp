@@ -345,5 +345,39 @@ TEST(HeterogeneousVolume, AFeelerThroughADensityRampIsDimmedByExpOfMinusItsInteg
   EXPECT_NEAR(lit.pixels[0] / bare.pixels[0], once * once, 1e-3f);
 }
 
+TEST(HeterogeneousVolume, ACloudIsTheSameWhateverTheThreadsTilesAndWavesAndSeenFromInside) {
+  // A fog box whose scattering grows with height, lit by the floor scene's lamp, with a
+  // blocker's shadow in it: the march's draws are the camera sample's, so threads, tiles
+  // and waves change nothing; a camera inside the box (the media stack seeded with its
+  // instance, WhittedIntegrator::media_at) sees it too, and nothing is NaN.
+  Scene scene = floor_scene();
+  add_object(&scene, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)),
+             programmed_fog(Vec3(0.0f), Color(0.02f), Vec3(0.0f, 0.0f, 0.1f), Color(0.05f), 0.3f));
+  Material blocker;
+  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.5f), blocker);
+  Settings settings = small_render(24, 24, 3, 1, 8);
+  settings.aa_mode = AntiAliasing::kJittered;
+  settings.waves = false;
+  const Rendered reference = render(scene, settings);
+  settings.threads = 2;
+  settings.tile_size = 5;
+  EXPECT_EQ(render(scene, settings).pixels, reference.pixels);
+  settings.waves = true;
+  const Rendered waves = render(scene, settings);
+  for (size_t i = 0; i < reference.pixels.size(); ++i) {
+    EXPECT_NEAR(waves.pixels[i], reference.pixels[i], 1e-5f * (1.0f + reference.pixels[i])) << i;
+  }
+  EXPECT_GT(reference.stats.rays.volume_steps, 0u);
+  EXPECT_GT(reference.stats.rays.volume_feelers, 0u);
+  EXPECT_EQ(reference.stats.rays.nonfinite_samples, 0u);
+  // From inside: the camera at z = 4.5 under the box's top, looking down. Its rays meet
+  // no bound before the floor: only the media stack media_at seeds says they are in the
+  // fog, and only segments inside a medium send feelers from it to the lamp.
+  scene.camera = looking_down(Vec3(0.3f, 0.2f, 4.5f), 0.8f);
+  const Rendered inside = render(scene, settings);
+  EXPECT_GT(inside.stats.rays.volume_feelers, 0u);
+  EXPECT_EQ(inside.stats.rays.nonfinite_samples, 0u);
+}
+
 }  // namespace
 }  // namespace whitted
