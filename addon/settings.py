@@ -41,6 +41,9 @@ def native_settings(native, scene, width, height, film, quality=None, shutter=0.
     # In waves, or with the recursive kernel (the reference): the same pixels up to float
     # rounding (native integrator/wave.h).
     settings.waves = whitted.use_waves
+    # Heterogeneous media's march (native integrator/march.h), as Cycles' Volumes panel.
+    settings.volume_step_rate = whitted.volume_step_rate
+    settings.volume_max_steps = whitted.volume_max_steps
     return settings
 
 

@@ -87,6 +87,9 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         # volume bounds (transmittance.h); both 0 without media.
         "volume_feelers": native_stats["volume_feelers"],
         "volume_queries": native_stats["volume_queries"],
+        # Points a heterogeneous medium's program ran at (its march's steps, native
+        # integrator/heterogeneous.h and march.h); 0 without such media.
+        "volume_steps": native_stats["volume_steps"],
         # Whether each pixel's camera rays went to Embree as one packet, and the instances
         # in view that chose it (packets up to one per 500 pixels: native sampler.h,
         # choose_packets).

@@ -38,7 +38,7 @@ from .nodes.shaders import default_surface, finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
-from .volume import Medium, NotHomogeneous, homogeneous_medium
+from .volume import Medium, NotRendered, volume_medium
 
 __all__ = [
     "MAX_SHININESS",
@@ -174,23 +174,30 @@ def map_material(material, warnings, local_model="BLENDER"):
     surface shader renders as in Cycles (Blender 3.4 and 5.0 seen, docs/SUPPORT.md):
     black and opaque, unless it has a volume shader: then it is no surface at all
     (MaterialData.surface False), which rays pass through and which casts no shadow. A
-    constant volume shader fills the meshes with its medium (export/volume.py).
+    volume shader fills the meshes with its medium (export/volume.py): a homogeneous one's
+    constants, or a heterogeneous one's volume_* fields computed by the program.
     """
     if not uses_nodes(material):
         return MaterialExport(_viewport_material(material))
     owner = f"material '{material.name}'"
     output_node = material.node_tree.get_output_node("CYCLES")
+    found = []
+    lowering = Lowering(owner, found)
     medium = Medium()
+    varying = {}  # a heterogeneous medium's volume_* fields (Exprs)
     volume = False
     if output_node is not None:
         try:
-            found_medium = homogeneous_medium(output_node)
-        except NotHomogeneous as why:
+            found_medium = volume_medium(output_node, lowering)
+        except NotRendered as why:
             _warn(warnings, volume_warning(owner, output_node, str(why)))
             volume = True
         else:
             volume = found_medium is not None
-            medium = found_medium or medium
+            if isinstance(found_medium, Medium):
+                medium = found_medium
+            elif found_medium is not None:
+                varying = found_medium
     if output_node is None or source(output_node.inputs["Surface"])[0] is None:
         if not volume:
             _warn(
@@ -198,11 +205,15 @@ def map_material(material, warnings, local_model="BLENDER"):
             )
             return MaterialExport(_black())
         # Cycles lets rays through a volume's bounds: no surface (docs/notes/no_surface.md).
-        return medium_material(medium)
-    found = []
-    lowering = Lowering(owner, found)
+        if not varying:
+            return medium_material(medium)
+        for message in found:
+            _warn(warnings, message)
+        exported = _programmed(varying, lowering, "NONE")
+        data = replace(exported.data, surface=False, volume_step_rate=_volume_step_rate(material))
+        return replace(exported, data=data)
     closure = surface(lowering, output_node, local_model=local_model)
-    fields = finish(lowering, closure)
+    fields = {**finish(lowering, closure), **varying}
     exported = _fixed(fields, lowering)
     if exported is None:
         exported = _programmed(fields, lowering, _bump_shadowing(material))
@@ -211,8 +222,12 @@ def map_material(material, warnings, local_model="BLENDER"):
     exported = _with_lobe_models(exported, closure)
     sampling = _emission_sampling(material)
     # A surface's volume fills what its refraction enters (glass with an absorbing volume).
+    # A heterogeneous one's fields are the program's, its constants the stand-ins.
+    volume_fields = (
+        {"volume_step_rate": _volume_step_rate(material)} if varying else medium.fields()
+    )
     return replace(
-        exported, data=replace(exported.data, emission_sampling=sampling, **medium.fields())
+        exported, data=replace(exported.data, emission_sampling=sampling, **volume_fields)
     )
 
 
@@ -251,6 +266,12 @@ def _with_lobe_models(exported, closure):
     return exported
 
 
+def _volume_step_rate(material):
+    """Cycles' Material > Settings > Volume > Step Rate (material.cycles.volume_step_rate),
+    1 where the Cycles add-on that holds it is off."""
+    return getattr(getattr(material, "cycles", None), "volume_step_rate", 1.0)
+
+
 def _emission_sampling(material):
     """Which sides of an emissive mesh feelers sample, from Cycles' setting: 4.0+'s
     Material > Settings > Emission Sampling (material.cycles.emission_sampling: None,
@@ -275,7 +296,9 @@ def _fixed(fields, lowering):
     values = {}
     diffuse_texture = alpha_texture = ""
     for name, _ in _program_fields():
-        expr = fields[name]
+        expr = fields.get(name)
+        if expr is None:  # a volume field of a material without a heterogeneous medium
+            continue
         if expr.is_const:
             values[name] = expr.value
             continue
@@ -304,7 +327,9 @@ def _fixed(fields, lowering):
 
 def _programmed(fields, lowering, bump_shadowing):
     program, outputs = emit(fields)
-    values = {name: evaluate(fields[name], _stand_in) for name, _ in _program_fields()}
+    values = {
+        name: evaluate(fields[name], _stand_in) for name, _ in _program_fields() if name in fields
+    }
     mapped = "normal" in outputs
     data = replace(_material_data(values), bump_shadowing=bump_shadowing if mapped else "NONE")
     textures = tuple(lowering.textures[name] for name in program.textures)
@@ -337,10 +362,12 @@ def _bump_shadowing(material):
 
 def _material_data(values, **textures):
     """MaterialData from the evaluated fields (float4 values by field name: colours take
-    .xyz, values .x) and the legacy texture names, if any."""
+    .xyz, values .x; a field not given keeps its default) and the legacy texture names,
+    if any."""
     driven = {
         name: values[name][0] if components == 1 else tuple(values[name][:components])
         for name, components in _program_fields()
+        if name in values
     }
     return material_data_type()(
         **driven,

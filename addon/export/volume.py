@@ -1,6 +1,6 @@
-"""A material's Volume output as a homogeneous medium (issue 48): the constant
-coefficients Cycles' volume closures give, for the native material's volume_absorption,
-volume_scattering, volume_anisotropy and volume_emission (native integrator/volume.h).
+"""A material's Volume output as a medium (issue 48): the coefficients Cycles' volume
+closures give, for the native material's volume_absorption, volume_scattering,
+volume_anisotropy and volume_emission (native integrator/volume.h, heterogeneous.h).
 
 Units: Cycles reads a volume's Density per Blender unit of length (per metre at unit
 scale 1), and so do these coefficients: sigma_a and sigma_s in 1/unit, emission in
@@ -20,14 +20,23 @@ sources):
 - Add Shader sums, Mix Shader weighs its two by 1 - Fac and Fac (Fac clamped to [0, 1]).
 
 Several scatterings keep one Henyey-Greenstein lobe whose anisotropy is their mean
-weighted by the scattering (Cycles keeps a lobe each). A linked input (a texture, an
-attribute: a heterogeneous volume), Blackbody emission and other nodes are not rendered
-yet: the material's report line says which.
+weighted by the scattering (Cycles keeps a lobe each).
+
+Where every input is a constant the medium is homogeneous: these constants (a `Medium`),
+computed in Python as always. Where a link drives one (a Noise Texture through a Color
+Ramp, Texture Coordinate, Math: anything export/nodes lowers), the same formulas, written
+once over an algebra (`_Constants`, `_Program`), become expressions of the material's
+program (its volume_* fields), which the native scene runs at points inside the mesh
+(CompiledScene::medium: Generated and Object there are the point in the mesh's texture
+space and in object space, as in Cycles). A link whose value folds to a constant (a Value
+node) gives a homogeneous medium of those float32 values. Blackbody emission, other phase
+functions and other nodes are not rendered: the material's report line says which.
 """
 
 from dataclasses import dataclass
 
 from .nodes.graph import source
+from .nodes.ir import COLOR, FLOAT
 
 
 @dataclass(frozen=True)
@@ -49,92 +58,252 @@ class Medium:
         }
 
 
-class NotHomogeneous(ValueError):
-    """A volume shader this slice does not render; its message says why."""
+class NotRendered(ValueError):
+    """A volume shader Whitted does not render; its message says why."""
 
 
-def homogeneous_medium(output_node):
-    """The Medium of a material output node's Volume input (None when nothing is linked);
-    raises NotHomogeneous naming what is not rendered."""
+VOLUME_FIELDS = ("volume_absorption", "volume_scattering", "volume_anisotropy", "volume_emission")
+
+
+def volume_medium(output_node, lowering):
+    """What a material output node's Volume input fills its meshes with: None (nothing is
+    linked), a Medium (a homogeneous medium), or {field: Expr} of VOLUME_FIELDS (a
+    heterogeneous one, lowered with `lowering`, a nodes.values.Lowering); raises
+    NotRendered naming what is not rendered."""
     socket = output_node.inputs.get("Volume")
     if socket is None or source(socket)[0] is None:
         return None
-    return _combined(_closure(socket, 1.0))
+    constants = _Constants()
+    try:
+        return Medium(*_combined(constants, _closure(constants, socket, 1.0)))
+    except _Linked:
+        pass
+    program = _Program(lowering)
+    absorption, scattering, anisotropy, emission = _combined(
+        program, _closure(program, socket, program.f(1.0))
+    )
+    exprs = dict(zip(VOLUME_FIELDS, (absorption, scattering, anisotropy, emission), strict=True))
+    if all(e.is_const for e in exprs.values()):
+        return Medium(
+            tuple(absorption.value[:3]),
+            tuple(scattering.value[:3]),
+            anisotropy.value[0],
+            tuple(emission.value[:3]),
+        )
+    return exprs
 
 
-def _closure(socket, weight, scope=()):
+def _closure(alg, socket, weight, scope=()):
     """The parts of the volume closure feeding `socket` (inside the node groups `scope`),
-    each scaled by `weight`: one (sigma_a, sigma_s, g, emission) a closure."""
+    each scaled by `weight`: one (sigma_a, sigma_s, g, emission) a closure, in the
+    algebra `alg`."""
     found, _socket = source(socket, scope)
-    if found is None or weight == 0.0:
+    if found is None or alg.is_zero(weight):
         return []
     node = _Node(found.node, found.scope)
     kind = node.bl_idname
     if kind == "ShaderNodeAddShader":
-        return _closure(node.inputs[0], weight, node.scope) + _closure(
-            node.inputs[1], weight, node.scope
+        return _closure(alg, node.inputs[0], weight, node.scope) + _closure(
+            alg, node.inputs[1], weight, node.scope
         )
     if kind == "ShaderNodeMixShader":
-        fac = min(max(_value(node, "Fac"), 0.0), 1.0)
-        return _closure(node.inputs[1], weight * (1.0 - fac), node.scope) + _closure(
-            node.inputs[2], weight * fac, node.scope
-        )
+        fac = alg.clamp01(alg.value(node, "Fac"))
+        return _closure(
+            alg, node.inputs[1], alg.mul(weight, alg.sub(alg.f(1.0), fac)), node.scope
+        ) + _closure(alg, node.inputs[2], alg.mul(weight, fac), node.scope)
     if kind == "ShaderNodeVolumeAbsorption":
-        density = weight * max(_value(node, "Density"), 0.0)
-        colour = _colour(node, "Color")
-        return [(tuple((1.0 - c) * density for c in colour), _BLACK, 0.0, _BLACK)]
+        density = alg.mul(weight, alg.positive(alg.value(node, "Density")))
+        absorption = alg.scale(alg.one_minus(alg.colour(node, "Color")), density)
+        return [(absorption, alg.black(), alg.f(0.0), alg.black())]
     if kind == "ShaderNodeVolumeScatter":
         phase = getattr(node.node, "phase", "HENYEY_GREENSTEIN")  # Blender 4.3+ has others
         if phase != "HENYEY_GREENSTEIN":
-            raise NotHomogeneous(f"its Volume Scatter's {phase} phase function is not rendered")
-        density = weight * max(_value(node, "Density"), 0.0)
-        scattering = tuple(c * density for c in _colour(node, "Color"))
-        return [(_BLACK, scattering, _value(node, "Anisotropy"), _BLACK)]
+            raise NotRendered(f"its Volume Scatter's {phase} phase function is not rendered")
+        density = alg.mul(weight, alg.positive(alg.value(node, "Density")))
+        scattering = alg.scale(alg.colour(node, "Color"), density)
+        return [(alg.black(), scattering, alg.value(node, "Anisotropy"), alg.black())]
     if kind == "ShaderNodeVolumePrincipled":
-        return [_principled(node, weight)]
+        return [_principled(alg, node, weight)]
     if kind == "ShaderNodeEmission":
-        strength = weight * _value(node, "Strength")
-        return [(_BLACK, _BLACK, 0.0, tuple(c * strength for c in _colour(node, "Color")))]
-    raise NotHomogeneous(f"its {node.bl_idname} node '{node.name}' is not a volume shader rendered")
+        strength = alg.mul(weight, alg.value(node, "Strength"))
+        return [
+            (alg.black(), alg.black(), alg.f(0.0), alg.scale(alg.colour(node, "Color"), strength))
+        ]
+    raise NotRendered(f"its {node.bl_idname} node '{node.name}' is not a volume shader rendered")
 
 
-def _principled(node, weight):
+def _principled(alg, node, weight):
     """Principled Volume's part (module docstring)."""
-    if _value(node, "Blackbody Intensity") > 0.0:
-        raise NotHomogeneous(f"its Principled Volume '{node.name}' has blackbody emission")
-    density = weight * max(_value(node, "Density"), 0.0)
-    colour = _colour(node, "Color")
-    tint = _colour(node, "Absorption Color")
-    absorption = tuple(
-        max(1.0 - c, 0.0) * max(1.0 - max(a, 0.0) ** 0.5, 0.0) * density
-        for c, a in zip(colour, tint, strict=True)
+    if alg.blackbody(node):
+        raise NotRendered(f"its Principled Volume '{node.name}' has blackbody emission")
+    density = alg.mul(weight, alg.positive(alg.value(node, "Density")))
+    colour = alg.colour(node, "Color")
+    tint = alg.colour(node, "Absorption Color")
+    kept = alg.product(
+        alg.clamped(alg.one_minus(colour)),
+        alg.clamped(alg.one_minus(alg.root(alg.clamped(tint)))),
     )
-    scattering = tuple(c * density for c in colour)
-    strength = _value(node, "Emission Strength")
-    emission = tuple(c * strength for c in _colour(node, "Emission Color"))
-    return (absorption, scattering, _value(node, "Anisotropy"), emission)
+    absorption = alg.scale(kept, density)
+    scattering = alg.scale(colour, density)
+    emission = alg.scale(alg.colour(node, "Emission Color"), alg.value(node, "Emission Strength"))
+    return (absorption, scattering, alg.value(node, "Anisotropy"), emission)
 
 
-_BLACK = (0.0, 0.0, 0.0)
-
-
-def _combined(parts):
-    """The sum of the parts, their anisotropy the scattering-weighted mean."""
-    absorption = [0.0, 0.0, 0.0]
-    scattering = [0.0, 0.0, 0.0]
-    emission = [0.0, 0.0, 0.0]
-    g_sum = 0.0
-    g_weight = 0.0
+def _combined(alg, parts):
+    """The sum of the parts, their anisotropy the scattering-weighted mean:
+    (sigma_a, sigma_s, g, emission)."""
+    absorption = scattering = emission = alg.black()
+    g_sum = g_weight = alg.f(0.0)
     for sigma_a, sigma_s, g, e in parts:
-        for i in range(3):
-            absorption[i] += sigma_a[i]
-            scattering[i] += sigma_s[i]
-            emission[i] += e[i]
-        share = sum(sigma_s) / 3.0
-        g_sum += g * share
-        g_weight += share
-    anisotropy = g_sum / g_weight if g_weight > 0.0 else 0.0
-    return Medium(tuple(absorption), tuple(scattering), anisotropy, tuple(emission))
+        absorption = alg.plus(absorption, sigma_a)
+        scattering = alg.plus(scattering, sigma_s)
+        emission = alg.plus(emission, e)
+        share = alg.mean(sigma_s)
+        g_sum = alg.add(g_sum, alg.mul(g, share))
+        g_weight = alg.add(g_weight, share)
+    return absorption, scattering, alg.ratio(g_sum, g_weight), emission
+
+
+class _Linked(Exception):
+    """A link drives an input: the medium is heterogeneous (_Program's)."""
+
+
+class _Constants:
+    """The formulas on Python floats (colours as RGB tuples): a homogeneous medium's
+    constants, the order of each product as it always was (its pixels kept)."""
+
+    def value(self, node, name):
+        return float(self._socket(node, name).default_value)
+
+    def colour(self, node, name):
+        return tuple(float(c) for c in self._socket(node, name).default_value[:3])
+
+    @staticmethod
+    def _socket(node, name):
+        found, socket = source(node.inputs[name], node.scope)
+        if found is not None:
+            raise _Linked
+        return socket
+
+    def blackbody(self, node):
+        return self.value(node, "Blackbody Intensity") > 0.0
+
+    def f(self, x):
+        return x
+
+    def black(self):
+        return (0.0, 0.0, 0.0)
+
+    def is_zero(self, x):
+        return x == 0.0
+
+    def add(self, a, b):
+        return a + b
+
+    def sub(self, a, b):
+        return a - b
+
+    def mul(self, a, b):
+        return a * b
+
+    def ratio(self, a, b):
+        return a / b if b > 0.0 else 0.0
+
+    def positive(self, x):
+        return max(x, 0.0)
+
+    def clamp01(self, x):
+        return min(max(x, 0.0), 1.0)
+
+    def scale(self, c, s):
+        return tuple(x * s for x in c)
+
+    def product(self, a, b):
+        return tuple(x * y for x, y in zip(a, b, strict=True))
+
+    def plus(self, a, b):
+        return tuple(x + y for x, y in zip(a, b, strict=True))
+
+    def one_minus(self, c):
+        return tuple(1.0 - x for x in c)
+
+    def clamped(self, c):
+        return tuple(max(x, 0.0) for x in c)
+
+    def root(self, c):
+        return tuple(x**0.5 for x in c)
+
+    def mean(self, c):
+        return sum(c) / 3.0
+
+
+class _Program:
+    """The formulas as Exprs of the material's program (export/nodes/ir.py), linked
+    inputs lowered by `lowering`: a heterogeneous medium."""
+
+    def __init__(self, lowering):
+        self.lowering = lowering
+        self.b = lowering.b
+
+    def value(self, node, name):
+        return self.lowering.value(node.inputs[name], node.scope, FLOAT)
+
+    def colour(self, node, name):
+        return self.lowering.value(node.inputs[name], node.scope, COLOR)
+
+    def blackbody(self, node):
+        intensity = self.value(node, "Blackbody Intensity")
+        return not (intensity.is_const and intensity.value[0] <= 0.0)
+
+    def f(self, x):
+        return self.b.f(x)
+
+    def black(self):
+        return self.b.const((0.0, 0.0, 0.0), COLOR)
+
+    def is_zero(self, x):
+        return x.is_const and x.value[0] == 0.0
+
+    def add(self, a, b):
+        return self.b.add(a, b)
+
+    def sub(self, a, b):
+        return self.b.sub(a, b)
+
+    def mul(self, a, b):
+        return self.b.mul(a, b)
+
+    def ratio(self, a, b):
+        if self.is_zero(a):
+            return a
+        return self.b.div(a, b)  # Blender's Divide: 0 where b is 0
+
+    def positive(self, x):
+        return self.b.maximum(x, self.b.f(0.0))
+
+    def clamp01(self, x):
+        return self.b.clamp01(x)
+
+    def scale(self, c, s):
+        return self.b.vmul(s, c)
+
+    def product(self, a, b):
+        return self.b.vmul(a, b)
+
+    def plus(self, a, b):
+        return self.b.vadd(a, b)
+
+    def one_minus(self, c):
+        return self.b.vmath("SUBTRACT", self.b.const((1.0, 1.0, 1.0), COLOR), c, kind=COLOR)
+
+    def clamped(self, c):
+        return self.b.vmath("MAXIMUM", c, self.black(), kind=COLOR)
+
+    def root(self, c):
+        return self.b.vmath("POWER", c, self.b.const((0.5, 0.5, 0.5), COLOR), kind=COLOR)
+
+    def mean(self, c):
+        return self.b.average(c)
 
 
 class _Node:
@@ -148,33 +317,18 @@ class _Node:
         self.inputs = node.inputs
 
 
-def _input(node, name):
-    """The socket whose value `node`'s input `name` takes (a group node's, where it comes
-    from a group's input); raises NotHomogeneous where a link drives it."""
-    found, socket = source(node.inputs[name], node.scope)
-    if found is not None:
-        raise NotHomogeneous(
-            f"its {node.name}'s {name} is linked (a heterogeneous volume is not rendered yet)"
-        )
-    return socket
-
-
-def _value(node, name):
-    return float(_input(node, name).default_value)
-
-
-def _colour(node, name):
-    return tuple(float(c) for c in _input(node, name).default_value[:3])
-
-
 def volume_bounces_warning(scene, materials):
     """The report's line when media are rendered and the scene asks Cycles for volume
     bounces (Render > Light Paths > Max Bounces > Volume, `scene.cycles.volume_bounces`),
-    which Whitted does not trace; None otherwise. `materials`: the exported materials'
-    native data."""
+    which Whitted does not trace; None otherwise. `materials`: the exported materials
+    (MaterialExport: a heterogeneous medium's scattering is a program output)."""
     cycles = getattr(scene, "cycles", None)
     bounces = getattr(cycles, "volume_bounces", 0)
-    scattering = any(max(m.volume_scattering) > 0.0 for m in materials)
+    scattering = any(
+        max(m.data.volume_scattering) > 0.0
+        or any(name == "volume_scattering" for name, _ in m.outputs)
+        for m in materials
+    )
     if bounces <= 0 or not scattering:
         return None
     return (

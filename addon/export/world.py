@@ -26,7 +26,7 @@ from .nodes.ir import COLOR, FLOAT, evaluate
 from .nodes.program import emit
 from .nodes.values import Lowering
 from .unrendered import volume_warning
-from .volume import NotHomogeneous, homogeneous_medium
+from .volume import Medium, NotRendered, volume_medium
 
 Color = tuple[float, float, float]
 
@@ -105,11 +105,18 @@ def world_medium(world, warnings):
     output_node = world.node_tree.get_output_node("CYCLES")
     if output_node is None:
         return None
+    owner = f"world '{world.name}'"
     try:
-        return homogeneous_medium(output_node)
-    except NotHomogeneous as why:
-        warnings.append(volume_warning(f"world '{world.name}'", output_node, str(why)))
+        found = volume_medium(output_node, Lowering(owner, []))
+    except NotRendered as why:
+        warnings.append(volume_warning(owner, output_node, str(why)))
         return None
+    if found is not None and not isinstance(found, Medium):
+        warnings.append(
+            volume_warning(owner, output_node, "a world's volume that nodes drive is not rendered")
+        )
+        return None
+    return found
 
 
 def _seen_by(world):

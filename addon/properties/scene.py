@@ -234,6 +234,19 @@ class WhittedSceneProperties(bpy.types.PropertyGroup):
         ),
         **setting("glass_shadows"),
     )
+    volume_step_rate: FloatProperty(
+        name="Volume Step Rate",
+        description="Heterogeneous media (a volume shader whose inputs nodes drive) are "
+        "marched in steps of a tenth of their object's mean size times the material's Step "
+        "Rate times this, as Cycles' Volumes > Step Rate: lower is finer and slower",
+        **setting("volume_step_rate", default=1.0),
+    )
+    volume_max_steps: IntProperty(
+        name="Volume Max Steps",
+        description="The most steps a ray's segment through a heterogeneous medium takes, as "
+        "Cycles' Volumes > Max Steps (longer steps beyond)",
+        **setting("volume_max_steps", default=1024),
+    )
     pixel_filter_type: EnumProperty(
         name="Pixel Filter",
         description="Where a pixel's samples land about its centre, as Cycles' Film > Pixel "

@@ -190,9 +190,7 @@ class SceneSync:
         self.warnings = warnings = []
         if self._materials_touched(changes, params):
             self._sync_materials(depsgraph, changes, params, report, warnings)
-        bounces = volume_bounces_warning(
-            depsgraph.scene, (m.data for m in self._materials.values())
-        )
+        bounces = volume_bounces_warning(depsgraph.scene, self._materials.values())
         if bounces is not None:
             warnings.append(bounces)
         # Light linking is the whole scene's: when it changes, every instance may change.

@@ -143,6 +143,8 @@ class WHITTED_RENDER_PT_light_paths(_TopPanel, bpy.types.Panel):
         column.prop(settings, "cutoff")
         column.prop(settings, "fresnel")
         column.prop(settings, "glass_shadows")
+        column.prop(settings, "volume_step_rate")
+        column.prop(settings, "volume_max_steps")
         # The Blender model lights surfaces with the world itself (its Ray Visibility);
         # the ambient term is the Lecture model's.
         ambient = column.row()

@@ -40,6 +40,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["world_feelers"] = s.rays.world_feelers;
   out["volume_feelers"] = s.rays.volume_feelers;
   out["volume_queries"] = s.rays.volume_queries;
+  out["volume_steps"] = s.rays.volume_steps;
   out["compile_seconds"] = s.compile_seconds;
   out["world_light_seconds"] = s.world_light_seconds;
   out["top_level_built"] = s.top_level_built;

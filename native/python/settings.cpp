@@ -321,6 +321,17 @@ void bind_settings(py::module_& m) {
                             "The Contributions pass keeps bounce depths 0 .. n - 1 apart and the "
                             "rest in one bin.")
                          .c_str())
+      .def_readwrite("volume_step_rate", &Settings::volume_step_rate,
+                     ranged(setting_range("volume_step_rate"),
+                            "Heterogeneous media: the marching step is each medium's object's "
+                            "(a tenth of its box's mean side) times its material's step rate "
+                            "times this (Cycles' Volumes > Step Rate).")
+                         .c_str())
+      .def_readwrite("volume_max_steps", &Settings::volume_max_steps,
+                     ranged(setting_range("volume_max_steps"),
+                            "The most steps a heterogeneous medium's segment is marched in "
+                            "(Cycles' Volumes > Max Steps); longer steps beyond.")
+                         .c_str())
       .def_readwrite("pass_alpha_threshold", &Settings::pass_alpha_threshold,
                      ranged(setting_range("pass_alpha_threshold"),
                             "The data passes come from the first surface at least this opaque (0: "

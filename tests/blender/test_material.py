@@ -842,11 +842,13 @@ def test_the_exporters_fields_are_the_native_tables(warnings):
     # material's parameters; and a full export becomes a native material as it is.
     from whitted.export.material import MaterialExport
     from whitted.export.nodes.shaders import LINEAR_FIELDS, WEIGHTED_FIELDS
+    from whitted.export.volume import VOLUME_FIELDS
     from whitted.native import load_native
     from whitted.sync.native_data import native_material
 
     native = load_native()
-    lowered = [*LINEAR_FIELDS, *WEIGHTED_FIELDS, "alpha", "normal", "coat_normal"]
+    # The surface's fields, and the medium's (export/volume.py).
+    lowered = [*LINEAR_FIELDS, *WEIGHTED_FIELDS, "alpha", "normal", "coat_normal", *VOLUME_FIELDS]
     assert sorted(lowered) == sorted(name for name, _ in native.MATERIAL_FIELDS)
     exported = convert_material(node_material("Tables", Roughness=0.4), warnings)
     data = dataclasses.asdict(exported.data)

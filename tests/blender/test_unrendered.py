@@ -58,10 +58,9 @@ def test_a_volume_shader_is_named(stage, native):
         material.use_nodes = True
     nodes = material.node_tree.nodes
     volume = nodes.new("ShaderNodeVolumePrincipled")
-    # A heterogeneous volume (a texture drives its density): not rendered yet.
-    material.node_tree.links.new(
-        nodes.new("ShaderNodeTexNoise").outputs[0], volume.inputs["Density"]
-    )
+    # Blackbody emission (fire): not rendered yet. A texture on its density is (a
+    # heterogeneous volume, tests/blender/test_volume.py).
+    volume.inputs["Blackbody Intensity"].default_value = 1.0
     output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
     material.node_tree.links.new(volume.outputs[0], output.inputs["Volume"])
     cube = add_object(stage.collection, "Box", cube_mesh("Box", 1.0))
@@ -70,7 +69,9 @@ def test_a_volume_shader_is_named(stage, native):
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     world_output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    haze = world.node_tree.nodes.new("ShaderNodeVolumeScatter")
+    # A world's volume of constant inputs renders (test_volume.py); a glowing one does not.
+    haze = world.node_tree.nodes.new("ShaderNodeVolumePrincipled")
+    haze.inputs["Blackbody Intensity"].default_value = 1.0
     world.node_tree.links.new(haze.outputs[0], world_output.inputs["Volume"])
     stage.world = world
     warnings = _warnings(native)

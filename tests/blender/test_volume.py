@@ -1,7 +1,9 @@
-"""Homogeneous fog (issue 48; native integrator/volume.h, addon/export/volume.py): a fog
-cube of Principled Volume density 0.1 lit by a spot lamp, a box inside it casting its
-shadow into the fog, beside Cycles with volume, diffuse and glossy bounces 0; what each
-volume node exports; the report and the statistics."""
+"""Fog and clouds (issue 48; native integrator/volume.h, heterogeneous.h,
+addon/export/volume.py): a fog cube of Principled Volume density 0.1 lit by a spot lamp,
+a box inside it casting its shadow into the fog, and a procedural cloud (its Density a
+Noise Texture through a Color Ramp) lit by a spot and by a sun, beside Cycles with
+volume, diffuse and glossy bounces 0; what each volume node exports; the report and the
+statistics."""
 
 import json
 from pathlib import Path
@@ -100,9 +102,12 @@ def _fog_stage(scene, fog_bottom=-0.3, light="spot"):
     return scene
 
 
-def _fog_against_cycles(scene, tmp_path, monkeypatch, then=None, specular_bounces=0):
-    """Cycles' render and Whitted's of `scene` agree; `then(scene)`, when given, changes
-    the scene between the two; `specular_bounces` the mirror and glass rays both trace."""
+def _fog_against_cycles(
+    scene, tmp_path, monkeypatch, then=None, specular_bounces=0, label="fog box"
+):
+    """Renders `scene` in Cycles and Whitted and compares them; `then(scene)`, when given,
+    changes the scene between the two; `specular_bounces` the mirror and glass rays both
+    trace. The statistics Whitted wrote (WHITTED_STATS)."""
     set_cycles_reference(scene, samples=256, specular_bounces=specular_bounces)
     # Cycles counts a volume bound a shadow ray crosses as a transparent bounce.
     scene.cycles.transparent_max_bounces = 8
@@ -119,14 +124,19 @@ def _fog_against_cycles(scene, tmp_path, monkeypatch, then=None, specular_bounce
         then(scene)
     whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
     ratio, similarity = compare(cycles, whitted)
-    print(f"\nfog box: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
+    print(f"\n{label}: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
     assert abs(ratio - 1.0) < 0.02
     assert similarity >= 0.97
     stats = json.loads(Path(stats_path).read_text())
     assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
     volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
-    assert volumes["on"] and "homogeneous, single scattering of" in volumes["why"], volumes
-    return volumes["why"]
+    assert volumes["on"] and "single scattering of" in volumes["why"], volumes
+    return stats
+
+
+def _volumes_why(stats):
+    """The report's reason for the volumes (render statistics)."""
+    return next(e for e in stats["effects"] if e["name"] == "volumes")["why"]
 
 
 def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
@@ -138,7 +148,9 @@ def test_a_spot_lit_fog_box_renders_as_cycles(empty_scene, tmp_path, monkeypatch
 def test_fog_lit_by_a_sun_an_emitter_and_the_world_renders_as_cycles(
     light, empty_scene, tmp_path, monkeypatch
 ):
-    why = _fog_against_cycles(_fog_stage(empty_scene, light=light), tmp_path, monkeypatch)
+    why = _volumes_why(
+        _fog_against_cycles(_fog_stage(empty_scene, light=light), tmp_path, monkeypatch)
+    )
     named = {"sun": "the lamps'", "panel": "the emissive meshes'"}.get(light, "the world's")
     assert why.startswith("1 object: ") and f"{named} light" in why, why
 
@@ -178,7 +190,7 @@ def test_overlapping_fog_boxes_add_up_as_in_cycles(empty_scene, tmp_path, monkey
     scene = _fog_stage(empty_scene)
     dense = add_object(scene, "Dense", cube_mesh("Dense", 2.5), location=(-1.0, -1.0, 2.0))
     dense.data.materials.append(_material("Dense", _principled(0.3, colour=(0.9, 0.5, 0.2))))
-    why = _fog_against_cycles(scene, tmp_path, monkeypatch)
+    why = _volumes_why(_fog_against_cycles(scene, tmp_path, monkeypatch))
     assert why.startswith("2 objects: "), why
 
 
@@ -216,7 +228,7 @@ def test_a_world_volume_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
     # Fog everywhere, lit by the spot, in front of a grey world the camera sees through
     # 100 m of it (its clip end).
     scene = _world_fog(_fog_stage(empty_scene), 0.05, colour=(0.5, 0.5, 0.5))
-    why = _fog_against_cycles(scene, tmp_path, monkeypatch)
+    why = _volumes_why(_fog_against_cycles(scene, tmp_path, monkeypatch))
     assert why.startswith("the world: "), why
 
 
@@ -298,18 +310,66 @@ def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scen
         np.testing.assert_allclose(getattr(data, name), value, rtol=1e-6, atol=1e-7)
 
 
-def test_a_linked_density_is_reported_as_not_rendered(empty_scene, native):
+def _cloud(tree):
+    """A Principled Volume whose Density is a Noise Texture (of the cube's Generated
+    coordinates, its default) through a Color Ramp: none where the noise is below 0.45,
+    0.4 where it is above 0.6 (a grey ramp: the colour's luminance is its value)."""
+    volume = tree.nodes.new("ShaderNodeVolumePrincipled")
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 3.0
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    low, high = ramp.color_ramp.elements
+    low.position, low.color = 0.45, (0.0, 0.0, 0.0, 1.0)
+    high.position, high.color = 0.6, (0.4, 0.4, 0.4, 1.0)
+    tree.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Color"], volume.inputs["Density"])
+    return volume.outputs[0]
+
+
+def _cloud_stage(scene, lamp="SPOT"):
+    """The fog stage with a procedural cloud in the fog cube, lit by its spot lamp or
+    instead by a sun."""
+    _fog_stage(scene)
+    scene.objects["Fog"].data.materials[0] = _material("Cloud", _cloud)
+    if lamp == "SUN":
+        bpy.data.objects.remove(scene.objects["Spot"])
+        sun = bpy.data.lights.new("Sun", "SUN")
+        sun.energy, sun.angle = 3.0, 0.0
+        add_object(scene, "Sun", sun).rotation_euler = facing((0.3, 0.4, -1.0))
+    return scene
+
+
+@pytest.mark.parametrize("lamp", ["SPOT", "SUN"])
+def test_a_procedural_cloud_renders_as_cycles(lamp, empty_scene, tmp_path, monkeypatch):
+    stats = _fog_against_cycles(
+        _cloud_stage(empty_scene, lamp), tmp_path, monkeypatch, label=f"cloud ({lamp})"
+    )
+    assert stats["volume_steps"] > 0
+    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
+    assert "heterogeneous" in volumes["why"], volumes
+
+
+def test_a_cloud_exports_its_density_as_a_program(empty_scene):
+    warnings = []
+    exported = convert_material(_material("Cloud", _cloud), warnings)
+    assert exported.program is not None and not warnings, warnings
+    assert not exported.data.surface
+    # Density drives both; the emission and the anisotropy stay constants.
+    assert {name for name, _ in exported.outputs} == {"volume_absorption", "volume_scattering"}
+
+
+def test_a_volume_node_it_cannot_render_is_reported(empty_scene, native):
     def build(tree):
         volume = tree.nodes.new("ShaderNodeVolumePrincipled")
         noise = tree.nodes.new("ShaderNodeTexNoise")
-        tree.links.new(noise.outputs[0], volume.inputs["Density"])
+        tree.links.new(noise.outputs[0], volume.inputs["Blackbody Intensity"])
         return volume.outputs[0]
 
     scene = _fog_stage(empty_scene)
-    scene.objects["Fog"].data.materials[0] = _material("Cloud", build)
+    scene.objects["Fog"].data.materials[0] = _material("Fire", build)
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
-    cloud = [w for w in warnings if "'Cloud'" in w]
-    assert len(cloud) == 1 and "Density is linked (a heterogeneous volume" in cloud[0], warnings
+    fire = [w for w in warnings if "'Fire'" in w]
+    assert len(fire) == 1 and "has blackbody emission" in fire[0], warnings
 
 
 def test_volume_bounces_above_0_are_reported_as_not_simulated(empty_scene, native):

@@ -1,7 +1,9 @@
 // Homogeneous media (integrator/volume.h, issue 48): a slab's transmittance, a point
 // lamp's single scattering in an effectively infinite medium against the line integral,
 // density 0 and a huge density, glass with a volume, and a fog box rendered the same
-// whatever the threads and tiles.
+// whatever the threads and tiles. Heterogeneous media (heterogeneous.h, march.h): a
+// program of constant value against the homogeneous medium, a density ramp's
+// transmittance against exp(-integral).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +12,7 @@
 #include "integrator/analysis.h"
 #include "integrator/render.h"
 #include "integrator/volume.h"
+#include "program_builder.h"
 #include "scene_builders.h"
 
 namespace whitted {
@@ -18,6 +21,7 @@ namespace {
 using testing::add_object;
 using testing::box;
 using testing::looking_down;
+using testing::make;
 using testing::quad;
 using testing::small_render;
 
@@ -281,6 +285,146 @@ TEST(Volume, FogBoxIsTheSameWhateverTheThreadsTilesAndWaves) {
     if (d.name == "volumes") named = d.on;
   }
   EXPECT_TRUE(named);
+}
+
+// A heterogeneous fog's material: its program computes the medium at each point, here
+// sigma_a and sigma_s from the position p: sigma = slope . p + offset per field.
+Material programmed_fog(Vec3 absorption_slope, Color absorption_offset, Vec3 scattering_slope,
+                        Color scattering_offset, float anisotropy = 0.0f) {
+  // r0 the position, r1/r2 the slopes, r3/r4 their dot products with p, r5/r6 the
+  // offsets, r7/r8 the sums.
+  const auto add = static_cast<uint32_t>(VectorMathOp::kAdd);
+  const auto dot = static_cast<uint32_t>(VectorMathOp::kDotProduct);
+  MaterialParams m;
+  m.surface = false;
+  m.volume_anisotropy = anisotropy;
+  m.program = std::make_shared<const Program>(
+      make({{Op::kInput, kInputPosition, 0},
+            {Op::kVectorMath, dot, 3, 0, 1},
+            {Op::kVectorMath, dot, 4, 0, 2},
+            {Op::kVectorMath, add, 7, 3, 5},
+            {Op::kVectorMath, add, 8, 4, 6}},
+           {glm::vec4(0.0f), glm::vec4(absorption_slope, 0.0f), glm::vec4(scattering_slope, 0.0f),
+            glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(absorption_offset, 0.0f),
+            glm::vec4(scattering_offset, 0.0f), glm::vec4(0.0f), glm::vec4(0.0f)}));
+  m.outputs[kVolumeAbsorptionField] = 7;
+  m.outputs[kVolumeScatteringField] = 8;
+  return Material(m);
+}
+
+TEST(HeterogeneousVolume, AProgramOfConstantValueRendersTheHomogeneousMedium) {
+  // The fog box of FogBoxIsTheSameWhateverTheThreadsTilesAndWaves, lit by its point lamp
+  // and a sun, once with constant coefficients and once with a program computing the
+  // same ones everywhere: marched, the same light within float rounding (the steps'
+  // exp(-sigma dt) multiply to exp(-sigma d), the lamps' distances are the same draws).
+  const Color sigma_a(0.05f, 0.08f, 0.1f);
+  const Color sigma_s(0.3f, 0.25f, 0.2f);
+  Scene constant = floor_scene();
+  Light sun;
+  sun.type = LightType::kSun;
+  sun.color = Color(2.0f);
+  sun.direction = glm::normalize(Vec3(0.3f, 0.2f, -1.0f));
+  constant.set_light("sun", sun);
+  Material blocker;
+  add_object(&constant, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.5f), blocker);
+  Scene programmed = constant;
+  const Mesh fog_box = box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f));
+  add_object(&constant, "fog", fog_box, fog(sigma_a, sigma_s, 0.3f));
+  add_object(&programmed, "fog", fog_box,
+             programmed_fog(Vec3(0.0f), sigma_a, Vec3(0.0f), sigma_s, 0.3f));
+  Settings settings = small_render(16, 16, 2, 2, 8);
+  settings.aa_mode = AntiAliasing::kJittered;
+  const Rendered a = render(constant, settings);
+  const Rendered b = render(programmed, settings);
+  double sum_a = 0.0, sum_b = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    EXPECT_NEAR(b.pixels[i], a.pixels[i], 1e-3f * (1.0f + a.pixels[i])) << i;
+    sum_a += a.pixels[i];
+    sum_b += b.pixels[i];
+  }
+  EXPECT_NEAR(sum_b / sum_a, 1.0, 1e-4);
+  EXPECT_EQ(a.stats.rays.volume_steps, 0u);
+  EXPECT_GT(b.stats.rays.volume_steps, 0u);
+  EXPECT_EQ(b.stats.rays.nonfinite_samples, 0u);
+  for (const EffectDecision& d : b.stats.effects) {
+    if (d.name == "volumes") {
+      EXPECT_TRUE(d.on);
+      EXPECT_NE(d.why.find("1 object: heterogeneous (ray marched"), std::string::npos) << d.why;
+    }
+  }
+}
+
+TEST(HeterogeneousVolume, ADensityRampLetsThroughExpOfMinusItsIntegral) {
+  // A slab from z = 1 to 1 + depth whose absorption grows linearly with height,
+  // sigma(z) = a + b (z - 1), seen straight down against a white background:
+  // T = exp(-(a depth + b depth^2 / 2)). The march's grid and shade points are drawn per
+  // camera sample; 64 of them average its error away (each at most b depth dt / 2).
+  const float a = 0.3f, b = 0.8f;
+  for (const float depth : {0.5f, 1.5f, 3.0f}) {
+    Scene scene;
+    scene.set_background(Color(1.0f));
+    add_object(&scene, "slab", box(Vec3(-1.0f, -1.0f, 1.0f), Vec3(1.0f, 1.0f, 1.0f + depth)),
+               programmed_fog(Vec3(0.0f, 0.0f, b), Color(a - b), Vec3(0.0f), Color(0.0f)));
+    scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1e-5f);
+    Settings settings = one_ray(8);
+    settings.volume_step_rate = 0.1f;
+    const Rendered r = render(scene, settings);
+    const float expected = std::exp(-(a * depth + 0.5f * b * depth * depth));
+    EXPECT_NEAR(r.pixels[0], expected, 1e-3f) << "depth " << depth;
+    EXPECT_GT(r.stats.rays.volume_steps, 0u);
+  }
+}
+
+TEST(HeterogeneousVolume, AFeelerThroughADensityRampIsDimmedByExpOfMinusItsIntegral) {
+  // The lamp above a slab whose absorption grows with height (as above): the floor under
+  // it gets what the feeler lets through, seen through the same slab again by the camera
+  // ray; the feeler's march takes each step's midpoint, exact for a linear density.
+  const float a = 0.2f, b = 0.5f, depth = 1.0f;
+  Scene without = floor_scene();
+  without.camera = looking_down(Vec3(0.5f, 0.3f, 6.0f), 1e-5f);
+  Scene with = without;
+  add_object(&with, "slab", box(Vec3(-10.0f, -10.0f, 1.0f), Vec3(10.0f, 10.0f, 1.0f + depth)),
+             programmed_fog(Vec3(0.0f, 0.0f, b), Color(a - b), Vec3(0.0f), Color(0.0f)));
+  Settings settings = one_ray(8);
+  settings.volume_step_rate = 0.1f;
+  const Rendered lit = render(with, settings);
+  const Rendered bare = render(without, settings);
+  const float once = std::exp(-(a * depth + 0.5f * b * depth * depth));
+  EXPECT_NEAR(lit.pixels[0] / bare.pixels[0], once * once, 1e-3f);
+}
+
+TEST(HeterogeneousVolume, ACloudIsTheSameWhateverTheThreadsTilesAndWavesAndSeenFromInside) {
+  // A fog box whose scattering grows with height, lit by the floor scene's lamp, with a
+  // blocker's shadow in it: the march's draws are the camera sample's, so threads, tiles
+  // and waves change nothing; a camera inside the box (the media stack seeded with its
+  // instance, WhittedIntegrator::media_at) sees it too, and nothing is NaN.
+  Scene scene = floor_scene();
+  add_object(&scene, "fog", box(Vec3(-2.0f, -2.0f, -1.0f), Vec3(2.0f, 2.0f, 5.0f)),
+             programmed_fog(Vec3(0.0f), Color(0.02f), Vec3(0.0f, 0.0f, 0.1f), Color(0.05f), 0.3f));
+  Material blocker;
+  add_object(&scene, "blocker", quad(-0.5f, 0.5f, -0.5f, 0.5f, 1.5f), blocker);
+  Settings settings = small_render(24, 24, 3, 1, 8);
+  settings.aa_mode = AntiAliasing::kJittered;
+  settings.waves = false;
+  const Rendered reference = render(scene, settings);
+  settings.threads = 2;
+  settings.tile_size = 5;
+  EXPECT_EQ(render(scene, settings).pixels, reference.pixels);
+  settings.waves = true;
+  const Rendered waves = render(scene, settings);
+  for (size_t i = 0; i < reference.pixels.size(); ++i) {
+    EXPECT_NEAR(waves.pixels[i], reference.pixels[i], 1e-5f * (1.0f + reference.pixels[i])) << i;
+  }
+  EXPECT_GT(reference.stats.rays.volume_steps, 0u);
+  EXPECT_GT(reference.stats.rays.volume_feelers, 0u);
+  EXPECT_EQ(reference.stats.rays.nonfinite_samples, 0u);
+  // From inside: the camera at z = 4.5 under the box's top, looking down. Its rays meet
+  // no bound before the floor: only the media stack media_at seeds says they are in the
+  // fog, and only segments inside a medium send feelers from it to the lamp.
+  scene.camera = looking_down(Vec3(0.3f, 0.2f, 4.5f), 0.8f);
+  const Rendered inside = render(scene, settings);
+  EXPECT_GT(inside.stats.rays.volume_feelers, 0u);
+  EXPECT_EQ(inside.stats.rays.nonfinite_samples, 0u);
 }
 
 }  // namespace

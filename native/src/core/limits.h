@@ -38,6 +38,11 @@ inline constexpr int kMaxMediaCrossings = 1024;
 // many crossings; beyond them the media are as the last one left them.
 inline constexpr int kMaxVolumeCrossings = 64;
 
+// A heterogeneous medium's march along a segment (integrator/heterogeneous.h) stops where
+// less than this of the light gets through any further (Cycles' volume throughput
+// epsilon): what lies beyond counts as unseen.
+inline constexpr float kVolumeOpaque = 1e-6f;
+
 // --- absolute bounds: float32 and Embree ----------------------------------------------
 
 // The exporter drops triangles with an object-space coordinate beyond 1e7
@@ -56,5 +61,10 @@ inline constexpr float kMaxInstanceTranslation = 1e9f;
 // Texture lookups with a texel coordinate beyond this are black (the float-to-int
 // conversion of a larger one is undefined).
 inline constexpr float kMaxTexelCoordinate = 1e8f;
+
+// A medium's coefficient a program computes is at most this per unit of length (an
+// infinite one this): times any step of a sane scene it stays finite in float32, so
+// exp(-sigma d) is 0 and never a NaN (a material's constant ones are checked finite).
+inline constexpr float kMaxCoefficient = 1e30f;
 
 }  // namespace whitted::limits

@@ -67,33 +67,67 @@ EffectDecision light_linking(const CompiledScene& scene) {
 }
 
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
-// their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume.
-size_t media_objects(const CompiledScene& scene) {
-  size_t objects = 0;
+// their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume;
+// those with a medium a program drives (heterogeneous.h) counted apart.
+struct MediaObjects {
+  size_t homogeneous = 0;
+  size_t heterogeneous = 0;
+  size_t total() const { return homogeneous + heterogeneous; }
+};
+MediaObjects media_objects(const CompiledScene& scene) {
+  MediaObjects objects;
   for (const CompiledScene::Instance& instance : scene.instances) {
     bool participating = false;
+    bool varying = false;
     for (uint32_t m : instance.materials) {
       const Material& material = scene.materials[m];
-      participating |= material.participating() && (!material.surface || material.transmissive());
+      const bool medium =
+          material.participating() && (!material.surface || material.transmissive());
+      participating |= medium;
+      varying |= medium && material.heterogeneous();
     }
-    objects += participating ? 1 : 0;
+    if (varying) {
+      objects.heterogeneous += 1;
+    } else if (participating) {
+      objects.homogeneous += 1;
+    }
   }
   return objects;
 }
 
 // What light a medium scatters, in the volumes' report line: the lights the effects
-// decided on, the lamps always.
-std::string scattered_light(const CompiledScene& scene, const Effects& effects) {
+// decided on, the lamps always (a medium a program drives scatters the lamps' alone).
+std::string scattered_light(const CompiledScene& scene, const Effects& effects,
+                            const MediaObjects& media) {
   std::vector<std::string> lights;
   if (!scene.lights.empty()) lights.push_back("the lamps'");
-  if (effects.has(kEmitterEffect)) lights.push_back("the emissive meshes'");
-  if (effects.has(kWorldLightEffect)) lights.push_back("the world's");
+  if (media.heterogeneous == 0) {
+    if (effects.has(kEmitterEffect)) lights.push_back("the emissive meshes'");
+    if (effects.has(kWorldLightEffect)) lights.push_back("the world's");
+  }
   if (lights.empty()) return "no light (none in the scene)";
   std::string text = lights[0];
   for (size_t i = 1; i < lights.size(); ++i) {
     text += (i + 1 == lights.size() ? " and " : ", ") + lights[i];
   }
   return text + " light";
+}
+
+// The report's reason for the volumes: "1 object: homogeneous, ..." or, with media a
+// program drives, how many of each and the march's step rate; "the world" for its volume.
+std::string media_why(const MediaObjects& media, bool world, const Settings& settings,
+                      const std::string& scattered) {
+  const size_t total = media.total();
+  std::string why = total > 0 ? thousands(total) + (total == 1 ? " object" : " objects") : "";
+  if (world) why += total > 0 ? " and the world" : "the world";
+  why += ": ";
+  if (media.heterogeneous == 0) return why + "homogeneous, single scattering of " + scattered;
+  if (media.homogeneous > 0) why += thousands(media.homogeneous) + " homogeneous, ";
+  if (total > 1) why += thousands(media.heterogeneous) + " ";
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", static_cast<double>(settings.volume_step_rate));
+  return why + "heterogeneous (ray marched, step rate " + rate + "), single scattering of " +
+         scattered;
 }
 
 // Which of shadows, reflection, refraction and translucency the scene can show.
@@ -125,7 +159,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   // cross them whether or not anything blocks them.
   bool casting = !scene.mesh_lights->empty() || scene.world_light != nullptr;
   for (const Light& light : scene.lights) casting |= light.cast_shadows;
-  const size_t media = media_objects(scene);
+  const MediaObjects volumes = media_objects(scene);
+  const size_t media = volumes.total();
   const bool world_medium = scene.world_medium.participating();
   const bool any_medium = media > 0 || world_medium;
   decide(effects, kShadowEffect, casting && (any_blocker || any_medium), "shadows",
@@ -164,13 +199,11 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   decide(effects, kTranslucencyEffect, translucent, "translucency",
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
-  std::string filled = media > 0 ? thousands(media) + (media == 1 ? " object" : " objects") : "";
-  if (world_medium) filled += media > 0 ? " and the world" : "the world";
   decide(effects, kVolumeEffect, any_medium, "volumes",
          any_medium
-             ? filled + ": homogeneous, single scattering of " + scattered_light(scene, *effects)
-             : "no mesh encloses a medium (a material's constant volume shader) and the "
-               "world has no volume");
+             ? media_why(volumes, world_medium, settings, scattered_light(scene, *effects, volumes))
+             : "no mesh encloses a medium (a material's volume shader) and the world "
+               "has no volume");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
 }

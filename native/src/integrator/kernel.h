@@ -21,6 +21,7 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/glossy.h"
+#include "integrator/heterogeneous.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/lights.h"
 #include "integrator/medium.h"
@@ -90,17 +91,22 @@ class Kernel {
       }
       const auto node = recorder_.ray(r, here.depth, in_front, behind);
       if (in_.has(kVolumeEffect)) {
-        if (const Medium m = medium_at(in_.scene, here.media); !m.empty) {
-          // The segment from where the ray starts to count (a camera ray's clip start) to
-          // its hit, or as far as it may go.
-          const float length = (found ? hit.t : r.t_max) - r.t_min;
-          const Ray segment{
-              r.origin + r.t_min * r.direction, r.direction, 0.0f, length, RayKind(r.kind), r.time};
+        // The segment inside the media the ray is in: from where the ray starts to count (a
+        // camera ray's clip start) to its hit, or as far as it may go.
+        const float length = (found ? hit.t : r.t_max) - r.t_min;
+        const Ray segment{
+            r.origin + r.t_min * r.direction, r.direction, 0.0f, length, RayKind(r.kind), r.time};
+        if (heterogeneous(in_.scene, here.media)) {  // media a program drives: marched
+          const SegmentLight light =
+              heterogeneous_segment(in_, segment, length, here.media, here, layer, counts);
+          radiance += (behind * through) * light.radiance;
+          through *= light.transmittance;
+        } else if (const Medium m = medium_at(in_.scene, here.media); !m.empty()) {
           radiance +=
               (behind * through) * segment_radiance(in_, segment, length, m, here, layer, counts);
           through *= transmittance(m.extinction(), length);
-          if (is_black(through)) break;
         }
+        if (is_black(through)) break;
       }
       if (!found) {
         radiance += through * escape(r, ray.kind == kCameraRay, here, node, behind, &coverage);
@@ -113,7 +119,7 @@ class Kernel {
       } else if (in_.has(kVolumeEffect) && !it.material->surface) {
         // A volume's bound: the ray goes on into (or out of) its medium.
         if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
-          here.media.enter_bound(it.material_index);
+          here.media.enter_bound(it.material_index, it.instance);
         } else {
           here.media.leave(it.material_index);
         }

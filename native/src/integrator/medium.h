@@ -35,14 +35,19 @@ class MediumStack {
   }
   bool empty() const { return size_ == 0; }
 
-  // Into a dielectric (glass, water) of `priority`.
-  void enter(uint32_t material, int32_t priority) { push({material, priority, false}); }
-  // Into the bounds of a medium without a surface.
-  void enter_bound(uint32_t material) { push({material, 0, true}); }
+  // Into a dielectric (glass, water) of `priority`, through the mesh of `instance`.
+  void enter(uint32_t material, uint32_t instance, int32_t priority) {
+    push({material, instance, priority, false});
+  }
+  // Into the bounds of a medium without a surface: the mesh of `instance` (what a
+  // heterogeneous medium's program reads its object coordinates of).
+  void enter_bound(uint32_t material, uint32_t instance) { push({material, instance, 0, true}); }
 
-  // The entries, oldest first: material(i) for i < size(), a bound where is_bound(i).
+  // The entries, oldest first: material(i) entered through instance(i) for i < size(), a
+  // bound where is_bound(i).
   int size() const { return size_; }
   uint32_t material(int i) const { return entries_[static_cast<size_t>(i)].material; }
+  uint32_t instance(int i) const { return entries_[static_cast<size_t>(i)].instance; }
   bool is_bound(int i) const { return entries_[static_cast<size_t>(i)].bound; }
 
   // Removes the most recent entry of `material`; false if the ray was not inside it.
@@ -59,6 +64,7 @@ class MediumStack {
  private:
   struct Entry {
     uint32_t material;
+    uint32_t instance;
     int32_t priority;
     bool bound;  // a medium's bound (enter_bound), not a dielectric
   };
@@ -101,7 +107,7 @@ struct Crossing {
   const int32_t from = media.current();
   if (entering) {
     beyond.false_interface = from >= 0 && m.priority < scene.materials[from].priority;
-    beyond.media.enter(it.material_index, m.priority);
+    beyond.media.enter(it.material_index, it.instance, m.priority);
     beyond.eta = ior_of(scene, from) / surface.ior;
   } else if (beyond.media.leave(it.material_index)) {
     beyond.false_interface = from != static_cast<int32_t>(it.material_index);
@@ -112,6 +118,74 @@ struct Crossing {
     beyond.eta = surface.ior / ior_of(scene, from);
   }
   return beyond;
+}
+
+// What fills a point, per unit length: the sum of the media it is inside, as Cycles sums
+// the closures of overlapping volumes; a glass ball in fog is filled with the fog (and
+// its own volume, if it has one). Those are the world's volume (everywhere), every medium
+// whose bounds enclose the point and the dielectric owning it (MediumStack::current, the
+// nested-dielectric rule). Several scatterings keep one Henyey-Greenstein lobe of their mean
+// anisotropy weighted by their scattering, as the exporter does within a material
+// (export/volume.py). read(material, instance) gives each one's coefficients.
+template <class Read>
+Medium sum_media(const CompiledScene& scene, const MediumStack& media, const Read& read) {
+  Medium out;
+  float weighed = 0.0f;  // sum of the scatterings' means, weighing the anisotropies
+  const auto add = [&](const Medium& m) {
+    out.absorption += m.absorption;
+    out.scattering += m.scattering;
+    out.emission += m.emission;
+    const float w = mean_component(m.scattering);
+    out.anisotropy += w * m.anisotropy;
+    weighed += w;
+  };
+  const auto entry = [&](uint32_t material, uint32_t instance) {
+    if (scene.materials[material].participating()) add(read(material, instance));
+  };
+  if (scene.world_medium.participating()) {
+    add({scene.world_medium.volume_absorption, scene.world_medium.volume_scattering,
+         scene.world_medium.volume_emission, scene.world_medium.volume_anisotropy});
+  }
+  int owner = -1;  // the dielectric owning the point, once
+  const int32_t current = media.current();
+  for (int i = 0; i < media.size(); ++i) {
+    if (media.is_bound(i)) {
+      entry(media.material(i), media.instance(i));
+    } else if (static_cast<int32_t>(media.material(i)) == current) {
+      owner = i;
+    }
+  }
+  if (owner >= 0) entry(media.material(owner), media.instance(owner));
+  out.anisotropy = weighed > 0.0f ? out.anisotropy / weighed : 0.0f;
+  return out;
+}
+
+// Whether some medium a point is inside is driven by its program (Material::heterogeneous):
+// then what fills it is read point by point (march.h), else medium_at(scene, media) is it.
+inline bool heterogeneous(const CompiledScene& scene, const MediumStack& media) {
+  bool found = false;
+  for (int i = 0; i < media.size(); ++i) {
+    found |= scene.materials[media.material(i)].heterogeneous();
+  }
+  return found;
+}
+
+// What fills a point of media of constant coefficients: their sum (a heterogeneous one's
+// constants left out: march.h reads those point by point).
+inline Medium medium_at(const CompiledScene& scene, const MediumStack& media) {
+  return sum_media(scene, media, [&](uint32_t material, uint32_t) {
+    const Material& m = scene.materials[material];
+    if (m.heterogeneous()) return Medium{};
+    return Medium{m.volume_absorption, m.volume_scattering, m.volume_emission, m.volume_anisotropy};
+  });
+}
+
+// What fills point x of `ray`: the sum, each program run at x (CompiledScene::medium).
+inline Medium medium_at(const CompiledScene& scene, const MediumStack& media, const Vec3& x,
+                        const Ray& ray, const RayContext& context) {
+  return sum_media(scene, media, [&](uint32_t material, uint32_t instance) {
+    return scene.medium(material, instance, x, ray, context);
+  });
 }
 
 }  // namespace whitted

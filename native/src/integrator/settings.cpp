@@ -78,6 +78,8 @@ void Settings::validate() const {
         "mist: start and depth must be finite and >= 0, falloff in (0, 16]");
   }
   check_setting(setting_range("worker_nice"), worker_nice);
+  check_setting(setting_range("volume_step_rate"), volume_step_rate);
+  check_setting(setting_range("volume_max_steps"), volume_max_steps);
   check_range("glass_shadows", static_cast<int64_t>(glass_shadows), 0, 1);
   int xmin = 0, ymin = 0, xmax = 0, ymax = 0;
   border_rect(&xmin, &ymin, &xmax, &ymax);

@@ -54,6 +54,13 @@ struct Settings {
   int aa_samples = 1;  // per axis, regular and jittered: n x n samples
   PixelFilterType pixel_filter = PixelFilterType::kBox;
   float filter_width = 1.0f;  // in pixels (Cycles' Width: see PixelFilter)
+  // Heterogeneous media (integrator/heterogeneous.h), as Cycles' Volumes panel: the
+  // marching step is each medium's object's step (a tenth of the mean side of its box)
+  // times its material's Step Rate times this (Cycles' Step Rate for renders: below 1
+  // finer and slower); a segment takes at most volume_max_steps steps (longer ones where
+  // it would take more).
+  float volume_step_rate = 1.0f;
+  int volume_max_steps = 1024;
   // Cycles' Seed (Sampling > Advanced): which of the equally good sets of random draws a
   // render takes (pixel_key, sampler.h); 0 is the draws of before the setting. The add-on
   // gives each frame its own with Use Animated Seed.
@@ -205,6 +212,8 @@ inline constexpr std::array kSettingRanges = {
     SettingRange{"fault_tile", -1, INT32_MAX},
     SettingRange{"contribution_depth", 1, kMaxContributionDepth},
     SettingRange{"pass_alpha_threshold", 0, 1},
+    SettingRange{"volume_step_rate", 0.01, 100},  // as Cycles'
+    SettingRange{"volume_max_steps", 2, 65536},   // as Cycles'
 };
 
 // The range of setting `name`; a name not in kSettingRanges does not compile.

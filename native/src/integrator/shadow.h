@@ -75,7 +75,8 @@ Color shadow_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray&
                            const Blockers* linked, int depth, RayCounts* counts) {
   counts->shadow += 1;
   Color through = surfaces_transmittance(in, ray, blocked, linked, depth, counts);
-  if (in.has(kVolumeEffect) && !is_black(through)) through *= media_transmittance(in, ray, counts);
+  if (in.has(kVolumeEffect) && !is_black(through))
+    through *= media_transmittance(in, ray, depth, counts);
   return through;
 }
 

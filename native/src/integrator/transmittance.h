@@ -1,6 +1,6 @@
-// What fills a point (the media it is inside, summed) and what homogeneous media
-// (integrator/volume.h) let through: exp(-sigma_t d) along a segment, and along a shadow
-// feeler through the volume bounds it crosses.
+// What fills a point (the media it is inside, summed) and what media let through: a
+// homogeneous one's (integrator/volume.h) exp(-sigma_t d) along a segment, and along a
+// shadow feeler through the volume bounds it crosses (heterogeneous ones marched, march.h).
 #pragma once
 
 #include <array>
@@ -11,49 +11,10 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/kernel_inputs.h"
+#include "integrator/march.h"
 #include "integrator/medium.h"
 
 namespace whitted {
-
-// What fills a point, per unit length: the sum of the media it is inside, as Cycles sums
-// the closures of overlapping volumes; a glass ball in fog is filled with the fog (and
-// its own volume, if it has one). Those are the world's volume (everywhere), every medium
-// whose bounds enclose the point and the dielectric owning it (MediumStack::current, the
-// nested-dielectric rule). Several
-// scatterings keep one Henyey-Greenstein lobe of their mean anisotropy weighted by their
-// scattering, as the exporter does within a material (export/volume.py).
-struct Medium {
-  Color absorption{0.0f};  // sigma_a
-  Color scattering{0.0f};  // sigma_s
-  Color emission{0.0f};    // radiance per unit length
-  float anisotropy = 0.0f;
-  bool empty = true;  // no medium: nothing to absorb, scatter or emit
-  // sigma_t = sigma_a + sigma_s.
-  Color extinction() const { return absorption + scattering; }
-};
-
-inline Medium medium_at(const CompiledScene& scene, const MediumStack& media) {
-  Medium out;
-  float weighed = 0.0f;  // sum of the scatterings' means, weighing the anisotropies
-  const auto add_material = [&](const Material& m) {
-    if (!m.participating()) return;
-    out.absorption += m.volume_absorption;
-    out.scattering += m.volume_scattering;
-    out.emission += m.volume_emission;
-    const float w = (m.volume_scattering.x + m.volume_scattering.y + m.volume_scattering.z) / 3.0f;
-    out.anisotropy += w * m.volume_anisotropy;
-    weighed += w;
-    out.empty = false;
-  };
-  const auto add = [&](uint32_t index) { add_material(scene.materials[index]); };
-  add_material(scene.world_medium);  // the world's volume fills everything
-  for (int i = 0; i < media.size(); ++i) {
-    if (media.is_bound(i)) add(media.material(i));
-  }
-  if (const int32_t owner = media.current(); owner >= 0) add(static_cast<uint32_t>(owner));
-  out.anisotropy = weighed > 0.0f ? out.anisotropy / weighed : 0.0f;
-  return out;
-}
 
 // exp(-sigma_t d) per channel; d may be infinite (a ray escaping inside an open mesh):
 // none then gets through where sigma_t > 0, all where it is 0.
@@ -70,13 +31,15 @@ inline Color transmittance(const Color& sigma_t, float d) {
 // Which media enclose its origin is read off the feeler's own line, walked past its end to
 // the world: a bound it leaves without having entered it encloses the origin (as media_at
 // finds the camera's), so a feeler needs nothing of the media stack of the ray it left and
-// the recursion and the waves give the same answer.
+// the recursion and the waves give the same answer. Heterogeneous media are marched
+// (march.h); `depth` is the feeler's node's, for their programs.
 template <uint32_t kEffects, class Queries>
-Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler,
+Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler, int depth,
                           RayCounts* counts) {
   struct Bound {
     float t;
     uint32_t material;
+    uint32_t instance;
     bool entering;
   };
   std::array<Bound, limits::kMaxVolumeCrossings> bounds;
@@ -88,7 +51,7 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
     if (!in.queries.intersect(r, &hit)) break;
     const Interaction it = in.scene.interaction(r, hit);
     bounds[static_cast<size_t>(count)] = {glm::dot(it.position - feeler.origin, feeler.direction),
-                                          it.material_index,
+                                          it.material_index, it.instance,
                                           glm::dot(feeler.direction, it.geometric_normal) < 0.0f};
     r = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, feeler.direction,
                   kVolumeBoundRay);
@@ -107,14 +70,30 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
         entered = true;
       }
     }
-    if (!entered) media.enter_bound(b.material);
+    if (!entered) media.enter_bound(b.material, b.instance);
   }
-  // The optical depth along [0, t_max], segment by segment.
-  Color depth(0.0f);
+  // The optical depth along [0, t_max], segment by segment; a last stretch reaching to
+  // infinity (t_max, or past the heterogeneous media's boxes) lets `beyond` through.
+  Color optical(0.0f);
+  Color beyond(1.0f);
   float from = 0.0f;
+  const RayContext context{&in.camera, depth};
+  const auto constant = [&](const Medium& m, float start, float to) {
+    if (m.empty()) return;
+    if (std::isinf(to)) {
+      beyond *= transmittance(m.extinction(), to);
+    } else {
+      optical += m.extinction() * (to - start);
+    }
+  };
   const auto cross = [&](float to) {
-    if (const Medium m = medium_at(in.scene, media); !m.empty) {
-      depth += m.extinction() * (to - from);
+    if (heterogeneous(in.scene, media)) {
+      optical += optical_depth(in.scene, in.settings, context, feeler, from, to, media, counts);
+      // Past their boxes only the media of constant coefficients are left.
+      const float reach = std::max(from, march_reach(in.scene, media, feeler));
+      if (to > reach) constant(medium_at(in.scene, media), reach, to);
+    } else {
+      constant(medium_at(in.scene, media), from, to);
     }
     from = to;
   };
@@ -123,16 +102,13 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
     if (!(b.t < feeler.t_max)) break;
     cross(std::max(b.t, from));
     if (b.entering) {
-      media.enter_bound(b.material);
+      media.enter_bound(b.material, b.instance);
     } else {
       media.leave(b.material);
     }
   }
-  Color through = transmittance(depth, 1.0f);  // exp(-depth)
-  if (const Medium m = medium_at(in.scene, media); !m.empty) {
-    through *= transmittance(m.extinction(), feeler.t_max - from);  // t_max may be infinite
-  }
-  return through;
+  cross(std::max(feeler.t_max, from));           // t_max may be infinite
+  return transmittance(optical, 1.0f) * beyond;  // exp(-optical)
 }
 
 }  // namespace whitted

@@ -160,6 +160,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   volume_feelers += o.volume_feelers;
   volume_queries += o.volume_queries;
   volume_bounds += o.volume_bounds;
+  volume_steps += o.volume_steps;
   return *this;
 }
 
@@ -193,7 +194,7 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
   // An arbitrary direction unlikely to graze edges of axis-aligned models.
   Ray ray{p, glm::normalize(Vec3(0.3717f, 0.5419f, 0.7537f)), 0.0f, kInfinity,
           volumes ? kRefractionRay | kVolumeBoundRay : kRefractionRay};
-  std::vector<uint32_t> enclosing;  // innermost first
+  std::vector<std::pair<uint32_t, uint32_t>> enclosing;  // (material, instance), innermost first
   std::vector<int> entered(scene_.materials.size(), 0);
   for (int i = 0; i < limits::kMaxMediaCrossings; ++i) {
     Hit hit;
@@ -206,7 +207,7 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
       } else if (entered[it.material_index] > 0) {
         entered[it.material_index] -= 1;
       } else {
-        enclosing.push_back(it.material_index);
+        enclosing.emplace_back(it.material_index, it.instance);
       }
     }
     ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time, ray.direction,
@@ -214,11 +215,11 @@ MediumStack WhittedIntegrator::media_at(const Vec3& p) const {
   }
   MediumStack media;
   for (auto m = enclosing.rbegin(); m != enclosing.rend(); ++m) {
-    const Material& material = scene_.materials[*m];
+    const Material& material = scene_.materials[m->first];
     if (material.surface) {
-      media.enter(*m, material.priority);
+      media.enter(m->first, m->second, material.priority);
     } else {
-      media.enter_bound(*m);  // a volume's bound
+      media.enter_bound(m->first, m->second);  // a volume's bound
     }
   }
   return media;

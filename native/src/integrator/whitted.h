@@ -45,6 +45,9 @@ struct RayCounts {
   uint64_t volume_feelers = 0;
   uint64_t volume_queries = 0;
   uint64_t volume_bounds = 0;  // volume bounds a ray crossed on its way (kernel.h)
+  // Points a heterogeneous medium's program ran at along the segments and feelers that
+  // crossed it (integrator/heterogeneous.h, march.h).
+  uint64_t volume_steps = 0;
 
   RayCounts& operator+=(const RayCounts& o);
   // A secondary ray of kind `kind` traced: drawn from a glossy lobe (`glossy`), or a

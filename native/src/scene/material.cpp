@@ -43,9 +43,18 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     throw std::invalid_argument("volume_anisotropy must be finite");
   }
   volume_anisotropy = std::clamp(volume_anisotropy, -0.999f, 0.999f);  // as Cycles' HG setup
+  if (!(volume_step_rate > 0.0f) || !std::isfinite(volume_step_rate)) {
+    throw std::invalid_argument("volume_step_rate must be finite and above 0");
+  }
   if (!surface) {
-    if (program || !diffuse_texture.empty() || !alpha_texture.empty()) {
-      throw std::invalid_argument("a material without a surface has no program or texture");
+    // Its program may drive the medium only.
+    bool drives_surface = false;
+    for (size_t f = 0; f < kFieldCount; ++f) {
+      drives_surface |= outputs[f] >= 0 && !medium_field(f);
+    }
+    if (drives_surface || !diffuse_texture.empty() || !alpha_texture.empty()) {
+      throw std::invalid_argument(
+          "a material without a surface has no texture and no program driving its surface");
     }
     alpha = 0.0f;  // where it shares a mesh with surfaces, a cut-out (Scene::compile)
   }

@@ -23,7 +23,9 @@ namespace whitted {
 // here once: X(enumerator, name, components), components 3 for a colour or a normal, 1
 // for a value. The bindings give this table to Python (whitted_native.MATERIAL_FIELDS),
 // whose compiler emits a program's outputs in this order; a field that is also a
-// MaterialParams member (all but the normals) has that member's name.
+// MaterialParams member (all but the normals) has that member's name. The volume_* fields
+// are the medium's (a heterogeneous medium: its program run at points inside the mesh,
+// CompiledScene::medium), the others the surface's.
 #define WHITTED_MATERIAL_FIELDS(X)                  \
   X(kDiffuseField, "diffuse", 3)                    \
   X(kSpecularField, "specular", 3)                  \
@@ -41,7 +43,11 @@ namespace whitted {
   X(kCoatNormalField, "coat_normal", 3)             \
   X(kDiffuseRoughnessField, "diffuse_roughness", 1) \
   X(kRoughnessField, "roughness", 1)                \
-  X(kCoatRoughnessField, "coat_roughness", 1)
+  X(kCoatRoughnessField, "coat_roughness", 1)       \
+  X(kVolumeAbsorptionField, "volume_absorption", 3) \
+  X(kVolumeScatteringField, "volume_scattering", 3) \
+  X(kVolumeAnisotropyField, "volume_anisotropy", 1) \
+  X(kVolumeEmissionField, "volume_emission", 3)
 
 enum Field : uint32_t {
 #define WHITTED_FIELD_ENUMERATOR(enumerator, name, components) enumerator,
@@ -49,6 +55,12 @@ enum Field : uint32_t {
 #undef WHITTED_FIELD_ENUMERATOR
       kFieldCount,
 };
+
+// Whether a field is the medium's (the volume_* fields, last in the table) rather than the
+// surface's.
+constexpr bool medium_field(size_t field) {
+  return field >= kVolumeAbsorptionField && field < kFieldCount;
+}
 
 struct FieldInfo {
   std::string_view name;
@@ -122,6 +134,9 @@ struct MaterialParams {
   Color volume_scattering{0.0f};
   float volume_anisotropy = 0.0f;
   Color volume_emission{0.0f};
+  // Cycles' Material > Settings > Volume > Step Rate: a heterogeneous medium's step
+  // along a ray is its object's (integrator/heterogeneous.h) times this.
+  float volume_step_rate = 1.0f;
   int32_t priority = 0;  // medium.h
   int32_t pass_index = 0;
   // The coat (lobes.h, Coat): a clear dielectric layer over everything above.
@@ -203,6 +218,9 @@ inline constexpr auto kMaterialParams = std::tuple{
     MaterialParam{"volume_emission", &MaterialParams::volume_emission,
                   "Radiance the medium emits per Blender unit of length (W/(m^2 sr) per unit, "
                   "RGB); negative is 0."},
+    MaterialParam{"volume_step_rate", &MaterialParams::volume_step_rate,
+                  "Cycles' material Volume Step Rate (above 0): where a program drives the "
+                  "medium, the marching step is its object's times this (and the render's)."},
     MaterialParam{"priority", &MaterialParams::priority,
                   "Nested dielectrics: where volumes overlap, the material of higher priority owns "
                   "the overlap."},
@@ -250,7 +268,8 @@ struct Material : MaterialParams {
   // Throws std::invalid_argument for what cannot be a material (a non-finite colour,
   // shininess, ambient, IOR, alpha or coat value; an IOR or coat IOR not above 0; outputs
   // without a program, or naming a register it does not have; a program or texture on a
-  // material without a surface) and clamps alpha to [0, 1], 0 without a surface, the volume's
+  // material without a surface, unless it drives only the medium's fields; a volume step
+  // rate not above 0) and clamps alpha to [0, 1], 0 without a surface, the volume's
   // coefficients to at least 0 and its anisotropy to [-0.999, 0.999].
   explicit Material(const MaterialParams& params);
 
@@ -277,10 +296,18 @@ struct Material : MaterialParams {
            driven(kCoatReflectivityField);
   }
   // Whether the mesh encloses a medium that absorbs, scatters or emits (a volume shader's
-  // constant coefficients: integrator/volume.h); a zero volume is none.
+  // constant coefficients, integrator/volume.h, or a program's); a zero volume is none.
   bool participating() const {
     return !is_black(volume_absorption) || !is_black(volume_scattering) ||
-           !is_black(volume_emission);
+           !is_black(volume_emission) || heterogeneous();
+  }
+  // Whether a program drives its medium (integrator/heterogeneous.h): its coefficients
+  // vary from point to point.
+  bool heterogeneous() const {
+    for (size_t f = kVolumeAbsorptionField; f < kFieldCount; ++f) {
+      if (outputs[f] >= 0) return true;
+    }
+    return false;
   }
   bool transmissive() const { return !is_black(transmissivity) || driven(kTransmissivityField); }
   // Lets some light through: transmission, or coverage below 1 (after compile, which

@@ -29,14 +29,11 @@ size_t slot_count(const Mesh& mesh) {
   return count;
 }
 
-Sphere bounding_sphere(const Mesh& mesh) {
-  Vec3 lower(std::numeric_limits<float>::max());
-  Vec3 upper(-std::numeric_limits<float>::max());
-  bool any = false;
+Box bounding_box(const Mesh& mesh) {
+  Box box;
   const auto grow = [&](const Vec3& v, float radius) {
-    lower = glm::min(lower, v - radius);
-    upper = glm::max(upper, v + radius);
-    any = true;
+    box.lower = glm::min(box.lower, v - radius);
+    box.upper = glm::max(box.upper, v + radius);
   };
   for (size_t i = 0; i < mesh.vertex_count(); ++i)
     grow(mesh.vertex(static_cast<uint32_t>(i)), 0.0f);
@@ -48,8 +45,13 @@ Sphere bounding_sphere(const Mesh& mesh) {
   };
   spheres(mesh.curves.keys);
   spheres(mesh.points.spheres);
-  if (!any) return {};
-  return {0.5f * (lower + upper), 0.5f * glm::length(upper - lower)};
+  return box;
+}
+
+Sphere bounding_sphere(const Mesh& mesh) {
+  const Box box = bounding_box(mesh);
+  if (box.empty()) return {};
+  return {0.5f * (box.lower + box.upper), 0.5f * glm::length(box.upper - box.lower)};
 }
 
 namespace {

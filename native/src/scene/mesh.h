@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/math.h"
@@ -127,6 +128,15 @@ struct Mesh {
     return false;
   }
 };
+
+// The axis-aligned box of a mesh's vertices, strands' and points' spheres (lower above
+// upper for a mesh without any).
+struct Box {
+  Vec3 lower{std::numeric_limits<float>::max()};
+  Vec3 upper{-std::numeric_limits<float>::max()};
+  bool empty() const { return lower.x > upper.x; }
+};
+Box bounding_box(const Mesh& mesh);
 
 // A bounding sphere of a mesh's vertices (about its box's centre; radius 0 for a mesh
 // without vertices): its extent, for estimates made before tracing (camera packets).

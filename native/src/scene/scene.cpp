@@ -350,6 +350,16 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     CompiledScene::Instance out;
     out.mesh = mesh->second;
     out.placement = Placement::of(instance.to_world);
+    if (const Box& box = out.mesh->box; !box.empty()) {
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 p((corner & 1) != 0 ? box.upper.x : box.lower.x,
+                     (corner & 2) != 0 ? box.upper.y : box.lower.y,
+                     (corner & 4) != 0 ? box.upper.z : box.lower.z);
+        const Vec3 placed = transform_point(instance.to_world, p);
+        out.world_box.lower = glm::min(out.world_box.lower, placed);
+        out.world_box.upper = glm::max(out.world_box.upper, placed);
+      }
+    }
     // Motion whose every sample can be inverted (Embree inverts the blend); a sample of
     // zero scale (an object shrinking to nothing) leaves it at the frame's transform.
     bool invertible = true;

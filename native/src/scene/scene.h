@@ -35,10 +35,12 @@ struct MeshEntry {
   MeshEntry(std::shared_ptr<AccelDevice> device, Mesh m)
       : mesh(std::move(m)),
         accel(std::move(device), mesh),
+        box(bounding_box(mesh)),
         bounds(bounding_sphere(mesh)),
         slots(slot_count(mesh)) {}
   Mesh mesh;
   MeshAccel accel;
+  Box box;        // in object space
   Sphere bounds;  // in object space
   size_t slots;   // slot_count(mesh)
 };
@@ -134,6 +136,19 @@ struct SurfaceParams {
 // (scene/surface.cpp).
 SurfaceParams constant_surface(const Material& m);
 
+// A medium's coefficients at one point, per Blender unit of length (a material's volume_*
+// fields: integrator/volume.h, heterogeneous.h).
+struct Medium {
+  Color absorption{0.0f};   // sigma_a
+  Color scattering{0.0f};   // sigma_s
+  Color emission{0.0f};     // radiance emitted per unit of length
+  float anisotropy = 0.0f;  // Henyey-Greenstein g
+  // sigma_t = sigma_a + sigma_s.
+  Color extinction() const { return absorption + scattering; }
+  // Nothing to absorb, scatter or emit.
+  bool empty() const { return is_black(absorption) && is_black(scattering) && is_black(emission); }
+};
+
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
 // the render's camera (camera and window coordinates) and the ray's depth in its tree.
 struct RayContext {
@@ -173,6 +188,9 @@ struct CompiledScene {
     std::string name;  // the Scene's key, for what reports name it (the inspector)
     CryptomatteIds cryptomatte;
     InstanceLinks links;
+    // Its mesh's box carried to the world (the box of the eight corners placed): where a
+    // medium it bounds can be, and its marching step (integrator/heterogeneous.h).
+    Box world_box;
   };
   std::vector<Instance> instances;
   bool moves = false;               // whether any instance moves or deforms within the shutter
@@ -234,6 +252,12 @@ struct CompiledScene {
   // The material's fields at a hit of `ray`: its constants, unless textures or a program
   // drive them (then evaluated here, once).
   SurfaceParams surface(const Interaction& it, const Ray& ray, const RayContext& context) const;
+  // The medium that material `material` fills, inside instance `instance`'s mesh, at world
+  // point `x` of `ray`: the material's constants, or where its program drives them
+  // (Material::heterogeneous) the program run at x (scene/surface.cpp). The one question
+  // the integrator asks of a medium at a point.
+  Medium medium(uint32_t material, uint32_t instance, const Vec3& x, const Ray& ray,
+                const RayContext& context) const;
   // Radiance arriving along a ray that hits nothing.
   Color world_radiance(const Ray& ray, const RayContext& context) const;
   // The world's radiance averaged over the upper hemisphere (+Z) with weight cos(theta)/pi:

@@ -81,20 +81,22 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
 
 namespace {
 
-// Where a program reads a surface hit: the inputs it asks for, computed on demand.
+// Where a program reads a surface hit, or a point inside a medium (`inside`: no surface,
+// no primitive; its corner layers read 0): the inputs it asks for, computed on demand.
 struct SurfaceHit {
   const CompiledScene& scene;
   const Interaction& it;
   const Ray& ray;
   const RayContext& context;
   const ProgramHit& hit;
+  bool inside = false;
 
   glm::vec4 input(uint32_t mode) const {
     const CompiledScene::Instance& instance = scene.instances[it.instance];
     const Mesh& mesh = instance.mesh->mesh;
     const auto vec = [](const Vec3& v) { return glm::vec4(v, 0.0f); };
     // Corner layers are a triangle's: a curve or a point reads 0 from them.
-    const bool triangle = mesh.kind(it.primitive) == PrimitiveKind::kTriangle;
+    const bool triangle = !inside && mesh.kind(it.primitive) == PrimitiveKind::kTriangle;
     const auto layer = [&](const std::vector<std::vector<float>>& layers, size_t k, size_t width) {
       return triangle && k < layers.size()
                  ? interpolate_corners(layers[k], width, it.primitive, it.barycentric)
@@ -183,7 +185,7 @@ struct SurfaceHit {
   // The object-space normal a tangent-space normal map bends: the interpolated corner
   // normals, not normalised, or the face's normal on a flat mesh.
   Vec3 object_normal(const Mesh& mesh) const {
-    if (mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
+    if (inside || mesh.kind(it.primitive) != PrimitiveKind::kTriangle) {
       // A curve's or a point's own round normal (a ribbon's too), back in object space.
       const glm::mat3 linear(scene.instances[it.instance].placement.to_world);
       return glm::transpose(linear) * it.shading_normal;
@@ -405,6 +407,59 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     }
   }
   out.alpha = clamp_alpha(out.alpha);
+  return out;
+}
+
+Medium CompiledScene::medium(uint32_t material, uint32_t instance, const Vec3& x, const Ray& ray,
+                             const RayContext& context) const {
+  const Material& m = materials[material];
+  Medium out{m.volume_absorption, m.volume_scattering, m.volume_emission, m.volume_anisotropy};
+  if (!m.heterogeneous()) return out;
+  const Placement& placement = instances[instance].placement;
+  // A point inside a volume as Cycles shades it (shader_setup_from_volume): its normals
+  // and its incoming direction are all the ray's reversed, it has no surface and no
+  // primitive. Object space: the inverse of the transform's linear part is the transpose
+  // of its inverse transpose; Generated is that point in the mesh's texture space, as on
+  // its surface (Cycles' generated transform of a volume mesh: the same texture space).
+  Interaction it{};
+  it.position = x;
+  it.geometric_normal = -ray.direction;
+  it.shading_normal = -ray.direction;
+  it.material = &m;
+  it.material_index = material;
+  it.instance = instance;
+  it.local_position = glm::transpose(placement.normal_to_world) * (x - Vec3(placement.to_world[3]));
+  it.time = ray.time;
+  ProgramHit hit;
+  hit.incoming = -ray.direction;
+  hit.normal = -ray.direction;
+  hit.to_world = glm::mat3(placement.to_world);
+  hit.normal_to_world = placement.normal_to_world;
+  hit.images = m.program_images.data();
+  const SurfaceHit source{*this, it, ray, context, hit, /*inside=*/true};
+  Inputs inputs;
+  for (size_t i = 0; i < m.program->inputs().size(); ++i) {
+    // A Bump's offsets lie along a surface: inside a medium it reads the point itself.
+    inputs[i] = source.input(m.program->inputs()[i] & ~(kInputBumpX | kInputBumpY));
+  }
+  hit.inputs = inputs.data();
+  Registers r;
+  m.program->run(hit, r.data());
+  // Coefficients at least 0 and finite (NaN: 0), as the material's own are.
+  const auto coefficient = [&](Field f, Color* c) {
+    if (!m.driven(f)) return;
+    const glm::vec4& v = r[static_cast<size_t>(m.outputs[f])];
+    for (int k = 0; k < 3; ++k) {
+      (*c)[k] = std::isnan(v[k]) ? 0.0f : std::clamp(v[k], 0.0f, limits::kMaxCoefficient);
+    }
+  };
+  coefficient(kVolumeAbsorptionField, &out.absorption);
+  coefficient(kVolumeScatteringField, &out.scattering);
+  coefficient(kVolumeEmissionField, &out.emission);
+  if (m.driven(kVolumeAnisotropyField)) {
+    const float g = r[static_cast<size_t>(m.outputs[kVolumeAnisotropyField])].x;
+    if (!std::isnan(g)) out.anisotropy = std::clamp(g, -0.999f, 0.999f);  // as the material's
+  }
   return out;
 }
 
