@@ -32,7 +32,7 @@ import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.geometry_key import GeometryKeys
-from ..export.instance import instance_data
+from ..export.instance import instance_data, instance_name
 from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
 from ..export.material import convert_material
@@ -44,6 +44,7 @@ from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
+from .volumes import VolumeReads
 
 # What an original object contributes, as the last walk over the instances saw it.
 _MESH = "mesh"  # a mesh object shown as itself
@@ -153,6 +154,8 @@ class SceneSync:
         self._instanced_light_data = set()  # light data-blocks shown by instances
         self._world = None  # export.world.WorldData
         self._links = NO_LINKS  # export.light_linking.LightLinks of the last sync
+        self._volumes = {}  # instance name -> sync.volumes.VolumeRead (Volume objects)
+        self._volume_warnings = []  # the last walk's report lines for Volume objects
         self.warnings = []  # of the last sync: what could not be exported as authored
 
     @property
@@ -168,6 +171,11 @@ class SceneSync:
         # objects the depsgraph evaluates tell (instances come from these).
         shown = {obj.original.name_full for obj in depsgraph.objects}
         return shown != self._roles.keys()
+
+    @property
+    def volume_bytes(self):
+        """Bytes the Volume objects' grids hold natively (for the memory guard)."""
+        return sum(read.native.bytes for read in self._volumes.values())
 
     @property
     def light_count(self):
@@ -206,6 +214,8 @@ class SceneSync:
             self._walk(depsgraph, changes, params, report, warnings)
         else:
             self._update_objects(depsgraph, changes, params, report, warnings)
+        # What the last walk read of the Volume objects, or skipped, in every sync's report.
+        warnings.extend(self._volume_warnings)
         if first or changes.world or changes.scene or params != self._params:
             self._sync_world(depsgraph.scene, params, report, warnings)
         self._params = params
@@ -330,6 +340,8 @@ class SceneSync:
         roles = {}
         instanced_light_data = set()
         unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
+        # Their temporary folder, if any, goes with the object on an exception.
+        volumes = VolumeReads(self._native, self._volumes)
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
             kind = unrendered_kind(object_instance)
@@ -363,6 +375,9 @@ class SceneSync:
                 if object_instance.is_instance:
                     instanced_light_data.add(obj.data.original.name_full)
                 role = _LIGHT
+            elif obj.type == "VOLUME" and not obj.original.hide_render:
+                volumes.add(instance_name(object_instance), object_instance)
+                role = _OTHER
             else:
                 role = _OTHER
             if object_instance.show_particles and hair_systems(obj, render):
@@ -384,6 +399,9 @@ class SceneSync:
                     instances[instance.name] = instance
             if not object_instance.is_instance:
                 roles.setdefault(obj.original.name_full, role)
+        volumes.close()
+        self._volumes = volumes.read
+        self._volume_warnings = volumes.warnings()
         warnings.extend(unrendered_warnings(unrendered))
         self._set_instances(instances, report, replace_all=True)
         for key in self._geometry.keys() - seen_geometry:

@@ -1,0 +1,163 @@
+"""Volume objects' grids (issue 48; export/volume_object.py, sync/volumes.py, native
+scene/vdb_file.h): a Mesh to Volume object's evaluated grids written and read, the grid's
+voxels, bounds and transform against Blender's own; an imported .vdb read from its file
+and placed by its object; a missing file, an object without grids and a material that
+reads no grid of the file, each skipped with its reason, the render going on."""
+
+import os
+
+import bpy
+import numpy as np
+import pytest
+from whitted.export.volume_object import material_grids
+from whitted.sync.frame import sync_frame
+from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
+
+VOXEL = 0.1  # the Mesh to Volume modifier's voxel size, Blender units
+
+
+@pytest.fixture
+def stage(empty_scene):
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    empty_scene.collection.objects.link(camera)
+    empty_scene.camera = camera
+    camera.location = (0.0, -8.0, 0.0)
+    camera.rotation_euler = (1.5708, 0.0, 0.0)
+    empty_scene.render.resolution_x = empty_scene.render.resolution_y = 16
+    return empty_scene
+
+
+def _frame(native):
+    return sync_frame(bpy.context.evaluated_depsgraph_get(), native)
+
+
+def _smoke(scene):
+    """A Volume object 'Smoke' whose Mesh to Volume modifier fills a cube of edge 2
+    (hidden from the render) centred at the origin with density 1."""
+    cube = add_object(scene, "Source", cube_mesh("Source", 2.0))
+    cube.hide_render = True
+    return mesh_to_volume(scene, "Smoke", cube, VOXEL)
+
+
+def _read(frame, name):
+    return frame.sync._volumes[name]
+
+
+def test_a_mesh_to_volume_objects_grid_is_read_with_its_voxels_and_bounds(stage, native):
+    smoke = _smoke(stage)
+    frame = _frame(native)
+    read = _read(frame, "Smoke")
+    (grid,) = read.grids
+    assert grid.name == "density" and grid.channels == 1
+    # Edge 2 at voxels of 0.1: 20 voxels across inside, and the modifier's exterior band.
+    x, y, z = grid.resolution
+    assert x == y == z and 20 <= x <= 26, grid.resolution
+    assert grid.active_voxels >= 20**3
+    # The grid's transform is the one Blender holds for it (index -> object space).
+    evaluated = smoke.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    blender_grid = evaluated.data.grids["density"]
+    assert np.allclose(grid.index_to_object, np.array(blender_grid.matrix_object), atol=1e-6)
+    lower, upper = read.native.world_bounds
+    assert np.allclose(lower, -1.0, atol=3.5 * VOXEL) and np.allclose(upper, 1.0, atol=3.5 * VOXEL)
+    # Filled with density 1 inside, nothing far outside.
+    assert read.native.sample((0.0, 0.0, 0.0))["density"] == pytest.approx(1.0, abs=1e-6)
+    assert read.native.sample((0.3, -0.5, 0.7))["density"] == pytest.approx(1.0, abs=1e-6)
+    assert read.native.sample((3.0, 0.0, 0.0))["density"] == 0.0
+    lines = [w for w in frame.warnings if "Volume object" in w]
+    assert len(lines) == 1, frame.warnings
+    assert f"('Smoke': 1 grid of {x}^3 voxels (density))" in lines[0], lines
+    assert "not rendered" in lines[0]
+    assert frame.memory.volume_bytes == read.native.bytes > 4 * grid.active_voxels
+
+
+def _saved_grids(scene, folder):
+    """The Smoke object's evaluated grids saved to FOLDER/smoke.vdb by Blender; the
+    object removed."""
+    smoke = _smoke(scene)
+    evaluated = smoke.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    path = os.path.join(folder, "smoke.vdb")
+    assert evaluated.data.grids.save(path)
+    bpy.data.objects.remove(smoke)
+    return path
+
+
+def test_an_imported_vdb_is_read_from_its_file_and_placed_by_its_object(stage, native, tmp_path):
+    path = _saved_grids(stage, str(tmp_path))
+    volume = bpy.data.volumes.new("Imported")
+    volume.filepath = path
+    add_object(stage, "Imported", volume, location=(5.0, 0.0, 0.0), scale=2.0)
+    frame = _frame(native)
+    read = _read(frame, "Imported")
+    assert read.key is not None and read.key[0] == path  # the file itself, not a copy
+    lower, upper = read.native.world_bounds
+    # The cube's box [-1, 1] (with its band), scaled by 2 and moved to x = 5.
+    assert lower[0] == pytest.approx(5.0 - 2.0, abs=2 * 3.5 * VOXEL)
+    assert upper[0] == pytest.approx(5.0 + 2.0, abs=2 * 3.5 * VOXEL)
+    assert upper[2] == pytest.approx(2.0, abs=2 * 3.5 * VOXEL)
+    assert read.native.sample((5.0, 0.0, 0.0))["density"] == pytest.approx(1.0, abs=1e-6)
+    assert read.native.sample((5.0 + 1.8, 0.0, 0.0))["density"] == pytest.approx(1.0, abs=1e-6)
+    assert read.native.sample((0.0, 0.0, 0.0))["density"] == 0.0
+    # Moving the object keeps the grids read (same file) and moves the bounds.
+    kept = read.grids
+    bpy.data.objects["Imported"].location = (0.0, 0.0, 0.0)
+    moved = _read(_frame(native), "Imported")
+    assert moved.grids[0] is kept[0] or moved.grids == kept
+    assert moved.native.world_bounds[0][0] == pytest.approx(-2.0, abs=2 * 3.5 * VOXEL)
+
+
+def test_missing_and_empty_volumes_are_skipped_with_their_reason(stage, native):
+    missing = bpy.data.volumes.new("Missing")
+    missing.filepath = "/nonexistent/folder/smoke.vdb"
+    add_object(stage, "Missing", missing)
+    add_object(stage, "Empty", bpy.data.volumes.new("Empty"))
+    add_object(stage, "Plain", cube_mesh("Plain", 1.0))
+    frame = _frame(native)  # nothing raised: the scene still renders
+    lines = [w for w in frame.warnings if "Volume object" in w]
+    print("\n".join(lines))
+    assert len(lines) == 2, frame.warnings
+    empty, missing_line = lines
+    assert "Volume object 'Empty' skipped: it has no grids" in empty
+    assert "Volume object 'Missing' skipped" in missing_line
+    assert "/nonexistent/folder/smoke.vdb" in missing_line or "not found" in missing_line.lower()
+    assert frame.sync._volumes == {}
+    assert frame.memory.volume_bytes == 0
+
+
+def test_a_material_that_reads_no_grid_of_the_object_skips_it(stage, native):
+    smoke = _smoke(stage)
+    material = bpy.data.materials.new("Heat")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    principled = tree.nodes.new("ShaderNodeVolumePrincipled")
+    principled.inputs["Density Attribute"].default_value = "heat"
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(principled.outputs[0], output.inputs["Volume"])
+    smoke.data.materials.append(material)
+    assert material_grids(material) == {"density": "heat"}
+    lines = [w for w in _frame(native).warnings if "Volume object" in w]
+    assert lines == [
+        "Whitted: Volume object 'Smoke' skipped: its material reads none of its grids "
+        "(density; readable: density)"
+    ]
+
+
+def test_which_grids_a_material_reads():
+    # No material: Cycles' default volume, a Principled Volume reading "density".
+    assert material_grids(None) == {"density": "density"}
+    material = bpy.data.materials.new("Fire")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    principled = tree.nodes.new("ShaderNodeVolumePrincipled")
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(principled.outputs[0], output.inputs["Volume"])
+    # The node's defaults: density read; temperature only once blackbody emission is on.
+    assert material_grids(material) == {"density": "density"}
+    principled.inputs["Blackbody Intensity"].default_value = 1.0
+    principled.inputs["Color Attribute"].default_value = "color"
+    assert material_grids(material) == {
+        "density": "density",
+        "color": "color",
+        "temperature": "temperature",
+    }
