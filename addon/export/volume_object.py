@@ -86,7 +86,9 @@ def volume_object_data(object_instance, folder):
     volume = obj.data
     grids = volume.grids
     if grids.error_message:
-        raise VolumeSkipped(f"Blender could not load its grids: {grids.error_message}")
+        original = obj.original.data
+        path = bpy.path.abspath(original.filepath, library=original.library)
+        raise VolumeSkipped(f"Blender could not load its grids from {path}: {grids.error_message}")
     available = {grid.name: grid.data_type for grid in grids}
     modified = any(modifier.show_render for modifier in obj.original.modifiers)
     if not available:

@@ -50,6 +50,7 @@ from .volumes import VolumeReads
 _MESH = "mesh"  # a mesh object shown as itself
 _LIGHT = "light"
 _INSTANCER = "instancer"  # its instances (or generated geometry) come from it
+_VOLUME = "volume"  # a Volume object (sync/volumes.py), read again by a walk when it changes
 _OTHER = "other"  # cameras, empties without instances, ...
 
 
@@ -316,8 +317,8 @@ class SceneSync:
         if (self._needs, self._info) != self._walked_needs:
             return True  # other program inputs: UV sets, attributes, tangents, object info
         roles = {name: self._roles.get(name) for name in changes.objects}
-        if any(role in (None, _INSTANCER) for role in roles.values()):
-            return True  # an object new to the sync, or one with instances
+        if any(role in (None, _INSTANCER, _VOLUME) for role in roles.values()):
+            return True  # an object new to the sync, one with instances, a Volume object
         if any(roles[name] == _MESH for name in changes.reshaped):
             return True  # a geometry to export again
         # A light data-block whose users may not all be listed (instances of it).
@@ -377,7 +378,7 @@ class SceneSync:
                 role = _LIGHT
             elif obj.type == "VOLUME" and not obj.original.hide_render:
                 volumes.add(instance_name(object_instance), object_instance)
-                role = _OTHER
+                role = _VOLUME
             else:
                 role = _OTHER
             if object_instance.show_particles and hair_systems(obj, render):

@@ -154,6 +154,6 @@ def mesh_to_volume(owner, name, mesh_object, voxel_size):
     modifier.object = mesh_object
     modifier.resolution_mode = "VOXEL_SIZE"
     modifier.voxel_size = voxel_size
-    if hasattr(modifier, "use_fill_volume"):  # 3.x; 4.0 on always fills the interior
+    if hasattr(modifier, "use_fill_volume"):  # 3.4 has it; 4.2 and 5.0 always fill
         modifier.use_fill_volume = True
     return volume
