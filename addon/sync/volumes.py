@@ -22,6 +22,7 @@ MAX_NAMES = 3
 class VolumeRead:
     """A Volume object's grids as the native module holds them."""
 
+    label: str  # the object's name, as the report names it
     key: tuple  # the file they were read from (None for written grids: read each time)
     grids: tuple  # whitted_native.VolumeGrid by export.volume_object.VolumeObjectData.grids
     native: object  # whitted_native.VolumeObject: the grids placed in the world
@@ -38,15 +39,17 @@ class VolumeReads:
         # collected if an exception ends the walk first.
         self._folder = None
         self.read = {}  # instance name -> VolumeRead
-        self.skipped = {}  # instance name -> why
+        self.skipped = {}  # instance name -> (the object's name, why)
 
     def add(self, name, object_instance):
         """Export and read the Volume object `object_instance` (an evaluated depsgraph's,
-        iterated now) under `name`."""
+        iterated now) under `name` (an instance's: a geometry-nodes volume is an instance of
+        the object whose modifier makes it)."""
+        label = object_instance.object.original.name
         try:
             data = volume_object_data(object_instance, self._temporary_folder())
         except VolumeSkipped as why:
-            self.skipped[name] = str(why)
+            self.skipped[name] = (label, str(why))
             return
         key = None if data.written else _file_key(data)
         kept = self._previous.get(name)
@@ -58,7 +61,7 @@ class VolumeReads:
                     self._native.read_volume_grids(data.path, [grid for _, grid in data.grids])
                 )
             except self._native.VolumeFileError as error:
-                self.skipped[name] = str(error)
+                self.skipped[name] = (label, str(error))
                 return
             finally:
                 if data.written:
@@ -67,13 +70,13 @@ class VolumeReads:
         try:
             volume = self._native.VolumeObject(data.to_world, **by_role)
         except ValueError as error:
-            self.skipped[name] = str(error)
+            self.skipped[name] = (label, str(error))
             return
         if volume.world_bounds is None:
             names = ", ".join(grid for _, grid in data.grids)
-            self.skipped[name] = f"its grids ({names}) have no active voxels"
+            self.skipped[name] = (label, f"its grids ({names}) have no active voxels")
             return
-        self.read[name] = VolumeRead(key, grids, volume, describe(data, grids))
+        self.read[name] = VolumeRead(label, key, grids, volume, describe(data, grids))
 
     def close(self):
         """Delete the temporary folder (if one was made)."""
@@ -92,7 +95,8 @@ class VolumeReads:
         if self.read:
             names = sorted(self.read)
             shown = "; ".join(
-                f"'{name}': {self.read[name].description}" for name in names[:MAX_NAMES]
+                f"'{self.read[name].label}': {self.read[name].description}"
+                for name in names[:MAX_NAMES]
             )
             more = "; ..." if len(names) > MAX_NAMES else ""
             lines.append(
@@ -100,7 +104,8 @@ class VolumeReads:
                 "Whitted does not trace OpenVDB grid media yet"
             )
         for name in sorted(self.skipped):
-            lines.append(f"Whitted: Volume object '{name}' skipped: {self.skipped[name]}")
+            label, why = self.skipped[name]
+            lines.append(f"Whitted: Volume object '{label}' skipped: {why}")
         return lines
 
     @property

@@ -1,7 +1,8 @@
 """Volume objects' grids (issue 48; export/volume_object.py, sync/volumes.py, native
 scene/vdb_file.h): a Mesh to Volume object's evaluated grids written and read, the grid's
 voxels, bounds and transform against Blender's own; an imported .vdb read from its file
-and placed by its object; a missing file, an object without grids and a material that
+and placed by its object; an image sequence's file for the frame; a geometry-nodes
+volume on a mesh object; a missing file, an object without grids and a material that
 reads no grid of the file, each skipped with its reason, the render going on."""
 
 import os
@@ -13,7 +14,7 @@ from whitted.export.volume_object import material_grids
 from whitted.properties.presets import quality_of
 from whitted.sync.frame import sync_frame
 from whitted.sync.scene import SyncParams
-from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
+from whitted_tools.scenes import add_object, cube_mesh, geometry_nodes_tree, mesh_to_volume
 
 VOXEL = 0.1  # the Mesh to Volume modifier's voxel size, Blender units
 
@@ -176,3 +177,50 @@ def test_which_grids_a_material_reads():
         "color": "color",
         "temperature": "temperature",
     }
+
+
+def test_a_sequence_reads_the_file_of_the_frame(stage, native, tmp_path):
+    # Two frames of a cache: the cube filled at voxels of 0.1, then of 0.2.
+    cube = add_object(stage, "Source", cube_mesh("Source", 2.0))
+    cube.hide_render = True
+    for frame, voxel in ((1, 0.1), (2, 0.2)):
+        smoke = mesh_to_volume(stage, f"Frame {frame}", cube, voxel)
+        grids = smoke.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.grids
+        assert grids.save(str(tmp_path / f"smoke_{frame:04d}.vdb"))
+        bpy.data.objects.remove(smoke)
+    volume = bpy.data.volumes.new("Cache")
+    volume.filepath = str(tmp_path / "smoke_0001.vdb")
+    volume.is_sequence = True
+    volume.frame_start, volume.frame_duration = 1, 2
+    add_object(stage, "Cache", volume)
+    read = {}
+    for frame in (1, 2):
+        stage.frame_set(frame)
+        read[frame] = _read(_frame(native), "Cache")
+    assert read[1].key[0].endswith("smoke_0001.vdb") and read[2].key[0].endswith("smoke_0002.vdb")
+    coarse, fine = read[2].grids[0].resolution[0], read[1].grids[0].resolution[0]
+    assert fine > 1.7 * coarse, (fine, coarse)
+
+
+def test_a_geometry_nodes_volume_is_written_and_read(stage, native):
+    # A mesh object whose geometry nodes make a volume (Mesh to Volume): no file holds it.
+    holder = add_object(stage, "Cloud", cube_mesh("Cloud", 2.0))
+    tree, group_input, group_output = geometry_nodes_tree("Cloud")
+    to_volume = tree.nodes.new("GeometryNodeMeshToVolume")
+    if hasattr(to_volume, "resolution_mode"):  # 3.4; a menu input in 5.0
+        to_volume.resolution_mode = "VOXEL_SIZE"
+    else:
+        to_volume.inputs["Resolution Mode"].default_value = "Size"
+    to_volume.inputs["Voxel Size"].default_value = VOXEL
+    tree.links.new(group_input.outputs[0], to_volume.inputs["Mesh"])
+    tree.links.new(to_volume.outputs["Volume"], group_output.inputs[0])
+    holder.modifiers.new("Nodes", "NODES").node_group = tree
+    frame = _frame(native)
+    lines = [w for w in frame.warnings if "Volume object" in w]
+    print("\n".join(lines))
+    (name,) = frame.sync._volumes
+    read = frame.sync._volumes[name]
+    assert read.key is None  # written for this sync, not a file of the scene's
+    assert read.grids[0].name == "density" and read.grids[0].active_voxels > 15**3
+    assert read.native.sample((0.0, 0.0, 0.0))["density"] > 0.0
+    assert len(lines) == 1 and "read and not rendered ('Cloud': 1 grid of" in lines[0], lines
