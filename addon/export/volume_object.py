@@ -12,9 +12,9 @@ Where the grids come from (the same in Blender 3.4 and 5.x):
   image sequence's frame (`frame_start`, `frame_offset`, `frame_duration`, the
   sequence mode) and the scene's frame.
 - Otherwise (a Mesh to Volume or Volume Displace modifier, geometry nodes, a packed
-  file): the evaluated grids, written by Blender's own `VolumeGrids.save(path)` to a
-  file in the folder the caller gives (a temporary one, deleted once the grids are
-  read).
+  file, whose `frame_filepath` still names the file it was packed from): the evaluated
+  grids, written by Blender's own `VolumeGrids.save(path)` to a file in the folder the
+  caller gives (a temporary one, deleted once the grids are read).
 
 Which grids: those the material reads through Principled Volume's Density, Color and
 Temperature Attribute inputs (Temperature only where Blackbody Intensity is above 0 or
@@ -72,7 +72,6 @@ class VolumeObjectData:
     step_size: float  # Blender units of `space`; 0: automatic
     clipping: float  # values below it are empty space to Cycles' bounds
     precision: str  # "FULL" | "HALF" | "VARIABLE": read as 32-bit floats whatever it says
-    frame: int  # the frame the grids are of (an image sequence's, else the scene's)
 
 
 class VolumeSkipped(ValueError):
@@ -116,7 +115,6 @@ def volume_object_data(object_instance, folder):
         step_size=float(render.step_size),
         clipping=float(render.clipping),
         precision=render.precision,
-        frame=int(grids.frame),
     )
 
 
@@ -179,7 +177,10 @@ def _grid_file(obj, folder, modified):
     volume = obj.data
     original = obj.original
     path = volume.grids.frame_filepath
-    if not modified and path and volume.packed_file is None:
+    # Packing is the original Volume's (an evaluated copy has no packed_file); its
+    # frame_filepath still names the file it was packed from, which may be gone.
+    packed = getattr(original.data, "packed_file", None) is not None
+    if not modified and path and not packed:
         return bpy.path.abspath(path, library=original.data.library), False
     target = os.path.join(folder, f"{_file_name(original.name)}.vdb")
     if not volume.grids.save(target):

@@ -10,7 +10,7 @@ import os
 import bpy
 import numpy as np
 import pytest
-from whitted.export.volume_object import material_grids
+from whitted.export.volume_object import material_grids, volume_object_data
 from whitted.properties.presets import quality_of
 from whitted.sync.frame import sync_frame
 from whitted.sync.scene import SyncParams
@@ -224,3 +224,35 @@ def test_a_geometry_nodes_volume_is_written_and_read(stage, native):
     assert read.grids[0].name == "density" and read.grids[0].active_voxels > 15**3
     assert read.native.sample((0.0, 0.0, 0.0))["density"] > 0.0
     assert len(lines) == 1 and "read and not rendered ('Cloud': 1 grid of" in lines[0], lines
+
+
+def test_a_packed_volume_is_read_from_its_evaluated_grids(stage, native, tmp_path):
+    path = _saved_grids(stage, str(tmp_path))
+    volume = bpy.data.volumes.new("Packed")
+    volume.filepath = path
+    add_object(stage, "Packed", volume)
+    bpy.ops.file.pack_all()
+    assert volume.packed_file is not None
+    os.remove(path)  # only the .blend's packed copy is left
+    read = _read(_frame(native), "Packed")
+    assert read.key is None  # written from the evaluated grids, not the gone file
+    assert read.grids[0].active_voxels >= 20**3
+
+
+def test_the_export_carries_the_render_settings_and_transform(stage, tmp_path):
+    smoke = _smoke(stage)
+    smoke.location = (1.0, 2.0, 3.0)
+    render = smoke.data.render
+    render.space, render.step_size, render.clipping, render.precision = "WORLD", 0.05, 0.02, "HALF"
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    # An instance is valid only while the depsgraph's iteration is on it.
+    (data,) = [
+        volume_object_data(i, str(tmp_path))
+        for i in depsgraph.object_instances
+        if i.object.type == "VOLUME"
+    ]
+    assert (data.name, data.written, data.grids) == ("Smoke", True, (("density", "density"),))
+    assert os.path.dirname(data.path) == str(tmp_path) and os.path.isfile(data.path)
+    assert (data.space, data.precision) == ("WORLD", "HALF")
+    assert data.step_size == pytest.approx(0.05) and data.clipping == pytest.approx(0.02)
+    assert np.allclose(data.to_world[:3, 3], (1.0, 2.0, 3.0))  # row-major, object -> world
