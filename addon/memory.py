@@ -15,7 +15,7 @@ close the estimate comes).
 """
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import bpy
 
@@ -57,6 +57,9 @@ class MemoryEstimate:
     pixels: int
     keys: int = 0  # curve keys and points: hair, Curves objects, point clouds
     map_texels: int = 0  # the world light's importance map
+    # The Volume objects' grids as the native module holds them (VolumeObject.bytes):
+    # known only once the sync has read them (check_volumes).
+    volume_bytes: int = 0
 
     @property
     def parts(self):
@@ -71,6 +74,7 @@ class MemoryEstimate:
                 f"{self.map_texels:,} texels of the world's light map",
                 self.map_texels * MAP_TEXEL_BYTES,
             ),
+            ("the Volume objects' grids", self.volume_bytes),
         ]
         return sorted(parts, key=lambda part: -part[1])
 
@@ -145,6 +149,22 @@ def check(depsgraph, pixels):
     of `depsgraph` at `pixels` pixels would need more than the budget; else return
     its MemoryEstimate."""
     needed = estimate(depsgraph, pixels)
+    _refuse_over_budget(needed)
+    return needed
+
+
+def check_volumes(needed, volume_bytes):
+    """`needed` (a MemoryEstimate) with the grids the sync read; raises ExportError as
+    check() does when the render would no longer fit. The grids are read by then: the
+    render, not the read, is refused."""
+    if not volume_bytes:
+        return needed
+    needed = replace(needed, volume_bytes=volume_bytes)
+    _refuse_over_budget(needed)
+    return needed
+
+
+def _refuse_over_budget(needed):
     limit, source = budget()
     if limit is not None and needed.bytes > limit:
         parts = ", ".join(f"{what} {size / MIB:,.0f} MiB" for what, size in needed.parts)
@@ -154,4 +174,3 @@ def check(depsgraph, pixels):
             f"({limit / MIB:,.0f} MiB): {parts}. Nothing was rendered; lower the "
             "resolution or the geometry (subdivision levels, instance counts)."
         )
-    return needed

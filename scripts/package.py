@@ -140,10 +140,16 @@ def resolved(path):
 
 
 def copy_license(library_path, libs_dir, name):
-    """Debian's copyright file of the package that owns library_path, beside it."""
-    owner = subprocess.run(
-        ["dpkg-query", "-S", library_path], capture_output=True, text=True, check=False
-    ).stdout.split(":")[0]
+    """Debian's copyright file of the package that owns library_path, beside it. Debian 12
+    merges /lib into /usr/lib, and dpkg knows each file by the path its package ships
+    (zlib's, bzip2's and xz's under /lib): both are asked."""
+    owner = ""
+    for path in (library_path, re.sub(r"^/usr/lib/", "/lib/", library_path)):
+        owner = subprocess.run(
+            ["dpkg-query", "-S", path], capture_output=True, text=True, check=False
+        ).stdout.split(":")[0]
+        if owner:
+            break
     notice = f"/usr/share/doc/{owner}/copyright"
     if owner and os.path.isfile(notice):
         shutil.copy2(notice, os.path.join(libs_dir, name.split(".so")[0] + ".copyright"))

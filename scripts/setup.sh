@@ -64,6 +64,9 @@ done
 DEMO_APT_PACKAGES=(
   cmake ninja-build g++ libembree-dev libglm-dev libtbb-dev python3-dev python3-venv
   blender python3-numpy
+  # Volume objects' OpenVDB grids (CMake's WHITTED_OPENVDB, on by default); OpenVDB's
+  # headers include Boost's (libopenvdb-dev does not depend on them)
+  libopenvdb-dev libboost-dev
 )
 # What the full set-up needs: the demo's, and for the tests and tools:
 APT_PACKAGES=(
@@ -74,6 +77,8 @@ APT_PACKAGES=(
   binutils
   # what our tests need inside Blender 3.4
   python3-pytest
+  # tests/python/test_volume_object.py writes its grids with OpenVDB's Python module
+  python3-openvdb
   # the X11 client libraries the bpy wheel loads even headless
   libxrender1 libsm6 libxi6 libxxf86vm1 libxfixes3 libgl1 libxkbcommon0 libxt6 libxext6
   # the performance suite's side-by-side comparison (the perf-povray verb)

@@ -2,10 +2,11 @@
 depsgraph is walked, so that nothing vanishes from the image without a report line
 naming it (the object, what it is, and why).
 
-Cycles renders, and Whitted skips: Volume objects (OpenVDB), the world's Volume output,
-and a material's Volume output that is not a constant (homogeneous) one (export/volume.py
-says which are rendered). Cycles renders otherwise, and Whitted as ordinary
-objects: shadow catchers (Object > Visibility > Shadow Catcher). (Hair curves, point
+Cycles renders, and Whitted skips: the world's Volume output, and a material's Volume
+output that is not a constant (homogeneous) one (export/volume.py says which are
+rendered). Volume objects are read and not traced yet: sync/volumes.py reports them.
+Cycles renders otherwise, and Whitted as ordinary objects: shadow catchers
+(Object > Visibility > Shadow Catcher). (Hair curves, point
 clouds and particle hair are rendered: export/curves.py. A geometry-nodes curve on a
 mesh object reaches a render as an empty legacy curve, which Cycles skips too: it is not
 listed.)
@@ -13,8 +14,6 @@ listed.)
 
 from .nodes.graph import source
 
-# Object types the walk meets and does not export, with how the report names them.
-OBJECT_KINDS = {"VOLUME": "volumes"}
 # The object types whose Shadow Catcher flag Cycles reads: geometry. Blender 3.4 sets the
 # flag on every new lamp (a new point lamp reads True), where it means nothing.
 GEOMETRY_TYPES = frozenset(
@@ -23,11 +22,9 @@ GEOMETRY_TYPES = frozenset(
 
 # What the report says of each kind's objects, and why.
 PHRASE = {
-    "volumes": "with volumes not rendered",
     "shadow catchers": "set as shadow catchers, rendered as ordinary objects",
 }
 WHY = {
-    "volumes": "Whitted does not render Volume objects (OpenVDB grids) yet",
     "shadow catchers": "Cycles shows only the shadows cast on them; Whitted has no shadow "
     "catcher yet",
 }
@@ -37,14 +34,14 @@ MAX_NAMES = 3
 
 
 def unrendered_kind(object_instance):
-    """The kind (an OBJECT_KINDS phrase) of what `object_instance` of an evaluated
-    depsgraph would show in Cycles and shows nothing of in Whitted, or None."""
+    """The kind (a PHRASE key) of what `object_instance` of an evaluated depsgraph
+    shows otherwise in Cycles than in Whitted, or None."""
     obj = object_instance.object
     if obj.original.hide_render:
         return None
     if obj.type in GEOMETRY_TYPES and getattr(obj.original, "is_shadow_catcher", False):
         return "shadow catchers"
-    return OBJECT_KINDS.get(obj.type)
+    return None
 
 
 def unrendered_warnings(found):

@@ -81,6 +81,7 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
     needed = memory.check(depsgraph, camera.width * camera.height)
     sync = SceneSync(native)
     report = sync.sync(depsgraph, replace(SyncParams.of(scene, quality), motion=motion))
+    needed = memory.check_volumes(needed, sync.volume_bytes)
     warnings = list(sync.warnings) + camera_warnings
     if motion is not None and motion.unmatched:
         names = _first_names(motion.unmatched)

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..export.curves import STRAND_TYPES, hair_systems, particle_hair_data, strands_data
 from ..export.geometry_key import GeometryKeys
-from ..export.instance import DEFAULT_MATERIAL, instance_data
+from ..export.instance import DEFAULT_MATERIAL, instance_data, instance_name
 from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
 from ..export.material import convert_material, default_material, medium_material
@@ -45,11 +45,13 @@ from ..export.volume import Medium, volume_bounces_warning
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
+from .volumes import VolumeReads
 
 # What an original object contributes, as the last walk over the instances saw it.
 _MESH = "mesh"  # a mesh object shown as itself
 _LIGHT = "light"
 _INSTANCER = "instancer"  # its instances (or generated geometry) come from it
+_VOLUME = "volume"  # a Volume object (sync/volumes.py), read again by a walk when it changes
 _OTHER = "other"  # cameras, empties without instances, ...
 
 
@@ -154,6 +156,8 @@ class SceneSync:
         self._instanced_light_data = set()  # light data-blocks shown by instances
         self._world = None  # export.world.WorldData
         self._links = NO_LINKS  # export.light_linking.LightLinks of the last sync
+        self._volumes = {}  # instance name -> sync.volumes.VolumeRead (Volume objects)
+        self._volume_warnings = []  # the last walk's report lines for Volume objects
         self.warnings = []  # of the last sync: what could not be exported as authored
 
     @property
@@ -169,6 +173,11 @@ class SceneSync:
         # objects the depsgraph evaluates tell (instances come from these).
         shown = {obj.original.name_full for obj in depsgraph.objects}
         return shown != self._roles.keys()
+
+    @property
+    def volume_bytes(self):
+        """Bytes the Volume objects' grids hold natively (for the memory guard)."""
+        return sum(read.native.bytes for read in self._volumes.values())
 
     @property
     def light_count(self):
@@ -210,6 +219,8 @@ class SceneSync:
             self._walk(depsgraph, changes, params, report, warnings)
         else:
             self._update_objects(depsgraph, changes, params, report, warnings)
+        # What the last walk read of the Volume objects, or skipped, in every sync's report.
+        warnings.extend(self._volume_warnings)
         if first or changes.world or changes.scene or params != self._params:
             self._sync_world(depsgraph.scene, params, report, warnings)
         self._params = params
@@ -315,8 +326,8 @@ class SceneSync:
         if (self._needs, self._info) != self._walked_needs:
             return True  # other program inputs: UV sets, attributes, tangents, object info
         roles = {name: self._roles.get(name) for name in changes.objects}
-        if any(role in (None, _INSTANCER) for role in roles.values()):
-            return True  # an object new to the sync, or one with instances
+        if any(role in (None, _INSTANCER, _VOLUME) for role in roles.values()):
+            return True  # an object new to the sync, one with instances, a Volume object
         if any(roles[name] == _MESH for name in changes.reshaped):
             return True  # a geometry to export again
         # A light data-block whose users may not all be listed (instances of it).
@@ -339,6 +350,8 @@ class SceneSync:
         roles = {}
         instanced_light_data = set()
         unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
+        # Their temporary folder, if any, goes with the object on an exception.
+        volumes = VolumeReads(self._native, self._volumes)
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
             kind = unrendered_kind(object_instance)
@@ -372,6 +385,9 @@ class SceneSync:
                 if object_instance.is_instance:
                     instanced_light_data.add(obj.data.original.name_full)
                 role = _LIGHT
+            elif obj.type == "VOLUME" and not obj.original.hide_render:
+                volumes.add(instance_name(object_instance), object_instance)
+                role = _VOLUME
             else:
                 role = _OTHER
             if object_instance.show_particles and hair_systems(obj, render):
@@ -393,6 +409,9 @@ class SceneSync:
                     instances[instance.name] = instance
             if not object_instance.is_instance:
                 roles.setdefault(obj.original.name_full, role)
+        volumes.close()
+        self._volumes = volumes.read
+        self._volume_warnings = volumes.warnings()
         warnings.extend(unrendered_warnings(unrendered))
         self._set_instances(instances, report, replace_all=True)
         for key in self._geometry.keys() - seen_geometry:

@@ -61,6 +61,7 @@ void bind_scene(py::module_& m);
 void bind_texture(py::module_& m);
 void bind_render(py::module_& m);
 void bind_denoise(py::module_& m);
+void bind_volume_object(py::module_& m);
 
 // The inspector's tree as {"pixel", "alpha", "rays": [...]} (native/python/ray_tree.cpp).
 py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene);

@@ -14,4 +14,5 @@ PYBIND11_MODULE(whitted_native, m) {
   whitted::python::bind_settings(m);
   whitted::python::bind_render(m);
   whitted::python::bind_denoise(m);
+  whitted::python::bind_volume_object(m);
 }

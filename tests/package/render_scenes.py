@@ -6,7 +6,7 @@ from the development install or from a package installed into this process's
     .venv-5.2/bin/python render_scenes.py ARGS
 
 ARGS: --scene FILE.blend FILE.exr [--scene ...] --resolution W H [--install ZIP]
-      [--cycles-first] [--report FILE.json] [--keep-errors]
+      [--cycles-first] [--report FILE.json] [--keep-errors] [--volume-probe FOLDER]
 
 Each FILE.blend is a scene saved once (by Blender 3.4, or the demo saved by the same
 Blender): renders that are compared render one scene file. (Building the demo scene
@@ -18,8 +18,11 @@ ending the script (the tests read what a Blender without a fitting module says).
 --install installs ZIP as a user add-on (3.4) or a user extension (4.2+) and enables
 it; without it the development install (`whitted`, linked by scripts/setup.sh) is
 enabled. --cycles-first renders a tiny Cycles frame first, so Blender's own Embree
-is loaded and used before Whitted's. The report says which module was used and
-which Embree/TBB files the process mapped.
+is loaded and used before Whitted's. --volume-probe (bpy modules: it needs the tools)
+makes a Mesh to Volume object in a scene of its own, renders it with Cycles (Blender's
+own OpenVDB reads and samples it), and has the module's sync read its grids, which
+Blender saves into FOLDER (the module's OpenVDB reads a file Blender's wrote). The
+report says which module was used and which Embree/TBB/OpenVDB files the process mapped.
 """
 
 import argparse
@@ -39,6 +42,7 @@ def parse_args():
     parser.add_argument("--cycles-first", action="store_true")
     parser.add_argument("--report")
     parser.add_argument("--keep-errors", action="store_true")
+    parser.add_argument("--volume-probe")
     return parser.parse_args(argv)
 
 
@@ -69,7 +73,8 @@ def enable_development():
 def mapped_libraries():
     with open("/proc/self/maps", encoding="utf-8") as maps:
         paths = {line.split()[-1] for line in maps if "/" in line}
-    return sorted(p for p in paths if "embree" in p or "tbb" in p or "whitted_native" in p)
+    wanted = ("embree", "tbb", "openvdb", "whitted_native")
+    return sorted(p for p in paths if any(name in p for name in wanted))
 
 
 def cycles_frame(path):
@@ -98,6 +103,36 @@ def render(blend, output, resolution, cycles_first):
     settings.exr_codec = "ZIP"
     scene.render.filepath = output
     bpy.ops.render.render(write_still=True)
+
+
+def volume_probe(module, native, folder):
+    """What the module read of a Mesh to Volume object Cycles rendered first (module
+    docstring): its sync's report line, the grid's voxels, and the OpenVDB files mapped."""
+    import importlib
+
+    from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
+
+    scene = bpy.data.scenes.new("Volume probe")
+    cube = add_object(scene, "Source", cube_mesh("Source", 2.0))
+    cube.hide_render = True
+    mesh_to_volume(scene, "Smoke", cube, 0.1)
+    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"), location=(0, -8, 0))
+    camera.rotation_euler = (1.5708, 0.0, 0.0)
+    scene.camera = camera
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 1
+    scene.render.resolution_x = scene.render.resolution_y = 16
+    scene.render.filepath = os.path.join(folder, "cycles.png")
+    bpy.ops.render.render(write_still=True, scene=scene.name)
+    depsgraph = scene.view_layers[0].depsgraph
+    depsgraph.update()
+    frame = importlib.import_module(module + ".sync.frame").sync_frame(depsgraph, native)
+    read = frame.sync._volumes.get("Smoke")
+    return {
+        "warnings": [w for w in frame.warnings if "Volume object" in w],
+        "active_voxels": read.grids[0].active_voxels if read else 0,
+        "mapped": [p for p in mapped_libraries() if "openvdb" in p],
+    }
 
 
 def denoiser(native):
@@ -142,6 +177,9 @@ def main():
         "dev_addon_loaded": "whitted" in sys.modules and module != "whitted",
         "errors": errors,
     }
+    if args.volume_probe:
+        report["volume"] = volume_probe(module, native, os.path.abspath(args.volume_probe))
+        report["mapped"] = mapped_libraries()
     if args.report:
         with open(args.report, "w", encoding="utf-8") as out:
             json.dump(report, out, indent=1)

@@ -1,5 +1,6 @@
 """The installable package (scripts/package.py): what its compiled modules need, that
-each loads with the system's Embree and TBB hidden in its own CPython, and that it
+each loads with the system's Embree, TBB and OpenVDB hidden in its own CPython (and
+reads an OpenVDB file there), and that it
 installs into fresh user profiles of Blender 3.4 and the bpy 5.2 module and renders
 the demo exactly as the development install does (tests/package/test_versions.py:
 the other versions).
@@ -56,6 +57,15 @@ def test_zip_layout(package_zip):
     assert modules == [f"whitted/whitted_native.cpython-{t}-x86_64-linux-gnu.so" for t in tags]
     libembree = [name for name in names if "libembree3" in name and name.endswith(".so.3")]
     assert len(libembree) == 1, libembree
+    # OpenVDB for Volume objects' grids, once, with Debian's copyright file beside it.
+    libopenvdb = [
+        n for n in names if re.fullmatch(r"whitted/libs/libopenvdb-[0-9a-f]{8}\.so\.10\.0", n)
+    ]
+    assert len(libopenvdb) == 1, libopenvdb
+    # Every library bundled from Debian (named by its hash) has its copyright file.
+    for name in names:
+        if re.fullmatch(r"whitted/libs/lib.+-[0-9a-f]{8}\.so[.0-9]*", name):
+            assert name.split(".so")[0] + ".copyright" in names, name
     # Open Image Denoise (scripts/stage_oidn.sh stages it for the build), with its licence,
     # and the notice of the Hosek/Wilkie sky dataset compiled into the module.
     for name in ("libOpenImageDenoise.so.2", "OpenImageDenoise.LICENSE", "HosekWilkie.LICENSE"):
@@ -86,9 +96,12 @@ def test_every_library_need_is_bundled_or_base_system(extracted):
         if path.parent != extracted:
             assert soname == [path.name], "a bundled library's SONAME is its unique file name"
     print("\n".join(lines))
-    # Embree and TBB are in there, under names nothing else on a system uses.
+    # Embree, TBB, OpenVDB and OpenVDB's own needs are in there, under names nothing
+    # else on a system uses.
     assert any(re.fullmatch(r"libembree3-[0-9a-f]{8}\.so\.3", n) for n in bundled)
     assert any(re.fullmatch(r"libtbb-[0-9a-f]{8}\.so\.12", n) for n in bundled)
+    for stem in OPENVDB_STACK:
+        assert any(n.startswith(stem.split(".so")[0] + "-") for n in bundled), stem
 
 
 def _system_library(name):
@@ -98,12 +111,34 @@ def _system_library(name):
     pytest.fail(f"{name} is not installed on this machine (setup installs it for the build)")
 
 
+# OpenVDB and the libraries it needs that a base system lacks (Debian 12's 10.0.1).
+OPENVDB_STACK = (
+    "libopenvdb.so.10.0",
+    "libblosc.so.1",
+    "libboost_iostreams.so.1.74.0",
+    "libImath-3_1.so.29",
+    "liblog4cplus-2.0.so.3",
+)
+
+# A grid of 2 voxels written by OpenVDB's own Python module (python3-openvdb).
+WRITE_VDB = textwrap.dedent(
+    """
+    import sys
+    import pyopenvdb as vdb
+    grid = vdb.FloatGrid()
+    grid.name = "density"
+    grid.getAccessor().setValueOn((0, 0, 0), 1.0)
+    grid.getAccessor().setValueOn((1, 0, 0), 3.0)
+    vdb.write(sys.argv[1], grids=[grid])
+    """
+)
+
 HIDDEN_CHECK = textwrap.dedent(
     """
     import ctypes, importlib.util, json, subprocess, sys
-    package, module_file = sys.argv[1], sys.argv[2]
-    # The system's Embree and TBB are hidden: loading them by name fails.
-    for name in ("libembree3.so.3", "libtbb.so.12"):
+    package, module_file, vdb_file = sys.argv[1], sys.argv[2], sys.argv[3]
+    # The system's Embree, TBB and OpenVDB are hidden: loading them by name fails.
+    for name in ("libembree3.so.3", "libtbb.so.12", "libopenvdb.so.10.0"):
         try:
             ctypes.CDLL(name)
         except OSError as error:
@@ -128,8 +163,11 @@ HIDDEN_CHECK = textwrap.dedent(
     while not job.wait(1.0):
         pass
     image = job.image()
-    maps = sorted({l.split()[-1] for l in open("/proc/self/maps") if "embree" in l or "tbb" in l})
-    print(json.dumps({"mean": float(image[..., :3].mean()), "maps": maps}))
+    (grid,) = native.read_volume_grids(vdb_file, ["density"])
+    maps = sorted({l.split()[-1] for l in open("/proc/self/maps")
+                   if any(n in l for n in ("embree", "tbb", "openvdb", "blosc", "Imath"))})
+    print(json.dumps({"mean": float(image[..., :3].mean()), "voxels": grid.active_voxels,
+                      "maps": maps}))
     """
 )
 
@@ -174,28 +212,33 @@ def numpy_pythons(tmp_path_factory):
 
 @pytest.mark.parametrize("python", MODULE_PYTHONS)
 def test_module_loads_with_system_embree_and_tbb_hidden(python, extracted, numpy_pythons, tmp_path):
-    """In a private mount namespace the system's Embree and TBB files are replaced by
-    /dev/null (so any attempt to load them fails); a plain CPython of each version the
-    package carries (no Blender, nothing else preloaded) imports the packaged module of
-    its own ABI and renders a triangle."""
+    """In a private mount namespace the system's Embree, TBB and OpenVDB files (and
+    OpenVDB's needs) are replaced by /dev/null (so any attempt to load them fails); a
+    plain CPython of each version the package carries (no Blender, nothing else
+    preloaded) imports the packaged module of its own ABI, renders a triangle and reads
+    an OpenVDB file's grid."""
     tag = python.replace(".", "")
     module_file = next(extracted.glob(f"whitted_native.cpython-{tag}-*.so"))
-    hidden = [_system_library(n) for n in ("libembree3.so.3", "libtbb.so.12", "libtbbmalloc.so.2")]
+    names = ("libembree3.so.3", "libtbb.so.12", "libtbbmalloc.so.2", *OPENVDB_STACK)
+    hidden = [_system_library(n) for n in names]
+    vdb_file = tmp_path / "two.vdb"
+    run([SYSTEM_PYTHON, "-c", WRITE_VDB, vdb_file])
     script = tmp_path / "check.py"
     script.write_text(HIDDEN_CHECK)
     mounts = " && ".join(f"mount --bind /dev/null {path}" for path in hidden)
-    check = f"exec {numpy_pythons[python]} {script} {extracted} {module_file}"
+    check = f"exec {numpy_pythons[python]} {script} {extracted} {module_file} {vdb_file}"
     shell = f"mount --make-rprivate / && {mounts} && {check}"
     output = run([*_namespace_prefix(), "sh", "-c", shell])
     print(output)
     result = json.loads(output.strip().splitlines()[-1])
     assert result["mean"] > 0.0, "the triangle rendered black"
+    assert result["voxels"] == 2, result
     assert result["maps"], "no Embree or TBB mapped at all?"
     for path in result["maps"]:
         assert path.startswith(str(extracted / "libs")), f"{path} is not the package's own"
     ldd = output.split("{")[0]
     for line in ldd.splitlines():
-        if "=>" in line and ("embree" in line or "tbb" in line):
+        if "=>" in line and any(n in line for n in ("embree", "tbb", "openvdb", "blosc")):
             assert str(extracted / "libs") in line, line
 
 

@@ -43,6 +43,12 @@ inline constexpr int kMaxVolumeCrossings = 64;
 // epsilon): what lies beyond counts as unseen.
 inline constexpr float kVolumeOpaque = 1e-6f;
 
+// A volume grid's blocks of 8^3 voxels are found through a dense lattice over its
+// voxels' bounding box (scene/volume_grid.h), 4 bytes a block: at most this many blocks
+// (512 MiB of lattice, a box of 4096^3 voxels); a grid spread wider is refused with a
+// message (scene/vdb_file.cpp) rather than exhausting memory.
+inline constexpr long long kMaxGridBlocks = 1LL << 27;
+
 // --- absolute bounds: float32 and Embree ----------------------------------------------
 
 // The exporter drops triangles with an object-space coordinate beyond 1e7

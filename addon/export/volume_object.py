@@ -1,0 +1,224 @@
+"""A Volume object's grids (issue 48, Volume objects), as plain data: the OpenVDB file
+that holds them, which of its grids the object's material reads, where the object is,
+and its Volume > Render settings (VolumeObjectData). The native module reads the grids
+(native scene/vdb_file.h) and samples them (scene/volume_object.h); the integrator does
+not trace them yet, and the report says what was read (sync/scene.py).
+
+Where the grids come from (the same in Blender 3.4 and 5.x):
+
+- A Volume whose grids are its file's, unchanged (no modifier enabled for render): the
+  file the evaluated Volume loaded for this frame, `VolumeGrids.frame_filepath`, which
+  Blender resolves from `Volume.filepath` (relative to the .blend or its library), the
+  image sequence's frame (`frame_start`, `frame_offset`, `frame_duration`, the
+  sequence mode) and the scene's frame.
+- Otherwise (a Mesh to Volume or Volume Displace modifier, geometry nodes, a packed
+  file, whose `frame_filepath` still names the file it was packed from): the evaluated
+  grids, written by Blender's own `VolumeGrids.save(path)` to a file in the folder the
+  caller gives (a temporary one, deleted once the grids are read).
+
+Which grids: those the material reads through Principled Volume's Density, Color and
+Temperature Attribute inputs (Temperature only where Blackbody Intensity is above 0 or
+linked: it scales nothing else) and the Volume Info node's outputs (fixed names
+density, color, flame, temperature). A Volume object without a material is shaded by
+Cycles' default volume, a Principled Volume of the node's defaults: its grid "density".
+
+Units: the object's transform `matrix_world` takes object space to Blender's world,
+which is Whitted's (no axis change); a grid's own transform (index space -> object
+space, its voxel size) travels in the file. Step size is in Blender units of the space
+Volume > Render > Space names (object or world); 0 lets Cycles pick it from the voxel
+size.
+"""
+
+import os
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+from .nodes.graph import source
+
+# The native VolumeObject's roles (scene/volume_object.h GridRole), in its order.
+ROLES = ("density", "color", "temperature", "flame")
+# Principled Volume's inputs naming a grid, by role.
+PRINCIPLED_ATTRIBUTES = {
+    "density": "Density Attribute",
+    "color": "Color Attribute",
+    "temperature": "Temperature Attribute",
+}
+# The Volume Info node's outputs and the grid each reads.
+VOLUME_INFO_GRIDS = {
+    "Density": "density",
+    "Color": "color",
+    "Flame": "flame",
+    "Temperature": "temperature",
+}
+# Cycles' default volume: a Principled Volume of the node's defaults.
+DEFAULT_GRIDS = {"density": "density"}
+# Blender's grid data types (VolumeGrid.data_type) the native reader reads, and whether
+# each is a vector (colour) grid.
+READABLE_TYPES = {"FLOAT": False, "DOUBLE": False, "VECTOR_FLOAT": True, "VECTOR_DOUBLE": True}
+
+
+@dataclass(frozen=True)
+class VolumeObjectData:
+    """A Volume object's grids and placement (module docstring)."""
+
+    name: str  # the object's name
+    path: str  # the OpenVDB file to read (absolute)
+    written: bool  # the evaluated grids, saved by this export to `path`
+    grids: tuple  # ((role, grid name), ...), roles in ROLES' order
+    to_world: np.ndarray  # float64[4, 4], row-major, object space -> world
+    space: str  # Volume > Render > Space: "OBJECT" | "WORLD"
+    step_size: float  # Blender units of `space`; 0: automatic
+    clipping: float  # values below it are empty space to Cycles' bounds
+    precision: str  # "FULL" | "HALF" | "VARIABLE": read as 32-bit floats whatever it says
+
+
+class VolumeSkipped(ValueError):
+    """A Volume object with nothing to read; the message says why."""
+
+
+def volume_object_data(object_instance, folder):
+    """The VolumeObjectData of a Volume object instance of an evaluated depsgraph;
+    evaluated grids are written into `folder`. Raises VolumeSkipped."""
+    obj = object_instance.object
+    volume = obj.data
+    grids = volume.grids
+    if grids.error_message:
+        original = obj.original.data
+        path = bpy.path.abspath(original.filepath, library=original.library)
+        raise VolumeSkipped(f"Blender could not load its grids from {path}: {grids.error_message}")
+    available = {grid.name: grid.data_type for grid in grids}
+    modified = any(modifier.show_render for modifier in obj.original.modifiers)
+    if not available:
+        raise VolumeSkipped(_why_empty(obj.original.data, grids, modified))
+    roles = []
+    for role, name in material_grids(_material(obj)).items():
+        kind = available.get(name)
+        if kind in READABLE_TYPES and READABLE_TYPES[kind] == (role == "color"):
+            roles.append((role, name))
+    if not roles:
+        readable = sorted(name for name, kind in available.items() if kind in READABLE_TYPES)
+        raise VolumeSkipped(
+            f"its material reads none of its grids ({', '.join(sorted(available))}; readable: "
+            f"{', '.join(readable) or 'none'})"
+        )
+    path, written = _grid_file(obj, folder, modified)
+    render = volume.render
+    return VolumeObjectData(
+        name=obj.original.name,
+        path=path,
+        written=written,
+        grids=tuple(roles),
+        to_world=np.array(object_instance.matrix_world, dtype=np.float64),
+        space=render.space,
+        step_size=float(render.step_size),
+        clipping=float(render.clipping),
+        precision=render.precision,
+    )
+
+
+def material_grids(material):
+    """{role: grid name} that `material` reads (module docstring), roles in ROLES' order."""
+    if material is None or material.node_tree is None:
+        return dict(DEFAULT_GRIDS)
+    output = material.node_tree.get_output_node("CYCLES")
+    socket = None if output is None else output.inputs.get("Volume")
+    found = {}
+    for node in _volume_nodes(socket):
+        if node.bl_idname == "ShaderNodeVolumePrincipled":
+            for role, input_name in PRINCIPLED_ATTRIBUTES.items():
+                if role == "temperature" and not _blackbody(node):
+                    continue
+                name = node.inputs[input_name].default_value
+                if name:
+                    found.setdefault(role, name)
+        elif node.bl_idname == "ShaderNodeVolumeInfo":
+            for output_name, grid in VOLUME_INFO_GRIDS.items():
+                if node.outputs[output_name].is_linked:
+                    found.setdefault(grid, grid)
+    return {role: found[role] for role in ROLES if role in found}
+
+
+def _volume_nodes(socket):
+    """The nodes upstream of `socket` (inside node groups too)."""
+    if socket is None:
+        return []
+    nodes = []
+    seen = set()
+    pending = [(socket, ())]
+    while pending:
+        current, scope = pending.pop()
+        found, _ = source(current, scope)
+        if found is None:
+            continue
+        key = (found.node.as_pointer(), tuple(group.as_pointer() for group in found.scope))
+        if key in seen:
+            continue
+        seen.add(key)
+        nodes.append(found.node)
+        pending.extend((given, found.scope) for given in found.node.inputs)
+    return nodes
+
+
+def _blackbody(node):
+    # Whether Principled Volume's Temperature reaches its output: blackbody emission on.
+    socket = node.inputs["Blackbody Intensity"]
+    return socket.is_linked or socket.default_value > 0.0
+
+
+def _material(obj):
+    # A Volume object is shaded by its first material (Cycles: one shader a volume).
+    return next((slot.material for slot in obj.material_slots if slot.material), None)
+
+
+def _grid_file(obj, folder, modified):
+    """(path, written): the file holding the evaluated grids (module docstring)."""
+    volume = obj.data
+    original = obj.original
+    path = volume.grids.frame_filepath
+    # Packing is the original Volume's (an evaluated copy has no packed_file); its
+    # frame_filepath still names the file it was packed from, which may be gone.
+    packed = getattr(original.data, "packed_file", None) is not None
+    if not modified and path and not packed:
+        return bpy.path.abspath(path, library=original.data.library), False
+    target = os.path.join(folder, f"{_file_name(original.name)}.vdb")
+    if not volume.grids.save(target):
+        raise VolumeSkipped(f"Blender could not write its evaluated grids to {target}")
+    return target, True
+
+
+def _file_name(name):
+    # An object's name as a file name: letters, digits and -_. kept, the rest '_'.
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name) or "volume"
+
+
+def _why_empty(volume, grids, modified):
+    """Why the evaluated grids `grids` of original Volume `volume` are none."""
+    if modified:
+        return "its modifiers make no grids"
+    if not volume.filepath:
+        return "it has no grids (no OpenVDB file, no modifier)"
+    if volume.is_sequence and not grids.frame_filepath:
+        return f"its sequence has no file for frame {grids.frame}"
+    path = bpy.path.abspath(volume.filepath, library=volume.library)
+    if not os.path.exists(path):
+        return f"its file {path} does not exist"
+    return f"its file {path} holds no grids"
+
+
+def describe(data, grids):
+    """What the report says was read: "1 grid of 64^3 voxels (density)" or "2 grids
+    (density 64^3 voxels, color 32x32x16 voxels)", from the native VolumeGrids."""
+    sizes = [_voxels(grid.resolution) for grid in grids]
+    names = [name for _, name in data.grids]
+    if len(set(sizes)) == 1:
+        plural = "grid" if len(grids) == 1 else "grids"
+        return f"{len(grids)} {plural} of {sizes[0]} voxels ({', '.join(names)})"
+    parts = ", ".join(f"{name} {size} voxels" for name, size in zip(names, sizes, strict=True))
+    return f"{len(grids)} grids ({parts})"
+
+
+def _voxels(resolution):
+    x, y, z = resolution
+    return f"{x}^3" if x == y == z else f"{x}x{y}x{z}"

@@ -1,0 +1,162 @@
+#include "scene/volume_grid.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "scene/scene.h"
+
+namespace whitted {
+namespace {
+
+// Where voxel `ijk` sits in its block, as in an OpenVDB leaf node.
+int offset_in_block(const glm::ivec3& ijk) {
+  constexpr int mask = VolumeGrid::kBlockSide - 1;
+  return ((ijk.x & mask) << (2 * VolumeGrid::kBlockBits)) |
+         ((ijk.y & mask) << VolumeGrid::kBlockBits) | (ijk.z & mask);
+}
+
+// Block coordinates of a voxel: a floor division by the block's side (an arithmetic
+// shift, defined for negative values since C++20).
+glm::ivec3 block_of(const glm::ivec3& ijk) {
+  return {ijk.x >> VolumeGrid::kBlockBits, ijk.y >> VolumeGrid::kBlockBits,
+          ijk.z >> VolumeGrid::kBlockBits};
+}
+
+// Trilinear interpolation of eight corner values, corner c at (c & 1, c >> 1 & 1, c >> 2):
+// along x, then y, then z.
+template <class T>
+T trilinear(const T (&c)[8], const Vec3& t) {
+  const T x00 = c[0] + (c[1] - c[0]) * t.x;
+  const T x10 = c[2] + (c[3] - c[2]) * t.x;
+  const T x01 = c[4] + (c[5] - c[4]) * t.x;
+  const T x11 = c[6] + (c[7] - c[6]) * t.x;
+  const T y0 = x00 + (x10 - x00) * t.y;
+  const T y1 = x01 + (x11 - x01) * t.y;
+  return y0 + (y1 - y0) * t.z;
+}
+
+// Where corner c of a voxel's cell sits in its block, from the first corner's offset.
+constexpr int kCornerStep[8] = {0, 64, 8, 72, 1, 65, 9, 73};
+static_assert(VolumeGrid::kBlockSide == 8, "kCornerStep is for blocks of 8^3 voxels");
+
+}  // namespace
+
+VolumeGrid::VolumeGrid(VolumeGridData data) : data_(std::move(data)) {
+  if (data_.channels != 1 && data_.channels != 3) {
+    throw std::invalid_argument("a volume grid has 1 or 3 channels");
+  }
+  const glm::ivec3 n = data_.block_counts;
+  if (n.x < 0 || n.y < 0 || n.z < 0) throw std::invalid_argument("negative block counts");
+  const size_t lattice = size_t(n.x) * size_t(n.y) * size_t(n.z);
+  if (data_.blocks.size() != lattice) {
+    throw std::invalid_argument("the block lattice does not match its counts");
+  }
+  const size_t block_floats = size_t(kBlockVoxels) * size_t(data_.channels);
+  if (data_.values.size() % block_floats != 0) {
+    throw std::invalid_argument("block values are not whole blocks");
+  }
+  const size_t stored = data_.values.size() / block_floats;
+  for (uint32_t index : data_.blocks) {
+    if (index > stored) throw std::invalid_argument("a block index past the stored blocks");
+  }
+  if (!is_finite(data_.index_to_object) || !is_finite(data_.background)) {
+    throw std::invalid_argument("a volume grid's transform and background must be finite");
+  }
+  object_to_index_ = glm::inverse(data_.index_to_object);
+  if (!is_finite(object_to_index_) || glm::determinant(data_.index_to_object) == 0.0f) {
+    throw std::invalid_argument("volume grid '" + data_.name +
+                                "': its transform has no inverse (a zero voxel size)");
+  }
+  last_block_ = data_.first_block + n - 1;
+}
+
+glm::ivec3 VolumeGrid::resolution() const {
+  const glm::ivec3 size = data_.active_upper - data_.active_lower + 1;
+  if (size.x <= 0 || size.y <= 0 || size.z <= 0) return glm::ivec3(0);
+  return size;
+}
+
+Box3 VolumeGrid::index_bounds() const {
+  if (resolution() == glm::ivec3(0)) return {};
+  return {Vec3(data_.active_lower), Vec3(data_.active_upper + 1)};
+}
+
+Box3 VolumeGrid::object_bounds() const {
+  const Box3 index = index_bounds();
+  Box3 out;
+  if (index.empty()) return out;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? index.upper.x : index.lower.x,
+                 (corner & 2) ? index.upper.y : index.lower.y,
+                 (corner & 4) ? index.upper.z : index.lower.z);
+    out.extend(transform_point(data_.index_to_object, p));
+  }
+  return out;
+}
+
+size_t VolumeGrid::bytes() const {
+  return data_.values.size() * sizeof(float) + data_.blocks.size() * sizeof(uint32_t) +
+         sizeof(*this);
+}
+
+const float* VolumeGrid::block(const glm::ivec3& b) const {
+  if (b.x < data_.first_block.x || b.y < data_.first_block.y || b.z < data_.first_block.z ||
+      b.x > last_block_.x || b.y > last_block_.y || b.z > last_block_.z) {
+    return nullptr;
+  }
+  const glm::ivec3 r = b - data_.first_block;
+  const uint32_t index = data_.blocks[(size_t(r.x) * size_t(data_.block_counts.y) + size_t(r.y)) *
+                                          size_t(data_.block_counts.z) +
+                                      size_t(r.z)];
+  if (index == 0) return nullptr;
+  return data_.values.data() + size_t(index - 1) * size_t(kBlockVoxels) * size_t(data_.channels);
+}
+
+Vec3 VolumeGrid::read(const float* values, int offset) const {
+  if (values == nullptr) return data_.background;
+  if (data_.channels == 1) return Vec3(values[offset]);
+  const float* v = values + 3 * offset;
+  return {v[0], v[1], v[2]};
+}
+
+Vec3 VolumeGrid::voxel(const glm::ivec3& ijk) const {
+  return read(block(block_of(ijk)), offset_in_block(ijk));
+}
+
+Vec3 VolumeGrid::sample(const Vec3& p) const {
+  // The voxels' values stand at their centres (header): interpolate from p - 0.5.
+  const Vec3 q = p - 0.5f;
+  // Beyond the lattice by a voxel or more (and for NaN), every corner is the background;
+  // this also keeps the float-to-int conversion below in range.
+  const Vec3 low = Vec3(data_.first_block * kBlockSide) - 1.0f;
+  const Vec3 high = Vec3((last_block_ + 1) * kBlockSide);
+  if (!(q.x > low.x && q.y > low.y && q.z > low.z && q.x < high.x && q.y < high.y &&
+        q.z < high.z)) {
+    return data_.background;
+  }
+  const Vec3 floor = glm::floor(q);
+  const Vec3 t = q - floor;
+  const glm::ivec3 i0(floor);
+  constexpr int mask = kBlockSide - 1;
+  // All eight corners in one block (7 of 8 cells): one lattice lookup.
+  const bool one_block = (i0.x & mask) != mask && (i0.y & mask) != mask && (i0.z & mask) != mask;
+  const float* values = one_block ? block(block_of(i0)) : nullptr;
+  if (one_block && values == nullptr) return data_.background;
+  const int base = offset_in_block(i0);
+  if (data_.channels == 1) {
+    float corners[8];
+    for (int c = 0; c < 8; ++c) {
+      corners[c] = one_block ? values[base + kCornerStep[c]]
+                             : voxel(i0 + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2)).x;
+    }
+    return Vec3(trilinear(corners, t));
+  }
+  Vec3 corners[8];
+  for (int c = 0; c < 8; ++c) {
+    corners[c] = one_block ? read(values, base + kCornerStep[c])
+                           : voxel(i0 + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2));
+  }
+  return trilinear(corners, t);
+}
+
+}  // namespace whitted
