@@ -317,18 +317,19 @@ class _Node:
         self.inputs = node.inputs
 
 
-def volume_bounces_warning(scene, materials):
+def volume_bounces_warning(scene, materials, world_medium=None):
     """The report's line when media are rendered and the scene asks Cycles for volume
     bounces (Render > Light Paths > Max Bounces > Volume, `scene.cycles.volume_bounces`),
     which Whitted does not trace; None otherwise. `materials`: the exported materials
-    (MaterialExport: a heterogeneous medium's scattering is a program output)."""
+    (MaterialExport: a heterogeneous medium's scattering is a program output);
+    `world_medium`: the world's volume (a Medium), or None."""
     cycles = getattr(scene, "cycles", None)
     bounces = getattr(cycles, "volume_bounces", 0)
     scattering = any(
         max(m.data.volume_scattering) > 0.0
         or any(name == "volume_scattering" for name, _ in m.outputs)
         for m in materials
-    )
+    ) or (world_medium is not None and max(world_medium.scattering) > 0.0)
     if bounces <= 0 or not scattering:
         return None
     return (

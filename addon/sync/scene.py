@@ -199,9 +199,6 @@ class SceneSync:
         self.warnings = warnings = []
         if self._materials_touched(changes, params):
             self._sync_materials(depsgraph, changes, params, report, warnings)
-        bounces = volume_bounces_warning(depsgraph.scene, self._materials.values())
-        if bounces is not None:
-            warnings.append(bounces)
         # Light linking is the whole scene's: when it changes, every instance may change.
         # Reading it visits every object (44 ms for 10,000 in Blender 5.2), so an update
         # that only moved objects or edited materials, lights or the world keeps it.
@@ -223,6 +220,10 @@ class SceneSync:
         warnings.extend(self._volume_warnings)
         if first or changes.world or changes.scene or params != self._params:
             self._sync_world(depsgraph.scene, params, report, warnings)
+        world_medium = None if self._world is None else self._world.medium
+        bounces = volume_bounces_warning(depsgraph.scene, self._materials.values(), world_medium)
+        if bounces is not None:
+            warnings.append(bounces)
         self._params = params
         report.seconds = time.perf_counter() - started
         return report

@@ -380,3 +380,7 @@ def test_volume_bounces_above_0_are_reported_as_not_simulated(empty_scene, nativ
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
     said = [w for w in warnings if "Volume Bounces is 2" in w]
     assert len(said) == 1 and "scatter light once" in said[0], warnings
+    # Fog in the world alone says it too.
+    _world_fog(scene, 0.05)
+    warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
+    assert len([w for w in warnings if "Volume Bounces is 2" in w]) == 1, warnings
