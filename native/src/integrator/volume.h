@@ -92,6 +92,24 @@ Color volume_feeler(const KernelInputs<kEffects, Queries>& in, const Ray& feeler
                               linked, depth, counts);
 }
 
+// The draws of a light sampled from points along a segment (the emitters', the world's):
+// n x n points of the light (`light`, Emitter Samples a side), each seen from its own point
+// of the segment, drawn by transmittance (the first number of `along`'s point; its second
+// is free for the light's use).
+struct SegmentDraws {
+  Strata light;
+  Strata along;
+  float sigma;  // the channels' mean extinction
+
+  SegmentDraws(const NodeState& state, int samples, uint32_t salt, bool sobol, const Medium& m)
+      : light(state, samples, salt, sobol),
+        along(state, samples, salt ^ 0x9e3779b9u, sobol),
+        sigma((m.extinction().x + m.extinction().y + m.extinction().z) / 3.0f) {}
+  DrawnDistance distance(int k, float length) const {
+    return by_transmittance(length, sigma, along.point(k).x);
+  }
+};
+
 // The single scattering of the emissive meshes' light along a segment (the surfaces'
 // emitter feelers, lights.h, from points in the medium): Emitter Samples x Emitter Samples
 // points drawn from the emitters' power table, each seen from its own distance along the
@@ -102,18 +120,15 @@ template <uint32_t kEffects, class Queries>
                                            float length, const Medium& m, const NodeState& state,
                                            int layer, RayCounts* counts) {
   const CompiledScene& scene = in.scene;
-  const bool sobol = jittered_samples(in.settings);
-  const auto salt = 0x766d6500u ^ static_cast<uint32_t>(layer);
-  const Strata where(state, in.settings.emitter_samples, salt, sobol);
-  const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
-  const Color sigma_t = m.extinction();
-  const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
+  const SegmentDraws draws(state, in.settings.emitter_samples,
+                           0x766d6500u ^ static_cast<uint32_t>(layer),
+                           jittered_samples(in.settings), m);
   Color radiance(0.0f);
-  for (int k = 0; k < where.count(); ++k) {
-    const DrawnDistance drawn = by_transmittance(length, sigma, along.point(k).x);
+  for (int k = 0; k < draws.light.count(); ++k) {
+    const DrawnDistance drawn = draws.distance(k, length);
     if (!(drawn.pdf > 0.0f)) continue;
     const Vec3 x = r.origin + drawn.t * r.direction;
-    const glm::vec2 u = where.point(k);
+    const glm::vec2 u = draws.light.point(k);
     const MeshLights::Sample s = scene.mesh_lights->sample(scene, u.x, u.y, r.time);
     const Vec3 d = s.point - x;
     const float dist2 = glm::dot(d, d);
@@ -127,7 +142,7 @@ template <uint32_t kEffects, class Queries>
     const Color emitted_radiance =
         emitted(scene, s.triangle, s.barycentric, towards, in.context(state));
     Color arriving = scattered_share(m, r, drawn, wi) * emitted_radiance *
-                     (cos_e * where.share / (dist2 * s.density));
+                     (cos_e * draws.light.share / (dist2 * s.density));
     if (is_black(arriving)) continue;
     const Ray feeler{x, wi, 0.0f, dist * (1.0f - limits::kShadowRayShortening), kShadowRay, r.time};
     arriving *= volume_feeler(in, feeler, scene.instances[s.triangle.instance].links.shadow_sets,
@@ -148,26 +163,23 @@ template <uint32_t kEffects, class Queries>
                                         float length, const Medium& m, const NodeState& state,
                                         int layer, RayCounts* counts) {
   const WorldLight& light = *in.world;
-  const bool sobol = jittered_samples(in.settings);
-  const auto salt = 0x76776c00u ^ static_cast<uint32_t>(layer);
-  const Strata where(state, in.settings.emitter_samples, salt, sobol);
-  const Strata along(state, in.settings.emitter_samples, salt ^ 0x9e3779b9u, sobol);
-  const Color sigma_t = m.extinction();
-  const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
+  const SegmentDraws draws(state, in.settings.emitter_samples,
+                           0x76776c00u ^ static_cast<uint32_t>(layer),
+                           jittered_samples(in.settings), m);
   Color radiance(0.0f);
-  for (int k = 0; k < where.count(); ++k) {
-    const glm::vec2 v = along.point(k);
-    const DrawnDistance drawn = by_transmittance(length, sigma, v.x);
+  for (int k = 0; k < draws.light.count(); ++k) {
+    const DrawnDistance drawn = draws.distance(k, length);
     if (!(drawn.pdf > 0.0f)) continue;
     const Vec3 x = r.origin + drawn.t * r.direction;
-    const Vec3 n = v.y < 0.5f ? r.direction : -r.direction;
+    const Vec3 n = draws.along.point(k).y < 0.5f ? r.direction : -r.direction;
     for (int technique = 0; technique < light.techniques(); ++technique) {
-      const WorldLight::Sample s = light.sample(where.point(k), n, technique);
+      const WorldLight::Sample s = light.sample(draws.light.point(k), n, technique);
       counts->world_feelers += 1;
       if (!(s.pdf > 0.0f)) continue;
       const float pdf = 0.5f * (light.pdf(s.wi, n) + light.pdf(s.wi, -n));
       const Color world_radiance = in.scene.world_light_radiance(s.wi, state.depth + 1);
-      Color arriving = scattered_share(m, r, drawn, s.wi) * world_radiance * (where.share / pdf);
+      Color arriving =
+          scattered_share(m, r, drawn, s.wi) * world_radiance * (draws.light.share / pdf);
       if (is_black(arriving)) continue;
       const Ray feeler{x, s.wi, 0.0f, kInfinity, kShadowRay, r.time};
       arriving *= volume_feeler(in, feeler, kAllLightSets, state.depth, counts);
