@@ -41,17 +41,6 @@ struct SegmentLight {
   Color transmittance{1.0f};
 };
 
-// What a medium of constant extinction sigma_t and emission e emits over a length d, seen
-// from its start: integral_0^d exp(-sigma_t t) e dt, per channel (e d where sigma_t is 0).
-inline Color emitted(const Color& e, const Color& sigma_t, float d) {
-  Color out(0.0f);
-  for (int i = 0; i < 3; ++i) {
-    if (!(e[i] > 0.0f)) continue;
-    out[i] = sigma_t[i] > 0.0f ? e[i] * -std::expm1(-sigma_t[i] * d) / sigma_t[i] : e[i] * d;
-  }
-  return out;
-}
-
 // One marched step: the optical depth before it, its coefficients.
 struct MarchedStep {
   Color depth;  // integral of sigma_t from the segment's start to the step's
@@ -120,7 +109,7 @@ template <uint32_t kEffects, class Queries>
     const Medium c = medium_at(scene, media, r.origin + steps.shaded(i) * r.direction, r, context);
     counts->volume_steps += 1;
     const Color sigma_t = c.absorption + c.scattering;
-    out.radiance += transmittance(depth, 1.0f) * emitted(c.emission, sigma_t, dt);
+    out.radiance += transmittance(depth, 1.0f) * medium_emission(c.emission, sigma_t, dt);
     marched.push_back({depth, sigma_t, c.scattering, c.anisotropy});
     scatters |= !is_black(c.scattering);
     depth += sigma_t * dt;
@@ -137,8 +126,6 @@ template <uint32_t kEffects, class Queries>
     const auto index = static_cast<uint32_t>(&light - scene.lights.data());
     const Strata strata(state, light.sized() ? light.samples : 1,
                         0x766f6c00u ^ (index << 8) ^ static_cast<uint32_t>(layer), sobol);
-    Blockers storage;
-    const Blockers* linked = blockers(scene, light.shadow_sets, &storage);
     for (int k = 0; k < strata.count(); ++k) {
       const float u = strata.point(k).x;
       const DrawnDistance drawn = light.type == LightType::kSun
@@ -160,10 +147,7 @@ template <uint32_t kEffects, class Queries>
                                 ? kInfinity
                                 : ls.distance * (1.0f - limits::kShadowRayShortening);
         const Ray feeler{x, ls.wi, 0.0f, t_max, kShadowRay, r.time};
-        counts->volume_feelers += 1;
-        arriving *=
-            shadow_transmittance(in, feeler, in.queries.occluded(first_query(in, feeler), linked),
-                                 linked, state.depth, counts);
+        arriving *= volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
       }
       out.radiance += arriving;
     }

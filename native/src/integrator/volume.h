@@ -73,6 +73,23 @@ inline DrawnDistance by_transmittance(float length, float sigma, float u) {
   return {t, sigma * std::exp(-sigma * t) / kept};
 }
 
+// What a medium of constant extinction sigma_t and emission e emits over a length d (the
+// segment's, or a marched step's; infinite for a ray escaping inside an open mesh), seen
+// from its start: integral_0^d exp(-sigma_t t) e dt, per channel (e d where sigma_t is 0,
+// none over an infinite d then).
+inline Color medium_emission(const Color& e, const Color& sigma_t, float d) {
+  Color out(0.0f);
+  for (int i = 0; i < 3; ++i) {
+    if (!(e[i] > 0.0f)) continue;
+    if (sigma_t[i] > 0.0f) {
+      out[i] = e[i] * -std::expm1(-sigma_t[i] * d) / sigma_t[i];
+    } else if (std::isfinite(d)) {
+      out[i] = e[i] * d;
+    }
+  }
+  return out;
+}
+
 // What of the light arriving at x = r(drawn.t) from direction wi the medium sends back
 // towards r's origin, per unit of that light, before its feeler: T(t) sigma_s phase / pdf(t).
 inline Color scattered_share(const Medium& m, const Ray& r, const DrawnDistance& drawn,
@@ -203,15 +220,7 @@ template <uint32_t kEffects, class Queries>
                                          float length, const Medium& m, const NodeState& state,
                                          int layer, RayCounts* counts) {
   const Color sigma_t = m.extinction();
-  Color radiance(0.0f);
-  for (int i = 0; i < 3; ++i) {
-    if (!(m.emission[i] > 0.0f)) continue;
-    if (sigma_t[i] > 0.0f) {
-      radiance[i] += m.emission[i] * -std::expm1(-sigma_t[i] * length) / sigma_t[i];
-    } else if (std::isfinite(length)) {
-      radiance[i] += m.emission[i] * length;
-    }
-  }
+  Color radiance = medium_emission(m.emission, sigma_t, length);
   if (is_black(m.scattering)) return radiance;
   const CompiledScene& scene = in.scene;
   const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
