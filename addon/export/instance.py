@@ -141,6 +141,9 @@ class InstanceData:
     # Light linking: (light set, shadow set, light sets it lights, shadow sets that
     # block it), export/light_linking.py.
     links: tuple = UNLINKED
+    # A Volume object's grids placed in the world (whitted_native.VolumeObject, read by
+    # sync/volumes.py), which its material reads inside `mesh`; None for a mesh.
+    volume: object = None
 
 
 def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):

@@ -38,7 +38,7 @@ from .nodes.shaders import default_surface, finish, fixed_texture, surface
 from .nodes.values import Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
-from .volume import Medium, NotRendered, volume_medium
+from .volume import Medium, NotRendered, default_volume, volume_medium
 
 __all__ = [
     "MAX_SHININESS",
@@ -229,6 +229,32 @@ def map_material(material, warnings, local_model="BLENDER"):
     return replace(
         exported, data=replace(exported.data, emission_sampling=sampling, **volume_fields)
     )
+
+
+def grid_material(material, grids, warnings):
+    """What a Volume object renders with (export/volume_object.py): `material` (its
+    first, or None) read with the object's grids `grids` ({role: grid name}). No surface,
+    whatever its Surface output: Cycles shades a Volume object by its volume alone. A
+    material without a volume shader fills nothing; None is Cycles' default volume."""
+    owner = "the default volume" if material is None else f"material '{material.name}'"
+    found = []
+    lowering = Lowering(owner, found, grids=grids)
+    medium = None
+    if material is None:
+        medium = default_volume(lowering)
+    elif uses_nodes(material):
+        output_node = material.node_tree.get_output_node("CYCLES")
+        try:
+            medium = None if output_node is None else volume_medium(output_node, lowering)
+        except NotRendered as why:
+            _warn(warnings, volume_warning(owner, output_node, str(why)))
+    if not isinstance(medium, dict):
+        return medium_material(medium or Medium())
+    for message in found:
+        _warn(warnings, message)
+    exported = _programmed(medium, lowering, "NONE")
+    data = replace(exported.data, surface=False, volume_step_rate=_volume_step_rate(material))
+    return replace(exported, data=data)
 
 
 def medium_material(medium):

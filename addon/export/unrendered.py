@@ -4,7 +4,7 @@ naming it (the object, what it is, and why).
 
 Cycles renders, and Whitted skips: the world's Volume output, and a material's Volume
 output that is not a constant (homogeneous) one (export/volume.py says which are
-rendered). Volume objects are read and not traced yet: sync/volumes.py reports them.
+rendered). A Volume object that cannot be read is reported by sync/volumes.py.
 Cycles renders otherwise, and Whitted as ordinary objects: shadow catchers
 (Object > Visibility > Shadow Catcher). (Hair curves, point
 clouds and particle hair are rendered: export/curves.py. A geometry-nodes curve on a

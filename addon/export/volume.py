@@ -35,6 +35,7 @@ functions and other nodes are not rendered: the material's report line says whic
 
 from dataclasses import dataclass
 
+from .nodes import ops
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT
 
@@ -73,16 +74,34 @@ def volume_medium(output_node, lowering):
     socket = output_node.inputs.get("Volume")
     if socket is None or source(socket)[0] is None:
         return None
-    constants = _Constants()
+    constants = _Constants(lowering.grids)
     try:
         return Medium(*_combined(constants, _closure(constants, socket, 1.0)))
     except _Linked:
         pass
     program = _Program(lowering)
-    absorption, scattering, anisotropy, emission = _combined(
-        program, _closure(program, socket, program.f(1.0))
-    )
-    exprs = dict(zip(VOLUME_FIELDS, (absorption, scattering, anisotropy, emission), strict=True))
+    return _folded(_combined(program, _closure(program, socket, program.object_density())))
+
+
+def default_volume(lowering):
+    """What a Volume object without a material fills its bounds with: Cycles' default
+    volume, a Principled Volume of the node's defaults (Color 0.5, Density 1 scaled by
+    the grid "density", Absorption Color black, no emission), as volume_medium gives."""
+    program = _Program(lowering)
+    density = program.object_density()
+    grid = lowering.grid("density", "density")
+    if grid is not None:
+        density = program.positive(program.mul(density, grid))
+    # sigma_s = 0.5 density; sigma_a = (1 - 0.5) (1 - sqrt(0)) density.
+    half = program.scale(lowering.b.const((0.5, 0.5, 0.5), COLOR), density)
+    return _folded((half, half, program.f(0.0), program.black()))
+
+
+def _folded(coefficients):
+    """(sigma_a, sigma_s, g, emission) as Exprs: a Medium where all are constants, else
+    {field: Expr} of VOLUME_FIELDS."""
+    absorption, scattering, anisotropy, emission = coefficients
+    exprs = dict(zip(VOLUME_FIELDS, coefficients, strict=True))
     if all(e.is_const for e in exprs.values()):
         return Medium(
             tuple(absorption.value[:3]),
@@ -137,7 +156,15 @@ def _principled(alg, node, weight):
     if alg.blackbody(node):
         raise NotRendered(f"its Principled Volume '{node.name}' has blackbody emission")
     density = alg.mul(weight, alg.positive(alg.value(node, "Density")))
+    # A Volume object's grids scale what their attributes name (Cycles: an attribute not
+    # found scales nothing).
+    grid = alg.attribute(node, "density", "Density Attribute")
+    if grid is not None:
+        density = alg.positive(alg.mul(density, grid))
     colour = alg.colour(node, "Color")
+    grid = alg.attribute(node, "color", "Color Attribute", COLOR)
+    if grid is not None:
+        colour = alg.product(colour, grid)
     tint = alg.colour(node, "Absorption Color")
     kept = alg.product(
         alg.clamped(alg.one_minus(colour)),
@@ -170,7 +197,19 @@ class _Linked(Exception):
 
 class _Constants:
     """The formulas on Python floats (colours as RGB tuples): a homogeneous medium's
-    constants, the order of each product as it always was (its pixels kept)."""
+    constants, the order of each product as it always was (its pixels kept). `grids`:
+    the Lowering's (a Volume object's grids, or None)."""
+
+    def __init__(self, grids):
+        self.grids = grids
+
+    def attribute(self, node, role, name, kind=FLOAT):
+        # A grid the object has drives the medium, a program's (_Program, whose signature
+        # this shares); an attribute not found scales nothing.
+        del kind
+        if self.grids is not None and self.grids.get(role) == node.inputs[name].default_value:
+            raise _Linked
+        return None
 
     def value(self, node, name):
         return float(self._socket(node, name).default_value)
@@ -247,6 +286,16 @@ class _Program:
 
     def value(self, node, name):
         return self.lowering.value(node.inputs[name], node.scope, FLOAT)
+
+    def attribute(self, node, role, name, kind=FLOAT):
+        # The grid named by input `name` in `role`, or None (not found: scales nothing).
+        return self.lowering.grid(role, node.inputs[name].default_value, kind)
+
+    def object_density(self):
+        # Cycles' object_volume_density: every closure's weight inside a Volume object.
+        if self.lowering.grids is None:
+            return self.f(1.0)
+        return self.lowering.hit(ops.IN_VOLUME_DENSITY, FLOAT)
 
     def colour(self, node, name):
         return self.lowering.value(node.inputs[name], node.scope, COLOR)

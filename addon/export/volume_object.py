@@ -1,8 +1,9 @@
 """A Volume object's grids (issue 48, Volume objects), as plain data: the OpenVDB file
 that holds them, which of its grids the object's material reads, where the object is,
 and its Volume > Render settings (VolumeObjectData). The native module reads the grids
-(native scene/vdb_file.h) and samples them (scene/volume_object.h); the integrator does
-not trace them yet, and the report says what was read (sync/scene.py).
+(native scene/vdb_file.h) and samples them (scene/volume_object.h); the sync renders
+the object as its box filled by its material read with its grids (sync/scene.py,
+export/material.py grid_material), marched as a heterogeneous medium.
 
 Where the grids come from (the same in Blender 3.4 and 5.x):
 
@@ -18,9 +19,10 @@ Where the grids come from (the same in Blender 3.4 and 5.x):
 
 Which grids: those the material reads through Principled Volume's Density, Color and
 Temperature Attribute inputs (Temperature only where Blackbody Intensity is above 0 or
-linked: it scales nothing else) and the Volume Info node's outputs (fixed names
-density, color, flame, temperature). A Volume object without a material is shaded by
-Cycles' default volume, a Principled Volume of the node's defaults: its grid "density".
+linked: it scales nothing else), the Volume Info node's outputs and the Attribute nodes
+naming one of those (fixed names density, color, flame, temperature). A Volume object
+without a material is shaded by Cycles' default volume, a Principled Volume of the
+node's defaults: its grid "density".
 
 Units: the object's transform `matrix_world` takes object space to Blender's world,
 which is Whitted's (no axis change); a grid's own transform (index space -> object
@@ -36,6 +38,7 @@ import bpy
 import numpy as np
 
 from .nodes.graph import source
+from .nodes.input_nodes import VOLUME_INFO_GRIDS
 
 # The native VolumeObject's roles (scene/volume_object.h GridRole), in its order.
 ROLES = ("density", "color", "temperature", "flame")
@@ -44,13 +47,6 @@ PRINCIPLED_ATTRIBUTES = {
     "density": "Density Attribute",
     "color": "Color Attribute",
     "temperature": "Temperature Attribute",
-}
-# The Volume Info node's outputs and the grid each reads.
-VOLUME_INFO_GRIDS = {
-    "Density": "density",
-    "Color": "color",
-    "Flame": "flame",
-    "Temperature": "temperature",
 }
 # Cycles' default volume: a Principled Volume of the node's defaults.
 DEFAULT_GRIDS = {"density": "density"}
@@ -64,6 +60,7 @@ class VolumeObjectData:
     """A Volume object's grids and placement (module docstring)."""
 
     name: str  # the object's name
+    material: str | None  # its material's name (the first slot's), None: Cycles' default
     path: str  # the OpenVDB file to read (absolute)
     written: bool  # the evaluated grids, saved by this export to `path`
     grids: tuple  # ((role, grid name), ...), roles in ROLES' order
@@ -72,6 +69,7 @@ class VolumeObjectData:
     step_size: float  # Blender units of `space`; 0: automatic
     clipping: float  # values below it are empty space to Cycles' bounds
     precision: str  # "FULL" | "HALF" | "VARIABLE": read as 32-bit floats whatever it says
+    centred: bool  # a voxel's value at its cube's centre, else at its index point (below)
 
 
 class VolumeSkipped(ValueError):
@@ -92,8 +90,9 @@ def volume_object_data(object_instance, folder):
     modified = any(modifier.show_render for modifier in obj.original.modifiers)
     if not available:
         raise VolumeSkipped(_why_empty(obj.original.data, grids, modified))
+    material = grid_object_material(obj)
     roles = []
-    for role, name in material_grids(_material(obj)).items():
+    for role, name in material_grids(material).items():
         kind = available.get(name)
         if kind in READABLE_TYPES and READABLE_TYPES[kind] == (role == "color"):
             roles.append((role, name))
@@ -107,6 +106,7 @@ def volume_object_data(object_instance, folder):
     render = volume.render
     return VolumeObjectData(
         name=obj.original.name,
+        material=None if material is None else material.original.name_full,
         path=path,
         written=written,
         grids=tuple(roles),
@@ -115,7 +115,21 @@ def volume_object_data(object_instance, folder):
         step_size=float(render.step_size),
         clipping=float(render.clipping),
         precision=render.precision,
+        # Cycles before Blender 5.0 puts a voxel's value at its cube's centre, from 5.0 at
+        # its integer index point: half a voxel apart. Seen on a spot-lit Mesh to Volume
+        # cube against Cycles (Whitted centred: summed luminance 0.9876, 0.9991, 1.0327
+        # in 3.4, 4.5.15, 5.0.1, the last lopsided; at the index point in 5.0.1: 1.0001),
+        # the same with its grids saved to a .vdb file and read from it.
+        centred=bpy.app.version < (5, 0, 0),
     )
+
+
+def grid_material_name(data):
+    """The native material a Volume object renders with: its material read with its
+    grids (export/material.py grid_material), one per material and set of grids; the
+    unit separator keeps it apart from any material's own name."""
+    grids = ",".join(f"{role}={name}" for role, name in data.grids)
+    return f"{data.material or ''}\x1fgrids:{grids}"
 
 
 def material_grids(material):
@@ -137,6 +151,11 @@ def material_grids(material):
             for output_name, grid in VOLUME_INFO_GRIDS.items():
                 if node.outputs[output_name].is_linked:
                     found.setdefault(grid, grid)
+        elif node.bl_idname == "ShaderNodeAttribute" and node.attribute_type == "GEOMETRY":
+            # An Attribute node reads a grid by name: one of the roles' fixed names.
+            name = node.attribute_name
+            if name in ROLES:
+                found.setdefault(name, name)
     return {role: found[role] for role in ROLES if role in found}
 
 
@@ -167,7 +186,7 @@ def _blackbody(node):
     return socket.is_linked or socket.default_value > 0.0
 
 
-def _material(obj):
+def grid_object_material(obj):
     # A Volume object is shaded by its first material (Cycles: one shader a volume).
     return next((slot.material for slot in obj.material_slots if slot.material), None)
 
@@ -205,20 +224,3 @@ def _why_empty(volume, grids, modified):
     if not os.path.exists(path):
         return f"its file {path} does not exist"
     return f"its file {path} holds no grids"
-
-
-def describe(data, grids):
-    """What the report says was read: "1 grid of 64^3 voxels (density)" or "2 grids
-    (density 64^3 voxels, color 32x32x16 voxels)", from the native VolumeGrids."""
-    sizes = [_voxels(grid.resolution) for grid in grids]
-    names = [name for _, name in data.grids]
-    if len(set(sizes)) == 1:
-        plural = "grid" if len(grids) == 1 else "grids"
-        return f"{len(grids)} {plural} of {sizes[0]} voxels ({', '.join(names)})"
-    parts = ", ".join(f"{name} {size} voxels" for name, size in zip(names, sizes, strict=True))
-    return f"{len(grids)} grids ({parts})"
-
-
-def _voxels(resolution):
-    x, y, z = resolution
-    return f"{x}^3" if x == y == z else f"{x}x{y}x{z}"

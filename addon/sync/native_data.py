@@ -119,6 +119,7 @@ def set_instance(native, scene, instance):
         holdout=instance.holdout,
         motion=list(instance.motion),
         links=instance.links,
+        volume=instance.volume,
         **extra,
     )
 

@@ -35,13 +35,19 @@ from ..export.geometry_key import GeometryKeys
 from ..export.instance import DEFAULT_MATERIAL, instance_data, instance_name
 from ..export.light import instance_light
 from ..export.light_linking import NO_LINKS, light_links
-from ..export.material import convert_material, default_material, medium_material
+from ..export.material import (
+    convert_material,
+    default_material,
+    grid_material,
+    medium_material,
+)
 from ..export.mesh import export_geometry, is_renderable_mesh
 from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.volume import Medium, volume_bounces_warning
+from ..export.volume_object import grid_material_name, grid_object_material
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -157,6 +163,8 @@ class SceneSync:
         self._world = None  # export.world.WorldData
         self._links = NO_LINKS  # export.light_linking.LightLinks of the last sync
         self._volumes = {}  # instance name -> sync.volumes.VolumeRead (Volume objects)
+        # Their materials read with their grids: native name -> (material name or None, grids).
+        self._grid_materials = {}
         self._volume_warnings = []  # the last walk's report lines for Volume objects
         self.warnings = []  # of the last sync: what could not be exported as authored
 
@@ -276,6 +284,14 @@ class SceneSync:
                     )
                     self._materials[name] = exported
                     report.materials += 1
+        for name, (material, grids) in list(self._grid_materials.items()):
+            # A Volume object's material edited (a removed one goes with the walk).
+            if (
+                material is not None
+                and material in current
+                and (redo or material in changes.materials)
+            ):
+                self._set_grid_material(name, current[material], grids, report, warnings)
         for name in self._materials.keys() - current.keys():
             # Left in the native scene until no instance names it (after the walk,
             # which a removed material always comes with: see _materials_touched).
@@ -353,6 +369,7 @@ class SceneSync:
         unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
         # Their temporary folder, if any, goes with the object on an exception.
         volumes = VolumeReads(self._native, self._volumes)
+        grid_materials = {}  # native name -> (material or None, grids) of Volume objects
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
             kind = unrendered_kind(object_instance)
@@ -387,7 +404,15 @@ class SceneSync:
                     instanced_light_data.add(obj.data.original.name_full)
                 role = _LIGHT
             elif obj.type == "VOLUME" and not obj.original.hide_render:
-                volumes.add(instance_name(object_instance), object_instance)
+                read = volumes.add(instance_name(object_instance), object_instance)
+                if read is not None:
+                    instance = self._volume_instance(object_instance, read, view_layer, report)
+                    seen_geometry.add(instance.mesh)
+                    instances[instance.name] = instance
+                    grid_materials[instance.materials[0]] = (
+                        grid_object_material(object_instance.object),
+                        read.data.grids,
+                    )
                 role = _VOLUME
             else:
                 role = _OTHER
@@ -414,7 +439,10 @@ class SceneSync:
         self._volumes = volumes.read
         self._volume_warnings = volumes.warnings()
         warnings.extend(unrendered_warnings(unrendered))
+        stale_materials = self._set_grid_materials(grid_materials, report, warnings)
         self._set_instances(instances, report, replace_all=True)
+        for name in stale_materials:
+            self.scene.remove_material(name)
         for key in self._geometry.keys() - seen_geometry:
             if self._geometry.pop(key).has_primitives:
                 self.scene.remove_mesh(key)
@@ -424,6 +452,40 @@ class SceneSync:
         self._instanced_light_data = instanced_light_data
         self._walked_uv_maps = dict(self._uv_maps)
         self._walked_needs = (dict(self._needs), self._info)
+
+    def _volume_instance(self, object_instance, read, view_layer, report):
+        """The instance of a Volume object whose grids were read (a sync.volumes.VolumeRead):
+        its box (VolumeObject.bound_mesh) set again when its grids were read anew, filled
+        by its material read with its grids (grid_material_name)."""
+        key = f"volume:{read.data.name}"
+        if read.fresh or key not in self._geometry:
+            self.scene.set_mesh(key, read.native.bound_mesh())
+            self._geometry[key] = _Geometry(True, None, Sanitised())
+            report.meshes += 1
+        instance = instance_data(object_instance, key, view_layer, self._info, self._links)
+        return replace(instance, materials=(grid_material_name(read.data),), volume=read.native)
+
+    def _set_grid_materials(self, wanted, report, warnings):
+        """Export the Volume objects' materials `wanted` ({native name: (material or None,
+        grids)}) not exported yet; the names of those no longer wanted, to remove once no
+        instance names them."""
+        for name, (material, grids) in wanted.items():
+            if name not in self._grid_materials:
+                self._set_grid_material(name, material, grids, report, warnings)
+        stale = self._grid_materials.keys() - wanted.keys()
+        for name in stale:
+            del self._grid_materials[name]
+        report.removed += len(stale)
+        return stale
+
+    def _set_grid_material(self, name, material, grids, report, warnings):
+        exported = grid_material(material, dict(grids), warnings)
+        self.scene.set_material(name, native_data.native_material(self._native, exported))
+        self._grid_materials[name] = (
+            None if material is None else material.original.name_full,
+            grids,
+        )
+        report.materials += 1
 
     def _sync_geometry(
         self, object_instance, key, changes, in_place, report, warnings, motion=None

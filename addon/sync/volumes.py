@@ -3,19 +3,20 @@ grids read by the native module at once, so that a file of evaluated grids, writ
 a temporary folder, is deleted as soon as it is read. Grids read from a file that has
 not changed since the last walk (same path, size and time, same grids) are kept.
 
-The integrator does not trace grid media yet: the report says what was read of each
-object ("1 grid of 64^3 voxels (density)") and that it is not rendered, or why it was
-skipped (a missing or empty file, grids the material does not read, an unreadable grid).
+The walk (sync/scene.py) renders each one read as an instance of its box filled by its
+material read with its grids; the report says why any other was skipped (a missing or
+empty file, grids the material does not read, an unreadable grid).
 """
 
 import os
 import tempfile
 from dataclasses import dataclass
 
-from ..export.volume_object import VolumeSkipped, describe, volume_object_data
-
-# At most this many objects named in a report line, then "...".
-MAX_NAMES = 3
+from ..export.volume_object import (
+    VolumeObjectData,
+    VolumeSkipped,
+    volume_object_data,
+)
 
 
 @dataclass(frozen=True)
@@ -26,7 +27,8 @@ class VolumeRead:
     key: tuple  # the file they were read from (None for written grids: read each time)
     grids: tuple  # whitted_native.VolumeGrid by export.volume_object.VolumeObjectData.grids
     native: object  # whitted_native.VolumeObject: the grids placed in the world
-    description: str  # export.volume_object.describe()
+    data: VolumeObjectData  # what was exported
+    fresh: bool  # its grids were read by this walk (not kept from the last)
 
 
 class VolumeReads:
@@ -44,16 +46,17 @@ class VolumeReads:
     def add(self, name, object_instance):
         """Export and read the Volume object `object_instance` (an evaluated depsgraph's,
         iterated now) under `name` (an instance's: a geometry-nodes volume is an instance of
-        the object whose modifier makes it)."""
+        the object whose modifier makes it). Its VolumeRead, or None where it is skipped."""
         label = object_instance.object.original.name
         try:
             data = volume_object_data(object_instance, self._temporary_folder())
         except VolumeSkipped as why:
             self.skipped[name] = (label, str(why))
-            return
+            return None
         key = None if data.written else _file_key(data)
         kept = self._previous.get(name)
-        if key is not None and kept is not None and kept.key == key:
+        fresh = not (key is not None and kept is not None and kept.key == key)
+        if not fresh:
             grids = kept.grids  # the same file: only the placement may have changed
         else:
             try:
@@ -62,21 +65,29 @@ class VolumeReads:
                 )
             except self._native.VolumeFileError as error:
                 self.skipped[name] = (label, str(error))
-                return
+                return None
             finally:
                 if data.written:
                     os.remove(data.path)
         by_role = {role: grid for (role, _), grid in zip(data.grids, grids, strict=True)}
         try:
-            volume = self._native.VolumeObject(data.to_world, **by_role)
+            volume = self._native.VolumeObject(
+                data.to_world,
+                space=data.space,
+                step_size=data.step_size,
+                centred=data.centred,
+                **by_role,
+            )
         except ValueError as error:
             self.skipped[name] = (label, str(error))
-            return
+            return None
         if volume.world_bounds is None:
             names = ", ".join(grid for _, grid in data.grids)
             self.skipped[name] = (label, f"its grids ({names}) have no active voxels")
-            return
-        self.read[name] = VolumeRead(label, key, grids, volume, describe(data, grids))
+            return None
+        read = VolumeRead(label, key, grids, volume, data, fresh)
+        self.read[name] = read
+        return read
 
     def close(self):
         """Delete the temporary folder (if one was made)."""
@@ -90,23 +101,12 @@ class VolumeReads:
         return self._folder.name
 
     def warnings(self):
-        """The report's lines: what was read and is not rendered, what was skipped."""
-        lines = []
-        if self.read:
-            names = sorted(self.read)
-            shown = "; ".join(
-                f"'{self.read[name].label}': {self.read[name].description}"
-                for name in names[:MAX_NAMES]
-            )
-            more = "; ..." if len(names) > MAX_NAMES else ""
-            lines.append(
-                f"Whitted: {len(names)} Volume object(s) read and not rendered ({shown}{more}): "
-                "Whitted does not trace OpenVDB grid media yet"
-            )
-        for name in sorted(self.skipped):
-            label, why = self.skipped[name]
-            lines.append(f"Whitted: Volume object '{label}' skipped: {why}")
-        return lines
+        """The report's lines: the Volume objects skipped, and why (those read are in the
+        volumes' reason, native integrator/analysis.cpp)."""
+        return [
+            f"Whitted: Volume object '{self.skipped[name][0]}' skipped: {self.skipped[name][1]}"
+            for name in sorted(self.skipped)
+        ]
 
     @property
     def bytes(self):

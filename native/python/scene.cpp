@@ -63,9 +63,11 @@ void bind_scene(py::module_& m) {
              const std::optional<std::array<float, 9>>& info,
              const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte,
              const std::vector<py::object>& motion,
-             const std::tuple<uint8_t, uint8_t, uint64_t, uint64_t>& links) {
+             const std::tuple<uint8_t, uint8_t, uint64_t, uint64_t>& links,
+             std::shared_ptr<VolumeObject> volume) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
+            instance.volume = std::move(volume);
             const auto& [light_set, shadow_set, light_sets, shadow_sets] = links;
             if (light_set >= kMaxLightSets || shadow_set >= kMaxLightSets) {
               throw std::invalid_argument("a light or shadow set is 0 to 63");
@@ -94,6 +96,7 @@ void bind_scene(py::module_& m) {
           py::arg("info") = py::none(), py::arg("cryptomatte") = py::none(),
           py::arg("motion") = std::vector<py::object>{},
           py::arg("links") = std::make_tuple(uint8_t{0}, uint8_t{0}, kAllLightSets, kAllLightSets),
+          py::arg("volume") = py::none(),
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: RayVisibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
@@ -103,7 +106,8 @@ void bind_scene(py::module_& m) {
           "its transforms (4x4 row-major) at evenly spaced times over the shutter, from its "
           "opening to its closing (motion blur; [] when it does not move); links: light linking, "
           "(light set, shadow set, light sets it lights, shadow sets that block it) as "
-          "scene/light.h defines them.")
+          "scene/light.h defines them; volume: a Volume object's VolumeObject, whose grids its "
+          "materials read inside its mesh (None for a mesh).")
       .def(
           "set_world",
           [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output,

@@ -101,17 +101,33 @@ void bind_volume_object(py::module_& m) {
       "A Volume object's grids placed in the world: what a grid-driven medium reads at a "
       "point, and the box outside which its grids are background.")
       .def(py::init([](const py::object& to_world, GridHandle density, GridHandle color,
-                       GridHandle temperature, GridHandle flame) {
+                       GridHandle temperature, GridHandle flame, const std::string& space,
+                       float step_size, bool centred) {
+             if (space != "OBJECT" && space != "WORLD") {
+               throw std::invalid_argument("space is 'OBJECT' or 'WORLD', not '" + space + "'");
+             }
              return std::make_shared<VolumeObject>(
                  matrix_from_numpy(to_world),
                  VolumeObject::Grids{std::move(density), std::move(color), std::move(temperature),
-                                     std::move(flame)});
+                                     std::move(flame)},
+                 VolumeRender{space == "OBJECT", step_size, centred});
            }),
            py::arg("to_world"), py::kw_only(), py::arg("density") = py::none(),
            py::arg("color") = py::none(), py::arg("temperature") = py::none(),
-           py::arg("flame") = py::none(),
+           py::arg("flame") = py::none(), py::arg("space") = "OBJECT", py::arg("step_size") = 0.0f,
+           py::arg("centred") = true,
            "to_world: the object's 4x4 row-major matrix; each role's VolumeGrid or None "
-           "(color: a vector grid; the others scalar).")
+           "(color: a vector grid; the others scalar); space and step_size: its Volume > "
+           "Render settings ('OBJECT' or 'WORLD'; Blender units of that space, 0 from the "
+           "voxels); centred: a voxel's value at its cube's centre, else at its integer "
+           "index point.")
+      .def("bound_mesh", &VolumeObject::bound_mesh,
+           "The box Mesh (object space) rays enter and leave its medium through, for "
+           "Scene.set_mesh; a Mesh of no triangles without active voxels.")
+      .def_property_readonly("density_scale", &VolumeObject::density_scale,
+                             "Cycles' object volume density: 1/scale in object space, else 1.")
+      .def_property_readonly("step", &VolumeObject::step,
+                             "The march step its grids call for, world units (0: none).")
       .def(
           "sample",
           [](const VolumeObject& v, const Vec3& x) {

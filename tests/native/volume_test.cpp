@@ -3,11 +3,16 @@
 // density 0 and a huge density, glass with a volume, and a fog box rendered the same
 // whatever the threads and tiles. Heterogeneous media (heterogeneous.h, march.h): a
 // program of constant value against the homogeneous medium, a density ramp's
-// transmittance against exp(-integral).
+// transmittance against exp(-integral). Volume objects' grids (scene/volume_object.h): a
+// block of voxels against exp(-depth), in object and world space; Cycles' step and density
+// scale; the box rays enter through.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "integrator/analysis.h"
 #include "integrator/render.h"
@@ -349,7 +354,8 @@ TEST(HeterogeneousVolume, AProgramOfConstantValueRendersTheHomogeneousMedium) {
   for (const EffectDecision& d : b.stats.effects) {
     if (d.name == "volumes") {
       EXPECT_TRUE(d.on);
-      EXPECT_NE(d.why.find("1 object: heterogeneous (ray marched"), std::string::npos) << d.why;
+      EXPECT_NE(d.why.find("1 object: heterogeneous, ray marched at step rate"), std::string::npos)
+          << d.why;
     }
   }
 }
@@ -425,6 +431,105 @@ TEST(HeterogeneousVolume, ACloudIsTheSameWhateverTheThreadsTilesAndWavesAndSeenF
   const Rendered inside = render(scene, settings);
   EXPECT_GT(inside.stats.rays.volume_feelers, 0u);
   EXPECT_EQ(inside.stats.rays.nonfinite_samples, 0u);
+}
+
+}  // namespace
+}  // namespace whitted
+
+namespace whitted {
+namespace {
+
+// One block of 8^3 voxels of density 1, voxels of 0.25: the cube [0, 2]^3 in object space.
+std::shared_ptr<const VolumeGrid> full_block() {
+  VolumeGridData data;
+  data.name = "density";
+  data.index_to_object = glm::scale(glm::mat4(1.0f), Vec3(0.25f));
+  data.active_lower = glm::ivec3(0);
+  data.active_upper = glm::ivec3(7);
+  data.active_voxels = 512;
+  data.block_counts = glm::ivec3(1);
+  data.blocks = {1};
+  data.values.assign(VolumeGrid::kBlockVoxels, 1.0f);
+  return std::make_shared<const VolumeGrid>(std::move(data));
+}
+
+// What the exporter makes of a Volume object's material (addon/export/volume.py): an
+// absorption of `k` times its density grid, times Cycles' object density.
+Material grid_fog(float k) {
+  const auto multiply = static_cast<uint32_t>(VectorMathOp::kMultiply);
+  MaterialParams m;
+  m.surface = false;
+  m.program = std::make_shared<const Program>(
+      make({{Op::kInput, kInputGrid + static_cast<uint32_t>(GridRole::kDensity), 0},
+            {Op::kInput, kInputVolumeDensity, 3},
+            {Op::kVectorMath, multiply, 2, 0, 1},
+            {Op::kVectorMath, multiply, 4, 2, 3}},
+           {glm::vec4(0.0f), glm::vec4(k, k, k, 0.0f), glm::vec4(0.0f), glm::vec4(0.0f),
+            glm::vec4(0.0f)}));
+  m.outputs[kVolumeAbsorptionField] = 4;
+  return Material(m);
+}
+
+// The transmittance straight down through the block's middle, placed by `to_world`.
+float through_the_block(const glm::mat4& to_world, VolumeRender settings, float k) {
+  VolumeObject::Grids grids;
+  grids[static_cast<int>(GridRole::kDensity)] = full_block();
+  const auto volume = std::make_shared<const VolumeObject>(to_world, grids, settings);
+  Scene scene;
+  scene.set_background(Color(1.0f));
+  scene.set_mesh("smoke", volume->bound_mesh());
+  scene.set_material("smoke", grid_fog(k));
+  Instance instance{"smoke", to_world, {"smoke"}};
+  instance.volume = volume;
+  scene.set_instance("smoke", instance);
+  const Vec3 middle = transform_point(to_world, Vec3(1.0f));
+  scene.camera = looking_down(Vec3(middle.x, middle.y, 20.0f), 1e-5f);
+  Settings one = one_ray(8);
+  one.volume_step_rate = 0.1f;
+  return render(scene, one).pixels[0];
+}
+
+TEST(GridVolume, ABlockOfDensityOneLetsThroughExpOfMinusItsDepth) {
+  // Trilinear between voxel centres, the density falls from 1 to 0 over the half voxel
+  // either side of each face: along a line across the block its integral is the block's
+  // depth, 2, wherever the values stand (centres or index points).
+  const float k = 0.4f;
+  for (const bool centred : {true, false}) {
+    EXPECT_NEAR(through_the_block(glm::mat4(1.0f), {true, 0.0f, centred}, k), std::exp(-2.0f * k),
+                1e-4f)
+        << centred;
+  }
+  // Scaled by 2: in object space a density is per unit of the object, so the twice as
+  // long path is half as dense; in world space it is not.
+  const glm::mat4 twice = glm::scale(glm::mat4(1.0f), Vec3(2.0f));
+  EXPECT_NEAR(through_the_block(twice, {true, 0.0f, true}, k), std::exp(-2.0f * k), 1e-4f);
+  EXPECT_NEAR(through_the_block(twice, {false, 0.0f, true}, k), std::exp(-4.0f * k), 1e-4f);
+}
+
+TEST(GridVolume, ItsStepAndDensityScaleAreCyclesAndItsBoxHoldsWhatTheGridsReach) {
+  VolumeObject::Grids grids;
+  grids[static_cast<int>(GridRole::kDensity)] = full_block();
+  const glm::mat4 to_world = glm::scale(glm::mat4(1.0f), Vec3(2.0f, 2.0f, 4.0f));
+  const VolumeObject automatic(to_world, grids);
+  EXPECT_FLOAT_EQ(automatic.step(), 0.5f);  // the voxel (0.25) carried to the world, smallest
+  EXPECT_NEAR(automatic.density_scale(),
+              1.0f / glm::length(Vec3(2.0f, 2.0f, 4.0f) / std::sqrt(3.0f)), 1e-6f);
+  EXPECT_FLOAT_EQ(VolumeObject(to_world, grids, {true, 0.1f, true}).step(), 0.2f);
+  EXPECT_FLOAT_EQ(VolumeObject(to_world, grids, {false, 0.1f, true}).step(), 0.1f);
+  EXPECT_FLOAT_EQ(VolumeObject(to_world, grids, {false, 0.1f, true}).density_scale(), 1.0f);
+  EXPECT_THROW(VolumeObject(to_world, grids, {true, -1.0f, true}), std::invalid_argument);
+  // The box: the active voxels and half a voxel more, moved back half a voxel where
+  // values stand at the index points.
+  const auto bounds = [&](bool centred) {
+    const Mesh mesh = VolumeObject(to_world, grids, {true, 0.0f, centred}).bound_mesh();
+    EXPECT_EQ(mesh.triangle_count(), 12u);
+    return bounding_box(mesh);
+  };
+  EXPECT_NEAR(bounds(true).lower.x, -0.125f, 1e-6f);
+  EXPECT_NEAR(bounds(true).upper.x, 2.125f, 1e-6f);
+  EXPECT_NEAR(bounds(false).lower.x, -0.25f, 1e-6f);
+  EXPECT_NEAR(bounds(false).upper.x, 2.0f, 1e-6f);
+  EXPECT_EQ(VolumeObject(to_world, {}).bound_mesh().triangle_count(), 0u);
 }
 
 }  // namespace

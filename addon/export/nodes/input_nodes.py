@@ -134,7 +134,48 @@ def _attribute(c, out):
     if node.attribute_type != "GEOMETRY":
         c.warn(node, f"{node.attribute_type} attributes are not supported; 0")
         return c.b.f(0.0)
+    if c.grids is not None:
+        return _grid_attribute(c, out, node.attribute_name)
     return _attribute_value(c, out, ("ATTRIBUTE", node.attribute_name))
+
+
+def _grid_attribute(c, out, name):
+    # Inside a Volume object an attribute is a grid (export/volume_object.py reads those
+    # named as its roles are); Fac is a colour grid's mean, Alpha 1.
+    role = next((r for r, grid in c.grids.items() if grid == name), None)
+    value = None if role is None else c.grid(role, name, COLOR if role == "color" else FLOAT)
+    if value is None:
+        c.warn(
+            out.node,
+            f"grid '{name}' is not read (only density, color, temperature and flame are); 0",
+        )
+        return c.b.f(0.0)
+    kind = output_name(out)
+    if kind == "Alpha":
+        return c.b.f(1.0)
+    if kind in ("Fac", "Factor") and role == "color":
+        return c.b.average(value)
+    return value
+
+
+# The Volume Info node's outputs and the grid each reads, by its fixed name.
+VOLUME_INFO_GRIDS = {
+    "Color": "color",
+    "Density": "density",
+    "Flame": "flame",
+    "Temperature": "temperature",
+}
+
+
+def _volume_info(c, out):
+    # A grid of the Volume object, or 0 where there is none (a mesh's volume, the world).
+    grid = VOLUME_INFO_GRIDS.get(output_name(out))
+    value = (
+        None
+        if grid is None or c.grids is None
+        else c.grid(grid, grid, COLOR if grid == "color" else FLOAT)
+    )
+    return c.b.f(0.0) if value is None else value
 
 
 def _fresnel(c, out):
@@ -194,6 +235,7 @@ INPUT_NODES = {
     "ShaderNodeObjectInfo": _object_info,
     "ShaderNodeVertexColor": _vertex_color,
     "ShaderNodeAttribute": _attribute,
+    "ShaderNodeVolumeInfo": _volume_info,
     "ShaderNodeFresnel": _fresnel,
     "ShaderNodeLayerWeight": _layer_weight,
     "ShaderNodeNormalMap": _normal_map,

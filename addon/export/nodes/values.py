@@ -50,10 +50,13 @@ class Lowering:
     """One material's (or world's) lowering: the Builder, the warnings, the textures
     and the per-hit data its program reads."""
 
-    def __init__(self, owner, warnings, world=False):
+    def __init__(self, owner, warnings, world=False, grids=None):
         self.owner = owner  # "material 'Name'" or "world 'Name'"
         self.warnings = warnings
         self.world = world
+        # A Volume object's grids its program may read, {role: grid name}
+        # (export/volume_object.py ROLES); None for a mesh's material and the world.
+        self.grids = grids
         self.b = Builder()
         self.needs = Needs()
         self.textures = {}  # name -> ImageTextureSpec
@@ -143,6 +146,16 @@ class Lowering:
 
     def hit(self, mode, kind=VECTOR):
         return self.b.op(ops.INPUT, mode, (), kind=kind)
+
+    def grid(self, role, name, kind=FLOAT):
+        """The Volume object's grid `name` in `role` at the point (a scalar in every
+        component), or None where the program has no such grid: Cycles' attribute not
+        found."""
+        if self.grids is None or self.grids.get(role) != name:
+            return None
+        mode = getattr(ops, f"IN_GRID_{role.upper()}")
+        expr = self.hit(mode, COLOR if role == "color" else FLOAT)
+        return self.convert(expr, kind)
 
     def uv(self, name=""):
         if self.world:

@@ -69,14 +69,27 @@ EffectDecision light_linking(const CompiledScene& scene) {
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
 // their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume;
 // those with a medium a program drives (heterogeneous.h) counted apart.
+// Volume objects (Instance::volume) are counted apart again, with their largest grid.
 struct MediaObjects {
   size_t homogeneous = 0;
-  size_t heterogeneous = 0;
+  size_t heterogeneous = 0;  // a program drives it, grids or not
+  size_t grids = 0;          // of those, Volume objects
+  glm::ivec3 largest{0};     // the Volume objects' grid of most voxels, a side
   size_t total() const { return homogeneous + heterogeneous; }
 };
 MediaObjects media_objects(const CompiledScene& scene) {
   MediaObjects objects;
+  const auto voxels = [](const glm::ivec3& r) { return size_t(r.x) * size_t(r.y) * size_t(r.z); };
   for (const CompiledScene::Instance& instance : scene.instances) {
+    if (instance.volume) {
+      objects.grids += 1;
+      for (int role = 0; role < kGridRoles; ++role) {
+        const auto& grid = instance.volume->grid(static_cast<GridRole>(role));
+        if (grid && voxels(grid->resolution()) > voxels(objects.largest)) {
+          objects.largest = grid->resolution();
+        }
+      }
+    }
     bool participating = false;
     bool varying = false;
     for (uint32_t m : instance.materials) {
@@ -124,10 +137,25 @@ std::string media_why(const MediaObjects& media, bool world, const Settings& set
   if (media.heterogeneous == 0) return why + "homogeneous, single scattering of " + scattered;
   if (media.homogeneous > 0) why += thousands(media.homogeneous) + " homogeneous, ";
   if (total > 1) why += thousands(media.heterogeneous) + " ";
+  why += "heterogeneous";
+  if (media.grids > 0) {
+    // "(a Volume object's grids, 64^3 voxels)", "(2 of them Volume objects' grids, the
+    // largest 64x64x32 voxels)"
+    const glm::ivec3& r = media.largest;
+    const std::string side =
+        r.x == r.y && r.y == r.z
+            ? std::to_string(r.x) + "^3"
+            : std::to_string(r.x) + "x" + std::to_string(r.y) + "x" + std::to_string(r.z);
+    const std::string which =
+        media.grids == media.heterogeneous ? "" : thousands(media.grids) + " of them ";
+    why +=
+        " (" + which +
+        (media.grids == 1 ? "a Volume object's grids, " : "Volume objects' grids, the largest ") +
+        side + " voxels)";
+  }
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", static_cast<double>(settings.volume_step_rate));
-  return why + "heterogeneous (ray marched, step rate " + rate + "), single scattering of " +
-         scattered;
+  return why + ", ray marched at step rate " + rate + ", single scattering of " + scattered;
 }
 
 // Which of shadows, reflection, refraction and translucency the scene can show.

@@ -20,16 +20,21 @@
 
 namespace whitted {
 
-// The step a medium is marched with: Cycles' step for a procedural volume in a mesh, a
-// tenth of the mean side of its object's world box, times its material's Volume Step Rate
-// and the render's (Settings::volume_step_rate). Cycles takes the smallest step rate of
-// the heterogeneous materials an object has; here each medium keeps its material's.
+// The step a medium is marched with, as Cycles' Object::compute_volume_step_size: a
+// Volume object's grids' (VolumeObject::step: its voxels or its Render step size, in the
+// world), else (a procedural volume in a mesh) a tenth of the mean side of its object's
+// world box; times its material's Volume Step Rate and the render's
+// (Settings::volume_step_rate). Cycles takes the smallest step rate of the heterogeneous
+// materials an object has; here each medium keeps its material's.
 inline float volume_step(const CompiledScene& scene, const Settings& settings, uint32_t material,
                          uint32_t instance) {
-  const Box& box = scene.instances[instance].world_box;
-  const Vec3 side = box.upper - box.lower;
-  return 0.1f * (side.x + side.y + side.z) / 3.0f * scene.materials[material].volume_step_rate *
-         settings.volume_step_rate;
+  const CompiledScene::Instance& in = scene.instances[instance];
+  float step = in.volume ? in.volume->step() : 0.0f;
+  if (!(step > 0.0f)) {
+    const Vec3 side = in.world_box.upper - in.world_box.lower;
+    step = 0.1f * (side.x + side.y + side.z) / 3.0f;
+  }
+  return step * scene.materials[material].volume_step_rate * settings.volume_step_rate;
 }
 
 // Where ray r leaves `box` (0 if it never is inside it): how far a medium the box holds

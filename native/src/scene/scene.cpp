@@ -373,6 +373,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     out.info = instance.info;
     out.name = name;
     out.cryptomatte = instance.cryptomatte;
+    out.volume = instance.volume;
     out.links = instance.links;
     for (const std::string& material : instance.materials) {
       if (material.empty()) {

@@ -18,6 +18,7 @@
 #include "scene/mesh.h"
 #include "scene/motion.h"
 #include "scene/texture.h"
+#include "scene/volume_object.h"
 #include "scene/world_light.h"
 
 namespace whitted {
@@ -87,6 +88,9 @@ struct Instance {
   // opening to its closing; empty (or all one transform) when it does not move.
   std::vector<glm::mat4> motion;
   InstanceLinks links;
+  // A Volume object's grids, which its material reads at points inside the mesh (the
+  // object's VolumeObject::bound_mesh); null for every other instance.
+  std::shared_ptr<const VolumeObject> volume;
 };
 
 // Where a ray met a surface, in world space.
@@ -191,6 +195,7 @@ struct CompiledScene {
     // Its mesh's box carried to the world (the box of the eight corners placed): where a
     // medium it bounds can be, and its marching step (integrator/heterogeneous.h).
     Box world_box;
+    std::shared_ptr<const VolumeObject> volume;  // the Instance's
   };
   std::vector<Instance> instances;
   bool moves = false;               // whether any instance moves or deforms within the shutter

@@ -83,6 +83,13 @@ namespace {
 
 // Where a program reads a surface hit, or a point inside a medium (`inside`: no surface,
 // no primitive; its corner layers read 0): the inputs it asks for, computed on demand.
+// The INPUT modes of the grids (shader/ops.h kInputGrid + role, named by role in
+// kOpNumbers) follow GridRole's order.
+static_assert(static_cast<int>(GridRole::kDensity) == 0 &&
+              static_cast<int>(GridRole::kColor) == 1 &&
+              static_cast<int>(GridRole::kTemperature) == 2 &&
+              static_cast<int>(GridRole::kFlame) == 3 && kGridRoles == 4);
+
 struct SurfaceHit {
   const CompiledScene& scene;
   const Interaction& it;
@@ -90,6 +97,8 @@ struct SurfaceHit {
   const RayContext& context;
   const ProgramHit& hit;
   bool inside = false;
+  // Inside a Volume object: its grids at the point (kInputGrid); null elsewhere.
+  const VolumeSample* grids = nullptr;
 
   glm::vec4 input(uint32_t mode) const {
     const CompiledScene::Instance& instance = scene.instances[it.instance];
@@ -150,6 +159,16 @@ struct SurfaceHit {
         return glm::vec4(instance.info.pass_index);
       case kInputObjectColor:
         return instance.info.color;
+      case kInputGrid + static_cast<uint32_t>(GridRole::kDensity):
+        return glm::vec4(grids ? grids->density : 0.0f);
+      case kInputGrid + static_cast<uint32_t>(GridRole::kColor):
+        return grids ? glm::vec4(grids->color, 0.0f) : glm::vec4(0.0f);
+      case kInputGrid + static_cast<uint32_t>(GridRole::kTemperature):
+        return glm::vec4(grids ? grids->temperature : 0.0f);
+      case kInputGrid + static_cast<uint32_t>(GridRole::kFlame):
+        return glm::vec4(grids ? grids->flame : 0.0f);
+      case kInputVolumeDensity:
+        return glm::vec4(inside && instance.volume ? instance.volume->density_scale() : 1.0f);
       case kInputObjectNormal:
         return vec(object_normal(mesh));
       default:
@@ -436,7 +455,10 @@ Medium CompiledScene::medium(uint32_t material, uint32_t instance, const Vec3& x
   hit.to_world = glm::mat3(placement.to_world);
   hit.normal_to_world = placement.normal_to_world;
   hit.images = m.program_images.data();
-  const SurfaceHit source{*this, it, ray, context, hit, /*inside=*/true};
+  // A Volume object's grids, read once for every input that reads one.
+  const VolumeObject* volume = instances[instance].volume.get();
+  const VolumeSample grids = volume ? volume->sample(x) : VolumeSample{};
+  const SurfaceHit source{*this, it, ray, context, hit, /*inside=*/true, volume ? &grids : nullptr};
   Inputs inputs;
   for (size_t i = 0; i < m.program->inputs().size(); ++i) {
     // A Bump's offsets lie along a surface: inside a medium it reads the point itself.

@@ -10,6 +10,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/math.h"
+#include "scene/mesh.h"
 #include "scene/volume_grid.h"
 
 namespace whitted {
@@ -29,19 +30,44 @@ struct VolumeSample {
   float flame = 0.0f;
 };
 
+// A Volume's Render settings (Blender's Volume > Render): the space its step size and
+// density are in, and the step size, Blender units of that space (0: from the voxels).
+struct VolumeRender {
+  bool object_space = true;  // Space: Object (Blender's default) or World
+  float step_size = 0.0f;
+  // Where a voxel's value stands: its cube's centre (VolumeGrid's convention, Cycles
+  // before Blender 5.0), or its integer index point (OpenVDB's own, Cycles in 5.0):
+  // half a voxel apart (addon/export/volume_object.py says what was measured).
+  bool centred = true;
+};
+
 class VolumeObject {
  public:
   using Grids = std::array<std::shared_ptr<const VolumeGrid>, kGridRoles>;  // by GridRole
   // `to_world`: the object's transform (object space -> world), affine. Throws
-  // std::invalid_argument for a transform without inverse, or a colour grid of one
-  // channel or a scalar role's grid of three.
-  VolumeObject(const glm::mat4& to_world, Grids grids);
+  // std::invalid_argument for a transform without inverse, a colour grid of one channel
+  // or a scalar role's grid of three, or a step size that is negative or not finite.
+  VolumeObject(const glm::mat4& to_world, Grids grids, VolumeRender render = {});
 
   // The grids at world point x (each trilinear in its own index space, scene/volume_grid.h).
   VolumeSample sample(const Vec3& x) const;
   // The world-space box bounding every grid's active voxels: outside it density is the
   // grids' background (0 for every grid Blender writes). Empty without active voxels.
   Box3 world_bounds() const;
+  // The mesh a ray enters and leaves the object's medium through: the box in object space
+  // bounding every grid's active voxels and the half voxel around them that trilinear
+  // interpolation reaches (12 triangles, outward; its texture space that box, make_mesh's,
+  // as Cycles gives a volume's Generated coordinates). Empty (no triangles) without active voxels.
+  Mesh bound_mesh() const;
+  // Cycles' object_volume_density: in object space a density is per unit of the object,
+  // so a Volume scaled by s is 1/s as dense per world unit (1 / |linear part * (1, 1, 1)
+  // normalised|); in world space 1.
+  float density_scale() const { return density_scale_; }
+  // The march step its grids call for, world units, before the step rates (Cycles'
+  // Object::compute_volume_step_size): the Render step size carried to the world (object
+  // space: the smallest component of |linear part * (s, s, s)|), or where it is 0 each
+  // grid's voxel carried to the world likewise, the smallest; 0 where none gives one.
+  float step() const { return step_; }
   const glm::mat4& to_world() const { return to_world_; }
   const std::shared_ptr<const VolumeGrid>& grid(GridRole role) const {
     return grids_[static_cast<int>(role)];
@@ -51,6 +77,11 @@ class VolumeObject {
  private:
   glm::mat4 to_world_;
   Grids grids_;
+  VolumeRender render_;
+  float density_scale_;
+  float step_;
+  float compute_density_scale() const;
+  float compute_step() const;
   std::array<glm::mat4, kGridRoles> world_to_index_;  // by role (identity where no grid)
 };
 

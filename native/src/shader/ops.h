@@ -119,6 +119,12 @@ enum Input : uint32_t {
   kInputObjectRandom = 33,
   kInputObjectIndex = 34,
   kInputObjectColor = 35,
+  // Inside a Volume object: its grid of role k (scene/volume_object.h GridRole) at the
+  // point, a scalar in x, y and z; 0 elsewhere (the exporter reads them only there).
+  kInputGrid = 36,  // + k, k < kGridRoles
+  // Cycles' object_volume_density: a Volume object's VolumeObject::density_scale, 1
+  // elsewhere.
+  kInputVolumeDensity = 40,
   kInputUvSet = 64,       // + k, k < 64
   kInputAttribute = 128,  // + k, k < 128
   kInputPublicEnd = 256,
@@ -150,7 +156,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 30> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 35> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -173,6 +179,12 @@ inline constexpr std::array<OpNumber, 30> kOpNumbers = {{
     {"IN_OBJECT_RANDOM", kInputObjectRandom},
     {"IN_OBJECT_INDEX", kInputObjectIndex},
     {"IN_OBJECT_COLOR", kInputObjectColor},
+    // kInputGrid + GridRole (scene/volume_object.h), by role.
+    {"IN_GRID_DENSITY", kInputGrid},
+    {"IN_GRID_COLOR", kInputGrid + 1},
+    {"IN_GRID_TEMPERATURE", kInputGrid + 2},
+    {"IN_GRID_FLAME", kInputGrid + 3},
+    {"IN_VOLUME_DENSITY", kInputVolumeDensity},
     {"IN_UV", kInputUvSet},
     {"IN_ATTRIBUTE", kInputAttribute},
     {"IN_BUMP_X", kInputBumpX},

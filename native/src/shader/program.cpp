@@ -31,7 +31,7 @@ bool public_input(uint32_t mode) {
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
   return mode <= kInputObjectSpaceNormal ||
          (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
-         (mode >= kInputObjectLocation && mode <= kInputObjectColor) ||
+         (mode >= kInputObjectLocation && mode <= kInputVolumeDensity) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
 
