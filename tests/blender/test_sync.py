@@ -190,6 +190,10 @@ EDITS = (
     ("hair children", lambda s: _hair_settings(s, "child_type", "SIMPLE"), "any"),
     ("move hairy", lambda s: setattr(s.objects["Cube"], "location", (1.5, -1.0, 0.9)), "any"),
     ("add points", lambda s: _add_points(s), "any"),
+    # Volume objects (issue 48): added, their material edited, moved.
+    ("add smoke", lambda s: _add_smoke(s), "any"),
+    ("smoke density", lambda s: _smoke_density(0.8), "any"),
+    ("move smoke", lambda s: setattr(s.objects["Smoke"], "location", (1.0, 0.5, 0.0)), "any"),
 )
 # Light linking and shadow linking (Blender 4.0+): linked, relinked and unlinked.
 if bpy.app.version >= (4, 0, 0):
@@ -235,6 +239,29 @@ def _add_points(scene):
 
     plane = scene.objects.get("Added") or scene.objects["Cube Twin"]
     point_cloud_modifier(plane, density=20.0, radius=0.1)
+
+
+def _add_smoke(scene):
+    # A Mesh to Volume filling a hidden cube, shaded by a Principled Volume reading its grid.
+    from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
+
+    source = add_object(scene, "Smoke Source", cube_mesh("Smoke Source", 1.5), location=(1, 0, 1))
+    source.hide_render = True
+    smoke = mesh_to_volume(scene, "Smoke", source, 0.25)
+    material = bpy.data.materials.new("Smoke")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    principled = tree.nodes.new("ShaderNodeVolumePrincipled")
+    principled.inputs["Density"].default_value = 0.3
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(principled.outputs[0], output.inputs["Volume"])
+    smoke.data.materials.append(material)
+
+
+def _smoke_density(density):
+    nodes = bpy.data.materials["Smoke"].node_tree.nodes
+    nodes["Principled Volume"].inputs["Density"].default_value = density
 
 
 def _scatter_more(scene):
