@@ -33,6 +33,9 @@ class Quality:
     fresnel: str  # OFF | SCHLICK | EXACT
     cutoff: float  # a secondary ray whose weight is below this is not traced
     texture_filter: str  # AUTHORED (each Image Texture node's) | CLOSEST
+    # Heterogeneous media's march step, times the object's own (Cycles' Volumes > Step
+    # Rate; native integrator/march.h): smaller is finer and slower.
+    volume_step_rate: float
 
 
 # (key, label, description, values), cheapest first. Each preset is a noise target:
@@ -61,6 +64,7 @@ PRESETS = (
             fresnel="SCHLICK",
             cutoff=0.05,
             texture_filter="CLOSEST",
+            volume_step_rate=1.0,
         ),
     ),
     (
@@ -82,6 +86,7 @@ PRESETS = (
             fresnel="SCHLICK",
             cutoff=0.01,
             texture_filter="AUTHORED",
+            volume_step_rate=1.0,
         ),
     ),
     (
@@ -105,6 +110,7 @@ PRESETS = (
             fresnel="EXACT",
             cutoff=1.0 / 255.0,
             texture_filter="AUTHORED",
+            volume_step_rate=1.0,
         ),
     ),
     (
@@ -128,6 +134,9 @@ PRESETS = (
             # (2^16 rays per camera sample); a weight of 1/1000 is below 8-bit output.
             cutoff=0.001,
             texture_filter="AUTHORED",
+            # A quarter of the step: a procedural cloud against Cycles 5.0's unbiased
+            # tracking, SSIM 0.9859 at 1, 0.9996 at 0.25 (docs/SUPPORT.md).
+            volume_step_rate=0.25,
         ),
     ),
 )

@@ -85,6 +85,7 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
         fresnel="SCHLICK",
         cutoff=0.02,
         texture_filter="CLOSEST",
+        volume_step_rate=0.5,
     )
     apply_quality(empty_scene.whitted, quality)
     empty_scene.whitted.pixel_filter_type = "GAUSSIAN"
@@ -98,6 +99,7 @@ def test_native_settings_carry_every_quality_control(empty_scene, native):
     assert settings.aa_depth == 2
     assert settings.adaptive_sampling
     assert settings.noise_threshold == pytest.approx(0.03)
+    assert settings.volume_step_rate == pytest.approx(0.5)
     assert settings.adaptive_min_samples == 8
     assert settings.glossy_samples == 4
     assert settings.emitter_samples == 3

@@ -108,8 +108,9 @@ def test_every_preset_is_a_setting_the_renderer_accepts(native):
         settings = native.Settings(
             aa_mode=getattr(native.AntiAliasing, quality.aa_mode),
             fresnel=getattr(native.Fresnel, quality.fresnel),
-            **{name: values[name] for name in numeric - {"light_samples"}},
         )
+        for name in numeric - {"light_samples"}:
+            setattr(settings, name, values[name])
         settings.validate()
         assert native.Light(samples=quality.light_samples).samples == quality.light_samples
 
