@@ -176,8 +176,10 @@ def _blackbody_emission(alg, node, temperature):
     """Principled Volume's blackbody emission per unit of length at `temperature` (kelvin, an
     expression of `alg`), as Cycles' svm_node_principled_volume adds it: none where Blackbody
     Intensity is 0 or less, else Blackbody Tint * sigma * mix(1, T^4, Blackbody Intensity) *
-    blackbody_rgb(T), T = max(temperature, 0). Cycles (3.4) also skips an intensity below
-    1e-5 (CLOSURE_WEIGHT_CUTOFF): a glow below 1e-5 per unit of length, left in here."""
+    blackbody_rgb(T), T = max(temperature, 0). Where a link drives Blackbody Intensity the
+    program takes it at least 0 instead (a glow of sigma * blackbody_rgb(T), below 1e-13 per
+    unit of length, where Cycles has none); Cycles 3.4 also skips an intensity below 1e-5
+    (CLOSURE_WEIGHT_CUTOFF), a glow below 1e-5 per unit of length, kept here."""
     blackbody = alg.positive(alg.value(node, "Blackbody Intensity"))
     if alg.is_zero(blackbody):
         return alg.black()
