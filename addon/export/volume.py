@@ -13,9 +13,14 @@ sources):
   nothing), Henyey-Greenstein of its Anisotropy.
 - Principled Volume: sigma_s = Color * Density, extinction (Color + (1 - Color) *
   (1 - sqrt(Absorption Color))) * Density, so sigma_a = (1 - Color) * (1 - sqrt(Absorption
-  Color)) * Density (each factor at least 0); emission Emission Strength * Emission Color,
-  not scaled by Density nor by a Mix Shader's factor (Cycles' emission_setup there takes
-  the product alone).
+  Color)) * Density (each factor at least 0); emission Emission Strength * Emission Color
+  plus the blackbody emission where Blackbody Intensity is above 0: Blackbody Tint * sigma *
+  mix(1, T^4, Blackbody Intensity) * the black body's colour at T (shader/blackbody.h, not
+  clamped), T = max(Temperature, 0) in kelvin and sigma Stefan-Boltzmann's constant * 1e-6
+  / pi (_blackbody_emission). The emission is not scaled by Density; by a Mix Shader's
+  factor in Blender 5.0 (seen; its Cycles multiplies it by the closure's weight), not in
+  3.4 (seen: its emission_setup takes the product alone). Cycles keeps the black body's
+  negative channels; the native material clamps a medium's emission at 0.
 - Emission (as a volume): its Color * Strength per unit of length.
 - Add Shader sums, Mix Shader weighs its two by 1 - Fac and Fac (Fac clamped to [0, 1]).
 
@@ -29,12 +34,16 @@ once over an algebra (`_Constants`, `_Program`), become expressions of the mater
 program (its volume_* fields), which the native scene runs at points inside the mesh
 (CompiledScene::medium: Generated and Object there are the point in the mesh's texture
 space and in object space, as in Cycles). A link whose value folds to a constant (a Value
-node) gives a homogeneous medium of those float32 values. Blackbody emission, other phase
-functions and other nodes are not rendered: the material's report line says which.
+node) gives a homogeneous medium of those float32 values. Other phase functions than
+Henyey-Greenstein and other nodes are not rendered: the material's report line says which.
 """
 
+import math
 from dataclasses import dataclass
 
+import bpy
+
+from ..native import load_native
 from .nodes import ops
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT
@@ -153,8 +162,6 @@ def _closure(alg, socket, weight, scope=()):
 
 def _principled(alg, node, weight):
     """Principled Volume's part (module docstring)."""
-    if alg.blackbody(node):
-        raise NotRendered(f"its Principled Volume '{node.name}' has blackbody emission")
     density = alg.mul(weight, alg.positive(alg.value(node, "Density")))
     # A Volume object's grids scale what their attributes name (Cycles: an attribute not
     # found scales nothing).
@@ -173,7 +180,46 @@ def _principled(alg, node, weight):
     absorption = alg.scale(kept, density)
     scattering = alg.scale(colour, density)
     emission = alg.scale(alg.colour(node, "Emission Color"), alg.value(node, "Emission Strength"))
+    temperature = alg.value(node, "Temperature")
+    grid = alg.attribute(node, "temperature", "Temperature Attribute")
+    if grid is not None:
+        temperature = alg.mul(temperature, alg.positive(grid))
+    emission = alg.plus(emission, _blackbody_emission(alg, node, temperature))
+    if _WEIGHTED_EMISSION:
+        emission = alg.scale(emission, weight)
     return (absorption, scattering, alg.value(node, "Anisotropy"), emission)
+
+
+# Whether Cycles scales Principled Volume's emission by the closure's weight (a Mix Shader's
+# factor): seen in Blender 5.0, not in 3.4; the 4.x releases between were not tried.
+_WEIGHTED_EMISSION = bpy.app.version >= (5, 0, 0)
+
+
+# Stefan-Boltzmann's law: a black body at T kelvin emits sigma T^4 W/m^2, sigma = 5.670373e-8
+# W m^-2 K^-4; its radiance is that over pi. Cycles scales it by 1e-6 more, per unit of
+# length in a volume (svm_node_principled_volume).
+_BLACKBODY_SIGMA = 5.670373e-8 * 1e-6 / math.pi
+
+
+def _blackbody_emission(alg, node, temperature):
+    """Principled Volume's blackbody emission per unit of length at `temperature` (kelvin, an
+    expression of `alg`), as Cycles' svm_node_principled_volume adds it: none where Blackbody
+    Intensity is 0 or less, else Blackbody Tint * sigma * mix(1, T^4, Blackbody Intensity) *
+    blackbody_rgb(T), T = max(temperature, 0). Where a link drives Blackbody Intensity the
+    program takes it at least 0 instead (a glow of sigma * blackbody_rgb(T), below 1e-13 per
+    unit of length, where Cycles has none); Cycles 3.4 also skips an intensity below 1e-5
+    (CLOSURE_WEIGHT_CUTOFF), a glow below 1e-5 per unit of length, kept here."""
+    blackbody = alg.positive(alg.value(node, "Blackbody Intensity"))
+    if alg.is_zero(blackbody):
+        return alg.black()
+    kelvin = alg.positive(temperature)
+    squared = alg.mul(kelvin, kelvin)
+    # mix(1, T^4, b) = 1 + b (T^4 - 1)
+    mixed = alg.add(alg.f(1.0), alg.mul(blackbody, alg.sub(alg.mul(squared, squared), alg.f(1.0))))
+    intensity = alg.mul(alg.f(_BLACKBODY_SIGMA), mixed)
+    return alg.product(
+        alg.colour(node, "Blackbody Tint"), alg.scale(alg.blackbody(kelvin), intensity)
+    )
 
 
 def _combined(alg, parts):
@@ -224,8 +270,9 @@ class _Constants:
             raise _Linked
         return socket
 
-    def blackbody(self, node):
-        return self.value(node, "Blackbody Intensity") > 0.0
+    def blackbody(self, kelvin):
+        # The native fit (shader/blackbody.h), in float32 as op BLACKBODY computes it.
+        return load_native().blackbody_rgb(kelvin)
 
     def f(self, x):
         return x
@@ -300,9 +347,8 @@ class _Program:
     def colour(self, node, name):
         return self.lowering.value(node.inputs[name], node.scope, COLOR)
 
-    def blackbody(self, node):
-        intensity = self.value(node, "Blackbody Intensity")
-        return not (intensity.is_const and intensity.value[0] <= 0.0)
+    def blackbody(self, kelvin):
+        return self.b.op(ops.BLACKBODY, 0, (kelvin,), kind=COLOR)
 
     def f(self, x):
         return self.b.f(x)

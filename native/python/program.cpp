@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "shader/blackbody.h"
 #include "shader/sky.h"
 
 namespace whitted::python {
@@ -87,6 +88,16 @@ void bind_program(py::module_& m) {
       "`constants` its COLOR_RAMP or CURVE table), computed by the program's own code; None "
       "for an op that reads the hit. ValueError for an instruction a program would refuse.");
 
+  m.def(
+      "blackbody_rgb",
+      [](float kelvin) {
+        const Vec3 c = blackbody_rgb(kelvin);
+        return py::make_tuple(c.x, c.y, c.z);
+      },
+      py::arg("kelvin"),
+      "The linear Rec.709 colour (r, g, b) of a black body at `kelvin`, as Cycles' fit gives "
+      "it (shader/blackbody.h; what op BLACKBODY computes, in float32): not clamped, a "
+      "channel may be below 0.");
   m.def(
       "preetham_table",
       [](const std::array<float, 3>& sun, float turbidity) {

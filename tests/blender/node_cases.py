@@ -256,6 +256,15 @@ def _rgb_to_bw(tree, uv):
     return _combine(tree, node.outputs[0])
 
 
+def _blackbody(tree, uv):
+    # Temperatures from 600 K to 12600 K along U: below the fit's 800 K, each of its spans
+    # and above its 12000 K.
+    x, _ = _x(tree, uv)
+    node = _node(tree, "ShaderNodeBlackbody")
+    tree.links.new(_spread(tree, x, 12000.0, 600.0), node.inputs["Temperature"])
+    return node.outputs["Color"]
+
+
 def mix_float_case():
     def build(tree, uv):
         x, y = _x(tree, uv)
@@ -614,6 +623,7 @@ CASES = [
     NodeCase("bright_contrast", _bright_contrast, "Bright/Contrast"),
     NodeCase("invert", _invert, "Invert"),
     NodeCase("rgb_to_bw", _rgb_to_bw, "RGB to BW"),
+    NodeCase("blackbody", _blackbody, "Blackbody"),
     *(map_range_case(kind) for kind in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")),
     NodeCase("clamp_range", _clamp_range, "Clamp"),
     *(mapping_case(kind) for kind in ("POINT", "TEXTURE", "VECTOR", "NORMAL")),

@@ -61,10 +61,9 @@ def test_a_volume_shader_is_named(stage, native):
     if bpy.app.version < (5, 0, 0):  # node trees by default from 5.0 on
         material.use_nodes = True
     nodes = material.node_tree.nodes
-    volume = nodes.new("ShaderNodeVolumePrincipled")
-    # Blackbody emission (fire): not rendered yet. A texture on its density is (a
-    # heterogeneous volume, tests/blender/test_volume.py).
-    volume.inputs["Blackbody Intensity"].default_value = 1.0
+    # A surface shader in the Volume socket is no volume shader rendered (fire and a
+    # texture on the density are: tests/blender/test_volume.py).
+    volume = nodes.new("ShaderNodeBsdfDiffuse")
     output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
     material.node_tree.links.new(volume.outputs[0], output.inputs["Volume"])
     cube = add_object(stage.collection, "Box", cube_mesh("Box", 1.0))
@@ -73,9 +72,11 @@ def test_a_volume_shader_is_named(stage, native):
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     world_output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    # A world's volume of constant inputs renders (test_volume.py); a glowing one does not.
+    # A world's volume of constant inputs renders (test_volume.py); one a texture drives
+    # does not.
     haze = world.node_tree.nodes.new("ShaderNodeVolumePrincipled")
-    haze.inputs["Blackbody Intensity"].default_value = 1.0
+    noise = world.node_tree.nodes.new("ShaderNodeTexNoise")
+    world.node_tree.links.new(noise.outputs["Fac"], haze.inputs["Density"])
     world.node_tree.links.new(haze.outputs[0], world_output.inputs["Volume"])
     stage.world = world
     warnings = _warnings(native)

@@ -6,6 +6,7 @@ volume, diffuse and glossy bounces 0; what each volume node exports; the report 
 statistics."""
 
 import json
+import math
 from pathlib import Path
 
 import bpy
@@ -106,9 +107,20 @@ def _fog_stage(scene, fog_bottom=-0.3, light="spot"):
 def _fog_against_cycles(
     scene, tmp_path, monkeypatch, then=None, specular_bounces=0, label="fog box"
 ):
-    """Renders `scene` in Cycles and Whitted and compares them; `then(scene)`, when given,
-    changes the scene between the two; `specular_bounces` the mirror and glass rays both
-    trace. The statistics Whitted wrote (WHITTED_STATS)."""
+    """Renders `scene` in Cycles and Whitted and compares them (_against_cycles), the
+    fog's lights scattered; the statistics Whitted wrote (WHITTED_STATS)."""
+    stats = _against_cycles(scene, tmp_path, monkeypatch, then, specular_bounces, label)
+    assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
+    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
+    assert volumes["on"] and "single scattering of" in volumes["why"], volumes
+    return stats
+
+
+def _against_cycles(scene, tmp_path, monkeypatch, then=None, specular_bounces=0, label="fog box"):
+    """Renders `scene` in Cycles and Whitted and compares them: summed luminance within 2%
+    and SSIM at least 0.97; `then(scene)`, when given, changes the scene between the two;
+    `specular_bounces` the mirror and glass rays both trace. The statistics Whitted wrote
+    (WHITTED_STATS)."""
     set_cycles_reference(scene, samples=256, specular_bounces=specular_bounces)
     # Cycles counts a volume bound a shadow ray crosses as a transparent bounce.
     scene.cycles.transparent_max_bounces = 8
@@ -128,11 +140,7 @@ def _fog_against_cycles(
     print(f"\n{label}: summed luminance {ratio:.4f} of Cycles', SSIM {similarity:.4f}")
     assert abs(ratio - 1.0) < 0.02
     assert similarity >= 0.97
-    stats = json.loads(Path(stats_path).read_text())
-    assert stats["volume_feelers"] > 0 and stats["volume_queries"] > 0
-    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
-    assert volumes["on"] and "single scattering of" in volumes["why"], volumes
-    return stats
+    return json.loads(Path(stats_path).read_text())
 
 
 def _volumes_why(stats):
@@ -391,16 +399,117 @@ def test_a_cloud_exports_its_density_as_a_program(empty_scene):
 
 def test_a_volume_node_it_cannot_render_is_reported(empty_scene, native):
     def build(tree):
-        volume = tree.nodes.new("ShaderNodeVolumePrincipled")
-        noise = tree.nodes.new("ShaderNodeTexNoise")
-        tree.links.new(noise.outputs[0], volume.inputs["Blackbody Intensity"])
-        return volume.outputs[0]
+        return tree.nodes.new("ShaderNodeBsdfDiffuse").outputs[0]
 
     scene = _fog_stage(empty_scene)
-    scene.objects["Fog"].data.materials[0] = _material("Fire", build)
+    scene.objects["Fog"].data.materials[0] = _material("Odd", build)
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
-    fire = [w for w in warnings if "'Fire'" in w]
-    assert len(fire) == 1 and "has blackbody emission" in fire[0], warnings
+    odd = [w for w in warnings if "'Odd'" in w]
+    assert len(odd) == 1 and "is not a volume shader rendered" in odd[0], warnings
+
+
+def _fire(temperature=None, tint=(1.0, 1.0, 1.0), density=0.2, colour=0.0):
+    """A Principled Volume glowing as a black body (Blackbody Intensity 1) at 1500 K, or at
+    what `temperature(tree)` (an output socket), when given, feeds its Temperature; its
+    Blackbody Tint `tint`; of `density` and scattering Color `colour` (grey; 0: a smoke
+    that absorbs only)."""
+
+    def build(tree):
+        volume = _nodes(
+            tree,
+            "ShaderNodeVolumePrincipled",
+            Density=density,
+            Color=(colour, colour, colour, 1.0),
+            Temperature=1500.0,
+            **{"Blackbody Intensity": 1.0, "Blackbody Tint": (*tint, 1.0)},
+        )
+        if temperature is not None:
+            tree.links.new(temperature(tree), volume.inputs["Temperature"])
+        return volume.outputs[0]
+
+    return build
+
+
+def _noise_temperature(tree):
+    """A Noise Texture (of the cube's Generated coordinates) mapped from [0.3, 0.7] onto
+    800 K to 2000 K (clamped): flames from dull red to orange."""
+    noise = _nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
+    remap = _nodes(
+        tree,
+        "ShaderNodeMapRange",
+        **{"From Min": 0.3, "From Max": 0.7, "To Min": 800.0, "To Max": 2000.0},
+    )
+    tree.links.new(noise.outputs["Fac"], remap.inputs["Value"])
+    return remap.outputs["Result"]
+
+
+def _mixed_fire(tree):
+    """The smoky fire through a Mix Shader at 0.5 with a Volume Absorption of Density 0.4:
+    Cycles 5.0 halves the fire's glow, 3.4 does not (export/volume.py)."""
+    mix = _nodes(tree, "ShaderNodeMixShader", Fac=0.5)
+    absorption = _nodes(tree, "ShaderNodeVolumeAbsorption", Density=0.4)
+    tree.links.new(absorption.outputs[0], mix.inputs[1])
+    tree.links.new(_fire()(tree), mix.inputs[2])
+    return mix.outputs[0]
+
+
+def _fire_stage(scene, build):
+    """A cube of edge 2 filled with `build`'s volume, seen from above its front against
+    black: no world, no lamp."""
+    scene.render.resolution_x, scene.render.resolution_y = 48, 36
+    fire = add_object(scene, "Fire", cube_mesh("Fire", 2.0))
+    fire.data.materials.append(_material("Fire", build))
+    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
+    camera.location, camera.rotation_euler = (0.0, -6.0, 2.5), facing((0.0, 6.0, -2.5))
+    scene.camera = camera
+    return scene
+
+
+FIRES = [
+    ("glow", _fire(density=0.0)),  # emission alone
+    ("smoke", _fire()),  # and absorption
+    ("mixed", _mixed_fire),
+    ("noise", _fire(_noise_temperature)),  # heterogeneous
+    pytest.param(
+        "scattering",
+        _fire(colour=0.5),
+        marks=pytest.mark.xfail(
+            strict=True,
+            reason="the medium's own emission scattered towards the camera is not simulated "
+            "(Blender 3.4: summed luminance 0.9318 of Cycles' at Color 0.5, 0.8689 at Color 1)",
+        ),
+    ),
+]
+
+
+@pytest.mark.parametrize(("case", "build"), FIRES)
+def test_a_fire_renders_as_cycles(case, build, empty_scene, tmp_path, monkeypatch):
+    # Cycles keeps the black body's blue, below 0 at 1500 K, which Whitted's medium
+    # clamps at 0: Whitted's sum is 0.46% above Cycles' for the glow (Blender 3.4).
+    stats = _against_cycles(
+        _fire_stage(empty_scene, build), tmp_path, monkeypatch, label=f"fire ({case})"
+    )
+    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
+    assert volumes["on"], volumes
+    assert ("heterogeneous" in volumes["why"]) == (case == "noise"), volumes
+
+
+def test_a_fire_exports_cycles_blackbody_emission(empty_scene):
+    # Blackbody Tint * 5.670373e-8 * 1e-6 / pi * T^4 * the node's colour at 1500 K as
+    # Cycles 3.4 renders the Blackbody node: red 3.26430678, green 0.434045345; the node
+    # clamps the fit's blue, below 0 there, which the volume's emission keeps.
+    tint = (1.0, 0.5, 0.25)
+    warnings = []
+    data = convert_material(_material("Fire", _fire(tint=tint)), warnings).data
+    assert not warnings, warnings
+    glow = 5.670373e-8 * 1e-6 / math.pi * 1500.0**4
+    expected = glow * np.array(tint[:2]) * np.array([3.26430678, 0.434045345])
+    np.testing.assert_allclose(data.volume_emission[:2], expected, rtol=1e-5)
+    assert data.volume_emission[2] < 0.0
+    # A Temperature a texture drives: the emission is the program's.
+    exported = convert_material(_material("Flames", _fire(_noise_temperature)), warnings)
+    assert not warnings, warnings
+    assert "volume_emission" in dict(exported.outputs)
 
 
 def test_volume_bounces_above_0_are_reported_as_not_simulated(empty_scene, native):

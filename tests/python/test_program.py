@@ -226,6 +226,18 @@ def test_fold_op_runs_the_programs_maths():
         wn.fold_op(MATH, 99, three, [])
 
 
+def test_blackbody_rgb_is_what_op_blackbody_computes():
+    # One definition (shader/blackbody.h): the binding the add-on's constant media read, the
+    # op a program runs and the compiler's folding give the same float32 colour; at 1500 K
+    # its blue is below 0 (not clamped), its red and green Cycles' (3.26430678, 0.434046328
+    # as Blender 5.0.1 renders the Blackbody node).
+    blackbody = [name for name, _, _ in wn.OPS].index("BLACKBODY")
+    rgb = wn.blackbody_rgb(1500.0)
+    assert rgb[:2] == pytest.approx((3.26430678, 0.434046328), rel=1e-6) and rgb[2] < 0.0
+    run = program([(blackbody, 0, 1, 0)], [[1500.0] * 4, [0] * 4]).run({})
+    assert tuple(run[1]) == (*rgb, 1.0) == wn.fold_op(blackbody, 0, [(1500.0,) * 4], [])
+
+
 def test_program_run_reads_the_given_inputs():
     normalize = wn.VECTOR_MATH_OPS.index("NORMALIZE")
     p = program([(INPUT, UV, 1), (VECTOR_MATH, normalize, 0, 1)], [0] * 8)

@@ -1,6 +1,6 @@
 """The converter and colour nodes as Exprs: Math and Vector Math, separate and combine,
 Mix, Color Ramp, the curves (sampled into tables), Invert, Hue/Saturation, Gamma,
-Bright/Contrast, Map Range, Clamp, RGB to BW and Mapping."""
+Bright/Contrast, Map Range, Clamp, RGB to BW, Mapping and Blackbody."""
 
 from . import ops
 from .ir import COLOR, FLOAT, VECTOR
@@ -296,6 +296,15 @@ def _mapping(c, out):
     return c.b.op(ops.MAPPING, mode, (vector, location, rotation, scale), kind=VECTOR)
 
 
+def _blackbody(c, out):
+    # Cycles' node (svm_node_blackbody): the fit's colour (op BLACKBODY, shader/blackbody.h)
+    # with each channel clamped at 0; scene linear is Rec.709, so Cycles' rec709_to_rgb is
+    # the identity.
+    temperature = c.input(out, ("Temperature",), FLOAT)
+    colour = c.b.op(ops.BLACKBODY, 0, (temperature,), kind=COLOR)
+    return c.b.vmath("MAXIMUM", colour, c.b.const((0.0, 0.0, 0.0), COLOR), kind=COLOR)
+
+
 def _separate_rgb(c, out):
     return _separate(c, out, "RGB", ("Image", "Color"))
 
@@ -334,4 +343,5 @@ CONVERTER_NODES = {
     "ShaderNodeClamp": _clamp,
     "ShaderNodeRGBToBW": _rgb_to_bw,
     "ShaderNodeMapping": _mapping,
+    "ShaderNodeBlackbody": _blackbody,
 }

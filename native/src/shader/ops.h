@@ -44,6 +44,7 @@ enum class Op : uint32_t {
   kRgbToBw = 31,
   kBump = 32,
   kSky = 33,
+  kBlackbody = 34,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -58,7 +59,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kSky) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBlackbody) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -92,7 +93,8 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kSky) + 1> kOpTable 
     {"PACK", 4, false},
     {"RGB_TO_BW", 1, false},
     {"BUMP", 5, true},
-    {"SKY", 1, false},  // a direction; e: its table's offset in the constants (shader/sky.h)
+    {"SKY", 1, false},        // a direction; e: its table's offset in the constants (shader/sky.h)
+    {"BLACKBODY", 1, false},  // a temperature in kelvin (shader/blackbody.h)
 }};
 
 // The modes of op INPUT: what a hit offers a program.

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "shader/blackbody.h"
 #include "shader/node_math.h"
 #include "shader/procedural.h"
 #include "shader/sky.h"
@@ -71,7 +72,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
       throw std::invalid_argument("instruction " + std::to_string(row) + " (" +
                                   std::string(op_name(op)) + "): " + what);
     };
-    if (op < static_cast<uint32_t>(Op::kInput) || op > static_cast<uint32_t>(Op::kSky)) {
+    if (op < static_cast<uint32_t>(Op::kInput) || op >= kOpTable.size()) {
       throw std::invalid_argument("instruction " + std::to_string(row) + ": unknown op " +
                                   std::to_string(op));
     }
@@ -205,6 +206,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         }
         break;
       case Op::kRgbToBw:
+      case Op::kBlackbody:
         s.a = reg(3);
         break;
       case Op::kNoise:
@@ -440,6 +442,9 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       case Op::kRgbToBw:
         out = scalar(0.2126f * a.x + 0.7152f * a.y + 0.0722f * a.z);
+        break;
+      case Op::kBlackbody:
+        out = vec4(blackbody_rgb(a.x), 1.0f);
         break;
       case Op::kBump:
         out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
