@@ -82,6 +82,10 @@ def volume_object_data(object_instance, folder):
     obj = object_instance.object
     volume = obj.data
     grids = volume.grids
+    if not grids.is_loaded:
+        # A render's depsgraph loads a file's grids only when asked (seen in Blender 3.4:
+        # a .vdb read by no earlier evaluation listed none), as Cycles' sync asks.
+        grids.load()
     if grids.error_message:
         original = obj.original.data
         path = bpy.path.abspath(original.filepath, library=original.library)

@@ -7,6 +7,8 @@ statistics."""
 
 import json
 import math
+import subprocess
+import textwrap
 from pathlib import Path
 
 import bpy
@@ -492,6 +494,66 @@ def test_a_fire_renders_as_cycles(case, build, empty_scene, tmp_path, monkeypatc
     volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
     assert volumes["on"], volumes
     assert ("heterogeneous" in volumes["why"]) == (case == "noise"), volumes
+
+
+# A fireball's grids, as a simulation cache holds them, written by OpenVDB's own Python
+# module (Debian's python3-openvdb under the system's python3): a ball of 12 voxels'
+# radius at voxels of 0.1, its density falling from 1 at the centre to 0 at the rim and
+# its temperature (a factor of the material's Temperature) from 2 to 1.
+FIREBALL = textwrap.dedent(
+    """
+    import sys
+    import pyopenvdb as vdb
+    density, temperature = vdb.FloatGrid(), vdb.FloatGrid()
+    density.name, temperature.name = "density", "temperature"
+    for grid in (density, temperature):
+        grid.transform = vdb.createLinearTransform(voxelSize=0.1)
+    d, t = density.getAccessor(), temperature.getAccessor()
+    for i in range(-12, 13):
+        for j in range(-12, 13):
+            for k in range(-12, 13):
+                r = (i * i + j * j + k * k) ** 0.5 / 12.0
+                if r <= 1.0:
+                    d.setValueOn((i, j, k), 1.0 - r)
+                    t.setValueOn((i, j, k), 2.0 - r)
+    vdb.write(sys.argv[1], grids=[density, temperature])
+    """
+)
+
+
+@pytest.mark.xfail(
+    bpy.app.version >= (5, 0, 0),
+    strict=True,
+    reason="Cycles 5.0.1 renders this file's fire about 2e-5 as bright as 3.4 and 4.5.15 do "
+    "(summed red 0.0035 against 66.6), as if the temperature grid it reads were a tenth of "
+    "its values; not explained (Whitted: 66.7 in all three)",
+)
+def test_a_fireball_from_a_vdb_file_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # Its grids' density and temperature read by a Principled Volume (blackbody, black
+    # smoke), against black: Blender 3.4, seen: summed luminance 1.0083 of Cycles', SSIM
+    # 0.9998. (Beside a floor, Cycles lights the floor with the glow, even with no diffuse
+    # bounce: a surface lit by a glowing medium, which Whitted does not simulate; SSIM
+    # 0.959 there.)
+    path = tmp_path / "fireball.vdb"
+    written = subprocess.run(
+        ["/usr/bin/python3", "-c", FIREBALL, str(path)], capture_output=True, text=True, check=False
+    )
+    assert written.returncode == 0, written.stderr
+    scene = empty_scene
+    scene.render.resolution_x, scene.render.resolution_y = 48, 36
+    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
+    camera.location, camera.rotation_euler = (0.0, -6.0, 2.5), facing((0.0, 6.0, -2.5))
+    scene.camera = camera
+    volume = bpy.data.volumes.new("Fireball")
+    volume.filepath = str(path)
+    fire = _fire(colour=0.0, density=3.0)
+    volume.materials.append(_material("Fireball", fire))
+    node = volume.materials[0].node_tree.nodes["Principled Volume"]
+    node.inputs["Temperature"].default_value = 1000.0
+    node.inputs["Temperature Attribute"].default_value = "temperature"
+    add_object(scene, "Fireball", volume)
+    why = _volumes_why(_against_cycles(scene, tmp_path, monkeypatch, label="fireball"))
+    assert "a Volume object's grids, 25^3 voxels" in why, why
 
 
 def test_a_fire_exports_cycles_blackbody_emission(empty_scene):
