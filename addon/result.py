@@ -9,7 +9,8 @@ docs/PASSES.md defines every pass.
 
 Combined is always written, and so is "Whitted Rays" unless its switch is off:
 the rays traced for each pixel (camera, shadow, reflection, refraction and
-transparent), so an artist sees where the time goes.
+transparent, and in media their scatter points' feelers and the rays through
+their bounds), so an artist sees where the time goes.
 """
 
 from dataclasses import dataclass
@@ -31,7 +32,9 @@ class PassSpec:
     channels: str
     kind: str  # register_pass's type: 'COLOR', 'VECTOR' or 'VALUE'
     # What enables it: a ViewLayer property ("use_pass_z"), one of view_layer.whitted
-    # ("whitted.use_pass_rays"), or "" for a pass that is always written.
+    # ("whitted.use_pass_rays") or of Cycles' view_layer.cycles where Blender has no
+    # property of its own ("cycles.use_pass_volume_direct"), or "" for a pass that is
+    # always written.
     toggle: str
     # The job buffer it is read from: "combined" (RenderJob.tile), "rays"
     # (RenderJob.cost_tile), or a native film pass (RenderJob.pass_tile).
@@ -41,11 +44,17 @@ class PassSpec:
     heading: str = ""  # the heading of its group of switches there
     label: str = ""  # the switch's label ("" for the property's own name)
 
+    def switch(self, view_layer):
+        """(what holds the pass's switch in `view_layer`, the property's name); what holds
+        it is None where its add-on (Cycles, for its volume passes) is not enabled."""
+        owner, _, prop = self.toggle.rpartition(".")
+        return (getattr(view_layer, owner, None) if owner else view_layer), prop
+
     def enabled(self, view_layer):
         if not self.toggle:
             return True
-        owner, _, prop = self.toggle.rpartition(".")
-        return bool(getattr(view_layer.whitted if owner else view_layer, prop))
+        holder, prop = self.switch(view_layer)
+        return holder is not None and bool(getattr(holder, prop))
 
 
 # Blender 3.x and 4.x name passes as Cycles did for years ("DiffDir"); Blender 5.0's
@@ -64,6 +73,8 @@ LONG_NAMES = {
     "TransDir": "Transmission Direct",
     "TransInd": "Transmission Indirect",
     "TransCol": "Transmission Color",
+    "VolumeDir": "Volume Direct",
+    "VolumeInd": "Volume Indirect",
     "Emit": "Emission",
     "Env": "Environment",
 }
@@ -148,6 +159,11 @@ PASSES = (
     _light(
         "TransCol", "use_pass_transmission_color", "transmission_color", "Transmission", "Color"
     ),
+    # Cycles' volume passes, switched by Cycles' own view-layer properties (Blender has none):
+    # the light media scatter once towards the camera ray; Indirect is black, as Cycles' is
+    # with Volume Bounces 0 (light scattered twice is not simulated).
+    _light("VolumeDir", "cycles.use_pass_volume_direct", "volume_direct", "Volume", "Direct"),
+    _light("VolumeInd", "cycles.use_pass_volume_indirect", "volume_indirect", "Volume", "Indirect"),
     _light("Emit", "use_pass_emit", "emission", "Other", "Emission"),
     _light("Env", "use_pass_environment", "environment", "Other", "Environment"),
     # Cycles' Denoising Data passes: the image before denoising (Combined itself when the
@@ -332,7 +348,7 @@ def _display_of(spec):
     key = spec.name.upper().replace(" ", "_").replace("+", "_AND_BEYOND")
     passes = (spec.source,)
     component, _, kind = spec.source.partition("_")
-    if kind in ("direct", "indirect"):
+    if kind in ("direct", "indirect") and component in _COLOR_OF:  # the volume's have none
         passes += (_COLOR_OF[component],)
     description = f'The "{spec.name}" pass, live (docs/PASSES.md)'
     return ViewportDisplay(key, spec.name, description, spec.source, spec.first, passes)

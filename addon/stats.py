@@ -82,11 +82,13 @@ def render_stats(blender_version, quality, settings, native_stats, phases, sanit
         # Light samples drawn towards the world where it lights the scene (native
         # scene/world_light.h); their shadow feelers are among rays["shadow"].
         "world_feelers": native_stats["world_feelers"],
-        # Feelers to the lamps from points inside a medium (native integrator/volume.h),
-        # among rays["shadow"] too, and the queries that walked shadow feelers through
-        # volume bounds (transmittance.h); both 0 without media.
+        # Feelers to the lamps, emitters and world from points inside a medium (native
+        # integrator/volume.h), among rays["shadow"] too; the queries that walked shadow
+        # feelers through volume bounds (transmittance.h) and the rays going on behind the
+        # bounds they crossed (kernel.h), together rays["volume"]; all 0 without media.
         "volume_feelers": native_stats["volume_feelers"],
         "volume_queries": native_stats["volume_queries"],
+        "volume_bounds": native_stats["volume_bounds"],
         # Points a heterogeneous medium's program ran at (its march's steps, native
         # integrator/heterogeneous.h and march.h); 0 without such media.
         "volume_steps": native_stats["volume_steps"],
@@ -161,6 +163,7 @@ def _most(stats):
 def summary_line(stats):
     """A one-line summary for Blender's status bar and the log."""
     p = stats["phases"]
+    media = media_text(stats)
     return (
         f"Whitted | {stats['settings']['width']}x{stats['settings']['height']} "
         f"in {p['total']:.2f} s (export {p['export']:.2f}, BVH "
@@ -171,7 +174,22 @@ def summary_line(stats):
         f"| {stats['samples_per_pixel']:.1f} samples/px (max {_most(stats)}) "
         f"| cut: depth {stats['depth_limited']}, "
         f"cutoff {stats['cutoff_skipped']} | TIR {stats['total_internal_reflections']} "
-        f"| peak {stats['peak_memory_mib']:.0f} MiB"
+        f"{media and f'| {media} '}| peak {stats['peak_memory_mib']:.0f} MiB"
+    )
+
+
+def media_text(stats):
+    """What media cost, for the summary line and the Last Render panel: their feelers,
+    the rays through their bounds and the points their programs ran at; "" in a render
+    without media (or statistics saved before media were counted)."""
+    feelers = stats.get("volume_feelers", 0)
+    rays = stats["rays"].get("volume", 0)
+    steps = stats.get("volume_steps", 0)
+    if not (feelers or rays or steps):
+        return ""
+    return (
+        f"media: {feelers / 1e6:.2f} M feelers, {rays / 1e6:.2f} M rays through bounds, "
+        f"{steps / 1e6:.2f} M steps"
     )
 
 

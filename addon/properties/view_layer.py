@@ -15,7 +15,8 @@ class WhittedViewLayerProperties(bpy.types.PropertyGroup):
     use_pass_rays: BoolProperty(
         name="Rays",
         description='The "Whitted Rays" pass: rays traced for each pixel (camera, shadow, '
-        "reflection, refraction and transparent), where the time of a frame goes",
+        "reflection, refraction and transparent; in fog and smoke, the feelers from their "
+        "scatter points and the rays through their bounds), where the time of a frame goes",
         default=True,
     )
     use_pass_denoising_data: BoolProperty(

@@ -20,6 +20,7 @@ COLOURS = {
     "tir": (1.0, 0.5, 0.1, 1.0),
     "transparent": (0.75, 0.75, 0.75, 1.0),
     "glossy": (0.45, 0.85, 1.0, 1.0),
+    "volume": (0.65, 0.45, 1.0, 1.0),
 }
 BLOCKED = (0.9, 0.2, 0.2, 0.45)
 # Line widths in pixels by the ray's weight on the pixel (its largest channel): at

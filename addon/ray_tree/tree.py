@@ -20,8 +20,9 @@ from ..sync.scene import SceneSync, SyncParams
 # Where a ray that hits nothing is drawn to: this far along its direction, in units of
 # the scene's size (the distance from the origin to the farthest ray point).
 MISS_LENGTH = 0.5
-# Ray kinds in the order the panel lists their counts.
-KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "glossy")
+# Ray kinds in the order the panel lists their counts ("volume": a ray's segment inside
+# media, the parent of the feelers from its scatter points).
+KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "glossy", "volume")
 
 
 def feeler_source(ray):
@@ -117,7 +118,22 @@ def summarise(tree):
         "cut": cut,
         "counts": counts,
         "blocked_feelers": blocked,
+        "media": _media(rays),
         "text": summary_text(tree["pixel"], depths, cut),
+    }
+
+
+def _media(rays):
+    """What the segments in media add: their count, the feelers sent from their scatter
+    points, the points their programs ran at, and their emission and scattered light."""
+    segments = [ray for ray in rays if ray["kind"] == "volume"]
+    feelers = [ray for ray in rays if ray.get("scatter")]
+    return {
+        "segments": len(segments),
+        "feelers": sum(ray["cut"] is None for ray in feelers),
+        "steps": sum(ray["steps"] for ray in segments),
+        "emission": [sum(ray["emission"][c] for ray in segments) for c in range(3)],
+        "scattered": [sum(ray["contribution"][c] for ray in feelers) for c in range(3)],
     }
 
 
@@ -140,8 +156,8 @@ def summary_text(pixel, depths, cut):
 
 def segments(tree):
     """The tree as line segments for drawing: (kind, start, end, weight, blocked) per
-    ray that was traced; a ray that hits nothing ends a scene-sized length along its
-    direction, a feeler to the sun likewise."""
+    ray that was traced, a segment in media along its ray; a ray that hits nothing ends a
+    scene-sized length along its direction, a feeler to the sun likewise."""
     rays = [ray for ray in tree["rays"] if ray["cut"] not in ("depth", "cutoff")]
     points = [ray["origin"] for ray in rays] + [ray["end"] for ray in rays if ray["end"]]
     extent = max((sum(c * c for c in p) ** 0.5 for p in points), default=1.0)

@@ -35,12 +35,13 @@ class _WhittedPassesPanel:
         for spec in result.PASSES:
             if spec.panel != self.PANEL or not spec.toggle:
                 continue
+            holder, prop = spec.switch(view_layer)
+            if holder is None:
+                continue  # Cycles' switch, with Cycles disabled
             if spec.heading not in columns:
                 columns[spec.heading] = layout.column(heading=spec.heading, align=True)
-            owner, _, prop = spec.toggle.rpartition(".")
-            target = view_layer.whitted if owner else view_layer
             label = {"text": spec.label} if spec.label else {}
-            columns[spec.heading].prop(target, prop, **label)
+            columns[spec.heading].prop(holder, prop, **label)
         self.draw_more(layout, view_layer)
 
     def draw_more(self, layout, view_layer):

@@ -19,7 +19,12 @@ def _ray_label(ray):
         state = {True: "blocked", False: "lit", None: ray["cut"]}[ray["blocked"]]
         if ray["blocked"] and ray["object"]:
             state = f"blocked by {ray['object']}"
-        return f"shadow -> {feeler_source(ray)}: {state}"
+        # A feeler from a scatter point of a segment in media.
+        kind = "scatter" if ray.get("scatter") else "shadow"
+        return f"{kind} -> {feeler_source(ray)}: {state}"
+    if ray["kind"] == "volume":
+        steps = f", {ray['steps']} steps" if ray["steps"] else ""
+        return f"volume segment: lets {_rgb(ray['transmittance'])} through{steps}"
     if ray["cut"]:
         return f"{ray['kind']}: cut ({ray['cut']})"
     if ray["kind"] == "camera":

@@ -7,6 +7,7 @@ import json
 
 import bpy
 
+from .. import stats as render_stats
 from ..properties.presets import PRESETS, matching_preset, preset_label
 
 
@@ -234,5 +235,7 @@ class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
             f"cut by depth {stats['depth_limited']:,}, by cutoff {stats['cutoff_skipped']:,}",
             f"samples/px {stats['samples_per_pixel']:.2f} (max "
             f"{stats['pixel_samples']['max'] or '?'}), peak {stats['peak_memory_mib']:.0f} MiB",
+            render_stats.media_text(stats),
         ):
-            column.label(text=line)
+            if line:  # the media's line only where the render had media
+                column.label(text=line)

@@ -1,5 +1,6 @@
 // The inspector's ray tree as plain Python data: names instead of indices, colours and
-// points as lists, what a feeler found as "blocked", a feeler to the world as "world".
+// points as lists, what a feeler found as "blocked", a feeler to the world as "world", a
+// ray's segment inside media as a "volume" node, the parent of its scatter points' feelers.
 #include "integrator/ray_tree.h"
 
 #include "bindings.h"
@@ -24,6 +25,8 @@ const char* kind_name(TreeRayKind kind) {
       return "transparent";
     case TreeRayKind::kGlossy:
       return "glossy";
+    case TreeRayKind::kVolume:
+      return "volume";
   }
   return "camera";
 }
@@ -66,6 +69,7 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
   for (const RayTreeNode& node : tree.nodes) {
     py::dict ray;
     const bool feeler = node.kind == TreeRayKind::kShadow;
+    const bool segment = node.kind == TreeRayKind::kVolume;
     ray["kind"] = kind_name(node.kind);
     ray["depth"] = node.depth;
     ray["parent"] = node.parent;
@@ -73,8 +77,9 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     ray["origin"] = list3(node.origin);
     ray["direction"] = list3(node.direction);
     ray["time"] = node.time;
-    // A feeler ends at its light sample (none for the sun) or on what blocks it.
-    const bool ends = node.hit || (feeler && node.end != Vec3(0.0f));
+    // A feeler ends at its light sample (none for the sun) or on what blocks it, a segment
+    // where its ray meets a surface or bound (none where it goes on without end).
+    const bool ends = node.hit || ((feeler || segment) && node.end != Vec3(0.0f));
     ray["end"] = ends ? py::object(list3(node.end)) : py::none();
     ray["object"] = name_at(instances, node.instance);
     ray["material"] = name_at(scene.material_names, node.material);
@@ -91,6 +96,15 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
       ray["transmittance"] = list3(node.transmittance);
       ray["diffuse"] = list3(node.diffuse);
       ray["specular"] = list3(node.specular);
+      // A feeler from a scatter point of a segment: the light the medium scatters there.
+      ray["scatter"] = node.parent >= 0 &&
+                       tree.nodes[static_cast<size_t>(node.parent)].kind == TreeRayKind::kVolume;
+      ray["scattered"] = list3(node.scattered);
+    } else if (segment) {
+      ray["blocked"] = py::none();
+      ray["emission"] = list3(node.emission);  // the media's own, along the segment
+      ray["transmittance"] = list3(node.transmittance);
+      ray["steps"] = node.steps;
     } else {
       ray["blocked"] = py::none();
       ray["emission"] = list3(node.emission);

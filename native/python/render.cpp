@@ -16,6 +16,7 @@ py::dict stats_dict(const RenderStats& s) {
   rays["refraction"] = s.rays.refraction;
   rays["glossy"] = s.rays.glossy;
   rays["transparent"] = s.rays.transparent;
+  rays["volume"] = s.rays.volume();
   rays["total"] = s.rays.total();
   py::dict out;
   out["rays"] = rays;
@@ -40,6 +41,7 @@ py::dict stats_dict(const RenderStats& s) {
   out["world_feelers"] = s.rays.world_feelers;
   out["volume_feelers"] = s.rays.volume_feelers;
   out["volume_queries"] = s.rays.volume_queries;
+  out["volume_bounds"] = s.rays.volume_bounds;
   out["volume_steps"] = s.rays.volume_steps;
   out["compile_seconds"] = s.compile_seconds;
   out["world_light_seconds"] = s.world_light_seconds;

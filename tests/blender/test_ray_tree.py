@@ -129,3 +129,45 @@ def test_a_floor_pixel_under_an_emissive_panel_has_feelers_naming_it(empty_scene
     total = np.sum([r["contribution"] for r in tree["rays"]], axis=0)
     np.testing.assert_allclose(total, pixels[y, x, :3], rtol=1e-5, atol=1e-6)
     assert pixels[y, x, 0] > 0.0
+
+
+def test_a_pixel_in_the_lit_fog_shows_its_segment_scatter_points_and_feelers(
+    empty_scene, render_pixels
+):
+    # The spot's cone in the fog stage: each camera ray ends on the fog box's bound and goes
+    # on behind it in its own sample; its stretch inside the fog is a "volume" segment, the
+    # feelers from its scatter points name the spot, and the contributions, the fog's among
+    # them, sum to the rendered pixel.
+    from test_volume import fog_stage
+    from whitted.ray_tree.tree import segments
+
+    scene = fog_stage(empty_scene)
+    scene.render.engine = "WHITTED"
+    scene.whitted.aa_samples = 2
+    scene.whitted.adaptive_sampling = False
+    pixels = render_pixels(scene)
+    height = pixels.shape[0]
+    upper = pixels[height // 2 :, :, :3].sum(axis=2)  # rows bottom to top: above the floor
+    row, x = np.unravel_index(np.argmax(upper), upper.shape)
+    y = height // 2 + int(row)
+    tree = _inspect(int(x), y)
+    rays = tree["rays"]
+    camera = [r for r in rays if r["kind"] == "camera"]
+    assert len(camera) == 4 and all(r["object"] == "Fog" for r in camera)
+    assert {r["sample"] for r in rays} == {0, 1, 2, 3}
+    volume = [r for r in rays if r["kind"] == "volume"]
+    assert volume and all(rays[r["parent"]]["kind"] == "transparent" for r in volume)
+    scatter = [r for r in rays if r.get("scatter")]
+    assert scatter and all(rays[r["parent"]]["kind"] == "volume" for r in scatter)
+    assert all(r["light"] == "Spot" for r in scatter)
+    lit = [r for r in scatter if r["cut"] is None]
+    media = tree["summary"]["media"]
+    assert media["segments"] == len(volume) and media["feelers"] == len(lit) > 0
+    rendered = pixels[y, x, :3]
+    total = np.sum([r["contribution"] for r in rays], axis=0)
+    np.testing.assert_allclose(total, rendered, rtol=1e-5, atol=1e-6)
+    # Nothing but the fog lights this pixel: no surface behind it is lit.
+    np.testing.assert_allclose(media["scattered"], rendered, rtol=1e-4, atol=1e-6)
+    # Drawn: the segments along their rays, in their own colour.
+    assert sum(kind == "volume" for kind, *_ in segments(tree)) == len(volume)
+    assert bpy.ops.whitted.ray_tree_to_curve() == {"FINISHED"}

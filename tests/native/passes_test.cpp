@@ -43,6 +43,7 @@ float recombination_error(const Film& film) {
               (p(FilmPass::kGlossyDirect)[k] + p(FilmPass::kGlossyIndirect)[k]) +
           p(FilmPass::kTransmissionColor)[k] *
               (p(FilmPass::kTransmissionDirect)[k] + p(FilmPass::kTransmissionIndirect)[k]) +
+          p(FilmPass::kVolumeDirect)[k] + p(FilmPass::kVolumeIndirect)[k] +
           p(FilmPass::kEmission)[k] + p(FilmPass::kEnvironment)[k];
       worst = std::max(worst, std::abs(rebuilt - film.pixels()[4 * i + c]));
     }
@@ -65,6 +66,65 @@ TEST(Passes, LightPassesRecombineToCombined) {
           FilmPass::kGlossyIndirect, FilmPass::kTransmissionIndirect, FilmPass::kEnvironment}) {
       const std::vector<float>& v = job.film().pass(pass);
       EXPECT_GT(*std::max_element(v.begin(), v.end()), 0.0f) << kFilmPassNames[size_t(pass)];
+    }
+  }
+}
+
+// The largest |Combined - the sum of the per-depth contributions| over the pixels' RGB, of
+// a film keeping depths 0, 1 and 2+.
+float contributions_error(const Film& film) {
+  const std::vector<float>& bins = film.pass(FilmPass::kContributions);
+  float worst = 0.0f;
+  for (size_t i = 0; i < film.pixels().size() / 4; ++i) {
+    for (size_t c = 0; c < 3; ++c) {
+      const float sum = bins[9 * i + c] + bins[9 * i + 3 + c] + bins[9 * i + 6 + c];
+      worst = std::max(worst, std::abs(sum - film.pixels()[4 * i + c]));
+    }
+  }
+  return worst;
+}
+
+float largest(const Film& film, FilmPass pass) {
+  const std::vector<float>& v = film.pass(pass);
+  return *std::max_element(v.begin(), v.end());
+}
+
+// In fog: the light the media scatter towards the camera's rays is Volume Direct and their
+// emission is Emission, as in Cycles; what the mirror's and the glass's rays meet in them
+// feeds Glossy and Transmission Indirect; what lies behind fog is dimmed in its passes as
+// in Combined. The light passes and the per-depth contributions give back Combined,
+// recursively and in waves alike; Volume Indirect stays black (no light scatters twice).
+TEST(Passes, FogsLightGoesToVolumeDirectAndItsEmissionToEmission) {
+  for (const bool emits : {false, true}) {
+    SCOPED_TRACE(emits ? "emitting fog" : "fog");
+    const Scene scene = testing::foggy_glass_and_mirror_scene(
+        Color(0.15f, 0.1f, 0.05f), emits ? Color(0.2f, 0.1f, 0.3f) : Color(0.0f));
+    std::vector<float> volume_direct;
+    for (const bool waves : {true, false}) {
+      Settings settings = small(kLightPasses | pass_bit(FilmPass::kContributions));
+      settings.contribution_depth = 2;
+      settings.waves = waves;
+      RenderJob job(scene, settings, scene.camera);
+      testing::run_to_end(job);
+      const Film& film = job.film();
+      EXPECT_LT(recombination_error(film), 1e-4f) << (waves ? "waves" : "recursion");
+      EXPECT_LT(contributions_error(film), 1e-4f) << (waves ? "waves" : "recursion");
+      EXPECT_GT(largest(film, FilmPass::kVolumeDirect), 0.01f);
+      EXPECT_EQ(largest(film, FilmPass::kVolumeIndirect), 0.0f);
+      // Nothing else in the scene emits.
+      if (emits) {
+        EXPECT_GT(largest(film, FilmPass::kEmission), 0.01f);
+      } else {
+        EXPECT_EQ(largest(film, FilmPass::kEmission), 0.0f);
+      }
+      for (const FilmPass pass : {FilmPass::kGlossyIndirect, FilmPass::kTransmissionIndirect}) {
+        EXPECT_GT(largest(film, pass), 0.0f) << kFilmPassNames[size_t(pass)];
+      }
+      if (volume_direct.empty()) {
+        volume_direct = film.pass(FilmPass::kVolumeDirect);
+      } else {
+        EXPECT_EQ(film.pass(FilmPass::kVolumeDirect), volume_direct) << "waves and recursion";
+      }
     }
   }
 }

@@ -226,5 +226,63 @@ TEST(RayTree, FeelerNamesItsBlockerAndPixelsOutsideTheImageAreRefused) {
   EXPECT_THROW(job.inspect(0, 0, 1), std::out_of_range);  // one sample per pixel
 }
 
+// A tree in fog: each camera ray ends on the fog box's bound and goes on behind it within
+// its own sample; each stretch inside the fog is a volume segment under its ray, and the
+// feelers from its scatter points start on it, name their light and carry the light
+// scattered there; the contributions, the fog's emission and scattering among them, still
+// sum to the rendered pixel.
+TEST(RayTree, FogSegmentsHoldTheirScatterFeelersAndTheTreeSumsToThePixel) {
+  const Scene scene =
+      testing::foggy_glass_and_mirror_scene(Color(0.15f, 0.1f, 0.05f), Color(0.05f));
+  Settings settings;
+  settings.width = 24;
+  settings.height = 16;
+  settings.aa_samples = 2;
+  RenderJob job(scene, settings, scene.camera);
+  finish(&job);
+  const CompiledScene& compiled = job.scene();
+  int segments = 0;
+  int scatter_feelers = 0;
+  Color scattered(0.0f);
+  for (int y = 0; y < settings.height; y += 3) {
+    for (int x = 0; x < settings.width; x += 2) {
+      const RayTree tree = job.inspect(x, y);
+      const Color rendered = film_pixel(job, x, y);
+      const float tolerance = 1e-5f * std::max(1.0f, max_component(rendered));
+      expect_near(tree.pixel, rendered, tolerance, "the inspector's pixel is the render's");
+      expect_near(tree.total(), rendered, tolerance, "the contributions sum to the pixel");
+      EXPECT_EQ(tree.roots, 4) << "one camera ray, so one sample, per grid sample";
+      for (const RayTreeNode& node : tree.nodes) {
+        if (node.kind == TreeRayKind::kCamera) {
+          ASSERT_TRUE(node.hit);  // the fog box's top covers the view
+          EXPECT_EQ(compiled.instances[static_cast<size_t>(node.instance)].name, "fog");
+        }
+        if (node.kind == TreeRayKind::kVolume) {
+          segments += 1;
+          ASSERT_GE(node.parent, 0);
+          const RayTreeNode& ray = tree.nodes[static_cast<size_t>(node.parent)];
+          EXPECT_NE(ray.kind, TreeRayKind::kShadow);
+          EXPECT_NEAR(glm::length(glm::cross(node.origin - ray.origin, ray.direction)), 0.0f, 1e-3f)
+              << "a segment lies on its ray";
+          EXPECT_LT(max_component(node.transmittance), 1.0f);
+        }
+        if (node.kind != TreeRayKind::kShadow || node.parent < 0) continue;
+        const RayTreeNode& from = tree.nodes[static_cast<size_t>(node.parent)];
+        if (from.kind != TreeRayKind::kVolume) continue;
+        scatter_feelers += 1;
+        EXPECT_GE(node.light, 0);  // a lamp: the scene has no emitter and no world light
+        const Vec3 along = node.origin - from.origin;
+        EXPECT_NEAR(glm::length(glm::cross(along, from.direction)), 0.0f, 1e-3f)
+            << "a scatter point lies on its segment";
+        EXPECT_LE(glm::length(along), glm::length(from.end - from.origin) + 1e-3f);
+        if (node.cut == TreeCut::kNone) scattered += node.scattered * node.transmittance;
+      }
+    }
+  }
+  EXPECT_GT(segments, 0);
+  EXPECT_GT(scatter_feelers, 0);
+  EXPECT_GT(max_component(scattered), 0.0f);
+}
+
 }  // namespace
 }  // namespace whitted

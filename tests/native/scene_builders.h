@@ -143,4 +143,26 @@ inline Scene glass_and_mirror_scene() {
   return scene;
 }
 
+// What the exporter makes of a material whose output has only a constant volume shader.
+inline Material fog(Color absorption, Color scattering, float anisotropy = 0.0f,
+                    Color emission = Color(0.0f)) {
+  MaterialParams m;
+  m.surface = false;
+  m.volume_absorption = absorption;
+  m.volume_scattering = scattering;
+  m.volume_anisotropy = anisotropy;
+  m.volume_emission = emission;
+  return Material(m);
+}
+
+// glass_and_mirror_scene() in a fog box around its surfaces and lamps (the camera outside),
+// scattering (and absorbing, and emitting `emission`): the camera's rays, the mirror's and
+// the glass's cross it.
+inline Scene foggy_glass_and_mirror_scene(Color scattering, Color emission = Color(0.0f)) {
+  Scene scene = glass_and_mirror_scene();
+  add_object(&scene, "fog", box(Vec3(-4.0f, -4.0f, -1.0f), Vec3(4.0f, 4.0f, 4.5f)),
+             fog(Color(0.02f), scattering, 0.3f, emission));
+  return scene;
+}
+
 }  // namespace whitted::testing

@@ -25,20 +25,11 @@ namespace {
 
 using testing::add_object;
 using testing::box;
+using testing::fog;
 using testing::looking_down;
 using testing::make;
 using testing::quad;
 using testing::small_render;
-
-// What the exporter makes of a material whose output has only a constant volume shader.
-Material fog(Color absorption, Color scattering, float anisotropy = 0.0f) {
-  MaterialParams m;
-  m.surface = false;
-  m.volume_absorption = absorption;
-  m.volume_scattering = scattering;
-  m.volume_anisotropy = anisotropy;
-  return Material(m);
-}
 
 struct Rendered {
   std::vector<float> pixels;
@@ -141,6 +132,30 @@ Scene floor_scene() {
   scene.set_light("light", light);
   scene.camera = looking_down(Vec3(0.0f, 0.0f, 6.0f), 0.8f);
   return scene;
+}
+
+// The Whitted Rays pass counts what fog costs: the feelers from its scatter points (among
+// the shadow rays) and the rays going on behind its bounds and walking feelers through
+// them; every pixel's camera rays cross the fog box's top.
+TEST(Volume, TheCostPassCountsTheRaysOfTheFog) {
+  const Scene scene = testing::foggy_glass_and_mirror_scene(Color(0.1f));
+  RenderJob job(scene, small_render(16, 16, 2, 2, 8), scene.camera);
+  testing::run_to_end(job);
+  const RayCounts& rays = job.stats().rays;
+  EXPECT_GT(rays.volume_feelers, 0u);
+  EXPECT_GT(rays.volume_bounds, 0u);
+  EXPECT_GT(rays.volume_queries, 0u);
+  EXPECT_EQ(rays.total(), rays.camera + rays.shadow + rays.reflection + rays.refraction +
+                              rays.glossy + rays.transparent + rays.volume_bounds +
+                              rays.volume_queries);
+  double cost = 0.0;
+  float least = kInfinity;
+  for (const float c : job.film().cost()) {
+    cost += c;
+    least = std::min(least, c);
+  }
+  EXPECT_EQ(cost, static_cast<double>(rays.total()));
+  EXPECT_GE(least, 4.0f * 2.0f);  // 4 camera rays, each going on behind the bound
 }
 
 TEST(Volume, DensityZeroIsNoMediumAtAll) {

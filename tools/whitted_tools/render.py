@@ -35,9 +35,9 @@ def enable_every_pass(view_layer, result, contribution_depth):
     """Switch on every pass of the add-on's table (`result`, the add-on's result module)
     in `view_layer`, and the per-depth passes up to `contribution_depth`."""
     for spec in result.PASSES:
-        owner, _, prop = spec.toggle.rpartition(".")
-        if prop:
-            setattr(view_layer.whitted if owner else view_layer, prop, True)
+        holder, prop = spec.switch(view_layer)
+        if prop and holder is not None:
+            setattr(holder, prop, True)
     view_layer.whitted.use_pass_contributions = True
     view_layer.whitted.contribution_depth = contribution_depth
 

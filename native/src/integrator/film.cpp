@@ -96,6 +96,10 @@ void gather(FilmPass pass, const SampleRecord& r, float* out) {
       return put(out, r.transmission_indirect);
     case FilmPass::kTransmissionColor:
       return put(out, r.transmission_color);
+    case FilmPass::kVolumeDirect:
+      return put(out, r.volume_direct);
+    case FilmPass::kVolumeIndirect:
+      return put(out, Color(0.0f));
     case FilmPass::kDepth:
       out[0] = r.depth;
       return;

@@ -35,12 +35,6 @@
 
 namespace whitted {
 
-// What a segment inside a medium sends back along it and lets through.
-struct SegmentLight {
-  Color radiance{0.0f};
-  Color transmittance{1.0f};
-};
-
 // One marched step: the optical depth before it, its coefficients.
 struct MarchedStep {
   Color depth;  // integral of sigma_t from the segment's start to the step's
@@ -78,13 +72,14 @@ inline DrawnDistance by_marched_transmittance(const std::vector<MarchedStep>& ma
 
 // What the media the ray is in, some heterogeneous (medium.h's medium_at sums them, each
 // program run at the point), send back along the segment [0, length] of r and let
-// through (module comment). `length` may be infinite (a ray escaping inside an open
-// mesh): the heterogeneous media then end at their objects' boxes. The march's offsets and the
-// lamps' distances are the camera sample's draws (Strata, `layer` telling a ray's segments apart),
-// so threads and tiles change nothing. Out of line: only scenes with such media call it.
-template <uint32_t kEffects, class Queries>
+// through (module comment), each feeler told to the recorder. `length` may be infinite (a
+// ray escaping inside an open mesh): the heterogeneous media then end at their objects'
+// boxes. The march's offsets and the lamps' distances are the camera sample's draws (Strata,
+// `layer` telling a ray's segments apart), so threads and tiles change nothing. Out of line:
+// only scenes with such media call it.
+template <uint32_t kEffects, class Queries, class Recorder>
 [[gnu::noinline]] SegmentLight heterogeneous_segment(const KernelInputs<kEffects, Queries>& in,
-                                                     const Ray& r, float length,
+                                                     Recorder& recorder, const Ray& r, float length,
                                                      const MediumStack& media,
                                                      const NodeState& state, int layer,
                                                      RayCounts* counts) {
@@ -108,8 +103,9 @@ template <uint32_t kEffects, class Queries>
     const float dt = steps.end(i) - steps.start(i);
     const Medium c = medium_at(scene, media, r.origin + steps.shaded(i) * r.direction, r, context);
     counts->volume_steps += 1;
+    out.steps += 1;
     const Color sigma_t = c.absorption + c.scattering;
-    out.radiance += transmittance(depth, 1.0f) * medium_emission(c.emission, sigma_t, dt);
+    out.emitted += transmittance(depth, 1.0f) * medium_emission(c.emission, sigma_t, dt);
     marched.push_back({depth, sigma_t, c.scattering, c.anisotropy});
     scatters |= !is_black(c.scattering);
     depth += sigma_t * dt;
@@ -137,19 +133,24 @@ template <uint32_t kEffects, class Queries>
       if (is_black(step.scattering)) continue;
       const Vec3 x = r.origin + drawn.t * r.direction;
       const LightSample ls = sample_light(light, x, k);
-      if (is_black(ls.irradiance)) continue;  // outside a spot's cone, behind an area light
+      const Ray feeler = lamp_feeler(x, ls, r.time);
+      const auto lamp = static_cast<int32_t>(index);
+      if (is_black(ls.irradiance)) {  // outside a spot's cone, behind an area light
+        recorder.unsent(recorder.scatter(feeler, Color(0.0f), lamp, -1, state.depth),
+                        TreeCut::kUnlit);
+        continue;
+      }
       const float phase = henyey_greenstein(glm::dot(ls.wi, r.direction), step.anisotropy);
       const Color reaching = step.depth + step.sigma_t * (drawn.t - steps.start(i));
       Color arriving =
           transmittance(reaching, 1.0f) * step.scattering * (phase / drawn.pdf) * ls.irradiance;
+      const auto node = recorder.scatter(feeler, arriving, lamp, -1, state.depth);
       if (light.cast_shadows) {
-        const float t_max = std::isinf(ls.distance)
-                                ? kInfinity
-                                : ls.distance * (1.0f - limits::kShadowRayShortening);
-        const Ray feeler{x, ls.wi, 0.0f, t_max, kShadowRay, r.time};
-        arriving *= volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
+        const Color through = volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
+        recorder.shadow(node, feeler, through);
+        arriving *= through;
       }
-      out.radiance += arriving;
+      out.scattered += arriving;
     }
   }
   return out;

@@ -89,27 +89,32 @@ class Kernel {
       } else {
         found = in_.queries.intersect(query(r), &hit);
       }
-      const auto node = recorder_.ray(r, here.depth, in_front, behind);
+      const auto node = recorder_.ray(r, here.depth, in_front, behind, through);
       if (in_.has(kVolumeEffect)) {
         // The segment inside the media the ray is in: from where the ray starts to count (a
-        // camera ray's clip start) to its hit, or as far as it may go.
+        // camera ray's clip start) to its hit, or as far as it may go; marched where a
+        // program drives one of them.
         const float length = (found ? hit.t : r.t_max) - r.t_min;
         const Ray segment{
             r.origin + r.t_min * r.direction, r.direction, 0.0f, length, RayKind(r.kind), r.time};
-        if (heterogeneous(in_.scene, here.media)) {  // media a program drives: marched
+        const bool marched = heterogeneous(in_.scene, here.media);
+        const Medium m = marched ? Medium{} : medium_at(in_.scene, here.media);
+        if (marched || !m.empty()) {
+          [[maybe_unused]] const auto scope =
+              recorder_.segment(node, segment, length, behind, through);
           const SegmentLight light =
-              heterogeneous_segment(in_, segment, length, here.media, here, layer, counts);
-          radiance += (behind * through) * light.radiance;
+              marched ? heterogeneous_segment(in_, recorder_, segment, length, here.media, here,
+                                              layer, counts)
+                      : segment_radiance(in_, recorder_, segment, length, m, here, layer, counts);
+          recorder_.segment_light(here.depth, light);
+          radiance += (behind * through) * light.radiance();
           through *= light.transmittance;
-        } else if (const Medium m = medium_at(in_.scene, here.media); !m.empty()) {
-          radiance +=
-              (behind * through) * segment_radiance(in_, segment, length, m, here, layer, counts);
-          through *= transmittance(m.extinction(), length);
         }
         if (is_black(through)) break;
       }
       if (!found) {
-        radiance += through * escape(r, ray.kind == kCameraRay, here, node, behind, &coverage);
+        radiance +=
+            through * escape(r, ray.kind == kCameraRay, here, node, behind, through, &coverage);
         break;
       }
       Interaction it = in_.scene.interaction(r, hit);
@@ -118,6 +123,8 @@ class Kernel {
         it = in_.scene.interaction(r, hit);  // the surface, met before the bound is crossed
       } else if (in_.has(kVolumeEffect) && !it.material->surface) {
         // A volume's bound: the ray goes on into (or out of) its medium.
+        recorder_.crossed(node, it);
+        in_front = node;  // the ray goes on behind it, as behind a cut-out
         if (glm::dot(r.direction, it.geometric_normal) < 0.0f) {
           here.media.enter_bound(it.material_index, it.instance);
         } else {
@@ -139,7 +146,7 @@ class Kernel {
       }
       if (a > 0.0f) {
         if constexpr (Policy::kQueues) policy_.shading((behind * a) * through);
-        [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a);
+        [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a, through);
         recorder_.surface(here.depth, r, it, surface);
         radiance += (behind * a) * through * shade(r, it, surface, here, counts);
         coverage += behind * a;
@@ -196,9 +203,10 @@ class Kernel {
   }
 
   // The world where a ray escapes, `behind` of it uncovered, and the coverage it adds:
-  // none where a transparent film hides the world from the camera.
+  // none where a transparent film hides the world from the camera. `through`, what the
+  // media on its way let through, is for the recorder: the caller applies it.
   Color escape(const Ray& r, bool camera, const NodeState& state, typename Recorder::Node node,
-               float behind, float* coverage) const {
+               float behind, const Color& through, float* coverage) const {
     const bool shown = !(in_.settings.transparent_background && camera);
     if (!shown && !Recorder::kHiddenWorld) return Color(0.0f);
     // A ray drawn from a glossy lobe counts the world as its MIS weight against the world
@@ -207,7 +215,7 @@ class Kernel {
     const Color world = (in_.scene.world_visibility & r.kind) != 0
                             ? state.world_weight * in_.scene.world_radiance(r, in_.context(state))
                             : Color(0.0f);
-    recorder_.escaped(node, state.depth, behind, world, shown);
+    recorder_.escaped(node, state.depth, behind, through, world, shown);
     if (!shown) return Color(0.0f);
     *coverage += behind;
     return behind * world;

@@ -18,6 +18,7 @@ namespace whitted {
 
 class WhittedIntegrator;
 struct SampleRecord;
+struct SegmentLight;
 struct Split;
 
 // The indirect light pass of the camera hit (passes.h) that the rays being traced
@@ -59,16 +60,41 @@ struct NoRecorder {
   NoRecorder(const WhittedIntegrator& /*integrator*/, SampleRecord* /*record*/) {}
 
   // A ray traced at `depth`: the camera's or a child's (`in_front` none), or a ray's
-  // continuation behind the cut-out `in_front`; `behind` is the share of its weight
-  // not covered by the cut-outs in front.
-  Node ray(const Ray& /*ray*/, int /*depth*/, Node /*in_front*/, float /*behind*/) { return {}; }
+  // continuation behind the cut-out or volume bound `in_front`; `behind` is the share of
+  // its weight not covered by the cut-outs in front, `through` what the media in front
+  // let through (1 in a scene without media).
+  Node ray(const Ray& /*ray*/, int /*depth*/, Node /*in_front*/, float /*behind*/,
+           const Color& /*through*/) {
+    return {};
+  }
   // The ray met this surface.
   void hit(Node /*node*/, const Interaction& /*it*/) {}
-  // The ray escaped to `world`, shown unless the film is transparent there.
-  void escaped(Node /*node*/, int /*depth*/, float /*behind*/, const Color& /*world*/,
-               bool /*shown*/) {}
-  // The surface the ray met is shaded, covering `a` of the `behind` share of the ray.
-  Scope cover(Node /*node*/, float /*behind*/, float /*a*/) { return {}; }
+  // The ray crossed this volume's bound (a mesh without a surface) and goes on behind it.
+  void crossed(Node /*node*/, const Interaction& /*it*/) {}
+  // The ray's segment inside media (volume.h, heterogeneous.h), from its start to its hit
+  // or as far as it goes (`length`, maybe infinite), at the ray's `behind` share times
+  // `through`: while the scope lives the media's scattering is estimated along it.
+  Scope segment(Node /*node*/, const Ray& /*segment*/, float /*length*/, float /*behind*/,
+                const Color& /*through*/) {
+    return {};
+  }
+  // A feeler from a point of that segment towards a light sample (of a lamp, an emissive
+  // mesh, or the world: -1 for the others), before anything is known of it: `unshadowed`
+  // is what the medium there sends back along the segment's ray per unit of its weight
+  // if all of the light arrives. unsent() and shadow() tell what became of it.
+  Node scatter(const Ray& /*feeler*/, const Color& /*unshadowed*/, int32_t /*light*/,
+               int32_t /*emitter*/, int /*depth*/) {
+    return {};
+  }
+  // What that segment, at `depth`, sends back along the ray and lets through.
+  void segment_light(int /*depth*/, const SegmentLight& /*light*/) {}
+  // The ray escaped to `world`, shown unless the film is transparent there; `through` is
+  // what the media on its way let through.
+  void escaped(Node /*node*/, int /*depth*/, float /*behind*/, const Color& /*through*/,
+               const Color& /*world*/, bool /*shown*/) {}
+  // The surface the ray met is shaded, covering `a` of the `behind` share of the ray,
+  // seen through media that let `through` through.
+  Scope cover(Node /*node*/, float /*behind*/, float /*a*/, const Color& /*through*/) { return {}; }
   // That surface, as seen along `ray` (for the camera's surface data).
   void surface(int /*depth*/, const Ray& /*ray*/, const Interaction& /*it*/,
                const SurfaceParams& /*surface*/) {}
@@ -78,7 +104,8 @@ struct NoRecorder {
               int32_t /*emitter*/, int /*depth*/) {
     return {};
   }
-  // It was not sent: the light is behind the surface, or sends nothing here.
+  // It (or a scatter() feeler) was not sent: the light is behind the surface, or sends
+  // nothing here.
   void unsent(Node /*node*/, TreeCut /*why*/) {}
   // Its terms, unshadowed, before the shadow ray is sent (if it is).
   void unshadowed(Node /*node*/, const ShadingPoint& /*p*/, const LightTerms& /*t*/,

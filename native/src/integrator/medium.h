@@ -160,6 +160,17 @@ Medium sum_media(const CompiledScene& scene, const MediumStack& media, const Rea
   return out;
 }
 
+// What a ray's segment inside media (volume.h, heterogeneous.h) sends back along the ray,
+// seen from the segment's start, and lets through: the media's own emission, the light of
+// the lamps, emitters and world they scatter once towards the ray, and exp(-optical depth).
+struct SegmentLight {
+  Color emitted{0.0f};
+  Color scattered{0.0f};
+  Color transmittance{1.0f};
+  int steps = 0;  // points a heterogeneous medium's program ran at (0: constant media)
+  Color radiance() const { return emitted + scattered; }
+};
+
 // Whether some medium a point is inside is driven by its program (Material::heterogeneous):
 // then what fills it is read point by point (march.h), else medium_at(scene, media) is it.
 inline bool heterogeneous(const CompiledScene& scene, const MediumStack& media) {

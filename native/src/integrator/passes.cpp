@@ -20,6 +20,7 @@ void SampleRecord::add(const SampleRecord& s, uint32_t passes) {
     glossy_color += s.glossy_color;
     transmission_indirect += s.transmission_indirect;
     transmission_color += s.transmission_color;
+    volume_direct += s.volume_direct;
   }
   if ((passes & pass_bit(FilmPass::kContributions)) != 0) {
     for (size_t d = 0; d < contributions.size(); ++d) contributions[d] += s.contributions[d];
@@ -52,6 +53,7 @@ void SampleRecord::scale(float w, uint32_t passes) {
     glossy_color *= w;
     transmission_indirect *= w;
     transmission_color *= w;
+    volume_direct *= w;
   }
   if ((passes & pass_bit(FilmPass::kContributions)) != 0) {
     for (Color& c : contributions) c *= w;
@@ -214,11 +216,24 @@ PassRecorder::Scope PassRecorder::refracted(int depth, const Color& sigma_t) {
   return {this, throughput_, {IndirectPass::kTransmission, path_.guide_tint, path_.guide_share}};
 }
 
-void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& world,
-                           bool shown) const {
+void PassRecorder::segment_light(int depth, const SegmentLight& light) const {
+  if (contributions_) {
+    record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
+        throughput_ * light.radiance();
+  }
+  if (depth == 0 && light_) {
+    record_->emission += throughput_ * light.emitted;
+    record_->volume_direct += throughput_ * light.scattered;
+  } else if (Color* indirect = indirect_field(); indirect != nullptr) {
+    *indirect += throughput_ * light.radiance();
+  }
+}
+
+void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& through,
+                           const Color& world, bool shown) const {
   // A transparent film leaves the world out of Combined but, as in Cycles, not out of
   // the Environment pass, so it can be put back in the compositor.
-  const Color throughput = throughput_ * behind;
+  const Color throughput = throughput_ * behind * through;
   if (shown && contributions_) {
     record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
         throughput * world;

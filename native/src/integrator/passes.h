@@ -28,6 +28,10 @@ enum class FilmPass : uint32_t {
   kTransmissionDirect,
   kTransmissionIndirect,
   kTransmissionColor,
+  // Cycles' Volume Direct and Indirect: the light media scatter once towards the camera
+  // ray (integrator/volume.h); Indirect always 0, as Cycles' with Volume Bounces 0.
+  kVolumeDirect,
+  kVolumeIndirect,
   kDepth,
   kMist,
   kNormal,
@@ -66,6 +70,8 @@ inline constexpr std::array<FilmPassInfo, kFilmPassCount> kFilmPasses = {{
     {"transmission_direct", 3},
     {"transmission_indirect", 3},
     {"transmission_color", 3},
+    {"volume_direct", 3},
+    {"volume_indirect", 3},
     {"depth", 1},
     {"mist", 1},
     {"normal", 3},
@@ -95,7 +101,7 @@ constexpr uint32_t pass_bit(FilmPass pass) {
 // depth, Cut Weight sums the rays not traced, the denoising guides follow the camera rays
 // through near-specular surfaces.
 inline constexpr uint32_t kLightPasses =
-    pass_bit(FilmPass::kDepth) - 1;  // kEmission .. kTransmissionColor
+    pass_bit(FilmPass::kDepth) - 1;  // kEmission .. kVolumeIndirect
 inline constexpr uint32_t kDataPasses =
     pass_bit(FilmPass::kContributions) - pass_bit(FilmPass::kDepth);  // kDepth .. kMaterialIndex
 inline constexpr uint32_t kGuidePasses =
@@ -113,11 +119,14 @@ inline constexpr float kSharpGuideAlpha = 0.075f;
 
 // What one camera sample (or, summed and scaled, one pixel) adds to each pass. The light
 // terms belong to the camera hit (depth 0; through cut-outs, every layer the camera ray
-// meets, by its coverage) and are weighted by that share of the sample: Direct and
-// Indirect hold colour times light, as Blender's recombination Color * (Direct +
-// Indirect) wants; the film divides them by their Color.
+// meets, by its coverage, times what the media in front let through) and are weighted by
+// that share of the sample: Direct and Indirect hold colour times light, as Blender's
+// recombination Color * (Direct + Indirect) wants; the film divides them by their Color.
+// The camera ray's segments inside media are depth 0 too, as Cycles' volume passes: their
+// emission goes to Emission, their scattering to Volume Direct; deeper segments, like
+// deeper surfaces, to the indirect pass their path feeds.
 struct SampleRecord {
-  Color emission{0.0f};               // emission of the surfaces the camera ray meets
+  Color emission{0.0f};               // emission of the surfaces and media the camera ray meets
   Color environment{0.0f};            // the world where the camera ray escapes
   Color diffuse_direct{0.0f};         // kd/pi * light, through shadow feelers
   Color diffuse_indirect{0.0f};       // the ambient term Ia * ka * kd
@@ -127,6 +136,9 @@ struct SampleRecord {
   Color glossy_color{0.0f};           // ks + sigma_r
   Color transmission_indirect{0.0f};  // sigma_t * what the refracted ray brings back
   Color transmission_color{0.0f};     // sigma_t (Transmission Direct is always 0)
+  // The light the media along the camera ray scatter once towards it, from the lamps,
+  // the emitters and the world (Volume Indirect is always 0: no light scatters twice).
+  Color volume_direct{0.0f};
   // Everything the ray tree's nodes at depth d add to the sample (emission and local
   // term of a surface, the world where a ray escapes), for d < contribution_depth;
   // the last bin used holds depth contribution_depth and beyond.
@@ -216,13 +228,20 @@ class PassRecorder : public NoRecorder {
 
   PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record);
 
-  void escaped(Node node, int depth, float behind, const Color& world, bool shown) const;
-  Scope cover(Node /*node*/, float behind, float a) {
+  void escaped(Node node, int depth, float behind, const Color& through, const Color& world,
+               bool shown) const;
+  Scope cover(Node /*node*/, float behind, float a, const Color& through) {
     const float share = behind * a;
     return {this,
-            throughput_ * share,
+            throughput_ * share * through,
             {path_.indirect, path_.guide_tint * share, path_.guide_share * share}};
   }
+  Scope segment(Node /*node*/, const Ray& /*segment*/, float /*length*/, float behind,
+                const Color& through) {
+    return {this, throughput_ * behind * through, path_};
+  }
+  // The segment's emission and scattering, into Combined's passes as its depth says.
+  void segment_light(int depth, const SegmentLight& light) const;
   // The data passes come from the first surface the camera ray meets (depth 0) whose
   // alpha reaches the threshold; Mist from all of them, by their coverage.
   void surface(int depth, const Ray& ray, const Interaction& it, const SurfaceParams& surface) {

@@ -45,6 +45,7 @@ RayTree inspect_pixel(const CompiledScene& scene, const Settings& settings, cons
     node.background *= w;
     node.diffuse *= w;
     node.specular *= w;
+    node.scattered *= w;
     if (sample >= 0) node.sample = sample;
   }
   tree.pixel = s.radiance;

@@ -21,8 +21,9 @@ enum class TreeRayKind {
   kReflection,               // the mirror ray, sigma_r
   kRefraction,               // the refracted ray, sigma_t
   kTotalInternalReflection,  // the mirror ray of a transmissive surface that could not refract
-  kTransparent,              // straight on: behind a cut-out, or through a false interface
-  kGlossy,                   // a ray drawn from a glossy reflection lobe, its share of sigma_r
+  kTransparent,  // straight on: behind a cut-out, through a false interface or a volume bound
+  kGlossy,       // a ray drawn from a glossy reflection lobe, its share of sigma_r
+  kVolume,       // a ray's segment inside media (volume.h): its feelers scatter light along it
 };
 
 // Why a ray of the tree was not traced (or, for a shadow ray, not sent).
@@ -39,13 +40,13 @@ enum class TreeCut {
 struct RayTreeNode {
   TreeRayKind kind = TreeRayKind::kCamera;
   int depth = 0;      // bounces from the camera (continuations keep their ray's depth)
-  int parent = -1;    // the node whose surface spawned it; -1 for a camera ray
+  int parent = -1;    // the node whose surface (or segment) spawned it; -1 for a camera ray
   int sample = 0;     // the camera sample it belongs to
   Vec3 origin{0.0f};  // a camera ray's: its point on the lens (the camera's, for a pinhole)
   Vec3 direction{0.0f};
   float time = 0.0f;      // in the shutter, 0 to 1 (motion blur; 0 where nothing moves)
-  bool hit = false;       // the ray ended on a surface (for a shadow ray: on a blocker)
-  Vec3 end{0.0f};         // where it ended, when `hit`
+  bool hit = false;       // the ray ended on a surface or volume bound (a shadow ray: on a blocker)
+  Vec3 end{0.0f};         // where it ended, when `hit`; a segment's and a feeler's far end
   int32_t instance = -1;  // CompiledScene::instances index of what it hit or was blocked by
   int32_t material = -1;  // CompiledScene::materials index of that surface
   int32_t light = -1;     // shadow rays to a lamp: CompiledScene::lights index
@@ -57,16 +58,21 @@ struct RayTreeNode {
   TreeCut cut = TreeCut::kNone;
   // What this node adds to the pixel itself; its children add theirs. A ray that hits a
   // surface adds the surface's emission and ambient term; a ray that misses adds the
-  // background; a shadow ray adds its light's diffuse and specular terms times what gets
-  // through (`transmittance`).
+  // background; a segment in media adds their emission; a shadow ray adds its light's
+  // diffuse and specular terms, or from a point in a medium the light scattered there,
+  // times what gets through (`transmittance`).
   Color emission{0.0f};
   Color ambient{0.0f};
   Color background{0.0f};
-  Color diffuse{0.0f};   // shadow rays: the Phong diffuse term of the light, unshadowed
-  Color specular{0.0f};  // shadow rays: the Phong specular term, unshadowed
+  Color diffuse{0.0f};    // shadow rays: the Phong diffuse term of the light, unshadowed
+  Color specular{0.0f};   // shadow rays: the Phong specular term, unshadowed
+  Color scattered{0.0f};  // shadow rays from a segment: the light scattered, unshadowed
+  // Shadow rays: what got through. A segment: what its media let through (it scales
+  // nothing of its own: its diffuse, specular and scattered terms are 0).
   Color transmittance{1.0f};
+  int steps = 0;  // a segment: the points a heterogeneous medium's program ran at
   Color contribution() const {
-    return emission + ambient + background + (diffuse + specular) * transmittance;
+    return emission + ambient + background + (diffuse + specular + scattered) * transmittance;
   }
 };
 

@@ -20,9 +20,12 @@ int TreeRecorder::add(const Ray& ray, int depth, TreeRayKind kind, int parent, c
   return tree_->add(node, parent);
 }
 
-TreeRecorder::Node TreeRecorder::ray(const Ray& ray, int depth, Node in_front, float behind) {
-  if (in_front.index < 0) return {add(ray, depth, tree_->next_kind, tree_->current, Color(behind))};
-  return {add(ray, depth, TreeRayKind::kTransparent, in_front.index, Color(behind))};
+TreeRecorder::Node TreeRecorder::ray(const Ray& ray, int depth, Node in_front, float behind,
+                                     const Color& through) {
+  if (in_front.index < 0) {
+    return {add(ray, depth, tree_->next_kind, tree_->current, share(behind, through))};
+  }
+  return {add(ray, depth, TreeRayKind::kTransparent, in_front.index, share(behind, through))};
 }
 
 void TreeRecorder::hit(Node node, const Interaction& it) {
@@ -33,14 +36,42 @@ void TreeRecorder::hit(Node node, const Interaction& it) {
   n.material = static_cast<int32_t>(it.material_index);
 }
 
-void TreeRecorder::escaped(Node node, int /*depth*/, float /*behind*/, const Color& world,
-                           bool shown) {
-  RayTreeNode& n = at(node);
-  if (shown) n.background = n.weight * world;
+TreeRecorder::Scope TreeRecorder::segment(Node node, const Ray& segment, float length, float behind,
+                                          const Color& through) {
+  const int index =
+      add(segment, at(node).depth, TreeRayKind::kVolume, node.index, share(behind, through));
+  RayTreeNode& n = tree_->nodes[static_cast<size_t>(index)];
+  if (std::isfinite(length)) n.end = segment.origin + length * segment.direction;
+  return {tree_, index, n.weight};
 }
 
-TreeRecorder::Scope TreeRecorder::cover(Node node, float /*behind*/, float a) {
-  return {tree_, node.index, at(node).weight * a};
+TreeRecorder::Node TreeRecorder::scatter(const Ray& feeler, const Color& unshadowed, int32_t light,
+                                         int32_t emitter, int depth) {
+  const int index = add(feeler, depth, TreeRayKind::kShadow, tree_->current, Color(1.0f));
+  RayTreeNode& n = tree_->nodes[static_cast<size_t>(index)];
+  n.light = light;
+  n.emitter = emitter;
+  n.scattered = n.weight * unshadowed;
+  n.cut = TreeCut::kUnshadowed;  // until its feeler is sent
+  if (std::isfinite(feeler.t_max)) n.end = feeler.origin + feeler.t_max * feeler.direction;
+  return {index};
+}
+
+void TreeRecorder::segment_light(int /*depth*/, const SegmentLight& light) {
+  RayTreeNode& n = tree_->nodes[static_cast<size_t>(tree_->current)];
+  n.emission = tree_->scale * light.emitted;
+  n.transmittance = light.transmittance;
+  n.steps = light.steps;
+}
+
+void TreeRecorder::escaped(Node node, int /*depth*/, float behind, const Color& through,
+                           const Color& world, bool shown) {
+  RayTreeNode& n = at(node);
+  if (shown) n.background = tree_->scale * share(behind, through) * world;
+}
+
+TreeRecorder::Scope TreeRecorder::cover(Node node, float behind, float a, const Color& through) {
+  return {tree_, node.index, tree_->scale * share(behind, through) * a};
 }
 
 TreeRecorder::Node TreeRecorder::feeler(const Interaction& it, const LightSample& ls, int32_t light,

@@ -24,10 +24,17 @@ class TreeRecorder : public NoRecorder {
 
   TreeRecorder(const WhittedIntegrator& integrator, SampleRecord* record);
 
-  Node ray(const Ray& ray, int depth, Node in_front, float behind);
+  Node ray(const Ray& ray, int depth, Node in_front, float behind, const Color& through);
   void hit(Node node, const Interaction& it);
-  void escaped(Node node, int depth, float behind, const Color& world, bool shown);
-  Scope cover(Node node, float behind, float a);
+  void crossed(Node node, const Interaction& it) { hit(node, it); }
+  // A segment is a kVolume node under its ray, the parent of its scatter() feelers.
+  Scope segment(Node node, const Ray& segment, float length, float behind, const Color& through);
+  Node scatter(const Ray& feeler, const Color& unshadowed, int32_t light, int32_t emitter,
+               int depth);
+  void segment_light(int depth, const SegmentLight& light);
+  void escaped(Node node, int depth, float behind, const Color& through, const Color& world,
+               bool shown);
+  Scope cover(Node node, float behind, float a, const Color& through);
   Node feeler(const Interaction& it, const LightSample& ls, int32_t light, int32_t emitter,
               int depth);
   void unsent(Node node, TreeCut why);
@@ -45,6 +52,9 @@ class TreeRecorder : public NoRecorder {
  private:
   // A ray of `kind` under `parent`, its weight the tree's scale times `share`.
   int add(const Ray& ray, int depth, TreeRayKind kind, int parent, const Color& share);
+  // The share of the tree's scale a layer of a ray has: the part `behind` the cut-outs in
+  // front, times what the media in front let `through`.
+  static Color share(float behind, const Color& through) { return Color(behind) * through; }
   RayTreeNode& at(Node node) { return tree_->nodes[static_cast<size_t>(node.index)]; }
 
   const CompiledScene& scene_;

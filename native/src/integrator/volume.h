@@ -19,6 +19,7 @@
 #include "core/math.h"
 #include "core/ray.h"
 #include "integrator/kernel_inputs.h"
+#include "integrator/ray_tree.h"
 #include "integrator/shadow.h"
 #include "integrator/strata.h"
 #include "integrator/transmittance.h"
@@ -109,6 +110,14 @@ Color volume_feeler(const KernelInputs<kEffects, Queries>& in, const Ray& feeler
                               linked, depth, counts);
 }
 
+// The feeler from x, a point in a medium, to a lamp's sample `ls`: short of the lamp by
+// kShadowRayShortening, to infinity for the sun.
+inline Ray lamp_feeler(const Vec3& x, const LightSample& ls, float time) {
+  const float t_max =
+      std::isinf(ls.distance) ? kInfinity : ls.distance * (1.0f - limits::kShadowRayShortening);
+  return {x, ls.wi, 0.0f, t_max, kShadowRay, time};
+}
+
 // The draws of a light sampled from points along a segment (the emitters', the world's):
 // n x n points of the light (`light`, Emitter Samples a side), each seen from its own point
 // of the segment, drawn by transmittance (the first number of `along`'s point; its second
@@ -132,10 +141,11 @@ struct SegmentDraws {
 // points drawn from the emitters' power table, each seen from its own distance along the
 // segment, drawn by transmittance, with a feeler each. Out of line: only scenes with media
 // and emitters call it.
-template <uint32_t kEffects, class Queries>
-[[gnu::noinline]] Color scattered_emitters(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                           float length, const Medium& m, const NodeState& state,
-                                           int layer, RayCounts* counts) {
+template <uint32_t kEffects, class Queries, class Recorder>
+[[gnu::noinline]] Color scattered_emitters(const KernelInputs<kEffects, Queries>& in,
+                                           Recorder& recorder, const Ray& r, float length,
+                                           const Medium& m, const NodeState& state, int layer,
+                                           RayCounts* counts) {
   const CompiledScene& scene = in.scene;
   const SegmentDraws draws(state, in.settings.emitter_samples,
                            0x766d6500u ^ static_cast<uint32_t>(layer),
@@ -152,7 +162,13 @@ template <uint32_t kEffects, class Queries>
     const float dist = std::sqrt(dist2);
     if (!(dist > 0.0f)) continue;
     const Vec3 wi = d / dist;
-    if (!s.triangle.lights(-wi)) continue;  // a side it does not light
+    const Ray feeler{x, wi, 0.0f, dist * (1.0f - limits::kShadowRayShortening), kShadowRay, r.time};
+    const auto emitter = static_cast<int32_t>(s.triangle.instance);
+    if (!s.triangle.lights(-wi)) {  // a side it does not light
+      recorder.unsent(recorder.scatter(feeler, Color(0.0f), -1, emitter, state.depth),
+                      TreeCut::kBackfacing);
+      continue;
+    }
     // An emitter's patch lights x as an area light's: L cos_e / (d^2 density) / n^2.
     const float cos_e = std::fabs(glm::dot(wi, s.triangle.normal));
     const Ray towards{x, wi, 0.0f, dist, 0u, r.time};
@@ -160,10 +176,15 @@ template <uint32_t kEffects, class Queries>
         emitted(scene, s.triangle, s.barycentric, towards, in.context(state));
     Color arriving = scattered_share(m, r, drawn, wi) * emitted_radiance *
                      (cos_e * draws.light.share / (dist2 * s.density));
-    if (is_black(arriving)) continue;
-    const Ray feeler{x, wi, 0.0f, dist * (1.0f - limits::kShadowRayShortening), kShadowRay, r.time};
-    arriving *= volume_feeler(in, feeler, scene.instances[s.triangle.instance].links.shadow_sets,
-                              state.depth, counts);
+    const auto node = recorder.scatter(feeler, arriving, -1, emitter, state.depth);
+    if (is_black(arriving)) {
+      recorder.unsent(node, TreeCut::kUnlit);
+      continue;
+    }
+    const Color through = volume_feeler(
+        in, feeler, scene.instances[s.triangle.instance].links.shadow_sets, state.depth, counts);
+    recorder.shadow(node, feeler, through);
+    arriving *= through;
     radiance += arriving;
   }
   return radiance;
@@ -175,10 +196,11 @@ template <uint32_t kEffects, class Queries>
 // the segment, drawn by transmittance, with a feeler to infinity each. A point in a medium
 // has no surface to face: a world drawn by the cosine (one colour) is drawn about the ray's
 // direction or its opposite, one of the two by a coin, over the whole sphere.
-template <uint32_t kEffects, class Queries>
-[[gnu::noinline]] Color scattered_world(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                        float length, const Medium& m, const NodeState& state,
-                                        int layer, RayCounts* counts) {
+template <uint32_t kEffects, class Queries, class Recorder>
+[[gnu::noinline]] Color scattered_world(const KernelInputs<kEffects, Queries>& in,
+                                        Recorder& recorder, const Ray& r, float length,
+                                        const Medium& m, const NodeState& state, int layer,
+                                        RayCounts* counts) {
   const WorldLight& light = *in.world;
   const SegmentDraws draws(state, in.settings.emitter_samples,
                            0x76776c00u ^ static_cast<uint32_t>(layer),
@@ -197,9 +219,15 @@ template <uint32_t kEffects, class Queries>
       const Color world_radiance = in.scene.world_light_radiance(s.wi, state.depth + 1);
       Color arriving =
           scattered_share(m, r, drawn, s.wi) * world_radiance * (draws.light.share / pdf);
-      if (is_black(arriving)) continue;
       const Ray feeler{x, s.wi, 0.0f, kInfinity, kShadowRay, r.time};
-      arriving *= volume_feeler(in, feeler, kAllLightSets, state.depth, counts);
+      const auto node = recorder.scatter(feeler, arriving, -1, -1, state.depth);
+      if (is_black(arriving)) {
+        recorder.unsent(node, TreeCut::kUnlit);
+        continue;
+      }
+      const Color through = volume_feeler(in, feeler, kAllLightSets, state.depth, counts);
+      recorder.shadow(node, feeler, through);
+      arriving *= through;
       radiance += arriving;
     }
   }
@@ -207,21 +235,25 @@ template <uint32_t kEffects, class Queries>
 }
 
 // What the medium `m` sends back along a segment [0, length] of ray r (length may be
-// infinite), seen from r's origin: its emission, integral of T(t) e dt = e (1 - T(length)) /
-// sigma_t, and the light of every lamp it scatters once, integral of T(t) sigma_s
-// phase E(x(t)) S(x(t)) dt (E a lamp's irradiance at x(t), S what its feeler lets through),
+// infinite), seen from r's origin, and lets through, exp(-sigma_t length): its emission,
+// integral of T(t) e dt = e (1 - T(length)) / sigma_t, and the light of every lamp it
+// scatters once, integral of T(t) sigma_s phase E(x(t)) S(x(t)) dt (E a lamp's irradiance
+// at x(t), S what its feeler lets through; each feeler told to the recorder),
 // estimated from one distance per light sample (a sized lamp's n x n, each with its own):
 // equiangular towards a lamp with a place, by transmittance towards the sun. The distances
 // are the camera sample's draws (Strata: a chain of the pixel's Sobol points, or a
 // stratum placed by the sample's seed), `layer` telling a ray's segments apart, so
 // threads and tiles change nothing. Out of line: only scenes with media call it.
-template <uint32_t kEffects, class Queries>
-[[gnu::noinline]] Color segment_radiance(const KernelInputs<kEffects, Queries>& in, const Ray& r,
-                                         float length, const Medium& m, const NodeState& state,
-                                         int layer, RayCounts* counts) {
+template <uint32_t kEffects, class Queries, class Recorder>
+[[gnu::noinline]] SegmentLight segment_radiance(const KernelInputs<kEffects, Queries>& in,
+                                                Recorder& recorder, const Ray& r, float length,
+                                                const Medium& m, const NodeState& state, int layer,
+                                                RayCounts* counts) {
   const Color sigma_t = m.extinction();
-  Color radiance = medium_emission(m.emission, sigma_t, length);
-  if (is_black(m.scattering)) return radiance;
+  SegmentLight out;
+  out.emitted = medium_emission(m.emission, sigma_t, length);
+  out.transmittance = transmittance(sigma_t, length);
+  if (is_black(m.scattering)) return out;
   const CompiledScene& scene = in.scene;
   const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
   for (const Light& light : scene.lights) {
@@ -238,23 +270,30 @@ template <uint32_t kEffects, class Queries>
       if (!(drawn.pdf > 0.0f)) continue;
       const Vec3 x = r.origin + drawn.t * r.direction;
       const LightSample ls = sample_light(light, x, k);
-      if (is_black(ls.irradiance)) continue;  // outside a spot's cone, behind an area light
-      Color arriving = scattered_share(m, r, drawn, ls.wi) * ls.irradiance;
-      if (light.cast_shadows) {
-        const float t_max = std::isinf(ls.distance)
-                                ? kInfinity
-                                : ls.distance * (1.0f - limits::kShadowRayShortening);
-        const Ray feeler{x, ls.wi, 0.0f, t_max, kShadowRay, r.time};
-        arriving *= volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
+      const Ray feeler = lamp_feeler(x, ls, r.time);
+      const auto lamp = static_cast<int32_t>(index);
+      if (is_black(ls.irradiance)) {  // outside a spot's cone, behind an area light
+        recorder.unsent(recorder.scatter(feeler, Color(0.0f), lamp, -1, state.depth),
+                        TreeCut::kUnlit);
+        continue;
       }
-      radiance += arriving;
+      Color arriving = scattered_share(m, r, drawn, ls.wi) * ls.irradiance;
+      const auto node = recorder.scatter(feeler, arriving, lamp, -1, state.depth);
+      if (light.cast_shadows) {
+        const Color through = volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
+        recorder.shadow(node, feeler, through);
+        arriving *= through;
+      }
+      out.scattered += arriving;
     }
   }
-  if (in.emitters) radiance += scattered_emitters(in, r, length, m, state, layer, counts);
-  if (in.lit_by_world(state.depth)) {
-    radiance += scattered_world(in, r, length, m, state, layer, counts);
+  if (in.emitters) {
+    out.scattered += scattered_emitters(in, recorder, r, length, m, state, layer, counts);
   }
-  return radiance;
+  if (in.lit_by_world(state.depth)) {
+    out.scattered += scattered_world(in, recorder, r, length, m, state, layer, counts);
+  }
+  return out;
 }
 
 }  // namespace whitted

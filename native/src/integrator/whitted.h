@@ -40,11 +40,13 @@ struct RayCounts {
   } shadow_rays_skipped;
   uint64_t nonfinite_samples = 0;  // samples discarded as NaN or infinite
   uint64_t world_feelers = 0;      // light samples drawn towards the world (scene/world_light.h)
-  // Feelers to the lamps from points inside a medium (in-scattering, integrator/volume.h),
-  // and the queries that walked shadow feelers through volume bounds (transmittance.h).
+  // Feelers to the lamps, emitters and world from points inside a medium (in-scattering,
+  // integrator/volume.h; among `shadow`), the queries that walked shadow feelers through
+  // volume bounds (transmittance.h) or looked for a surface in a bound's plane (kernel.h),
+  // and the rays going on behind the volume bounds they crossed (kernel.h).
   uint64_t volume_feelers = 0;
   uint64_t volume_queries = 0;
-  uint64_t volume_bounds = 0;  // volume bounds a ray crossed on its way (kernel.h)
+  uint64_t volume_bounds = 0;
   // Points a heterogeneous medium's program ran at along the segments and feelers that
   // crossed it (integrator/heterogeneous.h, march.h).
   uint64_t volume_steps = 0;
@@ -60,8 +62,12 @@ struct RayCounts {
     }
     if (bounce && kind == kRefractionRay) refraction += 1;
   }
+  // The rays media cost besides their feelers: the continuations through volume bounds
+  // and the queries through them (0 in a scene without media).
+  uint64_t volume() const { return volume_bounds + volume_queries; }
+  // Every ray traced (the Whitted Rays pass counts each pixel's).
   uint64_t total() const {
-    return camera + shadow + reflection + refraction + glossy + transparent;
+    return camera + shadow + reflection + refraction + glossy + transparent + volume();
   }
 };
 

@@ -69,8 +69,9 @@ def set_passes(view_layer, variant):
             or spec.panel.lower() == variant
             or (variant == "depth" and spec.source == "depth")
         )
-        owner, _, prop = spec.toggle.rpartition(".")
-        setattr(view_layer.whitted if owner else view_layer, prop, wanted)
+        holder, prop = spec.switch(view_layer)
+        if holder is not None:
+            setattr(holder, prop, wanted)
     view_layer.whitted.use_pass_contributions = variant in ("whitted", "all")
     view_layer.whitted.contribution_depth = CONTRIBUTION_DEPTH
 

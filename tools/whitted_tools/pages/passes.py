@@ -105,7 +105,25 @@ PASSES = (
     ),
     ("TransInd", "color", "sigma_t * L(refracted ray) at the camera hit, divided by TransCol."),
     ("TransCol", "color", "sigma_t of the camera hit (after Fresnel)."),
-    ("Emit", "color", "Emission of the surfaces the camera ray meets."),
+    (
+        "VolumeDir",
+        "color",
+        "The light the media along the camera ray (fog, smoke, a world's volume) scatter "
+        "once towards it from the lamps, emitters and world, through their feelers, as "
+        "Cycles' Volume Direct; what mirror and refracted rays meet in media is in GlossInd "
+        "and TransInd. Black here: the demo has no media.",
+    ),
+    (
+        "VolumeInd",
+        "color",
+        "Always 0: light scattered more than once is not simulated (Volume Bounces 0; "
+        "Cycles' Volume Indirect is black then too).",
+    ),
+    (
+        "Emit",
+        "color",
+        "Emission of the surfaces and the media the camera ray meets (a volume's, as Cycles).",
+    ),
     (
         "Env",
         "color",
@@ -139,7 +157,9 @@ PASSES = (
     (
         "Whitted Rays",
         "scaled",
-        "Rays traced for the pixel: camera, shadow, reflection, refraction and transparent.",
+        "Rays traced for the pixel: camera, shadow, reflection, refraction and transparent, "
+        "and in media the feelers from their scatter points (as shadow rays) and the rays "
+        "through their bounds.",
     ),
     (
         "Whitted Cut Weight",
@@ -217,7 +237,7 @@ def picture(values, style):
 
 
 def recombined(p):
-    total = p["Emit"][..., :3] + p["Env"][..., :3]
+    total = p["Emit"][..., :3] + p["Env"][..., :3] + p["VolumeDir"] + p["VolumeInd"]
     for c in LIGHT:
         total = total + p[f"{c}Col"] * (p[f"{c}Dir"] + p[f"{c}Ind"])
     return total
@@ -303,7 +323,7 @@ def page(passes, error_light, error_depth, error_node, costs, builds, blender_ve
         "back Combined:",
         "",
         "    Combined = DiffCol (DiffDir + DiffInd) + GlossCol (GlossDir + GlossInd)",
-        "             + TransCol (TransDir + TransInd) + Emit + Env",
+        "             + TransCol (TransDir + TransInd) + VolumeDir + VolumeInd + Emit + Env",
         "",
         f"Measured on the render below (every pixel, RGB): **max |recombined - Combined| = "
         f"{error_light:.2e}**; the Whitted Depth passes summed: **{error_depth:.2e}**.",
@@ -325,7 +345,8 @@ def page(passes, error_light, error_depth, error_node, costs, builds, blender_ve
         "",
         "**Combined rebuilt from the light passes**: for each of Diffuse, Glossy and "
         "Transmission a Mix (Add) of Direct and Indirect into a Mix (Multiply) with Color, "
-        "then the three added with Emit and Env. Max difference from Combined: "
+        "then the three added with VolumeDir, VolumeInd, Emit and Env. Max difference from "
+        "Combined: "
         f"**{error_node:.2e}**.",
         "",
         "![rebuilt](images/passes/composite_rebuild.png)",

@@ -66,7 +66,8 @@ def mix(tree, blend, a, b, location):
 
 def rebuild_tree(scene, result):
     """Combined rebuilt as Blender's manual recombines Cycles' passes: Color * (Direct
-    + Indirect) for diffuse, glossy and transmission, plus Emission and Environment."""
+    + Indirect) for diffuse, glossy and transmission, plus Volume Direct and Indirect,
+    Emission and Environment."""
     tree = scene.node_tree
     tree.nodes.clear()
     layers = node(tree, "CompositorNodeRLayers", (0, 0))
@@ -77,9 +78,9 @@ def rebuild_tree(scene, result):
         light = mix(tree, "ADD", out[f"{component}Dir"], out[f"{component}Ind"], (300, -200 * i))
         term = mix(tree, "MULTIPLY", out[f"{component}Col"], light, (500, -200 * i))
         total = term if total is None else mix(tree, "ADD", total, term, (700, -200 * i))
-    total = mix(tree, "ADD", total, out["Emit"], (900, 0))
-    total = mix(tree, "ADD", total, out["Env"], (1100, 0))
-    composite = node(tree, "CompositorNodeComposite", (1300, 0), use_alpha=False)
+    for i, name in enumerate(("VolumeDir", "VolumeInd", "Emit", "Env")):
+        total = mix(tree, "ADD", total, out[name], (900 + 200 * i, 0))
+    composite = node(tree, "CompositorNodeComposite", (1700, 0), use_alpha=False)
     tree.links.new(total, composite.inputs["Image"])
 
 

@@ -131,7 +131,14 @@ def _page(tree, args, image_rel):
         "  Curve** makes a curve object of it (a material per kind) for a render or a slide.",
         "",
         "Colours: camera yellow, shadow feeler green (blocked: faint red), reflection blue,",
-        "refraction magenta, total internal reflection orange, continuation grey.",
+        "refraction magenta, total internal reflection orange, continuation grey, a",
+        "segment in media violet.",
+        "",
+        "In a scene with media (fog, smoke, a world's volume) a ray ends on each volume",
+        "bound it crosses and goes on behind it (`transparent`); each stretch of it inside",
+        "media is a `volume` node under it, whose children are the feelers from its",
+        "scatter points (`scatter` true: each starts at a point drawn along the segment and",
+        "carries the light the media scatter there towards the ray, `scattered`).",
         "",
         f"## A real tree: pixel ({tree['x']}, {tree['y']}) of the demo at "
         f"{args.resolution[0]}x{args.resolution[1]}, Final preset",
@@ -167,23 +174,29 @@ def _page(tree, args, image_rel):
         "| field | meaning |",
         "|---|---|",
         "| `kind` | `camera`, `shadow`, `reflection`, `refraction`, `tir` (the mirror ray of a "
-        "transmissive surface that cannot refract), `transparent` (on behind a cut-out, or "
-        "through a false interface of nested glass) |",
+        "transmissive surface that cannot refract), `transparent` (on behind a cut-out, "
+        "through a false interface of nested glass, or through a volume bound), `volume` (a "
+        "ray's segment inside media) |",
         "| `depth`, `parent`, `sample`, `id` | bounces from the camera (a feeler has its "
         "surface's depth); the ray whose surface spawned it (-1: a camera ray); the camera "
         "sample it belongs to; its index |",
-        "| `origin`, `direction`, `end` | world space; `end` is where it met a surface (a "
-        "feeler: its light sample, or its blocker), null for a miss or a feeler to the sun "
-        "or the world |",
+        "| `origin`, `direction`, `end` | world space; `end` is where it met a surface or a "
+        "volume bound (a feeler: its light sample, or its blocker; a segment: where its ray "
+        "leaves the media or meets a surface), null for a miss, a feeler to the sun or the "
+        "world, or a segment without end |",
         "| `object`, `instance`, `material`, `light`, `emitter`, `world` | what it met "
         "(Blender names; `instance` is the instance key for instanced objects); a feeler's "
         "light, or the emissive object it samples, or `world` true for a feeler to the world "
         "as a light |",
         "| `weight` | its share of the pixel: the anti-aliasing weight times the cut-out "
-        "coverage in front times every sigma_r / sigma_t on the way |",
+        "coverage in front times every sigma_r / sigma_t on the way, times what media on "
+        "the way let through |",
         "| `contribution` | what it adds itself: a surface ray its surface's emission and "
         "ambient term (`emission`, `ambient`), a miss the background (`background`), a feeler "
-        "its light's `diffuse` and `specular` terms times `transmittance` |",
+        "its light's `diffuse` and `specular` terms (from a scatter point: the light "
+        "`scattered` there) times `transmittance`, a segment the media's own `emission` "
+        "along it (its `transmittance` is what its media let through; `steps` the points a "
+        "heterogeneous medium was marched at) |",
         "| `cut` | null, or why it was not traced: `depth`, `cutoff`; a feeler not sent: "
         "`backfacing`, `unlit`, `unshadowed` (counted as visible: no shadows, or too faint "
         "to matter) |",
@@ -193,7 +206,9 @@ def _page(tree, args, image_rel):
         "`summary.depths[d]` sums the contributions at depth d (they add up to the pixel);",
         "`summary.cut` counts the rays the depth limit and the cutoff stopped, with the",
         "largest weight among them: a bound, relative to the radiance it would have",
-        "brought, on what raising the depth or lowering the cutoff could still change.",
+        "brought, on what raising the depth or lowering the cutoff could still change;",
+        "`summary.media` counts the segments in media, their feelers sent and marched steps,",
+        "and sums their emission and the light scattered through their feelers.",
         "",
     ]
     return lines
