@@ -47,6 +47,7 @@ def test_stats_json_counts_every_ray_and_times_every_phase(
         "fresnel": "EXACT",
         "cutoff": pytest.approx(1.0 / 255.0),
         "texture_filter": "AUTHORED",
+        "volume_step_rate": 1.0,
         "pixel_filter": "BOX",
         "filter_width": pytest.approx(1.5),  # unused by the Box
         "seed": 0,

@@ -444,25 +444,32 @@ def _cloud(tree):
 
 def _cloud_stage(scene, lamp="SPOT"):
     """The fog stage with a procedural cloud in the fog cube, lit by its spot lamp or
-    instead by a sun."""
+    instead by a sun, the emissive panel ("PANEL") or the forest HDRI ("HDRI")."""
     fog_stage(scene)
     scene.objects["Fog"].data.materials[0] = _material("Cloud", _cloud)
-    if lamp == "SUN":
+    if lamp != "SPOT":
         bpy.data.objects.remove(scene.objects["Spot"])
+    if lamp == "SUN":
         sun = bpy.data.lights.new("Sun", "SUN")
         sun.energy, sun.angle = 3.0, 0.0
         add_object(scene, "Sun", sun).rotation_euler = facing((0.3, 0.4, -1.0))
+    elif lamp in ("PANEL", "HDRI"):
+        _add_light(scene, lamp.lower())
     return scene
 
 
-@pytest.mark.parametrize("lamp", ["SPOT", "SUN"])
+@pytest.mark.parametrize("lamp", ["SPOT", "SUN", "PANEL", "HDRI"])
 def test_a_procedural_cloud_renders_as_cycles(lamp, empty_scene, tmp_path, monkeypatch):
+    # A cloud scatters the emissive meshes' and the world's light as a homogeneous fog
+    # does (volume.h scattered_lights over the marched steps).
     stats = _fog_against_cycles(
         _cloud_stage(empty_scene, lamp), tmp_path, monkeypatch, label=f"cloud ({lamp})"
     )
     assert stats["volume_steps"] > 0
-    volumes = next(e for e in stats["effects"] if e["name"] == "volumes")
-    assert "heterogeneous" in volumes["why"], volumes
+    why = _volumes_why(stats)
+    assert "heterogeneous" in why, why
+    named = {"PANEL": "the emissive meshes'", "HDRI": "the world's"}.get(lamp, "the lamps'")
+    assert f"{named} light" in why, why
 
 
 def _smoke_stage(scene, case):

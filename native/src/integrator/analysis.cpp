@@ -108,16 +108,13 @@ MediaObjects media_objects(const CompiledScene& scene) {
   return objects;
 }
 
-// What light a medium scatters, in the volumes' report line: the lights the effects
-// decided on, the lamps always (a medium a program drives scatters the lamps' alone).
-std::string scattered_light(const CompiledScene& scene, const Effects& effects,
-                            const MediaObjects& media) {
+// What light a medium scatters, in the volumes' report line: the lamps always, and the
+// emitters and the world where the effects decided on them.
+std::string scattered_light(const CompiledScene& scene, const Effects& effects) {
   std::vector<std::string> lights;
   if (!scene.lights.empty()) lights.push_back("the lamps'");
-  if (media.heterogeneous == 0) {
-    if (effects.has(kEmitterEffect)) lights.push_back("the emissive meshes'");
-    if (effects.has(kWorldLightEffect)) lights.push_back("the world's");
-  }
+  if (effects.has(kEmitterEffect)) lights.push_back("the emissive meshes'");
+  if (effects.has(kWorldLightEffect)) lights.push_back("the world's");
   if (lights.empty()) return "no light (none in the scene)";
   std::string text = lights[0];
   for (size_t i = 1; i < lights.size(); ++i) {
@@ -228,10 +225,9 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
   decide(effects, kVolumeEffect, any_medium, "volumes",
-         any_medium
-             ? media_why(volumes, world_medium, settings, scattered_light(scene, *effects, volumes))
-             : "no mesh encloses a medium (a material's volume shader) and the world "
-               "has no volume");
+         any_medium ? media_why(volumes, world_medium, settings, scattered_light(scene, *effects))
+                    : "no mesh encloses a medium (a material's volume shader) and the world "
+                      "has no volume");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
 }

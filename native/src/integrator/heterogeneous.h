@@ -8,11 +8,12 @@
 // in tests/blender/test_volume.py). Along the segment, with Volume Bounces 0:
 //   - what lies beyond is dimmed by exp(-sum sigma_t,i dt_i);
 //   - each step adds its emission, integral over it of T(t) e dt;
-//   - every lamp's light is scattered once at a distance drawn along the segment (as for
-//     homogeneous media, volume.h: equiangular towards a lamp with a place, and towards
-//     the sun by the marched transmittance, exactly invertible for piecewise constant
-//     sigma_t), with the sigma_s and Henyey-Greenstein lobe of the step it falls in, and
-//     the transmittance up to it; its feeler carries what the media it crosses let through
+//   - every light's (the lamps', the emissive meshes', the world's) is scattered once at a
+//     distance drawn along the segment by the loops homogeneous media use (volume.h's
+//     scattered_lights: equiangular towards a lamp with a place, else by the marched
+//     transmittance, exactly invertible for piecewise constant sigma_t), with the sigma_s
+//     and Henyey-Greenstein lobe of the step it falls in and the transmittance up to it
+//     (MarchedSegment); its feeler carries what the media it crosses let through
 //     (transmittance.h, marching heterogeneous ones by optical_depth).
 // Homogeneous media never come here: their path (volume.h) stays as it was.
 #pragma once
@@ -70,6 +71,26 @@ inline DrawnDistance by_marched_transmittance(const std::vector<MarchedStep>& ma
   return {};
 }
 
+// A marched segment, as the loops that scatter light along it ask of it (volume.h's
+// scattered_lights; ConstantSegment is a homogeneous one's): the part marched, distances
+// drawn by its transmittance, and at a drawn distance the step it falls in: the
+// transmittance up to it, that step's sigma_s and Henyey-Greenstein lobe, over the pdf.
+struct MarchedSegment {
+  const std::vector<MarchedStep>& marched;
+  const Steps& steps;
+
+  float reach() const { return steps.end(static_cast<int>(marched.size()) - 1); }
+  DrawnDistance drawn(float u) const { return by_marched_transmittance(marched, steps, u); }
+  Color share(const Ray& r, const DrawnDistance& at, const Vec3& wi) const {
+    const int i = std::min(steps.at(at.t), static_cast<int>(marched.size()) - 1);
+    const MarchedStep& step = marched[static_cast<size_t>(i)];
+    if (is_black(step.scattering)) return Color(0.0f);
+    const float phase = henyey_greenstein(glm::dot(wi, r.direction), step.anisotropy);
+    const Color reaching = step.depth + step.sigma_t * (at.t - steps.start(i));
+    return transmittance(reaching, 1.0f) * step.scattering * (phase / at.pdf);
+  }
+};
+
 // What the media the ray is in, some heterogeneous (medium.h's medium_at sums them, each
 // program run at the point), send back along the segment [0, length] of r and let
 // through (module comment), each feeler told to the recorder. `length` may be infinite (a
@@ -115,44 +136,9 @@ template <uint32_t kEffects, class Queries, class Recorder>
   if (endless) out.transmittance *= transmittance(medium_at(scene, media).extinction(), kInfinity);
   if (max_component(out.transmittance) < limits::kVolumeOpaque) out.transmittance = Color(0.0f);
   if (!scatters) return out;
-  // Single scattering of every lamp, over the part marched (as segment_radiance's loop).
-  const float reach = steps.end(static_cast<int>(marched.size()) - 1);
-  for (const Light& light : scene.lights) {
-    if (state.depth > light.max_bounces) continue;  // past its Max Bounces
-    const auto index = static_cast<uint32_t>(&light - scene.lights.data());
-    const Strata strata(state, light.sized() ? light.samples : 1,
-                        0x766f6c00u ^ (index << 8) ^ static_cast<uint32_t>(layer), sobol);
-    for (int k = 0; k < strata.count(); ++k) {
-      const float u = strata.point(k).x;
-      const DrawnDistance drawn = light.type == LightType::kSun
-                                      ? by_marched_transmittance(marched, steps, u)
-                                      : equiangular(r, reach, light.position, u);
-      if (!(drawn.pdf > 0.0f)) continue;
-      const int i = std::min(steps.at(drawn.t), static_cast<int>(marched.size()) - 1);
-      const MarchedStep& step = marched[static_cast<size_t>(i)];
-      if (is_black(step.scattering)) continue;
-      const Vec3 x = r.origin + drawn.t * r.direction;
-      const LightSample ls = sample_light(light, x, k);
-      const Ray feeler = lamp_feeler(x, ls, r.time);
-      const auto lamp = static_cast<int32_t>(index);
-      if (is_black(ls.irradiance)) {  // outside a spot's cone, behind an area light
-        recorder.unsent(recorder.scatter(feeler, Color(0.0f), lamp, -1, state.depth),
-                        TreeCut::kUnlit);
-        continue;
-      }
-      const float phase = henyey_greenstein(glm::dot(ls.wi, r.direction), step.anisotropy);
-      const Color reaching = step.depth + step.sigma_t * (drawn.t - steps.start(i));
-      Color arriving =
-          transmittance(reaching, 1.0f) * step.scattering * (phase / drawn.pdf) * ls.irradiance;
-      const auto node = recorder.scatter(feeler, arriving, lamp, -1, state.depth);
-      if (light.cast_shadows) {
-        const Color through = volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
-        recorder.shadow(node, feeler, through);
-        arriving *= through;
-      }
-      out.scattered += arriving;
-    }
-  }
+  // Single scattering of every light, over the part marched.
+  out.scattered =
+      scattered_lights(in, recorder, r, MarchedSegment{marched, steps}, state, layer, counts);
   return out;
 }
 

@@ -118,22 +118,37 @@ inline Ray lamp_feeler(const Vec3& x, const LightSample& ls, float time) {
   return {x, ls.wi, 0.0f, t_max, kShadowRay, time};
 }
 
+// A segment [0, length] of a ray inside a medium of constant coefficients, as the loops
+// that scatter light along it ask of it (heterogeneous.h's MarchedSegment answers the same
+// for a marched one): how far it reaches, a distance drawn by its transmittance (the
+// channels' mean extinction), and what of the light arriving at a drawn distance from
+// direction wi it sends back towards the ray's origin (scattered_share).
+struct ConstantSegment {
+  const Medium& m;
+  float length;
+  float sigma;
+
+  ConstantSegment(const Medium& medium, float l)
+      : m(medium),
+        length(l),
+        sigma((medium.extinction().x + medium.extinction().y + medium.extinction().z) / 3.0f) {}
+  float reach() const { return length; }
+  DrawnDistance drawn(float u) const { return by_transmittance(length, sigma, u); }
+  Color share(const Ray& r, const DrawnDistance& at, const Vec3& wi) const {
+    return scattered_share(m, r, at, wi);
+  }
+};
+
 // The draws of a light sampled from points along a segment (the emitters', the world's):
 // n x n points of the light (`light`, Emitter Samples a side), each seen from its own point
-// of the segment, drawn by transmittance (the first number of `along`'s point; its second
-// is free for the light's use).
+// of the segment, drawn by transmittance (the first number of `along`'s point, the
+// segment's drawn(); its second is free for the light's use).
 struct SegmentDraws {
   Strata light;
   Strata along;
-  float sigma;  // the channels' mean extinction
 
-  SegmentDraws(const NodeState& state, int samples, uint32_t salt, bool sobol, const Medium& m)
-      : light(state, samples, salt, sobol),
-        along(state, samples, salt ^ 0x9e3779b9u, sobol),
-        sigma((m.extinction().x + m.extinction().y + m.extinction().z) / 3.0f) {}
-  DrawnDistance distance(int k, float length) const {
-    return by_transmittance(length, sigma, along.point(k).x);
-  }
+  SegmentDraws(const NodeState& state, int samples, uint32_t salt, bool sobol)
+      : light(state, samples, salt, sobol), along(state, samples, salt ^ 0x9e3779b9u, sobol) {}
 };
 
 // The single scattering of the emissive meshes' light along a segment (the surfaces'
@@ -141,18 +156,17 @@ struct SegmentDraws {
 // points drawn from the emitters' power table, each seen from its own distance along the
 // segment, drawn by transmittance, with a feeler each. Out of line: only scenes with media
 // and emitters call it.
-template <uint32_t kEffects, class Queries, class Recorder>
+template <uint32_t kEffects, class Queries, class Recorder, class Segment>
 [[gnu::noinline]] Color scattered_emitters(const KernelInputs<kEffects, Queries>& in,
-                                           Recorder& recorder, const Ray& r, float length,
-                                           const Medium& m, const NodeState& state, int layer,
-                                           RayCounts* counts) {
+                                           Recorder& recorder, const Ray& r, const Segment& segment,
+                                           const NodeState& state, int layer, RayCounts* counts) {
   const CompiledScene& scene = in.scene;
   const SegmentDraws draws(state, in.settings.emitter_samples,
                            0x766d6500u ^ static_cast<uint32_t>(layer),
-                           jittered_samples(in.settings), m);
+                           jittered_samples(in.settings));
   Color radiance(0.0f);
   for (int k = 0; k < draws.light.count(); ++k) {
-    const DrawnDistance drawn = draws.distance(k, length);
+    const DrawnDistance drawn = segment.drawn(draws.along.point(k).x);
     if (!(drawn.pdf > 0.0f)) continue;
     const Vec3 x = r.origin + drawn.t * r.direction;
     const glm::vec2 u = draws.light.point(k);
@@ -174,7 +188,7 @@ template <uint32_t kEffects, class Queries, class Recorder>
     const Ray towards{x, wi, 0.0f, dist, 0u, r.time};
     const Color emitted_radiance =
         emitted(scene, s.triangle, s.barycentric, towards, in.context(state));
-    Color arriving = scattered_share(m, r, drawn, wi) * emitted_radiance *
+    Color arriving = segment.share(r, drawn, wi) * emitted_radiance *
                      (cos_e * draws.light.share / (dist2 * s.density));
     const auto node = recorder.scatter(feeler, arriving, -1, emitter, state.depth);
     if (is_black(arriving)) {
@@ -196,18 +210,17 @@ template <uint32_t kEffects, class Queries, class Recorder>
 // the segment, drawn by transmittance, with a feeler to infinity each. A point in a medium
 // has no surface to face: a world drawn by the cosine (one colour) is drawn about the ray's
 // direction or its opposite, one of the two by a coin, over the whole sphere.
-template <uint32_t kEffects, class Queries, class Recorder>
+template <uint32_t kEffects, class Queries, class Recorder, class Segment>
 [[gnu::noinline]] Color scattered_world(const KernelInputs<kEffects, Queries>& in,
-                                        Recorder& recorder, const Ray& r, float length,
-                                        const Medium& m, const NodeState& state, int layer,
-                                        RayCounts* counts) {
+                                        Recorder& recorder, const Ray& r, const Segment& segment,
+                                        const NodeState& state, int layer, RayCounts* counts) {
   const WorldLight& light = *in.world;
   const SegmentDraws draws(state, in.settings.emitter_samples,
                            0x76776c00u ^ static_cast<uint32_t>(layer),
-                           jittered_samples(in.settings), m);
+                           jittered_samples(in.settings));
   Color radiance(0.0f);
   for (int k = 0; k < draws.light.count(); ++k) {
-    const DrawnDistance drawn = draws.distance(k, length);
+    const DrawnDistance drawn = segment.drawn(draws.along.point(k).x);
     if (!(drawn.pdf > 0.0f)) continue;
     const Vec3 x = r.origin + drawn.t * r.direction;
     const Vec3 n = draws.along.point(k).y < 0.5f ? r.direction : -r.direction;
@@ -217,8 +230,7 @@ template <uint32_t kEffects, class Queries, class Recorder>
       if (!(s.pdf > 0.0f)) continue;
       const float pdf = 0.5f * (light.pdf(s.wi, n) + light.pdf(s.wi, -n));
       const Color world_radiance = in.scene.world_light_radiance(s.wi, state.depth + 1);
-      Color arriving =
-          scattered_share(m, r, drawn, s.wi) * world_radiance * (draws.light.share / pdf);
+      Color arriving = segment.share(r, drawn, s.wi) * world_radiance * (draws.light.share / pdf);
       const Ray feeler{x, s.wi, 0.0f, kInfinity, kShadowRay, r.time};
       const auto node = recorder.scatter(feeler, arriving, -1, -1, state.depth);
       if (is_black(arriving)) {
@@ -234,28 +246,21 @@ template <uint32_t kEffects, class Queries, class Recorder>
   return radiance;
 }
 
-// What the medium `m` sends back along a segment [0, length] of ray r (length may be
-// infinite), seen from r's origin, and lets through, exp(-sigma_t length): its emission,
-// integral of T(t) e dt = e (1 - T(length)) / sigma_t, and the light of every lamp it
-// scatters once, integral of T(t) sigma_s phase E(x(t)) S(x(t)) dt (E a lamp's irradiance
-// at x(t), S what its feeler lets through; each feeler told to the recorder),
-// estimated from one distance per light sample (a sized lamp's n x n, each with its own):
-// equiangular towards a lamp with a place, by transmittance towards the sun. The distances
-// are the camera sample's draws (Strata: a chain of the pixel's Sobol points, or a
-// stratum placed by the sample's seed), `layer` telling a ray's segments apart, so
-// threads and tiles change nothing. Out of line: only scenes with media call it.
-template <uint32_t kEffects, class Queries, class Recorder>
-[[gnu::noinline]] SegmentLight segment_radiance(const KernelInputs<kEffects, Queries>& in,
-                                                Recorder& recorder, const Ray& r, float length,
-                                                const Medium& m, const NodeState& state, int layer,
-                                                RayCounts* counts) {
-  const Color sigma_t = m.extinction();
-  SegmentLight out;
-  out.emitted = medium_emission(m.emission, sigma_t, length);
-  out.transmittance = transmittance(sigma_t, length);
-  if (is_black(m.scattering)) return out;
+// The light of every lamp, emissive mesh and the world that `segment` of ray r (its
+// medium's coefficients, ConstantSegment or a MarchedSegment) scatters once towards r's
+// origin: integral of T(t) sigma_s phase E(x(t)) S(x(t)) dt (E a light's irradiance at
+// x(t), S what its feeler lets through; each feeler told to the recorder), estimated from
+// one distance per light sample (a sized lamp's n x n, each with its own): equiangular
+// towards a lamp with a place, by transmittance towards the sun, the emitters and the
+// world. The distances are the camera sample's draws (Strata: a chain of the pixel's Sobol
+// points, or a stratum placed by the sample's seed), `layer` telling a ray's segments
+// apart, so threads and tiles change nothing.
+template <uint32_t kEffects, class Queries, class Recorder, class Segment>
+Color scattered_lights(const KernelInputs<kEffects, Queries>& in, Recorder& recorder, const Ray& r,
+                       const Segment& segment, const NodeState& state, int layer,
+                       RayCounts* counts) {
   const CompiledScene& scene = in.scene;
-  const float sigma = (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f;
+  Color scattered(0.0f);
   for (const Light& light : scene.lights) {
     if (state.depth > light.max_bounces) continue;  // past its Max Bounces
     const auto index = static_cast<uint32_t>(&light - scene.lights.data());
@@ -265,8 +270,8 @@ template <uint32_t kEffects, class Queries, class Recorder>
     for (int k = 0; k < strata.count(); ++k) {
       const float u = strata.point(k).x;
       const DrawnDistance drawn = light.type == LightType::kSun
-                                      ? by_transmittance(length, sigma, u)
-                                      : equiangular(r, length, light.position, u);
+                                      ? segment.drawn(u)
+                                      : equiangular(r, segment.reach(), light.position, u);
       if (!(drawn.pdf > 0.0f)) continue;
       const Vec3 x = r.origin + drawn.t * r.direction;
       const LightSample ls = sample_light(light, x, k);
@@ -277,22 +282,41 @@ template <uint32_t kEffects, class Queries, class Recorder>
                         TreeCut::kUnlit);
         continue;
       }
-      Color arriving = scattered_share(m, r, drawn, ls.wi) * ls.irradiance;
+      const Color share = segment.share(r, drawn, ls.wi);
+      if (is_black(share)) continue;  // a marched step that scatters nothing
+      Color arriving = share * ls.irradiance;
       const auto node = recorder.scatter(feeler, arriving, lamp, -1, state.depth);
       if (light.cast_shadows) {
         const Color through = volume_feeler(in, feeler, light.shadow_sets, state.depth, counts);
         recorder.shadow(node, feeler, through);
         arriving *= through;
       }
-      out.scattered += arriving;
+      scattered += arriving;
     }
   }
-  if (in.emitters) {
-    out.scattered += scattered_emitters(in, recorder, r, length, m, state, layer, counts);
-  }
+  if (in.emitters) scattered += scattered_emitters(in, recorder, r, segment, state, layer, counts);
   if (in.lit_by_world(state.depth)) {
-    out.scattered += scattered_world(in, recorder, r, length, m, state, layer, counts);
+    scattered += scattered_world(in, recorder, r, segment, state, layer, counts);
   }
+  return scattered;
+}
+
+// What the medium `m` sends back along a segment [0, length] of ray r (length may be
+// infinite), seen from r's origin, and lets through, exp(-sigma_t length): its emission,
+// integral of T(t) e dt = e (1 - T(length)) / sigma_t, and the light it scatters once
+// (scattered_lights). Out of line: only scenes with media call it.
+template <uint32_t kEffects, class Queries, class Recorder>
+[[gnu::noinline]] SegmentLight segment_radiance(const KernelInputs<kEffects, Queries>& in,
+                                                Recorder& recorder, const Ray& r, float length,
+                                                const Medium& m, const NodeState& state, int layer,
+                                                RayCounts* counts) {
+  const Color sigma_t = m.extinction();
+  SegmentLight out;
+  out.emitted = medium_emission(m.emission, sigma_t, length);
+  out.transmittance = transmittance(sigma_t, length);
+  if (is_black(m.scattering)) return out;
+  out.scattered =
+      scattered_lights(in, recorder, r, ConstantSegment(m, length), state, layer, counts);
   return out;
 }
 
