@@ -138,8 +138,8 @@ def test_a_pixel_in_the_lit_fog_shows_its_segment_scatter_points_and_feelers(
     # on behind it in its own sample; its stretch inside the fog is a "volume" segment, the
     # feelers from its scatter points name the spot, and the contributions, the fog's among
     # them, sum to the rendered pixel.
-    from test_volume import fog_stage
     from whitted.ray_tree.tree import segments
+    from whitted_tools.volume_scenes import fog_stage
 
     scene = fog_stage(empty_scene)
     scene.render.engine = "WHITTED"

@@ -244,19 +244,12 @@ def _add_points(scene):
 def _add_smoke(scene):
     # A Mesh to Volume filling a hidden cube, shaded by a Principled Volume reading its grid.
     from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
+    from whitted_tools.volume_scenes import principled_volume, volume_material
 
     source = add_object(scene, "Smoke Source", cube_mesh("Smoke Source", 1.5), location=(1, 0, 1))
     source.hide_render = True
     smoke = mesh_to_volume(scene, "Smoke", source, 0.25)
-    material = bpy.data.materials.new("Smoke")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    principled = tree.nodes.new("ShaderNodeVolumePrincipled")
-    principled.inputs["Density"].default_value = 0.3
-    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    tree.links.new(principled.outputs[0], output.inputs["Volume"])
-    smoke.data.materials.append(material)
+    smoke.data.materials.append(volume_material("Smoke", principled_volume(0.3)))
 
 
 def _smoke_density(density):

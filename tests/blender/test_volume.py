@@ -21,10 +21,7 @@ from whitted.export.material import convert_material
 from whitted.sync.frame import sync_frame
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import (
-    emission_material,
-    emissive_panel,
     glass_bsdf_material,
-    lambert_material,
 )
 from whitted_tools.metrics import luminance
 from whitted_tools.scenes import (
@@ -32,82 +29,18 @@ from whitted_tools.scenes import (
     background_world,
     cube_mesh,
     facing,
-    mesh_from_faces,
-    mesh_to_volume,
     sphere_mesh,
 )
-from whitted_tools.world_scenes import compare, environment_world, studio_hdri
-
-
-def _material(name, build):
-    """A material whose output's Volume is what build(nodes) returns (an output socket),
-    and no Surface."""
-    material = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    for node in [n for n in tree.nodes if n.bl_idname != "ShaderNodeOutputMaterial"]:
-        tree.nodes.remove(node)
-    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    tree.links.new(build(tree), output.inputs["Volume"])
-    return material
-
-
-def _principled(density, colour=(1.0, 1.0, 1.0), anisotropy=0.0):
-    def build(tree):
-        node = tree.nodes.new("ShaderNodeVolumePrincipled")
-        node.inputs["Density"].default_value = density
-        node.inputs["Color"].default_value = (*colour, 1.0)
-        node.inputs["Anisotropy"].default_value = anisotropy
-        return node.outputs[0]
-
-    return build
-
-
-def _add_light(scene, light):
-    """What lights the fog: "spot", a spot lamp 5 m above the floor pointing down (the box
-    in its cone); "sun", a sun from the side above; "panel", an emissive square of 2 m
-    facing down 5 m above the floor, inside the fog; "world", a grey world of one colour;
-    "hdri", Blender's forest HDRI."""
-    if light in ("spot", "sun"):
-        lamp = bpy.data.lights.new(light.title(), light.upper())
-        if light == "spot":
-            lamp.energy, lamp.spot_size, lamp.spot_blend = 1000.0, 0.9, 0.1
-            direction, location = (0.0, 0.0, -1.0), (0.0, 0.0, 5.0)
-        else:
-            lamp.energy, lamp.angle = 2.0, 0.0
-            direction, location = (0.4, 0.3, -1.0), (0.0, 0.0, 8.0)
-        lamp.shadow_soft_size = 0.0
-        add_object(scene, light.title(), lamp, location=location).rotation_euler = facing(direction)
-    elif light == "panel":
-        emissive_panel("Panel", (0.0, 0.0, 5.0), 2.0, emission_material("Panel", 40.0))
-    elif light == "world":
-        scene.world = background_world("Grey", (0.5, 0.5, 0.5))
-    else:
-        environment_world(scene, bpy.data.images.load(studio_hdri("forest")))
-
-
-def fog_stage(scene, fog_bottom=-0.3, light="spot"):
-    """A 12 x 12 floor inside a fog cube of edge 6 standing on it (its bottom face
-    `fog_bottom` below the floor's plane), a box in the fog casting its shadow into it, lit
-    by `light` (_add_light), no world unless it is the light; the camera outside."""
-    scene.render.resolution_x, scene.render.resolution_y = 48, 36
-    corners = np.array([(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], dtype=np.float32)
-    floor = add_object(
-        scene, "Floor", mesh_from_faces("Floor", corners, [np.array([[0, 1, 2, 3]])])
-    )
-    # A diffuse floor and box, the same in every Blender (without a material they would be
-    # a Principled BSDF from 5.0 on, a Diffuse BSDF before: export/material.py).
-    floor.data.materials.append(lambert_material("Floor", 0.8))
-    box = add_object(scene, "Box", cube_mesh("Box", 0.8), location=(0.3, 0.0, 1.5))
-    box.data.materials.append(floor.data.materials[0])
-    _add_light(scene, light)
-    fog = add_object(scene, "Fog", cube_mesh("Fog", 6.0), location=(0.0, 0.0, 3.0 + fog_bottom))
-    fog.data.materials.append(_material("Fog", _principled(0.1)))
-    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
-    camera.location, camera.rotation_euler = (0.0, -11.0, 3.5), facing((0.0, 11.0, -2.0))
-    scene.camera = camera
-    return scene
+from whitted_tools.volume_scenes import (
+    cloud,
+    cloud_stage,
+    fog_stage,
+    nodes,
+    principled_volume,
+    smoke_stage,
+    volume_material,
+)
+from whitted_tools.world_scenes import compare
 
 
 def _as_cycles(scene, specular_bounces=0):
@@ -210,7 +143,9 @@ def test_overlapping_fog_boxes_add_up_as_in_cycles(empty_scene, tmp_path, monkey
     # where they overlap.
     scene = fog_stage(empty_scene)
     dense = add_object(scene, "Dense", cube_mesh("Dense", 2.5), location=(-1.0, -1.0, 2.0))
-    dense.data.materials.append(_material("Dense", _principled(0.3, colour=(0.9, 0.5, 0.2))))
+    dense.data.materials.append(
+        volume_material("Dense", principled_volume(0.3, colour=(0.9, 0.5, 0.2)))
+    )
     why = _volumes_why(_fog_against_cycles(scene, tmp_path, monkeypatch))
     assert why.startswith("2 objects: "), why
 
@@ -307,7 +242,7 @@ def test_the_report_counts_what_media_cost(empty_scene, render_pixels, tmp_path,
     # nothing of media in a render without any.
     path = tmp_path / "stats.json"
     monkeypatch.setenv("WHITTED_STATS", str(path))
-    scene = _cloud_stage(empty_scene)
+    scene = cloud_stage(empty_scene)
     scene.whitted.aa_samples = 2
     render_pixels(scene)
     stats = json.loads(path.read_text())
@@ -336,7 +271,7 @@ def _world_fog(scene, density, colour=(0.0, 0.0, 0.0)):
     scene.world = background_world("Foggy", colour)
     tree = scene.world.node_tree
     output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    tree.links.new(_principled(density)(tree), output.inputs["Volume"])
+    tree.links.new(principled_volume(density)(tree), output.inputs["Volume"])
     return scene
 
 
@@ -374,13 +309,6 @@ def test_the_fog_shows_and_dims_what_is_behind_it(empty_scene, render_pixels):
     assert fog[floor, :, :3].sum() < clear[floor, :, :3].sum()
 
 
-def _nodes(tree, kind, **inputs):
-    node = tree.nodes.new(kind)
-    for name, value in inputs.items():
-        node.inputs[name].default_value = value
-    return node
-
-
 @pytest.mark.parametrize(
     ("case", "expected"),
     [
@@ -395,10 +323,10 @@ def _nodes(tree, kind, **inputs):
 )
 def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scene):
     def build(tree):
-        absorption = _nodes(
+        absorption = nodes(
             tree, "ShaderNodeVolumeAbsorption", Color=(0.0, 0.5, 1.0, 1.0), Density=0.4
         )
-        scatter = _nodes(
+        scatter = nodes(
             tree, "ShaderNodeVolumeScatter", Color=(0.3, 0.2, 0.1, 1.0), Density=2.0, Anisotropy=0.5
         )
         if case == "absorption":
@@ -407,55 +335,23 @@ def test_each_volume_node_exports_cycles_coefficients(case, expected, empty_scen
             return scatter.outputs[0]
         if case == "principled":
             # Absorption Color 1 (its sqrt 1): no absorption beyond 1 - Color's; Color 0.5.
-            return _nodes(
+            return nodes(
                 tree,
                 "ShaderNodeVolumePrincipled",
                 Color=(0.5, 0.5, 0.5, 1.0),
                 Density=0.5,
                 **{"Absorption Color": (1.0, 1.0, 1.0, 1.0)},
             ).outputs[0]
-        mix = _nodes(tree, "ShaderNodeMixShader", Fac=0.75)
+        mix = nodes(tree, "ShaderNodeMixShader", Fac=0.75)
         tree.links.new(absorption.outputs[0], mix.inputs[1])
         tree.links.new(scatter.outputs[0], mix.inputs[2])
         return mix.outputs[0]
 
     warnings = []
-    data = convert_material(_material(case.title(), build), warnings).data
+    data = convert_material(volume_material(case.title(), build), warnings).data
     assert not data.surface and not warnings, warnings
     for name, value in expected.items():
         np.testing.assert_allclose(getattr(data, name), value, rtol=1e-6, atol=1e-7)
-
-
-def _cloud(tree):
-    """A Principled Volume whose Density is a Noise Texture (of the cube's Generated
-    coordinates, its default) through a Color Ramp: none where the noise is below 0.45,
-    0.4 where it is above 0.6 (a grey ramp: the colour's luminance is its value)."""
-    volume = tree.nodes.new("ShaderNodeVolumePrincipled")
-    noise = tree.nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 3.0
-    ramp = tree.nodes.new("ShaderNodeValToRGB")
-    low, high = ramp.color_ramp.elements
-    low.position, low.color = 0.45, (0.0, 0.0, 0.0, 1.0)
-    high.position, high.color = 0.6, (0.4, 0.4, 0.4, 1.0)
-    tree.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
-    tree.links.new(ramp.outputs["Color"], volume.inputs["Density"])
-    return volume.outputs[0]
-
-
-def _cloud_stage(scene, lamp="SPOT"):
-    """The fog stage with a procedural cloud in the fog cube, lit by its spot lamp or
-    instead by a sun, the emissive panel ("PANEL") or the forest HDRI ("HDRI")."""
-    fog_stage(scene)
-    scene.objects["Fog"].data.materials[0] = _material("Cloud", _cloud)
-    if lamp != "SPOT":
-        bpy.data.objects.remove(scene.objects["Spot"])
-    if lamp == "SUN":
-        sun = bpy.data.lights.new("Sun", "SUN")
-        sun.energy, sun.angle = 3.0, 0.0
-        add_object(scene, "Sun", sun).rotation_euler = facing((0.3, 0.4, -1.0))
-    elif lamp in ("PANEL", "HDRI"):
-        _add_light(scene, lamp.lower())
-    return scene
 
 
 @pytest.mark.parametrize("lamp", ["SPOT", "SUN", "PANEL", "HDRI"])
@@ -463,7 +359,7 @@ def test_a_procedural_cloud_renders_as_cycles(lamp, empty_scene, tmp_path, monke
     # A cloud scatters the emissive meshes' and the world's light as a homogeneous fog
     # does (volume.h scattered_lights over the marched steps).
     stats = _fog_against_cycles(
-        _cloud_stage(empty_scene, lamp), tmp_path, monkeypatch, label=f"cloud ({lamp})"
+        cloud_stage(empty_scene, lamp), tmp_path, monkeypatch, label=f"cloud ({lamp})"
     )
     assert stats["volume_steps"] > 0
     why = _volumes_why(stats)
@@ -472,31 +368,12 @@ def test_a_procedural_cloud_renders_as_cycles(lamp, empty_scene, tmp_path, monke
     assert f"{named} light" in why, why
 
 
-def _smoke_stage(scene, case):
-    """The fog stage with a Volume object instead of its fog box: a Mesh to Volume filling
-    a sphere of radius 1.5 (hidden) at voxels of 0.1, density 1 inside and falling to 0
-    over its rim. `case`: "material", a Principled Volume of Density 0.3 reading the grid;
-    "default", no material (Cycles' default volume: grey, density 1 times the grid);
-    "scaled", the material, the object scaled by 1.5 about the floor (a density per unit
-    of the object: Volume > Render > Space, Object)."""
-    fog_stage(scene)
-    bpy.data.objects.remove(scene.objects["Fog"])
-    source = add_object(scene, "Source", sphere_mesh("Source", 32, 16, 1.5), location=(0, 0, 2.5))
-    source.hide_render = True
-    smoke = mesh_to_volume(scene, "Smoke", source, 0.1)
-    if case != "default":
-        smoke.data.materials.append(_material("Smoke", _principled(0.3)))
-    if case == "scaled":
-        smoke.scale = (1.5, 1.5, 1.5)
-    return scene
-
-
 @pytest.mark.parametrize("case", ["material", "default", "scaled"])
 def test_a_volume_objects_grid_renders_as_cycles(case, empty_scene, tmp_path, monkeypatch):
     # Blender 3.4, seen (a cube's grid, before this sphere): 1.0000, 0.9876, 1.0018; bpy 5.0
     # with a voxel's value at its index point: 1.0045 (material), 0.9974 (a density 1 grey
     # cube); at its cube's centre instead 5.0 was 1.0174 and 1.0327, lopsided.
-    scene = _smoke_stage(empty_scene, case)
+    scene = smoke_stage(empty_scene, case)
     stats = _fog_against_cycles(scene, tmp_path, monkeypatch, label=f"smoke ({case})")
     assert stats["volume_steps"] > 0
     assert "a Volume object's grids" in _volumes_why(stats), stats
@@ -504,7 +381,7 @@ def test_a_volume_objects_grid_renders_as_cycles(case, empty_scene, tmp_path, mo
 
 def test_a_cloud_exports_its_density_as_a_program(empty_scene):
     warnings = []
-    exported = convert_material(_material("Cloud", _cloud), warnings)
+    exported = convert_material(volume_material("Cloud", cloud), warnings)
     assert exported.program is not None and not warnings, warnings
     assert not exported.data.surface
     # Density drives both; the emission and the anisotropy stay constants.
@@ -516,7 +393,7 @@ def test_a_volume_node_it_cannot_render_is_reported(empty_scene, native):
         return tree.nodes.new("ShaderNodeBsdfDiffuse").outputs[0]
 
     scene = fog_stage(empty_scene)
-    scene.objects["Fog"].data.materials[0] = _material("Odd", build)
+    scene.objects["Fog"].data.materials[0] = volume_material("Odd", build)
     warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
     odd = [w for w in warnings if "'Odd'" in w]
     assert len(odd) == 1 and "is not a volume shader rendered" in odd[0], warnings
@@ -529,7 +406,7 @@ def _fire(temperature=None, tint=(1.0, 1.0, 1.0), density=0.2, colour=0.0):
     that absorbs only)."""
 
     def build(tree):
-        volume = _nodes(
+        volume = nodes(
             tree,
             "ShaderNodeVolumePrincipled",
             Density=density,
@@ -547,8 +424,8 @@ def _fire(temperature=None, tint=(1.0, 1.0, 1.0), density=0.2, colour=0.0):
 def _noise_temperature(tree):
     """A Noise Texture (of the cube's Generated coordinates) mapped from [0.3, 0.7] onto
     800 K to 2000 K (clamped): flames from dull red to orange."""
-    noise = _nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
-    remap = _nodes(
+    noise = nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
+    remap = nodes(
         tree,
         "ShaderNodeMapRange",
         **{"From Min": 0.3, "From Max": 0.7, "To Min": 800.0, "To Max": 2000.0},
@@ -560,8 +437,8 @@ def _noise_temperature(tree):
 def _mixed_fire(tree):
     """The smoky fire through a Mix Shader at 0.5 with a Volume Absorption of Density 0.4:
     Cycles 5.0 halves the fire's glow, 3.4 does not (export/volume.py)."""
-    mix = _nodes(tree, "ShaderNodeMixShader", Fac=0.5)
-    absorption = _nodes(tree, "ShaderNodeVolumeAbsorption", Density=0.4)
+    mix = nodes(tree, "ShaderNodeMixShader", Fac=0.5)
+    absorption = nodes(tree, "ShaderNodeVolumeAbsorption", Density=0.4)
     tree.links.new(absorption.outputs[0], mix.inputs[1])
     tree.links.new(_fire()(tree), mix.inputs[2])
     return mix.outputs[0]
@@ -572,7 +449,7 @@ def _fire_stage(scene, build):
     black: no world, no lamp."""
     scene.render.resolution_x, scene.render.resolution_y = 48, 36
     fire = add_object(scene, "Fire", cube_mesh("Fire", 2.0))
-    fire.data.materials.append(_material("Fire", build))
+    fire.data.materials.append(volume_material("Fire", build))
     camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
     camera.location, camera.rotation_euler = (0.0, -6.0, 2.5), facing((0.0, 6.0, -2.5))
     scene.camera = camera
@@ -659,7 +536,7 @@ def test_a_fireball_from_a_vdb_file_renders_as_cycles(empty_scene, tmp_path, mon
     volume = bpy.data.volumes.new("Fireball")
     volume.filepath = str(path)
     fire = _fire(colour=0.0, density=3.0)
-    volume.materials.append(_material("Fireball", fire))
+    volume.materials.append(volume_material("Fireball", fire))
     node = volume.materials[0].node_tree.nodes["Principled Volume"]
     node.inputs["Temperature"].default_value = 1000.0
     node.inputs["Temperature Attribute"].default_value = "temperature"
@@ -674,14 +551,14 @@ def test_a_fire_exports_cycles_blackbody_emission(empty_scene):
     # clamps the fit's blue, below 0 there, which the volume's emission keeps.
     tint = (1.0, 0.5, 0.25)
     warnings = []
-    data = convert_material(_material("Fire", _fire(tint=tint)), warnings).data
+    data = convert_material(volume_material("Fire", _fire(tint=tint)), warnings).data
     assert not warnings, warnings
     glow = 5.670373e-8 * 1e-6 / math.pi * 1500.0**4
     expected = glow * np.array(tint[:2]) * np.array([3.26430678, 0.434045345])
     np.testing.assert_allclose(data.volume_emission[:2], expected, rtol=1e-5)
     assert data.volume_emission[2] < 0.0
     # A Temperature a texture drives: the emission is the program's.
-    exported = convert_material(_material("Flames", _fire(_noise_temperature)), warnings)
+    exported = convert_material(volume_material("Flames", _fire(_noise_temperature)), warnings)
     assert not warnings, warnings
     assert "volume_emission" in dict(exported.outputs)
 
