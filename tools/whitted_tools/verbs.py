@@ -26,6 +26,7 @@ GROUPS = {
         "bench-rounds": "bench.rounds",
         "bench-viewport": "bench.viewport",
         "bench-viewport-clean": "bench.viewport_clean",
+        "bench-volumes": "bench.volumes",
         "bench-world-light": "bench.world_light",
     },
     "perf": {
