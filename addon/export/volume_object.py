@@ -128,12 +128,92 @@ def volume_object_data(object_instance, folder):
     )
 
 
-def grid_material_name(data):
-    """The native material a Volume object renders with: its material read with its
-    grids (export/material.py grid_material), one per material and set of grids; the
-    unit separator keeps it apart from any material's own name."""
-    grids = ",".join(f"{role}={name}" for role, name in data.grids)
-    return f"{data.material or ''}\x1fgrids:{grids}"
+def grid_material_name(material, grids):
+    """The native material a Volume object (or a fluid domain) renders with: `material`
+    (a name, or None) read with its `grids` (((role, grid name), ...): export/material.py
+    grid_material), one per material and set of grids; the unit separator keeps it apart
+    from any material's own name."""
+    named = ",".join(f"{role}={name}" for role, name in grids)
+    return f"{material or ''}\x1fgrids:{named}"
+
+
+# A fluid domain's grids as Cycles names them (its smoke attributes), and the
+# FluidDomainSettings array and channels of each.
+FLUID_GRIDS = {
+    "density": ("density_grid", 1),
+    "color": ("color_grid", 3),
+    "flame": ("flame_grid", 1),
+    "heat": ("heat_grid", 1),
+    "temperature": ("temperature_grid", 1),
+}
+
+
+@dataclass(frozen=True)
+class FluidGrids:
+    """A baked gas domain's grids the material reads, as dense arrays (export/volume_object.py
+    FLUID_GRIDS), and where they lie."""
+
+    material: str | None  # its material's name (the first slot's), None: Cycles' default
+    grids: tuple  # ((role, grid name), ...), roles in ROLES' order
+    arrays: tuple  # float32 arrays, one per grid, `channels` a voxel, x fastest
+    channels: tuple  # by grid
+    resolution: tuple  # voxels a side (x, y, z)
+    index_to_object: np.ndarray  # float64[4, 4], row-major: voxel (i, j, k) -> object space
+    centred: bool  # as VolumeObjectData's
+
+
+def fluid_domain(obj):
+    """The settings of `obj`'s gas fluid domain shown in renders (a Fluid modifier of type
+    DOMAIN, gas), or None."""
+    for modifier in obj.modifiers:
+        if modifier.type == "FLUID" and modifier.fluid_type == "DOMAIN" and modifier.show_render:
+            settings = modifier.domain_settings
+            return settings if settings.domain_type == "GAS" else None
+    return None
+
+
+def fluid_grids(obj, settings):
+    """FluidGrids of evaluated mesh object `obj`, whose gas domain is `settings`, or None
+    where its material reads none of its grids or nothing is baked for this frame.
+
+    Where they lie: Cycles fills the domain mesh's texture space with the grid (its
+    Generated coordinates [0, 1]^3 across the domain's resolution), voxel (i, j, k) the
+    cube from texspace_location - texspace_size + (i, j, k) * 2 texspace_size / resolution."""
+    material = grid_object_material(obj)
+    resolution = tuple(int(n) for n in settings.domain_resolution)
+    voxels = resolution[0] * resolution[1] * resolution[2]
+    roles, arrays, channels = [], [], []
+    for role, name in material_grids(material).items():
+        if name not in FLUID_GRIDS or (name == "color") != (role == "color"):
+            continue
+        attribute, width = FLUID_GRIDS[name]
+        values = getattr(settings, attribute)
+        if len(values) != voxels * width:
+            continue  # not baked for this frame
+        array = np.empty(len(values), dtype=np.float32)
+        values.foreach_get(array)
+        roles.append((role, name))
+        arrays.append(array)
+        channels.append(width)
+    if not roles:
+        return None
+    mesh = obj.data
+    size = 2.0 * np.array(mesh.texspace_size, dtype=np.float64)
+    lower = np.array(mesh.texspace_location, dtype=np.float64) - 0.5 * size
+    index_to_object = np.diag([*(size / np.array(resolution)), 1.0])
+    index_to_object[:3, 3] = lower
+    return FluidGrids(
+        material=None if material is None else material.original.name_full,
+        grids=tuple(roles),
+        arrays=tuple(arrays),
+        channels=tuple(channels),
+        resolution=resolution,
+        index_to_object=index_to_object,
+        # Blender 3.4, a baked domain against Cycles: at the voxels' centres SSIM 0.9993,
+        # at their index points 0.9658. Not seen in 5.0 (its bpy module fails to bake
+        # here), where Volume objects' values stand at their index points: taken as those.
+        centred=bpy.app.version < (5, 0, 0),
+    )
 
 
 def material_grids(material):

@@ -47,7 +47,12 @@ from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.volume import Medium, volume_bounces_warning
-from ..export.volume_object import grid_material_name, grid_object_material
+from ..export.volume_object import (
+    fluid_domain,
+    fluid_grids,
+    grid_material_name,
+    grid_object_material,
+)
 from ..export.world import convert_world
 from . import native_data
 from .changes import classify
@@ -163,6 +168,7 @@ class SceneSync:
         self._world = None  # export.world.WorldData
         self._links = NO_LINKS  # export.light_linking.LightLinks of the last sync
         self._volumes = {}  # instance name -> sync.volumes.VolumeRead (Volume objects)
+        self._fluids = {}  # instance name -> VolumeObject of a gas domain's grids
         # Their materials read with their grids: native name -> (material name or None, grids).
         self._grid_materials = {}
         self._volume_warnings = []  # the last walk's report lines for Volume objects
@@ -185,7 +191,9 @@ class SceneSync:
     @property
     def volume_bytes(self):
         """Bytes the Volume objects' grids hold natively (for the memory guard)."""
-        return sum(read.native.bytes for read in self._volumes.values())
+        return sum(read.native.bytes for read in self._volumes.values()) + sum(
+            volume.bytes for volume in self._fluids.values()
+        )
 
     @property
     def light_count(self):
@@ -370,6 +378,7 @@ class SceneSync:
         # Their temporary folder, if any, goes with the object on an exception.
         volumes = VolumeReads(self._native, self._volumes)
         grid_materials = {}  # native name -> (material or None, grids) of Volume objects
+        fluids = {}  # instance name -> its VolumeObject: gas domains read with their grids
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
             kind = unrendered_kind(object_instance)
@@ -394,6 +403,10 @@ class SceneSync:
                     instance = instance_data(
                         object_instance, key, view_layer, self._info, self._links
                     )
+                    domain = None if strands else fluid_domain(obj)
+                    if domain is not None:
+                        instance = self._fluid_instance(obj, domain, instance, grid_materials)
+                        fluids[instance.name] = instance.volume
                     instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
@@ -437,6 +450,7 @@ class SceneSync:
                 roles.setdefault(obj.original.name_full, role)
         volumes.close()
         self._volumes = volumes.read
+        self._fluids = fluids
         self._volume_warnings = volumes.warnings()
         warnings.extend(unrendered_warnings(unrendered))
         stale_materials = self._set_grid_materials(grid_materials, report, warnings)
@@ -463,7 +477,29 @@ class SceneSync:
             self._geometry[key] = _Geometry(True, None, Sanitised())
             report.meshes += 1
         instance = instance_data(object_instance, key, view_layer, self._info, self._links)
-        return replace(instance, materials=(grid_material_name(read.data),), volume=read.native)
+        name = grid_material_name(read.data.material, read.data.grids)
+        return replace(instance, materials=(name,), volume=read.native)
+
+    def _fluid_instance(self, obj, domain, instance, grid_materials):
+        """`instance` of mesh object `obj`, a gas domain (`domain`: its FluidDomainSettings),
+        as Cycles renders a baked domain: its mesh filled by its material read with the
+        domain's grids (export/volume_object.py fluid_grids); as it was where none is read."""
+        fluid = fluid_grids(obj, domain)
+        if fluid is None:
+            return instance
+        native = self._native
+        grids = {
+            role: native.dense_volume_grid(
+                name, array, fluid.resolution, channels, fluid.index_to_object
+            )
+            for (role, name), array, channels in zip(
+                fluid.grids, fluid.arrays, fluid.channels, strict=True
+            )
+        }
+        volume = native.VolumeObject(instance.transform, centred=fluid.centred, **grids)
+        name = grid_material_name(fluid.material, fluid.grids)
+        grid_materials[name] = (grid_object_material(obj), fluid.grids)
+        return replace(instance, materials=(name,), volume=volume)
 
     def _set_grid_materials(self, wanted, report, warnings):
         """Export the Volume objects' materials `wanted` ({native name: (material or None,

@@ -61,6 +61,24 @@ void bind_volume_object(py::module_& m) {
       "grids of one channel, vec3s and vec3d of three), read at once (the file may be "
       "deleted afterwards). Raises VolumeFileError.");
 
+  m.def(
+      "dense_volume_grid",
+      [](const std::string& name, const FloatArray& values, const std::array<int, 3>& resolution,
+         int channels, const py::object& index_to_object) {
+        const glm::mat4 to_object = matrix_from_numpy(index_to_object);
+        const float* data = values.data();
+        const auto count = static_cast<size_t>(values.size());
+        py::gil_scoped_release release;
+        return std::make_shared<VolumeGrid>(VolumeGrid::dense(
+            name, channels, glm::ivec3(resolution[0], resolution[1], resolution[2]), data, count,
+            to_object));
+      },
+      py::arg("name"), py::arg("values"), py::arg("resolution"), py::arg("channels"),
+      py::arg("index_to_object"),
+      "A VolumeGrid from dense values (float32, `channels` a voxel, x fastest, then y, then "
+      "z: a fluid domain's grid as Blender gives it); voxels of all 0 are background. "
+      "index_to_object: 4x4 row-major, index space to the object's.");
+
   py::class_<VolumeGrid, GridHandle>(
       m, "VolumeGrid",
       "One grid of a Volume object, in blocks of 8^3 voxels; immutable. Index space is "

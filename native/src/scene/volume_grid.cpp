@@ -70,6 +70,55 @@ VolumeGrid::VolumeGrid(VolumeGridData data) : data_(std::move(data)) {
   last_block_ = data_.first_block + n - 1;
 }
 
+VolumeGrid VolumeGrid::dense(const std::string& name, int channels, const glm::ivec3& resolution,
+                             const float* values, size_t count, const glm::mat4& index_to_object) {
+  const glm::ivec3& n = resolution;
+  if (n.x <= 0 || n.y <= 0 || n.z <= 0) throw std::invalid_argument("a dense grid is not empty");
+  if (channels != 1 && channels != 3) throw std::invalid_argument("a grid has 1 or 3 channels");
+  const size_t voxels = size_t(n.x) * size_t(n.y) * size_t(n.z);
+  if (count != voxels * size_t(channels)) {
+    throw std::invalid_argument("dense grid '" + name + "': " + std::to_string(count) +
+                                " values for " + std::to_string(voxels) + " voxels of " +
+                                std::to_string(channels) + " channel(s)");
+  }
+  VolumeGridData data;
+  data.name = name;
+  data.channels = channels;
+  data.index_to_object = index_to_object;
+  data.block_counts = block_of(n - 1) + 1;
+  data.blocks.assign(
+      size_t(data.block_counts.x) * size_t(data.block_counts.y) * size_t(data.block_counts.z), 0u);
+  data.active_lower = n;
+  data.active_upper = glm::ivec3(-1);
+  const size_t block_floats = size_t(kBlockVoxels) * size_t(channels);
+  for (int z = 0; z < n.z; ++z) {
+    for (int y = 0; y < n.y; ++y) {
+      for (int x = 0; x < n.x; ++x) {
+        const float* v = values + ((size_t(z) * n.y + y) * n.x + x) * size_t(channels);
+        bool active = false;
+        for (int c = 0; c < channels; ++c) active |= v[c] != 0.0f;
+        if (!active) continue;
+        const glm::ivec3 ijk(x, y, z);
+        const glm::ivec3 b = block_of(ijk);
+        uint32_t& index =
+            data.blocks[(size_t(b.x) * data.block_counts.y + b.y) * data.block_counts.z + b.z];
+        if (index == 0) {
+          data.values.resize(data.values.size() + block_floats, 0.0f);
+          index = static_cast<uint32_t>(data.values.size() / block_floats);
+        }
+        float* out = &data.values[(index - 1) * block_floats +
+                                  size_t(offset_in_block(ijk)) * size_t(channels)];
+        for (int c = 0; c < channels; ++c) out[c] = std::isfinite(v[c]) ? v[c] : 0.0f;
+        data.active_lower = glm::min(data.active_lower, ijk);
+        data.active_upper = glm::max(data.active_upper, ijk);
+        data.active_voxels += 1;
+      }
+    }
+  }
+  if (data.active_voxels == 0) data.active_lower = glm::ivec3(0);
+  return VolumeGrid(std::move(data));
+}
+
 glm::ivec3 VolumeGrid::resolution() const {
   const glm::ivec3 size = data_.active_upper - data_.active_lower + 1;
   if (size.x <= 0 || size.y <= 0 || size.z <= 0) return glm::ivec3(0);

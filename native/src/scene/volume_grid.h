@@ -69,6 +69,12 @@ class VolumeGrid {
   // Throws std::invalid_argument for data that does not hold together (sizes, block
   // indices, channels) or a transform without an inverse.
   explicit VolumeGrid(VolumeGridData data);
+  // A grid of `resolution` voxels from dense values (`channels` floats a voxel, x fastest,
+  // then y, then z: a fluid domain's, as Blender's FluidDomainSettings gives them), voxel
+  // (0, 0, 0) the first; the voxels whose channels are all 0 are background (0), blocks
+  // of them not stored. Throws std::invalid_argument where the sizes do not match.
+  static VolumeGrid dense(const std::string& name, int channels, const glm::ivec3& resolution,
+                          const float* values, size_t count, const glm::mat4& index_to_object);
 
   const std::string& name() const { return data_.name; }
   int channels() const { return data_.channels; }
