@@ -26,6 +26,8 @@ class NodeCase:
     # A procedural texture read at pixel centres (_pixel_centres): the rendered image
     # compared value for value (bound 2e-5).
     procedural: bool = False
+    # How far Cycles may lie outside the reference's range (test_nodes_vs_cycles).
+    tolerance: float = 2e-5
 
 
 def _node(tree, kind, **settings):
@@ -623,7 +625,9 @@ CASES = [
     NodeCase("bright_contrast", _bright_contrast, "Bright/Contrast"),
     NodeCase("invert", _invert, "Invert"),
     NodeCase("rgb_to_bw", _rgb_to_bw, "RGB to BW"),
-    NodeCase("blackbody", _blackbody, "Blackbody"),
+    # Cycles 5.2's Blackbody is up to 3.6e-4 from 3.4's and 5.0's (blue 1.5659 against
+    # 1.5663 near 12000 K, seen in CI); the reference is within 4e-6 of 3.4 and 5.0.
+    NodeCase("blackbody", _blackbody, "Blackbody", tolerance=5e-4),
     *(map_range_case(kind) for kind in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")),
     NodeCase("clamp_range", _clamp_range, "Clamp"),
     *(mapping_case(kind) for kind in ("POINT", "TEXTURE", "VECTOR", "NORMAL")),

@@ -101,10 +101,10 @@ def pixel_grid(exported, info, row, column, steps=9):
 
 # Cycles' one sample lands within its 0.01-pixel filter around the centre: the
 # reference is taken at the centre and at the corners of a square twice that size,
-# and Cycles must lie within their range (which also covers a discontinuity).
+# and Cycles must lie within their range, widened by the case's tolerance (which also
+# covers a discontinuity).
 JITTER = 0.01
 OFFSETS = [(0.0, 0.0)] + [(du, dv) for du in (-JITTER, JITTER) for dv in (-JITTER, JITTER)]
-TOLERANCE = 2e-5
 
 
 @pytest.mark.parametrize(
@@ -125,7 +125,8 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
         if instance.object.name == "Plane":
             info = object_info(instance)
     images = reference_images(exported, info, OFFSETS)
-    low, high = images.min(axis=0) - TOLERANCE, images.max(axis=0) + TOLERANCE
+    tolerance = case.tolerance
+    low, high = images.min(axis=0) - tolerance, images.max(axis=0) + tolerance
     outside = np.maximum(low - cycles, cycles - high)
     # Near a discontinuity the corners miss values inside the square: try a grid.
     # Each cell of the grid is continuous but for a measure-zero set: Cycles' value
@@ -133,12 +134,12 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
     for row, column in zip(*np.nonzero((outside > 0.0).any(axis=-1)), strict=True):
         grid = pixel_grid(exported, info, row, column)
         cells = np.stack([grid[:-1, :-1], grid[1:, :-1], grid[:-1, 1:], grid[1:, 1:]])
-        lo, hi = cells.min(axis=0) - TOLERANCE, cells.max(axis=0) + TOLERANCE
+        lo, hi = cells.min(axis=0) - tolerance, cells.max(axis=0) + tolerance
         value = cycles[row, column]
         miss = np.maximum(lo - value, value - hi).reshape(-1, 3).min(axis=0)
         # Where the reference jumps inside the square, the sample may sit as close to
         # the jump as it likes: any value within the square's range is right.
-        jumps = (cells.max(axis=0) - cells.min(axis=0)).max(axis=(0, 1)) > 100 * TOLERANCE
+        jumps = (cells.max(axis=0) - cells.min(axis=0)).max(axis=(0, 1)) > 100 * tolerance
         # The grid's points stop short of the jump by up to one step: widen the range
         # by twice the largest step between neighbours that is not the jump itself.
         steps = np.concatenate(
@@ -147,7 +148,7 @@ def test_compiler_reference_matches_cycles(case, empty_scene, tmp_path):
                 np.abs(np.diff(grid, axis=1)).reshape(-1, 3),
             ]
         )
-        margin = 2.0 * np.percentile(steps, 90, axis=0) + TOLERANCE
+        margin = 2.0 * np.percentile(steps, 90, axis=0) + tolerance
         hull = np.maximum(
             grid.min(axis=(0, 1)) - margin - value, value - grid.max(axis=(0, 1)) - margin
         )
