@@ -107,7 +107,8 @@ def render(blend, output, resolution, cycles_first):
 
 def volume_probe(module, native, folder):
     """What the module read of a Mesh to Volume object Cycles rendered first (module
-    docstring): its sync's report line, the grid's voxels, and the OpenVDB files mapped."""
+    docstring): its sync's report lines (none: nothing skipped), whether it is an instance
+    filled by its grids, the grid's voxels, and the OpenVDB files mapped."""
     import importlib
 
     from whitted_tools.scenes import add_object, cube_mesh, mesh_to_volume
@@ -128,8 +129,10 @@ def volume_probe(module, native, folder):
     depsgraph.update()
     frame = importlib.import_module(module + ".sync.frame").sync_frame(depsgraph, native)
     read = frame.sync._volumes.get("Smoke")
+    instance = frame.sync._instances.get("Smoke")
     return {
         "warnings": [w for w in frame.warnings if "Volume object" in w],
+        "rendered": instance is not None and instance.volume is not None,
         "active_voxels": read.grids[0].active_voxels if read else 0,
         "mapped": [p for p in mapped_libraries() if "openvdb" in p],
     }
