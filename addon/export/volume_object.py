@@ -48,6 +48,13 @@ PRINCIPLED_ATTRIBUTES = {
     "color": "Color Attribute",
     "temperature": "Temperature Attribute",
 }
+# Where Cycles puts a voxel's value: at its cube's centre before Blender 5.0, from 5.0 at
+# its integer index point, half a voxel apart. Seen on a spot-lit Mesh to Volume cube
+# against Cycles (Whitted centred: summed luminance 0.9876, 0.9991, 1.0327 in 3.4,
+# 4.5.15, 5.0.1, the last lopsided; at the index point in 5.0.1: 1.0001), the same with
+# its grids saved to a .vdb file and read from it; and on a baked fluid domain in 3.4
+# (centred SSIM 0.9993, at the index points 0.9658; 5.0's bpy module fails to bake here).
+VOXELS_CENTRED = bpy.app.version < (5, 0, 0)
 # Cycles' default volume: a Principled Volume of the node's defaults.
 DEFAULT_GRIDS = {"density": "density"}
 # Blender's grid data types (VolumeGrid.data_type) the native reader reads, and whether
@@ -69,7 +76,7 @@ class VolumeObjectData:
     step_size: float  # Blender units of `space`; 0: automatic
     clipping: float  # values below it are empty space to Cycles' bounds
     precision: str  # "FULL" | "HALF" | "VARIABLE": read as 32-bit floats whatever it says
-    centred: bool  # a voxel's value at its cube's centre, else at its index point (below)
+    centred: bool  # a voxel's value at its cube's centre, else at its index point (VOXELS_CENTRED)
 
 
 class VolumeSkipped(ValueError):
@@ -119,12 +126,7 @@ def volume_object_data(object_instance, folder):
         step_size=float(render.step_size),
         clipping=float(render.clipping),
         precision=render.precision,
-        # Cycles before Blender 5.0 puts a voxel's value at its cube's centre, from 5.0 at
-        # its integer index point: half a voxel apart. Seen on a spot-lit Mesh to Volume
-        # cube against Cycles (Whitted centred: summed luminance 0.9876, 0.9991, 1.0327
-        # in 3.4, 4.5.15, 5.0.1, the last lopsided; at the index point in 5.0.1: 1.0001),
-        # the same with its grids saved to a .vdb file and read from it.
-        centred=bpy.app.version < (5, 0, 0),
+        centred=VOXELS_CENTRED,
     )
 
 
@@ -209,10 +211,7 @@ def fluid_grids(obj, settings):
         channels=tuple(channels),
         resolution=resolution,
         index_to_object=index_to_object,
-        # Blender 3.4, a baked domain against Cycles: at the voxels' centres SSIM 0.9993,
-        # at their index points 0.9658. Not seen in 5.0 (its bpy module fails to bake
-        # here), where Volume objects' values stand at their index points: taken as those.
-        centred=bpy.app.version < (5, 0, 0),
+        centred=VOXELS_CENTRED,
     )
 
 

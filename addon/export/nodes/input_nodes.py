@@ -143,7 +143,7 @@ def _grid_attribute(c, out, name):
     # Inside a Volume object an attribute is a grid (export/volume_object.py reads those
     # named as its roles are); Fac is a colour grid's mean, Alpha 1.
     role = next((r for r, grid in c.grids.items() if grid == name), None)
-    value = None if role is None else c.grid(role, name, COLOR if role == "color" else FLOAT)
+    value = None if role is None else c.grid(role, name)
     if value is None:
         c.warn(
             out.node,
@@ -170,11 +170,7 @@ VOLUME_INFO_GRIDS = {
 def _volume_info(c, out):
     # A grid of the Volume object, or 0 where there is none (a mesh's volume, the world).
     grid = VOLUME_INFO_GRIDS.get(output_name(out))
-    value = (
-        None
-        if grid is None or c.grids is None
-        else c.grid(grid, grid, COLOR if grid == "color" else FLOAT)
-    )
+    value = None if grid is None else c.grid(grid, grid)
     return c.b.f(0.0) if value is None else value
 
 

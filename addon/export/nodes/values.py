@@ -147,15 +147,15 @@ class Lowering:
     def hit(self, mode, kind=VECTOR):
         return self.b.op(ops.INPUT, mode, (), kind=kind)
 
-    def grid(self, role, name, kind=FLOAT):
-        """The Volume object's grid `name` in `role` at the point (a scalar in every
-        component), or None where the program has no such grid: Cycles' attribute not
-        found."""
+    def grid(self, role, name, kind=None):
+        """The Volume object's grid `name` in `role` at the point (a colour for the colour
+        role, else a scalar in every component), as `kind` when given; None where the
+        program has no such grid: Cycles' attribute not found."""
         if self.grids is None or self.grids.get(role) != name:
             return None
         mode = getattr(ops, f"IN_GRID_{role.upper()}")
         expr = self.hit(mode, COLOR if role == "color" else FLOAT)
-        return self.convert(expr, kind)
+        return expr if kind is None else self.convert(expr, kind)
 
     def uv(self, name=""):
         if self.world:

@@ -81,8 +81,6 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
 
 namespace {
 
-// Where a program reads a surface hit, or a point inside a medium (`inside`: no surface,
-// no primitive; its corner layers read 0): the inputs it asks for, computed on demand.
 // The INPUT modes of the grids (shader/ops.h kInputGrid + role, named by role in
 // kOpNumbers) follow GridRole's order.
 static_assert(static_cast<int>(GridRole::kDensity) == 0 &&
@@ -90,6 +88,8 @@ static_assert(static_cast<int>(GridRole::kDensity) == 0 &&
               static_cast<int>(GridRole::kTemperature) == 2 &&
               static_cast<int>(GridRole::kFlame) == 3 && kGridRoles == 4);
 
+// Where a program reads a surface hit, or a point inside a medium (`inside`: no surface,
+// no primitive; its corner layers read 0): the inputs it asks for, computed on demand.
 struct SurfaceHit {
   const CompiledScene& scene;
   const Interaction& it;

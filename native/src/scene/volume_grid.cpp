@@ -130,17 +130,15 @@ Box3 VolumeGrid::index_bounds() const {
   return {Vec3(data_.active_lower), Vec3(data_.active_upper + 1)};
 }
 
-Box3 VolumeGrid::object_bounds() const {
-  const Box3 index = index_bounds();
+Box3 placed(const Box3& box, const glm::mat4& m) {
   Box3 out;
-  if (index.empty()) return out;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? index.upper.x : index.lower.x,
-                 (corner & 2) ? index.upper.y : index.lower.y,
-                 (corner & 4) ? index.upper.z : index.lower.z);
-    out.extend(transform_point(data_.index_to_object, p));
-  }
+  if (box.empty()) return out;
+  for (int k = 0; k < 8; ++k) out.extend(transform_point(m, box.corner(k)));
   return out;
+}
+
+Box3 VolumeGrid::object_bounds() const {
+  return placed(index_bounds(), data_.index_to_object);
 }
 
 size_t VolumeGrid::bytes() const {

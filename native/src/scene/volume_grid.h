@@ -39,7 +39,15 @@ struct Box3 {
     extend(b.lower);
     extend(b.upper);
   }
+  // Corner k: x from bit 0 of k, y from bit 1, z from bit 2.
+  Vec3 corner(int k) const {
+    return {(k & 1) ? upper.x : lower.x, (k & 2) ? upper.y : lower.y, (k & 4) ? upper.z : lower.z};
+  }
 };
+
+// The box bounding `box`'s eight corners carried by affine `m` at once (a rotated box is
+// not widened twice); empty for an empty box.
+Box3 placed(const Box3& box, const glm::mat4& m);
 
 // What a VolumeGrid is made of: the reader fills it (scene/vdb_file.cpp), VolumeGrid's
 // constructor checks it.

@@ -53,18 +53,7 @@ VolumeSample VolumeObject::sample(const Vec3& x) const {
 Box3 VolumeObject::world_bounds() const {
   Box3 out;
   for (const std::shared_ptr<const VolumeGrid>& grid : grids_) {
-    if (!grid) continue;
-    // The corners of the index-space box carried to the world at once: a rotated grid's
-    // box is not widened twice.
-    const Box3 index = grid->index_bounds();
-    if (index.empty()) continue;
-    const glm::mat4 index_to_world = to_world_ * grid->index_to_object();
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 p((corner & 1) ? index.upper.x : index.lower.x,
-                   (corner & 2) ? index.upper.y : index.lower.y,
-                   (corner & 4) ? index.upper.z : index.lower.z);
-      out.extend(transform_point(index_to_world, p));
-    }
+    if (grid) out.extend(placed(grid->index_bounds(), to_world_ * grid->index_to_object()));
   }
   return out;
 }
@@ -80,20 +69,16 @@ Mesh VolumeObject::bound_mesh() const {
     const float shift = render_.centred ? 0.0f : -0.5f;
     index.lower += shift - 0.5f;
     index.upper += shift + 0.5f;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 p((corner & 1) ? index.upper.x : index.lower.x,
-                   (corner & 2) ? index.upper.y : index.lower.y,
-                   (corner & 4) ? index.upper.z : index.lower.z);
-      box.extend(transform_point(grid->index_to_object(), p));
-    }
+    box.extend(placed(index, grid->index_to_object()));
   }
   if (box.empty()) return {};
-  // Corner k has x from bit 0, y from bit 1, z from bit 2; faces wound outward.
+  // Vertex k is the box's corner k (Box3::corner); faces wound outward.
   std::array<float, 24> positions{};
-  for (int corner = 0; corner < 8; ++corner) {
-    positions[3 * corner + 0] = (corner & 1) ? box.upper.x : box.lower.x;
-    positions[3 * corner + 1] = (corner & 2) ? box.upper.y : box.lower.y;
-    positions[3 * corner + 2] = (corner & 4) ? box.upper.z : box.lower.z;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 p = box.corner(k);
+    positions[3 * k + 0] = p.x;
+    positions[3 * k + 1] = p.y;
+    positions[3 * k + 2] = p.z;
   }
   static constexpr std::array<uint32_t, 36> kTriangles = {
       0, 2, 3, 0, 3, 1,  // -z
