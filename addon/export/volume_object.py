@@ -2,8 +2,10 @@
 that holds them, which of its grids the object's material reads, where the object is,
 and its Volume > Render settings (VolumeObjectData). The native module reads the grids
 (native scene/vdb_file.h) and samples them (scene/volume_object.h); the sync renders
-the object as its box filled by its material read with its grids (sync/scene.py,
-export/material.py grid_material), marched as a heterogeneous medium.
+the object as Cycles' mesh around its grids' blocks of voxels (native
+VolumeObject::bound_mesh, shaped by Volume > Render > Clipping) filled by its material
+read with its grids (sync/scene.py, export/material.py grid_material), marched as a
+heterogeneous medium.
 
 Where the grids come from (the same in Blender 3.4 and 5.x):
 
@@ -161,6 +163,7 @@ class FluidGrids:
     channels: tuple  # by grid
     resolution: tuple  # voxels a side (x, y, z)
     index_to_object: np.ndarray  # float64[4, 4], row-major: voxel (i, j, k) -> object space
+    clipping: float  # the domain's Clipping: as VolumeObjectData's
     centred: bool  # as VolumeObjectData's
 
 
@@ -211,6 +214,7 @@ def fluid_grids(obj, settings):
         channels=tuple(channels),
         resolution=resolution,
         index_to_object=index_to_object,
+        clipping=float(settings.clipping),
         centred=VOXELS_CENTRED,
     )
 

@@ -405,9 +405,14 @@ class SceneSync:
                     )
                     domain = None if strands else fluid_domain(obj)
                     if domain is not None:
-                        instance = self._fluid_instance(obj, domain, instance, grid_materials)
-                        fluids[instance.name] = instance.volume
-                    instances[instance.name] = _with_motion(instance, params.motion)
+                        instance = self._fluid_instance(
+                            obj, domain, instance, grid_materials, report
+                        )
+                        if instance is not None:
+                            seen_geometry.add(instance.mesh)
+                            fluids[instance.name] = instance.volume
+                    if instance is not None:
+                        instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
                 light = instance_light(object_instance, warnings, params.light_samples)
@@ -469,21 +474,25 @@ class SceneSync:
 
     def _volume_instance(self, object_instance, read, view_layer, report):
         """The instance of a Volume object whose grids were read (a sync.volumes.VolumeRead):
-        its box (VolumeObject.bound_mesh) set again when its grids were read anew, filled
+        its mesh (VolumeObject.bound_mesh) set again when its grids were read anew or its
+        Clipping changed, filled
         by its material read with its grids (grid_material_name)."""
         key = f"volume:{read.data.name}"
-        if read.fresh or key not in self._geometry:
-            self.scene.set_mesh(key, read.native.bound_mesh())
+        if read.remesh or key not in self._geometry:
+            self.scene.set_mesh(key, read.mesh)
             self._geometry[key] = _Geometry(True, None, Sanitised())
             report.meshes += 1
         instance = instance_data(object_instance, key, view_layer, self._info, self._links)
         name = grid_material_name(read.data.material, read.data.grids)
         return replace(instance, materials=(name,), volume=read.native)
 
-    def _fluid_instance(self, obj, domain, instance, grid_materials):
+    def _fluid_instance(self, obj, domain, instance, grid_materials, report):
         """`instance` of mesh object `obj`, a gas domain (`domain`: its FluidDomainSettings),
-        as Cycles renders a baked domain: its mesh filled by its material read with the
-        domain's grids (export/volume_object.py fluid_grids); as it was where none is read."""
+        as Cycles renders a baked domain: as a Volume object, the mesh around its grids'
+        blocks of voxels (VolumeObject.bound_mesh, set anew each walk: the grids are read
+        each time) filled by its material read with the grids (export/volume_object.py
+        fluid_grids); as it was where none is read; None where no voxel reaches the domain's
+        Clipping (Cycles renders nothing there)."""
         fluid = fluid_grids(obj, domain)
         if fluid is None:
             return instance
@@ -496,10 +505,19 @@ class SceneSync:
                 fluid.grids, fluid.arrays, fluid.channels, strict=True
             )
         }
-        volume = native.VolumeObject(instance.transform, centred=fluid.centred, **grids)
+        volume = native.VolumeObject(
+            instance.transform, centred=fluid.centred, clipping=fluid.clipping, **grids
+        )
+        mesh = volume.bound_mesh()
+        if mesh.triangle_count == 0:
+            return None
+        key = f"fluid:{instance.name}"
+        self.scene.set_mesh(key, mesh)
+        self._geometry[key] = _Geometry(True, None, Sanitised())
+        report.meshes += 1
         name = grid_material_name(fluid.material, fluid.grids)
         grid_materials[name] = (grid_object_material(obj), fluid.grids)
-        return replace(instance, materials=(name,), volume=volume)
+        return replace(instance, mesh=key, materials=(name,), volume=volume)
 
     def _set_grid_materials(self, wanted, report, warnings):
         """Export the Volume objects' materials `wanted` ({native name: (material or None,

@@ -3,7 +3,8 @@ grids read by the native module at once, so that a file of evaluated grids, writ
 a temporary folder, is deleted as soon as it is read. Grids read from a file that has
 not changed since the last walk (same path, size and time, same grids) are kept.
 
-The walk (sync/scene.py) renders each one read as an instance of its box filled by its
+The walk (sync/scene.py) renders each one read as an instance of its mesh (the blocks of
+voxels that reach its Clipping, as Cycles builds a Volume's mesh) filled by its
 material read with its grids; the report says why any other was skipped (a missing or
 empty file, grids the material does not read, an unreadable grid).
 """
@@ -27,8 +28,10 @@ class VolumeRead:
     key: tuple  # the file they were read from (None for written grids: read each time)
     grids: tuple  # whitted_native.VolumeGrid by export.volume_object.VolumeObjectData.grids
     native: object  # whitted_native.VolumeObject: the grids placed in the world
+    mesh: object  # whitted_native.Mesh: its bound_mesh, rays enter its medium through
     data: VolumeObjectData  # what was exported
-    fresh: bool  # its grids were read by this walk (not kept from the last)
+    remesh: bool  # its mesh is to be built anew: its grids were read by this walk (not
+    # kept from the last), or its Clipping, which shapes the mesh, changed
 
 
 class VolumeReads:
@@ -76,16 +79,23 @@ class VolumeReads:
                 space=data.space,
                 step_size=data.step_size,
                 centred=data.centred,
+                clipping=data.clipping,
                 **by_role,
             )
         except ValueError as error:
             self.skipped[name] = (label, str(error))
             return None
+        names = ", ".join(grid for _, grid in data.grids)
         if volume.world_bounds is None:
-            names = ", ".join(grid for _, grid in data.grids)
             self.skipped[name] = (label, f"its grids ({names}) have no active voxels")
             return None
-        read = VolumeRead(label, key, grids, volume, data, fresh)
+        mesh = volume.bound_mesh()
+        if mesh.triangle_count == 0:
+            why = f"no voxel of its grids ({names}) reaches its Clipping ({data.clipping:g})"
+            self.skipped[name] = (label, why)
+            return None
+        remesh = fresh or kept.data.clipping != data.clipping
+        read = VolumeRead(label, key, grids, volume, mesh, data, remesh)
         self.read[name] = read
         return read
 

@@ -120,7 +120,7 @@ void bind_volume_object(py::module_& m) {
       "point, and the box outside which its grids are background.")
       .def(py::init([](const py::object& to_world, GridHandle density, GridHandle color,
                        GridHandle temperature, GridHandle flame, const std::string& space,
-                       float step_size, bool centred) {
+                       float step_size, bool centred, float clipping) {
              if (space != "OBJECT" && space != "WORLD") {
                throw std::invalid_argument("space is 'OBJECT' or 'WORLD', not '" + space + "'");
              }
@@ -128,20 +128,23 @@ void bind_volume_object(py::module_& m) {
                  matrix_from_numpy(to_world),
                  VolumeObject::Grids{std::move(density), std::move(color), std::move(temperature),
                                      std::move(flame)},
-                 VolumeRender{space == "OBJECT", step_size, centred});
+                 VolumeRender{space == "OBJECT", step_size, centred, clipping});
            }),
            py::arg("to_world"), py::kw_only(), py::arg("density") = py::none(),
            py::arg("color") = py::none(), py::arg("temperature") = py::none(),
            py::arg("flame") = py::none(), py::arg("space") = "OBJECT", py::arg("step_size") = 0.0f,
-           py::arg("centred") = true,
+           py::arg("centred") = true, py::arg("clipping") = 0.001f,
            "to_world: the object's 4x4 row-major matrix; each role's VolumeGrid or None "
            "(color: a vector grid; the others scalar); space and step_size: its Volume > "
            "Render settings ('OBJECT' or 'WORLD'; Blender units of that space, 0 from the "
            "voxels); centred: a voxel's value at its cube's centre, else at its integer "
-           "index point.")
+           "index point; clipping: Volume > Render > Clipping, the magnitude below which a "
+           "voxel is empty space.")
       .def("bound_mesh", &VolumeObject::bound_mesh,
-           "The box Mesh (object space) rays enter and leave its medium through, for "
-           "Scene.set_mesh; a Mesh of no triangles without active voxels.")
+           "The Mesh (object space) rays enter and leave its medium through, for "
+           "Scene.set_mesh: the faces around the blocks of 8^3 voxels that hold a voxel of "
+           "at least clipping or border one, as Cycles builds a Volume's mesh; a Mesh of no "
+           "triangles where no voxel counts.")
       .def_property_readonly("density_scale", &VolumeObject::density_scale,
                              "Cycles' object volume density: 1/scale in object space, else 1.")
       .def_property_readonly("step", &VolumeObject::step,

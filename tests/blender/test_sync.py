@@ -190,10 +190,12 @@ EDITS = (
     ("hair children", lambda s: _hair_settings(s, "child_type", "SIMPLE"), "any"),
     ("move hairy", lambda s: setattr(s.objects["Cube"], "location", (1.5, -1.0, 0.9)), "any"),
     ("add points", lambda s: _add_points(s), "any"),
-    # Volume objects (issue 48): added, their material edited, moved.
+    # Volume objects (issue 48): added, their material edited, moved, clipped.
     ("add smoke", lambda s: _add_smoke(s), "any"),
     ("smoke density", lambda s: _smoke_density(0.8), "any"),
     ("move smoke", lambda s: setattr(s.objects["Smoke"], "location", (1.0, 0.5, 0.0)), "any"),
+    # Its Clipping above every voxel: its mesh encloses nothing (VolumeObject.bound_mesh).
+    ("clip smoke", lambda s: _clip_smoke(s.objects["Smoke"]), "any"),
 )
 # Light linking and shadow linking (Blender 4.0+): linked, relinked and unlinked.
 if bpy.app.version >= (4, 0, 0):
@@ -250,6 +252,11 @@ def _add_smoke(scene):
     source.hide_render = True
     smoke = mesh_to_volume(scene, "Smoke", source, 0.25)
     smoke.data.materials.append(volume_material("Smoke", principled_volume(0.3)))
+
+
+def _clip_smoke(smoke):
+    smoke.modifiers["Fill"].density = 0.5
+    smoke.data.render.clipping = 0.6
 
 
 def _smoke_density(density):

@@ -67,7 +67,7 @@ def test_a_mesh_to_volume_objects_grid_is_read_with_its_voxels_and_bounds(stage,
     assert read.native.sample((0.0, 0.0, 0.0))["density"] == pytest.approx(1.0, abs=1e-6)
     assert read.native.sample((0.3, -0.5, 0.7))["density"] == pytest.approx(1.0, abs=1e-6)
     assert read.native.sample((3.0, 0.0, 0.0))["density"] == 0.0
-    # Rendered (tests/blender/test_volume.py): nothing skipped; an instance of its box
+    # Rendered (tests/blender/test_volume.py): nothing skipped; an instance of its mesh
     # filled by its material read with its grid.
     assert not [w for w in frame.warnings if "Volume object" in w], frame.warnings
     instance = frame.sync._instances["Smoke"]
@@ -256,3 +256,22 @@ def test_the_export_carries_the_render_settings_and_transform(stage, tmp_path):
     assert (data.space, data.precision) == ("WORLD", "HALF")
     assert data.step_size == pytest.approx(0.05) and data.clipping == pytest.approx(0.02)
     assert np.allclose(data.to_world[:3, 3], (1.0, 2.0, 3.0))  # row-major, object -> world
+
+
+def test_its_clipping_shapes_the_mesh_rays_enter_its_medium_through(stage, native):
+    # The mesh is Cycles' (VolumeObject.bound_mesh): the blocks of 8^3 voxels that hold a
+    # voxel at least Clipping, and the ones next to them. The cube's voxels of density
+    # 0.5: at Clipping 0.4 they count, at 0.6 (Blender's Clipping is at most 1) none does.
+    smoke = _smoke(stage)
+    smoke.modifiers["Fill"].density = 0.5
+    read = _read(_frame(native), "Smoke")
+    assert read.data.clipping == pytest.approx(0.001)  # Blender's default
+    assert read.native.bound_mesh().triangle_count >= 12
+    smoke.data.render.clipping = 0.4
+    assert _read(_frame(native), "Smoke").native.bound_mesh().triangle_count >= 12
+    # None counts: skipped, and said why.
+    smoke.data.render.clipping = 0.6
+    frame = _frame(native)
+    assert "Smoke" not in frame.sync._volumes and "Smoke" not in frame.sync._instances
+    skipped = [w for w in frame.warnings if "Smoke" in w]
+    assert skipped and "no voxel of its grids (density) reaches its Clipping (0.6)" in skipped[0]

@@ -521,7 +521,7 @@ TEST(GridVolume, ABlockOfDensityOneLetsThroughExpOfMinusItsDepth) {
   EXPECT_NEAR(through_the_block(twice, {false, 0.0f, true}, k), std::exp(-4.0f * k), 1e-4f);
 }
 
-TEST(GridVolume, ItsStepAndDensityScaleAreCyclesAndItsBoxHoldsWhatTheGridsReach) {
+TEST(GridVolume, ItsStepDensityScaleAndMeshAreCycles) {
   VolumeObject::Grids grids;
   grids[static_cast<int>(GridRole::kDensity)] = full_block();
   const glm::mat4 to_world = glm::scale(glm::mat4(1.0f), Vec3(2.0f, 2.0f, 4.0f));
@@ -533,18 +533,59 @@ TEST(GridVolume, ItsStepAndDensityScaleAreCyclesAndItsBoxHoldsWhatTheGridsReach)
   EXPECT_FLOAT_EQ(VolumeObject(to_world, grids, {false, 0.1f, true}).step(), 0.1f);
   EXPECT_FLOAT_EQ(VolumeObject(to_world, grids, {false, 0.1f, true}).density_scale(), 1.0f);
   EXPECT_THROW(VolumeObject(to_world, grids, {true, -1.0f, true}), std::invalid_argument);
-  // The box: the active voxels and half a voxel more, moved back half a voxel where
-  // values stand at the index points.
-  const auto bounds = [&](bool centred) {
-    const Mesh mesh = VolumeObject(to_world, grids, {true, 0.0f, centred}).bound_mesh();
-    EXPECT_EQ(mesh.triangle_count(), 12u);
-    return bounding_box(mesh);
+  // The reach: the active voxels and half a voxel more, moved back half a voxel where
+  // values stand at the index points; it is the mesh's texture space.
+  const auto reach = [&](bool centred) {
+    return VolumeObject(to_world, grids, {true, 0.0f, centred}).interpolated_bounds();
   };
-  EXPECT_NEAR(bounds(true).lower.x, -0.125f, 1e-6f);
-  EXPECT_NEAR(bounds(true).upper.x, 2.125f, 1e-6f);
-  EXPECT_NEAR(bounds(false).lower.x, -0.25f, 1e-6f);
-  EXPECT_NEAR(bounds(false).upper.x, 2.0f, 1e-6f);
+  EXPECT_NEAR(reach(true).lower.x, -0.125f, 1e-6f);
+  EXPECT_NEAR(reach(true).upper.x, 2.125f, 1e-6f);
+  EXPECT_NEAR(reach(false).lower.x, -0.25f, 1e-6f);
+  EXPECT_NEAR(reach(false).upper.x, 2.0f, 1e-6f);
+  // The mesh, as Cycles builds it: the block and the six its face voxels pad into, a
+  // cross of seven blocks (0.25 a voxel, 2 a block) whose arms have five faces each.
+  const Mesh mesh = VolumeObject(to_world, grids).bound_mesh();
+  EXPECT_EQ(mesh.triangle_count(), 6u * 5u * 2u);
+  EXPECT_NEAR(bounding_box(mesh).lower.x, -2.0f, 1e-6f);
+  EXPECT_NEAR(bounding_box(mesh).upper.z, 4.0f, 1e-6f);
+  EXPECT_NEAR(mesh.texspace_location.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(mesh.texspace_size.x, 1.125f, 1e-6f);
+  // Below the Volume's Clipping every voxel is empty space: no mesh.
+  EXPECT_EQ(VolumeObject(to_world, grids, {true, 0.0f, true, 1.5f}).bound_mesh().triangle_count(),
+            0u);
+  EXPECT_THROW(VolumeObject(to_world, grids, {true, 0.0f, true, -1.0f}), std::invalid_argument);
   EXPECT_EQ(VolumeObject(to_world, {}).bound_mesh().triangle_count(), 0u);
+}
+
+// Two voxels of density far apart in one grid: the mesh encloses the blocks around each
+// (each voxel inside its block pads into none), not the empty space between them, and a
+// ray through that space meets no medium.
+TEST(GridVolume, ItsMeshLeavesOutTheEmptyBlocksBetweenTheVoxels) {
+  VolumeGridData data;
+  data.name = "density";
+  data.index_to_object = glm::scale(glm::mat4(1.0f), Vec3(0.25f));
+  data.active_lower = glm::ivec3(3);
+  data.active_upper = glm::ivec3(3 + 8 * 4, 3, 3);
+  data.active_voxels = 2;
+  data.block_counts = glm::ivec3(5, 1, 1);
+  data.blocks = {1, 0, 0, 0, 2};
+  data.values.assign(2 * VolumeGrid::kBlockVoxels, 0.0f);
+  const int middle = (3 * 8 + 3) * 8 + 3;  // voxel (3, 3, 3) of its block
+  data.values[middle] = 1.0f;
+  data.values[VolumeGrid::kBlockVoxels + middle] = 1.0f;
+  VolumeObject::Grids grids;
+  grids[static_cast<int>(GridRole::kDensity)] = std::make_shared<const VolumeGrid>(data);
+  const Mesh mesh = VolumeObject(glm::mat4(1.0f), grids).bound_mesh();
+  EXPECT_EQ(mesh.triangle_count(), 2u * 12u);  // two cubes
+  EXPECT_EQ(mesh.vertex_count(), 16u);
+  const Box box = bounding_box(mesh);
+  EXPECT_NEAR(box.lower.x, 0.0f, 1e-6f);
+  EXPECT_NEAR(box.upper.x, 10.0f, 1e-6f);
+  // No triangle reaches into the three empty blocks between x = 2 and x = 8.
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const float x = mesh.positions[3 * v];
+    EXPECT_TRUE(x <= 2.0f || x >= 8.0f) << x;
+  }
 }
 
 }  // namespace

@@ -146,6 +146,40 @@ size_t VolumeGrid::bytes() const {
          sizeof(*this);
 }
 
+std::vector<VolumeGrid::OccupiedBlock> VolumeGrid::occupied_blocks(float clipping) const {
+  std::vector<OccupiedBlock> out;
+  const glm::ivec3 n = data_.block_counts;
+  const int channels = data_.channels;
+  constexpr int last = kBlockSide - 1;
+  for (int x = 0; x < n.x; ++x) {
+    for (int y = 0; y < n.y; ++y) {
+      for (int z = 0; z < n.z; ++z) {
+        const glm::ivec3 b = data_.first_block + glm::ivec3(x, y, z);
+        const float* values = block(b);
+        if (values == nullptr) continue;
+        bool any = false;
+        uint32_t faces = 0;
+        for (int offset = 0; offset < kBlockVoxels; ++offset) {
+          bool counts = false;
+          for (int c = 0; c < channels; ++c) {
+            counts |= std::abs(values[offset * channels + c]) >= clipping;
+          }
+          if (!counts) continue;
+          any = true;
+          const glm::ivec3 v(offset >> (2 * kBlockBits), (offset >> kBlockBits) & last,
+                             offset & last);
+          for (int axis = 0; axis < 3; ++axis) {
+            if (v[axis] == 0) faces |= 1u << (2 * axis);
+            if (v[axis] == last) faces |= 1u << (2 * axis + 1);
+          }
+        }
+        if (any) out.push_back({b, faces});
+      }
+    }
+  }
+  return out;
+}
+
 const float* VolumeGrid::block(const glm::ivec3& b) const {
   if (b.x < data_.first_block.x || b.y < data_.first_block.y || b.z < data_.first_block.z ||
       b.x > last_block_.x || b.y > last_block_.y || b.z > last_block_.z) {

@@ -98,6 +98,17 @@ class VolumeGrid {
   // Bytes it holds (its blocks and their lattice), for the memory guard.
   size_t bytes() const;
 
+  // A block holding a voxel that counts (occupied_blocks), in block coordinates, and which
+  // of its six faces' voxel layers hold one: bit 2 * axis for the lower face, bit
+  // 2 * axis + 1 for the upper.
+  struct OccupiedBlock {
+    glm::ivec3 block;
+    uint32_t faces;
+  };
+  // The blocks holding a stored voxel at least `clipping` in magnitude (a vector grid's:
+  // in some channel): what Cycles builds a Volume's mesh from (VolumeObject::bound_mesh).
+  std::vector<OccupiedBlock> occupied_blocks(float clipping) const;
+
   // The value of voxel `ijk` (a scalar grid's in x, y and z alike).
   Vec3 voxel(const glm::ivec3& ijk) const;
   // Trilinear interpolation of the voxels at index-space point `p` (the values at the

@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -18,6 +21,9 @@ VolumeObject::VolumeObject(const glm::mat4& to_world, Grids grids, VolumeRender 
   }
   if (!(render.step_size >= 0.0f) || !std::isfinite(render.step_size)) {
     throw std::invalid_argument("a Volume's step size must be 0 or more, and finite");
+  }
+  if (!(render.clipping >= 0.0f) || !std::isfinite(render.clipping)) {
+    throw std::invalid_argument("a Volume's clipping must be 0 or more, and finite");
   }
   for (int role = 0; role < kGridRoles; ++role) {
     const std::shared_ptr<const VolumeGrid>& grid = grids_[role];
@@ -58,7 +64,21 @@ Box3 VolumeObject::world_bounds() const {
   return out;
 }
 
-Mesh VolumeObject::bound_mesh() const {
+namespace {
+
+// A block's coordinates packed into one key (21 bits an axis, offset to be unsigned):
+// blocks of 8 voxels reach 8 million voxels either side of the origin.
+uint64_t block_key(const glm::ivec3& b) {
+  constexpr int64_t kOffset = int64_t(1) << 20;
+  const auto axis = [](int v) {
+    return uint64_t(int64_t(v) + kOffset) & ((uint64_t(1) << 21) - 1);
+  };
+  return (axis(b.x) << 42) | (axis(b.y) << 21) | axis(b.z);
+}
+
+}  // namespace
+
+Box3 VolumeObject::interpolated_bounds() const {
   Box3 box;
   for (const std::shared_ptr<const VolumeGrid>& grid : grids_) {
     if (!grid) continue;
@@ -71,24 +91,92 @@ Mesh VolumeObject::bound_mesh() const {
     index.upper += shift + 0.5f;
     box.extend(placed(index, grid->index_to_object()));
   }
-  if (box.empty()) return {};
-  // Vertex k is the box's corner k (Box3::corner); faces wound outward.
-  std::array<float, 24> positions{};
-  for (int k = 0; k < 8; ++k) {
-    const Vec3 p = box.corner(k);
-    positions[3 * k + 0] = p.x;
-    positions[3 * k + 1] = p.y;
-    positions[3 * k + 2] = p.z;
+  return box;
+}
+
+Mesh VolumeObject::bound_mesh() const {
+  // The blocks of the first grid's lattice the mesh encloses, by key.
+  const VolumeGrid* lattice = nullptr;
+  std::unordered_map<uint64_t, glm::ivec3> blocks;
+  const auto add = [&](const glm::ivec3& b) { blocks.emplace(block_key(b), b); };
+  for (const std::shared_ptr<const VolumeGrid>& grid : grids_) {
+    if (!grid || grid->index_bounds().empty()) continue;
+    if (lattice == nullptr) lattice = grid.get();
+    const bool same = grid->index_to_object() == lattice->index_to_object();
+    // Into the lattice's block coordinates: a grid of another transform adds every block
+    // its occupied blocks' boxes overlap (Cycles resamples the topology instead).
+    const glm::mat4 to_lattice = lattice->object_to_index() * grid->index_to_object();
+    for (const VolumeGrid::OccupiedBlock& o : grid->occupied_blocks(render_.clipping)) {
+      if (same) {
+        add(o.block);
+        // The one voxel of padding: a counted voxel on a face reaches the next block.
+        for (int axis = 0; axis < 3; ++axis) {
+          glm::ivec3 step(0);
+          step[axis] = 1;
+          if (o.faces & (1u << (2 * axis))) add(o.block - step);
+          if (o.faces & (1u << (2 * axis + 1))) add(o.block + step);
+        }
+        continue;
+      }
+      const Box3 voxels{Vec3(o.block * VolumeGrid::kBlockSide) - 1.0f,
+                        Vec3((o.block + 1) * VolumeGrid::kBlockSide) + 1.0f};
+      const Box3 there = placed(voxels, to_lattice);
+      const glm::ivec3 lo(glm::floor(there.lower / float(VolumeGrid::kBlockSide)));
+      const glm::ivec3 hi(glm::floor(there.upper / float(VolumeGrid::kBlockSide)));
+      for (int x = lo.x; x <= hi.x; ++x)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int z = lo.z; z <= hi.z; ++z) add({x, y, z});
+    }
   }
-  static constexpr std::array<uint32_t, 36> kTriangles = {
-      0, 2, 3, 0, 3, 1,  // -z
-      4, 5, 7, 4, 7, 6,  // +z
-      0, 1, 5, 0, 5, 4,  // -y
-      2, 6, 7, 2, 7, 3,  // +y
-      0, 4, 6, 0, 6, 2,  // -x
-      1, 3, 7, 1, 7, 5,  // +x
+  if (blocks.empty()) return {};
+
+  // A quad on every face between an enclosed block and one that is not, its corners
+  // shared by key (corner c of block b is block corner b + c, in units of a block).
+  std::vector<float> positions;
+  std::vector<uint32_t> triangles;
+  std::unordered_map<uint64_t, uint32_t> corners;
+  const glm::mat4& to_object = lattice->index_to_object();
+  const bool mirrored = glm::determinant(to_object) < 0.0f;
+  const auto corner = [&](const glm::ivec3& c) {
+    const auto [it, fresh] = corners.emplace(block_key(c), uint32_t(positions.size() / 3));
+    if (fresh) {
+      const Vec3 p = transform_point(to_object, Vec3(c * VolumeGrid::kBlockSide));
+      positions.insert(positions.end(), {p.x, p.y, p.z});
+    }
+    return it->second;
   };
-  return make_mesh(positions.data(), 8, kTriangles.data(), 12, nullptr, nullptr);
+  for (const auto& [key, b] : blocks) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int side = 0; side < 2; ++side) {
+        glm::ivec3 next = b;
+        next[axis] += side ? 1 : -1;
+        if (blocks.count(block_key(next))) continue;
+        glm::ivec3 c[4];
+        for (int k = 0; k < 4; ++k) {
+          c[k] = b;
+          c[k][axis] += side;
+          c[k][u] += (k == 1 || k == 2);
+          c[k][v] += (k >= 2);
+        }
+        // (0,0), (1,0), (1,1), (0,1) in (u, v) turns about +axis: outward on the upper
+        // side; reversed on the lower, and where the grid's transform mirrors.
+        uint32_t q[4] = {corner(c[0]), corner(c[1]), corner(c[2]), corner(c[3])};
+        if ((side == 0) != mirrored) std::swap(q[1], q[3]);
+        triangles.insert(triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+      }
+    }
+  }
+  Mesh mesh = make_mesh(positions.data(), positions.size() / 3, triangles.data(),
+                        triangles.size() / 3, nullptr, nullptr);
+  // Generated coordinates span the grids' reach, not the blocks'.
+  const Box3 reach = interpolated_bounds();
+  mesh.texspace_location = 0.5f * (reach.lower + reach.upper);
+  for (int k = 0; k < 3; ++k) {
+    const float half = 0.5f * (reach.upper[k] - reach.lower[k]);
+    mesh.texspace_size[k] = half == 0.0f ? 1.0f : std::max(half, 1e-5f);
+  }
+  return mesh;
 }
 
 float VolumeObject::compute_density_scale() const {

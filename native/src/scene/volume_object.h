@@ -39,6 +39,9 @@ struct VolumeRender {
   // before Blender 5.0), or its integer index point (OpenVDB's own, Cycles in 5.0):
   // half a voxel apart (addon/export/volume_object.py says what was measured).
   bool centred = true;
+  // Volume > Render > Clipping: voxels below it in magnitude are empty space, which the
+  // object's mesh leaves out where whole blocks of them are (bound_mesh).
+  float clipping = 0.001f;
 };
 
 class VolumeObject {
@@ -54,11 +57,17 @@ class VolumeObject {
   // The world-space box bounding every grid's active voxels: outside it density is the
   // grids' background (0 for every grid Blender writes). Empty without active voxels.
   Box3 world_bounds() const;
-  // The mesh a ray enters and leaves the object's medium through: the box in object space
-  // bounding every grid's active voxels and the half voxel around them that trilinear
-  // interpolation reaches (12 triangles, outward; its texture space that box, make_mesh's,
-  // as Cycles gives a volume's Generated coordinates). Empty (no triangles) without active voxels.
+  // The mesh a ray enters and leaves the object's medium through, as Cycles builds a
+  // Volume's (scene/volume.cpp, its volume mesh builder): the faces around the blocks of
+  // 8^3 voxels (OpenVDB's leaf nodes) that hold a voxel at least Clipping in magnitude in
+  // some grid, or are next to one across a face (the voxel of padding linear
+  // interpolation reaches). The rest of the grids' box is not marched. Outward faces in
+  // object space; its texture space interpolated_bounds(). Empty (no triangles) where no
+  // voxel counts.
   Mesh bound_mesh() const;
+  // The object-space box bounding every grid's active voxels and the half voxel around
+  // them that trilinear interpolation reaches.
+  Box3 interpolated_bounds() const;
   // Cycles' object_volume_density: in object space a density is per unit of the object,
   // so a Volume scaled by s is 1/s as dense per world unit (1 / |linear part * (1, 1, 1)
   // normalised|); in world space 1.
