@@ -169,8 +169,9 @@ def sample_motion(frame_set, depsgraph, shutter):
             frame_set(int(whole), time - whole)
             for object_instance in depsgraph.object_instances:
                 obj = object_instance.object
+                # Meshes, strands, and Volume objects (their grids move with them).
                 moving_kind = is_renderable_mesh(object_instance) or (
-                    obj.type in STRAND_TYPES and not obj.original.hide_render
+                    obj.type in (*STRAND_TYPES, "VOLUME") and not obj.original.hide_render
                 )
                 if moving_kind and _blurs(obj):
                     name = instance_name(object_instance)

@@ -426,7 +426,7 @@ class SceneSync:
                 if read is not None:
                     instance = self._volume_instance(object_instance, read, view_layer, report)
                     seen_geometry.add(instance.mesh)
-                    instances[instance.name] = instance
+                    instances[instance.name] = _with_motion(instance, params.motion)
                     grid_materials[instance.materials[0]] = (
                         grid_object_material(object_instance.object),
                         read.data.grids,

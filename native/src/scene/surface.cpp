@@ -435,6 +435,13 @@ Medium CompiledScene::medium(uint32_t material, uint32_t instance, const Vec3& x
   Medium out{m.volume_absorption, m.volume_scattering, m.volume_emission, m.volume_anisotropy};
   if (!m.heterogeneous()) return out;
   const Placement& placement = instances[instance].placement;
+  // A moving object carries its medium (motion blur): the point is read where it stood
+  // in the object at the ray's time, carried back to the frame's placement, which the
+  // object coordinates and the grids (VolumeObject::sample) are read from.
+  Vec3 at = x;
+  if (const auto& motion = instances[instance].motion) {
+    at = transform_point(placement.to_world * glm::inverse(motion->at(ray.time)), x);
+  }
   // A point inside a volume as Cycles shades it (shader_setup_from_volume): its normals
   // and its incoming direction are all the ray's reversed, it has no surface and no
   // primitive. Object space: the inverse of the transform's linear part is the transpose
@@ -447,7 +454,8 @@ Medium CompiledScene::medium(uint32_t material, uint32_t instance, const Vec3& x
   it.material = &m;
   it.material_index = material;
   it.instance = instance;
-  it.local_position = glm::transpose(placement.normal_to_world) * (x - Vec3(placement.to_world[3]));
+  it.local_position =
+      glm::transpose(placement.normal_to_world) * (at - Vec3(placement.to_world[3]));
   it.time = ray.time;
   ProgramHit hit;
   hit.incoming = -ray.direction;
@@ -457,7 +465,7 @@ Medium CompiledScene::medium(uint32_t material, uint32_t instance, const Vec3& x
   hit.images = m.program_images.data();
   // A Volume object's grids, read once for every input that reads one.
   const VolumeObject* volume = instances[instance].volume.get();
-  const VolumeSample grids = volume ? volume->sample(x) : VolumeSample{};
+  const VolumeSample grids = volume ? volume->sample(at) : VolumeSample{};
   const SurfaceHit source{*this, it, ray, context, hit, /*inside=*/true, volume ? &grids : nullptr};
   Inputs inputs;
   for (size_t i = 0; i < m.program->inputs().size(); ++i) {
