@@ -146,6 +146,12 @@ SWEEPS = (
         "Texture filtering",
         [(f, {"texture_filter": f}) for f in ("AUTHORED", "CLOSEST")],
     ),
+    (
+        "volume_step_rate",
+        "Volume step rate (heterogeneous media are marched in steps of their voxel, or a "
+        "tenth of their object, times this)",
+        [(f"{r:g}", {"volume_step_rate": r}) for r in (4.0, 2.0, 1.0, 0.5, 0.25)],
+    ),
 )
 
 

@@ -8,11 +8,13 @@
              rough gold, rough plastic and frosted glass: glossy rays, emitter feelers
     camera   the diffuse scene through a lens at f/1.4, one ball moving within the
              shutter: depth of field and motion blur (lens and shutter samples)
+    volume   a procedural cloud in a cube of fog lit by a spot lamp: a heterogeneous
+             medium marched at the volume step rate (whitted_tools.volume_scenes)
 
     blender -b --factory-startup --python tools/whitted_tools/__main__.py -- cost-scenes \\
         --scene glass --save out/glass.blend
 
-The scenes are whitted_tools.bench_scenes'.
+The scenes are whitted_tools.bench_scenes' and volume_scenes'.
 """
 
 import argparse
@@ -20,7 +22,7 @@ import os
 
 import bpy
 
-from whitted_tools import bench_scenes
+from whitted_tools import bench_scenes, volume_scenes
 from whitted_tools.blender import factory_scene
 from whitted_tools.verbs import prog
 
@@ -29,6 +31,7 @@ BUILDERS = {
     "diffuse": bench_scenes.build_diffuse_scene,
     "distributed": bench_scenes.build_distributed_scene,
     "camera": bench_scenes.build_camera_scene,
+    "volume": lambda scene: volume_scenes.cloud_stage(scene, "SPOT"),
 }
 
 
