@@ -7,6 +7,7 @@ statistics."""
 
 import json
 import math
+import shutil
 import subprocess
 import textwrap
 from pathlib import Path
@@ -19,6 +20,7 @@ from whitted import result
 from whitted import stats as whitted_stats
 from whitted.export.material import convert_material
 from whitted.sync.frame import sync_frame
+from whitted_tools.blender import blender_command
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import (
     glass_bsdf_material,
@@ -599,9 +601,12 @@ FIREBALLS = [
         marks=pytest.mark.xfail(
             bpy.app.version >= (5, 0, 0),
             strict=True,
-            reason="Cycles 5.0.1 renders this file's fire about 2e-5 as bright as 3.4 and "
-            "4.5.15 do (summed red 0.0035 against 66.6), as if the temperature grid it reads "
-            "were a tenth of its values; not explained (Whitted: 66.7 in all three)",
+            reason="Cycles 5.0.1 and 5.2.3 render this fire brighter than 3.4 does (summed red "
+            "72.3 against 66.6; Whitted 67.1 and 66.6): Whitted's summed luminance is 0.940 of "
+            "Cycles 5.0.1's, SSIM 0.987. It comes with the Principled Volume's blackbody: in "
+            "5.0.1 its glow alone is 1.05 times that of Emission and Blackbody nodes fed the "
+            "same temperature, which match 3.4, most at the ball's rim "
+            "(docs/notes/fireball_cycles5.md); not explained",
         ),
     ),
     # No temperature grid: a constant 1500 K glows in every block of voxels the Volume's
@@ -612,8 +617,10 @@ FIREBALLS = [
         marks=pytest.mark.xfail(
             bpy.app.version >= (5, 0, 0),
             strict=True,
-            reason="Cycles 5.0.1 renders this file's constant-temperature glow otherwise "
-            "(Whitted 1.3636 of its summed luminance, SSIM 0.555); not explained",
+            reason="Cycles 5.0.1 renders this file's constant-temperature glow dimmer: "
+            "Whitted's summed luminance is 1.82 of its, SSIM 0.705 (with the black world; "
+            "1.36 without); as if 5.0 glowed nearer the ball than the blocks of 3.4's mesh; "
+            "not explained",
         ),
     ),
 ]
@@ -628,12 +635,18 @@ def test_a_fireball_from_a_vdb_file_renders_as_cycles(
     # 0.9998. (Beside a floor, Cycles lights the floor with the glow, even with no diffuse
     # bounce: a surface lit by a glowing medium, which Whitted does not simulate; SSIM
     # 0.959 there.)
+    # The black world is for Cycles 5.x: without one, the fireball is its object 0 and the
+    # world's index is 0 too, so volume_is_homogeneous() takes the fireball for the world
+    # and Cycles shades it as a homogeneous medium, once where each ray enters it, where
+    # the grids are near 0: summed red 0.0035 in 5.0.1, 0 in 5.2.3; a world or another
+    # object linked first brings back 72.3 (docs/notes/fireball_cycles5.md).
     path = tmp_path / "fireball.vdb"
     written = subprocess.run(
         ["/usr/bin/python3", "-c", FIREBALL, str(path)], capture_output=True, text=True, check=False
     )
     assert written.returncode == 0, written.stderr
     scene = empty_scene
+    scene.world = background_world("Black", (0.0, 0.0, 0.0))
     scene.render.resolution_x, scene.render.resolution_y = 48, 36
     camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
     camera.location, camera.rotation_euler = (0.0, -6.0, 2.5), facing((0.0, 6.0, -2.5))
@@ -653,6 +666,59 @@ def test_a_fireball_from_a_vdb_file_renders_as_cycles(
         _against_cycles(scene, tmp_path, monkeypatch, label=f"fireball ({temperature})")
     )
     assert "a Volume object's grids, 25^3 voxels" in why, why
+
+
+# Blender's own fluid solver baking a fire (smoke_domain, its flow giving fire and smoke),
+# run by Blender 3.4 (`blender -b`): the bpy 5.0.1 module's mantaflow does not bake here.
+FIRE_BAKE = textwrap.dedent(
+    """
+    import sys
+    import bpy
+    from whitted_tools.volume_scenes import smoke_domain
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    cache = sys.argv[sys.argv.index("--") + 1]
+    assert smoke_domain(bpy.context.scene, cache, flow_type="BOTH") is not None
+    """
+)
+
+
+@pytest.mark.xfail(
+    bpy.app.version >= (5, 0, 0),
+    strict=True,
+    reason="Cycles 5.0.1 renders this fire brighter than 3.4 does (summed red 40.3 against "
+    "31.9; Whitted 32.4 and 31.9): Whitted's summed luminance is 0.775 of Cycles 5.0.1's, "
+    "SSIM 0.975; as with the fireball, by more here (docs/notes/fireball_cycles5.md)",
+)
+def test_a_baked_fire_read_as_a_volume_object_renders_as_cycles(empty_scene, tmp_path, monkeypatch):
+    # A fire's cache file (its last frame: "density", "flame", "temperature", "velocity"
+    # grids) read by a Volume object whose Principled Volume glows as Quick Smoke's fire
+    # does (Blackbody Intensity 1, Temperature 1000 times the "temperature" grid), black
+    # smoke of Density 5, against a black world (Cycles 5.x needs one: the fireball's test).
+    if shutil.which("blender") is None:
+        pytest.skip("no `blender` (Blender 3.4) on PATH to bake the fire in")
+    script, cache = tmp_path / "bake.py", tmp_path / "cache"
+    script.write_text(FIRE_BAKE)
+    baked = subprocess.run(
+        blender_command(script, cache), capture_output=True, text=True, check=False
+    )
+    assert baked.returncode == 0, baked.stdout[-2000:] + baked.stderr[-2000:]
+    scene = empty_scene
+    scene.world = background_world("Black", (0.0, 0.0, 0.0))
+    scene.render.resolution_x, scene.render.resolution_y = 48, 36
+    camera = add_object(scene, "Camera", bpy.data.cameras.new("Camera"))
+    camera.location, camera.rotation_euler = (0.0, -7.0, 2.0), facing((0.0, 7.0, -0.5))
+    scene.camera = camera
+    volume = bpy.data.volumes.new("Fire")
+    volume.filepath = str(cache / "data" / "fluid_data_0008.vdb")
+    volume.materials.append(volume_material("Fire", _fire(colour=0.0, density=5.0)))
+    node = volume.materials[0].node_tree.nodes["Principled Volume"]
+    node.inputs["Temperature"].default_value = 1000.0
+    node.inputs["Temperature Attribute"].default_value = "temperature"
+    # The cache's grids start at the domain's lowest corner (their index 0 at the origin,
+    # voxels of 3 / 24 m): there, the fire stands where the domain had it.
+    add_object(scene, "Fire", volume, location=(-1.5, -1.5, 0.0))
+    why = _volumes_why(_against_cycles(scene, tmp_path, monkeypatch, label="baked fire"))
+    assert "a Volume object's grids" in why, why
 
 
 def test_a_fire_exports_cycles_blackbody_emission(empty_scene):

@@ -148,13 +148,14 @@ def smoke_stage(scene, case):
     return scene
 
 
-def smoke_domain(scene, cache_directory, frames=8):
+def smoke_domain(scene, cache_directory, frames=8, flow_type="SMOKE"):
     """A gas fluid domain (a cube of edge 3, resolution 24) filled by a sphere of radius 0.4
-    emitting smoke near its floor, baked for `frames` frames into `cache_directory`, at its
-    last frame; shaded by a Principled Volume of Density 5 reading the domain's "density"
-    grid, as Quick Smoke's material does. The domain, or None where the bake fails. (The
-    bpy 5.0.1 module's mantaflow fails here: "'LevelsetGrid' object has no attribute
-    'setConst'", then the process crashes.)"""
+    emitting smoke (or what the flow's `flow_type` says: "BOTH" is fire and smoke) near its
+    floor, baked for `frames` frames into `cache_directory` (OpenVDB files, Blender's
+    default: data/fluid_data_0001.vdb on), at its last frame; shaded by a Principled Volume
+    of Density 5 reading the domain's "density" grid, as Quick Smoke's material does. The
+    domain, or None where the bake fails. (The bpy 5.0.1 module's mantaflow fails here:
+    "'LevelsetGrid' object has no attribute 'setConst'", then the process crashes.)"""
     domain = add_object(scene, "Domain", cube_mesh("Domain", 3.0), location=(0.0, 0.0, 1.5))
     flow = add_object(scene, "Flow", sphere_mesh("Flow", 12, 6, 0.4), location=(0.0, 0.0, 0.5))
     flow.hide_render = True
@@ -168,7 +169,7 @@ def smoke_domain(scene, cache_directory, frames=8):
     settings.cache_type = "ALL"
     emitter = flow.modifiers.new("Fluid", "FLUID")
     emitter.fluid_type = "FLOW"
-    emitter.flow_settings.flow_type = "SMOKE"
+    emitter.flow_settings.flow_type = flow_type
     emitter.flow_settings.flow_behavior = "INFLOW"
     domain.data.materials.append(volume_material("Smoke", principled_volume(5.0)))
     scene.frame_end = frames
