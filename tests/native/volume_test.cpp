@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -65,6 +66,45 @@ TEST(Volume, SlabTransmittanceIsExpOfMinusSigmaTTimesDepth) {
       EXPECT_NEAR(r.pixels[static_cast<size_t>(c)], std::exp(-sigma_a[c] * depth), 1e-5f)
           << "depth " << depth << " channel " << c;
     }
+  }
+}
+
+// A glowing box (emission e, nothing absorbed) over a white Lambert floor lights the
+// floor with its emission over its volume: E = e * integral cos / r^2 dV (a midpoint sum
+// in double precision). The camera, looking down through the box onto the floor's
+// origin, sees that (E / pi) and the box's own glow along its depth (e * h).
+TEST(Volume, AGlowingBoxLightsTheFloorUnderIt) {
+  const Color e(0.6f, 0.3f, 0.1f);
+  const Vec3 lo(-0.5f, -0.7f, 1.0f);
+  const Vec3 hi(0.7f, 0.5f, 1.8f);
+  Scene scene;
+  add_object(&scene, "glow", box(lo, hi), fog(Color(0.0f), Color(0.0f), 0.0f, e));
+  Material white;
+  white.diffuse = Color(1.0f);
+  white.ambient = 0.0f;
+  add_object(&scene, "floor", quad(-50.0f, 50.0f, -50.0f, 50.0f, 0.0f), white);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 1e-5f);
+  Settings settings = one_ray(32);
+  settings.emitter_samples = 4;
+  const Rendered r = render(scene, settings);
+  const int n = 120;
+  const glm::dvec3 size = glm::dvec3(hi - lo);
+  const glm::dvec3 cell = size / static_cast<double>(n);
+  double integral = 0.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const glm::dvec3 x = glm::dvec3(lo) + (glm::dvec3(i, j, k) + 0.5) * cell;
+        const double r2 = glm::dot(x, x);
+        integral += x.z / (r2 * std::sqrt(r2));
+      }
+    }
+  }
+  integral *= cell.x * cell.y * cell.z;
+  EXPECT_GT(r.stats.rays.volume_feelers, 0u);
+  for (int c = 0; c < 3; ++c) {
+    const double expected = e[c] * (hi.z - lo.z) + e[c] * integral / std::numbers::pi;
+    EXPECT_NEAR(r.pixels[static_cast<size_t>(c)], expected, 0.01 * expected) << c;
   }
 }
 

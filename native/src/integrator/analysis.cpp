@@ -123,6 +123,14 @@ std::string scattered_light(const CompiledScene& scene, const Effects& effects) 
   return text + " light";
 }
 
+// What the volumes' report line says of glowing media (CompiledScene::glowing): that
+// their glow lights surfaces (integrator/lights.h glow), or nothing.
+std::string glow_why(size_t glowing) {
+  if (glowing == 0) return "";
+  return "; the glow of " + thousands(glowing) + (glowing == 1 ? " object" : " objects") +
+         " lights surfaces (feelers aimed at it)";
+}
+
 // The report's reason for the volumes: "1 object: homogeneous, ..." or, with media a
 // program drives, how many of each and the march's step rate; "the world" for its volume.
 std::string media_why(const MediaObjects& media, bool world, const Settings& settings,
@@ -225,7 +233,8 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
          translucent ? "materials with alpha, or glass with tinted shadows"
                      : "no material lets shadow feelers through");
   decide(effects, kVolumeEffect, any_medium, "volumes",
-         any_medium ? media_why(volumes, world_medium, settings, scattered_light(scene, *effects))
+         any_medium ? media_why(volumes, world_medium, settings, scattered_light(scene, *effects)) +
+                          glow_why(scene.glowing.size())
                     : "no mesh encloses a medium (a material's volume shader) and the world "
                       "has no volume");
   effects->decisions.push_back(strands(scene));

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <glm/exponential.hpp>
+
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
@@ -116,14 +118,32 @@ inline Steps march_steps(float length, float step, int max_steps, float offset, 
   return s;
 }
 
+// What a medium of constant extinction sigma_t and emission e emits over a length d (the
+// segment's, or a marched step's; infinite for a ray escaping inside an open mesh), seen
+// from its start: integral_0^d exp(-sigma_t t) e dt, per channel (e d where sigma_t is 0,
+// none over an infinite d then).
+inline Color medium_emission(const Color& e, const Color& sigma_t, float d) {
+  Color out(0.0f);
+  for (int i = 0; i < 3; ++i) {
+    if (!(e[i] > 0.0f)) continue;
+    if (sigma_t[i] > 0.0f) {
+      out[i] = e[i] * -std::expm1(-sigma_t[i] * d) / sigma_t[i];
+    } else if (std::isfinite(d)) {
+      out[i] = e[i] * d;
+    }
+  }
+  return out;
+}
+
 // The optical depth integral of sigma_t over [from, to] along a feeler (its kind and
 // `context` what the programs' Light Path inputs read) inside `media`, some of them
 // heterogeneous, by the midpoint of each step. `to` may be infinite (a feeler to the sun
 // from inside an open mesh): the heterogeneous media end at their objects' boxes, and
-// constant ones beyond are the caller's (media_transmittance).
+// constant ones beyond are the caller's (media_transmittance). With `glow`, adds what the
+// media emit towards `from` on the way, each step's emission dimmed by the steps before.
 inline Color optical_depth(const CompiledScene& scene, const Settings& settings,
                            const RayContext& context, const Ray& feeler, float from, float to,
-                           const MediumStack& media, RayCounts* counts) {
+                           const MediumStack& media, RayCounts* counts, Color* glow = nullptr) {
   const float end = std::min(to, march_reach(scene, media, feeler));
   if (!(end > from)) return Color(0.0f);
   const Steps steps = march_steps(end - from, march_step(scene, settings, media),
@@ -133,7 +153,11 @@ inline Color optical_depth(const CompiledScene& scene, const Settings& settings,
     const Vec3 x = feeler.origin + (from + steps.shaded(i)) * feeler.direction;
     const Medium c = medium_at(scene, media, x, feeler, context);
     counts->volume_steps += 1;
-    depth += c.extinction() * (steps.end(i) - steps.start(i));
+    const float length = steps.end(i) - steps.start(i);
+    if (glow != nullptr) {
+      *glow += glm::exp(-depth) * medium_emission(c.emission, c.extinction(), length);
+    }
+    depth += c.extinction() * length;
     // Past this nothing gets through (Cycles checks every 8th step, to the same end).
     if (std::exp(-std::min({depth.x, depth.y, depth.z})) < limits::kVolumeOpaque) break;
   }

@@ -26,16 +26,25 @@ inline Color transmittance(const Color& sigma_t, float d) {
   return out;
 }
 
-// The transmittance of the media a feeler crosses between its origin and its end (the
-// volume bounds only: glass with a volume lets its surface's tint through, shadow.h).
-// Which media enclose its origin is read off the feeler's own line, walked past its end to
-// the world: a bound it leaves without having entered it encloses the origin (as media_at
-// finds the camera's), so a feeler needs nothing of the media stack of the ray it left and
-// the recursion and the waves give the same answer. Heterogeneous media are marched
-// (march.h); `depth` is the feeler's node's, for their programs.
-template <uint32_t kEffects, class Queries>
-Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler, int depth,
-                          RayCounts* counts) {
+// What the media a feeler crosses between its origin and its end send towards its origin:
+// what they let through from its end, and (kGlow) what they emit on the way, each
+// stretch's emission dimmed by the media before it (a glowing medium lighting a surface,
+// integrator/lights.h).
+struct MediaAlong {
+  Color transmittance{1.0f};
+  Color emitted{0.0f};
+};
+
+// MediaAlong of a feeler (the volume bounds only: glass with a volume lets its surface's
+// tint through, shadow.h). Which media enclose its origin is read off the feeler's own
+// line, walked past its end to the world: a bound it leaves without having entered it
+// encloses the origin (as media_at finds the camera's), so a feeler needs nothing of the
+// media stack of the ray it left and the recursion and the waves give the same answer.
+// Heterogeneous media are marched (march.h); `depth` is the feeler's node's, for their
+// programs.
+template <bool kGlow, uint32_t kEffects, class Queries>
+MediaAlong media_along(const KernelInputs<kEffects, Queries>& in, const Ray& feeler, int depth,
+                       RayCounts* counts) {
   struct Bound {
     float t;
     uint32_t material;
@@ -76,10 +85,15 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
   // infinity (t_max, or past the heterogeneous media's boxes) lets `beyond` through.
   Color optical(0.0f);
   Color beyond(1.0f);
+  Color emitted(0.0f);
   float from = 0.0f;
   const RayContext context{&in.camera, depth};
   const auto constant = [&](const Medium& m, float start, float to) {
     if (m.empty()) return;
+    if constexpr (kGlow) {
+      emitted += transmittance(optical, 1.0f) * beyond *
+                 medium_emission(m.emission, m.extinction(), to - start);
+    }
     if (std::isinf(to)) {
       beyond *= transmittance(m.extinction(), to);
     } else {
@@ -88,7 +102,11 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
   };
   const auto cross = [&](float to) {
     if (heterogeneous(in.scene, media)) {
-      optical += optical_depth(in.scene, in.settings, context, feeler, from, to, media, counts);
+      Color glow(0.0f);
+      const Color before = transmittance(optical, 1.0f) * beyond;
+      optical += optical_depth(in.scene, in.settings, context, feeler, from, to, media, counts,
+                               kGlow ? &glow : nullptr);
+      if constexpr (kGlow) emitted += before * glow;
       // Past their boxes only the media of constant coefficients are left.
       const float reach = std::max(from, march_reach(in.scene, media, feeler));
       if (to > reach) constant(medium_at(in.scene, media), reach, to);
@@ -107,8 +125,16 @@ Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& 
       media.leave(b.material);
     }
   }
-  cross(std::max(feeler.t_max, from));           // t_max may be infinite
-  return transmittance(optical, 1.0f) * beyond;  // exp(-optical)
+  cross(std::max(feeler.t_max, from));                      // t_max may be infinite
+  return {transmittance(optical, 1.0f) * beyond, emitted};  // exp(-optical)
+}
+
+// The transmittance of the media a feeler crosses between its origin and its end
+// (media_along's, without their emission).
+template <uint32_t kEffects, class Queries>
+Color media_transmittance(const KernelInputs<kEffects, Queries>& in, const Ray& feeler, int depth,
+                          RayCounts* counts) {
+  return media_along<false>(in, feeler, depth, counts).transmittance;
 }
 
 }  // namespace whitted

@@ -74,23 +74,6 @@ inline DrawnDistance by_transmittance(float length, float sigma, float u) {
   return {t, sigma * std::exp(-sigma * t) / kept};
 }
 
-// What a medium of constant extinction sigma_t and emission e emits over a length d (the
-// segment's, or a marched step's; infinite for a ray escaping inside an open mesh), seen
-// from its start: integral_0^d exp(-sigma_t t) e dt, per channel (e d where sigma_t is 0,
-// none over an infinite d then).
-inline Color medium_emission(const Color& e, const Color& sigma_t, float d) {
-  Color out(0.0f);
-  for (int i = 0; i < 3; ++i) {
-    if (!(e[i] > 0.0f)) continue;
-    if (sigma_t[i] > 0.0f) {
-      out[i] = e[i] * -std::expm1(-sigma_t[i] * d) / sigma_t[i];
-    } else if (std::isfinite(d)) {
-      out[i] = e[i] * d;
-    }
-  }
-  return out;
-}
-
 // What of the light arriving at x = r(drawn.t) from direction wi the medium sends back
 // towards r's origin, per unit of that light, before its feeler: T(t) sigma_s phase / pdf(t).
 inline Color scattered_share(const Medium& m, const Ray& r, const DrawnDistance& drawn,

@@ -301,6 +301,13 @@ struct Material : MaterialParams {
     return !is_black(volume_absorption) || !is_black(volume_scattering) ||
            !is_black(volume_emission) || heterogeneous();
   }
+  // Whether its medium emits somewhere: a positive constant emission (a channel of it)
+  // or a program's (a glowing medium lights surfaces: integrator/lights.h).
+  bool glows() const {
+    const bool constant =
+        volume_emission.x > 0.0f || volume_emission.y > 0.0f || volume_emission.z > 0.0f;
+    return constant || driven(kVolumeEmissionField);
+  }
   // Whether a program drives its medium (integrator/heterogeneous.h): its coefficients
   // vary from point to point.
   bool heterogeneous() const {

@@ -74,6 +74,34 @@ bool surfaceless(const std::vector<Material>& materials, const CompiledScene::In
                      [&](uint32_t m) { return !materials[m].surface; });
 }
 
+// Whether `instance` bounds a glowing medium (Material::glows): a slot of its mesh whose
+// material has no surface and a volume that emits.
+bool glowing_medium(const std::vector<Material>& materials,
+                    const CompiledScene::Instance& instance) {
+  const size_t slots = std::min(instance.mesh->slots, instance.materials.size());
+  return std::any_of(instance.materials.begin(), instance.materials.begin() + slots,
+                     [&](uint32_t m) { return !materials[m].surface && materials[m].glows(); });
+}
+
+// The world box of `instance`'s mesh wherever the shutter takes it: its world_box, and
+// the box placed by each step of its motion.
+Box box_over_shutter(const CompiledScene::Instance& instance) {
+  Box out = instance.world_box;
+  const Box& box = instance.mesh->box;
+  if (!instance.motion || box.empty()) return out;
+  for (const glm::mat4& m : instance.motion->steps()) {
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 p((corner & 1) != 0 ? box.upper.x : box.lower.x,
+                   (corner & 2) != 0 ? box.upper.y : box.lower.y,
+                   (corner & 4) != 0 ? box.upper.z : box.lower.z);
+      const Vec3 placed = transform_point(m, p);
+      out.lower = glm::min(out.lower, placed);
+      out.upper = glm::max(out.upper, placed);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Scene::Scene() : device_(std::make_shared<AccelDevice>()) {}
@@ -414,6 +442,12 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     compiled->shadow_sets.push_back(out.links.shadow_set);
     compiled->light_linking = compiled->light_linking || out.links.linked();
     compiled->moves = compiled->moves || out.motion != nullptr || out.mesh->mesh.deforms();
+    if (glowing_medium(compiled->materials, out)) {
+      const Box box = box_over_shutter(out);
+      const Vec3 centre = 0.5f * (box.lower + box.upper);
+      compiled->glowing.push_back({static_cast<uint32_t>(compiled->instances.size()), centre,
+                                   0.5f * glm::length(box.upper - box.lower)});
+    }
     compiled->instances.push_back(std::move(out));
   }
   if (!state_.accel || masks != state_.accel_masks) {

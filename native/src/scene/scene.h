@@ -207,6 +207,15 @@ struct CompiledScene {
   std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
+  // The media that glow (Material::glows, in a mesh without a surface), each by the
+  // sphere around its instance's box over the shutter: where a surface's glow feelers
+  // aim (integrator/lights.h).
+  struct Glow {
+    uint32_t instance;
+    Vec3 centre;
+    float radius;
+  };
+  std::vector<Glow> glowing;
   // The emissive meshes shadow feelers sample (scene/mesh_light.h); never null.
   std::shared_ptr<const MeshLights> mesh_lights;
   Color background{0.0f};  // where there is no world program
