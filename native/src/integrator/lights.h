@@ -1,8 +1,8 @@
 // The local term: the surface's emission, its ambient term, and the light it receives
 // from each lamp, emissive mesh (emitter), the world and glowing medium through their
-// samples, each a Phong sum
-// (local.h) gated by its shadow feeler (shadow.h). Where a feeler goes is the kernel's
-// policy (kernel.h): traced now in the recursion, queued in a wave (wave.h).
+// samples, each a Phong sum (local.h) gated by its shadow feeler (shadow.h). Where a
+// feeler goes is the kernel's policy (kernel.h): traced now in the recursion, queued in a
+// wave (wave.h).
 #pragma once
 
 #include <algorithm>
