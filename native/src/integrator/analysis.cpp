@@ -124,11 +124,11 @@ std::string scattered_light(const CompiledScene& scene, const Effects& effects) 
 }
 
 // What the volumes' report line says of glowing media (CompiledScene::glowing): that
-// their glow lights surfaces (integrator/lights.h glow), or nothing.
+// their glow lights surfaces and media (integrator/glow.h), or nothing.
 std::string glow_why(size_t glowing) {
   if (glowing == 0) return "";
   return "; the glow of " + thousands(glowing) + (glowing == 1 ? " object" : " objects") +
-         " lights surfaces (feelers aimed at it)";
+         " lights surfaces and media (feelers aimed at it)";
 }
 
 // The report's reason for the volumes: "1 object: homogeneous, ..." or, with media a

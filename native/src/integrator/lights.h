@@ -13,16 +13,15 @@
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
+#include "integrator/glow.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/local.h"
 #include "integrator/mis.h"
 #include "integrator/shading_point.h"
 #include "integrator/shadow.h"
 #include "integrator/strata.h"
-#include "integrator/transmittance.h"
 #include "scene/light.h"
 #include "scene/mesh_light.h"
-#include "scene/microfacet.h"
 #include "scene/world_light.h"
 
 namespace whitted {
@@ -57,38 +56,6 @@ struct PreparedSample {
   bool dark;             // pruned: it adds nothing
   bool sends_feeler;
 };
-
-// The directions from a point towards a glowing medium's sphere (CompiledScene::Glow):
-// the cone it fills, or every direction from inside it; drawn uniformly.
-struct GlowCone {
-  Vec3 axis{0.0f, 0.0f, 1.0f};
-  float cos_max = -1.0f;  // -1: the whole sphere of directions
-  GlowCone(const CompiledScene::Glow& g, const Vec3& from) {
-    const Vec3 to = g.centre - from;
-    const float d2 = glm::dot(to, to);
-    if (d2 > g.radius * g.radius) {
-      axis = to / std::sqrt(d2);
-      cos_max = std::sqrt(1.0f - g.radius * g.radius / d2);
-    }
-  }
-  // Per steradian, uniform over the cone.
-  float pdf() const { return 1.0f / (2.0f * kPi * (1.0f - cos_max)); }
-  bool holds(const Vec3& wi) const { return glm::dot(wi, axis) >= cos_max; }
-  Vec3 draw(const glm::vec2& u) const {
-    const float cos_theta = 1.0f - u.x * (1.0f - cos_max);
-    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-    const float phi = 2.0f * kPi * u.y;
-    return Frame(axis).to_world({sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta});
-  }
-};
-
-// Where a ray from `from` along unit `wi` leaves a glowing medium's sphere (0: it misses).
-inline float sphere_exit(const CompiledScene::Glow& g, const Vec3& from, const Vec3& wi) {
-  const Vec3 to = g.centre - from;
-  const float b = glm::dot(to, wi);
-  const float h2 = g.radius * g.radius - (glm::dot(to, to) - b * b);
-  return h2 > 0.0f ? std::max(0.0f, b + std::sqrt(h2)) : 0.0f;
-}
 
 // The local term of one kernel (kernel.h), made for each surface it shades: the
 // kernel's inputs, its recorder (told each sample's terms) and its policy.
@@ -266,12 +233,9 @@ class Lights {
   // The feelers to glowing media (CompiledScene::glowing): a medium's emission lights
   // surfaces, as Cycles' diffuse rays gather it even with no bounce. For each glowing
   // object n x n directions (n = Emitter Samples, as the emitter feelers') uniform in the
-  // cone of its sphere, each marched through the media (media_along) up to the first
-  // surface or past every sphere, over the densities of all the cones holding it summed
-  // (the balance heuristic: objects whose cones overlap are not counted twice). The march
-  // is its shadow feeler: it stops where a surface blocks it and dims the glow by the
-  // media in front. The GGX lobe's share is left to the glossy rays, which meet the same
-  // glow (mis 0).
+  // cone of its sphere, each bringing what glow_along finds (its march is its shadow
+  // feeler). The GGX lobe's share is left to the glossy rays, which meet the same glow
+  // (mis 0).
   [[gnu::noinline]] void glow(const ShadingPoint& p, const NodeState& state, RayCounts* counts,
                               Color* phong) const {
     const std::vector<CompiledScene::Glow>& glowing = in_.scene.glowing;
@@ -288,23 +252,10 @@ class Lights {
       out.sample.wi = wi;
       // Behind the surface it adds nothing: no march.
       if (glm::dot(p.ns, wi) <= 0.0f) return out;
-      float density = 0.0f;
-      float reach = 0.0f;
-      for (const CompiledScene::Glow& other : glowing) {
-        const GlowCone cone(other, origin);
-        if (cone.holds(wi)) density += cone.pdf();
-        reach = std::max(reach, sphere_exit(other, origin, wi));
-      }
-      if (!(density > 0.0f) || !(reach > 0.0f)) return out;
-      // Every surface a shadow feeler meets stops it (glass too: no caustics).
-      Ray feeler = spawn_ray(origin, p.it.position_error, p.ng, p.it.time, wi, kShadowRay, reach);
-      feeler.kind = kOpaqueShadowRay | kTranslucentShadowRay;
-      Hit hit;
-      if (in_.queries.intersect(feeler, &hit)) feeler.t_max = std::min(feeler.t_max, hit.t);
-      counts->volume_feelers += 1;
-      const MediaAlong along = media_along<true>(in_, feeler, state.depth + 1, counts);
-      out.sample.distance = feeler.t_max;
-      out.sample.irradiance = along.emitted * (strata.share / density);
+      const Ray feeler = spawn_ray(origin, p.it.position_error, p.ng, p.it.time, wi, kShadowRay);
+      const GlowArriving glow = glow_along(in_, feeler, state.depth + 1, counts);
+      out.sample.distance = glow.distance;
+      out.sample.irradiance = glow.radiance * strata.share;
       return out;
     };
     feelers(p, count, draw, state, counts, phong);

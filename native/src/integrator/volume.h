@@ -18,6 +18,7 @@
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
+#include "integrator/glow.h"
 #include "integrator/kernel_inputs.h"
 #include "integrator/ray_tree.h"
 #include "integrator/shadow.h"
@@ -229,7 +230,43 @@ template <uint32_t kEffects, class Queries, class Recorder, class Segment>
   return radiance;
 }
 
-// The light of every lamp, emissive mesh and the world that `segment` of ray r (its
+// The single scattering of the glowing media's light along a segment (the surfaces' glow
+// feelers, lights.h, from points in the medium; glow.h): for each glowing object
+// Emitter Samples x Emitter Samples directions in the cone of its sphere, each seen from
+// its own distance along the segment, drawn by transmittance, and marched (glow_along).
+// A fire's smoke scatters its own flames' light so. Out of line: only scenes with glowing
+// media call it.
+template <uint32_t kEffects, class Queries, class Recorder, class Segment>
+[[gnu::noinline]] Color scattered_glow(const KernelInputs<kEffects, Queries>& in,
+                                       Recorder& recorder, const Ray& r, const Segment& segment,
+                                       const NodeState& state, int layer, RayCounts* counts) {
+  const std::vector<CompiledScene::Glow>& glowing = in.scene.glowing;
+  Color radiance(0.0f);
+  for (size_t object = 0; object < glowing.size(); ++object) {
+    const CompiledScene::Glow& g = glowing[object];
+    const SegmentDraws draws(
+        state, in.settings.emitter_samples,
+        0x76676c00u ^ (static_cast<uint32_t>(object) << 8) ^ static_cast<uint32_t>(layer),
+        jittered_samples(in.settings));
+    for (int k = 0; k < draws.light.count(); ++k) {
+      const DrawnDistance drawn = segment.drawn(draws.along.point(k).x);
+      if (!(drawn.pdf > 0.0f)) continue;
+      const Vec3 x = r.origin + drawn.t * r.direction;
+      const Vec3 wi = GlowCone(g, x).draw(draws.light.point(k));
+      const Color share = segment.share(r, drawn, wi);
+      if (is_black(share)) continue;  // a marched step that scatters nothing
+      const Ray feeler{x, wi, 0.0f, kInfinity, kShadowRay, r.time};
+      const GlowArriving glow = glow_along(in, feeler, state.depth + 1, counts);
+      const Color arriving = share * glow.radiance * draws.light.share;
+      recorder.scatter(Ray{x, wi, 0.0f, glow.distance, kShadowRay, r.time}, arriving, -1,
+                       static_cast<int32_t>(g.instance), state.depth);
+      radiance += arriving;
+    }
+  }
+  return radiance;
+}
+
+// The light of every lamp, emissive mesh, the world and glowing medium that `segment` of ray r (its
 // medium's coefficients, ConstantSegment or a MarchedSegment) scatters once towards r's
 // origin: integral of T(t) sigma_s phase E(x(t)) S(x(t)) dt (E a light's irradiance at
 // x(t), S what its feeler lets through; each feeler told to the recorder), estimated from
@@ -280,6 +317,9 @@ Color scattered_lights(const KernelInputs<kEffects, Queries>& in, Recorder& reco
   if (in.emitters) scattered += scattered_emitters(in, recorder, r, segment, state, layer, counts);
   if (in.lit_by_world(state.depth)) {
     scattered += scattered_world(in, recorder, r, segment, state, layer, counts);
+  }
+  if (!scene.glowing.empty()) {
+    scattered += scattered_glow(in, recorder, r, segment, state, layer, counts);
   }
   return scattered;
 }
