@@ -96,7 +96,10 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
             f"shutter ({names}); their movement blurs, their deformation cannot (as in Cycles)"
         )
     if sync.light_count == 0 and not sync.world_lights:
-        warnings.append("Whitted: the scene has no lights; only ambient light and emission show")
+        warnings.append(
+            "Whitted: the scene has no lamps and no world light; only what emits (surfaces, "
+            "glowing media) and the ambient light light it"
+        )
     film = convert_film(scene, camera.width, camera.height)
     return Frame(
         sync=sync,

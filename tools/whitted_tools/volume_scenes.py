@@ -1,7 +1,8 @@
 """The scenes of issue 48's media, shared by tests/blender/test_volume.py, the tests that
 render media (the ray-tree inspector's, the passes') and the benchmarks: a fog box on a
 floor lit by a lamp, an emitter or the world; a procedural cloud; a Volume object's grid
-(a Mesh to Volume sphere). Each builder fills the scene it is given (in Blender)."""
+(a Mesh to Volume sphere); a fire lighting the floor. Each builder fills the scene it is
+given (in Blender)."""
 
 import bpy
 import numpy as np
@@ -126,6 +127,41 @@ def cloud_stage(scene, lamp="SPOT"):
         add_object(scene, "Sun", sun).rotation_euler = facing((0.3, 0.4, -1.0))
     elif lamp in ("PANEL", "HDRI"):
         add_light(scene, lamp.lower())
+    return scene
+
+
+def fire(tree):
+    """A Principled Volume of grey smoke (Density 1, Color 0.5) glowing as a black body
+    (Blackbody Intensity 1) at a temperature a Noise Texture of the Generated coordinates
+    drives from 800 K to 2000 K: flames from dull red to orange, their light scattered by
+    their own smoke."""
+    volume = nodes(
+        tree,
+        "ShaderNodeVolumePrincipled",
+        Density=1.0,
+        Color=(0.5, 0.5, 0.5, 1.0),
+        **{"Blackbody Intensity": 1.0},
+    )
+    noise = nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
+    remap = nodes(
+        tree,
+        "ShaderNodeMapRange",
+        **{"From Min": 0.3, "From Max": 0.7, "To Min": 800.0, "To Max": 2000.0},
+    )
+    tree.links.new(noise.outputs["Fac"], remap.inputs["Value"])
+    tree.links.new(remap.outputs["Result"], volume.inputs["Temperature"])
+    return volume.outputs[0]
+
+
+def fire_stage(scene):
+    """The fog stage's floor and box, no fog and no lamp: a cube of fire (edge 2, fire())
+    beside the box, the only light, lighting the floor and the box and scattered by its
+    smoke."""
+    fog_stage(scene)
+    for name in ("Fog", "Spot"):
+        bpy.data.objects.remove(scene.objects[name])
+    flames = add_object(scene, "Fire", cube_mesh("Fire", 2.0), location=(-1.5, 0.0, 1.2))
+    flames.data.materials.append(volume_material("Fire", fire))
     return scene
 
 

@@ -5,7 +5,7 @@ its default noise: docs/VOLUMES.md (issue 48's Proof).
 
 Runs in the bpy module (Cycles' denoiser). For each scene of whitted_tools.volume_scenes
 (a spot-lit fog box, a procedural cloud lit by a spot and by the forest HDRI, a Volume
-object's grid), at --resolution:
+object's grid, a fire that lights the floor), at --resolution:
 
 - the reference: Cycles with REFERENCE_SAMPLES samples a pixel, volume bounces 0 and the
   light paths Whitted traces (bench.noise's set_cycles), no threshold, not denoised;
@@ -54,6 +54,7 @@ SCENES = (
         lambda s: volume_scenes.smoke_stage(s, "material"),
         ("Smoke",),
     ),
+    ("fire", "fire lighting the floor (its glow)", volume_scenes.fire_stage, ("Fire",)),
 )
 
 
