@@ -382,6 +382,19 @@ def test_a_volume_objects_grid_renders_as_cycles(case, empty_scene, tmp_path, mo
     assert "a Volume object's grids" in _volumes_why(stats), stats
 
 
+def test_a_camera_inside_a_volume_objects_grid_renders_as_cycles(
+    empty_scene, tmp_path, monkeypatch
+):
+    # The camera in the Mesh to Volume sphere's smoke, looking across it at the box: the
+    # media around it are found along its rays' lines through the grid's mesh of blocks
+    # (a union of cubes, not convex), as for a fog box.
+    scene = smoke_stage(empty_scene, "material")
+    camera = scene.camera
+    camera.location, camera.rotation_euler = (0.0, -0.6, 2.4), facing((0.3, 1.0, -0.3))
+    stats = _fog_against_cycles(scene, tmp_path, monkeypatch, label="smoke (camera inside)")
+    assert "a Volume object's grids" in _volumes_why(stats), stats
+
+
 def _fcurves(action):
     """An action's F-curves: its own list before Blender 5.0, its layers' strips' channel
     bags' from 5.0 (slotted actions)."""
