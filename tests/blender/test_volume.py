@@ -21,7 +21,7 @@ from whitted import stats as whitted_stats
 from whitted.export.material import convert_material
 from whitted.sync.frame import sync_frame
 from whitted_tools.blender import blender_command
-from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
+from whitted_tools.cycles_scenes import read_rgba, render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import glass_bsdf_material, lambert_material
 from whitted_tools.metrics import luminance
 from whitted_tools.scenes import (
@@ -409,18 +409,6 @@ def _fcurves(action):
     ]
 
 
-def _rgba(path):
-    """The pixels of the EXR at `path`, float32[height, width, 4]."""
-    image = bpy.data.images.load(str(path))
-    try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)
-
-
 def test_a_moving_volume_object_blurs_as_cycles(empty_scene, tmp_path, monkeypatch):
     # The Mesh to Volume sphere (its source parented to it, so its grid moves with it)
     # crossing the frame during the shutter: its grids are read where the object stands
@@ -443,7 +431,7 @@ def test_a_moving_volume_object_blurs_as_cycles(empty_scene, tmp_path, monkeypat
     # The smear, held to a closer likeness than the suite's bound. Seen: SSIM 0.9993
     # (Blender 3.4) and 0.9994 (bpy 5.0); with its grids read where the frame puts them
     # (its mesh alone moving) 0.9930 and 0.9865; with nothing of it moving 0.9926 (3.4).
-    cycles, whitted = (_rgba(tmp_path / f"{name}.exr") for name in ("cycles", "whitted"))
+    cycles, whitted = (read_rgba(tmp_path / f"{name}.exr") for name in ("cycles", "whitted"))
     assert compare(cycles, whitted)[1] >= 0.997
 
 

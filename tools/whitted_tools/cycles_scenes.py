@@ -308,7 +308,13 @@ def render_rgba(scene, engine, path):
     settings.color_mode = "RGBA"
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(path)
+    return read_rgba(path)
+
+
+def read_rgba(path):
+    """The pixels of the image file at `path` as Blender reads them: float32[height,
+    width, 4], bottom row first."""
+    image = bpy.data.images.load(str(path))
     try:
         width, height = image.size
         pixels = np.empty(width * height * 4, dtype=np.float32)
