@@ -65,7 +65,7 @@ def test_report_on_a_tiny_scene(tmp_path):
         if re.match(r"\| [^-|][^|]* \| \d", line) and line.count("|") == 9
     ]
     tables = text.count("| setting | time (s) |")
-    assert tables == 13  # twelve controls (the denoiser among them) and the presets
+    assert tables == 14  # thirteen controls (the denoiser, the volume step rate) and the presets
     assert len(rows) >= 40
     for row in rows:
         cells = [cell.strip().replace(",", "") for cell in row.strip("|").split("|")[1:]]
