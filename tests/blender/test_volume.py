@@ -21,6 +21,7 @@ from whitted import stats as whitted_stats
 from whitted.export.material import convert_material
 from whitted.sync.frame import sync_frame
 from whitted_tools.blender import blender_command
+from whitted_tools.camera_scenes import linear_keys
 from whitted_tools.cycles_scenes import read_rgba, render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import glass_bsdf_material, lambert_material
 from whitted_tools.metrics import luminance
@@ -395,20 +396,6 @@ def test_a_camera_inside_a_volume_objects_grid_renders_as_cycles(
     assert "a Volume object's grids" in _volumes_why(stats), stats
 
 
-def _fcurves(action):
-    """An action's F-curves: its own list before Blender 5.0, its layers' strips' channel
-    bags' from 5.0 (slotted actions)."""
-    if hasattr(action, "fcurves"):
-        return list(action.fcurves)
-    return [
-        curve
-        for layer in action.layers
-        for strip in layer.strips
-        for bag in strip.channelbags
-        for curve in bag.fcurves
-    ]
-
-
 def test_a_moving_volume_object_blurs_as_cycles(empty_scene, tmp_path, monkeypatch):
     # The Mesh to Volume sphere (its source parented to it, so its grid moves with it)
     # crossing the frame during the shutter: its grids are read where the object stands
@@ -419,9 +406,7 @@ def test_a_moving_volume_object_blurs_as_cycles(empty_scene, tmp_path, monkeypat
     for frame, x in ((1, -1.2), (3, 1.2)):
         smoke.location = (x, 0.0, 0.0)
         smoke.keyframe_insert("location", frame=frame)
-    for curve in _fcurves(smoke.animation_data.action):
-        for key in curve.keyframe_points:
-            key.interpolation = "LINEAR"
+    linear_keys(smoke)
     scene.frame_set(2)
     scene.render.use_motion_blur = True
     scene.render.motion_blur_shutter = 1.0
@@ -609,13 +594,17 @@ FIREBALL = textwrap.dedent(
 )
 
 
+def _differs_in_cycles_5(reason):
+    """A strict xfail in Blender 5.0 and later, where Cycles renders the case otherwise
+    than 3.4 does (`reason`: how, and what is known of why)."""
+    return pytest.mark.xfail(bpy.app.version >= (5, 0, 0), strict=True, reason=reason)
+
+
 FIREBALLS = [
     pytest.param(
         "temperature",
-        marks=pytest.mark.xfail(
-            bpy.app.version >= (5, 0, 0),
-            strict=True,
-            reason="Cycles 5.0.1 and 5.2.3 render this fire brighter than 3.4 does (summed red "
+        marks=_differs_in_cycles_5(
+            "Cycles 5.0.1 and 5.2.3 render this fire brighter than 3.4 does (summed red "
             "72.3 against 66.6; Whitted 67.1 and 66.6): Whitted's summed luminance is 0.940 of "
             "Cycles 5.0.1's, SSIM 0.987. It comes with the Principled Volume's blackbody: in "
             "5.0.1 its glow alone is 1.05 times that of Emission and Blackbody nodes fed the "
@@ -628,10 +617,8 @@ FIREBALLS = [
     # 3.4, seen: 1.0055, SSIM 0.9999 (0.64 of Cycles' with the ball's box as the mesh).
     pytest.param(
         "constant",
-        marks=pytest.mark.xfail(
-            bpy.app.version >= (5, 0, 0),
-            strict=True,
-            reason="Cycles 5.0.1 renders this file's constant-temperature glow dimmer: "
+        marks=_differs_in_cycles_5(
+            "Cycles 5.0.1 renders this file's constant-temperature glow dimmer: "
             "Whitted's summed luminance is 1.82 of its, SSIM 0.705 (with the black world; "
             "1.36 without); as if 5.0 glowed nearer the ball than the blocks of 3.4's mesh; "
             "not explained",
@@ -694,10 +681,8 @@ FIRE_BAKE = textwrap.dedent(
 )
 
 
-@pytest.mark.xfail(
-    bpy.app.version >= (5, 0, 0),
-    strict=True,
-    reason="Cycles 5.0.1 renders this fire brighter than 3.4 does (summed red 40.3 against "
+@_differs_in_cycles_5(
+    "Cycles 5.0.1 renders this fire brighter than 3.4 does (summed red 40.3 against "
     "31.9; Whitted 32.4 and 31.9): Whitted's summed luminance is 0.775 of Cycles 5.0.1's, "
     "SSIM 0.975; as with the fireball, by more here (docs/notes/fireball_cycles5.md)",
 )
