@@ -164,8 +164,7 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
   }
   for (const float* t : layers.tangents)
     mesh.tangents.push_back(finite_copy(t, 12 * triangle_count));
-  // The bounds of the vertices, as Blender's automatic texture space: a flat axis gets
-  // size 1 and a tiny one 1e-5, so generated coordinates stay finite.
+  // The bounds of the vertices, as Blender's automatic texture space.
   if (vertex_count > 0) {
     Vec3 lo = mesh.vertex(0);
     Vec3 hi = lo;
@@ -173,13 +172,17 @@ Mesh make_mesh(const float* positions, size_t vertex_count, const uint32_t* tria
       lo = glm::min(lo, mesh.vertex(i));
       hi = glm::max(hi, mesh.vertex(i));
     }
-    mesh.texspace_location = 0.5f * (lo + hi);
-    for (int k = 0; k < 3; ++k) {
-      const float half = 0.5f * (hi[k] - lo[k]);
-      mesh.texspace_size[k] = half == 0.0f ? 1.0f : std::max(half, 1e-5f);
-    }
+    fit_texspace(lo, hi, &mesh);
   }
   return mesh;
+}
+
+void fit_texspace(const Vec3& lo, const Vec3& hi, Mesh* mesh) {
+  mesh->texspace_location = 0.5f * (lo + hi);
+  for (int k = 0; k < 3; ++k) {
+    const float half = 0.5f * (hi[k] - lo[k]);
+    mesh->texspace_size[k] = half == 0.0f ? 1.0f : std::max(half, 1e-5f);
+  }
 }
 
 std::vector<float> vertex_normals(const float* positions, size_t vertex_count,

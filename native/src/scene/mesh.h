@@ -138,6 +138,10 @@ struct Box {
 };
 Box bounding_box(const Mesh& mesh);
 
+// Sets `mesh`'s texture space to the box [lo, hi], as Blender's automatic one: a flat axis
+// gets size 1 and a tiny one 1e-5, so generated coordinates stay finite.
+void fit_texspace(const Vec3& lo, const Vec3& hi, Mesh* mesh);
+
 // A bounding sphere of a mesh's vertices (about its box's centre; radius 0 for a mesh
 // without vertices): its extent, for estimates made before tracing (camera packets).
 struct Sphere {

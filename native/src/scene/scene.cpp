@@ -83,22 +83,25 @@ bool glowing_medium(const std::vector<Material>& materials,
                      [&](uint32_t m) { return !materials[m].surface && materials[m].glows(); });
 }
 
+// Extends *out by the eight corners of `box` (not empty) placed by `to_world`.
+void extend_placed(const Box& box, const glm::mat4& to_world, Box* out) {
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) != 0 ? box.upper.x : box.lower.x,
+                 (corner & 2) != 0 ? box.upper.y : box.lower.y,
+                 (corner & 4) != 0 ? box.upper.z : box.lower.z);
+    const Vec3 placed = transform_point(to_world, p);
+    out->lower = glm::min(out->lower, placed);
+    out->upper = glm::max(out->upper, placed);
+  }
+}
+
 // The world box of `instance`'s mesh wherever the shutter takes it: its world_box, and
 // the box placed by each step of its motion.
 Box box_over_shutter(const CompiledScene::Instance& instance) {
   Box out = instance.world_box;
   const Box& box = instance.mesh->box;
   if (!instance.motion || box.empty()) return out;
-  for (const glm::mat4& m : instance.motion->steps()) {
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 p((corner & 1) != 0 ? box.upper.x : box.lower.x,
-                   (corner & 2) != 0 ? box.upper.y : box.lower.y,
-                   (corner & 4) != 0 ? box.upper.z : box.lower.z);
-      const Vec3 placed = transform_point(m, p);
-      out.lower = glm::min(out.lower, placed);
-      out.upper = glm::max(out.upper, placed);
-    }
-  }
+  for (const glm::mat4& m : instance.motion->steps()) extend_placed(box, m, &out);
   return out;
 }
 
@@ -379,14 +382,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     out.mesh = mesh->second;
     out.placement = Placement::of(instance.to_world);
     if (const Box& box = out.mesh->box; !box.empty()) {
-      for (int corner = 0; corner < 8; ++corner) {
-        const Vec3 p((corner & 1) != 0 ? box.upper.x : box.lower.x,
-                     (corner & 2) != 0 ? box.upper.y : box.lower.y,
-                     (corner & 4) != 0 ? box.upper.z : box.lower.z);
-        const Vec3 placed = transform_point(instance.to_world, p);
-        out.world_box.lower = glm::min(out.world_box.lower, placed);
-        out.world_box.upper = glm::max(out.world_box.upper, placed);
-      }
+      extend_placed(box, instance.to_world, &out.world_box);
     }
     // Motion whose every sample can be inverted (Embree inverts the blend); a sample of
     // zero scale (an object shrinking to nothing) leaves it at the frame's transform.

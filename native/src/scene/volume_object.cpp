@@ -171,11 +171,7 @@ Mesh VolumeObject::bound_mesh() const {
                         triangles.size() / 3, nullptr, nullptr);
   // Generated coordinates span the grids' reach, not the blocks'.
   const Box3 reach = interpolated_bounds();
-  mesh.texspace_location = 0.5f * (reach.lower + reach.upper);
-  for (int k = 0; k < 3; ++k) {
-    const float half = 0.5f * (reach.upper[k] - reach.lower[k]);
-    mesh.texspace_size[k] = half == 0.0f ? 1.0f : std::max(half, 1e-5f);
-  }
+  fit_texspace(reach.lower, reach.upper, &mesh);
   return mesh;
 }
 
