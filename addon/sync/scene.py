@@ -474,12 +474,12 @@ class SceneSync:
 
     def _volume_instance(self, object_instance, read, view_layer, report):
         """The instance of a Volume object whose grids were read (a sync.volumes.VolumeRead):
-        its mesh (VolumeObject.bound_mesh) set again when its grids were read anew or its
-        Clipping changed, filled
-        by its material read with its grids (grid_material_name)."""
+        its mesh (VolumeObject.bound_mesh) set again when the read built it anew, filled by
+        its material read with its grids (grid_material_name)."""
         key = f"volume:{read.data.name}"
-        if read.remesh or key not in self._geometry:
-            self.scene.set_mesh(key, read.mesh)
+        if read.mesh is not None or key not in self._geometry:
+            mesh = read.mesh if read.mesh is not None else read.native.bound_mesh()
+            self.scene.set_mesh(key, mesh)
             self._geometry[key] = _Geometry(True, None, Sanitised())
             report.meshes += 1
         instance = instance_data(object_instance, key, view_layer, self._info, self._links)

@@ -28,10 +28,11 @@ class VolumeRead:
     key: tuple  # the file they were read from (None for written grids: read each time)
     grids: tuple  # whitted_native.VolumeGrid by export.volume_object.VolumeObjectData.grids
     native: object  # whitted_native.VolumeObject: the grids placed in the world
-    mesh: object  # whitted_native.Mesh: its bound_mesh, rays enter its medium through
     data: VolumeObjectData  # what was exported
-    remesh: bool  # its mesh is to be built anew: its grids were read by this walk (not
-    # kept from the last), or its Clipping, which shapes the mesh, changed
+    # Its bound_mesh (rays enter its medium through it), built by this walk where its
+    # grids were read anew or its Clipping, which shapes the mesh, changed; else None: the
+    # last walk's mesh, the same, stands.
+    mesh: object
 
 
 class VolumeReads:
@@ -89,13 +90,14 @@ class VolumeReads:
         if volume.world_bounds is None:
             self.skipped[name] = (label, f"its grids ({names}) have no active voxels")
             return None
-        mesh = volume.bound_mesh()
-        if mesh.triangle_count == 0:
-            why = f"no voxel of its grids ({names}) reaches its Clipping ({data.clipping:g})"
-            self.skipped[name] = (label, why)
-            return None
-        remesh = fresh or kept.data.clipping != data.clipping
-        read = VolumeRead(label, key, grids, volume, mesh, data, remesh)
+        mesh = None
+        if fresh or kept.data.clipping != data.clipping:
+            mesh = volume.bound_mesh()
+            if mesh.triangle_count == 0:
+                why = f"no voxel of its grids ({names}) reaches its Clipping ({data.clipping:g})"
+                self.skipped[name] = (label, why)
+                return None
+        read = VolumeRead(label, key, grids, volume, data, mesh)
         self.read[name] = read
         return read
 

@@ -121,6 +121,19 @@ def test_an_imported_vdb_is_read_from_its_file_and_placed_by_its_object(stage, n
     moved = _read(frame, "Imported")
     assert moved.grids is kept
     assert moved.native.world_bounds[0][0] == pytest.approx(-2.0, abs=2 * 3.5 * VOXEL)
+    # Its mesh, the same, is not built again; another Clipping (the same file, its grids
+    # kept) builds it anew.
+    assert read.mesh is not None and moved.mesh is None
+    bpy.app.handlers.depsgraph_update_post.append(on_update)
+    try:
+        volume.render.clipping = 1.0
+        volume.update_tag()
+        bpy.context.view_layer.update()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(on_update)
+    clipped = _read(frame, "Imported")
+    assert clipped.grids is kept and clipped.data.clipping == 1.0
+    assert clipped.mesh is not None  # (handed to the scene since: Scene.set_mesh takes it)
 
 
 def test_missing_and_empty_volumes_are_skipped_with_their_reason(stage, native):
