@@ -39,6 +39,7 @@ from whitted_tools.volume_scenes import (
     cloud_stage,
     fog_stage,
     nodes,
+    noise_temperature,
     principled_volume,
     smoke_domain,
     smoke_stage,
@@ -491,19 +492,6 @@ def _fire(temperature=None, tint=(1.0, 1.0, 1.0), density=0.2, colour=0.0):
     return build
 
 
-def _noise_temperature(tree):
-    """A Noise Texture (of the cube's Generated coordinates) mapped from [0.3, 0.7] onto
-    800 K to 2000 K (clamped): flames from dull red to orange."""
-    noise = nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
-    remap = nodes(
-        tree,
-        "ShaderNodeMapRange",
-        **{"From Min": 0.3, "From Max": 0.7, "To Min": 800.0, "To Max": 2000.0},
-    )
-    tree.links.new(noise.outputs["Fac"], remap.inputs["Value"])
-    return remap.outputs["Result"]
-
-
 def _mixed_fire(tree):
     """The smoky fire through a Mix Shader at 0.5 with a Volume Absorption of Density 0.4:
     Cycles 5.0 halves the fire's glow, 3.4 does not (export/volume.py)."""
@@ -530,7 +518,7 @@ FIRES = [
     ("glow", _fire(density=0.0)),  # emission alone
     ("smoke", _fire()),  # and absorption
     ("mixed", _mixed_fire),
-    ("noise", _fire(_noise_temperature)),  # heterogeneous
+    ("noise", _fire(noise_temperature)),  # heterogeneous
     # Its own glow scattered by its smoke (glow.h; before: 0.9318 of Cycles' at Color 0.5,
     # 0.8689 at Color 1, Blender 3.4).
     ("scattering", _fire(colour=0.5)),
@@ -556,7 +544,7 @@ def test_a_fire_lights_the_floor_under_it_as_cycles(case, empty_scene, tmp_path,
     # gather the glow even with no bounce; Whitted's glow feelers aim at the fire's sphere
     # (lights.h). Before them the floor stayed black: Blender 3.4, the glow case, summed
     # luminance 0.83 of Cycles', SSIM 0.72.
-    build = {"glow": _fire(density=0.0), "smoke": _fire(), "noise": _fire(_noise_temperature)}
+    build = {"glow": _fire(density=0.0), "smoke": _fire(), "noise": _fire(noise_temperature)}
     scene = _fire_stage(empty_scene, build[case])
     scene.objects["Fire"].location = (0.0, 0.0, 1.5)
     corners = np.array([(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], dtype=np.float32)
@@ -731,7 +719,7 @@ def test_a_fire_exports_cycles_blackbody_emission(empty_scene):
     np.testing.assert_allclose(data.volume_emission[:2], expected, rtol=1e-5)
     assert data.volume_emission[2] < 0.0
     # A Temperature a texture drives: the emission is the program's.
-    exported = convert_material(volume_material("Flames", _fire(_noise_temperature)), warnings)
+    exported = convert_material(volume_material("Flames", _fire(noise_temperature)), warnings)
     assert not warnings, warnings
     assert "volume_emission" in dict(exported.outputs)
 

@@ -130,18 +130,9 @@ def cloud_stage(scene, lamp="SPOT"):
     return scene
 
 
-def fire(tree):
-    """A Principled Volume of grey smoke (Density 1, Color 0.5) glowing as a black body
-    (Blackbody Intensity 1) at a temperature a Noise Texture of the Generated coordinates
-    drives from 800 K to 2000 K: flames from dull red to orange, their light scattered by
-    their own smoke."""
-    volume = nodes(
-        tree,
-        "ShaderNodeVolumePrincipled",
-        Density=1.0,
-        Color=(0.5, 0.5, 0.5, 1.0),
-        **{"Blackbody Intensity": 1.0},
-    )
+def noise_temperature(tree):
+    """A Noise Texture (of the Generated coordinates) mapped from [0.3, 0.7] onto 800 K to
+    2000 K (clamped): flames from dull red to orange."""
     noise = nodes(tree, "ShaderNodeTexNoise", Scale=3.0)
     remap = nodes(
         tree,
@@ -149,7 +140,20 @@ def fire(tree):
         **{"From Min": 0.3, "From Max": 0.7, "To Min": 800.0, "To Max": 2000.0},
     )
     tree.links.new(noise.outputs["Fac"], remap.inputs["Value"])
-    tree.links.new(remap.outputs["Result"], volume.inputs["Temperature"])
+    return remap.outputs["Result"]
+
+
+def fire(tree):
+    """A Principled Volume of grey smoke (Density 1, Color 0.5) glowing as a black body
+    (Blackbody Intensity 1) at noise_temperature(): flames their own smoke scatters."""
+    volume = nodes(
+        tree,
+        "ShaderNodeVolumePrincipled",
+        Density=1.0,
+        Color=(0.5, 0.5, 0.5, 1.0),
+        **{"Blackbody Intensity": 1.0},
+    )
+    tree.links.new(noise_temperature(tree), volume.inputs["Temperature"])
     return volume.outputs[0]
 
 
