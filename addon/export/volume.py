@@ -182,12 +182,32 @@ def _principled(alg, node, weight):
     emission = alg.scale(alg.colour(node, "Emission Color"), alg.value(node, "Emission Strength"))
     temperature = alg.value(node, "Temperature")
     grid = alg.attribute(node, "temperature", "Temperature Attribute")
-    if grid is not None:
-        temperature = alg.mul(temperature, alg.positive(grid))
-    emission = alg.plus(emission, _blackbody_emission(alg, node, temperature))
+    if grid is None:
+        glow = _blackbody_emission(alg, node, temperature)
+    elif not STOCHASTIC_GRID_READS:
+        glow = _blackbody_emission(alg, node, alg.mul(temperature, alg.positive(grid)))
+    else:
+        # Cycles 5.x reads the grid at one of the eight voxels around the point, picked with
+        # its trilinear weight, and the glow at that voxel's temperature: on average the
+        # weighted sum of the eight glows, brighter than the glow of the interpolated
+        # temperature where the voxels differ (T^4 is convex), as at a fire's rim.
+        glow = alg.black()
+        for voxel, share in alg.voxels("temperature"):
+            at_voxel = alg.mul(temperature, alg.positive(voxel))
+            glow = alg.plus(glow, alg.scale(_blackbody_emission(alg, node, at_voxel), share))
+    emission = alg.plus(emission, glow)
     if _WEIGHTED_EMISSION:
         emission = alg.scale(emission, weight)
     return (absorption, scattering, alg.value(node, "Anisotropy"), emission)
+
+
+# Whether Cycles reads Principled Volume's grids stochastically (one voxel at a time,
+# picked with its trilinear weight: `primitive_volume_attribute(..., stochastic=true)` in
+# svm_node_principled_volume since 5.0), which changes what a non-linear use of a grid gives:
+# the blackbody glow of the Temperature grid (_principled). Its linear uses (Density,
+# Color) give the interpolated value on average, as before. In 3.4 and 4.5 Cycles
+# interpolates (seen: the .vdb fireball's glow of tests/blender/test_volume.py).
+STOCHASTIC_GRID_READS = bpy.app.version >= (5, 0, 0)
 
 
 # Whether Cycles scales Principled Volume's emission by the closure's weight (a Mix Shader's
@@ -337,6 +357,11 @@ class _Program:
     def attribute(self, node, role, name, kind=FLOAT):
         # The grid named by input `name` in `role`, or None (not found: scales nothing).
         return self.lowering.grid(role, node.inputs[name].default_value, kind)
+
+    def voxels(self, role):
+        # The eight voxels of the grid in `role` around the point, with their trilinear
+        # weights: (value, weight) pairs, the grid present (attribute() found it).
+        return self.lowering.grid_voxels(role)
 
     def object_density(self):
         # Cycles' object_volume_density: every closure's weight inside a Volume object.

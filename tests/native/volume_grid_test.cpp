@@ -91,6 +91,39 @@ TEST_F(VdbFile, TrilinearBetweenTwoVoxels) {
   EXPECT_NEAR(read->sample(Vec3(1.0f, 1.0f, 0.5f)).x, 0.5f * 2.0f, 1e-6f);
 }
 
+TEST_F(VdbFile, ACellsVoxelsWeighedByTheirWeightsAreTheSample) {
+  // Random voxels across a block's face (x = 8): cells inside one block and cells
+  // straddling two. The eight weights sum to 1, their weighted voxels are the sample, and
+  // a cell's voxels are the grid's voxels around the point.
+  auto grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName("temperature");
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(0.0f, 3.0f);
+  for (int i = 4; i < 12; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) grid->tree().setValueOn({i, j, k}, value(random));
+  const auto read = read_one(write("cell.vdb", {grid}), "temperature");
+  std::uniform_real_distribution<float> x(3.0f, 13.0f), yz(0.0f, 4.5f);
+  for (int n = 0; n < 200; ++n) {
+    const Vec3 p(x(random), yz(random), yz(random));
+    const VolumeGrid::Cell cell = read->cell(p);
+    float weights = 0.0f, weighed = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+      weights += cell.weight(c);
+      weighed += cell.weight(c) * cell.values[c];
+      const glm::ivec3 first(glm::floor(p - 0.5f));
+      EXPECT_EQ(cell.values[c], read->voxel(first + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2)).x);
+    }
+    EXPECT_NEAR(weights, 1.0f, 1e-6f);
+    EXPECT_NEAR(weighed, read->sample(p).x, 1e-5f);
+    EXPECT_EQ(cell.interpolated(), read->sample(p).x);
+  }
+  // Far away: eight backgrounds, the first at weight 1.
+  const VolumeGrid::Cell far = read->cell(Vec3(-100.0f));
+  EXPECT_EQ(far.values[5], 0.0f);
+  EXPECT_EQ(far.weight(0), 1.0f);
+}
+
 TEST_F(VdbFile, TheTransformPlacesSamplesAndBoundsInTheWorld) {
   auto grid = openvdb::FloatGrid::create(0.0f);
   grid->setName("density");

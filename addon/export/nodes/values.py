@@ -157,6 +157,22 @@ class Lowering:
         expr = self.hit(mode, COLOR if role == "color" else FLOAT)
         return expr if kind is None else self.convert(expr, kind)
 
+    def grid_voxels(self, role):
+        """The eight voxels of the Volume object's grid in `role` around the point that its
+        trilinear interpolation weighs, as (value, weight) scalar pairs: what a stochastic
+        read (one voxel, picked with its weight) gives on average, through a non-linear
+        function too (export/volume.py STOCHASTIC_GRID_READS). Only the temperature grid's
+        voxels are offered (IN_GRID_TEMPERATURE_VOXEL)."""
+        if role != "temperature":
+            raise ValueError(f"only the temperature grid's voxels are read, not {role}'s")
+        return [
+            (
+                self.hit(ops.IN_GRID_TEMPERATURE_VOXEL + k, FLOAT),
+                self.hit(ops.IN_GRID_VOXEL_WEIGHT + k, FLOAT),
+            )
+            for k in range(ops.GRID_VOXELS)
+        ]
+
     def uv(self, name=""):
         if self.world:
             return self.hit(ops.IN_GENERATED)

@@ -117,6 +117,12 @@ struct SurfaceHit {
     if (mode >= kInputAttribute && mode < kInputPublicEnd) {
       return layer(mesh.attributes, mode - kInputAttribute, 4);
     }
+    if (mode >= kInputGridTemperatureVoxel && mode < kInputGridVoxelWeight + kGridVoxels) {
+      if (!grids) return glm::vec4(0.0f);
+      const bool weight = mode >= kInputGridVoxelWeight;
+      const uint32_t k = mode - (weight ? kInputGridVoxelWeight : kInputGridTemperatureVoxel);
+      return glm::vec4(weight ? grids->voxel_weights[k] : grids->temperature_voxels[k]);
+    }
     if (mode >= kInputUvSet && mode < kInputAttribute) {
       if (triangle && mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
         return interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric);

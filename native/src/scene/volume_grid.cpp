@@ -1,6 +1,9 @@
 #include "scene/volume_grid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <optional>
 #include <stdexcept>
 
 #include "scene/scene.h"
@@ -204,7 +207,7 @@ Vec3 VolumeGrid::voxel(const glm::ivec3& ijk) const {
   return read(block(block_of(ijk)), offset_in_block(ijk));
 }
 
-Vec3 VolumeGrid::sample(const Vec3& p) const {
+std::optional<VolumeGrid::Located> VolumeGrid::locate(const Vec3& p) const {
   // The voxels' values stand at their centres (header): interpolate from p - 0.5.
   const Vec3 q = p - 0.5f;
   // Beyond the lattice by a voxel or more (and for NaN), every corner is the background;
@@ -213,31 +216,51 @@ Vec3 VolumeGrid::sample(const Vec3& p) const {
   const Vec3 high = Vec3((last_block_ + 1) * kBlockSide);
   if (!(q.x > low.x && q.y > low.y && q.z > low.z && q.x < high.x && q.y < high.y &&
         q.z < high.z)) {
-    return data_.background;
+    return std::nullopt;
   }
   const Vec3 floor = glm::floor(q);
-  const Vec3 t = q - floor;
-  const glm::ivec3 i0(floor);
+  const glm::ivec3 first(floor);
   constexpr int mask = kBlockSide - 1;
   // All eight corners in one block (7 of 8 cells): one lattice lookup.
-  const bool one_block = (i0.x & mask) != mask && (i0.y & mask) != mask && (i0.z & mask) != mask;
-  const float* values = one_block ? block(block_of(i0)) : nullptr;
-  if (one_block && values == nullptr) return data_.background;
-  const int base = offset_in_block(i0);
-  if (data_.channels == 1) {
-    float corners[8];
-    for (int c = 0; c < 8; ++c) {
-      corners[c] = one_block ? values[base + kCornerStep[c]]
-                             : voxel(i0 + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2)).x;
-    }
-    return Vec3(trilinear(corners, t));
+  const bool one_block =
+      (first.x & mask) != mask && (first.y & mask) != mask && (first.z & mask) != mask;
+  const float* values = one_block ? block(block_of(first)) : nullptr;
+  if (one_block && values == nullptr) return std::nullopt;
+  return Located{first, q - floor, values};
+}
+
+float VolumeGrid::Cell::interpolated() const {
+  return trilinear(values, t);
+}
+
+VolumeGrid::Cell VolumeGrid::cell(const Vec3& p) const {
+  Cell out;
+  const std::optional<Located> at = locate(p);
+  if (!at) {
+    std::fill(std::begin(out.values), std::end(out.values), data_.background.x);
+    out.t = Vec3(0.0f);
+    return out;
   }
+  const int base = offset_in_block(at->first);
+  for (int c = 0; c < 8; ++c) {
+    out.values[c] = at->values ? at->values[base + kCornerStep[c]]
+                               : voxel(at->first + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2)).x;
+  }
+  out.t = at->t;
+  return out;
+}
+
+Vec3 VolumeGrid::sample(const Vec3& p) const {
+  if (data_.channels == 1) return Vec3(cell(p).interpolated());
+  const std::optional<Located> at = locate(p);
+  if (!at) return data_.background;
+  const int base = offset_in_block(at->first);
   Vec3 corners[8];
   for (int c = 0; c < 8; ++c) {
-    corners[c] = one_block ? read(values, base + kCornerStep[c])
-                           : voxel(i0 + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2));
+    corners[c] = at->values ? read(at->values, base + kCornerStep[c])
+                            : voxel(at->first + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2));
   }
-  return trilinear(corners, t);
+  return trilinear(corners, at->t);
 }
 
 }  // namespace whitted

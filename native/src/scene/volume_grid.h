@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,7 +117,30 @@ class VolumeGrid {
   // that is not finite.
   Vec3 sample(const Vec3& p) const;
 
+  // The eight voxels a scalar grid's trilinear interpolation weighs at index-space point
+  // `p`, corner c at (c & 1, c >> 1 & 1, c >> 2) of their cell, and where `p` lies in the
+  // cell (0 to 1 an axis); where sample() gives the background, eight backgrounds at 0.
+  struct Cell {
+    float values[8];
+    Vec3 t;
+    float weight(int c) const {
+      return ((c & 1) ? t.x : 1.0f - t.x) * ((c & 2) ? t.y : 1.0f - t.y) *
+             ((c & 4) ? t.z : 1.0f - t.z);
+    }
+    float interpolated() const;  // sample(p).x
+  };
+  Cell cell(const Vec3& p) const;
+
  private:
+  // Where index-space point `p` falls: its cell's first corner, its place in the cell, and
+  // the values of the one block holding all eight corners (null where they straddle
+  // blocks); nullopt where every corner is the background.
+  struct Located {
+    glm::ivec3 first;
+    Vec3 t;
+    const float* values;
+  };
+  std::optional<Located> locate(const Vec3& p) const;
   // The values of block `b` (block coordinates), or null where it is the background.
   const float* block(const glm::ivec3& b) const;
   Vec3 read(const float* block, int offset) const;

@@ -28,6 +28,12 @@ struct VolumeSample {
   Color color{1.0f};
   float temperature = 1.0f;
   float flame = 0.0f;
+  // The temperature grid's eight voxels that its interpolation weighs, and their weights
+  // (VolumeGrid::Cell): the outcomes of a read that picks one voxel by its weight, as
+  // Cycles 5.x's Principled Volume reads it (shader/ops.h kInputGridTemperatureVoxel).
+  // Without a grid, the temperature alone at weight 1.
+  std::array<float, 8> temperature_voxels{1.0f};
+  std::array<float, 8> voxel_weights{1.0f};
 };
 
 // A Volume's Render settings (Blender's Volume > Render): the space its step size and

@@ -127,8 +127,13 @@ enum Input : uint32_t {
   // Cycles' object_volume_density: a Volume object's VolumeObject::density_scale, 1
   // elsewhere.
   kInputVolumeDensity = 40,
-  kInputUvSet = 64,       // + k, k < 64
-  kInputAttribute = 128,  // + k, k < 128
+  // Inside a Volume object: the temperature grid's voxel k of the eight its interpolation
+  // weighs at the point, and that voxel's weight (scene/volume_object.h VolumeSample);
+  // 0 elsewhere.
+  kInputGridTemperatureVoxel = 41,  // + k, k < kGridVoxels
+  kInputGridVoxelWeight = 49,       // + k, k < kGridVoxels
+  kInputUvSet = 64,                 // + k, k < 64
+  kInputAttribute = 128,            // + k, k < 128
   kInputPublicEnd = 256,
   // Either bit on a public mode: that input at the hit moved by the first or the second
   // bump offset (ProgramHit::bump_dx, bump_dy), for the height a Bump node differentiates.
@@ -139,6 +144,10 @@ enum Input : uint32_t {
   kInputTangent = 1u << 16,       // + k: tangent set k, object space xyz, bitangent sign w
   kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
 };
+
+// The voxels a grid's trilinear interpolation weighs.
+inline constexpr uint32_t kGridVoxels = 8;
+static_assert(kInputGridVoxelWeight + kGridVoxels <= kInputUvSet);
 
 // The UV sets and the attributes INPUT reaches (kInputUvSet + k, kInputAttribute + k).
 inline constexpr uint32_t kUvSets = kInputAttribute - kInputUvSet;
@@ -158,7 +167,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 35> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 38> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -187,6 +196,9 @@ inline constexpr std::array<OpNumber, 35> kOpNumbers = {{
     {"IN_GRID_TEMPERATURE", kInputGrid + 2},
     {"IN_GRID_FLAME", kInputGrid + 3},
     {"IN_VOLUME_DENSITY", kInputVolumeDensity},
+    {"IN_GRID_TEMPERATURE_VOXEL", kInputGridTemperatureVoxel},
+    {"IN_GRID_VOXEL_WEIGHT", kInputGridVoxelWeight},
+    {"GRID_VOXELS", kGridVoxels},
     {"IN_UV", kInputUvSet},
     {"IN_ATTRIBUTE", kInputAttribute},
     {"IN_BUMP_X", kInputBumpX},

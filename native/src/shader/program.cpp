@@ -32,7 +32,7 @@ bool public_input(uint32_t mode) {
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
   return mode <= kInputObjectSpaceNormal ||
          (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
-         (mode >= kInputObjectLocation && mode <= kInputVolumeDensity) ||
+         (mode >= kInputObjectLocation && mode < kInputGridVoxelWeight + kGridVoxels) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
 
