@@ -32,6 +32,7 @@ from .nodes import ops, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
+from .nodes.normals import displacement_bump
 from .nodes.program import emit, material_fields
 from .nodes.shader_fields import MAX_SHININESS, phong_exponent
 from .nodes.shaders import default_surface, finish, fixed_texture, surface
@@ -212,8 +213,15 @@ def map_material(material, warnings, local_model="BLENDER"):
         exported = _programmed(varying, lowering, "NONE")
         data = replace(exported.data, surface=False, volume_step_rate=_volume_step_rate(material))
         return replace(exported, data=data)
+    bumped = _displacement(material, output_node, lowering, warnings)
+    lowering.shading_normal = bumped
     closure = surface(lowering, output_node, local_model=local_model)
     fields = {**finish(lowering, closure), **varying}
+    if bumped is not None:
+        # Every closure whose Normal is unlinked takes the bumped one, as Cycles' bump
+        # sets the shading normal they default to.
+        fields.setdefault("normal", bumped)
+        fields.setdefault("coat_normal", bumped)
     exported = _fixed(fields, lowering)
     if exported is None:
         exported = _programmed(fields, lowering, _bump_shadowing(material))
@@ -276,6 +284,35 @@ def default_material(local_model="BLENDER"):
     fields = finish(lowering, closure)
     exported = _fixed(fields, lowering) or _programmed(fields, lowering, "NONE")
     return _with_lobe_models(exported, closure)
+
+
+def _displacement(material, output_node, lowering, warnings):
+    """The shading normal the output's linked Displacement bumps, or None. Cycles'
+    Displacement method (Material > Settings > Surface: `material.displacement_method`
+    from 4.1, `material.cycles.displacement_method` before; Bump Only by default): Bump
+    Only shades it as a bump (nodes/normals.py displacement_bump); Displacement and Bump
+    also moves the vertices, Displacement Only moves them alone, which Whitted does not
+    do: said in the report, the bump kept for the first, nothing for the second."""
+    method = getattr(material, "displacement_method", None)
+    if method is None:
+        method = getattr(getattr(material, "cycles", None), "displacement_method", "BUMP")
+    bumped = displacement_bump(lowering, output_node)
+    if bumped is None or method == "BUMP":
+        return bumped
+    owner = f"material '{material.name}'"
+    if method == "BOTH":
+        _warn(
+            warnings,
+            f"Whitted: {owner}: Displacement and Bump moves no vertex here; "
+            "its displacement is shaded as a bump only",
+        )
+        return bumped
+    _warn(
+        warnings,
+        f"Whitted: {owner}: Displacement Only moves vertices, which Whitted does not; "
+        "its displacement is not rendered",
+    )
+    return None
 
 
 def _with_lobe_models(exported, closure):

@@ -19,6 +19,7 @@ class SurfaceCase:
     name: str
     build: object  # function(tree) -> vector output socket (a unit normal)
     tilt: bool = False
+    stretch: float = 1.0  # the plane's scale along its normal (object z)
 
 
 def _as_colour(tree, vector):
@@ -58,11 +59,33 @@ def bump_case(name, coordinates, kx, ky, distance=1.0, strength=1.0, invert=Fals
     return SurfaceCase(name, build, tilt)
 
 
+def displacement_case(name, coordinates, kx, ky, space, scale=1.0, tilt=False, stretch=1.0):
+    """The material output's Displacement fed a Displacement node of the linear height
+    (Cycles' default method, Bump Only, shades it as a bump): the Geometry node's Normal,
+    the shading normal the bump sets for every node."""
+
+    def build(tree):
+        node = _node(tree, "ShaderNodeDisplacement", space=space)
+        node.inputs["Scale"].default_value = scale
+        tree.links.new(_linear_height(tree, coordinates, kx, ky), node.inputs["Height"])
+        out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        tree.links.new(node.outputs["Displacement"], out.inputs["Displacement"])
+        return _node(tree, "ShaderNodeNewGeometry").outputs["Normal"]
+
+    return SurfaceCase(name, build, tilt, stretch)
+
+
 CASES = [
     SurfaceCase("texture_coordinate_normal_tilted", _normal, tilt=True),
     bump_case("bump_object", "Object", 0.7, -0.4),
     bump_case("bump_uv_invert_strength", "UV", 1.5, 0.5, distance=0.6, strength=0.6, invert=True),
     bump_case("bump_generated_tilted", "Generated", -0.8, 1.1, distance=0.5, tilt=True),
+    displacement_case("bump_displacement_world", "Object", 0.7, -0.4, "WORLD"),
+    # Object space on a plane stretched 3 times along its normal: the displacement is 3
+    # times as deep, as Cycles carries it from object space.
+    displacement_case(
+        "bump_displacement_object_stretched", "UV", 0.3, 0.2, "OBJECT", 0.5, True, 3.0
+    ),
 ]
 
 
@@ -71,6 +94,7 @@ def build_surface_scene(scene, case):
     material = build_scene(scene, _Adapter(case))
     if case.tilt:
         bpy.data.objects["Plane"].rotation_euler = (TILT, 0.0, 0.0)
+    bpy.data.objects["Plane"].scale = (1.0, 1.0, case.stretch)
     return material
 
 

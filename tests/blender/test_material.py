@@ -836,6 +836,43 @@ def test_sheen_and_a_bumped_coat_need_a_program(warnings):
     assert exported.data.bump_shadowing == "NONE"  # the base's normal is not mapped
 
 
+@pytest.mark.parametrize("method", ["BUMP", "BOTH", "DISPLACEMENT"])
+def test_a_displacement_is_a_bump_or_said_not_rendered(method, warnings):
+    # Cycles' Displacement methods (Material > Settings): Bump Only (the default) shades
+    # the output's Displacement as a bump of the closures' normal; Whitted moves no
+    # vertex, so Displacement and Bump keeps the bump and says so, Displacement Only is
+    # said not rendered (tests/blender/test_surface_vs_cycles.py compares the bump).
+    from whitted.export.nodes import ops
+
+    material = node_material("Displaced")
+    settings = material if hasattr(material, "displacement_method") else material.cycles
+    settings.displacement_method = method
+    tree = material.node_tree
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    displacement = tree.nodes.new("ShaderNodeDisplacement")
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    tree.links.new(noise.outputs["Fac"], displacement.inputs["Height"])
+    tree.links.new(displacement.outputs["Displacement"], output.inputs["Displacement"])
+    exported = convert_material(material, warnings)
+    outputs = dict(exported.outputs or ())
+    codes = [] if exported.program is None else [int(row[0]) for row in exported.program.code]
+    if method == "DISPLACEMENT":
+        assert "normal" not in outputs and ops.BUMP not in codes
+        assert warnings == [
+            "Whitted: material 'Displaced': Displacement Only moves vertices, which Whitted "
+            "does not; its displacement is not rendered"
+        ]
+        return
+    assert "normal" in outputs and ops.BUMP in codes
+    if method == "BUMP":
+        assert warnings == []
+    else:
+        assert warnings == [
+            "Whitted: material 'Displaced': Displacement and Bump moves no vertex here; its "
+            "displacement is shaded as a bump only"
+        ]
+
+
 def test_the_exporters_fields_are_the_native_tables(warnings):
     # The shader lowering's fields (how closures mix each: shaders.py) are the fields a
     # native program may drive, no more and no fewer; the exported data, the native

@@ -1,4 +1,6 @@
-"""The Bump node: a normal from the height the texture graph gives.
+"""The Bump node: a normal from the height the texture graph gives; the Displacement
+node and a material output's Displacement, which Cycles' default method (Bump Only)
+shades as such a bump (displacement_bump).
 
 As Cycles does (its SVM compiler's bump states), the height sub-graph is lowered
 three times: at the hit, and with every input that moves with the point read at
@@ -48,6 +50,8 @@ def bump(c, out):
     socket = next((s for s in node.inputs if s.name == "Normal"), None)
     if socket is not None and source(socket, out.scope)[0] is not None:
         normal = c.value(socket, out.scope, VECTOR)
+    # Unlinked, the shading normal: a displacement's bumped one where there is one.
+    normal = normal if normal is not None else c.shading_normal
     unbent = normal if normal is not None else c.hit(ops.IN_NORMAL)
     if c.world:
         c.warn(node, "a Bump in a world has no surface; it gives the normal unchanged")
@@ -57,12 +61,61 @@ def bump(c, out):
     height = c.input(out, ("Height",), FLOAT)
     if height is None or height.is_const or (strength.is_const and strength.value[0] <= 0.0):
         return unbent
-    b = c.b
+    bumped = _bumped(c.b, height, strength, distance, normal, node.invert)
+    return unbent if bumped is None else bumped
+
+
+def _bumped(b, height, strength, distance, normal, invert):
+    """BUMP of `height` (an Expr) at the hit and at both offsets, bending `normal` (None:
+    the hit's); None where the height does not change along the surface."""
     at_x = moved(b, height, ops.IN_BUMP_X)
     at_y = moved(b, height, ops.IN_BUMP_Y)
     if at_x is height and at_y is height:
-        return unbent  # a height that does not change along the surface
+        return None
     zero = b.f(0.0)
     packed = b.op(ops.PACK, 0, (strength, distance, zero, zero), kind=VECTOR)
-    mode = ops.pack("BUMP", invert=node.invert)
+    mode = ops.pack("BUMP", invert=invert)
     return b.op(ops.BUMP, mode, (packed, normal, height, at_x, at_y), kind=VECTOR)
+
+
+def displacement(c, out):
+    """ShaderNodeDisplacement's Displacement, as Cycles' svm_node_displacement gives it:
+    its Normal (unlinked: the shading normal) times (Height - Midlevel) * Scale, a world
+    vector. In Object space (Blender's default) Cycles carries the normal into object
+    space, scales it there and back to the world, which stretches its length along the
+    normal by |M^T n| (IN_OBJECT_NORMAL_SCALE, M the object's linear part): kept here, and
+    the direction kept along the normal, which is all a bump reads of it (under
+    non-uniform scale Cycles' vector also leans off the normal)."""
+    node = out.node
+    b = c.b
+    socket = next((s for s in node.inputs if s.name == "Normal"), None)
+    normal = None
+    if socket is not None and source(socket, out.scope)[0] is not None:
+        normal = c.value(socket, out.scope, VECTOR)
+    if normal is None:
+        normal = c.hit(ops.IN_NORMAL)
+    height = c.input(out, ("Height",), FLOAT)
+    midlevel = c.input(out, ("Midlevel",), FLOAT)
+    scale = c.input(out, ("Scale",), FLOAT)
+    amount = b.mul(b.sub(height, midlevel), scale)
+    if node.space == "OBJECT":
+        amount = b.mul(amount, c.hit(ops.IN_OBJECT_NORMAL_SCALE, FLOAT))
+    return b.vmul(amount, normal, VECTOR)
+
+
+def displacement_bump(c, output_node):
+    """The shading normal a material output's linked Displacement gives under Cycles'
+    Bump Only method (and the bump of Displacement and Bump), as Cycles' shader graph
+    builds it (bump_from_displacement): a Bump of Distance 1 and Strength 1 whose height
+    is the displacement along the shading normal, at the hit and at both offsets. None
+    without a linked Displacement, or where it does not change along the surface."""
+    socket = output_node.inputs.get("Displacement")
+    if socket is None or source(socket, ())[0] is None:
+        return None
+    b = c.b
+    vector = c.value(socket, (), VECTOR)
+    height = b.vmath("DOT_PRODUCT", vector, c.hit(ops.IN_NORMAL))
+    if height.is_const:
+        return None
+    one = b.f(1.0)
+    return _bumped(b, height, one, one, None, False)

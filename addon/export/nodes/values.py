@@ -15,6 +15,7 @@ from .graph import source
 from .input_nodes import INPUT_NODES
 from .ir import COLOR, FLOAT, VECTOR, Builder
 from .normals import bump as _bump
+from .normals import displacement as _displacement
 from .sockets import find_socket, kind_of
 from .texture_nodes import TEXTURE_NODES
 
@@ -65,6 +66,9 @@ class Lowering:
         self.suns = []
         self._outputs = {}  # Output.key -> Expr
         self._active = set()
+        # The normal nodes read as the shading normal once a displacement bumps it
+        # (normals.displacement_bump, set by export/material.py); None: the hit's.
+        self.shading_normal = None
 
     def warn(self, node, message):
         _warn(self.warnings, f"Whitted: {self.owner}, node '{node.name}': {message}")
@@ -145,6 +149,8 @@ class Lowering:
     # --- per-hit inputs ----------------------------------------------------------
 
     def hit(self, mode, kind=VECTOR):
+        if mode == ops.IN_NORMAL and self.shading_normal is not None:
+            return self.shading_normal
         return self.b.op(ops.INPUT, mode, (), kind=kind)
 
     def grid(self, role, name, kind=None):
@@ -188,6 +194,7 @@ _NODES = {
     **TEXTURE_NODES,
     **CONVERTER_NODES,
     "ShaderNodeBump": _bump,
+    "ShaderNodeDisplacement": _displacement,
 }
 
 SUPPORTED_NODES = frozenset(_NODES)

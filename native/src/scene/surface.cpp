@@ -157,6 +157,9 @@ struct SurfaceHit {
         const float length = glm::length(n);
         return vec(length > 0.0f ? n / length : n);
       }
+      case kInputObjectNormalScale:
+        return glm::vec4(
+            glm::length(glm::transpose(glm::mat3(instance.placement.to_world)) * hit.normal));
       case kInputObjectLocation:
         return vec(instance.info.location);
       case kInputObjectRandom:

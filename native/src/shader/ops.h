@@ -110,6 +110,10 @@ enum Input : uint32_t {
   kInputReflection = 8,
   kInputBackfacing = 9,
   kInputObjectSpaceNormal = 10,  // the shading normal in object space (unit, incoming side)
+  // |M^T n|, M the object's linear part, n the shading normal: how far a unit length along
+  // the normal in object space reaches along it in the world (Cycles' object-space
+  // Displacement node, dP = M normalize(M^T n) h, meets n at h |M^T n|).
+  kInputObjectNormalScale = 11,
   kInputIsCameraRay = 16,
   kInputIsShadowRay = 17,
   kInputIsReflectionRay = 18,
@@ -167,7 +171,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 38> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 39> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -179,6 +183,7 @@ inline constexpr std::array<OpNumber, 38> kOpNumbers = {{
     {"IN_REFLECTION", kInputReflection},
     {"IN_BACKFACING", kInputBackfacing},
     {"IN_OBJECT_NORMAL", kInputObjectSpaceNormal},
+    {"IN_OBJECT_NORMAL_SCALE", kInputObjectNormalScale},
     {"IN_IS_CAMERA_RAY", kInputIsCameraRay},
     {"IN_IS_SHADOW_RAY", kInputIsShadowRay},
     {"IN_IS_REFLECTION_RAY", kInputIsReflectionRay},

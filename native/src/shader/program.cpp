@@ -30,7 +30,7 @@ std::string_view op_name(uint32_t op) {
 bool public_input(uint32_t mode) {
   if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
-  return mode <= kInputObjectSpaceNormal ||
+  return mode <= kInputObjectNormalScale ||
          (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
          (mode >= kInputObjectLocation && mode < kInputGridVoxelWeight + kGridVoxels) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
