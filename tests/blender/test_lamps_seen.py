@@ -1,7 +1,8 @@
 """Lamps seen by the rays (issue 49, item 5) against Cycles: a mirror floor shows an
-area lamp's rectangle and a disc lamp's ellipse, and a sphere lamp; a glossy floor's
-highlight of an area lamp comes from its feelers and its glossy rays combined by MIS
-(counted once); a lamp's Ray Visibility (Camera, Glossy) and Multiple Importance decide
+area lamp's rectangle and a disc lamp's ellipse, a sphere lamp, and a spot lamp dimmed
+by its cone (to about 0.53, 0.33 with 3.x's cosine, where the mirror sees it); a glossy
+floor's highlight of an area lamp comes from its feelers and its glossy rays combined
+by MIS (counted once); a lamp's Ray Visibility (Camera, Glossy) and Multiple Importance decide
 which rays see it; a scene with no mirror or glossy surface renders the same pixels
 whether or not its lamps may be seen.
 
@@ -26,7 +27,10 @@ WIDTH, HEIGHT = 96, 72
 
 
 def lamp(scene, name, data_settings, location):
-    light = bpy.data.lights.new(name, "AREA" if "shape" in data_settings else "POINT")
+    kind = (
+        "AREA" if "shape" in data_settings else "SPOT" if "spot_size" in data_settings else "POINT"
+    )
+    light = bpy.data.lights.new(name, kind)
     for key, value in data_settings.items():
         setattr(light, key, value)
     obj = bpy.data.objects.new(name, light)
@@ -37,7 +41,8 @@ def lamp(scene, name, data_settings, location):
 
 def stage(scene, floor_material, lamps=("rectangle", "disc")):
     """The floor, the lamps named in `lamps` (area lamps, one a rectangle, one a disc;
-    "sphere" a point lamp of radius 0.2) and the camera; returns {name: lamp object}."""
+    "sphere" a point lamp of radius 0.2, "spot" a spot lamp of that radius) and the
+    camera; returns {name: lamp object}."""
     mesh = bpy.data.meshes.new("Floor")
     mesh.from_pydata([(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], [], [(0, 1, 2, 3)])
     mesh.materials.append(floor_material)
@@ -48,6 +53,12 @@ def stage(scene, floor_material, lamps=("rectangle", "disc")):
         "rectangle": ({"shape": "RECTANGLE", "size": 0.8, "size_y": 0.4, "energy": 3.0}, -0.7),
         "disc": ({"shape": "DISK", "size": 0.6, "energy": 2.0}, 0.7),
         "sphere": ({"shadow_soft_size": 0.2, "energy": 60.0}, 0.0),
+        # A spot of 120 degrees pointing down: the mirror sees it about 50 degrees off its
+        # axis, in its blend band.
+        "spot": (
+            {"shadow_soft_size": 0.2, "energy": 60.0, "spot_size": 2.1, "spot_blend": 0.5},
+            0.0,
+        ),
     }
     made = {}
     for name in lamps:
@@ -101,12 +112,13 @@ def test_a_mirror_shows_a_rectangular_and_a_disc_area_lamp_as_cycles(empty_scene
     assert value > 0.97
 
 
-def test_a_mirror_shows_a_sphere_lamp_as_cycles(empty_scene, tmp_path, native):
-    stage(empty_scene, mirror(), lamps=("sphere",))
+@pytest.mark.parametrize("kind", ["sphere", "spot"])
+def test_a_mirror_shows_a_sphere_or_spot_lamp_as_cycles(kind, empty_scene, tmp_path, native):
+    stage(empty_scene, mirror(), lamps=(kind,))
     cycles, whitted = both(empty_scene, tmp_path)
     lamps = luminance(cycles[..., :3]) > 0.5
     value, ratio = subject_figures(whitted, cycles, lamps)
-    print(f"\nsphere in a mirror: SSIM {value:.4f}, {lamps.sum()} px, ratio {ratio:.4f}")
+    print(f"\n{kind} in a mirror: SSIM {value:.4f}, {lamps.sum()} px, ratio {ratio:.4f}")
     assert lamps.sum() > 10
     assert ratio == pytest.approx(1.0, abs=0.02)
     assert value > 0.97
