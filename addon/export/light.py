@@ -70,6 +70,13 @@ class LightData:
     # lights diffuse surfaces and shows in glossy ones (highlights, glossy lobes).
     diffuse: bool = True
     glossy: bool = True
+    # Which rays see its shape (an area light's rectangle or ellipse, a point or spot
+    # light's sphere), as Cycles' Ray Visibility: camera, glossy (reflected) and
+    # transmission (refracted) rays; the bounced ones only with Multiple Importance on
+    # (light.cycles.use_multiple_importance_sampling), as in Cycles. Blender creates lamp
+    # objects hidden from the camera. None in the Lecture local model, whose lamps are the
+    # seed's lights that no ray meets.
+    visibility: tuple[bool, bool, bool] = (False, True, True)
     # Cycles' Max Bounces (light.cycles): it lights only what at most this many
     # reflections and refractions reach.
     max_bounces: int = 1024
@@ -79,12 +86,15 @@ class LightData:
     shadow_sets: int = ALL_SETS
 
 
-def instance_light(object_instance, warnings, default_samples=DEFAULT_LIGHT_SAMPLES):
+def instance_light(
+    object_instance, warnings, default_samples=DEFAULT_LIGHT_SAMPLES, local_model="BLENDER"
+):
     """LightData of a light object instance of the evaluated depsgraph (named by
-    instance_name, with its instancer's ray visibility), or None with a warning."""
+    instance_name, with its instancer's ray visibility), or None with a warning.
+    `local_model` (scene.whitted.local_model): in LECTURE no ray sees a lamp's shape."""
     obj = object_instance.object
     instancer = object_instance.parent if object_instance.is_instance else None
-    return convert_light(
+    light = convert_light(
         instance_name(object_instance),
         obj.data,
         object_instance.matrix_world,
@@ -92,21 +102,35 @@ def instance_light(object_instance, warnings, default_samples=DEFAULT_LIGHT_SAMP
         default_samples,
         rays=lamp_rays(obj, instancer),
     )
+    if light is None or local_model != "LECTURE":
+        return light
+    return replace(light, visibility=(False, False, False))
 
 
 def lamp_rays(obj, instancer=None):
-    """(diffuse, glossy): whether light object `obj` lights diffuse surfaces and shows in
-    glossy ones (its Ray Visibility, which Cycles reads on the object since 3.0); an
+    """(diffuse, glossy, camera, transmission): whether light object `obj` lights
+    diffuse surfaces, shows in glossy ones, is seen by the camera and through
+    refractions (its Ray Visibility, which Cycles reads on the object since 3.0); an
     instance needs its instancer's too, as in Cycles."""
     owners = (obj,) if instancer is None else (obj, instancer)
-    return (
-        all(getattr(o, "visible_diffuse", True) for o in owners),
-        all(getattr(o, "visible_glossy", True) for o in owners),
+    return tuple(
+        all(getattr(o, name, default) for o in owners)
+        for name, default in (
+            ("visible_diffuse", True),
+            ("visible_glossy", True),
+            ("visible_camera", False),
+            ("visible_transmission", True),
+        )
     )
 
 
 def convert_light(
-    name, light, matrix_world, warnings, default_samples=DEFAULT_LIGHT_SAMPLES, rays=(True, True)
+    name,
+    light,
+    matrix_world,
+    warnings,
+    default_samples=DEFAULT_LIGHT_SAMPLES,
+    rays=(True, True, False, True),
 ):
     """One light placed by `matrix_world` (object to world) as LightData, or None
     (with a warning) when Whitted cannot render it; `rays`: lamp_rays of its object."""
@@ -126,8 +150,18 @@ def convert_light(
     if data is None:
         return None
     # Cycles' Max Bounces (light.cycles), or LightData's default without Cycles' settings.
-    bounces = getattr(getattr(light, "cycles", None), "max_bounces", LightData.max_bounces)
-    return replace(data, diffuse=rays[0], glossy=rays[1], max_bounces=bounces)
+    cycles = getattr(light, "cycles", None)
+    bounces = getattr(cycles, "max_bounces", LightData.max_bounces)
+    # Bounced rays meet a lamp only with Multiple Importance on (Cycles' lights_intersect).
+    mis = getattr(cycles, "use_multiple_importance_sampling", True)
+    diffuse, glossy, camera, transmission = rays
+    return replace(
+        data,
+        diffuse=diffuse,
+        glossy=glossy,
+        max_bounces=bounces,
+        visibility=(camera, glossy and mis, transmission and mis),
+    )
 
 
 def shadow_switch(light):

@@ -342,7 +342,11 @@ class SceneSync:
     # --- instances ---------------------------------------------------------------
 
     def _needs_walk(self, changes, params):
-        if changes is None or params.light_samples != self._params.light_samples:
+        if (
+            changes is None
+            or params.light_samples != self._params.light_samples
+            or params.local_model != self._params.local_model
+        ):
             return True
         if changes.structure or changes.meshes:
             return True
@@ -415,7 +419,9 @@ class SceneSync:
                         instances[instance.name] = _with_motion(instance, params.motion)
                 role = _MESH
             elif obj.type == "LIGHT" and not obj.original.hide_render:
-                light = instance_light(object_instance, warnings, params.light_samples)
+                light = instance_light(
+                    object_instance, warnings, params.light_samples, params.local_model
+                )
                 if light is not None:
                     lights[light.name] = self._linked(light, obj)
                 if object_instance.is_instance:
@@ -607,7 +613,9 @@ class SceneSync:
             elif role == _LIGHT:
                 light = None
                 if not obj.original.hide_render:
-                    light = instance_light(_alone(obj), warnings, params.light_samples)
+                    light = instance_light(
+                        _alone(obj), warnings, params.light_samples, params.local_model
+                    )
                 if light is None:
                     gone.add(name)
                 else:

@@ -22,7 +22,8 @@ void bind_light(py::module_& m) {
                        float spot_blend, std::array<float, 2> size, Vec3 axis_u, Vec3 axis_v,
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
                        bool spot_cosine_falloff, float spread, bool diffuse, bool glossy,
-                       int max_bounces, uint64_t light_sets, uint64_t shadow_sets) {
+                       std::array<bool, 3> visibility, int max_bounces, uint64_t light_sets,
+                       uint64_t shadow_sets) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -42,6 +43,9 @@ void bind_light(py::module_& m) {
                                       .cast_shadows = cast_shadows,
                                       .diffuse = diffuse,
                                       .glossy = glossy,
+                                      .visibility = (visibility[0] ? kCameraRay : 0u) |
+                                                    (visibility[1] ? kReflectionRay : 0u) |
+                                                    (visibility[2] ? kRefractionRay : 0u),
                                       .max_bounces = max_bounces,
                                       .light_sets = light_sets,
                                       .shadow_sets = shadow_sets});
@@ -56,12 +60,16 @@ void bind_light(py::module_& m) {
            py::arg("angle") = defaults.angle,
            py::arg("spot_cosine_falloff") = defaults.spot_cosine_falloff,
            py::arg("spread") = defaults.spread, py::arg("diffuse") = defaults.diffuse,
-           py::arg("glossy") = defaults.glossy, py::arg("max_bounces") = defaults.max_bounces,
+           py::arg("glossy") = defaults.glossy,
+           py::arg("visibility") = std::array<bool, 3>{false, true, true},
+           py::arg("max_bounces") = defaults.max_bounces,
            py::arg("light_sets") = defaults.light_sets,
            py::arg("shadow_sets") = defaults.shadow_sets,
            "spot_size: the spot's full cone angle in radians, in [0, pi]; spot_blend: the "
            "softness of its edge, in [0, 1]. size: an area's extents along axis_u and axis_v "
-           "(world units), shape: RECTANGLE or ELLIPSE. light_sets, shadow_sets: light "
+           "(world units), shape: RECTANGLE or ELLIPSE. visibility: whether camera, glossy "
+           "(reflected) and transmission (refracted) rays see its shape. light_sets, shadow_sets: "
+           "light "
            "linking, the receivers' light sets it lights and the blockers' shadow sets that "
            "cast its shadows, a bit per set (all: no linking).")
       .def_readonly("type", &Light::type,
@@ -92,6 +100,14 @@ void bind_light(py::module_& m) {
                     "Whether it lights the diffuse terms (Cycles' Diffuse ray visibility).")
       .def_readonly("glossy", &Light::glossy,
                     "Whether it shows in the specular terms: highlights, coat, glossy lobes.")
+      .def_property_readonly(
+          "visibility",
+          [](const Light& light) {
+            return std::make_tuple((light.visibility & kCameraRay) != 0,
+                                   (light.visibility & kReflectionRay) != 0,
+                                   (light.visibility & kRefractionRay) != 0);
+          },
+          "Whether camera, glossy (reflected) and transmission (refracted) rays see its shape.")
       .def_readonly(
           "max_bounces", &Light::max_bounces,
           "It lights only surfaces reached after at most this many reflections or refractions.")

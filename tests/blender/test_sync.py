@@ -149,12 +149,13 @@ EDITS = (
     ("add modifier", lambda s: s.objects["Cylinder"].modifiers.new("Bevel", "BEVEL"), "geometry"),
     ("material colour", lambda s: _base_color("Checker 0", (0.1, 0.6, 0.2, 1.0)), "material"),
     # A rough metal reflects glossily in the Blender local model, as a mirror and a Phong
-    # highlight in the Lecture model: switching re-exports it.
+    # highlight in the Lecture model: switching re-exports it, and the lamps, whose shapes
+    # no ray sees in the Lecture model.
     ("rough metal", lambda s: _rough_metal("Checker 0", 0.35), "material"),
     (
         "local model",
         lambda s: (setattr(s.whitted, "local_model", "LECTURE"), s.update_tag()),
-        "material",
+        "model",
     ),
     ("texture pixels", lambda s: _texture_pixels(), "texture"),
     ("swap texture", lambda s: _swap_texture(), "texture"),
@@ -294,6 +295,7 @@ def _within(kind, report):
         "material": {"materials", *SHADING_MESHES},
         "texture": {"textures", "materials", *SHADING_MESHES},
         "light": {"lights"},
+        "model": {"materials", "lights", *SHADING_MESHES},
         "world": set(),
         "nothing": set(),
         "any": set(exported),

@@ -1,8 +1,10 @@
-// Lights: what the constructor refuses and clamps, and the irradiance of sized lights
-// against their point-like limits.
+// Lights: what the constructor refuses and clamps, the irradiance of sized lights
+// against their point-like limits, and where rays meet their shapes.
 #include "scene/light.h"
 
 #include <gtest/gtest.h>
+
+#include "integrator/mis.h"
 
 #include <cmath>
 #include <limits>
@@ -207,6 +209,112 @@ TEST(Light, ConstructorClampsToTheNearestLightAndNormalisesTheDirection) {
   EXPECT_EQ(light.size[1], 2.0f);
   EXPECT_EQ(light.radius, 0.0f);
   EXPECT_EQ(light.angle, kPi);
+}
+
+// A ray meets an area light's rectangle from its lit side only, sees its radiance there,
+// and the density its feelers draw that point with is t^2 / (A cos).
+TEST(Light, ARayMeetsAnAreaLightsRectangleFromItsLitSide) {
+  Light area = square_above_origin(2.0f);
+  area.color = Color(3.0f);
+  LightHit hit;
+  const Vec3 up(0.0f, 0.0f, 1.0f);
+  ASSERT_TRUE(intersect_light(area, Ray{Vec3(0.5f, -0.9f, 0.0f), up}, kInfinity, &hit));
+  EXPECT_FLOAT_EQ(hit.t, 1.0f);
+  EXPECT_EQ(hit.radiance, Color(3.0f));
+  EXPECT_FLOAT_EQ(hit.density, 1.0f / 4.0f);  // t = 1, A = 4, cos = 1
+  // Slanted: t = 1 / cos, density t^2 / (A cos) = 1 / (A cos^3).
+  const Vec3 slant = glm::normalize(Vec3(0.5f, 0.0f, 1.0f));
+  ASSERT_TRUE(intersect_light(area, Ray{Vec3(0.0f), slant}, kInfinity, &hit));
+  EXPECT_NEAR(hit.t, 1.0f / slant.z, 1e-6f);
+  EXPECT_NEAR(hit.density, 1.0f / (4.0f * slant.z * slant.z * slant.z), 1e-6f);
+  // Past its edge, beyond t_max or behind the ray's start, and from above (its back).
+  EXPECT_FALSE(intersect_light(area, Ray{Vec3(1.1f, 0.0f, 0.0f), up}, kInfinity, &hit));
+  EXPECT_FALSE(intersect_light(area, Ray{Vec3(0.0f), up}, 0.9f, &hit));
+  EXPECT_FALSE(intersect_light(area, Ray{Vec3(0.0f, 0.0f, 2.0f), up}, kInfinity, &hit));
+  EXPECT_FALSE(intersect_light(area, Ray{Vec3(0.0f, 0.0f, 2.0f), -up}, kInfinity, &hit));
+  // An ellipse (here a disc of diameter 2) leaves the square's corners out.
+  area.shape = AreaShape::kEllipse;
+  EXPECT_FALSE(intersect_light(area, Ray{Vec3(0.8f, 0.8f, 0.0f), up}, kInfinity, &hit));
+  ASSERT_TRUE(intersect_light(area, Ray{Vec3(0.6f, 0.6f, 0.0f), up}, kInfinity, &hit));
+  EXPECT_FLOAT_EQ(hit.density, 1.0f / kPi);
+  // A light without a shape is met by no ray.
+  Light point;
+  point.position = Vec3(0.0f, 0.0f, 1.0f);
+  EXPECT_FALSE(intersect_light(point, Ray{Vec3(0.0f), up}, kInfinity, &hit));
+}
+
+// A sphere light is met as the disc of its radius facing the ray's origin, of radiance
+// I / (pi r^2); a spot's cone limits it by the direction the ray comes from.
+TEST(Light, ARayMeetsASphereLightsDiscAndASpotsOnlyInsideItsCone) {
+  Light sphere;
+  sphere.color = Color(5.0f);
+  sphere.position = Vec3(0.0f, 0.0f, 4.0f);
+  sphere.radius = 0.5f;
+  LightHit hit;
+  const Vec3 up(0.0f, 0.0f, 1.0f);
+  ASSERT_TRUE(intersect_light(sphere, Ray{Vec3(0.3f, 0.0f, 0.0f), up}, kInfinity, &hit));
+  // The disc's normal points to the origin, d / |d| with d = (0.3, 0, -4): t = |d|^2 / 4.
+  EXPECT_NEAR(hit.t, (0.09f + 16.0f) / 4.0f, 1e-5f);
+  EXPECT_NEAR(hit.radiance.x, 5.0f / (kPi * 0.25f), 1e-4f);
+  EXPECT_FALSE(intersect_light(sphere, Ray{Vec3(0.6f, 0.0f, 0.0f), up}, kInfinity, &hit));
+  // From inside it, no disc faces the origin.
+  EXPECT_FALSE(intersect_light(sphere, Ray{Vec3(0.0f, 0.0f, 3.9f), up}, kInfinity, &hit));
+  // A spot pointing down sees the ray coming up from below; one pointing up does not.
+  Light spot = sphere;
+  spot.type = LightType::kSpot;
+  spot.direction = -up;
+  spot.spot_size = 1.0f;
+  spot.spot_blend = 0.0f;
+  ASSERT_TRUE(intersect_light(spot, Ray{Vec3(0.0f), up}, kInfinity, &hit));
+  EXPECT_NEAR(hit.radiance.x, 5.0f / (kPi * 0.25f), 1e-4f);
+  spot.direction = up;
+  EXPECT_FALSE(intersect_light(spot, Ray{Vec3(0.0f), up}, kInfinity, &hit));
+}
+
+// Each feeler is what a ray along it meets: the same point and density, and its
+// irradiance the radiance there over the n x n feelers' summed density (for a sphere light
+// up to the disc's cosine, which its feelers leave out).
+TEST(Light, FeelersIntegrateTheRadianceRaysMeetOnTheShape) {
+  Light area = square_above_origin(1.5f);
+  area.color = Color(2.0f);
+  area.samples = 3;
+  Light sphere;
+  sphere.color = Color(7.0f);
+  sphere.position = Vec3(0.4f, 0.2f, 3.0f);
+  sphere.radius = 0.3f;
+  sphere.samples = 3;
+  for (const Light& light : {Light(area), Light(sphere)}) {
+    const Vec3 p(0.3f, -0.2f, 0.0f);
+    for (int s = 0; s < light.sample_count(); ++s) {
+      const LightSample ls = sample_light(light, p, s);
+      LightHit hit;
+      ASSERT_TRUE(intersect_light(light, Ray{p, ls.wi}, kInfinity, &hit));
+      EXPECT_NEAR(hit.t, ls.distance, 1e-5f);
+      EXPECT_NEAR(hit.density, ls.density, 1e-4f * ls.density);
+      const float tolerance = light.type == LightType::kArea ? 1e-5f : 0.02f;
+      const float expected =
+          hit.radiance.x / (static_cast<float>(light.sample_count()) * hit.density);
+      EXPECT_NEAR(ls.irradiance.x, expected, tolerance * expected);
+    }
+  }
+}
+
+// A glossy ray's weight on a lamp and the lamp's feeler's on the same direction are the
+// power heuristic's two halves (they sum to 1); a ray not drawn from a lobe counts the
+// lamp whole.
+TEST(Light, LampWeightsOfGlossyRaysAndFeelersSumToOne) {
+  Light area = square_above_origin(1.0f);
+  area.samples = 4;
+  const Light light(area);
+  const float density = 0.8f;  // one feeler's, per unit solid angle
+  for (const float lobe : {0.01f, 0.5f, 16.0f, 1e4f}) {
+    const float ray = lamp_weight(lobe, light, density);
+    const float feeler = power_heuristic(16.0f * density, lobe);
+    EXPECT_NEAR(ray + feeler, 1.0f, 1e-6f);
+    const float r = lobe / (16.0f * density);
+    EXPECT_NEAR(ray, r * r / (1.0f + r * r), 1e-6f);
+  }
+  EXPECT_EQ(lamp_weight(0.0f, light, density), 1.0f);
 }
 
 }  // namespace

@@ -130,6 +130,54 @@ TEST(Whitted, ALampsMaxBouncesLimitsTheBouncesItLights) {
   EXPECT_NEAR(seen(1024, mirror), lit, 1e-3f);
 }
 
+// A mirror floor under an area lamp facing it: the reflected ray meets the lamp's
+// rectangle and brings its radiance, unless the lamp's visibility hides it from
+// reflected rays. A glossy floor gets the same highlight from feelers and glossy rays
+// combined (MIS) as from its feelers alone.
+TEST(Whitted, AMirrorShowsAnAreaLampAndAGlossyFloorCountsItOnce) {
+  const auto seen = [](float roughness, uint32_t visibility, const Vec3& at) {
+    Scene scene;
+    Material floor;
+    floor.diffuse = Color(0.0f);
+    floor.ambient = 0.0f;
+    floor.reflectivity = Color(1.0f);
+    floor.roughness = roughness;
+    add_object(&scene, "floor", quad(-20, 20, -20, 20, 0), floor);
+    Light lamp;
+    lamp.type = LightType::kArea;
+    lamp.color = Color(3.0f);
+    lamp.position = Vec3(0.0f, 0.0f, 2.0f);
+    lamp.direction = Vec3(0.0f, 0.0f, -1.0f);
+    lamp.size[0] = 1.0f;
+    lamp.size[1] = 0.5f;
+    lamp.samples = 8;
+    lamp.visibility = visibility;
+    scene.set_light("lamp", Light(lamp));
+    const auto compiled = scene.compile();
+    Settings settings;
+    settings.glossy_samples = 16;
+    const WhittedIntegrator integrator(*compiled, settings);
+    RayCounts counts;
+    const Vec3 from(0.0f, -1.0f, 1.0f);
+    const Ray ray{from, glm::normalize(at - from), 0.0f, kInfinity, kCameraRay};
+    return integrator.trace(ray, NodeState{}, &counts).x;
+  };
+  const uint32_t all = kReflectionRay | kRefractionRay;
+  // Seen from (0, -1, 1), the floor point (0, -2/3, 0) reflects the view to the lamp's
+  // centre (0, 0, 2); the point (0, -1/2, 0) to (0, 1/2, 2), past its edge (y = 1/4).
+  // Without the lamp in it, the mirror shows the background.
+  const Vec3 centre(0.0f, -2.0f / 3.0f, 0.0f);
+  const float background = seen(0.0f, kRefractionRay, centre);
+  EXPECT_NEAR(seen(0.0f, all, centre), background + 3.0f, 1e-4f);
+  EXPECT_EQ(seen(0.0f, all, Vec3(0.0f, -0.5f, 0.0f)), background);
+  for (const float roughness : {0.2f, 0.4f}) {
+    const float both = seen(roughness, all, centre);
+    const float feelers = seen(roughness, 0u, centre);
+    EXPECT_GT(feelers, 0.1f);
+    EXPECT_NEAR(both, feelers, 0.05f * feelers) << "roughness " << roughness;
+  }
+}
+
 TEST(Whitted, OccluderCastsAHardShadowOfTheRightSize) {
   const Scene scene = occluder_over_floor(1.0f);
   const auto compiled = scene.compile();

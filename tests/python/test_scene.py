@@ -350,6 +350,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "volumes",
         "hair and points",
         "light linking",
+        "lamps seen by rays",
         "depth of field",
         "motion blur",
         "pruning",

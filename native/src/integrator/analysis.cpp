@@ -66,6 +66,24 @@ EffectDecision light_linking(const CompiledScene& scene) {
               " in light or shadow sets"};
 }
 
+// The lamps whose shapes rays see (Light::visibility, intersect_light), and which rays.
+EffectDecision lamps_seen(const CompiledScene& scene) {
+  size_t lamps = 0;
+  for (const Light& light : scene.lights) lamps += light.has_shape() && light.visibility != 0;
+  if (lamps == 0) {
+    return {"lamps seen by rays", false,
+            "no area lamp or lamp with a radius is seen by camera, glossy or transmission rays"};
+  }
+  std::string rays;
+  for (const auto& [bit, name] :
+       {std::pair{kCameraRay, "camera"}, std::pair{kReflectionRay, "glossy"},
+        std::pair{kRefractionRay, "transmission"}}) {
+    if ((scene.lamps_visibility & bit) != 0) rays += (rays.empty() ? "" : ", ") + std::string(name);
+  }
+  return {"lamps seen by rays", true,
+          thousands(lamps) + (lamps == 1 ? " lamp" : " lamps") + " seen by " + rays + " rays"};
+}
+
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
 // their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume;
 // those with a medium a program drives (heterogeneous.h) counted apart.
@@ -239,6 +257,7 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
                       "has no volume");
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
+  effects->decisions.push_back(lamps_seen(scene));
 }
 
 // "0.0250": a length as the report writes it, in scene units.

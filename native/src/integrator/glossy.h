@@ -58,6 +58,7 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
       in.lit_by_world(state.depth) && in.world->params().glossy ? in.world : nullptr;
   const float per_feeler =
       in.emitters || world != nullptr ? rays_per_feeler(in.settings, state) : 0.0f;
+  const bool lamps = lamps_seen_by_glossy(in.scene);
   Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
   for (int k = 0; k < strata.count(); ++k) {
     const glm::vec2 u = strata.point(k);
@@ -72,14 +73,19 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
       lobe *= lobe_of.coat->facet_scale(p.wo, glm::normalize(p.wo + wi));
     }
     const Color weight = sigma_r * lobe_of.energy * lobe;
-    // Its density, for the MIS weight of the emission it may meet (emission_weight).
-    const float density = per_feeler * ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha);
+    // Its density, for the MIS weight of the emission it may meet (emission_weight) and
+    // of the lamps' shapes (lamp_weight).
+    const float pdf = per_feeler > 0.0f || lamps
+                          ? ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha)
+                          : 0.0f;
+    const float density = per_feeler * pdf;
     const float mis = in.emitters ? density : 0.0f;
     // Its weight on the world where it escapes, against the world's feelers.
     const float world_weight =
         world != nullptr ? power_heuristic(density, world->pdf(wi, p.ns)) : 1.0f;
-    const Drawn drawn{strata.share, hash3(state.seed, static_cast<uint32_t>(k), 0x676cu),
-                      strata.index(k), mis, world_weight};
+    const float lamp_density = lamps ? static_cast<float>(strata.count()) * pdf : 0.0f;
+    const uint32_t seed = hash3(state.seed, static_cast<uint32_t>(k), 0x676cu);
+    const Drawn drawn{strata.share, seed, strata.index(k), mis, world_weight, lamp_density};
     const Color brought = branch(spawn_ray(p.it.position, p.it.position_error,
                                            p.it.geometric_normal, p.it.time, wi, kReflectionRay),
                                  weight, state.media, drawn);

@@ -112,6 +112,12 @@ class Kernel {
         }
         if (is_black(through)) break;
       }
+      if ((r.kind & in_.scene.lamps_visibility) != 0) {
+        // The lamps the ray passes before what it meets let it go on, as in Cycles.
+        const Color seen = lamps(r, found ? hit.t : r.t_max, here);
+        recorder_.lamps(here.depth, behind, through, seen);
+        radiance += (behind * through) * seen;
+      }
       if (!found) {
         radiance +=
             through * escape(r, ray.kind == kCameraRay, here, node, behind, through, &coverage);
@@ -200,6 +206,27 @@ class Kernel {
     Ray q = r;
     q.kind |= kVolumeBoundRay;
     return q;
+  }
+
+  // The radiance of the lamps whose shapes ray r meets before t (intersect_light), each
+  // weighed by lamp_weight: those its kind of ray sees, within their Max Bounces (a
+  // bounced ray is one deeper than the hit that sends feelers), linked to the surface it
+  // left (camera rays see every lamp, as in Cycles).
+  Color lamps(const Ray& r, float t, const NodeState& state) const {
+    Color sum(0.0f);
+    for (const Light& light : in_.scene.lights) {
+      if ((light.visibility & r.kind) == 0) continue;
+      if (r.kind != kCameraRay && state.depth - 1 > light.max_bounces) continue;
+      if (state.receiver >= 0 &&
+          !in_sets(light.light_sets, static_cast<uint32_t>(state.receiver))) {
+        continue;
+      }
+      LightHit hit;
+      if (intersect_light(light, r, t, &hit)) {
+        sum += hit.radiance * lamp_weight(state.lamp_density, light, hit.density);
+      }
+    }
+    return sum;
   }
 
   // The world where a ray escapes, `behind` of it uncovered, and the coverage it adds:

@@ -88,6 +88,11 @@ struct NoRecorder {
   }
   // What that segment, at `depth`, sends back along the ray and lets through.
   void segment_light(int /*depth*/, const SegmentLight& /*light*/) {}
+  // The shapes of the lamps the ray passes before what it meets send `radiance` back
+  // (Kernel::lamps) to the `behind` share of the ray, through media letting `through`
+  // through.
+  void lamps(int /*depth*/, float /*behind*/, const Color& /*through*/, const Color& /*radiance*/) {
+  }
   // The ray escaped to `world`, shown unless the film is transparent there; `through` is
   // what the media on its way let through.
   void escaped(Node /*node*/, int /*depth*/, float /*behind*/, const Color& /*through*/,

@@ -100,10 +100,20 @@ class Lights {
       // integrate the lamp (Cook 1984), stratified across the pixel's samples.
       const bool sobol = jittered_samples(in_.settings);
       const ChainPoints points(state, 0x6c616d00u + static_cast<uint32_t>(feeler.light), samples);
+      // Where the glossy rays see its shape, their lobe's share of each feeler is weighed
+      // against them (MIS: lamp_weight).
+      const bool weighed =
+          rays.drawn > 0.0f && (light.visibility & kReflectionRay) != 0 && light.has_shape();
       const auto draw = [&](int s) {
-        if (!sobol) return Drawing{feeler, sample_light(light, p.it.position, s), 1.0f};
-        const glm::vec2 at = points.point(s);
-        return Drawing{feeler, sample_light(light, p.it.position, s, &at), 1.0f};
+        glm::vec2 at;
+        if (sobol) at = points.point(s);
+        Drawing out{feeler, sample_light(light, p.it.position, s, sobol ? &at : nullptr), 1.0f};
+        if (weighed) {
+          out.mis = power_heuristic(
+              static_cast<float>(samples) * out.sample.density,
+              rays.drawn * ggx_reflection_pdf(rays.normal, p.wo, out.sample.wi, rays.alpha));
+        }
+        return out;
       };
       feelers(p, samples, draw, state, counts, &phong);
     }

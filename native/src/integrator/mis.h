@@ -1,6 +1,6 @@
 // Multiple importance sampling (Veach 1995) between the two techniques that reach an
-// emissive mesh or the world: the feelers to the emitters and to the world (lights.h)
-// and the glossy rays (glossy.h).
+// emissive mesh, the world or a lamp's shape: the feelers to the emitters, to the world
+// and to the lamps (lights.h) and the glossy rays (glossy.h).
 // Each weighs what it brings by the power heuristic against the other's density.
 #pragma once
 
@@ -36,7 +36,21 @@ struct GlossyRays {
   Vec3 normal{0.0f, 0.0f, 1.0f};
   float alpha = 0.0f;
   float count = 0.0f;
+  float drawn = 0.0f;  // how many (n x n), as the lamps' feelers weigh theirs against them
 };
+
+// Whether glossy rays see some lamp's shape (their MIS weights against its feelers).
+inline bool lamps_seen_by_glossy(const CompiledScene& scene) {
+  return (scene.lamps_visibility & kReflectionRay) != 0;
+}
+
+// What a ray counts of the radiance it meets on the shape of `light` (intersect_light,
+// whose `density` is given): a glossy ray (its NodeState::lamp_density) its power
+// heuristic against the light's feelers, every other ray all of it.
+inline float lamp_weight(float lamp_density, const Light& light, float density) {
+  if (!(lamp_density > 0.0f)) return 1.0f;
+  return power_heuristic(lamp_density, static_cast<float>(light.sample_count()) * density);
+}
 
 // Glossy rays per emitter feeler at a hit: each technique's sample count at `state`.
 inline float rays_per_feeler(const Settings& settings, const NodeState& state) {
@@ -54,8 +68,8 @@ template <uint32_t kEffects, class Queries>
                                                      const ShadingPoint& p, const Split& split,
                                                      const NodeState& state) {
   GlossyRays rays;
-  if (!(in.emitters || in.lit_by_world(state.depth)) || (in.effects & kGlossyEffect) == 0 ||
-      !in.has(kReflectionEffect)) {
+  if (!(in.emitters || in.lit_by_world(state.depth) || lamps_seen_by_glossy(in.scene)) ||
+      (in.effects & kGlossyEffect) == 0 || !in.has(kReflectionEffect)) {
     return rays;
   }
   if (split.total_internal_reflection || is_black(split.sigma_r)) return rays;
@@ -67,6 +81,8 @@ template <uint32_t kEffects, class Queries>
   rays.normal = coat ? p.coat.normal : p.ns;
   rays.alpha = coat ? p.coat.alpha : p.alpha;
   rays.count = rays_per_feeler(in.settings, state);
+  const int side = Strata::side(state, in.settings.glossy_samples);
+  rays.drawn = static_cast<float>(side * side);
   return rays;
 }
 

@@ -249,6 +249,20 @@ void PassRecorder::escaped(Node /*node*/, int depth, float behind, const Color& 
   }
 }
 
+void PassRecorder::lamps(int depth, float behind, const Color& through,
+                         const Color& radiance) const {
+  const Color seen = throughput_ * behind * through * radiance;
+  if (contributions_) {
+    record_->contributions[static_cast<size_t>(std::min(depth, settings_.contribution_depth))] +=
+        seen;
+  }
+  if (depth == 0 && light_) {
+    record_->emission += seen;
+  } else if (Color* indirect = indirect_field(); indirect != nullptr) {
+    *indirect += seen;
+  }
+}
+
 void PassRecorder::cut(const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/, const Color& weight,
                        float share, TreeCut /*why*/) const {
   if (cut_weight_) record_->cut_weight += mean_component(throughput_ * weight * share);

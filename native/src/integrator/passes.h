@@ -230,6 +230,9 @@ class PassRecorder : public NoRecorder {
 
   void escaped(Node node, int depth, float behind, const Color& through, const Color& world,
                bool shown) const;
+  // A lamp the camera ray sees goes to Emission, as Cycles writes it; one a deeper ray
+  // sees to the indirect pass its path feeds.
+  void lamps(int depth, float behind, const Color& through, const Color& radiance) const;
   Scope cover(Node /*node*/, float behind, float a, const Color& through) {
     const float share = behind * a;
     return {this,

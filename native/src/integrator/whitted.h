@@ -80,6 +80,7 @@ struct Drawn {
   uint32_t index;
   float mis;
   float world_weight = 1.0f;  // NodeState::world_weight
+  float lamp_density = 0.0f;  // NodeState::lamp_density
 };
 
 // Where a ray stands in its ray tree: its recursion depth, its weight on the pixel (the
@@ -114,6 +115,10 @@ struct NodeState {
   // it was drawn (the world is as far in every direction, so the weight holds along the
   // ray); 1 for every other ray.
   float world_weight = 1.0f;
+  // A ray drawn from a glossy lobe: its density there per unit solid angle times its
+  // lobe's number of rays, for its MIS weight on the lamps whose shapes it meets against
+  // their feelers (mis.h, lamp_weight); 0 for every other ray, which sees lamps whole.
+  float lamp_density = 0.0f;
   // Light linking: the light set of the surface this ray left, whose emitters it sees;
   // -1 for a camera ray, which sees every emitter (as in Cycles).
   int receiver = -1;
@@ -136,6 +141,7 @@ inline NodeState NodeState::child(const Color& w, const MediumStack& m, bool bou
   // the emission it meets whole.
   next.mis = drawn != nullptr ? drawn->mis : (bounce ? 0.0f : mis);
   next.world_weight = drawn != nullptr ? drawn->world_weight : (bounce ? 1.0f : world_weight);
+  next.lamp_density = drawn != nullptr ? drawn->lamp_density : (bounce ? 0.0f : lamp_density);
   // Light linking: what it meets is lit for the surface it left (emission_weight).
   next.receiver = bounce ? light_set : receiver;
   return next;

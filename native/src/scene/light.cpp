@@ -40,6 +40,11 @@ float spread_attenuation(float spread, float cos_l) {
   return std::max(0.0f, (std::tan(h) - tan_a) * normalise);
 }
 
+// An area light's area, world units squared.
+float area_of(const Light& light) {
+  return light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
+}
+
 // The point of sample `index` of an n x n grid, in [0, 1]^2: its stratum's centre (the
 // lattice of the seed's soft shadows), or *at where given (a Monte Carlo draw).
 void stratum(const Light& light, int index, const glm::vec2* at, float* u, float* v) {
@@ -162,6 +167,7 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
   }
   Vec3 target = light.position;
   float weight = 1.0f;
+  Vec3 disc_normal(0.0f);  // a sphere light's disc, facing p
   if (light.type != LightType::kArea && light.radius > 0.0f) {
     // A sphere light seen from p: a disc of its radius facing p, as Cycles 3.x does.
     const Vec3 axis = p - light.position;
@@ -169,7 +175,8 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
     if (length > light.radius) {
       Vec3 u;
       Vec3 v;
-      basis(axis / length, &u, &v);
+      disc_normal = axis / length;
+      basis(disc_normal, &u, &v);
       const glm::vec2 o = strata_offset(light, index, at);
       target += 2.0f * light.radius * (o.x * u + o.y * v);
     }
@@ -177,9 +184,7 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
   } else if (light.type == LightType::kArea) {
     const glm::vec2 o = strata_offset(light, index, at);
     target += o.x * light.size[0] * light.axis_u + o.y * light.size[1] * light.axis_v;
-    const float area =
-        light.size[0] * light.size[1] * (light.shape == AreaShape::kEllipse ? 0.25f * kPi : 1.0f);
-    weight = area * share();
+    weight = area_of(light) * share();
   }
   const Vec3 d = target - p;
   const float dist2 = glm::dot(d, d);
@@ -187,6 +192,10 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
   if (!(dist > 0.0f)) return {Vec3(0.0f, 0.0f, 1.0f), 0.0f, Color(0.0f)};
   const Vec3 wi = d / dist;
   Color irradiance(0.0f);
+  // The density of wi: a sphere light's feelers draw its disc uniformly by area (an area
+  // light's its shape, below); 0 where the light has no disc.
+  const float disc_cos = -glm::dot(wi, disc_normal);
+  float density = disc_cos > 0.0f ? dist2 / (kPi * light.radius * light.radius * disc_cos) : 0.0f;
   switch (light.type) {
     case LightType::kPoint:
       irradiance = light.color * (weight / dist2);  // E = I / r^2
@@ -207,13 +216,56 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
       if (cos_l > 0.0f) {
         irradiance =
             light.color * (cos_l * weight * spread_attenuation(light.spread, cos_l) / dist2);
+        density = dist2 / (area_of(light) * cos_l);
       }
       break;
     }
     case LightType::kSun:
       break;
   }
-  return {wi, dist, irradiance};
+  return {wi, dist, irradiance, density};
+}
+
+bool intersect_light(const Light& light, const Ray& ray, float t_max, LightHit* hit) {
+  if (!light.has_shape()) return false;
+  const Vec3& d = ray.direction;
+  if (light.type == LightType::kArea) {
+    // Seen from its lit side only: the ray goes against the way the light travels.
+    const float cos_l = -glm::dot(d, light.direction);
+    if (!(cos_l > 0.0f)) return false;
+    const float t = glm::dot(ray.origin - light.position, light.direction) / cos_l;
+    if (!(t > ray.t_min && t < t_max)) return false;
+    // Where in the shape, in [-0.5, 0.5]^2 of its extents (the axes are unit vectors).
+    const Vec3 q = ray.origin + t * d - light.position;
+    const float a = glm::dot(q, light.axis_u) / light.size[0];
+    const float b = glm::dot(q, light.axis_v) / light.size[1];
+    const bool inside = light.shape == AreaShape::kEllipse
+                            ? a * a + b * b <= 0.25f
+                            : std::fabs(a) <= 0.5f && std::fabs(b) <= 0.5f;
+    if (!inside) return false;
+    *hit = {t, light.color * spread_attenuation(light.spread, cos_l),
+            t * t / (area_of(light) * cos_l)};
+    return true;
+  }
+  // A sphere light: the disc of its radius through its centre, facing the ray's origin.
+  const Vec3 to_origin = ray.origin - light.position;
+  const float length = glm::length(to_origin);
+  if (!(length > light.radius)) return false;  // from inside, no disc faces the origin
+  const Vec3 normal = to_origin / length;
+  const float cos_n = -glm::dot(d, normal);
+  if (!(cos_n > 0.0f)) return false;
+  const float t = length / cos_n;
+  if (!(t > ray.t_min && t < t_max)) return false;
+  const Vec3 q = ray.origin + t * d - light.position;
+  const float r2 = light.radius * light.radius;
+  if (glm::dot(q, q) > r2) return false;
+  // A sphere of intensity I (W/sr) seen as a disc of area pi r^2: radiance I / (pi r^2);
+  // a spot's cone at the direction the ray came from, as Cycles weighs it.
+  Color radiance = light.color * (1.0f / (kPi * r2));
+  if (light.type == LightType::kSpot) radiance *= spot_falloff(light, -d);
+  if (is_black(radiance)) return false;
+  *hit = {t, radiance, t * t / (kPi * r2 * cos_n)};
+  return true;
 }
 
 }  // namespace whitted

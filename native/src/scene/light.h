@@ -52,6 +52,10 @@ struct LightParams {
   // and whether it shows in the specular ones (Phong highlight, coat, glossy lobes).
   bool diffuse = true;
   bool glossy = true;
+  // The RayKind bits of the rays that see its shape (Cycles' Ray Visibility: Camera,
+  // Glossy for reflected rays, Transmission for refracted ones), where it has one
+  // (Light::has_shape). Blender makes lamps unseen by the camera.
+  uint32_t visibility = kReflectionRay | kRefractionRay;
   // Cycles' Max Bounces: it lights only surfaces reached after at most this many
   // bounces (a camera ray's hit has had none; each reflection or refraction is one).
   int max_bounces = 1024;
@@ -78,6 +82,11 @@ struct Light : LightParams {
     return type == LightType::kArea || (type == LightType::kSun ? angle > 0.0f : radius > 0.0f);
   }
   int sample_count() const { return sized() ? samples * samples : 1; }
+  // Whether a ray can meet it (intersect_light): an area light's rectangle or ellipse, a
+  // point or spot light's sphere; a sun, or a point without a radius, has no shape.
+  bool has_shape() const {
+    return type == LightType::kArea || (type != LightType::kSun && radius > 0.0f);
+  }
 
   // A sized light's samples as far as they do not depend on the shading point, made once
   // by the constructor: each stratum's offset on the light's shape ([-0.5, 0.5]^2; a disc
@@ -95,6 +104,9 @@ struct LightSample {
   Vec3 wi;           // unit direction from the point towards the light
   float distance;    // to the light sample; infinity for the sun
   Color irradiance;  // on a surface facing wi, before the surface's cosine and visibility
+  // The density with which one of the light's feelers draws wi, per unit solid angle
+  // (the MIS weight against the rays that meet its shape); 0 for a light without one.
+  float density = 0.0f;
 };
 
 // Sample `index` of light.sample_count() arriving at point p. Irradiance is zero where
@@ -103,5 +115,18 @@ struct LightSample {
 // *at of [0, 1)^2 placed on its shape (a Monte Carlo camera sample's draw: lights.h).
 LightSample sample_light(const Light& light, const Vec3& p, int index,
                          const glm::vec2* at = nullptr);
+
+// Where a ray meets a light's shape, as Cycles' lamps are met: an area light's rectangle
+// or ellipse from its lit side, a point or spot light's sphere as the disc of its radius
+// facing the ray's origin (what its feelers sample, and Cycles 3.x's sphere light).
+struct LightHit {
+  float t;         // along the ray
+  Color radiance;  // what the ray sees there, W/(m^2 sr): the feelers' irradiance integrates it
+  float density;   // LightSample::density of a feeler from the ray's origin towards the hit
+};
+
+// Whether `ray` meets the shape of `light` within (ray.t_min, t_max), and where (*hit). A
+// light without a shape (has_shape) is met by none.
+bool intersect_light(const Light& light, const Ray& ray, float t_max, LightHit* hit);
 
 }  // namespace whitted

@@ -366,6 +366,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
                               light.shadow_sets != kAllLightSets;
     compiled->lights.push_back(light);
     compiled->light_names.push_back(name);
+    if (light.has_shape()) compiled->lamps_visibility |= light.visibility;
   }
 
   // Instances are resolved anew each time (cheap); their order and the set left out

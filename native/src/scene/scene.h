@@ -207,6 +207,9 @@ struct CompiledScene {
   std::vector<std::string> light_names;     // by index into `lights`
   std::vector<std::shared_ptr<const Texture>> textures;
   std::vector<Light> lights;
+  // The RayKind bits of the rays that see some lamp's shape (Light::visibility of those
+  // with one): 0 where none does, and no ray looks for lamps.
+  uint32_t lamps_visibility = 0;
   // The media that glow (Material::glows, in a mesh without a surface), each by the
   // sphere around its instance's box over the shutter: where a surface's glow feelers
   // aim (integrator/lights.h).
