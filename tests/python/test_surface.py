@@ -69,6 +69,35 @@ def test_valid_reflection_lifts_a_mapped_normal_as_cycles_3():
     assert centre(tilted_normal_material(True)) == pytest.approx([z * base] * 3, rel=1e-4)
 
 
+def test_valid_reflection_lifts_a_mapped_coat_normal_as_cycles_3():
+    # The 60-degree normal as the coat's normal, a sharp coat mirroring a white sky:
+    # unlifted, the straight-down view's mirror falls below the floor and the coat shows
+    # no sky; lifted (Cycles 3.x lifts Clearcoat Normal as Normal) it is the coat of the
+    # normal whose mirror leaves at height 0.01, given directly.
+    def coated(normal_material, valid_reflection):
+        return wn.Material(
+            diffuse=(0.5,) * 3,
+            ambient=0.0,
+            coat_reflectivity=1.0,
+            coat_ior=1.5,
+            program=normal_material.program,
+            outputs={"coat_normal": 2},
+            valid_reflection=valid_reflection,
+        )
+
+    tilted = tilted_normal_material(False)
+    z = math.sqrt(0.505)
+    unused = 0xFFFFFFFF
+    code = np.array([[29, 2, 2, 0, 1, unused, unused, unused]], dtype=np.uint32)
+    lifted_colour = [0.5 + 0.5 * math.sqrt(1.0 - z * z), 0.5, 0.5 + 0.5 * z, 1.0]
+    registers = np.array([[1.0] * 4, lifted_colour, [0.0] * 4], dtype=np.float32)
+    lifted = wn.Material(program=wn.Program(code, registers, np.zeros(0, np.float32), []))
+    sky = (1.0, 1.0, 1.0)
+    as_lifted = centre(coated(lifted, False), sky)
+    assert centre(coated(tilted, True), sky) == pytest.approx(as_lifted, rel=1e-4)
+    assert not np.allclose(centre(coated(tilted, False), sky), as_lifted, rtol=1e-2)
+
+
 def test_bump_shadowing_fades_the_diffuse_lobe_of_a_mapped_normal_as_cycles():
     # The 60-degree normal under a sun 20 degrees above the floor on the side it leans
     # to (n.l = cos 10), and under one 5 degrees below the floor, which only the mapped

@@ -412,6 +412,13 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
           side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.normal);
     }
     normal(kCoatNormalField, &out.coat_normal);
+    if (lifts && (m.driven(kCoatNormalField) || m.driven(kNormalField))) {
+      // The coat's normal too, mapped or the interpolated one beside a mapped base normal
+      // (Cycles 3.x lifts its Clearcoat Normal as it lifts Normal).
+      const float side = hit.backfacing ? -1.0f : 1.0f;
+      out.coat_normal =
+          side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.coat_normal);
+    }
     if (m.driven(kCoatSpecularField)) out.coat_specular = field(kCoatSpecularField).x;
     if (m.driven(kCoatReflectivityField)) out.coat_reflectivity = field(kCoatReflectivityField).x;
     if (m.driven(kCoatShininessField)) {
