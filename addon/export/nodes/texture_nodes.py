@@ -1,6 +1,6 @@
 """The texture nodes as Exprs: images and environments (native textures the program
 samples), and the procedural textures the program computes (Checker, Gradient, Noise,
-Voronoi, Wave, Magic, Brick, Sky), each at the coordinates its Vector input gives."""
+Voronoi, Wave, Magic, Brick, Sky, White Noise), each at the coordinates its Vector input gives."""
 
 import math
 
@@ -221,6 +221,18 @@ def _brick(c, out):
     return c.b.vlerp(mortar, bricks, mortar_color)
 
 
+def _white_noise(c, out):
+    # Cycles' node: hashes of the input's float bits. Its Vector has no default link
+    # (unlike the other textures): unlinked, it is the socket's own value.
+    node = out.node
+    vector = c.input(out, ("Vector",), VECTOR) or c.b.const((0.0, 0.0, 0.0), VECTOR)
+    w = c.input(out, ("W",), FLOAT) or c.b.f(0.0)
+    color = output_name(out) == "Color"
+    mode = ops.pack("WHITE_NOISE", dimensions=node.noise_dimensions, color=color)
+    noise = c.b.op(ops.WHITE_NOISE, mode, (vector, w), kind=COLOR if color else FLOAT)
+    return noise if color else c.b.swizzle(noise, 3)
+
+
 def _texture_mapping(c, node, vector):
     """`vector` through the node's own Texture Mapping (its sidebar's Location, Rotation
     and Scale, as a Mapping node of its Vector Type); min/max clipping and axis remaps
@@ -296,4 +308,5 @@ TEXTURE_NODES = {
     "ShaderNodeTexMagic": _magic,
     "ShaderNodeTexBrick": _brick,
     "ShaderNodeTexSky": _sky,
+    "ShaderNodeTexWhiteNoise": _white_noise,
 }
