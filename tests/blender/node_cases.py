@@ -490,6 +490,32 @@ def white_noise_case(dimensions, output):
     )  # fmt: skip
 
 
+def musgrave_case(dimensions, musgrave_type, **inputs):
+    """A Musgrave Texture (Blender 3.4 to 4.0) over UV; 1D and 4D read W from U (+ 0.37)."""
+
+    def build(tree, uv):
+        node = _node(
+            tree, "ShaderNodeTexMusgrave", musgrave_dimensions=dimensions,
+            musgrave_type=musgrave_type,
+        )  # fmt: skip
+        uv = _texture_input(tree, uv, node)
+        if dimensions in ("1D", "4D"):
+            x, _ = _x(tree, uv)
+            tree.links.new(_spread(tree, x, 1.3, 0.37), node.inputs["W"])
+        _set_inputs(node, {k: v for k, v in inputs.items() if node.inputs[k].enabled})
+        return _texture_output(tree, node, "Fac")
+
+    name = f"musgrave_{dimensions.lower()}_{musgrave_type.lower()}"
+    return NodeCase(name, build, "Musgrave Texture", procedural=True)
+
+
+MUSGRAVE = hasattr(bpy.types, "ShaderNodeTexMusgrave")
+# Values that keep each fractal within a few units (a Hybrid or Ridged of high Gain grows
+# fast): Detail with a fractional octave, Dimension and Lacunarity off their defaults.
+MUSGRAVE_INPUTS = {"Scale": 2.0, "Detail": 3.5, "Dimension": 1.2, "Lacunarity": 2.2,
+                   "Offset": 0.8, "Gain": 1.3}  # fmt: skip
+
+
 VORONOI_FRACTAL = "normalize" in bpy.types.ShaderNodeTexVoronoi.bl_rna.properties
 
 
@@ -565,6 +591,19 @@ PROCEDURAL_CASES = [
     magic_case(2, "Fac", Scale=1.2, Distortion=1.7),
     magic_case(10, Scale=0.8, Distortion=1.3),
     *(white_noise_case(d, o) for d in ("1D", "2D", "3D", "4D") for o in ("Value", "Color")),
+    *(
+        (
+            musgrave_case("3D", "FBM", **MUSGRAVE_INPUTS),
+            musgrave_case("1D", "FBM", **MUSGRAVE_INPUTS),
+            musgrave_case("2D", "MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("4D", "HETERO_TERRAIN", **MUSGRAVE_INPUTS),
+            musgrave_case("3D", "HYBRID_MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("2D", "RIDGED_MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("4D", "FBM", **{**MUSGRAVE_INPUTS, "Detail": 1.0}),
+        )
+        if MUSGRAVE
+        else ()
+    ),
     brick_case("color", Scale=2.0, Bias=0.2, **{"Mortar Smooth": 0.5, "Mortar Size": 0.05}),
     brick_case("squash_fac", "Fac", {"offset": 0.3, "offset_frequency": 3, "squash": 0.6,
                                       "squash_frequency": 2}, Scale=2.5,
