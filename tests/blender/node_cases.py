@@ -111,10 +111,13 @@ def mix_rgb_case(blend, clamp=False):
     return NodeCase(f"mix_{blend.lower()}{'_clamp' if clamp else ''}", build, "MixRGB")
 
 
-def ramp_case(interpolation):
+def ramp_case(interpolation, color_mode="RGB", hue="NEAR"):
     def build(tree, uv):
         x, _ = _x(tree, uv)
         ramp = _node(tree, "ShaderNodeValToRGB")
+        ramp.color_ramp.color_mode = color_mode
+        if color_mode != "RGB":
+            ramp.color_ramp.hue_interpolation = hue
         ramp.color_ramp.interpolation = interpolation
         ramp.color_ramp.elements[0].color = (1.0, 0.1, 0.0, 1.0)
         ramp.color_ramp.elements.new(0.4).color = (0.0, 0.8, 0.2, 1.0)
@@ -123,7 +126,10 @@ def ramp_case(interpolation):
         tree.links.new(x, ramp.inputs[0])
         return ramp.outputs["Color"]
 
-    return NodeCase(f"color_ramp_{interpolation.lower()}", build, "Color Ramp")
+    name = f"color_ramp_{interpolation.lower()}"
+    if color_mode != "RGB":
+        name += f"_{color_mode.lower()}_{hue.lower()}"
+    return NodeCase(name, build, "Color Ramp")
 
 
 def _rgb_curves(tree, uv):
@@ -265,6 +271,56 @@ def _blackbody(tree, uv):
     node = _node(tree, "ShaderNodeBlackbody")
     tree.links.new(_spread(tree, x, 12000.0, 600.0), node.inputs["Temperature"])
     return node.outputs["Color"]
+
+
+def _wavelength(tree, uv):
+    # 350 nm to 800 nm along U: below the table's 380 nm, across it and past its 780 nm.
+    x, _ = _x(tree, uv)
+    node = _node(tree, "ShaderNodeWavelength")
+    tree.links.new(_spread(tree, x, 450.0, 350.0), node.inputs["Wavelength"])
+    return node.outputs["Color"]
+
+
+def vector_rotate_case(rotation_type, invert=False):
+    """UV moved off the origin (z too) and turned about a centre off it."""
+
+    def build(tree, uv):
+        mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
+        mapping.inputs["Location"].default_value = (-0.5, -0.3, 0.2)
+        mapping.inputs["Scale"].default_value = (2.0, 1.5, 1.0)
+        tree.links.new(uv, mapping.inputs["Vector"])
+        node = _node(tree, "ShaderNodeVectorRotate", rotation_type=rotation_type, invert=invert)
+        tree.links.new(mapping.outputs[0], node.inputs["Vector"])
+        # Blender 5.0 lists only the inputs the type uses.
+        values = {"Center": (0.2, -0.1, 0.3), "Axis": (0.3, -0.5, 0.8), "Angle": 0.9,
+                  "Rotation": (0.4, -0.7, 1.1)}  # fmt: skip
+        _set_inputs(node, {k: v for k, v in values.items() if k in node.inputs})
+        return node.outputs["Vector"]
+
+    name = f"vector_rotate_{rotation_type.lower()}{'_invert' if invert else ''}"
+    return NodeCase(name, build, "Vector Rotate")
+
+
+def light_falloff_case(output, smooth):
+    """Strength from 0 to 0.04 along U; the camera's rays are RAY_LENGTH long."""
+
+    def build(tree, uv):
+        x, _ = _x(tree, uv)
+        node = _node(tree, "ShaderNodeLightFalloff")
+        tree.links.new(_spread(tree, x, 0.04, 0.0), node.inputs["Strength"])
+        node.inputs["Smooth"].default_value = smooth
+        return _combine(tree, node.outputs[output])
+
+    name = f"light_falloff_{output.lower()}{'_smooth' if smooth else ''}"
+    return NodeCase(name, build, "Light Falloff")
+
+
+def _wireframe(tree, uv):
+    # Size 0.3: the band along the plane's border and its quad's diagonal; no pixel centre
+    # lies within 0.03 of the band's edge (Cycles' sample stays on the same side).
+    node = _node(tree, "ShaderNodeWireframe", use_pixel_size=False)
+    node.inputs["Size"].default_value = 0.3
+    return _combine(tree, node.outputs["Fac"])
 
 
 def mix_float_case():
@@ -416,6 +472,50 @@ def brick_case(name, output="Color", settings=None, **inputs):
     return NodeCase(f"brick_{name}", build, "Brick Texture", procedural=True)
 
 
+def white_noise_case(dimensions, output):
+    """A White Noise Texture over UV at pixel centres moved by an exact (dyadic) offset,
+    so both renderers hash the same float bits; 1D and 4D read W from U."""
+
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexWhiteNoise", noise_dimensions=dimensions)
+        uv = _texture_input(tree, uv, node, location=(0.125, -0.25, 0.5))
+        if dimensions in ("1D", "4D"):
+            x, _ = _x(tree, uv)
+            tree.links.new(x, node.inputs["W"])
+        return _texture_output(tree, node, output)
+
+    return NodeCase(
+        f"white_noise_{dimensions.lower()}_{output.lower()}", build, "White Noise Texture",
+        procedural=True,
+    )  # fmt: skip
+
+
+def musgrave_case(dimensions, musgrave_type, **inputs):
+    """A Musgrave Texture (Blender 3.4 to 4.0) over UV; 1D and 4D read W from U (+ 0.37)."""
+
+    def build(tree, uv):
+        node = _node(
+            tree, "ShaderNodeTexMusgrave", musgrave_dimensions=dimensions,
+            musgrave_type=musgrave_type,
+        )  # fmt: skip
+        uv = _texture_input(tree, uv, node)
+        if dimensions in ("1D", "4D"):
+            x, _ = _x(tree, uv)
+            tree.links.new(_spread(tree, x, 1.3, 0.37), node.inputs["W"])
+        _set_inputs(node, {k: v for k, v in inputs.items() if node.inputs[k].enabled})
+        return _texture_output(tree, node, "Fac")
+
+    name = f"musgrave_{dimensions.lower()}_{musgrave_type.lower()}"
+    return NodeCase(name, build, "Musgrave Texture", procedural=True)
+
+
+MUSGRAVE = hasattr(bpy.types, "ShaderNodeTexMusgrave")
+# Values that keep each fractal within a few units (a Hybrid or Ridged of high Gain grows
+# fast): Detail with a fractional octave, Dimension and Lacunarity off their defaults.
+MUSGRAVE_INPUTS = {"Scale": 2.0, "Detail": 3.5, "Dimension": 1.2, "Lacunarity": 2.2,
+                   "Offset": 0.8, "Gain": 1.3}  # fmt: skip
+
+
 VORONOI_FRACTAL = "normalize" in bpy.types.ShaderNodeTexVoronoi.bl_rna.properties
 
 
@@ -490,6 +590,20 @@ PROCEDURAL_CASES = [
     magic_case(0, Scale=1.5),
     magic_case(2, "Fac", Scale=1.2, Distortion=1.7),
     magic_case(10, Scale=0.8, Distortion=1.3),
+    *(white_noise_case(d, o) for d in ("1D", "2D", "3D", "4D") for o in ("Value", "Color")),
+    *(
+        (
+            musgrave_case("3D", "FBM", **MUSGRAVE_INPUTS),
+            musgrave_case("1D", "FBM", **MUSGRAVE_INPUTS),
+            musgrave_case("2D", "MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("4D", "HETERO_TERRAIN", **MUSGRAVE_INPUTS),
+            musgrave_case("3D", "HYBRID_MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("2D", "RIDGED_MULTIFRACTAL", **MUSGRAVE_INPUTS),
+            musgrave_case("4D", "FBM", **{**MUSGRAVE_INPUTS, "Detail": 1.0}),
+        )
+        if MUSGRAVE
+        else ()
+    ),
     brick_case("color", Scale=2.0, Bias=0.2, **{"Mortar Smooth": 0.5, "Mortar Size": 0.05}),
     brick_case("squash_fac", "Fac", {"offset": 0.3, "offset_frequency": 3, "squash": 0.6,
                                       "squash_frequency": 2}, Scale=2.5,
@@ -614,6 +728,11 @@ CASES = [
     mix_float_case(),
     mix_vector_case(),
     *(ramp_case(kind) for kind in ("CONSTANT", "LINEAR", "EASE", "CARDINAL", "B_SPLINE")),
+    ramp_case("LINEAR", "HSV", "NEAR"),
+    ramp_case("EASE", "HSV", "FAR"),
+    ramp_case("LINEAR", "HSL", "CW"),
+    ramp_case("LINEAR", "HSL", "CCW"),
+    ramp_case("CONSTANT", "HSV", "NEAR"),
     NodeCase("rgb_curves", _rgb_curves, "RGB Curves"),
     NodeCase("float_curve", _float_curve, "Float Curve"),
     NodeCase("vector_curves", _vector_curves, "Vector Curves"),
@@ -628,6 +747,13 @@ CASES = [
     # Cycles 5.2's Blackbody is up to 3.6e-4 from 3.4's and 5.0's (blue 1.5659 against
     # 1.5663 near 12000 K, seen in CI); the reference is within 4e-6 of 3.4 and 5.0.
     NodeCase("blackbody", _blackbody, "Blackbody", tolerance=5e-4),
+    NodeCase("wavelength", _wavelength, "Wavelength"),
+    *(
+        vector_rotate_case(kind)
+        for kind in ("AXIS_ANGLE", "X_AXIS", "Y_AXIS", "Z_AXIS", "EULER_XYZ")
+    ),
+    vector_rotate_case("AXIS_ANGLE", invert=True),
+    vector_rotate_case("EULER_XYZ", invert=True),
     *(map_range_case(kind) for kind in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")),
     NodeCase("clamp_range", _clamp_range, "Clamp"),
     *(mapping_case(kind) for kind in ("POINT", "TEXTURE", "VECTOR", "NORMAL")),
@@ -646,10 +772,16 @@ CASES = [
     ),
     *PROCEDURAL_CASES,
     *(tex_coord_case(o) for o in ("UV", "Generated", "Object", "Normal", "Camera", "Window")),
-    *(light_path_case(o) for o in ("Is Camera Ray", "Is Shadow Ray", "Ray Depth")),
+    *(light_path_case(o) for o in ("Is Camera Ray", "Is Shadow Ray", "Ray Depth", "Ray Length")),
+    *(
+        light_falloff_case(o, smooth)
+        for o in ("Quadratic", "Linear", "Constant")
+        for smooth in (0.0, 2.0)
+    ),
     *(object_info_case(o) for o in ("Location", "Color", "Random", "Object Index")),
     NodeCase("color_attribute", _color_attribute, "Color Attribute"),
     NodeCase("attribute_float", _attribute, "Attribute"),
+    NodeCase("wireframe", _wireframe, "Wireframe"),
     NodeCase("fresnel", _fresnel, "Fresnel"),
     NodeCase("layer_weight_fresnel", _layer_weight("Fresnel"), "Layer Weight"),
     NodeCase("layer_weight_facing", _layer_weight("Facing"), "Layer Weight"),

@@ -108,6 +108,27 @@ def test_a_rough_metal_reflecting_the_panel_counts_it_once(
     assert abs(ratio - 1.0) < 0.05
 
 
+@pytest.mark.parametrize("falloff", ["Linear", "Constant"])
+def test_a_panel_with_light_falloff_lights_as_cycles(falloff, empty_scene, tmp_path, native):
+    # The panel's Emission Strength from a Light Falloff node: Cycles evaluates it at each
+    # point the floor samples with the length of the ray from the floor to it, which
+    # undoes one or both powers of the inverse-square law (Linear, Constant).
+    scene = empty_scene
+    panel = panel_room(scene, strength=1.0)
+    tree = panel.data.materials[0].node_tree
+    node = tree.nodes.new("ShaderNodeLightFalloff")
+    node.inputs["Strength"].default_value = 3.0
+    tree.links.new(node.outputs[falloff], tree.nodes["Emission"].inputs["Strength"])
+    cycles, whitted = cycles_and_whitted(scene, tmp_path)
+    ratio, both = lit_sum_ratio(cycles, whitted)
+    lit = both & (cycles[..., 0] > 0.01)
+    per_pixel = np.median(whitted[lit][:, 0] / cycles[lit][:, 0])
+    print(f"\nLight Falloff {falloff}: summed Whitted / Cycles {ratio:.4f}, median {per_pixel:.4f}")
+    assert lit.sum() > 100
+    assert abs(ratio - 1.0) < 0.03
+    assert abs(per_pixel - 1.0) < 0.05
+
+
 def test_emission_sampling_none_lights_nothing_and_says_so(
     empty_scene, tmp_path, native, monkeypatch, render_pixels
 ):

@@ -231,15 +231,15 @@ def test_unsupported_node_warns_once_by_name(warnings):
     bsdf = principled(material)
     bsdf.inputs["Base Color"].default_value = (0.1, 0.2, 0.3, 1.0)
     bsdf.inputs["Roughness"].default_value = 0.4
-    wave = tree.nodes.new("ShaderNodeTexWhiteNoise")
+    wave = tree.nodes.new("ShaderNodeParticleInfo")  # a node the program lacks
     wave.name = "Ripples"
-    tree.links.new(wave.outputs["Color"], bsdf.inputs["Base Color"])
-    tree.links.new(wave.outputs["Value"], bsdf.inputs["Roughness"])
+    tree.links.new(wave.outputs["Velocity"], bsdf.inputs["Base Color"])
+    tree.links.new(wave.outputs["Random"], bsdf.inputs["Roughness"])
     data = convert(material, warnings).data
     assert data.diffuse == pytest.approx((0.1, 0.2, 0.3))
     # One warning per node and input it feeds, naming both.
     assert len(warnings) == 2
-    assert all("node 'Ripples': White Noise Texture is not supported" in w for w in warnings)
+    assert all("node 'Ripples': ShaderNodeParticleInfo is not supported" in w for w in warnings)
     assert any("'Base Color'" in w for w in warnings)
     assert any("'Roughness'" in w for w in warnings)
 

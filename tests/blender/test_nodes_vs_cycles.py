@@ -27,6 +27,10 @@ NOT_RUN = {"texture_coordinate_normal"}
 
 def pixel_inputs(u, v, info):
     x, y = 2.0 * u - 1.0, 2.0 * v - 1.0
+    # Cycles measures a camera ray from its near clip distance: the camera looks down at
+    # the plane (z = 0) from its height.
+    camera = bpy.context.scene.camera
+    ray_length = camera.location.z - camera.data.clip_start
     # Point attributes, interpolated over the quad's triangles (0, 1, 2) and (0, 2, 3).
     corners = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], dtype=np.float64)
     paint = np.array([[0.9, 0.1, 0.1, 1], [0.1, 0.9, 0.1, 1], [0.1, 0.1, 0.9, 1], [1, 1, 1, 1]])
@@ -37,6 +41,8 @@ def pixel_inputs(u, v, info):
     s, t = np.linalg.solve(matrix, np.array([x - a[0], y - a[1]]))
     weights = np.array([1.0 - s - t, s, t])
     color = weights @ paint[list(triangle)]
+    # The triangle's corners (world: the plane lies at z = 0).
+    vertices = {ops.IN_TRIANGLE + k: (*corners[i], 0.0, 0.0) for k, i in enumerate(triangle)}
     h = float(weights @ height[list(triangle)])
     inputs = {
         ops.IN_POSITION: (x, y, 0.0, 0.0),
@@ -56,6 +62,8 @@ def pixel_inputs(u, v, info):
         ops.IN_RAY_DEPTH: (0.0,) * 4,
         ops.IN_IS_DIFFUSE_RAY: (0.0,) * 4,
         ops.IN_IS_SINGULAR_RAY: (0.0,) * 4,
+        ops.IN_RAY_LENGTH: (ray_length,) * 4,
+        **vertices,
         ops.IN_OBJECT_LOCATION: (*info[0:3], 0.0),
         ops.IN_OBJECT_RANDOM: (info[3],) * 4,
         ops.IN_OBJECT_INDEX: (info[4],) * 4,

@@ -334,13 +334,13 @@ def test_inputs_the_program_reads_are_recorded():
 
 def test_procedural_textures_warn_and_use_the_unlinked_value(warnings):
     def build(tree):
-        noise = tree.nodes.new("ShaderNodeTexWhiteNoise")
-        return noise.outputs["Color"]
+        noise = tree.nodes.new("ShaderNodeTexIES")
+        return noise.outputs["Fac"]
 
     exported = compile_material(emission_of(build), warnings)
     assert exported.program is None
     assert exported.data.emission == pytest.approx((1.0, 1.0, 1.0))  # Emission's own colour
-    assert "White Noise Texture is not supported" in warnings[0]
+    assert "IES Texture is not supported" in warnings[0]
 
 
 def mesh_with_data():

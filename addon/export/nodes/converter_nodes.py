@@ -1,6 +1,9 @@
 """The converter and colour nodes as Exprs: Math and Vector Math, separate and combine,
 Mix, Color Ramp, the curves (sampled into tables), Invert, Hue/Saturation, Gamma,
-Bright/Contrast, Map Range, Clamp, RGB to BW, Mapping and Blackbody."""
+Bright/Contrast, Map Range, Clamp, RGB to BW, Mapping, Vector Rotate, Blackbody and
+Wavelength."""
+
+import bpy
 
 from . import ops
 from .ir import COLOR, FLOAT, VECTOR
@@ -139,16 +142,31 @@ def _mix(c, out):
     return None
 
 
+# Cycles reads a Color Ramp from a table of colours Blender evaluates at evenly spaced
+# positions, interpolated linearly between them (or the one below, for Constant): 256
+# of them at i / 255 in Blender 3.4, 257 at i / 256 in 5.0 (measured against each one's
+# Cycles; 4.x is read as 5.0, not measured).
+_RAMP_STEPS = 255 if bpy.app.version < (4, 0, 0) else 256
+
+
 def _ramp(c, out):
     node = out.node
     ramp = node.color_ramp
-    if ramp.color_mode != "RGB":
-        c.warn(node, f"{ramp.color_mode} colour ramp interpolation is approximated in RGB")
     factor = c.input(out, ("Fac", "Factor"), FLOAT)
-    table = [float(len(ramp.elements))]
-    for element in ramp.elements:
-        table += [float(element.position), *map(float, element.color)]
-    mode = ops.pack("COLOR_RAMP", interpolation=ramp.interpolation)
+    interpolation = ramp.interpolation
+    if ramp.color_mode != "RGB":
+        # HSV and HSL blends (with their hue direction) are Blender's own: Blender's table,
+        # as Cycles takes it, becomes a ramp of its entries.
+        table = [float(_RAMP_STEPS + 1)]
+        for i in range(_RAMP_STEPS + 1):
+            position = i / _RAMP_STEPS
+            table += [position, *map(float, ramp.evaluate(position))]
+        interpolation = "CONSTANT" if interpolation == "CONSTANT" else "LINEAR"
+    else:
+        table = [float(len(ramp.elements))]
+        for element in ramp.elements:
+            table += [float(element.position), *map(float, element.color)]
+    mode = ops.pack("COLOR_RAMP", interpolation=interpolation)
     color = c.b.op(ops.COLOR_RAMP, mode, (factor,), e=tuple(table), kind=COLOR)
     if output_name(out) == "Alpha":
         return c.b.swizzle(color, 3)
@@ -305,6 +323,28 @@ def _blackbody(c, out):
     return c.b.vmath("MAXIMUM", colour, c.b.const((0.0, 0.0, 0.0), COLOR), kind=COLOR)
 
 
+def _wavelength(c, out):
+    # Cycles' node: the CIE matching functions at the wavelength (nm) to Rec.709, scaled by
+    # 1 / 2.52 and clamped at 0 (op WAVELENGTH, shader/wavelength.h).
+    nanometres = c.input(out, ("Wavelength",), FLOAT)
+    return c.b.op(ops.WAVELENGTH, 0, (nanometres,), kind=COLOR)
+
+
+def _vector_rotate(c, out):
+    node = out.node
+    vector = c.input(out, ("Vector",), VECTOR)
+    center = c.input(out, ("Center",), VECTOR)
+    # The Euler type turns by Rotation; the others by Angle, Axis Angle about Axis.
+    if node.rotation_type == "EULER_XYZ":
+        rotation = c.input(out, ("Rotation",), VECTOR)
+        angle = c.b.f(0.0)
+    else:
+        rotation = c.input(out, ("Axis",), VECTOR) or c.b.const((0.0, 0.0, 1.0), VECTOR)
+        angle = c.input(out, ("Angle",), FLOAT)
+    mode = ops.pack("VECTOR_ROTATE", rotation_type=node.rotation_type, invert=node.invert)
+    return c.b.op(ops.VECTOR_ROTATE, mode, (vector, center, rotation, angle), kind=VECTOR)
+
+
 def _separate_rgb(c, out):
     return _separate(c, out, "RGB", ("Image", "Color"))
 
@@ -344,4 +384,6 @@ CONVERTER_NODES = {
     "ShaderNodeRGBToBW": _rgb_to_bw,
     "ShaderNodeMapping": _mapping,
     "ShaderNodeBlackbody": _blackbody,
+    "ShaderNodeWavelength": _wavelength,
+    "ShaderNodeVectorRotate": _vector_rotate,
 }

@@ -1,6 +1,7 @@
 """The input nodes as Exprs: constants (Value, RGB), what a hit gives (Texture
-Coordinate, UV Map, Geometry, Light Path, Object Info, attributes and colour
-attributes), the view-dependent factors (Fresnel, Layer Weight) and Normal Map."""
+Coordinate, UV Map, Geometry, Light Path, Light Falloff, Wireframe, Object Info,
+attributes and colour attributes), the view-dependent factors (Fresnel, Layer
+Weight) and Normal Map."""
 
 from . import ops
 from .graph import source
@@ -75,6 +76,9 @@ _LIGHT_PATH = {
     "Is Reflection Ray": "IN_IS_REFLECTION_RAY",
     "Is Transmission Ray": "IN_IS_TRANSMISSION_RAY",
     "Ray Depth": "IN_RAY_DEPTH",
+    # From where the ray starts (a camera ray at its near clip distance) to the hit; 0
+    # in the world (Cycles' background).
+    "Ray Length": "IN_RAY_LENGTH",
     # Every bounce of a Whitted tracer is singular: glossy and transmission depths
     # are the ray depth, and no ray is diffuse or transparent.
     "Glossy Depth": "IN_RAY_DEPTH",
@@ -92,6 +96,34 @@ def _light_path(c, out):
     if name in ("Glossy Depth", "Transmission Depth"):
         c.warn(out.node, f"'{name}' is approximated by the ray depth")
     return c.hit(getattr(ops, mode), FLOAT)
+
+
+def _light_falloff(c, out):
+    # Cycles' node at a surface: the Strength scaled by the ray's length to the hit (the
+    # camera's, a reflected or refracted ray's, or a shadow feeler's to an emitting mesh),
+    # so that a mesh light's inverse-square falloff leaves the named one. In the world the
+    # length is 0 (Cycles' background): Linear and Constant give 0. Lamps do not run
+    # node trees here (docs/SUPPORT.md).
+    strength = c.input(out, ("Strength",), FLOAT)
+    smooth = c.input(out, ("Smooth",), FLOAT)
+    falloff = output_name(out).upper()
+    mode = ops.pack("LIGHT_FALLOFF", falloff=falloff)
+    length = c.hit(ops.IN_RAY_LENGTH, FLOAT)
+    return c.b.op(ops.LIGHT_FALLOFF, mode, (strength, smooth, length), kind=FLOAT)
+
+
+def _wireframe(c, out):
+    # Cycles' node: 1 within Size / 2 of an edge of the hit's triangle (world units; each
+    # edge's line, every edge of the triangulation), else 0. The world has no triangle: 0.
+    node = out.node
+    if c.world:
+        return c.b.f(0.0)
+    if node.use_pixel_size:
+        c.warn(node, "Pixel Size is not supported; Size is read in world units")
+    size = c.input(out, ("Size",), FLOAT)
+    corners = tuple(c.hit(ops.IN_TRIANGLE + k) for k in range(3))
+    point = c.hit(ops.IN_POSITION)
+    return c.b.op(ops.WIREFRAME, 0, (size, point, *corners), kind=FLOAT)
 
 
 def _object_info(c, out):
@@ -229,6 +261,8 @@ INPUT_NODES = {
     "ShaderNodeNewGeometry": _geometry,
     "ShaderNodeLightPath": _light_path,
     "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeLightFalloff": _light_falloff,
+    "ShaderNodeWireframe": _wireframe,
     "ShaderNodeVertexColor": _vertex_color,
     "ShaderNodeAttribute": _attribute,
     "ShaderNodeVolumeInfo": _volume_info,

@@ -1,6 +1,7 @@
 """The texture nodes as Exprs: images and environments (native textures the program
 samples), and the procedural textures the program computes (Checker, Gradient, Noise,
-Voronoi, Wave, Magic, Brick, Sky), each at the coordinates its Vector input gives."""
+Voronoi, Wave, Magic, Brick, Sky, White Noise, Musgrave), each at the coordinates its
+Vector input gives."""
 
 import math
 
@@ -125,6 +126,40 @@ def _noise(c, out):
     return noise if color else c.b.swizzle(noise, 3)
 
 
+def _musgrave(c, out):
+    """Blender 3.4-4.0's Musgrave Texture as the NOISE op: Cycles' Musgrave fractals are
+    the Noise Texture's types, unnormalised, with roughness = Lacunarity^-Dimension and
+    one octave fewer (Musgrave's Detail counts its octaves from 1, Noise's from 0), once
+    Cycles' clamps are applied (Dimension and Lacunarity at least 1e-5, Detail in
+    [0, 15]). A Detail below 1 is read as 1 (warned where it is the node's own value):
+    Cycles scales the single octave by it there."""
+    node = out.node
+    vector = _texture_vector(c, out)
+    w, scale, detail, dimension, lacunarity, offset, gain = _float_inputs(
+        c,
+        out,
+        (("W", 0.0), ("Scale", 5.0), ("Detail", 2.0), ("Dimension", 2.0), ("Lacunarity", 2.0),
+         ("Offset", 0.0), ("Gain", 1.0)),
+    )  # fmt: skip
+    if detail.is_const and detail.value[0] < 1.0:
+        c.warn(node, "a Detail below 1 is read as 1")
+    floor = c.b.f(1e-5)
+    dimension = c.b.maximum(dimension, floor)
+    lacunarity = c.b.maximum(lacunarity, floor)
+    roughness = c.b.math("POWER", lacunarity, c.b.math("MULTIPLY", dimension, c.b.f(-1.0)))
+    octaves = c.b.math("SUBTRACT", c.b.minimum(detail, c.b.f(15.0)), c.b.f(1.0))
+    mode = ops.pack(
+        "NOISE",
+        dimensions=node.musgrave_dimensions,
+        noise_type=node.musgrave_type,
+        normalize=False,
+        color=False,
+    )
+    first = c.b.pack(w, scale, octaves, roughness)
+    second = c.b.pack(lacunarity, offset, gain, c.b.f(0.0))
+    return c.b.swizzle(c.b.op(ops.NOISE, mode, (vector, first, second), kind=COLOR), 3)
+
+
 def _voronoi(c, out):
     node = out.node
     vector = _texture_vector(c, out)
@@ -221,6 +256,18 @@ def _brick(c, out):
     return c.b.vlerp(mortar, bricks, mortar_color)
 
 
+def _white_noise(c, out):
+    # Cycles' node: hashes of the input's float bits. Its Vector has no default link
+    # (unlike the other textures): unlinked, it is the socket's own value.
+    node = out.node
+    vector = c.input(out, ("Vector",), VECTOR) or c.b.const((0.0, 0.0, 0.0), VECTOR)
+    w = c.input(out, ("W",), FLOAT) or c.b.f(0.0)
+    color = output_name(out) == "Color"
+    mode = ops.pack("WHITE_NOISE", dimensions=node.noise_dimensions, color=color)
+    noise = c.b.op(ops.WHITE_NOISE, mode, (vector, w), kind=COLOR if color else FLOAT)
+    return noise if color else c.b.swizzle(noise, 3)
+
+
 def _texture_mapping(c, node, vector):
     """`vector` through the node's own Texture Mapping (its sidebar's Location, Rotation
     and Scale, as a Mapping node of its Vector Type); min/max clipping and axis remaps
@@ -296,4 +343,6 @@ TEXTURE_NODES = {
     "ShaderNodeTexMagic": _magic,
     "ShaderNodeTexBrick": _brick,
     "ShaderNodeTexSky": _sky,
+    "ShaderNodeTexWhiteNoise": _white_noise,
+    "ShaderNodeTexMusgrave": _musgrave,
 }

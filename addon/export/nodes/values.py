@@ -19,11 +19,11 @@ from .normals import displacement as _displacement
 from .sockets import find_socket, kind_of
 from .texture_nodes import TEXTURE_NODES
 
-# Procedural textures the program does not compute (named in their warning).
+# Textures the program does not compute (named in their warning).
 PROCEDURALS = {
-    "ShaderNodeTexMusgrave": "Musgrave Texture",
-    "ShaderNodeTexWhiteNoise": "White Noise Texture",
     "ShaderNodeTexGabor": "Gabor Texture",
+    "ShaderNodeTexIES": "IES Texture",
+    "ShaderNodeTexPointDensity": "Point Density Texture",
 }
 
 

@@ -180,6 +180,22 @@ struct SurfaceHit {
         return glm::vec4(inside && instance.volume ? instance.volume->density_scale() : 1.0f);
       case kInputObjectNormal:
         return vec(object_normal(mesh));
+      case kInputTriangleVertex:
+      case kInputTriangleVertex + 1:
+      case kInputTriangleVertex + 2: {
+        // Where the corner is when the ray meets the triangle (a moving or deforming
+        // mesh's too), as the hit's own position.
+        if (!triangle) return glm::vec4(0.0f);
+        const uint32_t corner =
+            mesh.triangles[3 * size_t{it.primitive} + (mode - kInputTriangleVertex)];
+        const glm::mat4 to_world =
+            instance.motion ? instance.motion->at(it.time) : instance.placement.to_world;
+        return glm::vec4(Vec3(to_world * glm::vec4(mesh.vertex_at(corner, it.time), 1.0f)), 0.0f);
+      }
+      case kInputRayLength:
+        // Cycles starts a camera ray at its near clip distance (Whitted's t_min; 0 for
+        // every other ray) and measures the hit's distance from there.
+        return glm::vec4(glm::length(it.position - ray.origin) - ray.t_min);
       default:
         return light_path_input(mode, ray, context);
     }

@@ -527,6 +527,68 @@ inline Vec3 mapping(uint32_t mode, const Vec3& v, const Vec3& location, const Ve
   }
 }
 
+// The Vector Rotate node: `v` turned about `center` by `mode`'s rotation_type (Euler XYZ
+// `rotation`; else `angle` radians about X, Y, Z or `axis`, right-handed), the inverse
+// rotation with the invert flag; about a zero axis `v` is unchanged.
+inline Vec3 vector_rotate(uint32_t mode, const Vec3& v, const Vec3& center, const Vec3& rotation,
+                          float angle) {
+  const uint32_t type = mode_field::kVectorRotateType.in(mode);  // kVectorRotateNames
+  const bool invert = mode_field::kVectorRotateInvert.on(mode);
+  if (type == 4) {
+    const glm::mat3 r = euler_rotation(rotation);
+    return (invert ? glm::transpose(r) : r) * (v - center) + center;
+  }
+  Vec3 axis = type == 1   ? Vec3(1.0f, 0.0f, 0.0f)
+              : type == 2 ? Vec3(0.0f, 1.0f, 0.0f)
+              : type == 3 ? Vec3(0.0f, 0.0f, 1.0f)
+                          : rotation;
+  const float length = type == 0 ? glm::length(axis) : 1.0f;
+  if (length == 0.0f) return v;
+  axis /= length;
+  if (invert) angle = -angle;
+  // Rodrigues' rotation of the offset from the centre, written out as Cycles' matrix.
+  const Vec3 p = v - center;
+  const float c = std::cos(angle), s = std::sin(angle), k = 1.0f - c;
+  const Vec3 r((c + k * axis.x * axis.x) * p.x + (k * axis.x * axis.y - axis.z * s) * p.y +
+                   (k * axis.x * axis.z + axis.y * s) * p.z,
+               (k * axis.x * axis.y + axis.z * s) * p.x + (c + k * axis.y * axis.y) * p.y +
+                   (k * axis.y * axis.z - axis.x * s) * p.z,
+               (k * axis.x * axis.z - axis.y * s) * p.x + (k * axis.y * axis.z + axis.x * s) * p.y +
+                   (c + k * axis.z * axis.z) * p.z);
+  return r + center;
+}
+
+// The Light Falloff node at a hit `length` from where its ray started: `strength` as is
+// (Quadratic), times the length (Linear) or its square (Constant), so that a light's own
+// inverse-square falloff leaves that; a positive `smooth` scales it by
+// length^2 / (smooth + length^2), except where the square overflows.
+inline float light_falloff(uint32_t mode, float strength, float smooth, float length) {
+  const uint32_t falloff = mode_field::kLightFalloff.in(mode);  // kLightFalloffNames
+  if (falloff == 1) strength *= length;
+  if (falloff == 2) strength *= length * length;
+  if (smooth > 0.0f) {
+    const float squared = length * length;
+    if (std::isfinite(squared)) strength *= squared / (smooth + squared);
+  }
+  return strength;
+}
+
+// The Wireframe node (Pixel Size off): 1 where point `p` lies within `size` / 2 (world
+// units) of an edge line of the triangle with corners `c0`, `c1`, `c2`, else 0: the
+// squared distance to each edge's line, |edge x (p - corner)|^2 / |edge|^2, against
+// (size / 2)^2, as Cycles compares them (a zero edge never counts).
+inline float wireframe(float size, const Vec3& p, const Vec3& c0, const Vec3& c1, const Vec3& c2) {
+  const Vec3 corners[3] = {c0, c1, c2};
+  float width = 0.5f * size;
+  width *= width;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 edge = corners[i] - corners[i == 0 ? 2 : i - 1];
+    const Vec3 crs = glm::cross(edge, p - corners[i]);
+    if (glm::dot(crs, crs) < glm::dot(edge, edge) * width) return 1.0f;
+  }
+  return 0.0f;
+}
+
 inline glm::vec2 map_to_sphere(const Vec3& co) {
   const float l2 = glm::dot(co, co);
   if (!(l2 > 0.0f)) return glm::vec2(0.0f);

@@ -45,6 +45,11 @@ enum class Op : uint32_t {
   kBump = 32,
   kSky = 33,
   kBlackbody = 34,
+  kWhiteNoise = 35,
+  kWavelength = 36,
+  kVectorRotate = 37,
+  kLightFalloff = 38,
+  kWireframe = 39,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -59,7 +64,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBlackbody) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kWireframe) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -95,6 +100,12 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBlackbody) + 1> kOp
     {"BUMP", 5, true},
     {"SKY", 1, false},        // a direction; e: its table's offset in the constants (shader/sky.h)
     {"BLACKBODY", 1, false},  // a temperature in kelvin (shader/blackbody.h)
+    {"WHITE_NOISE", 2, false},    // a vector, W (shader/procedural.h white_noise)
+    {"WAVELENGTH", 1, false},     // a wavelength in nanometres (shader/wavelength.h)
+    {"VECTOR_ROTATE", 4, false},  // vector, centre, axis or Euler rotation, angle
+    {"LIGHT_FALLOFF", 3, false},
+    {"WIREFRAME", 5, false},  // size, the point, the triangle's three corners (IN_TRIANGLE)  //
+                              // strength, smooth, the ray's length (IN_RAY_LENGTH)
 }};
 
 // The modes of op INPUT: what a hit offers a program.
@@ -121,6 +132,9 @@ enum Input : uint32_t {
   kInputRayDepth = 20,
   kInputIsDiffuseRay = 21,
   kInputIsSingularRay = 22,
+  // Cycles' ray length at a surface: from where the ray starts (a camera ray at its near
+  // clip distance) to the hit; 0 in the world.
+  kInputRayLength = 23,
   kInputObjectLocation = 32,
   kInputObjectRandom = 33,
   kInputObjectIndex = 34,
@@ -136,8 +150,11 @@ enum Input : uint32_t {
   // 0 elsewhere.
   kInputGridTemperatureVoxel = 41,  // + k, k < kGridVoxels
   kInputGridVoxelWeight = 49,       // + k, k < kGridVoxels
-  kInputUvSet = 64,                 // + k, k < 64
-  kInputAttribute = 128,            // + k, k < 128
+  // Corner k of the hit's triangle (world); (0, 0, 0) off a triangle (a curve, a point, a
+  // medium), where the Wireframe node gives 0 as Cycles'.
+  kInputTriangleVertex = 57,  // + k, k < 3
+  kInputUvSet = 64,           // + k, k < 64
+  kInputAttribute = 128,      // + k, k < 128
   kInputPublicEnd = 256,
   // Either bit on a public mode: that input at the hit moved by the first or the second
   // bump offset (ProgramHit::bump_dx, bump_dy), for the height a Bump node differentiates.
@@ -151,7 +168,8 @@ enum Input : uint32_t {
 
 // The voxels a grid's trilinear interpolation weighs.
 inline constexpr uint32_t kGridVoxels = 8;
-static_assert(kInputGridVoxelWeight + kGridVoxels <= kInputUvSet);
+static_assert(kInputGridVoxelWeight + kGridVoxels <= kInputTriangleVertex &&
+              kInputTriangleVertex + 3 <= kInputUvSet);
 
 // The UV sets and the attributes INPUT reaches (kInputUvSet + k, kInputAttribute + k).
 inline constexpr uint32_t kUvSets = kInputAttribute - kInputUvSet;
@@ -171,7 +189,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 39> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 41> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -191,6 +209,7 @@ inline constexpr std::array<OpNumber, 39> kOpNumbers = {{
     {"IN_RAY_DEPTH", kInputRayDepth},
     {"IN_IS_DIFFUSE_RAY", kInputIsDiffuseRay},
     {"IN_IS_SINGULAR_RAY", kInputIsSingularRay},
+    {"IN_RAY_LENGTH", kInputRayLength},
     {"IN_OBJECT_LOCATION", kInputObjectLocation},
     {"IN_OBJECT_RANDOM", kInputObjectRandom},
     {"IN_OBJECT_INDEX", kInputObjectIndex},
@@ -204,6 +223,7 @@ inline constexpr std::array<OpNumber, 39> kOpNumbers = {{
     {"IN_GRID_TEMPERATURE_VOXEL", kInputGridTemperatureVoxel},
     {"IN_GRID_VOXEL_WEIGHT", kInputGridVoxelWeight},
     {"GRID_VOXELS", kGridVoxels},
+    {"IN_TRIANGLE", kInputTriangleVertex},
     {"IN_UV", kInputUvSet},
     {"IN_ATTRIBUTE", kInputAttribute},
     {"IN_BUMP_X", kInputBumpX},
@@ -411,6 +431,12 @@ inline constexpr std::array<std::string_view, 2> kWaveTypeNames = {"BANDS", "RIN
 inline constexpr std::array<std::string_view, 4> kWaveBandsNames = {"X", "Y", "Z", "DIAGONAL"};
 inline constexpr std::array<std::string_view, 4> kWaveRingsNames = {"X", "Y", "Z", "SPHERICAL"};
 inline constexpr std::array<std::string_view, 3> kWaveProfileNames = {"SIN", "SAW", "TRI"};
+// ShaderNodeVectorRotate.rotation_type.
+inline constexpr std::array<std::string_view, 5> kVectorRotateNames = {
+    "AXIS_ANGLE", "X_AXIS", "Y_AXIS", "Z_AXIS", "EULER_XYZ"};
+// ShaderNodeLightFalloff's outputs: the strength scaled for each falloff.
+inline constexpr std::array<std::string_view, 3> kLightFalloffNames = {"QUADRATIC", "LINEAR",
+                                                                       "CONSTANT"};
 
 // Each field, named by op (the decoders read these).
 namespace mode_field {
@@ -454,6 +480,11 @@ inline constexpr ModeField kWaveProfile = choice("wave_profile", 3, 2, kWaveProf
 inline constexpr ModeField kMagicDepth = number("turbulence_depth", 0, 4, 11);
 inline constexpr ModeField kBrickOffset = number("offset_frequency", 0, 8, 256);
 inline constexpr ModeField kBrickSquash = number("squash_frequency", 8, 8, 256);
+// WHITE_NOISE: the Color output too (else the Value in all four).
+inline constexpr ModeField kWhiteNoiseColor = flag("color", 2);
+inline constexpr ModeField kVectorRotateType = choice("rotation_type", 0, 3, kVectorRotateNames);
+inline constexpr ModeField kVectorRotateInvert = flag("invert", 3);
+inline constexpr ModeField kLightFalloff = choice("falloff", 0, 2, kLightFalloffNames);
 
 inline constexpr std::array kMath = {kMathOperation, kClamp};
 inline constexpr std::array kVectorMath = {kVectorMathOperation};
@@ -479,6 +510,9 @@ inline constexpr std::array kVoronoi = {kDimensions,         kVoronoiFeature, kV
 inline constexpr std::array kWave = {kWaveType, kWaveBands, kWaveRings, kWaveProfile};
 inline constexpr std::array kMagic = {kMagicDepth};
 inline constexpr std::array kBrick = {kBrickOffset, kBrickSquash};
+inline constexpr std::array kWhiteNoise = {kDimensions, kWhiteNoiseColor};
+inline constexpr std::array kVectorRotate = {kVectorRotateType, kVectorRotateInvert};
+inline constexpr std::array kLightFalloffOp = {kLightFalloff};
 }  // namespace mode_field
 
 // The ops whose mode is fields, with them (whitted_native.OP_MODES): all but INPUT (its
@@ -488,7 +522,7 @@ struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 24> kOpModes = {{
+inline constexpr std::array<OpMode, 27> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
@@ -513,6 +547,9 @@ inline constexpr std::array<OpMode, 24> kOpModes = {{
     {Op::kBrick, mode_field::kBrick},
     {Op::kBump, mode_field::kBump},
     {Op::kSky, mode_field::kSkyOp},
+    {Op::kWhiteNoise, mode_field::kWhiteNoise},
+    {Op::kVectorRotate, mode_field::kVectorRotate},
+    {Op::kLightFalloff, mode_field::kLightFalloffOp},
 }};
 
 // The fields of op's mode; empty for INPUT and an op without a mode.

@@ -428,6 +428,29 @@ glm::vec2 brick_texture(const BrickSettings& s, Vec3 p) {
   return {tint, mortar};
 }
 
+glm::vec4 white_noise(int dimensions, Vec3 p, float w) {
+  // Each dimension's Value hash, and its Color: the Value, then two more hashes of the
+  // words with a 1 and a 2 appended (4D: the words reordered instead).
+  const uint32_t one = bits(1.0f), two = bits(2.0f);
+  const uint32_t x = bits(p.x), y = bits(p.y), z = bits(p.z), k = bits(w);
+  switch (dimensions) {
+    case 1:
+      return {unit(hash(k)), unit(hash(k, one)), unit(hash(k, two)), unit(hash(k))};
+    case 2: {
+      const float value = unit(hash(x, y));
+      return {value, unit(hash(x, y, one)), unit(hash(x, y, two)), value};
+    }
+    case 3: {
+      const float value = unit(hash(x, y, z));
+      return {value, unit(hash(x, y, z, one)), unit(hash(x, y, z, two)), value};
+    }
+    default: {
+      const float value = unit(hash(x, y, z, k));
+      return {value, unit(hash(z, x, k, y)), unit(hash(k, z, y, x)), value};
+    }
+  }
+}
+
 }  // namespace whitted::procedural
 
 namespace whitted::procedural {
@@ -488,6 +511,12 @@ glm::vec4 brick_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, c
   s.scale = b.x, s.mortar_size = b.y, s.mortar_smooth = b.z, s.bias = b.w;
   s.brick_width = c.x, s.row_height = c.y, s.offset = c.z, s.squash = c.w;
   return {brick_texture(s, Vec3(vector)), 0.0f, 0.0f};
+}
+
+glm::vec4 white_noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& w) {
+  const int dimensions = static_cast<int>(mode_field::kDimensions.in(mode)) + 1;
+  const glm::vec4 noise = white_noise(dimensions, Vec3(vector), w.x);
+  return mode_field::kWhiteNoiseColor.on(mode) ? noise : glm::vec4(noise.w);
 }
 
 }  // namespace whitted::procedural

@@ -89,6 +89,11 @@ struct BrickSettings {
 // to the Mortar colour (the node's Fac).
 glm::vec2 brick_texture(const BrickSettings& s, Vec3 p);
 
+// The White Noise Texture: hashes of the point's float bits in [0, 1], Cycles'
+// hash_float*_to_float for the Value and hash_float*_to_float3 for the Color. 1D reads
+// `w` only, 2D the point's x and y, 3D its xyz, 4D its xyz and `w`: (Color, Value).
+glm::vec4 white_noise(int dimensions, Vec3 p, float w);
+
 }  // namespace whitted::procedural
 
 namespace whitted::procedural {
@@ -101,5 +106,7 @@ glm::vec4 noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, c
 glm::vec4 wave_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
 glm::vec4 magic_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
 glm::vec4 brick_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
+// (Color, Value) with the color field, else the Value in all four.
+glm::vec4 white_noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& w);
 
 }  // namespace whitted::procedural

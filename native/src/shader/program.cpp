@@ -14,6 +14,7 @@
 #include "shader/node_math.h"
 #include "shader/procedural.h"
 #include "shader/sky.h"
+#include "shader/wavelength.h"
 
 namespace whitted {
 namespace {
@@ -31,8 +32,8 @@ bool public_input(uint32_t mode) {
   if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
   return mode <= kInputObjectNormalScale ||
-         (mode >= kInputIsCameraRay && mode <= kInputIsSingularRay) ||
-         (mode >= kInputObjectLocation && mode < kInputGridVoxelWeight + kGridVoxels) ||
+         (mode >= kInputIsCameraRay && mode <= kInputRayLength) ||
+         (mode >= kInputObjectLocation && mode < kInputTriangleVertex + 3) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
 
@@ -207,7 +208,20 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         break;
       case Op::kRgbToBw:
       case Op::kBlackbody:
+      case Op::kWavelength:
         s.a = reg(3);
+        break;
+      case Op::kWhiteNoise:
+        s.a = reg(3), s.b = reg(4);
+        break;
+      case Op::kVectorRotate:
+        s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6);
+        break;
+      case Op::kLightFalloff:
+        s.a = reg(3), s.b = reg(4), s.c = reg(5);
+        break;
+      case Op::kWireframe:
+        s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6), s.e = reg(7);
         break;
       case Op::kNoise:
       case Op::kVoronoi:
@@ -445,6 +459,21 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       case Op::kBlackbody:
         out = vec4(blackbody_rgb(a.x), 1.0f);
+        break;
+      case Op::kWhiteNoise:
+        out = procedural::white_noise_op(s.mode, a, b);
+        break;
+      case Op::kWavelength:
+        out = vec4(wavelength_rgb(a.x), 1.0f);
+        break;
+      case Op::kVectorRotate:
+        out = vector(vector_rotate(s.mode, Vec3(a), Vec3(b), Vec3(c), r[s.d].x));
+        break;
+      case Op::kLightFalloff:
+        out = scalar(light_falloff(s.mode, a.x, b.x, c.x));
+        break;
+      case Op::kWireframe:
+        out = scalar(wireframe(a.x, Vec3(b), Vec3(c), Vec3(r[s.d]), Vec3(r[s.e])));
         break;
       case Op::kBump:
         out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
