@@ -15,6 +15,7 @@ centre-point filter, Whitted at pixel centres with one reflection.
 import bpy
 import numpy as np
 import pytest
+from test_light import add_light
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import (
     add_camera,
@@ -25,19 +26,6 @@ from whitted_tools.material_scenes import (
 from whitted_tools.metrics import luminance, subject_figures
 
 WIDTH, HEIGHT = 96, 72
-
-
-def lamp(scene, name, data_settings, location):
-    kind = (
-        "AREA" if "shape" in data_settings else "SPOT" if "spot_size" in data_settings else "POINT"
-    )
-    light = bpy.data.lights.new(name, kind)
-    for key, value in data_settings.items():
-        setattr(light, key, value)
-    obj = bpy.data.objects.new(name, light)
-    obj.location = location
-    scene.collection.objects.link(obj)
-    return obj
 
 
 def stage(scene, floor_material, lamps=("rectangle", "disc")):
@@ -64,7 +52,8 @@ def stage(scene, floor_material, lamps=("rectangle", "disc")):
     made = {}
     for name in lamps:
         data, x = settings[name]
-        made[name] = lamp(scene, name, data, (x, 0.6, 1.5))
+        kind = "AREA" if "shape" in data else "SPOT" if "spot_size" in data else "POINT"
+        made[name] = add_light(scene, kind, name, (x, 0.6, 1.5), **data)
     add_camera(scene, (0.0, -4.0, 2.2), (0.0, 0.2, 0.0), lens=35.0)
     scene.world = None
     render = scene.render
