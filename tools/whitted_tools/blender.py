@@ -34,6 +34,15 @@ def blender_command(script, *args, blend=None, addons=(), blender="blender"):
     return [*command, *map(str, args)]
 
 
+def child_environment():
+    """The environment for a Blender started from inside another (a bpy module's tests
+    running Blender 3.4): Python's view of it, without OCIO. Blender sets OCIO at the C
+    level to its own colour configuration, which a child process inherits unless given
+    an environment, and Blender 3.4's OpenColorIO 2.1 cannot read bpy 5.2's (version
+    2.5: the child exits at start-up)."""
+    return {key: value for key, value in os.environ.items() if key != "OCIO"}
+
+
 def verb_in_blender(verb, *args, blend=None, addons=(), blender="blender"):
     """blender_command of the tool package's entry file: the verb VERB (whitted_tools.verbs)
     with ARGS in Blender 3.4, which imports the package through its add-on modules link."""
