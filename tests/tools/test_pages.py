@@ -9,6 +9,7 @@ from whitted_tools.blender import (
     ENTRY,
     blender_command,
     bpy_command,
+    child_environment,
     run_for_json,
     verb_in_blender,
     verb_in_bpy,
@@ -83,6 +84,14 @@ def test_write_page_ends_with_one_newline(tmp_path):
 )
 def test_script_args(argv, expected):
     assert script_args(argv) == expected
+
+
+def test_a_child_blender_gets_no_colour_config_of_its_parents(monkeypatch):
+    # bpy sets OCIO to its own configuration; Blender 3.4 cannot read 5.2's.
+    monkeypatch.setenv("OCIO", "/bpy/5.2/datafiles/colormanagement/config.ocio")
+    monkeypatch.setenv("WHITTED_KEPT", "1")
+    environment = child_environment()
+    assert "OCIO" not in environment and environment["WHITTED_KEPT"] == "1"
 
 
 def test_blender_commands():
