@@ -43,14 +43,20 @@ def moved(b, expr, bit, memo=None):
     return result
 
 
+def _linked_normal(c, out):
+    """The value linked to the Normal input of `out.node` (a Bump, a Displacement), or
+    None where it is unlinked."""
+    socket = next((s for s in out.node.inputs if s.name == "Normal"), None)
+    if socket is None or source(socket, out.scope)[0] is None:
+        return None
+    return c.value(socket, out.scope, VECTOR)
+
+
 def bump(c, out):
     """ShaderNodeBump's Normal: BUMP of the height at the hit and at both offsets."""
     node = out.node
-    normal = None
-    socket = next((s for s in node.inputs if s.name == "Normal"), None)
-    if socket is not None and source(socket, out.scope)[0] is not None:
-        normal = c.value(socket, out.scope, VECTOR)
     # Unlinked, the shading normal: a displacement's bumped one where there is one.
+    normal = _linked_normal(c, out)
     normal = normal if normal is not None else c.shading_normal
     unbent = normal if normal is not None else c.hit(ops.IN_NORMAL)
     if c.world:
@@ -88,10 +94,7 @@ def displacement(c, out):
     non-uniform scale Cycles' vector also leans off the normal)."""
     node = out.node
     b = c.b
-    socket = next((s for s in node.inputs if s.name == "Normal"), None)
-    normal = None
-    if socket is not None and source(socket, out.scope)[0] is not None:
-        normal = c.value(socket, out.scope, VECTOR)
+    normal = _linked_normal(c, out)
     if normal is None:
         normal = c.hit(ops.IN_NORMAL)
     height = c.input(out, ("Height",), FLOAT)

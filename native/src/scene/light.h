@@ -84,9 +84,7 @@ struct Light : LightParams {
   int sample_count() const { return sized() ? samples * samples : 1; }
   // Whether a ray can meet it (intersect_light): an area light's rectangle or ellipse, a
   // point or spot light's sphere; a sun, or a point without a radius, has no shape.
-  bool has_shape() const {
-    return type == LightType::kArea || (type != LightType::kSun && radius > 0.0f);
-  }
+  bool has_shape() const { return sized() && type != LightType::kSun; }
 
   // A sized light's samples as far as they do not depend on the shading point, made once
   // by the constructor: each stratum's offset on the light's shape ([-0.5, 0.5]^2; a disc

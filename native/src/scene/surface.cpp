@@ -121,7 +121,8 @@ struct SurfaceHit {
       if (!grids) return glm::vec4(0.0f);
       const bool weight = mode >= kInputGridVoxelWeight;
       const uint32_t k = mode - (weight ? kInputGridVoxelWeight : kInputGridTemperatureVoxel);
-      return glm::vec4(weight ? grids->voxel_weights[k] : grids->temperature_voxels[k]);
+      const VolumeGrid::Cell& cell = grids->temperature_cell;
+      return glm::vec4(weight ? cell.weight(static_cast<int>(k)) : cell.values[k]);
     }
     if (mode >= kInputUvSet && mode < kInputAttribute) {
       if (triangle && mesh.uv_sets.empty() && mode == kInputUvSet && !mesh.uvs.empty()) {
@@ -420,21 +421,18 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
         *n = glm::dot(v, it.geometric_normal) < 0.0f ? -v / length : v / length;
       }
     };
+    // Turned towards the geometric normal on the side the ray comes from, as Cycles'
+    // shading frame is.
+    const auto lift = [&](Vec3* n) {
+      const float side = hit.backfacing ? -1.0f : 1.0f;
+      *n = side * valid_reflection(side * it.geometric_normal, hit.incoming, side * *n);
+    };
     normal(kNormalField, &out.normal);
-    if (lifts && m.driven(kNormalField)) {
-      // On the side the ray comes from, as Cycles' shading frame is.
-      const float side = hit.backfacing ? -1.0f : 1.0f;
-      out.normal =
-          side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.normal);
-    }
+    if (lifts && m.driven(kNormalField)) lift(&out.normal);
     normal(kCoatNormalField, &out.coat_normal);
-    if (lifts && (m.driven(kCoatNormalField) || m.driven(kNormalField))) {
-      // The coat's normal too, mapped or the interpolated one beside a mapped base normal
-      // (Cycles 3.x lifts its Clearcoat Normal as it lifts Normal).
-      const float side = hit.backfacing ? -1.0f : 1.0f;
-      out.coat_normal =
-          side * valid_reflection(side * it.geometric_normal, hit.incoming, side * out.coat_normal);
-    }
+    // The coat's normal too, mapped or the interpolated one beside a mapped base normal
+    // (Cycles 3.x lifts its Clearcoat Normal as it lifts Normal).
+    if (lifts && (m.driven(kCoatNormalField) || m.driven(kNormalField))) lift(&out.coat_normal);
     if (m.driven(kCoatSpecularField)) out.coat_specular = field(kCoatSpecularField).x;
     if (m.driven(kCoatReflectivityField)) out.coat_reflectivity = field(kCoatReflectivityField).x;
     if (m.driven(kCoatShininessField)) {

@@ -53,12 +53,8 @@ VolumeSample VolumeObject::sample(const Vec3& x) const {
   if (grid(GridRole::kColor)) s.color = at(GridRole::kColor);
   if (grid(GridRole::kTemperature)) {
     const int r = static_cast<int>(GridRole::kTemperature);
-    const VolumeGrid::Cell cell = grids_[r]->cell(transform_point(world_to_index_[r], x));
-    s.temperature = cell.interpolated();
-    for (int c = 0; c < 8; ++c) {
-      s.temperature_voxels[c] = cell.values[c];
-      s.voxel_weights[c] = cell.weight(c);
-    }
+    s.temperature_cell = grids_[r]->cell(transform_point(world_to_index_[r], x));
+    s.temperature = s.temperature_cell.interpolated();
   }
   if (grid(GridRole::kFlame)) s.flame = at(GridRole::kFlame).x;
   return s;

@@ -28,12 +28,11 @@ struct VolumeSample {
   Color color{1.0f};
   float temperature = 1.0f;
   float flame = 0.0f;
-  // The temperature grid's eight voxels that its interpolation weighs, and their weights
-  // (VolumeGrid::Cell): the outcomes of a read that picks one voxel by its weight, as
-  // Cycles 5.x's Principled Volume reads it (shader/ops.h kInputGridTemperatureVoxel).
-  // Without a grid, the temperature alone at weight 1.
-  std::array<float, 8> temperature_voxels{1.0f};
-  std::array<float, 8> voxel_weights{1.0f};
+  // The temperature grid's eight voxels that its interpolation weighs, with where the
+  // point lies among them (their weights): the outcomes of a read that picks one voxel by
+  // its weight, as Cycles 5.x's Principled Volume reads it (shader/ops.h
+  // kInputGridTemperatureVoxel). Without a grid, the temperature alone at weight 1.
+  VolumeGrid::Cell temperature_cell{{1.0f}, Vec3(0.0f)};
 };
 
 // A Volume's Render settings (Blender's Volume > Render): the space its step size and
