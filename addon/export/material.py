@@ -353,7 +353,7 @@ def _emission_sampling(material):
 def _fixed(fields, lowering):
     """The MaterialExport of fields the fixed native material can show (constants,
     a texture on the diffuse colour, an image's alpha); None when it cannot."""
-    if "normal" in fields or "coat_normal" in fields:
+    if "normal" in fields or "coat_normal" in fields or "tangent" in fields:
         return None
     textures = []
     values = {}

@@ -1,5 +1,6 @@
-"""Node cases for normals (tests/blender/node_cases.py's harness): an emission-only
-plane whose colour is a normal n as 0.5 n + 0.5, rendered by Cycles and by Whitted.
+"""Node cases for normals and tangents (tests/blender/node_cases.py's harness): an
+emission-only plane whose colour is a unit vector n as 0.5 n + 0.5, rendered by Cycles
+and by Whitted.
 
 `tilt` turns the plane about X after node_cases.build_scene, so that object and world
 space differ (the orthographic camera still sees all of the plane's middle).
@@ -20,6 +21,7 @@ class SurfaceCase:
     build: object  # function(tree) -> vector output socket (a unit normal)
     tilt: bool = False
     stretch: float = 1.0  # the plane's scale along its normal (object z)
+    uniform: bool = True  # one vector over the whole plane (a radial tangent turns)
 
 
 def _as_colour(tree, vector):
@@ -75,8 +77,25 @@ def displacement_case(name, coordinates, kx, ky, space, scale=1.0, tilt=False, s
     return SurfaceCase(name, build, tilt, stretch)
 
 
+def tangent_case(name, axis):
+    """The Tangent node's radial tangent about object axis `axis`, or the Geometry node's
+    Tangent (axis None; Cycles' default tangent, radial about Z), on the tilted plane.
+    (About X or Y the flat plane's radial vector lies along its normal and the tangent has
+    no direction: Cycles gives NaN, Whitted 0. test_glossy.py's brushed spheres read
+    those axes.)"""
+
+    def build(tree):
+        if axis is None:
+            return _node(tree, "ShaderNodeNewGeometry").outputs["Tangent"]
+        return _node(tree, "ShaderNodeTangent", direction_type="RADIAL", axis=axis).outputs[0]
+
+    return SurfaceCase(name, build, tilt=True, uniform=False)
+
+
 CASES = [
     SurfaceCase("texture_coordinate_normal_tilted", _normal, tilt=True),
+    tangent_case("tangent_radial_z_tilted", "Z"),
+    tangent_case("geometry_tangent_tilted", None),
     bump_case("bump_object", "Object", 0.7, -0.4),
     bump_case("bump_uv_invert_strength", "UV", 1.5, 0.5, distance=0.6, strength=0.6, invert=True),
     bump_case("bump_generated_tilted", "Generated", -0.8, 1.1, distance=0.5, tilt=True),

@@ -1,5 +1,6 @@
-"""Normals against Cycles (tests/blender/node_cases_surface.py): the Texture
-Coordinate Normal (object space) and the Bump node's normal, rendered by Whitted
+"""Normals and tangents against Cycles (tests/blender/node_cases_surface.py): the
+Texture Coordinate Normal (object space), the Bump node's and the Displacement's
+normal, the Tangent node's and the Geometry node's radial tangents, rendered by Whitted
 and by Cycles as an emission colour."""
 
 import numpy as np
@@ -21,7 +22,9 @@ def test_normal_matches_cycles(case, empty_scene, tmp_path, native):
     covered = cycles.sum(axis=-1) > 0.0  # the tilted plane leaves the top and bottom rows
     assert covered.mean() > 0.7
     # One normal over the plane (linear heights); a bump bends it away from the plane's.
-    assert np.ptp(cycles[covered], axis=0).max() < 1e-4
+    # A radial tangent turns about the axis across the plane.
+    spread = np.ptp(cycles[covered], axis=0).max()
+    assert spread < 1e-4 if case.uniform else spread > 0.2
     if case.name.startswith("bump"):
         assert not np.allclose(cycles[covered][0], (0.5, 0.5, 1.0), atol=1e-2)
     error = np.abs(whitted - cycles)[covered].max()

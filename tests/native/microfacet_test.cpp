@@ -35,7 +35,7 @@ double hemisphere(F f, int n = 1024) {
 }
 
 // The mean weight of n x n stratified samples of the lobe: its directional albedo.
-double sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
+double sampled_albedo(const GgxLobe& lobe, const Vec3& wo, int n = 256) {
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
@@ -43,10 +43,13 @@ double sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
       float weight = 0.0f;
       const float u1 = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
       const float u2 = (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
-      if (ggx_sample_reflection(kNormal, wo, alpha, u1, u2, &wi, &weight)) sum += weight;
+      if (ggx_sample_reflection(lobe, wo, u1, u2, &wi, &weight)) sum += weight;
     }
   }
   return sum / (static_cast<double>(n) * n);
+}
+double sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
+  return sampled_albedo(GgxLobe(kNormal, alpha), wo, n);
 }
 
 TEST(Microfacet, TheDistributionsProjectedAreaIsOne) {
@@ -61,8 +64,8 @@ TEST(Microfacet, SampledWeightsCarryTheEvaluatedLobesAlbedo) {
   for (const float alpha : {0.1f, 0.3f, 0.6f, 1.0f}) {
     for (const float cos_o : {0.95f, 0.6f, 0.2f}) {
       const Vec3 wo = direction(cos_o, 0.3f);
-      const double evaluated =
-          hemisphere([&](const Vec3& wi) { return ggx_reflection(kNormal, wo, wi, alpha); });
+      const double evaluated = hemisphere(
+          [&](const Vec3& wi) { return ggx_reflection(GgxLobe(kNormal, alpha), wo, wi); });
       const double sampled = sampled_albedo(wo, alpha);
       EXPECT_NEAR(sampled, evaluated, 0.01 * evaluated + 1e-3)
           << "alpha " << alpha << " cos_o " << cos_o;
@@ -90,7 +93,8 @@ TEST(Microfacet, GrazingAndBackfacingDirectionsGiveFiniteNonNegativeWeights) {
       for (const float u : {0.0f, 0.25f, 0.999999f}) {
         Vec3 wi(0.0f);
         float weight = -1.0f;
-        const bool above = ggx_sample_reflection(kNormal, wo, alpha, u, 1.0f - u, &wi, &weight);
+        const bool above =
+            ggx_sample_reflection(GgxLobe(kNormal, alpha), wo, u, 1.0f - u, &wi, &weight);
         EXPECT_TRUE(std::isfinite(weight));
         EXPECT_GE(weight, 0.0f);
         EXPECT_LE(weight, 1.0f);
@@ -98,7 +102,8 @@ TEST(Microfacet, GrazingAndBackfacingDirectionsGiveFiniteNonNegativeWeights) {
           EXPECT_TRUE(is_finite(wi));
           EXPECT_GT(wi.z, 0.0f);
         }
-        const float value = ggx_reflection(kNormal, wo, direction(std::fabs(cos_o), 2.0f), alpha);
+        const float value =
+            ggx_reflection(GgxLobe(kNormal, alpha), wo, direction(std::fabs(cos_o), 2.0f));
         EXPECT_TRUE(std::isfinite(value));
         EXPECT_GE(value, 0.0f);
       }
@@ -116,7 +121,7 @@ TEST(Microfacet, TheLobeTendsToTheMirrorAsAlphaTendsToZero) {
       Vec3 wi;
       float weight = 0.0f;
       const float u = (static_cast<float>(k) + 0.5f) / 16.0f;
-      const bool above = ggx_sample_reflection(kNormal, wo, alpha, u, 0.37f, &wi, &weight);
+      const bool above = ggx_sample_reflection(GgxLobe(kNormal, alpha), wo, u, 0.37f, &wi, &weight);
       if (alpha < 0.05f) ASSERT_TRUE(above) << alpha;  // only wide lobes reach below
       if (above) worst = std::min(worst, glm::dot(wi, mirror));
     }
@@ -124,6 +129,83 @@ TEST(Microfacet, TheLobeTendsToTheMirrorAsAlphaTendsToZero) {
     previous = worst;
   }
   EXPECT_GT(previous, 0.9999f);
+}
+
+// Brushed metal (Cycles' anisotropic GGX): alpha_x along the tangent, alpha_y across it.
+const Vec3 kTangent = glm::normalize(Vec3(1.0f, 0.5f, 0.0f));
+
+TEST(AnisotropicGgx, TheGlossyBsdfsAnisotropyKeepsTheMeanAlpha) {
+  float ax = 0.0f;
+  float ay = 0.0f;
+  ggx_anisotropic_alphas(0.2f, 0.5f, &ax, &ay);  // narrower along the tangent
+  EXPECT_FLOAT_EQ(ax, 0.1f);
+  EXPECT_FLOAT_EQ(ay, 0.4f);
+  ggx_anisotropic_alphas(0.2f, -0.5f, &ax, &ay);  // wider along it
+  EXPECT_FLOAT_EQ(ax, 0.4f);
+  EXPECT_FLOAT_EQ(ay, 0.1f);
+  ggx_anisotropic_alphas(0.2f, 5.0f, &ax, &ay);  // clamped to 0.99
+  EXPECT_NEAR(std::sqrt(ax * ay), 0.2f, 1e-6f);
+  EXPECT_NEAR(ax, 0.002f, 1e-6f);
+  for (const float a : {0.0f, 1e-5f, -1e-5f, std::nanf("")}) {
+    ggx_anisotropic_alphas(0.2f, a, &ax, &ay);
+    EXPECT_EQ(ax, 0.2f) << a;
+    EXPECT_EQ(ay, 0.2f) << a;
+  }
+}
+
+TEST(AnisotropicGgx, SampledWeightsCarryTheEvaluatedLobesAlbedo) {
+  for (const auto& [ax, ay] : {std::pair{0.05f, 0.5f}, std::pair{0.6f, 0.15f}}) {
+    const GgxLobe lobe(kNormal, kTangent, ax, ay);
+    ASSERT_FALSE(lobe.isotropic());
+    for (const float cos_o : {0.9f, 0.4f}) {
+      for (const float phi : {0.0f, 1.2f}) {
+        const Vec3 wo = direction(cos_o, phi);
+        const double evaluated =
+            hemisphere([&](const Vec3& wi) { return ggx_reflection(lobe, wo, wi); }, 1536);
+        const double sampled = sampled_albedo(lobe, wo);
+        EXPECT_NEAR(sampled, evaluated, 0.01 * evaluated + 2e-3)
+            << ax << " " << ay << " cos_o " << cos_o << " phi " << phi;
+        // The sampling density integrates to the share of rays kept above the surface.
+        const double density =
+            hemisphere([&](const Vec3& wi) { return ggx_reflection_pdf(lobe, wo, wi); }, 1536);
+        EXPECT_LE(density, 1.0 + 0.01);
+        EXPECT_GT(density, 0.5);
+      }
+    }
+  }
+}
+
+TEST(AnisotropicGgx, TheHighlightStretchesAlongTheWiderAlpha) {
+  // Seen from above, light tilted off the mirror direction by the same angle along the
+  // tangent and across it: the lobe wide along the tangent keeps more of the first.
+  const GgxLobe lobe(kNormal, Vec3(1.0f, 0.0f, 0.0f), 0.4f, 0.05f);
+  const Vec3 wo(0.0f, 0.0f, 1.0f);
+  const float along = ggx_reflection(lobe, wo, direction(0.95f, 0.0f));
+  const float across = ggx_reflection(lobe, wo, direction(0.95f, 0.5f * kPi));
+  EXPECT_GT(along, 20.0f * across);
+  // Turning the tangent a quarter turn swaps the two alphas.
+  const GgxLobe turned(kNormal, Vec3(0.0f, 1.0f, 0.0f), 0.05f, 0.4f);
+  for (const float phi : {0.0f, 0.7f, 2.0f}) {
+    const Vec3 wi = direction(0.8f, phi);
+    EXPECT_NEAR(ggx_reflection(lobe, wo, wi), ggx_reflection(turned, wo, wi),
+                1e-4f * ggx_reflection(lobe, wo, wi) + 1e-7f);
+  }
+}
+
+TEST(AnisotropicGgx, EqualAlphasOrAFlatTangentGiveTheRoundLobeExactly) {
+  const Vec3 wo = direction(0.7f, 0.3f);
+  const Vec3 wi = direction(0.5f, 2.9f);
+  const GgxLobe round(kNormal, 0.3f);
+  const GgxLobe equal(kNormal, kTangent, 0.3f, 0.3f);
+  EXPECT_EQ(ggx_reflection(equal, wo, wi), ggx_reflection(round, wo, wi));
+  EXPECT_EQ(ggx_reflection_pdf(equal, wo, wi), ggx_reflection_pdf(round, wo, wi));
+  // A tangent along the normal, zero or not finite: the round lobe of the mean alpha.
+  for (const Vec3& tangent : {kNormal, Vec3(0.0f), Vec3(std::nanf(""), 0.0f, 0.0f)}) {
+    const GgxLobe flat(kNormal, tangent, 0.1f, 0.4f);
+    EXPECT_TRUE(flat.isotropic());
+    EXPECT_FLOAT_EQ(flat.alpha(), 0.2f);
+    EXPECT_TRUE(std::isfinite(ggx_reflection(flat, wo, wi)));
+  }
 }
 
 }  // namespace

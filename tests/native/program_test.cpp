@@ -79,7 +79,7 @@ TEST(Program, ValidationNamesTheFirstProblem) {
   expect_invalid({{Op::kMath, 0, 0}, {Op::kMath, 41, 0}}, "instruction 1 (MATH): mode 41");
   expect_invalid({{Op::kVectorMath, 30, 0}}, "mode 30");
   expect_invalid({{Op::kMix, 19, 0}}, "mode 19");
-  expect_invalid({{Op::kInput, 12, 0}}, "mode 12 is not an input");
+  expect_invalid({{Op::kInput, 15, 0}}, "mode 15 is not an input");
   expect_invalid({{Op::kMixValue, 3, 0}}, "(MIX_VALUE): mode 3 is not one of its modes");
   expect_invalid({{Op::kSwizzle, 4, 0}}, "(SWIZZLE): mode 4");
   expect_invalid({{Op::kLayerWeight, 2, 0}}, "(LAYER_WEIGHT): mode 2");

@@ -11,7 +11,6 @@ from .shader_fields import (
     is_zero,
     whitted_fields,
 )
-from .sockets import find_socket
 
 
 def _diffuse(s, out):
@@ -35,16 +34,14 @@ def _glossy(s, out):
     color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
     # Blender 3.x's Sharp distribution is a perfect mirror whatever the roughness.
     roughness = b.f(0.0) if node.distribution == "SHARP" else s.scalar(out, ("Roughness",), 0.5)
-    anisotropy = find_socket(node.inputs, ("Anisotropy",))
-    if anisotropy is not None and (
-        source(anisotropy, out.scope)[0] is not None or anisotropy.default_value != 0.0
-    ):
-        s.c.warn(node, "anisotropy is not supported; the lobe is round (isotropic)")
     _warn_microfacet_distribution(s, node)
-    return _metal(s, out, color, roughness, s.glossy and node.distribution == "MULTI_GGX")
+    # Blender 3.x's Anisotropic BSDF and 4.0+'s Glossy BSDF: Anisotropy, Rotation, Tangent.
+    anisotropy = s.scalar(out, ("Anisotropy",), 0.0)
+    multiscatter = s.glossy and node.distribution == "MULTI_GGX"
+    return _metal(s, out, color, roughness, multiscatter, anisotropy)
 
 
-def _metal(s, out, color, roughness, multiscatter=False):
+def _metal(s, out, color, roughness, multiscatter=False, anisotropy=None):
     # A glossy reflector of colour C is a metal of base colour C.
     b = s.b
     fields = whitted_fields(
@@ -56,7 +53,10 @@ def _metal(s, out, color, roughness, multiscatter=False):
         transmission=b.f(0.0),
         glossy=s.glossy,
     )
-    return s.closure(normal=s.normal(out), highlight=True, multiscatter=multiscatter, **fields)
+    normal = s.normal(out)
+    if anisotropy is not None and "roughness" in fields:
+        fields.update(s.anisotropic(out, anisotropy, normal))
+    return s.closure(normal=normal, highlight=True, multiscatter=multiscatter, **fields)
 
 
 def _warn_microfacet_distribution(s, node):
@@ -230,7 +230,7 @@ def _principled_hair(s, out):
     return s.closure(diffuse=s.b.const((*colour, 1.0), COLOR))
 
 
-_GLOSSY = (_glossy, {"Color", "Roughness", "Anisotropy", "Normal", "Weight"})
+_GLOSSY = (_glossy, {"Color", "Roughness", "Anisotropy", "Rotation", "Tangent", "Normal", "Weight"})
 
 
 # The shader nodes handled here: (handler, the inputs it reads).

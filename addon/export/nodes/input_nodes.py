@@ -60,6 +60,9 @@ _GEOMETRY = {
 
 
 def _geometry(c, out):
+    if output_name(out) == "Tangent":
+        # Cycles' default tangent: radial about the object's Z axis.
+        return c.hit(ops.IN_RADIAL_TANGENT + 2)
     entry = _GEOMETRY.get(output_name(out))
     if entry is None:
         c.warn(out.node, f"output '{output_name(out)}' is not supported; it gives 0")
@@ -226,6 +229,17 @@ def _warn_linked_normal(c, out):
         c.warn(out.node, "a linked Normal is not supported; the shading normal is used")
 
 
+def _tangent(c, out):
+    # Cycles' Tangent node: radial about the object's X, Y or Z axis (IN_RADIAL_TANGENT),
+    # or the UV map's tangent.
+    node = out.node
+    axis = "XYZ".index(node.axis)
+    if node.direction_type == "UV_MAP":
+        c.warn(node, "UV map tangents are not supported; the radial tangent about Z is used")
+        axis = 2
+    return c.hit(ops.IN_RADIAL_TANGENT + axis)
+
+
 def _normal_map(c, out):
     node = out.node
     strength = c.input(out, ("Strength",), FLOAT)
@@ -269,4 +283,5 @@ INPUT_NODES = {
     "ShaderNodeFresnel": _fresnel,
     "ShaderNodeLayerWeight": _layer_weight,
     "ShaderNodeNormalMap": _normal_map,
+    "ShaderNodeTangent": _tangent,
 }

@@ -45,7 +45,6 @@ PRINCIPLED_DEFAULTS = {
 # Principled lobes Whitted does not have: warned when their weight is above 0.
 PRINCIPLED_IGNORED_WEIGHTS = (
     ("Subsurface Weight", "Subsurface"),
-    ("Anisotropic",),
     ("Thin Film Thickness",),
 )
 
@@ -62,13 +61,16 @@ COAT_INPUTS = {
 
 SHEEN_INPUTS = {"weight": ("Sheen Weight", "Sheen"), "tint": ("Sheen Tint",)}
 
+# The anisotropy of the glossy lobe (every version's names).
+ANISOTROPY_INPUTS = {"amount": ("Anisotropic",), "rotation": ("Anisotropic Rotation",)}
+
 
 PRINCIPLED_READ = {
     name
-    for table in (PRINCIPLED_INPUTS, COAT_INPUTS, SHEEN_INPUTS)
+    for table in (PRINCIPLED_INPUTS, COAT_INPUTS, SHEEN_INPUTS, ANISOTROPY_INPUTS)
     for names in table.values()
     for name in names
-}
+} | {"Tangent"}
 
 
 def _principled(s, out):
@@ -155,17 +157,36 @@ def _principled(s, out):
         if not is_zero(diffuse_roughness):
             diffuse_model = "OREN_NAYAR"
             fields["diffuse_roughness"] = b.clamp01(diffuse_roughness)
+    normal = s.normal(out)
+    anisotropy = {}
+    if "roughness" in fields:
+        anisotropy = s.anisotropic(
+            out, _anisotropy(s, out), normal, rotation=ANISOTROPY_INPUTS["rotation"]
+        )
     return s.closure(
         coverage=alpha,
-        normal=s.normal(out),
+        normal=normal,
         highlight=True,
         refracts=True,
         coat=coat is not None,
         coat_normal=coat_normal,
         diffuse_model=diffuse_model,
         multiscatter="roughness" in fields and node.distribution == "MULTI_GGX",
+        **anisotropy,
         **fields,
     )
+
+
+def _anisotropy(s, out):
+    """The Principled Anisotropic A in [0, 1] as the Glossy BSDF's anisotropy: Cycles
+    stretches the lobe along the tangent by aspect = sqrt(1 - 0.9 A) (alpha / aspect
+    along it, alpha * aspect across), the Glossy convention's a = aspect - 1 <= 0."""
+    b = s.b
+    amount = b.clamp01(s.scalar(out, ANISOTROPY_INPUTS["amount"], 0.0))
+    if is_zero(amount):
+        return amount
+    aspect = b.math("SQRT", b.sub(b.f(1.0), b.mul(b.f(0.9), amount)))
+    return b.sub(aspect, b.f(1.0))
 
 
 def _coat(s, out):

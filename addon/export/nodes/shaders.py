@@ -14,12 +14,14 @@ the factor's blend of both closures and Add Shader their sum:
   the coverage of the closures that have one (a Diffuse or Emission closure has no
   highlight and no IOR of its own, so it does not pull them towards its
   defaults); without any, the defaults;
-- the shading normal: the first closure's that has one (a warning when two differ).
+- the shading normal and the glossy lobe's tangent: the first closure's that has one (a
+  warning when two normals differ).
 
 For closures of coverage 1 and a constant factor this is exactly the previous
 mapping's blend of the Whitted parameters.
 """
 
+import math
 from dataclasses import dataclass, replace
 
 from . import ops
@@ -47,6 +49,7 @@ WEIGHTED_FIELDS = (
     "diffuse_roughness",
     "roughness",
     "coat_roughness",
+    "anisotropy",
 )
 DEFAULTS = {
     "shininess": 1.0,
@@ -56,6 +59,7 @@ DEFAULTS = {
     "diffuse_roughness": 0.0,
     "roughness": 0.0,
     "coat_roughness": 0.0,
+    "anisotropy": 0.0,
 }
 
 
@@ -76,6 +80,7 @@ class Closure:
     # Its glossy lobe is Cycles' Multiscatter GGX (the energy of the facets'
     # inter-reflections kept).
     multiscatter: bool = False
+    tangent: object = None  # Expr (world vector) or None: the anisotropic lobe's tangent
 
 
 class ShaderLowering:
@@ -170,6 +175,7 @@ class ShaderLowering:
         coat_normal=None,
         diffuse_model=None,
         multiscatter=False,
+        tangent=None,
         **fields,
     ):
         base = self.black()
@@ -185,10 +191,37 @@ class ShaderLowering:
             "coat_roughness": coverage if coat else self.b.f(0.0),
             # A diffuse lobe of another shape than Lambert's, by its roughness.
             "diffuse_roughness": coverage if diffuse_model else self.b.f(0.0),
-            # A glossy lobe, by its roughness.
+            # A glossy lobe, by its roughness, and an anisotropic one by its anisotropy.
             "roughness": coverage if "roughness" in fields else self.b.f(0.0),
+            "anisotropy": coverage if "anisotropy" in fields else self.b.f(0.0),
         }
-        return Closure(coverage, values, weights, normal, coat_normal, diffuse_model, multiscatter)
+        return Closure(
+            coverage, values, weights, normal, coat_normal, diffuse_model, multiscatter, tangent
+        )
+
+    def anisotropic(self, output, amount, normal, rotation=("Rotation",)):
+        """The fields of a glossy lobe's anisotropy (Cycles' alpha_x and alpha_y by the
+        Glossy BSDF's convention, native ggx_anisotropic_alphas) as closure keywords:
+        {"anisotropy", "tangent"}; none where `amount` is 0 or the model is the Lecture's.
+        The tangent is the node's Tangent input, else Cycles' default (the Geometry node's
+        Tangent: radial about the object's Z axis), turned about the closure's normal by
+        Rotation (a full turn per 1), as Cycles turns it."""
+        B = self.b
+        if not self.glossy or is_zero(amount):
+            return {}
+        socket = find_socket(output.node.inputs, ("Tangent",))
+        if socket is not None and source(socket, output.scope)[0] is not None:
+            tangent = self.c.value(socket, output.scope, VECTOR)
+        else:
+            tangent = self.c.hit(ops.IN_RADIAL_TANGENT + 2)
+        turn = self.scalar(output, rotation, 0.0)
+        if not is_zero(turn):
+            axis = normal if normal is not None else self.c.hit(ops.IN_NORMAL)
+            mode = ops.pack("VECTOR_ROTATE", rotation_type="AXIS_ANGLE", invert=False)
+            angle = B.mul(turn, B.f(2.0 * math.pi))
+            origin = B.const((0.0, 0.0, 0.0), VECTOR)
+            tangent = B.op(ops.VECTOR_ROTATE, mode, (tangent, origin, axis, angle), kind=VECTOR)
+        return {"anisotropy": amount, "tangent": tangent}
 
     # --- combining -----------------------------------------------------------------
 
@@ -246,13 +279,14 @@ class ShaderLowering:
         if a.normal is not None and b.normal is not None and a.normal is not b.normal:
             self.c.warn(node, "combines two different normals; the first one is used")
         coat_normal = a.coat_normal if a.coat_normal is not None else b.coat_normal
+        tangent = a.tangent if a.tangent is not None else b.tangent
         # One shape for the material's whole diffuse lobe (a Lambertian part takes the
         # other's shape).
         model = a.diffuse_model or b.diffuse_model
         if a.diffuse_model and b.diffuse_model and a.diffuse_model != b.diffuse_model:
             self.c.warn(node, "combines two diffuse models; the first one is used")
         multiscatter = a.multiscatter or b.multiscatter
-        return Closure(coverage, fields, weights, normal, coat_normal, model, multiscatter)
+        return Closure(coverage, fields, weights, normal, coat_normal, model, multiscatter, tangent)
 
 
 def fixed_texture(expr):
@@ -299,4 +333,6 @@ def finish(c, closure):
         fields["normal"] = closure.normal
     if closure.coat_normal is not None:
         fields["coat_normal"] = closure.coat_normal
+    if closure.tangent is not None:
+        fields["tangent"] = closure.tangent
     return replace(closure, fields=fields).fields

@@ -23,8 +23,7 @@ namespace whitted {
 
 // The lobe a glossy reflection draws its rays from.
 struct Lobe {
-  Vec3 normal;                // facing the ray
-  float alpha;                // GGX alpha
+  GgxLobe ggx;                // about the normal facing the ray; alpha 0: a mirror
   Color energy;               // its multiple-scattering scale, or 1
   const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
 };
@@ -34,11 +33,11 @@ struct Lobe {
 inline Lobe reflection_lobe(const ShadingPoint& p, const Split& split, bool glossy) {
   if (glossy && !split.total_internal_reflection) {
     if (split.about_coat && p.coat.alpha > 0.0f) {
-      return Lobe{p.coat.normal, p.coat.alpha, Color(1.0f), &p.coat};
+      return Lobe{GgxLobe(p.coat.normal, p.coat.alpha), Color(1.0f), &p.coat};
     }
-    if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ns, p.alpha, p.energy};
+    if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ggx, p.energy};
   }
-  return Lobe{p.ns, 0.0f, Color(1.0f)};
+  return Lobe{GgxLobe(p.ns, 0.0f), Color(1.0f)};
 }
 
 // Glossy reflection: n x n rays drawn from the lobe, each weighing sigma_r * G2/G1 / n^2
@@ -64,8 +63,7 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     const glm::vec2 u = strata.point(k);
     Vec3 wi;
     float lobe = 0.0f;  // G2 / G1
-    if (!ggx_sample_reflection(lobe_of.normal, p.wo, lobe_of.alpha, u.x, u.y, &wi, &lobe,
-                               p.it.material->masking)) {
+    if (!ggx_sample_reflection(lobe_of.ggx, p.wo, u.x, u.y, &wi, &lobe, p.it.material->masking)) {
       continue;
     }
     if (glm::dot(wi, p.ng) <= 0.0f) continue;  // below the surface itself
@@ -75,9 +73,7 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     const Color weight = sigma_r * lobe_of.energy * lobe;
     // Its density, for the MIS weight of the emission it may meet (emission_weight) and
     // of the lamps' shapes (lamp_weight).
-    const float pdf = per_feeler > 0.0f || lamps
-                          ? ggx_reflection_pdf(lobe_of.normal, p.wo, wi, lobe_of.alpha)
-                          : 0.0f;
+    const float pdf = per_feeler > 0.0f || lamps ? ggx_reflection_pdf(lobe_of.ggx, p.wo, wi) : 0.0f;
     const float density = per_feeler * pdf;
     const float mis = in.emitters ? density : 0.0f;
     // Its weight on the world where it escapes, against the world's feelers.

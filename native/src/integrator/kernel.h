@@ -295,7 +295,7 @@ class Kernel {
     [[maybe_unused]] const auto term = recorder_.reflected(state.depth, split.sigma_r);
     Color reflected;
     if (const Lobe lobe = reflection_lobe(p, split, (in_.effects & kGlossyEffect) != 0);
-        lobe.alpha > 0.0f) {
+        lobe.ggx.alpha() > 0.0f) {
       reflected =
           glossy_reflection(in_, p, split.sigma_r, lobe, state, drawn_branch(p, state, counts));
     } else {

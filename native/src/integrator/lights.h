@@ -109,9 +109,9 @@ class Lights {
         if (sobol) at = points.point(s);
         Drawing out{feeler, sample_light(light, p.it.position, s, sobol ? &at : nullptr), 1.0f};
         if (weighed) {
-          out.mis = power_heuristic(
-              static_cast<float>(samples) * out.sample.density,
-              rays.drawn * ggx_reflection_pdf(rays.normal, p.wo, out.sample.wi, rays.alpha));
+          out.mis =
+              power_heuristic(static_cast<float>(samples) * out.sample.density,
+                              rays.drawn * ggx_reflection_pdf(rays.lobe, p.wo, out.sample.wi));
         }
         return out;
       };
@@ -196,9 +196,8 @@ class Lights {
       const Color radiance = emitted(scene, triangle, s.barycentric, towards, in_.context(state));
       out.sample.irradiance = radiance * (cos_e * strata.share / (dist2 * s.density));
       if (rays.count > 0.0f) {
-        out.mis = power_heuristic(
-            s.density * dist2 / cos_e,
-            rays.count * ggx_reflection_pdf(rays.normal, p.wo, out.sample.wi, rays.alpha));
+        out.mis = power_heuristic(s.density * dist2 / cos_e,
+                                  rays.count * ggx_reflection_pdf(rays.lobe, p.wo, out.sample.wi));
       }
       return out;
     };
@@ -232,8 +231,7 @@ class Lights {
       const Color radiance = in_.scene.world_light_radiance(s.wi, state.depth + 1);
       out.sample.irradiance = radiance * (strata.share / s.pdf);
       if (rays.count > 0.0f && params.glossy) {
-        out.mis = power_heuristic(
-            s.pdf, rays.count * ggx_reflection_pdf(rays.normal, p.wo, s.wi, rays.alpha));
+        out.mis = power_heuristic(s.pdf, rays.count * ggx_reflection_pdf(rays.lobe, p.wo, s.wi));
       }
       return out;
     };

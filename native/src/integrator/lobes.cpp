@@ -9,8 +9,8 @@ float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, 
     for (int j = 0; j < kSide; ++j) {
       Vec3 wi;
       float weight = 0.0f;
-      if (!ggx_sample_reflection(n, wo, alpha, (i + 0.5f) / kSide, (j + 0.5f) / kSide, &wi, &weight,
-                                 masking)) {
+      if (!ggx_sample_reflection(GgxLobe(n, alpha), wo, (i + 0.5f) / kSide, (j + 0.5f) / kSide, &wi,
+                                 &weight, masking)) {
         continue;
       }
       sum += weight * fresnel_exact(std::max(0.0f, glm::dot(wo, glm::normalize(wo + wi))), eta);
@@ -51,7 +51,7 @@ float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking mask
   const float length = glm::length(half);
   if (!(length > 0.0f)) return 0.0f;
   return coat.mirror * coat.facet_scale(wo, half / length) *
-         ggx_reflection(coat.normal, wo, wi, coat.alpha, masking);
+         ggx_reflection(GgxLobe(coat.normal, coat.alpha), wo, wi, masking);
 }
 
 float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {

@@ -52,14 +52,13 @@ inline void diffuse_fade(const ShadingPoint& p, const Vec3& wi, float cos_l, Lig
 // The Phong terms of a light sample from wi, per unit irradiance, unshadowed.
 inline LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l) {
   const float v_dot_r = std::max(0.0f, glm::dot(p.wo, reflect(-wi, p.ns)));
-  LightTerms t{p.base * std::max(0.0f, cos_l),
-               1.0f,
-               0.0f,
-               phong_lobe(p, v_dot_r),
-               coat_highlight(p.coat, p.wo, wi, p.it.material->masking),
-               p.alpha > 0.0f
-                   ? p.base * ggx_reflection(p.ns, p.wo, wi, p.alpha, p.it.material->masking)
-                   : 0.0f};
+  LightTerms t{
+      p.base * std::max(0.0f, cos_l),
+      1.0f,
+      0.0f,
+      phong_lobe(p, v_dot_r),
+      coat_highlight(p.coat, p.wo, wi, p.it.material->masking),
+      p.alpha > 0.0f ? p.base * ggx_reflection(p.ggx, p.wo, wi, p.it.material->masking) : 0.0f};
   diffuse_fade(p, wi, cos_l, &t);
   return t;
 }

@@ -33,8 +33,7 @@ inline float power_heuristic(float a, float b) {
 // count 0: none will be sent (no glossy lobe, the depth, the cutoff), and the feelers
 // count whole.
 struct GlossyRays {
-  Vec3 normal{0.0f, 0.0f, 1.0f};
-  float alpha = 0.0f;
+  GgxLobe lobe{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
   float count = 0.0f;
   float drawn = 0.0f;  // how many (n x n), as the lamps' feelers weigh theirs against them
 };
@@ -78,8 +77,7 @@ template <uint32_t kEffects, class Queries>
   if (state.depth + 1 > in.settings.max_depth) return rays;
   const Color energy = coat ? Color(1.0f) : p.energy;
   if (max_component(state.weight * split.sigma_r * energy) < in.settings.cutoff) return rays;
-  rays.normal = coat ? p.coat.normal : p.ns;
-  rays.alpha = coat ? p.coat.alpha : p.alpha;
+  rays.lobe = coat ? GgxLobe(p.coat.normal, p.coat.alpha) : p.ggx;
   rays.count = rays_per_feeler(in.settings, state);
   const int side = Strata::side(state, in.settings.glossy_samples);
   rays.drawn = static_cast<float>(side * side);

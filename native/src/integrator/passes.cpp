@@ -142,7 +142,7 @@ void PassRecorder::split(const ShadingPoint& p, const Split& split, bool glossy)
   // The surface's lobes as Cycles' closures: rough (the diffuse, the Phong and coat
   // highlights, the reflection and the refraction where drawn from a lobe rougher than
   // kSharpGuideAlpha) or near-specular (the others), each weighing its colour.
-  const bool rough_reflection = reflection_lobe(p, split, glossy).alpha > kSharpGuideAlpha;
+  const bool rough_reflection = reflection_lobe(p, split, glossy).ggx.alpha() > kSharpGuideAlpha;
   const bool rough_refraction = glossy && p.alpha > kSharpGuideAlpha;
   const Color rough = p.base * (p.surface.diffuse + p.surface.specular) + Color(p.coat.highlight) +
                       (rough_reflection ? split.sigma_r : Color(0.0f)) +

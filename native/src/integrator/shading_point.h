@@ -26,6 +26,7 @@ struct ShadingPoint {
                        // unit LightTerms::loss (0 for the other diffuse models)
   float alpha;         // GGX alpha of the reflection lobe; 0: a mirror (microfacet.h)
   Color energy;        // the lobe's multiple-scattering scale (Material::multiscatter), or 1
+  GgxLobe ggx;         // the reflection lobe about ns: alpha, or anisotropic along the tangent
 };
 
 // One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
@@ -74,10 +75,18 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   const float alpha = surface.roughness * surface.roughness;
   const bool glossy = alpha >= kMirrorAlpha &&
                       (!is_black(surface.reflectivity) || !is_black(surface.transmissivity));
+  // The multiple scattering of an anisotropic lobe is its round lobe's of the same mean
+  // alpha, as Cycles takes it (alpha_x alpha_y = alpha^2).
   const Color energy =
       glossy && it.material->multiscatter
           ? ggx_multiscatter_scale(surface.reflectivity, glm::dot(ns, wo), surface.roughness)
           : Color(1.0f);
+  float alpha_x = 0.0f;
+  float alpha_y = 0.0f;
+  if (glossy) ggx_anisotropic_alphas(alpha, surface.anisotropy, &alpha_x, &alpha_y);
+  const GgxLobe ggx = alpha_x != alpha_y && surface.tangent != Vec3(0.0f)
+                          ? GgxLobe(ns, surface.tangent, alpha_x, alpha_y)
+                          : GgxLobe(ns, glossy ? alpha : 0.0f);
   return {it,
           surface,
           ng,
@@ -89,7 +98,8 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
           phong_norm,
           multiscatter,
           glossy ? alpha : 0.0f,
-          energy};
+          energy,
+          ggx};
 }
 
 }  // namespace whitted

@@ -29,6 +29,8 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
   diffuse_roughness = std::clamp(diffuse_roughness, 0.0f, 1.0f);
   if (!std::isfinite(roughness)) throw std::invalid_argument("roughness must be finite");
   roughness = std::clamp(roughness, 0.0f, 1.0f);
+  if (!std::isfinite(anisotropy)) throw std::invalid_argument("anisotropy must be finite");
+  anisotropy = std::clamp(anisotropy, -0.99f, 0.99f);
   if (!std::isfinite(coat_roughness)) throw std::invalid_argument("coat_roughness must be finite");
   coat_roughness = std::clamp(coat_roughness, 0.0f, 1.0f);
   if (static_cast<uint32_t>(bump_shadowing) > static_cast<uint32_t>(BumpShadowing::kMicrofacet)) {

@@ -44,6 +44,8 @@ namespace whitted {
   X(kDiffuseRoughnessField, "diffuse_roughness", 1) \
   X(kRoughnessField, "roughness", 1)                \
   X(kCoatRoughnessField, "coat_roughness", 1)       \
+  X(kAnisotropyField, "anisotropy", 1)              \
+  X(kTangentField, "tangent", 3)                    \
   X(kVolumeAbsorptionField, "volume_absorption", 3) \
   X(kVolumeScatteringField, "volume_scattering", 3) \
   X(kVolumeAnisotropyField, "volume_anisotropy", 1) \
@@ -120,6 +122,7 @@ struct MaterialParams {
   float ambient = 1.0f;
   Color reflectivity{0.0f};   // split by Fresnel in split.h
   float roughness = 0.0f;     // GGX of alpha = roughness^2: scene/microfacet.h
+  float anisotropy = 0.0f;    // along the program's tangent: ggx_anisotropic_alphas
   bool multiscatter = false;  // ggx_multiscatter_scale
   Masking masking = Masking::kCorrelated;
   Color transmissivity{0.0f};
@@ -185,6 +188,10 @@ inline constexpr auto kMaterialParams = std::tuple{
     MaterialParam{"roughness", &MaterialParams::roughness,
                   "Blender roughness of the reflection in [0, 1] (clamped): below 0.02 a mirror, "
                   "above a GGX lobe of alpha = roughness^2 traced with glossy rays."},
+    MaterialParam{"anisotropy", &MaterialParams::anisotropy,
+                  "The reflection lobe's anisotropy in [-0.99, 0.99] (clamped), as the Glossy "
+                  "BSDF's: above 0 narrower along the tangent field, below 0 wider; it needs "
+                  "a program computing the tangent (without one the lobe is round)."},
     MaterialParam{"multiscatter", &MaterialParams::multiscatter,
                   "Cycles' Multiscatter GGX: the glossy lobe keeps the energy its facets pass "
                   "between them; False: single-scattering GGX."},

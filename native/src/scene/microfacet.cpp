@@ -13,6 +13,40 @@ Frame::Frame(const Vec3& normal) : n(normal) {
   b = glm::cross(n, t);
 }
 
+Frame::Frame(const Vec3& normal, const Vec3& tangent)
+    : n(normal), b(glm::normalize(glm::cross(normal, tangent))) {
+  t = glm::cross(b, n);
+}
+
+GgxLobe::GgxLobe(const Vec3& normal, const Vec3& tangent, float ax, float ay)
+    : n(normal), alpha_x(ax), alpha_y(ay) {
+  const Vec3 along = tangent - glm::dot(tangent, normal) * normal;
+  const float length = glm::length(along);
+  // Relative to the tangent's own length: a tangent along n leaves no direction.
+  if (!(length > 1e-6f * glm::length(tangent)) || !std::isfinite(length)) {
+    alpha_x = alpha_y = std::sqrt(ax * ay);
+    return;
+  }
+  t = along / length;
+}
+
+Frame GgxLobe::frame() const {
+  return isotropic() ? Frame(n) : Frame(n, t);
+}
+
+void ggx_anisotropic_alphas(float alpha, float anisotropy, float* ax, float* ay) {
+  const float a = std::clamp(anisotropy, -0.99f, 0.99f);
+  *ax = *ay = alpha;
+  if (!(std::fabs(a) > 1e-4f)) return;  // NaN too
+  if (a < 0.0f) {
+    *ax = alpha / (1.0f + a);
+    *ay = alpha * (1.0f + a);
+  } else {
+    *ax = alpha * (1.0f - a);
+    *ay = alpha / (1.0f - a);
+  }
+}
+
 float ggx_distribution(float cos_m, float alpha) {
   if (cos_m <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
@@ -31,16 +65,46 @@ float ggx_lambda(float cos_theta, float alpha) {
 
 namespace {
 
+// A unit world direction in a lobe's frame, its cosine to the normal given; an
+// isotropic lobe needs only that cosine.
+Vec3 in_frame(const GgxLobe& g, const Vec3& v, float cos_theta) {
+  if (g.isotropic()) return {0.0f, 0.0f, cos_theta};
+  return {glm::dot(g.t, v), glm::dot(glm::cross(g.n, g.t), v), cos_theta};
+}
+
+// D(m) for a microfacet normal m in the lobe's frame; an anisotropic lobe's
+// 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2).
+float distribution(const GgxLobe& g, const Vec3& m) {
+  if (g.isotropic()) return ggx_distribution(m.z, g.alpha_x);
+  if (m.z <= 0.0f) return 0.0f;
+  const float x = m.x / g.alpha_x;
+  const float y = m.y / g.alpha_y;
+  const float d = x * x + y * y + m.z * m.z;
+  return 1.0f / (kPi * g.alpha_x * g.alpha_y * d * d);
+}
+
+// Smith's Lambda for a direction w in the lobe's frame; an anisotropic lobe's alpha^2
+// tan^2 is (ax^2 x^2 + ay^2 y^2) / z^2.
+float lambda(const GgxLobe& g, const Vec3& w) {
+  if (g.isotropic()) return ggx_lambda(w.z, g.alpha_x);
+  const float c2 = w.z * w.z;
+  if (c2 <= 0.0f) return kInfinity;
+  const float x = g.alpha_x * w.x;
+  const float y = g.alpha_y * w.y;
+  return 0.5f * (std::sqrt(1.0f + (x * x + y * y) / c2) - 1.0f);
+}
+
 // G2 over G1(wo), from the two directions' Lambdas.
 float masking_ratio(float lambda_o, float lambda_i, Masking masking) {
   if (masking == Masking::kSeparable) return 1.0f / (1.0f + lambda_i);  // G1_i
   return (1.0f + lambda_o) / (1.0f + lambda_o + lambda_i);
 }
 
-// Heitz (2018): a visible normal for the local view v (z up) of a lobe of this alpha.
-Vec3 visible_normal(const Vec3& v, float alpha, float u1, float u2) {
+// Heitz (2018): a visible normal for the local view v (z up) of a lobe of these alphas
+// (along x and y).
+Vec3 visible_normal(const Vec3& v, float ax, float ay, float u1, float u2) {
   // The view stretched to the hemisphere configuration, ...
-  const Vec3 vh = glm::normalize(Vec3(alpha * v.x, alpha * v.y, v.z));
+  const Vec3 vh = glm::normalize(Vec3(ax * v.x, ay * v.y, v.z));
   const float lensq = vh.x * vh.x + vh.y * vh.y;
   const Vec3 t1 = lensq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : Vec3(1, 0, 0);
   const Vec3 t2 = glm::cross(vh, t1);
@@ -53,50 +117,51 @@ Vec3 visible_normal(const Vec3& v, float alpha, float u1, float u2) {
   const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
   // ... lifted to the hemisphere, and unstretched: the microfacet normal.
   const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-  return glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
+  return glm::normalize(Vec3(ax * nh.x, ay * nh.y, std::max(1e-7f, nh.z)));
 }
 
 // A reflection's cosines to the normal, of the view and the light, and GGX's D of its
 // half vector; false below either horizon or for opposite directions (no half vector).
-bool reflection_geometry(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, float* cos_o,
+bool reflection_geometry(const GgxLobe& g, const Vec3& wo, const Vec3& wi, float* cos_o,
                          float* cos_i, float* d) {
-  *cos_o = glm::dot(n, wo);
-  *cos_i = glm::dot(n, wi);
+  *cos_o = glm::dot(g.n, wo);
+  *cos_i = glm::dot(g.n, wi);
   if (*cos_o <= 0.0f || *cos_i <= 0.0f) return false;
   const Vec3 half = wo + wi;
   const float length = glm::length(half);
   if (!(length > 0.0f)) return false;
-  *d = ggx_distribution(glm::dot(n, half) / length, alpha);
+  *d = distribution(g, in_frame(g, half / length, glm::dot(g.n, half) / length));
   return true;
 }
 
 }  // namespace
 
-float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha, Masking masking) {
+float ggx_reflection(const GgxLobe& lobe, const Vec3& wo, const Vec3& wi, Masking masking) {
   float cos_o = 0.0f;
   float cos_i = 0.0f;
   float d = 0.0f;
-  if (!reflection_geometry(n, wo, wi, alpha, &cos_o, &cos_i, &d)) return 0.0f;
+  if (!reflection_geometry(lobe, wo, wi, &cos_o, &cos_i, &d)) return 0.0f;
   // Smith's masking-shadowing (Heitz 2014): height-correlated as Cycles 4.0 on has it,
   // or separable as Cycles 3.x.
-  const float lambda_o = ggx_lambda(cos_o, alpha);
-  const float g2 = masking_ratio(lambda_o, ggx_lambda(cos_i, alpha), masking) / (1.0f + lambda_o);
+  const float lambda_o = lambda(lobe, in_frame(lobe, wo, cos_o));
+  const float lambda_i = lambda(lobe, in_frame(lobe, wi, cos_i));
+  const float g2 = masking_ratio(lambda_o, lambda_i, masking) / (1.0f + lambda_o);
   return d * g2 / (4.0f * cos_o);
 }
 
-float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha) {
+float ggx_reflection_pdf(const GgxLobe& lobe, const Vec3& wo, const Vec3& wi) {
   float cos_o = 0.0f;
   float cos_i = 0.0f;
   float d = 0.0f;
-  if (!reflection_geometry(n, wo, wi, alpha, &cos_o, &cos_i, &d)) return 0.0f;
-  return d / ((1.0f + ggx_lambda(cos_o, alpha)) * 4.0f * cos_o);
+  if (!reflection_geometry(lobe, wo, wi, &cos_o, &cos_i, &d)) return 0.0f;
+  return d / ((1.0f + lambda(lobe, in_frame(lobe, wo, cos_o))) * 4.0f * cos_o);
 }
 
 bool ggx_sample_normal(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* m) {
   const Frame frame(n);
   const Vec3 v = frame.to_local(wo);
   if (v.z <= 0.0f) return false;
-  *m = glm::normalize(frame.to_world(visible_normal(v, alpha, u1, u2)));
+  *m = glm::normalize(frame.to_world(visible_normal(v, alpha, alpha, u1, u2)));
   return true;
 }
 
@@ -104,16 +169,16 @@ float ggx_transmission_weight(float cos_o, float cos_t, float alpha, Masking mas
   return masking_ratio(ggx_lambda(cos_o, alpha), ggx_lambda(std::fabs(cos_t), alpha), masking);
 }
 
-bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
+bool ggx_sample_reflection(const GgxLobe& lobe, const Vec3& wo, float u1, float u2, Vec3* wi,
                            float* weight, Masking masking) {
   *weight = 0.0f;
-  const Frame frame(n);
+  const Frame frame = lobe.frame();
   const Vec3 v = frame.to_local(wo);
   if (v.z <= 0.0f) return false;
-  const Vec3 m = visible_normal(v, alpha, u1, u2);
+  const Vec3 m = visible_normal(v, lobe.alpha_x, lobe.alpha_y, u1, u2);
   const Vec3 l = 2.0f * glm::dot(v, m) * m - v;  // the view mirrored about m
   if (l.z <= 0.0f) return false;
-  *weight = masking_ratio(ggx_lambda(v.z, alpha), ggx_lambda(l.z, alpha), masking);
+  *weight = masking_ratio(lambda(lobe, v), lambda(lobe, l), masking);
   *wi = glm::normalize(frame.to_world(l));
   return true;
 }
@@ -141,7 +206,7 @@ struct AlbedoTables {
           for (int j = 0; j < kStrata; ++j) {
             Vec3 wi;
             float weight = 0.0f;
-            if (ggx_sample_reflection(Vec3(0, 0, 1), wo, alpha, (i + 0.5f) / kStrata,
+            if (ggx_sample_reflection(GgxLobe(Vec3(0, 0, 1), alpha), wo, (i + 0.5f) / kStrata,
                                       (j + 0.5f) / kStrata, &wi, &weight)) {
               sum += weight;
             }

@@ -25,6 +25,9 @@ struct Frame {
   Vec3 n;
 
   explicit Frame(const Vec3& normal);
+  // The frame whose x axis is `tangent` made perpendicular to n (Cycles'
+  // make_orthonormals_tangent: b = n x tangent, normalised; t = b x n).
+  Frame(const Vec3& normal, const Vec3& tangent);
   Vec3 to_local(const Vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
   Vec3 to_world(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
 };
@@ -35,31 +38,59 @@ float ggx_distribution(float cos_m, float alpha);
 // Smith's Lambda for a direction at cos_theta to the normal: G1 = 1 / (1 + Lambda).
 float ggx_lambda(float cos_theta, float alpha);
 
+// A GGX lobe's shape: about unit normal n, of roughness alpha, or anisotropic: alpha_x
+// along the tangent t and alpha_y along n x t (Cycles' MicrofacetBsdf alpha_x, alpha_y
+// and T; brushed metal). An isotropic lobe's functions below compute exactly what they
+// did before anisotropy came (its frame's tangent is arbitrary).
+struct GgxLobe {
+  Vec3 n;
+  float alpha_x;
+  float alpha_y;
+  Vec3 t{0.0f};  // unit, perpendicular to n; unused when isotropic
+
+  GgxLobe(const Vec3& normal, float alpha) : n(normal), alpha_x(alpha), alpha_y(alpha) {}
+  // Anisotropic along `tangent` (any vector not parallel to n; it is made perpendicular
+  // to n). A tangent parallel to n, zero or not finite gives the isotropic lobe of
+  // alpha sqrt(alpha_x alpha_y).
+  GgxLobe(const Vec3& normal, const Vec3& tangent, float ax, float ay);
+
+  bool isotropic() const { return alpha_x == alpha_y; }
+  // The round lobe's alpha, or the geometric mean of the two (0: a mirror).
+  float alpha() const { return isotropic() ? alpha_x : std::sqrt(alpha_x * alpha_y); }
+  Frame frame() const;
+};
+
+// Cycles' alpha_x and alpha_y of a lobe of alpha (roughness^2) and Anisotropy a (the
+// Glossy and Anisotropic BSDFs'), a clamped to [-0.99, 0.99]: a > 0 narrows the lobe
+// along the tangent (alpha (1 - a), alpha / (1 - a)), a < 0 widens it (alpha / (1 + a),
+// alpha (1 + a)). Their geometric mean stays alpha. |a| <= 1e-4 is isotropic.
+void ggx_anisotropic_alphas(float alpha, float anisotropy, float* ax, float* ay);
+
 // How Smith's masking (of the view) and shadowing (of the light) combine into G2:
 // height-correlated, 1 / (1 + Lambda_o + Lambda_i) (Cycles 4.0 on), or separable,
 // G1_o * G1_i (Cycles 3.x).
 enum class Masking { kCorrelated, kSeparable };
 
-// The reflection lobe for view wo and light wi (unit, about unit normal n) times
+// The reflection lobe for view wo and light wi (unit, about the lobe's normal n) times
 // cos(wi): f * cos_i = D * G2 / (4 cos_o), without Fresnel or colour; 0 below either
 // horizon. A light sample of irradiance E (on a surface facing the light) adds
 // colour * this * E.
-float ggx_reflection(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha,
+float ggx_reflection(const GgxLobe& lobe, const Vec3& wo, const Vec3& wi,
                      Masking masking = Masking::kCorrelated);
 
-// A direction drawn from the reflection lobe for view wo about unit normal n, from the
+// A direction drawn from the reflection lobe for view wo (about its normal n), from the
 // two uniform numbers u1, u2 in [0, 1): wi = reflect(-wo, m) for m a visible normal.
 // *weight receives lobe value / pdf = G2 / G1(wo), in [0, 1] (without Fresnel or
 // colour). Returns false when wi falls below the surface (weight 0: the lobe's mass the
 // single-scattering model loses).
-bool ggx_sample_reflection(const Vec3& n, const Vec3& wo, float alpha, float u1, float u2, Vec3* wi,
+bool ggx_sample_reflection(const GgxLobe& lobe, const Vec3& wo, float u1, float u2, Vec3* wi,
                            float* weight, Masking masking = Masking::kCorrelated);
 
 // The density, per unit solid angle, with which ggx_sample_reflection draws wi for view
 // wo: the visible normals' density over the reflection's Jacobian, G1(wo) D(m) / (4 cos_o)
 // for m the half vector; 0 below either horizon. What multiple importance sampling
 // weighs a glossy ray against a light's feeler with (integrator/mis.h).
-float ggx_reflection_pdf(const Vec3& n, const Vec3& wo, const Vec3& wi, float alpha);
+float ggx_reflection_pdf(const GgxLobe& lobe, const Vec3& wo, const Vec3& wi);
 
 // A visible microfacet normal for view wo about unit normal n (Heitz 2018), from u1, u2
 // in [0, 1): what ggx_sample_reflection mirrors the view about, and what a rough

@@ -134,6 +134,8 @@ struct SurfaceParams {
   float diffuse_roughness;  // shapes a DiffuseModel::kBurley lobe; in [0, 1]
   float roughness;          // Blender's roughness of the reflection lobe, in [0, 1]
   float coat_roughness;     // the coat's, likewise
+  float anisotropy;         // the reflection lobe's (Material::anisotropy)
+  Vec3 tangent;             // the lobe's tangent (world); zero: none, the lobe is round
 };
 
 // A material's fields before its textures and program: CompiledScene::material_constants

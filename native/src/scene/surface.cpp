@@ -64,7 +64,7 @@ SurfaceParams constant_surface(const Material& m) {
           m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
           Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
           m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness,
-          m.coat_roughness};
+          m.coat_roughness, m.anisotropy,    Vec3(0.0f)};
 }
 
 TexturePoint CompiledScene::texture_point(const Interaction& it) const {
@@ -140,8 +140,7 @@ struct SurfaceHit {
       case kInputIncoming:
         return vec(hit.incoming);
       case kInputGenerated:
-        return vec((it.local_position - mesh.texspace_location + mesh.texspace_size) /
-                   (2.0f * mesh.texspace_size));
+        return vec(generated(mesh));
       case kInputObject:
         return vec(it.local_position);
       case kInputCamera:
@@ -161,6 +160,10 @@ struct SurfaceHit {
       case kInputObjectNormalScale:
         return glm::vec4(
             glm::length(glm::transpose(glm::mat3(instance.placement.to_world)) * hit.normal));
+      case kInputRadialTangent:
+      case kInputRadialTangent + 1:
+      case kInputRadialTangent + 2:
+        return vec(radial_tangent(mesh, instance, mode - kInputRadialTangent));
       case kInputObjectLocation:
         return vec(instance.info.location);
       case kInputObjectRandom:
@@ -226,6 +229,28 @@ struct SurfaceHit {
     }
     return {(p.x - camera.window[0]) / (camera.window[1] - camera.window[0]),
             (p.y - camera.window[2]) / (camera.window[3] - camera.window[2]), 0.0f};
+  }
+  // The object's position mapped to [0, 1] over its texture space (the mesh's bounds).
+  Vec3 generated(const Mesh& mesh) const {
+    return (it.local_position - mesh.texspace_location + mesh.texspace_size) /
+           (2.0f * mesh.texspace_size);
+  }
+  // Cycles' radial tangent about object axis `axis` (0, 1, 2: X, Y, Z) at the hit: the
+  // generated coordinates' offset from their centre turned a quarter about the axis
+  // (about Z: (-(y - 0.5), x - 0.5, 0)), to the world as a normal is, then made
+  // perpendicular to the shading normal: N x normalize(T x N). Zero where it has no
+  // direction (on the axis).
+  Vec3 radial_tangent(const Mesh& mesh, const CompiledScene::Instance& instance,
+                      uint32_t axis) const {
+    const Vec3 g = generated(mesh) - Vec3(0.5f);
+    const Vec3 object = axis == 0   ? Vec3(0.0f, -g.z, g.y)
+                        : axis == 1 ? Vec3(-g.z, 0.0f, g.x)
+                                    : Vec3(-g.y, g.x, 0.0f);
+    const Vec3 t = instance.placement.normal_to_world * object;
+    const Vec3 across = glm::cross(t, hit.normal);
+    const float length = glm::length(across);
+    if (!(length > 0.0f)) return Vec3(0.0f);
+    return glm::cross(hit.normal, across / length);
   }
   // The object-space normal a tangent-space normal map bends: the interpolated corner
   // normals, not normalised, or the face's normal on a flat mesh.
@@ -453,6 +478,16 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     if (m.driven(kCoatRoughnessField)) {
       const float roughness = field(kCoatRoughnessField).x;
       if (!std::isnan(roughness)) out.coat_roughness = std::clamp(roughness, 0.0f, 1.0f);
+    }
+    if (m.driven(kAnisotropyField)) {
+      const float anisotropy = field(kAnisotropyField).x;  // NaN: the material's own
+      if (!std::isnan(anisotropy)) out.anisotropy = std::clamp(anisotropy, -0.99f, 0.99f);
+    }
+    if (m.driven(kTangentField)) {
+      // Made perpendicular to the lobe's normal where the lobe is built (GgxLobe); a
+      // non-finite one is none.
+      const Vec3 tangent(field(kTangentField));
+      if (is_finite(tangent)) out.tangent = tangent;
     }
   }
   out.alpha = clamp_alpha(out.alpha);

@@ -125,6 +125,11 @@ enum Input : uint32_t {
   // the normal in object space reaches along it in the world (Cycles' object-space
   // Displacement node, dP = M normalize(M^T n) h, meets n at h |M^T n|).
   kInputObjectNormalScale = 11,
+  // Cycles' radial tangent about the object's X, Y or Z axis (+ 0, 1, 2; the Tangent
+  // node's Radial, and the Geometry node's Tangent about Z, every anisotropic lobe's
+  // default): round the generated coordinates' centre, carried to the world as a normal
+  // is and made perpendicular to the shading normal.
+  kInputRadialTangent = 12,  // + axis, axis < 3
   kInputIsCameraRay = 16,
   kInputIsShadowRay = 17,
   kInputIsReflectionRay = 18,
@@ -189,7 +194,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 41> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 42> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -202,6 +207,7 @@ inline constexpr std::array<OpNumber, 41> kOpNumbers = {{
     {"IN_BACKFACING", kInputBackfacing},
     {"IN_OBJECT_NORMAL", kInputObjectSpaceNormal},
     {"IN_OBJECT_NORMAL_SCALE", kInputObjectNormalScale},
+    {"IN_RADIAL_TANGENT", kInputRadialTangent},
     {"IN_IS_CAMERA_RAY", kInputIsCameraRay},
     {"IN_IS_SHADOW_RAY", kInputIsShadowRay},
     {"IN_IS_REFLECTION_RAY", kInputIsReflectionRay},

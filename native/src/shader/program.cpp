@@ -31,8 +31,7 @@ std::string_view op_name(uint32_t op) {
 bool public_input(uint32_t mode) {
   if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
-  return mode <= kInputObjectNormalScale ||
-         (mode >= kInputIsCameraRay && mode <= kInputRayLength) ||
+  return mode < kInputRadialTangent + 3 || (mode >= kInputIsCameraRay && mode <= kInputRayLength) ||
          (mode >= kInputObjectLocation && mode < kInputTriangleVertex + 3) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
