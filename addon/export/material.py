@@ -273,12 +273,14 @@ def medium_material(medium):
 
 def default_material(local_model="BLENDER"):
     """What an object without a material, or an empty material slot, renders with, as
-    Cycles renders it: from Blender 5.0 its default surface, a Principled BSDF of a new
-    material's inputs (nodes/principled.py's DEFAULT_SURFACE), set as the native scene's
-    default material (instance.DEFAULT_MATERIAL); before 5.0 None, the native default
-    (a Diffuse BSDF of 0.8) being Cycles' own."""
+    Cycles renders it, set as the native scene's default material
+    (instance.DEFAULT_MATERIAL): from Blender 5.0 its default surface, a Principled BSDF
+    of a new material's inputs (nodes/principled.py's DEFAULT_SURFACE); before 5.0 Cycles'
+    default
+    (a Diffuse BSDF of 0.8): the native material's defaults, with the version's normal
+    handling (_material_data: 3.x lifts and fades its normal as any material's)."""
     if bpy.app.version < (5, 0, 0):
-        return None
+        return MaterialExport(_material_data({}))
     lowering = Lowering("the default surface", [])
     closure = default_surface(lowering, local_model)
     fields = finish(lowering, closure)
@@ -393,8 +395,9 @@ def _programmed(fields, lowering, bump_shadowing):
     values = {
         name: evaluate(fields[name], _stand_in) for name, _ in _program_fields() if name in fields
     }
-    mapped = "normal" in outputs
-    data = replace(_material_data(values), bump_shadowing=bump_shadowing if mapped else "NONE")
+    data = _material_data(values)
+    if "normal" in outputs:
+        data = replace(data, bump_shadowing=bump_shadowing)
     textures = tuple(lowering.textures[name] for name in program.textures)
     needs = lowering.needs
     return MaterialExport(
@@ -442,8 +445,11 @@ def _material_data(values, **textures):
         coat_layered=bpy.app.version >= (4, 0, 0),
         # Cycles 3.x lifts every BSDF's normal, the interpolated one too, where the view's
         # mirror would fall below the surface (ensure_valid_reflection); 4.x+ only its
-        # specular lobes' (not modelled).
+        # specular lobes' (not modelled). A diffuse lobe whose normal the lift turned is
+        # faded by Chiang et al.'s term, as for any normal that is not the interpolated
+        # one (a graph's: _programmed sets its own).
         valid_reflection=bpy.app.version < (4, 0, 0),
+        bump_shadowing="CHIANG" if bpy.app.version < (4, 0, 0) else "NONE",
         **textures,
     )
 

@@ -275,8 +275,9 @@ class SceneSync:
         redo = (
             changes is None or changes.node_groups or params.local_model != self._params.local_model
         )
-        if redo and (default := default_material(params.local_model)) is not None:
-            # Blender 5.0+: what an object without a material renders with.
+        if redo:
+            # What an object without a material renders with.
+            default = default_material(params.local_model)
             self.scene.set_material(
                 DEFAULT_MATERIAL, native_data.native_material(self._native, default)
             )

@@ -339,17 +339,23 @@ def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
     assert low > 0.97 and high < 1.03
 
 
-def test_tilted_custom_normals_at_a_grazing_view_as_cycles(empty_scene, tmp_path, native):
-    # Blender 3.x's Cycles turns every closure's shading normal, the interpolated one
-    # too, towards the geometric normal where the view's mirror would fall below the
-    # surface (ensure_valid_reflection); Whitted did so only for normals a graph
-    # computes, so a plane whose custom normals lean away from a grazing view rendered
-    # flat where Cycles 3.4 shows a gradient. 4.x+ lifts specular lobes only (a Diffuse
-    # BSDF keeps its normal there, as Whitted does).
+# Blender 4.0+'s default surface is a Principled BSDF, whose specular lobe Cycles 4.x+
+# lifts alone (maybe_ensure_valid_specular_reflection); Whitted does not (docs/SUPPORT.md).
+# Measured in bpy 5.0.1: 1.103 and 0.613 of Cycles' (median).
+SPECULAR_LIFT = pytest.mark.xfail(
+    bpy.app.version >= (4, 0, 0),
+    reason="Cycles 4.x+ lifts the specular lobe's normal only: not modelled",
+    strict=True,
+)
+
+
+def tilted_plane(scene, with_material, sun_rotation):
+    """A plane whose custom normals lean away from a camera at a grazing view on its -x
+    side, under a sun, black world: with a Diffuse BSDF material or with none (Cycles'
+    default surface)."""
     import bmesh
     from whitted_tools.material_scenes import add_camera, add_sun, black_world
 
-    scene = empty_scene
     scene.render.resolution_x, scene.render.resolution_y = 48, 32
     scene.render.resolution_percentage = 100
     scene.render.film_transparent = True
@@ -364,18 +370,48 @@ def test_tilted_custom_normals_at_a_grazing_view_as_cycles(empty_scene, tmp_path
         mesh.use_auto_smooth = True
     lean = np.array([0.8, 0.0, 0.6])  # leaning away from a camera on the -x side
     mesh.normals_split_custom_set_from_vertices([tuple(lean)] * len(mesh.vertices))
-    material = bpy.data.materials.new("Matte")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
-    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    tree.links.new(diffuse.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    mesh.materials.append(material)
+    if with_material:
+        material = bpy.data.materials.new("Matte")
+        if bpy.app.version < (5, 0, 0):
+            material.use_nodes = True
+        tree = material.node_tree
+        tree.nodes.remove(tree.nodes["Principled BSDF"])
+        diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+        tree.links.new(diffuse.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+        mesh.materials.append(material)
     plane = bpy.data.objects.new("Tilted", mesh)
     scene.collection.objects.link(plane)
     add_camera(scene, (-6.0, 0.0, 0.8), (0.0, 0.0, 0.0), lens=35.0)
-    add_sun(scene, rotation=(30.0, 0.0, 90.0), strength=3.0)
+    add_sun(scene, rotation=sun_rotation, strength=3.0)
+
+
+@pytest.mark.parametrize(
+    ("with_material", "sun"),
+    [
+        pytest.param(True, (30.0, 0.0, 90.0), id="diffuse"),
+        *(
+            pytest.param(False, sun, marks=SPECULAR_LIFT, id=name)
+            for name, sun in (
+                ("default", (30.0, 0.0, 90.0)),
+                ("default, low sun", (70.0, 0.0, 90.0)),
+            )
+        ),
+    ],
+)
+def test_tilted_custom_normals_at_a_grazing_view_as_cycles(
+    with_material, sun, empty_scene, tmp_path, native
+):
+    # Blender 3.x's Cycles turns every closure's shading normal, the interpolated one
+    # too, towards the geometric normal where the view's mirror would fall below the
+    # surface (ensure_valid_reflection); Whitted did so only for normals a graph
+    # computes, so a plane whose custom normals lean away from a grazing view rendered
+    # flat where Cycles 3.4 shows a gradient. 4.x+ lifts specular lobes only (a Diffuse
+    # BSDF keeps its normal there, as Whitted does). Cycles 3.x then fades the diffuse
+    # lobe of a turned normal by its bump shadowing term (Chiang et al.), and does both
+    # for an object without a material too (Whitted's default material did neither:
+    # 0.83 of Cycles' on a third-party file; the lift alone overshot to 1.08).
+    scene = empty_scene
+    tilted_plane(scene, with_material, sun)
     set_cycles_direct_light(scene, samples=1)
     scene.cycles.light_sampling_threshold = 0.0
     scene.whitted.aa_samples = 1
@@ -385,7 +421,8 @@ def test_tilted_custom_normals_at_a_grazing_view_as_cycles(empty_scene, tmp_path
     lit, ratio = lit_ratio(cycles, whitted, 1e-3)
     assert lit.sum() > 100
     low, median, high = np.percentile(ratio, [2, 50, 98])
-    print(f"\ntilted normals: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
+    energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
+    print(f"\ntilted normals: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}, sum {energy:.4f}")
     assert 0.98 < median < 1.02
     assert low > 0.95 and high < 1.05
 
