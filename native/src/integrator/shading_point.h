@@ -60,10 +60,12 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   facing_normals(ray, it, surface, &ng, &ns);
   const Vec3 wo = -ray.direction;
   const Coat coat = coat_of(surface, wo, ng, entering, it.material->masking);
-  // A program's normal fades the diffuse lobe towards the smooth surface's horizon, as
-  // Cycles does (diffuse_shadowing).
-  const Vec3 smooth =
-      glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal : -it.shading_normal;
+  // A normal the material turned (a program's, or Cycles 3.x's lift) fades the diffuse
+  // lobe towards the smooth surface's horizon, as Cycles does (diffuse_shadowing); one it
+  // left as interpolated does not, even where facing_normals had to replace it.
+  const Vec3 smooth = surface.normal == it.shading_normal        ? ns
+                      : glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal
+                                                                 : -it.shading_normal;
   const float base = it.material->coat_layered ? 1.0f - coat.cover : 1.0f;
   const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
   const Color multiscatter =
