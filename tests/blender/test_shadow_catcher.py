@@ -17,9 +17,11 @@ import json
 import bpy
 import numpy as np
 import pytest
+import whitted.result
 from whitted.sync.frame import sync_frame
 from whitted_tools import cycles_scenes
 from whitted_tools.material_scenes import grey_world
+from whitted_tools.render import enable_every_pass
 
 CASES = {case.name: case for case in cycles_scenes.CASES}
 
@@ -165,3 +167,16 @@ def test_the_shadow_catcher_pass_is_named_as_not_written(empty_scene, native):
         "Whitted: the Shadow Catcher pass is not written; shadow catchers show in Combined, "
         "as Cycles shows them with the pass off"
     ) in warnings
+
+
+def test_with_every_pass_combined_is_the_same(empty_scene, tmp_path, native):
+    # With passes the kernel records them (the pass recorder's kernel, effects read at
+    # run time): the catcher's Combined and alpha are those of the render without.
+    _catcher_scene(empty_scene, "area_square")
+    empty_scene.render.film_transparent = True
+    cycles_scenes.set_whitted_direct_light(empty_scene)
+    plain = cycles_scenes.render_rgba(empty_scene, "WHITTED", str(tmp_path / "plain.exr"))
+    enable_every_pass(empty_scene.view_layers[0], whitted.result, contribution_depth=1)
+    passes = cycles_scenes.render_rgba(empty_scene, "WHITTED", str(tmp_path / "passes.exr"))
+    assert (plain[..., 3] > 0.5).mean() > 0.05
+    assert np.abs(passes - plain).max() < 1e-6
