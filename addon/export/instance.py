@@ -1,6 +1,6 @@
 """The instances that place a geometry: for each object the evaluated depsgraph yields,
-its name, transform, material per slot, ray visibility, holdout, Object Info,
-Cryptomatte ids and light linking sets (InstanceData)."""
+its name, transform, material per slot, ray visibility, holdout, shadow catcher,
+Object Info, Cryptomatte ids and light linking sets (InstanceData)."""
 
 from dataclasses import dataclass
 
@@ -49,6 +49,26 @@ def ray_visibility(object_instance):
             refraction=visibility.refraction and parent.refraction,
         )
     return visibility
+
+
+# The object types whose Shadow Catcher flag Cycles reads: geometry. Blender 3.4 sets the
+# flag on every new lamp (a new point lamp reads True), where it means nothing.
+GEOMETRY_TYPES = frozenset(
+    {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
+)
+
+
+def is_shadow_catcher(object_instance):
+    """Whether this instance is a shadow catcher (Object > Visibility > Shadow Catcher):
+    camera rays that meet it show only the shadows other objects cast on it
+    (integrator/catcher.h). Read on geometry only, as Cycles reads it; an instance is one
+    when its object or its instancer is, as in Cycles' object sync."""
+    obj = object_instance.object
+    if obj.type not in GEOMETRY_TYPES:
+        return False
+    if obj.original.is_shadow_catcher:
+        return True
+    return object_instance.is_instance and object_instance.parent.original.is_shadow_catcher
 
 
 def is_holdout(object_instance, view_layer):
@@ -130,6 +150,8 @@ class InstanceData:
     materials: tuple[str, ...]  # material name per slot, DEFAULT_MATERIAL if empty
     visibility: RayVisibility  # which rays see it
     holdout: bool  # camera rays that hit it give colour 0 and alpha 0
+    # Camera rays that hit it show only the shadows cast on it (is_shadow_catcher).
+    shadow_catcher: bool = False
     # (location xyz, random, pass index, colour rgba) for Object Info; None when no
     # material of the instance reads it.
     info: tuple | None = None
@@ -163,6 +185,7 @@ def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):
         materials=materials,
         visibility=ray_visibility(object_instance),
         holdout=is_holdout(object_instance, view_layer),
+        shadow_catcher=is_shadow_catcher(object_instance),
         info=object_info(object_instance) if reads_info else None,
         cryptomatte=cryptomatte_ids(object_instance.object)
         if writes_cryptomatte(view_layer)

@@ -117,6 +117,7 @@ def set_instance(native, scene, instance):
         list(instance.materials),
         visibility=_native_visibility(native, instance.visibility),
         holdout=instance.holdout,
+        shadow_catcher=instance.shadow_catcher,
         motion=list(instance.motion),
         links=instance.links,
         volume=instance.volume,

@@ -45,7 +45,6 @@ from ..export.mesh import export_geometry, is_renderable_mesh
 from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
-from ..export.unrendered import unrendered_kind, unrendered_warnings
 from ..export.volume import Medium, volume_bounces_warning
 from ..export.volume_object import (
     fluid_domain,
@@ -379,16 +378,12 @@ class SceneSync:
         lights = {}
         roles = {}
         instanced_light_data = set()
-        unrendered = {}  # kind -> names of the objects Cycles would show and Whitted skips
         # Their temporary folder, if any, goes with the object on an exception.
         volumes = VolumeReads(self._native, self._volumes)
         grid_materials = {}  # native name -> (material or None, grids) of Volume objects
         fluids = {}  # instance name -> its VolumeObject: gas domains read with their grids
         for object_instance in depsgraph.object_instances:
             obj = object_instance.object
-            kind = unrendered_kind(object_instance)
-            if kind is not None:
-                unrendered.setdefault(kind, set()).add(obj.original.name)
             if object_instance.is_instance:
                 roles[object_instance.parent.original.name_full] = _INSTANCER
             strands = obj.type in STRAND_TYPES and not obj.original.hide_render
@@ -464,7 +459,6 @@ class SceneSync:
         self._volumes = volumes.read
         self._fluids = fluids
         self._volume_warnings = volumes.warnings()
-        warnings.extend(unrendered_warnings(unrendered))
         stale_materials = self._set_grid_materials(grid_materials, report, warnings)
         self._set_instances(instances, report, replace_all=True)
         for name in stale_materials:

@@ -60,13 +60,14 @@ void bind_scene(py::module_& m) {
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
              std::vector<std::string> materials, uint32_t visibility, bool holdout,
-             const std::optional<std::array<float, 9>>& info,
+             bool shadow_catcher, const std::optional<std::array<float, 9>>& info,
              const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte,
              const std::vector<py::object>& motion,
              const std::tuple<uint8_t, uint8_t, uint64_t, uint64_t>& links,
              std::shared_ptr<VolumeObject> volume) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
+            instance.shadow_catcher = shadow_catcher;
             instance.volume = std::move(volume);
             const auto& [light_set, shadow_set, light_sets, shadow_sets] = links;
             if (light_set >= kMaxLightSets || shadow_set >= kMaxLightSets) {
@@ -93,13 +94,14 @@ void bind_scene(py::module_& m) {
           py::arg("name"), py::arg("mesh"), py::arg("transform"),
           py::arg("materials") = std::vector<std::string>{},
           py::arg("visibility") = static_cast<uint32_t>(kAllRayKinds), py::arg("holdout") = false,
-          py::arg("info") = py::none(), py::arg("cryptomatte") = py::none(),
-          py::arg("motion") = std::vector<py::object>{},
+          py::arg("shadow_catcher") = false, py::arg("info") = py::none(),
+          py::arg("cryptomatte") = py::none(), py::arg("motion") = std::vector<py::object>{},
           py::arg("links") = std::make_tuple(uint8_t{0}, uint8_t{0}, kAllLightSets, kAllLightSets),
           py::arg("volume") = py::none(),
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: RayVisibility flags of the rays that see "
-          "it; holdout: camera rays that meet it give colour 0 and alpha 0; info: what the "
+          "it; holdout: camera rays that meet it give colour 0 and alpha 0; shadow_catcher: camera "
+          "rays that meet it show only the shadows the other objects cast on it; info: what the "
           "Object Info node reads, (x, y, z location, random, pass index, r, g, b, a colour) "
           "(None: the transform's location, random 0, index 0, white); cryptomatte: its "
           "Cryptomatte ids (object, asset, [material per slot]), floats (None: none); motion: "

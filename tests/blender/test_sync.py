@@ -164,6 +164,8 @@ EDITS = (
     ("hide in renders", lambda s: setattr(s.objects["Cube Twin"], "hide_render", True), "any"),
     ("unhide object", lambda s: s.objects["Mirror Sphere"].hide_set(False), "any"),
     ("delete object", lambda s: bpy.data.objects.remove(s.objects["Cylinder"]), "any"),
+    # Its camera pixels then show only the shadows on it (integrator/catcher.h).
+    ("shadow catcher", lambda s: setattr(s.objects["Cube"], "is_shadow_catcher", True), "any"),
     ("light power", lambda s: setattr(s.objects["Point Light"].data, "energy", 500.0), "light"),
     (
         "light move",
@@ -355,6 +357,14 @@ def test_transform_edit_moves_only_the_instance(native, scene, live):
     render(native, live.sync, scene)
     # The move rebuilt the top level (Embree's instance transforms), nothing else.
     assert live.sync.scene.top_level_builds == builds + 1
+
+
+def test_a_shadow_catcher_switch_reaches_the_live_scene(native, scene, live):
+    before = render(native, live.sync, scene)
+    live.edit(lambda: setattr(scene.objects["Cube"], "is_shadow_catcher", True))
+    assert live.sync._instances["Cube"].shadow_catcher
+    # The cube's pixels now show only the shadows cast on it (integrator/catcher.h).
+    assert not np.array_equal(render(native, live.sync, scene), before)
 
 
 def test_geometry_edit_exports_the_shared_mesh_once(native, scene, live):

@@ -1,10 +1,10 @@
 """Nothing vanishes silently (issue 31, part 4): what Cycles renders and Whitted does not
-(Volume objects, a material's or the world's Volume output), or renders otherwise
-(shadow catchers, as ordinary objects), is named in the report, with the object, what it
-is, and why (export/unrendered.py)."""
+(Volume objects, a material's or the world's Volume output) is named in the report, with
+the object, what it is, and why (export/unrendered.py)."""
 
 import bpy
 import pytest
+from whitted.export.instance import is_shadow_catcher
 from whitted.sync.frame import sync_frame
 from whitted_tools.scenes import add_object, cube_mesh
 
@@ -84,10 +84,10 @@ def test_a_volume_shader_is_named(stage, native):
     assert any("world 'Hazy' has a volume shader" in w for w in warnings)
 
 
-def test_a_shadow_catcher_is_named(stage, native):
-    # Cycles shows only the shadows on a shadow catcher; Whitted renders it as an ordinary
-    # object, and says so once. The flag counts on geometry only: Blender 3.4 sets it on
-    # every new lamp, and a lamp or a camera set so is no shadow catcher (issue 49).
+def test_shadow_catchers_are_read_on_geometry_and_not_warned(stage, native):
+    # A shadow catcher renders as Cycles' (tests/blender/test_shadow_catcher.py): no
+    # report line says otherwise. The flag counts on geometry only: Blender 3.4 sets it
+    # on every new lamp, and a lamp or a camera set so is no shadow catcher (issue 49).
     catcher = add_object(stage.collection, "Ground", cube_mesh("Ground", 1.0))
     catcher.is_shadow_catcher = True
     add_object(stage.collection, "Plain", cube_mesh("Plain", 1.0))
@@ -96,9 +96,8 @@ def test_a_shadow_catcher_is_named(stage, native):
         lamp.is_shadow_catcher = True
     camera = add_object(stage.collection, "Camera", bpy.data.cameras.new("Camera"))
     camera.is_shadow_catcher = True
-    lines = [w for w in _warnings(native) if "shadow catcher" in w]
-    assert lines == [
-        "Whitted: 1 object(s) set as shadow catchers, rendered as ordinary objects "
-        "('Ground'): Cycles shows only the shadows cast on them; Whitted has no shadow "
-        "catcher yet"
-    ]
+    warnings = _warnings(native)
+    assert not [w for w in warnings if "catcher" in w], warnings
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    catchers = {i.object.original.name for i in depsgraph.object_instances if is_shadow_catcher(i)}
+    assert catchers == {"Ground"}

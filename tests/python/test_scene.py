@@ -348,6 +348,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "refraction",
         "translucency",
         "volumes",
+        "shadow catcher",
         "hair and points",
         "light linking",
         "lamps seen by rays",

@@ -30,6 +30,9 @@ enum RayKind : uint32_t {
   // integrator/volume.h): seen only by queries that carry this bit besides their kind,
   // in scenes with media, to enter and leave them.
   kVolumeBoundRay = 1u << 6,
+  // A shadow catcher's feeler as if the catchers were alone in the scene
+  // (integrator/catcher.h): seen only by the catchers that shadow rays see.
+  kCatcherShadowRay = 1u << 7,
   // A camera ray where there is none: an image point outside a fisheye's circle. It
   // is traced as nothing (no instance's mask matches it) and shades as opaque black,
   // as Cycles shows it.

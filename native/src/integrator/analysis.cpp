@@ -255,6 +255,20 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
                           glow_why(scene.glowing.size())
                     : "no mesh encloses a medium (a material's volume shader) and the world "
                       "has no volume");
+  // Shadow catchers the camera can see (catcher.h), and what the film makes of them.
+  size_t catchers = 0;
+  for (const CompiledScene::Instance& instance : scene.instances) {
+    catchers += instance.shadow_catcher && (instance.visibility & kCameraRay) != 0;
+  }
+  decide(effects, kCatcherEffect, catchers > 0, "shadow catcher",
+         catchers == 0 ? "no object is a shadow catcher"
+                       : thousands(catchers) + (catchers == 1 ? " object" : " objects") +
+                             ": camera rays show only the shadows cast on " +
+                             (catchers == 1 ? "it, " : "them, ") +
+                             (settings.transparent_background
+                                  ? "as alpha over the transparent film"
+                                  : (catchers == 1 ? "over the world behind it"
+                                                   : "over the world behind them")));
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
   effects->decisions.push_back(lamps_seen(scene));

@@ -33,6 +33,9 @@ enum EffectBits : uint32_t {
   // shadow feelers through them. Read at run time likewise; the step's queries meet
   // volume bounds only where it is on.
   kVolumeEffect = 1u << 8,
+  // Shadow catchers (integrator/catcher.h): a camera ray's hit on one shows only the
+  // shadows cast on it. Read at run time likewise.
+  kCatcherEffect = 1u << 9,
 };
 
 // One decision of the analysis: an effect's name, whether it is simulated, and why
@@ -46,7 +49,8 @@ struct EffectDecision {
 };
 
 struct Effects {
-  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect | kWorldLightEffect | kVolumeEffect;
+  uint32_t bits = kAllEffects | kGlossyEffect | kEmitterEffect | kWorldLightEffect | kVolumeEffect |
+                  kCatcherEffect;
   // One per effect, in EffectBits order (glossy after reflection, emitters after shadows),
   // then what is named without a bit: hair and points, light linking, the camera's.
   std::vector<EffectDecision> decisions;

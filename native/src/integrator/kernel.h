@@ -20,6 +20,7 @@
 #include "core/limits.h"
 #include "core/math.h"
 #include "core/ray.h"
+#include "integrator/catcher.h"
 #include "integrator/glossy.h"
 #include "integrator/heterogeneous.h"
 #include "integrator/kernel_inputs.h"
@@ -154,8 +155,15 @@ class Kernel {
         if constexpr (Policy::kQueues) policy_.shading((behind * a) * through);
         [[maybe_unused]] const auto covered = recorder_.cover(node, behind, a, through);
         recorder_.surface(here.depth, r, it, surface);
-        radiance += (behind * a) * through * shade(r, it, surface, here, counts);
-        coverage += behind * a;
+        if (in_.has(kCatcherEffect) && r.kind == kCameraRay &&
+            in_.scene.instances[it.instance].shadow_catcher) {
+          const Caught caught = catch_shadows(r, it, surface, here, counts);
+          radiance += (behind * a) * through * caught.radiance;
+          coverage += behind * a * caught.coverage;
+        } else {
+          radiance += (behind * a) * through * shade(r, it, surface, here, counts);
+          coverage += behind * a;
+        }
       }
       in_front = node;
       behind *= 1.0f - a;
@@ -249,6 +257,26 @@ class Kernel {
   }
 
  private:
+  // What a camera ray's hit on a shadow catcher shows (catcher.h), as Cycles' Combined
+  // without the Shadow Catcher pass: over a transparent film nothing, covering as much
+  // as the shadow is strong; over an opaque film the world the ray would have met
+  // without the catcher, times the light left, covering all.
+  struct Caught {
+    Color radiance;
+    float coverage;
+  };
+  Caught catch_shadows(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
+                       const NodeState& state, RayCounts* counts) const {
+    const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
+    const ShadingPoint p = shading_point(ray, it, surface, entering);
+    const float lit = caught_light(in_, p, emission_weight(in_, ray, p, state), state, counts);
+    if (in_.settings.transparent_background) return {Color(0.0f), 1.0f - lit};
+    const Color world = (in_.scene.world_visibility & ray.kind) != 0
+                            ? in_.scene.world_radiance(ray, in_.context(state))
+                            : Color(0.0f);
+    return {lit * world, 1.0f};
+  }
+
   // The radiance a surface point sends back along the ray,
   // I = local + sigma_r * reflected + sigma_t * refracted.
   Color shade(const Ray& ray, const Interaction& it, const SurfaceParams& surface,

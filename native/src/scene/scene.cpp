@@ -394,6 +394,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
       if (motion->moves()) out.motion = std::move(motion);
     }
     out.holdout = instance.holdout;
+    out.shadow_catcher = instance.shadow_catcher;
     out.visibility = instance.visibility;
     out.info = instance.info;
     out.name = name;
@@ -426,6 +427,8 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
       bool translucent = false;
       for (uint32_t index : out.materials) translucent |= compiled->materials[index].translucent();
       mask |= translucent ? kTranslucentShadowRay : kOpaqueShadowRay;
+      // A catcher's feelers with the catchers alone (integrator/catcher.h) meet it.
+      if (out.shadow_catcher) mask |= kCatcherShadowRay;
     }
     // The bounds of a medium without a surface: found by the queries of scenes with media.
     for (uint32_t index : out.materials) {

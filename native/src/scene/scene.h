@@ -82,6 +82,9 @@ struct Instance {
   std::vector<std::string> materials;  // by slot; "" is the default material
   uint32_t visibility = kAllRayKinds;  // RayKind bits of the rays that see it
   bool holdout = false;                // camera rays that meet it give colour 0, alpha 0
+  // Camera rays that meet it show only the shadows the other objects cast on it
+  // (integrator/catcher.h).
+  bool shadow_catcher = false;
   InstanceInfo info;
   CryptomatteIds cryptomatte;
   // Its transform over the shutter (motion blur), sampled at evenly spaced times from its
@@ -187,6 +190,7 @@ struct CompiledScene {
     std::shared_ptr<const TransformMotion> motion;
     std::vector<uint32_t> materials;  // slot -> index into `materials`
     bool holdout;
+    bool shadow_catcher;  // the Instance's
     // RayKind bits: the Instance's, or 0 (seen by no ray) when none of its primitives has
     // a surface (Material::surface): a volume's bounds, in its BVH still.
     uint32_t visibility;
