@@ -294,27 +294,31 @@ def _displacement(material, output_node, lowering, warnings):
     from 4.1, `material.cycles.displacement_method` before; Bump Only by default): Bump
     Only shades it as a bump (nodes/normals.py displacement_bump); Displacement and Bump
     also moves the vertices, Displacement Only moves them alone, which Whitted does not
-    do: said in the report, the bump kept for the first, nothing for the second."""
+    do: said in the report, the bump kept for the first, nothing for the second (whose
+    graph is then not read: its nodes add no warnings of their own)."""
     method = getattr(material, "displacement_method", None)
     if method is None:
         method = getattr(getattr(material, "cycles", None), "displacement_method", "BUMP")
+    owner = f"material '{material.name}'"
+    if method == "DISPLACEMENT":
+        socket = output_node.inputs.get("Displacement")
+        if socket is not None and source(socket)[0] is not None:
+            _warn(
+                warnings,
+                f"Whitted: {owner}: Displacement Only moves vertices, which Whitted does not; "
+                "its displacement is not rendered",
+            )
+        return None
     bumped = displacement_bump(lowering, output_node)
     if bumped is None or method == "BUMP":
         return bumped
-    owner = f"material '{material.name}'"
     if method == "BOTH":
         _warn(
             warnings,
             f"Whitted: {owner}: Displacement and Bump moves no vertex here; "
             "its displacement is shaded as a bump only",
         )
-        return bumped
-    _warn(
-        warnings,
-        f"Whitted: {owner}: Displacement Only moves vertices, which Whitted does not; "
-        "its displacement is not rendered",
-    )
-    return None
+    return bumped
 
 
 def _with_lobe_models(exported, closure):
