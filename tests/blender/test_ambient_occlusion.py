@@ -13,9 +13,12 @@ thousands of object pixels is known to well under 1%, and SSIM is limited by the
 of single pixels (measured below).
 """
 
+import json
+
 import bpy
 import numpy as np
 import pytest
+from whitted import stats as whitted_stats
 from whitted_tools.cycles_scenes import box_filtered, render_rgba
 from whitted_tools.material_scenes import add_camera, black_world
 from whitted_tools.metrics import luminance, subject_figures
@@ -172,3 +175,27 @@ def test_a_distance_of_zero_at_the_hit_gives_one_as_cycles(empty_scene, tmp_path
     assert covered.sum() > 1000
     assert np.allclose(cycles[..., :3][covered], 1.0, atol=1e-4)
     assert np.allclose(whitted[..., :3][covered], 1.0, atol=1e-4)
+
+
+def test_the_report_counts_the_nodes_rays(empty_scene, render_pixels, tmp_path, monkeypatch):
+    # Every camera sample meeting the objects runs the node once: 16 rays; the statistics
+    # count them in the total (so in the Whitted Rays and cost passes), the summary line
+    # names them, the effects report names the material.
+    path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(path))
+    stage(empty_scene, ao_material())
+    empty_scene.whitted.aa_samples = 2
+    render_pixels(empty_scene)
+    stats = json.loads(path.read_text())
+    rays = stats["rays"]
+    assert rays["ambient_occlusion"] > 0
+    assert rays["ambient_occlusion"] % 16 == 0
+    assert rays["ambient_occlusion"] <= 16 * rays["camera"]
+    assert rays["bevel"] == 0
+    assert rays["total"] >= rays["camera"] + rays["ambient_occlusion"]
+    assert f"ambient occlusion {rays['ambient_occlusion'] / 1e6:.2f}" in whitted_stats.summary_line(
+        stats
+    )
+    traced = next(e for e in stats["effects"] if e["name"] == "ray-traced nodes")
+    assert traced["on"]
+    assert "1 material" in traced["why"]
