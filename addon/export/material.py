@@ -36,7 +36,7 @@ from .nodes.normals import displacement_bump
 from .nodes.program import emit, material_fields
 from .nodes.shader_fields import MAX_SHININESS, phong_exponent
 from .nodes.shaders import default_surface, finish, fixed_texture, surface
-from .nodes.values import Lowering
+from .nodes.values import UNBOUNDED_AO_DISTANCE, Lowering
 from .texture import CheckerTextureSpec, ImageTextureSpec
 from .unrendered import volume_warning
 from .volume import Medium, NotRendered, default_volume, volume_medium
@@ -115,13 +115,14 @@ def _black():
     )
 
 
-def convert_material(material, warnings, local_model="BLENDER"):
+def convert_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDED_AO_DISTANCE):
     """Convert one material: the node mapping, or with the Whitted material
     panel's override on, its values (emission, alpha and textures still come
     from the nodes). `local_model`: scene.whitted.local_model, BLENDER (the BSDFs'
     own lobes: glossy reflection where they are rough) or LECTURE (the seed's mirror
-    and Phong)."""
-    exported = map_material(material, warnings, local_model)
+    and Phong). `ao_distance`: the World's AO distance (world.ao_distance), which Ambient
+    Occlusion nodes of Distance 0 read."""
+    exported = map_material(material, warnings, local_model, ao_distance)
     settings = material.whitted
     if not settings.use_override:
         return exported
@@ -166,7 +167,7 @@ def convert_material(material, warnings, local_model="BLENDER"):
     return replace(exported, data=data, outputs=outputs)
 
 
-def map_material(material, warnings, local_model="BLENDER"):
+def map_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDED_AO_DISTANCE):
     """The node mapping: a material's surface shader as Whitted parameters: the fixed
     native material where it shows the graph (constants, a texture on the diffuse
     colour, an image's alpha), else a shader program.
@@ -183,7 +184,7 @@ def map_material(material, warnings, local_model="BLENDER"):
     owner = f"material '{material.name}'"
     output_node = material.node_tree.get_output_node("CYCLES")
     found = []
-    lowering = Lowering(owner, found)
+    lowering = Lowering(owner, found, ao_distance=ao_distance)
     medium = Medium()
     varying = {}  # a heterogeneous medium's volume_* fields (Exprs)
     volume = False

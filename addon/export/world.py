@@ -24,7 +24,7 @@ from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT, evaluate
 from .nodes.program import emit
-from .nodes.values import Lowering
+from .nodes.values import UNBOUNDED_AO_DISTANCE, Lowering
 from .unrendered import volume_warning
 from .volume import Medium, NotRendered, volume_medium
 
@@ -73,6 +73,13 @@ class WorldLightData:
     # (radians; 0: none).
     sun_direction: tuple = (0.0, 0.0, 1.0)
     sun_angle: float = 0.0
+
+
+def ao_distance(world):
+    """The distance Ambient Occlusion nodes of unlinked Distance 0 reach: the World's AO
+    distance (Cycles' Fast GI Distance, World.light_settings.distance, Blender units), or
+    unbounded without a world (Cycles' default)."""
+    return UNBOUNDED_AO_DISTANCE if world is None else world.light_settings.distance
 
 
 def convert_world(world, ambient_strength, warnings, local_model="BLENDER"):

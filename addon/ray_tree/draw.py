@@ -21,6 +21,8 @@ COLOURS = {
     "transparent": (0.75, 0.75, 0.75, 1.0),
     "glossy": (0.45, 0.85, 1.0, 1.0),
     "volume": (0.65, 0.45, 1.0, 1.0),
+    "ambient_occlusion": (0.55, 0.55, 0.4, 1.0),
+    "bevel": (0.4, 0.55, 0.55, 1.0),
 }
 BLOCKED = (0.9, 0.2, 0.2, 0.45)
 # Line widths in pixels by the ray's weight on the pixel (its largest channel): at

@@ -21,8 +21,20 @@ from ..sync.scene import SceneSync, SyncParams
 # the scene's size (the distance from the origin to the farthest ray point).
 MISS_LENGTH = 0.5
 # Ray kinds in the order the panel lists their counts ("volume": a ray's segment inside
-# media, the parent of the feelers from its scatter points).
-KINDS = ("camera", "shadow", "reflection", "refraction", "tir", "transparent", "glossy", "volume")
+# media, the parent of the feelers from its scatter points; "ambient_occlusion" and "bevel":
+# the rays an Ambient Occlusion node or a Bevel node traced from its parent's surface).
+KINDS = (
+    "camera",
+    "shadow",
+    "reflection",
+    "refraction",
+    "tir",
+    "transparent",
+    "glossy",
+    "volume",
+    "ambient_occlusion",
+    "bevel",
+)
 
 
 def feeler_source(ray):

@@ -43,6 +43,7 @@ from ..export.material import (
 )
 from ..export.mesh import export_geometry, is_renderable_mesh
 from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
+from ..export.nodes.values import UNBOUNDED_AO_DISTANCE
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.volume import Medium, volume_bounces_warning
@@ -52,7 +53,7 @@ from ..export.volume_object import (
     grid_material_name,
     grid_object_material,
 )
-from ..export.world import convert_world
+from ..export.world import ao_distance, convert_world
 from . import native_data
 from .changes import classify
 from .volumes import VolumeReads
@@ -76,6 +77,9 @@ class SyncParams:
     # A view layer's UV pass is on: every mesh sends its active render UV map, not only
     # those whose textures read one.
     uv_pass: bool = False
+    # The World's AO distance (export/world.py ao_distance), read by Ambient Occlusion
+    # nodes of Distance 0.
+    ao_distance: float = UNBOUNDED_AO_DISTANCE
     # What moves within the shutter (export/motion.py MotionData; F12 with motion blur
     # on), None otherwise: the instances it names carry their transforms over it.
     motion: object = field(default=None, compare=False)
@@ -89,6 +93,7 @@ class SyncParams:
             ambient_strength=scene.whitted.ambient_strength,
             local_model=scene.whitted.local_model,
             uv_pass=any(layer.use_pass_uv for layer in scene.view_layers),
+            ao_distance=ao_distance(scene.world),
         )
 
 
@@ -272,7 +277,10 @@ class SceneSync:
             if isinstance(block, bpy.types.Material)
         }
         redo = (
-            changes is None or changes.node_groups or params.local_model != self._params.local_model
+            changes is None
+            or changes.node_groups
+            or params.local_model != self._params.local_model
+            or params.ao_distance != self._params.ao_distance
         )
         if redo:
             # What an object without a material renders with.
@@ -283,7 +291,12 @@ class SceneSync:
         for name, material in current.items():
             if redo or name not in self._materials or name in changes.materials:
                 exported = replace(
-                    convert_material(material, warnings, local_model=params.local_model),
+                    convert_material(
+                        material,
+                        warnings,
+                        local_model=params.local_model,
+                        ao_distance=params.ao_distance,
+                    ),
                     pass_index=material.pass_index,  # for the IndexMA pass
                 )
                 if exported != self._materials.get(name):

@@ -232,6 +232,13 @@ class WHITTED_RENDER_PT_last_render(_WhittedRenderPanel, bpy.types.Panel):
             f"camera {rays['camera']:,}, shadow {rays['shadow']:,}",
             f"reflection {rays['reflection']:,}, refraction {rays['refraction']:,}",
             f"transparent {rays['transparent']:,}, TIR {stats['total_internal_reflections']:,}",
+            # Only where Ambient Occlusion or Bevel nodes traced some (older statistics
+            # lack them).
+            ", ".join(
+                f"{label} {rays[kind]:,}"
+                for kind, label in render_stats.PROGRAM_RAYS.items()
+                if rays.get(kind)
+            ),
             f"cut by depth {stats['depth_limited']:,}, by cutoff {stats['cutoff_skipped']:,}",
             f"samples/px {stats['samples_per_pixel']:.2f} (max "
             f"{stats['pixel_samples']['max'] or '?'}), peak {stats['peak_memory_mib']:.0f} MiB",

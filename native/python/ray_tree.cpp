@@ -27,6 +27,10 @@ const char* kind_name(TreeRayKind kind) {
       return "glossy";
     case TreeRayKind::kVolume:
       return "volume";
+    case TreeRayKind::kAmbientOcclusion:
+      return "ambient_occlusion";
+    case TreeRayKind::kBevel:
+      return "bevel";
   }
   return "camera";
 }
@@ -70,6 +74,8 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     py::dict ray;
     const bool feeler = node.kind == TreeRayKind::kShadow;
     const bool segment = node.kind == TreeRayKind::kVolume;
+    const bool occlusion =
+        node.kind == TreeRayKind::kAmbientOcclusion || node.kind == TreeRayKind::kBevel;
     ray["kind"] = kind_name(node.kind);
     ray["depth"] = node.depth;
     ray["parent"] = node.parent;
@@ -78,8 +84,9 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
     ray["direction"] = list3(node.direction);
     ray["time"] = node.time;
     // A feeler ends at its light sample (none for the sun) or on what blocks it, a segment
-    // where its ray meets a surface or bound (none where it goes on without end).
-    const bool ends = node.hit || ((feeler || segment) && node.end != Vec3(0.0f));
+    // where its ray meets a surface or bound (none where it goes on without end), an
+    // ambient occlusion ray at its distance.
+    const bool ends = node.hit || ((feeler || segment || occlusion) && node.end != Vec3(0.0f));
     ray["end"] = ends ? py::object(list3(node.end)) : py::none();
     ray["object"] = name_at(instances, node.instance);
     ray["material"] = name_at(scene.material_names, node.material);
@@ -100,6 +107,9 @@ py::dict ray_tree_dict(const RayTree& tree, const CompiledScene& scene) {
       ray["scatter"] = node.parent >= 0 &&
                        tree.nodes[static_cast<size_t>(node.parent)].kind == TreeRayKind::kVolume;
       ray["scattered"] = list3(node.scattered);
+    } else if (occlusion) {
+      ray["blocked"] = is_black(node.transmittance);  // something within its length
+      ray["transmittance"] = list3(node.transmittance);
     } else if (segment) {
       ray["blocked"] = py::none();
       ray["emission"] = list3(node.emission);  // the media's own, along the segment

@@ -17,6 +17,8 @@ py::dict stats_dict(const RenderStats& s) {
   rays["glossy"] = s.rays.glossy;
   rays["transparent"] = s.rays.transparent;
   rays["volume"] = s.rays.volume();
+  rays["ambient_occlusion"] = s.rays.ambient_occlusion;
+  rays["bevel"] = s.rays.bevel;
   rays["total"] = s.rays.total();
   py::dict out;
   out["rays"] = rays;

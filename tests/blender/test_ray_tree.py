@@ -171,3 +171,39 @@ def test_a_pixel_in_the_lit_fog_shows_its_segment_scatter_points_and_feelers(
     # Drawn: the segments along their rays, in their own colour.
     assert sum(kind == "volume" for kind, *_ in segments(tree)) == len(volume)
     assert bpy.ops.whitted.ray_tree_to_curve() == {"FINISHED"}
+
+
+@pytest.mark.parametrize("node", ["ambient occlusion", "bevel"])
+def test_a_pixel_of_a_ray_traced_node_shows_its_rays_under_the_camera_ray(
+    node, empty_scene, render_pixels
+):
+    # Each camera ray meeting the objects has the node's rays beneath it: ambient
+    # occlusion rays Distance long (1), some blocked by the floor's cube; a bevel's probes.
+    from test_ambient_occlusion import ao_material
+    from test_ambient_occlusion import stage as ao_stage
+    from test_bevel import bevel_cube
+
+    if node == "bevel":
+        bevel_cube(empty_scene)
+    else:
+        ao_stage(empty_scene, ao_material())
+    scene = empty_scene
+    scene.render.engine = "WHITTED"
+    scene.whitted.aa_samples = 2
+    scene.whitted.adaptive_sampling = False
+    render_pixels(scene)
+    # Beside the cube's foot (ambient occlusion), on the cube's near corner (bevel).
+    point = (0.0, 0.0, 0.5) if node == "bevel" else (0.9, -0.25, 0.0)
+    u, v, _ = world_to_camera_view(scene, scene.camera, Vector(point))
+    tree = _inspect(int(u * scene.render.resolution_x), int(v * scene.render.resolution_y))
+    rays = tree["rays"]
+    kind = node.replace(" ", "_")
+    traced = [r for r in rays if r["kind"] == kind]
+    assert traced and all(rays[r["parent"]]["kind"] == "camera" for r in traced)
+    per_sample = 16 if node == "ambient occlusion" else 8
+    camera = [r for r in rays if r["kind"] == "camera" and r["object"]]
+    assert len(traced) >= per_sample * len(camera) > 0
+    assert all(r["weight"] == [0.0, 0.0, 0.0] for r in traced)
+    if node == "ambient occlusion":
+        assert len(traced) == per_sample * len(camera)
+        assert any(r["blocked"] for r in traced) and not all(r["blocked"] for r in traced)

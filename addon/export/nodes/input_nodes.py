@@ -1,11 +1,13 @@
 """The input nodes as Exprs: constants (Value, RGB), what a hit gives (Texture
 Coordinate, UV Map, Geometry, Light Path, Light Falloff, Wireframe, Object Info,
 attributes and colour attributes), the view-dependent factors (Fresnel, Layer
-Weight) and Normal Map."""
+Weight), Normal Map, Tangent, and Ambient Occlusion and Bevel (rays from and near the
+hit)."""
 
 from . import ops
 from .graph import source
 from .ir import COLOR, FLOAT, VECTOR
+from .normals import linked_normal
 from .sockets import find_socket, output_name
 
 
@@ -267,6 +269,55 @@ def _normal_map(c, out):
     )  # fmt: skip
 
 
+def _ambient_occlusion(c, out):
+    # Cycles' node (svm_ao): AO is the share of Samples directions drawn about the Normal
+    # (unlinked: the shading normal; with Inside, its opposite) with density cos/pi along
+    # which nothing lies within Distance of the hit (with Only Local, nothing of the hit's
+    # own object); Color is AO times the Color input. Where nothing can be traced (the
+    # world, a shadow feeler's or a medium's evaluation) Cycles gives 1, as the op does.
+    # An unlinked Distance of 0 reads the World's AO distance (Cycles' Fast GI Distance;
+    # unbounded without a world).
+    node = out.node
+    color = c.input(out, ("Color",), COLOR)
+    if c.world:
+        ao = c.b.f(1.0)
+    else:
+        socket = find_socket(node.inputs, ("Distance",))
+        distance = c.value(socket, out.scope, FLOAT)
+        if distance.is_const and distance.value[0] == 0.0:
+            # Cycles folds constants into the socket before it looks (a linked Value 0 too).
+            distance = c.b.f(c.ao_distance)
+        normal = linked_normal(c, out)
+        normal = normal if normal is not None else c.shading_normal
+        # Blender's Samples go from 1 to 128; the op takes up to 255.
+        samples = max(0, min(int(node.samples), 255))
+        mode = ops.pack(
+            "AMBIENT_OCCLUSION", samples=samples, inside=node.inside, only_local=node.only_local
+        )
+        ao = c.b.op(ops.AMBIENT_OCCLUSION, mode, (distance, normal), kind=FLOAT)
+    if output_name(out) == "AO":
+        return ao
+    return c.b.vmul(color, ao, COLOR)
+
+
+def _bevel(c, out):
+    # Cycles' node (svm_bevel): the shading normals of the hit's own object within Radius
+    # of the hit, averaged by a falloff of their distance (Samples probes near the hit); a
+    # linked Normal keeps its bend with the bevel's change added. In the world, or where
+    # nothing can be traced, the normal as it is, as in Cycles.
+    node = out.node
+    normal = linked_normal(c, out)
+    unbent = c.hit(ops.IN_NORMAL) if normal is None else normal
+    if c.world:
+        return unbent
+    radius = c.input(out, ("Radius",), FLOAT)
+    samples = max(0, min(int(node.samples), 255))
+    mode = ops.pack("BEVEL", samples=samples)
+    point = c.hit(ops.IN_POSITION)
+    true_normal = c.hit(ops.IN_TRUE_NORMAL)
+    return c.b.op(ops.BEVEL, mode, (radius, point, true_normal, normal), kind=VECTOR)
+
+
 INPUT_NODES = {
     "ShaderNodeValue": _value,
     "ShaderNodeRGB": _rgb,
@@ -284,4 +335,6 @@ INPUT_NODES = {
     "ShaderNodeLayerWeight": _layer_weight,
     "ShaderNodeNormalMap": _normal_map,
     "ShaderNodeTangent": _tangent,
+    "ShaderNodeAmbientOcclusion": _ambient_occlusion,
+    "ShaderNodeBevel": _bevel,
 }

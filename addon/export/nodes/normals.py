@@ -43,9 +43,9 @@ def moved(b, expr, bit, memo=None):
     return result
 
 
-def _linked_normal(c, out):
-    """The value linked to the Normal input of `out.node` (a Bump, a Displacement), or
-    None where it is unlinked."""
+def linked_normal(c, out):
+    """The value linked to the Normal input of `out.node` (a Bump, a Displacement, an
+    Ambient Occlusion), or None where it is unlinked."""
     socket = next((s for s in out.node.inputs if s.name == "Normal"), None)
     if socket is None or source(socket, out.scope)[0] is None:
         return None
@@ -56,7 +56,7 @@ def bump(c, out):
     """ShaderNodeBump's Normal: BUMP of the height at the hit and at both offsets."""
     node = out.node
     # Unlinked, the shading normal: a displacement's bumped one where there is one.
-    normal = _linked_normal(c, out)
+    normal = linked_normal(c, out)
     normal = normal if normal is not None else c.shading_normal
     unbent = normal if normal is not None else c.hit(ops.IN_NORMAL)
     if c.world:
@@ -94,7 +94,7 @@ def displacement(c, out):
     non-uniform scale Cycles' vector also leans off the normal)."""
     node = out.node
     b = c.b
-    normal = _linked_normal(c, out)
+    normal = linked_normal(c, out)
     if normal is None:
         normal = c.hit(ops.IN_NORMAL)
     height = c.input(out, ("Height",), FLOAT)

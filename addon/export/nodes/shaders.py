@@ -64,7 +64,7 @@ DEFAULTS = {
 
 
 # Nodes whose output a shader's Normal input reads.
-NORMAL_NODES = ("ShaderNodeNormalMap", "ShaderNodeBump")
+NORMAL_NODES = ("ShaderNodeNormalMap", "ShaderNodeBump", "ShaderNodeBevel")
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,11 @@ PROCEDURALS = {
 }
 
 
+# Cycles' AO distance in a scene without a world (its Integrator's default, FLT_MAX): an
+# Ambient Occlusion node of unlinked Distance 0 reads the World's instead.
+UNBOUNDED_AO_DISTANCE = 3.4028234663852886e38
+
+
 @dataclass
 class Needs:
     """What a material's program reads from the mesh and the instance."""
@@ -51,7 +56,7 @@ class Lowering:
     """One material's (or world's) lowering: the Builder, the warnings, the textures
     and the per-hit data its program reads."""
 
-    def __init__(self, owner, warnings, world=False, grids=None):
+    def __init__(self, owner, warnings, world=False, grids=None, ao_distance=UNBOUNDED_AO_DISTANCE):
         self.owner = owner  # "material 'Name'" or "world 'Name'"
         self.warnings = warnings
         self.world = world
@@ -69,6 +74,9 @@ class Lowering:
         # The normal nodes read as the shading normal once a displacement bumps it
         # (normals.displacement_bump, set by export/material.py); None: the hit's.
         self.shading_normal = None
+        # The World's AO distance (export/world.py ao_distance), which an Ambient Occlusion
+        # node whose Distance is an unlinked 0 reads, as in Cycles.
+        self.ao_distance = ao_distance
 
     def warn(self, node, message):
         _warn(self.warnings, f"Whitted: {self.owner}, node '{node.name}': {message}")

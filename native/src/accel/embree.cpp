@@ -76,7 +76,12 @@ void skip_non_blockers(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
     const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
-    if (((blockers.sets >> blockers.shadow_set[instance]) & 1u) == 0) args->valid[i] = 0;
+    if (blockers.instance != Blockers::kEveryInstance && instance != blockers.instance) {
+      args->valid[i] = 0;
+    } else if (blockers.shadow_set != nullptr &&
+               ((blockers.sets >> blockers.shadow_set[instance]) & 1u) == 0) {
+      args->valid[i] = 0;
+    }
   }
 }
 

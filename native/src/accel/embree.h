@@ -101,9 +101,12 @@ struct AccelInstance {
 
 // Shadow linking: what may block a shadow query, the instances whose shadow set (by
 // instance index) is among `sets` (bit s: set s).
+// Only Local (an Ambient Occlusion node's): `instance` alone may block.
 struct Blockers {
-  const uint8_t* shadow_set = nullptr;
+  static constexpr uint32_t kEveryInstance = ~0u;
+  const uint8_t* shadow_set = nullptr;  // null: no shadow sets
   uint64_t sets = ~uint64_t{0};
+  uint32_t instance = kEveryInstance;
 };
 
 // The top-level BVH. Immutable once built; queries are thread-safe.

@@ -43,6 +43,20 @@ EffectDecision strands(const CompiledScene& scene) {
               " curve segments, " + thousands(points) + " points"};
 }
 
+// The materials whose programs trace rays from the hits they shade (Ambient Occlusion and
+// Bevel nodes', shader/program.h HitRays): named, as their rays cost.
+EffectDecision program_rays(const CompiledScene& scene) {
+  size_t materials = 0;
+  for (const Material& m : scene.materials)
+    materials += m.program != nullptr && m.program->traces();
+  if (materials == 0) {
+    return {"ray-traced nodes", false, "no material has an Ambient Occlusion or Bevel node"};
+  }
+  return {"ray-traced nodes", true,
+          thousands(materials) + (materials == 1 ? " material traces" : " materials trace") +
+              " rays from its hits (Ambient Occlusion, Bevel)"};
+}
+
 // Light linking and shadow linking (light.h): named when some emitter uses them.
 EffectDecision light_linking(const CompiledScene& scene) {
   size_t lamps = 0;
@@ -272,6 +286,7 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
   effects->decisions.push_back(lamps_seen(scene));
+  effects->decisions.push_back(program_rays(scene));
 }
 
 // "0.0250": a length as the report writes it, in scene units.

@@ -146,7 +146,8 @@ class Kernel {
       }
       recorder_.hit(node, it);
       if (it.holdout) break;  // a holdout shows nothing and covers nothing
-      const SurfaceParams surface = in_.scene.surface(it, r, in_.context(here));
+      const ProgramRays<kEffects, Queries, Recorder> rays(in_, here, counts, recorder_, node);
+      const SurfaceParams surface = in_.scene.surface(it, r, in_.context(here, &rays));
       float a = 1.0f;
       if (in_.has(kTranslucencyEffect)) {
         a = layer == limits::kMaxTransparentLayers ? 1.0f : surface.alpha;

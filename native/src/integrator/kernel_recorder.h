@@ -97,6 +97,10 @@ struct NoRecorder {
   // what the media on its way let through.
   void escaped(Node /*node*/, int /*depth*/, float /*behind*/, const Color& /*through*/,
                const Color& /*world*/, bool /*shown*/) {}
+  // A program run at the surface `node` met traced `ray` (`kind`: an Ambient Occlusion
+  // node's or a Bevel node's probe), which something `blocked` within its length or not.
+  void program_ray(Node /*node*/, const Ray& /*ray*/, int /*depth*/, TreeRayKind /*kind*/,
+                   bool /*blocked*/) {}
   // The surface the ray met is shaded, covering `a` of the `behind` share of the ray,
   // seen through media that let `through` through.
   Scope cover(Node /*node*/, float /*behind*/, float /*a*/, const Color& /*through*/) { return {}; }

@@ -24,6 +24,12 @@ enum class TreeRayKind {
   kTransparent,  // straight on: behind a cut-out, through a false interface or a volume bound
   kGlossy,       // a ray drawn from a glossy reflection lobe, its share of sigma_r
   kVolume,       // a ray's segment inside media (volume.h): its feelers scatter light along it
+  // A ray an Ambient Occlusion node traced from the surface its parent met (no weight:
+  // it brings no light; its transmittance 0 where something lay within its length).
+  kAmbientOcclusion,
+  // A probe of a Bevel node near the surface its parent met (no weight), to where it met
+  // a surface (its transmittance 0) or to its end.
+  kBevel,
 };
 
 // Why a ray of the tree was not traced (or, for a shadow ray, not sent).

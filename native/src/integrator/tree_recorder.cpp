@@ -36,6 +36,14 @@ void TreeRecorder::hit(Node node, const Interaction& it) {
   n.material = static_cast<int32_t>(it.material_index);
 }
 
+void TreeRecorder::program_ray(Node node, const Ray& ray, int depth, TreeRayKind kind,
+                               bool blocked) {
+  const int index = add(ray, depth, kind, node.index, Color(0.0f));
+  RayTreeNode& n = tree_->nodes[static_cast<size_t>(index)];
+  n.transmittance = Color(blocked ? 0.0f : 1.0f);
+  if (std::isfinite(ray.t_max)) n.end = ray.origin + ray.t_max * ray.direction;
+}
+
 TreeRecorder::Scope TreeRecorder::segment(Node node, const Ray& segment, float length, float behind,
                                           const Color& through) {
   const int index =

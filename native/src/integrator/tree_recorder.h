@@ -27,6 +27,7 @@ class TreeRecorder : public NoRecorder {
   Node ray(const Ray& ray, int depth, Node in_front, float behind, const Color& through);
   void hit(Node node, const Interaction& it);
   void crossed(Node node, const Interaction& it) { hit(node, it); }
+  void program_ray(Node node, const Ray& ray, int depth, TreeRayKind kind, bool blocked);
   // A segment is a kVolume node under its ray, the parent of its scatter() feelers.
   Scope segment(Node node, const Ray& segment, float length, float behind, const Color& through);
   Node scatter(const Ray& feeler, const Color& unshadowed, int32_t light, int32_t emitter,

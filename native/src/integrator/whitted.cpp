@@ -161,6 +161,8 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
   volume_queries += o.volume_queries;
   volume_bounds += o.volume_bounds;
   volume_steps += o.volume_steps;
+  ambient_occlusion += o.ambient_occlusion;
+  bevel += o.bevel;
   return *this;
 }
 

@@ -50,6 +50,11 @@ struct RayCounts {
   // Points a heterogeneous medium's program ran at along the segments and feelers that
   // crossed it (integrator/heterogeneous.h, march.h).
   uint64_t volume_steps = 0;
+  // Rays an Ambient Occlusion node traced from the hits its program ran at (shader/program.h
+  // HitRays).
+  uint64_t ambient_occlusion = 0;
+  // Queries a Bevel node's probes made near the hits its program ran at.
+  uint64_t bevel = 0;
 
   RayCounts& operator+=(const RayCounts& o);
   // A secondary ray of kind `kind` traced: drawn from a glossy lobe (`glossy`), or a
@@ -67,7 +72,8 @@ struct RayCounts {
   uint64_t volume() const { return volume_bounds + volume_queries; }
   // Every ray traced (the Whitted Rays pass counts each pixel's).
   uint64_t total() const {
-    return camera + shadow + reflection + refraction + glossy + transparent + volume();
+    return camera + shadow + reflection + refraction + glossy + transparent + volume() +
+           ambient_occlusion + bevel;
   }
 };
 

@@ -158,11 +158,29 @@ struct Medium {
   bool empty() const { return is_black(absorption) && is_black(scattering) && is_black(emission); }
 };
 
+// The integrator's side of the rays a program traces from a hit (shader/program.h
+// HitRays, made of this by scene/surface.cpp): its queries, counted, and its points.
+class TracedRays {
+ public:
+  // Whether anything ray.kind sees meets `ray` (with `instance`, only that instance).
+  virtual bool occluded(const Ray& ray, const uint32_t* instance) const = 0;
+  // The closest hit of `ray` among what ray.kind sees (a bevel's probe).
+  virtual bool intersect(const Ray& ray, Hit* hit) const = 0;
+  // HitRays::point.
+  virtual glm::vec2 point(int k, int count) const = 0;
+
+ protected:
+  ~TracedRays() = default;
+};
+
 // What the integrator knows of a ray beyond the ray itself, for the inputs of a program:
 // the render's camera (camera and window coordinates) and the ray's depth in its tree.
 struct RayContext {
   const Camera* camera;
   int depth;
+  // Where the integrator lets a program trace rays from the hit (its ray-traced nodes);
+  // null elsewhere.
+  const TracedRays* rays = nullptr;
 };
 
 // What a render reads: resolved, immutable, safe to share between threads. The camera is

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <variant>
 
 #include <glm/matrix.hpp>
@@ -355,6 +356,49 @@ Interaction moved(const CompiledScene& scene, const Interaction& it, const Vec3&
   return out;
 }
 
+// The rays a program traces from a surface hit (HitRays), through the integrator's
+// TracedRays: each ambient occlusion ray leaves the hit off its surface by its rounding
+// error, on the side it goes towards, and sees what a shadow ray sees (Cycles' opaque
+// shadow visibility), or with Only Local every face of the hit's own instance; a bevel's
+// probes meet every face, those of the hit's instance kept.
+struct SurfaceRays final : HitRays {
+  // A probe steps past other objects' faces and its object's, at most this many times.
+  static constexpr int kMaxSteps = 16;
+  const CompiledScene& scene;
+  const Interaction& it;
+  const TracedRays& traced;
+  SurfaceRays(const CompiledScene& scene, const Interaction& it, const TracedRays& traced)
+      : scene(scene), it(it), traced(traced) {}
+  int surfaces(const Vec3& origin, const Vec3& direction, float length,
+               Surface* out) const override {
+    Ray ray{origin,
+            direction,
+            0.0f,
+            length,
+            RayKind(kAllRayKinds | kOpaqueShadowRay | kTranslucentShadowRay),
+            it.time};
+    int count = 0;
+    for (int step = 0; step < kMaxSteps && count < kMaxSurfaces; ++step) {
+      Hit hit;
+      if (!traced.intersect(ray, &hit)) break;
+      if (hit.instance == it.instance) {
+        const Interaction at = scene.interaction(ray, hit);
+        out[count++] = {at.position, at.geometric_normal, at.shading_normal};
+      }
+      ray.t_min = next_float_up(hit.t);
+    }
+    return count;
+  }
+  bool occluded(const Vec3& direction, float distance, bool local) const override {
+    const auto kind = RayKind(local ? kAllRayKinds | kOpaqueShadowRay | kTranslucentShadowRay
+                                    : kOpaqueShadowRay | kTranslucentShadowRay);
+    const Ray ray = spawn_ray(it.position, it.position_error, it.geometric_normal, it.time,
+                              direction, kind, distance);
+    return traced.occluded(ray, local ? &it.instance : nullptr);
+  }
+  glm::vec2 point(int k, int count) const override { return traced.point(k, count); }
+};
+
 // The register file of one evaluation lives here, on the stack, and is gone before the
 // integrator recurses.
 using Registers = std::array<glm::vec4, Program::kMaxRegisters + 1>;
@@ -400,6 +444,10 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     hit.to_world = glm::mat3(instance.placement.to_world);
     hit.normal_to_world = instance.placement.normal_to_world;
     hit.images = m.program_images.data();
+    std::optional<SurfaceRays> rays;
+    if (m.program->traces() && context.rays != nullptr) {
+      hit.rays = &rays.emplace(*this, it, *context.rays);
+    }
     const SurfaceHit source{*this, it, ray, context, hit};
     Inputs inputs;
     if (m.program->bumps()) {

@@ -50,6 +50,8 @@ enum class Op : uint32_t {
   kVectorRotate = 37,
   kLightFalloff = 38,
   kWireframe = 39,
+  kAmbientOcclusion = 40,
+  kBevel = 41,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -64,7 +66,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kWireframe) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBevel) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -106,6 +108,12 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kWireframe) + 1> kOp
     {"LIGHT_FALLOFF", 3, false},
     {"WIREFRAME", 5, false},  // size, the point, the triangle's three corners (IN_TRIANGLE)  //
                               // strength, smooth, the ray's length (IN_RAY_LENGTH)
+    // Distance, the normal (unused: the shading normal); traces rays from the hit
+    // (ProgramHit::rays).
+    {"AMBIENT_OCCLUSION", 2, true},
+    // Radius, the hit's point (IN_POSITION) and true normal (IN_TRUE_NORMAL), the Normal
+    // input (unused: the shading normal); traces rays near the hit (ProgramHit::rays).
+    {"BEVEL", 4, true},
 }};
 
 // The modes of op INPUT: what a hit offers a program.
@@ -491,6 +499,13 @@ inline constexpr ModeField kWhiteNoiseColor = flag("color", 2);
 inline constexpr ModeField kVectorRotateType = choice("rotation_type", 0, 3, kVectorRotateNames);
 inline constexpr ModeField kVectorRotateInvert = flag("invert", 3);
 inline constexpr ModeField kLightFalloff = choice("falloff", 0, 2, kLightFalloffNames);
+// AMBIENT_OCCLUSION: its rays per evaluation (Blender's Samples), drawn about the opposite
+// of the normal (Inside), meeting only the hit's own object (Only Local).
+inline constexpr ModeField kAoSamples = number("samples", 0, 8, 256);
+inline constexpr ModeField kAoInside = flag("inside", 8);
+inline constexpr ModeField kAoOnlyLocal = flag("only_local", 9);
+// BEVEL: its probe rays per evaluation (Blender's Samples).
+inline constexpr ModeField kBevelSamples = number("samples", 0, 8, 256);
 
 inline constexpr std::array kMath = {kMathOperation, kClamp};
 inline constexpr std::array kVectorMath = {kVectorMathOperation};
@@ -519,6 +534,8 @@ inline constexpr std::array kBrick = {kBrickOffset, kBrickSquash};
 inline constexpr std::array kWhiteNoise = {kDimensions, kWhiteNoiseColor};
 inline constexpr std::array kVectorRotate = {kVectorRotateType, kVectorRotateInvert};
 inline constexpr std::array kLightFalloffOp = {kLightFalloff};
+inline constexpr std::array kAmbientOcclusion = {kAoSamples, kAoInside, kAoOnlyLocal};
+inline constexpr std::array kBevel = {kBevelSamples};
 }  // namespace mode_field
 
 // The ops whose mode is fields, with them (whitted_native.OP_MODES): all but INPUT (its
@@ -528,7 +545,7 @@ struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 27> kOpModes = {{
+inline constexpr std::array<OpMode, 29> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
@@ -556,6 +573,8 @@ inline constexpr std::array<OpMode, 27> kOpModes = {{
     {Op::kWhiteNoise, mode_field::kWhiteNoise},
     {Op::kVectorRotate, mode_field::kVectorRotate},
     {Op::kLightFalloff, mode_field::kLightFalloffOp},
+    {Op::kAmbientOcclusion, mode_field::kAmbientOcclusion},
+    {Op::kBevel, mode_field::kBevel},
 }};
 
 // The fields of op's mode; empty for INPUT and an op without a mode.

@@ -28,6 +28,122 @@ std::string_view op_name(uint32_t op) {
   return op < kOpTable.size() && op != 0 ? kOpTable[op].name : "?";
 }
 
+// Cycles' Ambient Occlusion node (svm_ao): the share of `samples` directions, drawn with
+// density cos/pi about unit-made `n` (about -n: `inside`), along which nothing lies within
+// `distance` of the hit (nothing of its own object: `local`). 1 where no ray is traced:
+// no rays at the hit, no sample, or a distance that is not positive (NaN too).
+float ambient_occlusion(const ProgramHit& hit, uint32_t mode, float distance, Vec3 n) {
+  const auto samples = static_cast<int>(mode_field::kAoSamples.in(mode));
+  if (hit.rays == nullptr || samples < 1 || !(distance > 0.0f)) return 1.0f;
+  const float length = glm::length(n);
+  n = length > 0.0f && std::isfinite(length) ? n / length : hit.normal;
+  if (mode_field::kAoInside.on(mode)) n = -n;
+  // A right-handed frame about n (Duff et al. 2017, "Building an Orthonormal Basis,
+  // Revisited").
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  const Vec3 t(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  const Vec3 bitangent(b, sign + n.y * n.y * a, -n.y);
+  const bool local = mode_field::kAoOnlyLocal.on(mode);
+  int open = 0;
+  for (int k = 0; k < samples; ++k) {
+    // Malley's method: a point of the unit disc (equal areas), lifted to the hemisphere.
+    const glm::vec2 u = hit.rays->point(k, samples);
+    float r = 0.0f, phi = 0.0f;
+    concentric_disc(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, &r, &phi);
+    const float x = r * std::cos(phi), y = r * std::sin(phi);
+    const float z = std::sqrt(std::fmax(1.0f - x * x - y * y, 0.0f));
+    const Vec3 direction = glm::normalize(x * t + y * bitangent + z * n);
+    if (!hit.rays->occluded(direction, distance, local)) ++open;
+  }
+  return static_cast<float>(open) / static_cast<float>(samples);
+}
+
+// The planar cubic falloff Cycles' Bevel node weighs nearby points by (svm_bevel): the
+// density 10 (R - r)^3 / (pi R^5) of the distance r within radius R, 0 beyond.
+float bevel_falloff(float radius, float r) {
+  if (r >= radius) return 0.0f;
+  const float f = radius - r;
+  return 10.0f * f * f * f / ((radius * radius) * (radius * radius) * radius * kPi);
+}
+
+// The distance within `radius` of cumulative share `xi` under that falloff in the plane:
+// the root of 10x^2 - 20x^3 + 15x^4 - 4x^5 = xi in [0, 1] (Newton's method from 0.25, as
+// Cycles), times the radius.
+float bevel_radius(float radius, float xi) {
+  float x = 0.25f;
+  for (int i = 0; i < 10; ++i) {
+    const float x2 = x * x, x3 = x2 * x, nx = 1.0f - x;
+    const float f = 10.0f * x2 - 20.0f * x3 + 15.0f * x2 * x2 - 4.0f * x2 * x3 - xi;
+    const float slope = 20.0f * (x * nx) * (nx * nx);
+    if (std::fabs(f) < 1e-6f || slope == 0.0f) break;
+    x = std::clamp(x - f / slope, 0.0f, 1.0f);
+  }
+  return x * radius;
+}
+
+// Cycles' Bevel node (svm_bevel): the normals of the hit's own object near `p` averaged
+// by the falloff of their distance within `radius`. Each of `samples` probes picks an
+// axis of the frame about the true normal `ng` (itself with probability 1/2, each
+// tangent 1/4), a point of the disc across it by the falloff, and a segment along the
+// axis through that point; every point where the segment meets the object weighs its
+// shading normal by the falloff at its real distance over the disc's density there,
+// and by the power heuristic among the three axes. Cycles evaluates a random 4 of the
+// points a segment meets (weighted by their count over 4): all of them here, the same
+// mean. The shading normal where nothing was met, the radius is not positive and
+// finite, or there are no samples or no rays.
+Vec3 bevel(const ProgramHit& hit, uint32_t mode, float radius, const Vec3& p, const Vec3& ng) {
+  const auto samples = static_cast<int>(mode_field::kBevelSamples.in(mode));
+  if (hit.rays == nullptr || samples < 1 || !(radius > 0.0f) || !std::isfinite(radius)) {
+    return hit.normal;
+  }
+  const float sign = std::copysign(1.0f, ng.z);
+  const float a = -1.0f / (sign + ng.z);
+  const float b = ng.x * ng.y * a;
+  const Vec3 frame[3] = {ng, Vec3(1.0f + sign * ng.x * ng.x * a, sign * b, -sign * ng.x),
+                         Vec3(b, sign + ng.y * ng.y * a, -ng.y)};
+  // The chance of each axis: the normal's, and each tangent's.
+  constexpr float kPick[3] = {0.5f, 0.25f, 0.25f};
+  Vec3 sum(0.0f);
+  HitRays::Surface found[HitRays::kMaxSurfaces];
+  for (int k = 0; k < samples; ++k) {
+    glm::vec2 u = hit.rays->point(k, samples);
+    // The axis: the normal below 1/2, the first tangent below 3/4, else the second; the
+    // choice's share of [0, 1) stretched back over it.
+    const int axis = u.x < 0.5f ? 0 : u.x < 0.75f ? 1 : 2;
+    u.x = axis == 0 ? 2.0f * u.x : 4.0f * (u.x - (axis == 1 ? 0.5f : 0.75f));
+    const Vec3& n = frame[axis];
+    const Vec3& t = frame[(axis + 1) % 3];
+    const Vec3& s = frame[(axis + 2) % 3];
+    const float disc_r = bevel_radius(radius, u.y);
+    const float height = std::sqrt(std::fmax(radius * radius - disc_r * disc_r, 0.0f));
+    const float disc_density = bevel_falloff(radius, disc_r);
+    if (!(disc_density > 0.0f)) continue;
+    const float phi = 2.0f * kPi * u.x;
+    const Vec3 origin = p + height * n + disc_r * (std::cos(phi) * t + std::sin(phi) * s);
+    const int count = hit.rays->surfaces(origin, -n, 2.0f * height, found);
+    for (int i = 0; i < count; ++i) {
+      // The axes' densities of this point (each axis's chance times the cosine of the
+      // surface to it), the chosen one's in the numerator of the power heuristic (its
+      // square over the sum of squares, over its own density).
+      float densities[3];
+      for (int j = 0; j < 3; ++j) {
+        densities[j] = kPick[j] * std::fabs(glm::dot(frame[j], found[i].geometric_normal));
+      }
+      const float chosen = densities[axis];
+      const float squares =
+          densities[0] * densities[0] + densities[1] * densities[1] + densities[2] * densities[2];
+      if (!(squares > 0.0f)) continue;
+      const float falloff = bevel_falloff(radius, glm::length(found[i].position - p));
+      sum += (chosen / squares) * (falloff / disc_density) * found[i].normal;
+    }
+  }
+  const float length = glm::length(sum);
+  if (!(length > 0.0f) || !std::isfinite(length)) return hit.normal;
+  return hit.backfacing ? -sum / length : sum / length;
+}
+
 bool public_input(uint32_t mode) {
   if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
@@ -233,6 +349,16 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6), s.e = reg(7);
         s.b_given = c[4] != kUnused;
         bumps_ = true;
+        break;
+      case Op::kAmbientOcclusion:
+        s.a = reg(3), s.b = reg(4);
+        s.b_given = c[4] != kUnused;
+        traces_ = true;
+        break;
+      case Op::kBevel:
+        s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6);
+        s.b_given = c[6] != kUnused;  // the Normal input (d)
+        traces_ = true;
         break;
     }
     steps_.push_back(s);
@@ -478,6 +604,16 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
                           s.b_given ? Vec3(b) : hit.normal, c.x, r[s.d].x, r[s.e].x));
         break;
+      case Op::kAmbientOcclusion:
+        out = scalar(ambient_occlusion(hit, s.mode, a.x, s.b_given ? Vec3(b) : hit.normal));
+        break;
+      case Op::kBevel: {
+        const Vec3 bevelled = bevel(hit, s.mode, a.x, Vec3(b), Vec3(c));
+        // A linked Normal keeps its own bend: the bevel's change of the shading normal
+        // added to it (Cycles' svm_node_bevel).
+        out = vector(s.b_given ? glm::normalize(Vec3(r[s.d]) + (bevelled - hit.normal)) : bevelled);
+        break;
+      }
       default:  // rejected at construction
         break;
     }

@@ -17,6 +17,35 @@
 
 namespace whitted {
 
+// What a hit offers the ops that trace rays (AMBIENT_OCCLUSION, BEVEL): rays from and near
+// the hit point, and the points of [0, 1)^2 they are drawn from. Made by the scene where the
+// integrator traces (scene/surface.cpp); a program evaluated where nothing is traced (the world, a
+// shadow feeler's walk, a medium) has none.
+class HitRays {
+ public:
+  // Whether anything lies within `distance` of the hit along unit `direction`: anything a
+  // shadow ray sees, or with `local` anything of the hit's own object. Counted as an
+  // ambient occlusion ray.
+  virtual bool occluded(const Vec3& direction, float distance, bool local) const = 0;
+  // Where a segment meets the hit's own object: the point, its geometric normal and its
+  // shading normal (world, as the mesh winds them).
+  struct Surface {
+    Vec3 position, geometric_normal, normal;
+  };
+  static constexpr int kMaxSurfaces = 8;
+  // The points where the segment from `origin` along unit `direction`, `length` long,
+  // meets the hit's own object, nearest first, at most kMaxSurfaces of them into `out`;
+  // how many. Each query counted as a bevel ray.
+  virtual int surfaces(const Vec3& origin, const Vec3& direction, float length,
+                       Surface* out) const = 0;
+  // Point k of the `count` points an evaluation at this hit draws from: stratified over
+  // the pixel's camera samples, a function of the pixel, its sample and the depth only.
+  virtual glm::vec2 point(int k, int count) const = 0;
+
+ protected:
+  ~HitRays() = default;
+};
+
 // What a program reads at one hit besides its registers.
 struct ProgramHit {
   // The value of each of Program::inputs(), in that order.
@@ -31,6 +60,9 @@ struct ProgramHit {
   // kInputBumpX / kInputBumpY bit are read, and which BUMP differentiates along.
   Vec3 bump_dx{0.0f};
   Vec3 bump_dy{0.0f};
+  // Rays from the hit, for a program that traces(); null: AMBIENT_OCCLUSION gives 1 and
+  // BEVEL the normal, as Cycles' nodes where they cannot trace.
+  const HitRays* rays = nullptr;
 };
 
 class Program {
@@ -55,6 +87,8 @@ class Program {
   bool samples_image(size_t slot) const { return image_slots_[slot]; }
   // Whether it reads inputs at the bump offsets (then ProgramHit needs them).
   bool bumps() const { return bumps_; }
+  // Whether it traces rays from the hit (AMBIENT_OCCLUSION, BEVEL: then ProgramHit::rays).
+  bool traces() const { return traces_; }
 
   // Runs the instructions; `registers` has room for kMaxRegisters + 1 values and holds
   // the register file afterwards.
@@ -86,6 +120,7 @@ class Program {
   std::vector<bool> image_slots_;
   std::vector<uint32_t> inputs_;
   bool bumps_ = false;
+  bool traces_ = false;
 };
 
 }  // namespace whitted
