@@ -42,6 +42,23 @@ def lit_ratio(cycles, whitted, darkest):
     return lit, whitted[lit][:, 0] / cycles[lit][:, 0]
 
 
+def lobe_under_sun(scene, material, tmp_path, samples=1):
+    """A unit sphere of `material` under a sun (sphere_under_sun), Cycles' direct light at
+    `samples` samples against Whitted's one sample a pixel: (Cycles' render, the pixels lit
+    in both, Whitted / Cycles there)."""
+    sphere_under_sun(scene, material, 48, segments=96, rings=48)
+    set_cycles_direct_light(scene, samples=samples)
+    # No Russian roulette on faint light samples (3.x's default threshold 0.01 turns
+    # them into 0 or 0.01).
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 1
+    scene.whitted.max_depth = 1  # glossy rays see the black world: nothing
+    cycles, whitted = render_both(scene, tmp_path)
+    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
+    assert lit.sum() > 300
+    return cycles, whitted, lit, ratio
+
+
 LOBES = [(r, d) for r in (0.3, 0.6, 1.0) for d in ("GGX", "MULTI_GGX")]
 
 
@@ -53,20 +70,11 @@ def test_a_suns_highlight_on_a_glossy_sphere_is_cycles(
     # light and view angles, and Cycles' direct light from a sun of angle 0 is exact (no
     # ray can hit the sun), so each pixel is compared with its own. Before the glossy lobe
     # the highlight was a Phong lobe clamped at exponent 1 above roughness 0.76.
-    scene = empty_scene
     material = glossy_material("Brushed", (0.9, 0.6, 0.3), roughness, distribution)
-    sphere_under_sun(scene, material, 48, segments=96, rings=48)
     # Cycles 3.x evaluates Multiscatter GGX by a random walk: one per sample, so average.
     stochastic = distribution == "MULTI_GGX" and bpy.app.version < (4, 0, 0)
-    set_cycles_direct_light(scene, samples=256 if stochastic else 1)
-    # No Russian roulette on faint light samples (3.x's default threshold 0.01 turns
-    # them into 0 or 0.01).
-    scene.cycles.light_sampling_threshold = 0.0
-    scene.whitted.aa_samples = 1
-    scene.whitted.max_depth = 1  # glossy rays see the black world: nothing
-    cycles, whitted = render_both(scene, tmp_path)
-    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
-    assert lit.sum() > 300
+    samples = 256 if stochastic else 1
+    cycles, whitted, lit, ratio = lobe_under_sun(empty_scene, material, tmp_path, samples)
     low, median, high = np.percentile(ratio, [5, 50, 95])
     energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
     print(
@@ -325,14 +333,7 @@ def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
         velvet.inputs["Roughness"].default_value = sigma
     velvet.inputs["Color"].default_value = (0.6, 0.2, 0.3, 1.0)
     tree.links.new(velvet.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    sphere_under_sun(empty_scene, material, 48, segments=96, rings=48)
-    set_cycles_direct_light(empty_scene, samples=1)
-    empty_scene.cycles.light_sampling_threshold = 0.0
-    empty_scene.whitted.aa_samples = 1
-    empty_scene.whitted.max_depth = 1
-    cycles, whitted = render_both(empty_scene, tmp_path)
-    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
-    assert lit.sum() > 300
+    _, _, _, ratio = lobe_under_sun(empty_scene, material, tmp_path)
     low, median, high = np.percentile(ratio, [5, 50, 95])
     print(f"\nvelvet {sigma}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
     assert 0.99 < median < 1.01
@@ -477,14 +478,7 @@ def test_an_anisotropic_highlight_is_cycles(
     # object's Z by default, turned by Rotation, or a Tangent node's), pixel by pixel
     # against Cycles' exact direct light. Before, the lobe was round (and warned).
     material = anisotropic_material("Brushed", kind, amount, rotation, axis)
-    sphere_under_sun(empty_scene, material, 48, segments=96, rings=48)
-    set_cycles_direct_light(empty_scene, samples=1)
-    empty_scene.cycles.light_sampling_threshold = 0.0
-    empty_scene.whitted.aa_samples = 1
-    empty_scene.whitted.max_depth = 1
-    cycles, whitted = render_both(empty_scene, tmp_path)
-    lit, ratio = lit_ratio(cycles, whitted, 1e-3)
-    assert lit.sum() > 300
+    cycles, _, _, ratio = lobe_under_sun(empty_scene, material, tmp_path)
     low, median, high = np.percentile(ratio, [5, 50, 95])
     print(f"\nanisotropic {kind} {amount} {rotation} {axis}: {low:.4f} {median:.4f} {high:.4f}")
     assert 0.99 < median < 1.01
