@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import bpy
 import numpy as np
+from whitted_tools.material_scenes import empty_node_material
 
 SIZE = 16
 
@@ -826,11 +827,8 @@ def build_scene(scene, case):
     plane.pass_index = 3
     plane.color = (0.2, 0.5, 0.7, 1.0)
     scene.collection.objects.link(plane)
-    material = bpy.data.materials.new(case.name)
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
+    material = empty_node_material(case.name)
     tree = material.node_tree
-    tree.nodes.clear()
     emission = tree.nodes.new("ShaderNodeEmission")
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     coords = tree.nodes.new("ShaderNodeTexCoord")

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from whitted import stats as whitted_stats
 from whitted_tools.cycles_scenes import box_filtered, render_rgba
-from whitted_tools.material_scenes import add_camera, black_world
+from whitted_tools.material_scenes import add_camera, black_world, empty_node_material
 from whitted_tools.metrics import luminance, subject_figures
 
 WIDTH, HEIGHT = 96, 72
@@ -39,11 +39,8 @@ def ao_material(inside=False, only_local=False, normal_up=False, distance=None):
     `distance` a float sets the socket, "zero at the hit" links Light Path's Is Shadow Ray
     to it (0 where the camera's rays meet the surface, and no constant either engine
     folds)."""
-    material = bpy.data.materials.new("AO")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
+    material = empty_node_material("AO")
     tree = material.node_tree
-    tree.nodes.clear()
     ao = tree.nodes.new("ShaderNodeAmbientOcclusion")
     ao.samples = 16
     ao.inside = inside

@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 import pytest
 from whitted_tools.cycles_scenes import box_filtered, render_rgba
-from whitted_tools.material_scenes import add_camera, add_sun
+from whitted_tools.material_scenes import add_camera, add_sun, empty_node_material
 from whitted_tools.metrics import luminance, subject_figures
 
 WIDTH, HEIGHT = 96, 72
@@ -22,11 +22,8 @@ WIDTH, HEIGHT = 96, 72
 def bevel_cube(scene, radius=0.15, linked=True):
     """A 1 m flat-shaded cube of a grey Diffuse BSDF, its Normal a Bevel of `radius` (8
     samples) where `linked`."""
-    material = bpy.data.materials.new("Bevelled")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
+    material = empty_node_material("Bevelled")
     tree = material.node_tree
-    tree.nodes.clear()
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
     diffuse.inputs["Roughness"].default_value = 0.0

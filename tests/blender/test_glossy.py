@@ -109,6 +109,33 @@ def metal_reflecting_surroundings(scene, material):
     scene.whitted.ambient_strength = 0.0  # the sky lights no diffuse surface, as in Cycles
 
 
+def metal_figures(scene, material, tmp_path):
+    """(SSIM, luminance ratio) of Whitted against Cycles over the sphere of
+    metal_reflecting_surroundings: Cycles one glossy bounce at 512 samples (its noise is
+    what the tests' bounds leave room for), Whitted the Final preset's glossy rays."""
+    from whitted_tools.metrics import subject_figures
+
+    metal_reflecting_surroundings(scene, material)
+    set_cycles_direct_light(scene, samples=512)
+    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
+    scene.cycles.light_sampling_threshold = 0.0
+    scene.whitted.aa_samples = 3
+    scene.whitted.glossy_samples = 6
+    scene.whitted.max_depth = 1
+    cycles, whitted = render_both(scene, tmp_path)
+    return subject_figures(whitted, cycles, sphere_disc(cycles, whitted))
+
+
+def sphere_disc(cycles, whitted):
+    """The pixels of the sphere in the middle of the frame that both renders cover: the
+    floor covers the rest, so the disc the sphere projects to (radius 0.3 of the width)."""
+    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
+    height, width = ball.shape
+    ys, xs = np.mgrid[0:height, 0:width]
+    centre = (width / 2.0 - 0.5, height / 2.0 - 0.5)
+    return ball & ((xs - centre[0]) ** 2 + (ys - centre[1]) ** 2 < (0.3 * width) ** 2)
+
+
 def smooth_sphere_at(material):
     from whitted_tools.material_scenes import smooth_sphere
 
@@ -125,8 +152,6 @@ def test_a_rough_metal_reflects_its_surroundings_as_cycles(
     # Before glossy rays a metal of roughness 0.4 was black but for its highlights, and
     # one of 0.15 a sharp mirror. Cycles: one glossy bounce, many samples (its noise is
     # what the bound leaves room for); Whitted: the Final preset's glossy rays.
-    from whitted_tools.metrics import subject_figures
-
     scene = empty_scene
     colour = (1.0, 0.78, 0.34)  # gold
     if kind == "glossy":
@@ -139,23 +164,7 @@ def test_a_rough_metal_reflects_its_surroundings_as_cycles(
         bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
         bsdf.inputs["Metallic"].default_value = 1.0
         bsdf.inputs["Roughness"].default_value = roughness
-    metal_reflecting_surroundings(scene, material)
-    set_cycles_direct_light(scene, samples=512)
-    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
-    scene.cycles.light_sampling_threshold = 0.0
-    scene.whitted.aa_samples = 3
-    scene.whitted.glossy_samples = 6
-    scene.whitted.max_depth = 1
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
-    # The sphere's pixels: those nearer than the floor's, by the floor's distance... the
-    # floor covers the rest of the frame, so take the disc the sphere projects to.
-    height, width = ball.shape
-    ys, xs = np.mgrid[0:height, 0:width]
-    centre = (width / 2.0 - 0.5, height / 2.0 - 0.5)
-    ball &= (xs - centre[0]) ** 2 + (ys - centre[1]) ** 2 < (0.3 * width) ** 2
-    value, ratio = subject_figures(whitted, cycles, ball)
+    value, ratio = metal_figures(scene, material, tmp_path)
     print(f"\n{kind} metal {roughness}: SSIM {value:.4f}, luminance ratio {ratio:.4f}")
     # Measured: 0.995 to 1.010 in 3.4 and 5.2 (the Principled metal's rim, brightened
     # towards white by Cycles' Fresnel, is a few pixels of the disc); SSIM 0.94-0.97,
@@ -282,12 +291,9 @@ def test_frosted_glass_as_cycles(roughness, empty_scene, tmp_path, native):
     scene.whitted.aa_samples = 3
     scene.whitted.glossy_samples = 4
     scene.whitted.max_depth = 8
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
+    cycles, whitted = render_both(scene, tmp_path)
+    ball = sphere_disc(cycles, whitted)
     height, width = ball.shape
-    ys, xs = np.mgrid[0:height, 0:width]
-    ball &= (xs - (width / 2.0 - 0.5)) ** 2 + (ys - (height / 2.0 - 0.5)) ** 2 < (0.3 * width) ** 2
     value, ratio = subject_figures(whitted, cycles, ball)
     # The Lecture model renders it as clear glass, as Whitted did before. Compared after
     # a 3 x 3 box blur (Cycles' noise in rough glass at 512 samples is most of SSIM's
@@ -495,24 +501,9 @@ def test_an_anisotropic_highlight_is_cycles(
 def test_brushed_metal_reflects_its_surroundings_as_cycles(kind, empty_scene, tmp_path, native):
     # The glossy rays drawn from the anisotropic lobe (and their MIS weights against the
     # sun's feelers): the rough metal scene of the isotropic test, its lobe stretched.
-    from whitted_tools.metrics import subject_figures
-
     scene = empty_scene
     material = anisotropic_material("Brushed", kind, 0.8 if kind == "glossy" else 0.9, 0.1)
-    metal_reflecting_surroundings(scene, material)
-    set_cycles_direct_light(scene, samples=512)
-    scene.cycles.max_bounces = scene.cycles.glossy_bounces = 1
-    scene.cycles.light_sampling_threshold = 0.0
-    scene.whitted.aa_samples = 3
-    scene.whitted.glossy_samples = 6
-    scene.whitted.max_depth = 1
-    cycles = render_rgba(scene, "CYCLES", str(tmp_path / "cycles.exr"))
-    whitted = render_rgba(scene, "WHITTED", str(tmp_path / "whitted.exr"))
-    ball = (cycles[..., 3] > 0.99) & (whitted[..., 3] > 0.99)
-    height, width = ball.shape
-    ys, xs = np.mgrid[0:height, 0:width]
-    ball &= (xs - width / 2.0 + 0.5) ** 2 + (ys - height / 2.0 + 0.5) ** 2 < (0.3 * width) ** 2
-    value, ratio = subject_figures(whitted, cycles, ball)
+    value, ratio = metal_figures(scene, material, tmp_path)
     print(f"\nbrushed {kind} metal: SSIM {value:.4f}, luminance ratio {ratio:.4f}")
     assert abs(ratio - 1.0) < 0.05
     assert value > 0.9

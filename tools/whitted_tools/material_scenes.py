@@ -94,17 +94,24 @@ def grey_world(scene, grey=0.4):
     return _world(scene, "Grey", (grey, grey, grey, 1.0))
 
 
+def empty_node_material(name):
+    """A new material whose node tree is empty (Blender 5.0 materials always use nodes;
+    earlier ones are switched to them)."""
+    material = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    material.node_tree.nodes.clear()
+    return material
+
+
 def lambert_material(name="Lambert", albedo=0.8):
     """A Diffuse BSDF of roughness 0 (Lambertian in Cycles 3.x and 4.x+ alike), and the
     same in the viewport display values."""
-    material = bpy.data.materials.new(name)
+    material = empty_node_material(name)
     material.diffuse_color = (albedo, albedo, albedo, 1.0)
     material.specular_intensity = 0.0
     material.metallic = 0.0
-    if bpy.app.version < (5, 0, 0):  # 5.0 materials always use nodes
-        material.use_nodes = True
     nodes = material.node_tree.nodes
-    nodes.clear()
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
     diffuse.inputs["Roughness"].default_value = 0.0
