@@ -141,8 +141,7 @@ void bind_material(py::module_& m) {
       .value("LAMBERT", DiffuseModel::kLambert)
       .value("BURLEY", DiffuseModel::kBurley)
       .value("OREN_NAYAR", DiffuseModel::kOrenNayar)
-      .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy)
-      .value("VELVET", DiffuseModel::kVelvet);
+      .value("OREN_NAYAR_ENERGY", DiffuseModel::kOrenNayarEnergy);
   py::enum_<EmissionSampling>(m, "EmissionSampling",
                               "Which sides of an emissive mesh light the scene as a light "
                               "(Cycles' Emission Sampling): NONE, FRONT, BACK or BOTH.")

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_direct_light
 from whitted_tools.material_scenes import (
+    empty_node_material,
     glass_bsdf_material,
     principled_sphere_material,
     sphere_under_sun,
@@ -321,15 +322,8 @@ def test_frosted_glass_as_cycles(roughness, empty_scene, tmp_path, native):
     assert frosted_error < clear_error
 
 
-@pytest.mark.parametrize("sigma", [0.3, 1.0])
-def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
-    # Blender 3.x's Velvet BSDF, 4.x's Sheen BSDF (Ashikhmin): Ashikhmin's velvet lobe of
-    # its sigma; it was read as Lambert (up to 1.9x too bright) with the sigma dropped.
-    material = bpy.data.materials.new("Velvet")
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
+def velvet_node(tree, sigma, color):
+    """Blender 3.x's Velvet BSDF or 4.x's Sheen BSDF (Ashikhmin) of `sigma` and `color`."""
     if bpy.app.version < (4, 0, 0):
         velvet = tree.nodes.new("ShaderNodeBsdfVelvet")
         velvet.inputs["Sigma"].default_value = sigma
@@ -337,11 +331,52 @@ def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
         velvet = tree.nodes.new("ShaderNodeBsdfSheen")
         velvet.distribution = "ASHIKHMIN"
         velvet.inputs["Roughness"].default_value = sigma
-    velvet.inputs["Color"].default_value = (0.6, 0.2, 0.3, 1.0)
-    tree.links.new(velvet.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    velvet.inputs["Color"].default_value = (*color, 1.0)
+    return velvet
+
+
+@pytest.mark.parametrize("sigma", [0.3, 1.0])
+def test_velvet_under_a_sun_as_cycles(sigma, empty_scene, tmp_path, native):
+    # Blender 3.x's Velvet BSDF, 4.x's Sheen BSDF (Ashikhmin): Ashikhmin's velvet lobe of
+    # its sigma; it was read as Lambert (up to 1.9x too bright) with the sigma dropped.
+    material = empty_node_material("Velvet")
+    tree = material.node_tree
+    velvet = velvet_node(tree, sigma, (0.6, 0.2, 0.3))
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(velvet.outputs[0], output.inputs["Surface"])
     _, _, _, ratio = lobe_under_sun(empty_scene, material, tmp_path)
     low, median, high = np.percentile(ratio, [5, 50, 95])
     print(f"\nvelvet {sigma}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}")
+    assert 0.99 < median < 1.01
+    assert low > 0.97 and high < 1.03
+
+
+def test_a_principled_plus_velvet_keeps_both_lobes_as_cycles(empty_scene, tmp_path, native):
+    # Add Shader of a Principled BSDF (no specular: its diffuse lobe, 3.x's Burley) and a
+    # velvet: Cycles sums the two closures, each of its own shape. Whitted once folded
+    # them into one diffuse lobe of the first shape, the velvet colour lit as a diffuse
+    # one (a third-party cloth file rendered 1.21 of Cycles).
+    material = empty_node_material("Cloth")
+    tree = material.node_tree
+    bsdf = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (0.5, 0.3, 0.2, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.8
+    specular = "Specular" if bpy.app.version < (4, 0, 0) else "Specular IOR Level"
+    bsdf.inputs[specular].default_value = 0.0
+    velvet = velvet_node(tree, 0.5, (0.2, 0.3, 0.6))
+    add = tree.nodes.new("ShaderNodeAddShader")
+    tree.links.new(bsdf.outputs[0], add.inputs[0])
+    tree.links.new(velvet.outputs[0], add.inputs[1])
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(add.outputs[0], output.inputs["Surface"])
+    cycles, whitted, lit, ratio = lobe_under_sun(empty_scene, material, tmp_path)
+    low, median, high = np.percentile(ratio, [5, 50, 95])
+    energy = whitted[lit][:, :3].sum() / cycles[lit][:, :3].sum()
+    print(
+        f"\nprincipled + velvet: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}, "
+        f"summed {energy:.4f}"
+    )
+    assert 0.99 < energy < 1.01
     assert 0.99 < median < 1.01
     assert low > 0.97 and high < 1.03
 

@@ -221,7 +221,7 @@ TEST(Velvet, TheShapeIsFiniteAndNonNegativeAndNothingFromBehind) {
     for (const float cos_l : {-0.2f, 0.0f, 1e-6f, 0.3f, 1.0f}) {
       for (const float cos_v : {-0.2f, 0.0f, 1e-6f, 0.5f, 1.0f}) {
         for (const float l_dot_v : {-1.0f, -0.5f, 0.0f, 0.9f, 1.0f}) {
-          const float shape = velvet_diffuse(cos_l, cos_v, l_dot_v, sigma);
+          const float shape = velvet_sheen(cos_l, cos_v, l_dot_v, sigma);
           EXPECT_TRUE(std::isfinite(shape)) << cos_l << " " << cos_v << " " << l_dot_v;
           EXPECT_GE(shape, 0.0f);
           if (cos_l <= 0.0f || cos_v <= 0.0f) EXPECT_EQ(shape, 0.0f);

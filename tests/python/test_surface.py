@@ -202,3 +202,34 @@ def test_burley_diffuse_roughness_from_a_program_as_from_a_constant():
     np.testing.assert_array_equal(driven, constant)
     assert not np.allclose(constant, lambert, rtol=1e-3)
     assert wn.Material(diffuse_roughness=3.0).diffuse_roughness == 1.0
+
+
+def test_a_sheen_lobe_adds_to_a_burley_diffuse_lobe_of_its_own():
+    # The sheen is a lobe beside the diffuse one, each keeping its shape: a Burley
+    # diffuse and a velvet sheen together render the sum of each alone (Cycles' Add
+    # Shader of a Principled and a Velvet BSDF), and a program drives the sheen as the
+    # constants do.
+    burley = {"diffuse_model": wn.DiffuseModel.BURLEY, "diffuse_roughness": 0.5}
+    velvet = {"sheen": (0.3, 0.6, 0.9), "sheen_roughness": 0.4}
+    both = floor_image(wn.Material(diffuse=(0.5,) * 3, ambient=0.0, **burley, **velvet))
+    diffuse = floor_image(wn.Material(diffuse=(0.5,) * 3, ambient=0.0, **burley))
+    sheen = floor_image(wn.Material(diffuse=(0.0,) * 3, ambient=0.0, **velvet))
+    np.testing.assert_allclose(both[..., :3], diffuse[..., :3] + sheen[..., :3], rtol=1e-5)
+    assert sheen[..., :3].max() > 0.01 and not np.allclose(sheen[..., 0], sheen[..., 2])
+    program = wn.Program(
+        np.zeros((0, 8), np.uint32),
+        np.array([[0.3, 0.6, 0.9, 0.0], [0.4, 0.0, 0.0, 0.0]], np.float32),
+        np.zeros(0, np.float32),
+        [],
+    )
+    driven = floor_image(
+        wn.Material(
+            diffuse=(0.0,) * 3,
+            ambient=0.0,
+            program=program,
+            outputs={"sheen": 0, "sheen_roughness": 1},
+        )
+    )
+    np.testing.assert_array_equal(driven, sheen)
+    material = wn.Material(sheen=(-1.0, 0.5, 2.0), sheen_roughness=3.0)
+    assert tuple(material.sheen) == (0.0, 0.5, 2.0) and material.sheen_roughness == 1.0

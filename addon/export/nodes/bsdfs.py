@@ -128,16 +128,15 @@ def _lambert_of_color(description):
 def _velvet(s, out):
     """Blender 3.x's Velvet BSDF and 4.x's Sheen BSDF of the Ashikhmin distribution:
     Ashikhmin's velvet lobe of its sigma (3.x Sigma, 4.x Roughness), as Cycles evaluates
-    it (native DiffuseModel VELVET). 4.x's Microfiber distribution is approximated by it."""
+    it: the material's sheen lobe, beside any diffuse lobe an Add or Mix Shader brings
+    (native Material.sheen). 4.x's Microfiber distribution is approximated by it."""
     node = out.node
     sigma_names = ("Sigma", "Roughness")
     if getattr(node, "distribution", "ASHIKHMIN") != "ASHIKHMIN":
         s.c.warn(node, "the Microfiber sheen is approximated by Ashikhmin's velvet lobe")
     color = s.color(out, ("Color",), (0.8, 0.8, 0.8, 1.0))
     sigma = s.b.clamp01(s.scalar(out, sigma_names, 1.0))
-    return s.closure(
-        diffuse=color, normal=s.normal(out), diffuse_model="VELVET", diffuse_roughness=sigma
-    )
+    return s.closure(sheen=color, normal=s.normal(out), sheen_roughness=sigma)
 
 
 def _toon(s, out):

@@ -40,6 +40,7 @@ LINEAR_FIELDS = (
     "emission",
     "coat_specular",
     "coat_reflectivity",
+    "sheen",
 )
 WEIGHTED_FIELDS = (
     "shininess",
@@ -50,6 +51,7 @@ WEIGHTED_FIELDS = (
     "roughness",
     "coat_roughness",
     "anisotropy",
+    "sheen_roughness",
 )
 DEFAULTS = {
     "shininess": 1.0,
@@ -60,6 +62,7 @@ DEFAULTS = {
     "roughness": 0.0,
     "coat_roughness": 0.0,
     "anisotropy": 0.0,
+    "sheen_roughness": 0.0,
 }
 
 
@@ -194,6 +197,8 @@ class ShaderLowering:
             # A glossy lobe, by its roughness, and an anisotropic one by its anisotropy.
             "roughness": coverage if "roughness" in fields else self.b.f(0.0),
             "anisotropy": coverage if "anisotropy" in fields else self.b.f(0.0),
+            # A sheen lobe, by its sigma.
+            "sheen_roughness": coverage if "sheen_roughness" in fields else self.b.f(0.0),
         }
         return Closure(
             coverage, values, weights, normal, coat_normal, diffuse_model, multiscatter, tangent

@@ -43,6 +43,16 @@ inline Vec3 reflect(const Vec3& u, const Vec3& n) {
   return u - 2.0f * glm::dot(u, n) * n;
 }
 
+// Cycles' tangent at a shading point: `tangent` (world) made perpendicular to the unit
+// normal n, cross(n, normalize(cross(t, n))), whichever side n faces; zero where t is zero
+// or along n.
+inline Vec3 tangent_across(const Vec3& tangent, const Vec3& n) {
+  const Vec3 across = glm::cross(tangent, n);
+  const float length = glm::length(across);
+  if (!(length > 0.0f)) return Vec3(0.0f);
+  return glm::cross(n, across / length);
+}
+
 // Refraction of unit incident direction u through a surface with unit normal n facing
 // against u (dot(u, n) < 0). eta = eta_incident / eta_transmitted. Snell's law:
 // eta1 sin(theta_i) = eta2 sin(theta_t). Returns false on total internal reflection.

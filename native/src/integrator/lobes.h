@@ -1,7 +1,7 @@
 // The lobes the local term is made of, beside the Lambertian diffuse and the Phong
 // highlight written where the kernel uses them (local.h light_terms): the diffuse
-// lobes' shapes (Burley, velvet, Oren-Nayar) and the coat, a clear layer over the base;
-// the microfacet lobes are scene/microfacet.h's.
+// lobes' shapes (Burley, Oren-Nayar), the sheen's (velvet) and the coat, a clear layer
+// over the base; the microfacet lobes are scene/microfacet.h's.
 #pragma once
 
 #include <algorithm>
@@ -34,13 +34,13 @@ inline float burley_diffuse(float cos_l, float cos_v, float l_dot_v, float rough
          retro * (f_l + f_v + f_l * f_v * (retro - 1.0f));
 }
 
-// The shape of a kVelvet lobe, relative to Lambert's: Ashikhmin's velvet distribution
+// The shape of the sheen lobe, relative to Lambert's: Ashikhmin's velvet distribution
 // D = exp(-cot^2(h) / sigma^2) / (pi sigma^2 sin^4(h)) with the shadowing
 // G = min(1, 2 (n.h)(n.v)/(v.h), 2 (n.h)(n.l)/(v.h)), whose f cos_l = D G / (4 cos_v), as
 // Cycles evaluates its velvet closure (sigma at least 0.01). From cos_l = n.l, cos_v = n.v
 // and l_dot_v = l.v: |l + v| = sqrt(2 + 2 l.v), n.h = (n.l + n.v)/|l + v|,
-// v.h = (1 + l.v)/|l + v|. Returns pi f / 1, what multiplies kd/pi.
-inline float velvet_diffuse(float cos_l, float cos_v, float l_dot_v, float sigma) {
+// v.h = (1 + l.v)/|l + v|. Returns pi f, what multiplies sheen/pi.
+inline float velvet_sheen(float cos_l, float cos_v, float l_dot_v, float sigma) {
   if (cos_l <= 0.0f || cos_v <= 0.0f) return 0.0f;
   const float length = std::sqrt(std::max(2.0f + 2.0f * l_dot_v, 0.0f));
   if (!(length > 0.0f)) return 0.0f;

@@ -27,18 +27,18 @@ inline float phong_lobe(const ShadingPoint& p, float v_dot_r) {
 }
 
 // The diffuse lobe's factors for light from wi (fade, loss): Cycles' bump shadowing,
-// times the lobe's shape where it is not Lambert's (material.h's DiffuseModel).
+// times the lobe's shape where it is not Lambert's (material.h's DiffuseModel); and the
+// sheen lobe's shape, under the same shadowing.
 inline void diffuse_fade(const ShadingPoint& p, const Vec3& wi, float cos_l, LightTerms* t) {
   const Material& m = *p.it.material;
   t->fade = diffuse_shadowing(m.bump_shadowing, p.smooth, p.ns, wi);
-  if (m.diffuse_model == DiffuseModel::kLambert) return;
+  const bool sheen = !is_black(p.surface.sheen);
+  if (m.diffuse_model == DiffuseModel::kLambert && !sheen) return;
   const float cos_v = glm::dot(p.ns, p.wo);
   const float l_dot_v = glm::dot(wi, p.wo);
+  if (sheen) t->sheen = t->fade * velvet_sheen(cos_l, cos_v, l_dot_v, p.surface.sheen_roughness);
+  if (m.diffuse_model == DiffuseModel::kLambert) return;
   const float r = p.surface.diffuse_roughness;
-  if (m.diffuse_model == DiffuseModel::kVelvet) {
-    t->fade *= velvet_diffuse(cos_l, cos_v, l_dot_v, r);
-    return;
-  }
   if (m.diffuse_model == DiffuseModel::kBurley) {
     t->fade *= burley_diffuse(cos_l, cos_v, l_dot_v, r);
     return;
@@ -58,17 +58,18 @@ inline LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l
       0.0f,
       phong_lobe(p, v_dot_r),
       coat_highlight(p.coat, p.wo, wi, p.it.material->masking),
-      p.alpha > 0.0f ? p.base * ggx_reflection(p.ggx, p.wo, wi, p.it.material->masking) : 0.0f};
+      p.alpha > 0.0f ? p.base * ggx_reflection(p.ggx, p.wo, wi, p.it.material->masking) : 0.0f,
+      0.0f};
   diffuse_fade(p, wi, cos_l, &t);
   return t;
 }
 
 // A lamp's terms its ray visibility hides: the diffuse ones when it lights no diffuse
-// surface (`diffuse` false), the specular ones (Phong, coat, glossy) when no glossy one
-// shows it (`glossy` false).
+// surface (`diffuse` false), the specular ones (Phong, coat, glossy, and the sheen, a
+// glossy closure in Cycles) when no glossy one shows it (`glossy` false).
 inline void unseen(bool diffuse, bool glossy, LightTerms* t) {
   if (!diffuse) t->fade = t->loss = 0.0f;
-  if (!glossy) t->lobe = t->coat = t->glossy = 0.0f;
+  if (!glossy) t->lobe = t->coat = t->glossy = t->sheen = 0.0f;
 }
 
 // An emitter feeler's MIS weight (mis.h) on its glossy lobes' share of t: the base's GGX
@@ -90,6 +91,7 @@ inline Color unshadowed(const ShadingPoint& p, const LightTerms& t, const Color&
                      surface.specular * (p.phong_norm * t.lobe);
   Color share = (t.lit * brdf + Color(t.coat)) * irradiance;
   if (p.alpha > 0.0f) share += surface.reflectivity * p.energy * t.glossy * irradiance;
+  if (t.sheen > 0.0f) share += sheen_share(p, t) * irradiance;
   return share;
 }
 

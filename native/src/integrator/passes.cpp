@@ -123,7 +123,8 @@ void PassRecorder::local(const ShadingPoint& p, int depth, const Color& emission
   if (depth == 0 && light_) {
     // kd and ks, under a coat times what it lets through; the coat's highlight is specular.
     const Color diffuse_color = p.base * p.surface.diffuse;
-    const Color specular_color = p.base * p.surface.specular + Color(p.coat.highlight);
+    const Color specular_color =
+        p.base * (p.surface.specular + p.surface.sheen) + Color(p.coat.highlight);
     record_->emission += throughput_ * emission;
     record_->diffuse_direct += throughput_ * diffuse_;
     record_->diffuse_indirect += throughput_ * ambient;
@@ -144,8 +145,8 @@ void PassRecorder::split(const ShadingPoint& p, const Split& split, bool glossy)
   // kSharpGuideAlpha) or near-specular (the others), each weighing its colour.
   const bool rough_reflection = reflection_lobe(p, split, glossy).ggx.alpha() > kSharpGuideAlpha;
   const bool rough_refraction = glossy && p.alpha > kSharpGuideAlpha;
-  const Color rough = p.base * (p.surface.diffuse + p.surface.specular) + Color(p.coat.highlight) +
-                      (rough_reflection ? split.sigma_r : Color(0.0f)) +
+  const Color rough = p.base * (p.surface.diffuse + p.surface.specular + p.surface.sheen) +
+                      Color(p.coat.highlight) + (rough_reflection ? split.sigma_r : Color(0.0f)) +
                       (rough_refraction ? split.sigma_t : Color(0.0f));
   const Color sharp = (rough_reflection ? Color(0.0f) : split.sigma_r) +
                       (rough_refraction ? Color(0.0f) : split.sigma_t);

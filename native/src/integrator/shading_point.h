@@ -38,6 +38,7 @@ struct LightTerms {
   float lobe;    // (v.r)^f: ks * phong_norm * lobe is the Phong lobe
   float coat;    // the coat's highlight
   float glossy;  // (1 - coat) * the GGX lobe times (l.n): reflectivity * glossy is its share
+  float sheen;   // the velvet lobe's shape: sheen_share
 };
 
 // The geometric and shading normals of a hit turned to face the ray; a shading normal
@@ -102,6 +103,12 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
           glossy ? alpha : 0.0f,
           energy,
           ggx};
+}
+
+// A light sample's share through the sheen lobe, per unit of what arrives: the velvet
+// lobe weighted by the sheen colour, kd/pi's place taken by sheen/pi.
+inline Color sheen_share(const ShadingPoint& p, const LightTerms& t) {
+  return p.surface.sheen * (t.lit * kInvPi * t.sheen);
 }
 
 }  // namespace whitted

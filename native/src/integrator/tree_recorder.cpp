@@ -109,6 +109,7 @@ void TreeRecorder::unshadowed(Node node, const ShadingPoint& p, const LightTerms
               arriving * (t.lit * t.loss) * p.multiscatter;
   n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
   if (p.alpha > 0.0f) n.specular += arriving * t.glossy * p.surface.reflectivity * p.energy;
+  if (t.sheen > 0.0f) n.specular += arriving * sheen_share(p, t);
   n.cut = TreeCut::kUnshadowed;
 }
 

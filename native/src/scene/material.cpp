@@ -20,13 +20,19 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
   }
   if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
-  if (static_cast<uint32_t>(diffuse_model) > static_cast<uint32_t>(DiffuseModel::kVelvet)) {
+  if (static_cast<uint32_t>(diffuse_model) >
+      static_cast<uint32_t>(DiffuseModel::kOrenNayarEnergy)) {
     throw std::invalid_argument("diffuse_model is not a DiffuseModel");
   }
   if (!std::isfinite(diffuse_roughness)) {
     throw std::invalid_argument("diffuse_roughness must be finite");
   }
   diffuse_roughness = std::clamp(diffuse_roughness, 0.0f, 1.0f);
+  if (!is_finite(sheen) || !std::isfinite(sheen_roughness)) {
+    throw std::invalid_argument("sheen and sheen_roughness must be finite");
+  }
+  sheen = glm::max(sheen, Color(0.0f));
+  sheen_roughness = std::clamp(sheen_roughness, 0.0f, 1.0f);
   if (!std::isfinite(roughness)) throw std::invalid_argument("roughness must be finite");
   roughness = std::clamp(roughness, 0.0f, 1.0f);
   if (!std::isfinite(anisotropy)) throw std::invalid_argument("anisotropy must be finite");

@@ -46,6 +46,8 @@ namespace whitted {
   X(kCoatRoughnessField, "coat_roughness", 1)       \
   X(kAnisotropyField, "anisotropy", 1)              \
   X(kTangentField, "tangent", 3)                    \
+  X(kSheenField, "sheen", 3)                        \
+  X(kSheenRoughnessField, "sheen_roughness", 1)     \
   X(kVolumeAbsorptionField, "volume_absorption", 3) \
   X(kVolumeScatteringField, "volume_scattering", 3) \
   X(kVolumeAnisotropyField, "volume_anisotropy", 1) \
@@ -103,8 +105,6 @@ enum class DiffuseModel : uint32_t {
   kOrenNayarEnergy,  // the same plus the multiple scattering Cycles 4.3+ adds to keep
                      // its energy (oren_nayar_multiscatter), also for the Principled
                      // BSDF's Diffuse Roughness
-  kVelvet,           // Ashikhmin's velvet (velvet_diffuse): the Velvet BSDF (3.x) and the
-                     // Sheen BSDF's Ashikhmin distribution (4.x+), its sigma the roughness
 };
 
 // Which sides of an emissive mesh shadow feelers sample as a light (Cycles' Emission
@@ -153,6 +153,9 @@ struct MaterialParams {
   BumpShadowing bump_shadowing = BumpShadowing::kNone;
   DiffuseModel diffuse_model = DiffuseModel::kLambert;
   float diffuse_roughness = 0.0f;
+  // The sheen lobe (lobes.h velvet_sheen): a lobe of its own beside the diffuse one.
+  Color sheen{0.0f};
+  float sheen_roughness = 0.0f;
   std::string diffuse_texture{};
   std::string alpha_texture{};
   std::shared_ptr<const Program> program{};
@@ -256,6 +259,12 @@ inline constexpr auto kMaterialParams = std::tuple{
                   "The shape of the diffuse lobe (a DiffuseModel)."},
     MaterialParam{"diffuse_roughness", &MaterialParams::diffuse_roughness,
                   "Roughness in [0, 1] (clamped) shaping a diffuse_model other than LAMBERT."},
+    MaterialParam{"sheen", &MaterialParams::sheen,
+                  "Weight (linear RGB) of the sheen lobe: Ashikhmin's velvet (the Velvet BSDF, "
+                  "the Sheen BSDF), a lobe of its own beside the diffuse one; negative is 0."},
+    MaterialParam{"sheen_roughness", &MaterialParams::sheen_roughness,
+                  "The velvet lobe's sigma in [0, 1] (clamped): higher spreads the sheen from "
+                  "the grazing views."},
     MaterialParam{"diffuse_texture", &MaterialParams::diffuse_texture,
                   "Name of a scene texture whose RGB multiplies diffuse (empty: none)."},
     MaterialParam{"alpha_texture", &MaterialParams::alpha_texture,

@@ -139,6 +139,8 @@ struct SurfaceParams {
   float coat_roughness;     // the coat's, likewise
   float anisotropy;         // the reflection lobe's (Material::anisotropy)
   Vec3 tangent;             // the lobe's tangent (world); zero: none, the lobe is round
+  Color sheen;              // the sheen lobe's weight (Material::sheen)
+  float sheen_roughness;    // its sigma, in [0, 1]
 };
 
 // A material's fields before its textures and program: CompiledScene::material_constants

@@ -65,7 +65,8 @@ SurfaceParams constant_surface(const Material& m) {
           m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
           Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
           m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness,
-          m.coat_roughness, m.anisotropy,    Vec3(0.0f)};
+          m.coat_roughness, m.anisotropy,    Vec3(0.0f),          m.sheen,
+          m.sheen_roughness};
 }
 
 TexturePoint CompiledScene::texture_point(const Interaction& it) const {
@@ -247,11 +248,7 @@ struct SurfaceHit {
     const Vec3 object = axis == 0   ? Vec3(0.0f, -g.z, g.y)
                         : axis == 1 ? Vec3(-g.z, 0.0f, g.x)
                                     : Vec3(-g.y, g.x, 0.0f);
-    const Vec3 t = instance.placement.normal_to_world * object;
-    const Vec3 across = glm::cross(t, hit.normal);
-    const float length = glm::length(across);
-    if (!(length > 0.0f)) return Vec3(0.0f);
-    return glm::cross(hit.normal, across / length);
+    return tangent_across(instance.placement.normal_to_world * object, hit.normal);
   }
   // The object-space normal a tangent-space normal map bends: the interpolated corner
   // normals, not normalised, or the face's normal on a flat mesh.
@@ -536,6 +533,11 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
       // non-finite one is none.
       const Vec3 tangent(field(kTangentField));
       if (is_finite(tangent)) out.tangent = tangent;
+    }
+    if (m.driven(kSheenField)) out.sheen = glm::max(Color(field(kSheenField)), Color(0.0f));
+    if (m.driven(kSheenRoughnessField)) {
+      const float sigma = field(kSheenRoughnessField).x;  // NaN: the material's own
+      if (!std::isnan(sigma)) out.sheen_roughness = std::clamp(sigma, 0.0f, 1.0f);
     }
   }
   out.alpha = clamp_alpha(out.alpha);
