@@ -510,6 +510,26 @@ def musgrave_case(dimensions, musgrave_type, **inputs):
     return NodeCase(name, build, "Musgrave Texture", procedural=True)
 
 
+GABOR = hasattr(bpy.types, "ShaderNodeTexGabor")  # Blender 4.3+
+
+
+def gabor_case(gabor_type, output, **inputs):
+    """A Gabor Texture over UV (Blender 4.3+); inputs by identifier."""
+
+    def build(tree, uv):
+        node = _node(tree, "ShaderNodeTexGabor", gabor_type=gabor_type)
+        _texture_input(tree, uv, node)
+        for identifier, value in inputs.items():
+            next(s for s in node.inputs if s.identifier == identifier).default_value = value
+        return _texture_output(tree, node, output)
+
+    suffix = "_".join(f"{k.lower().replace(' ', '_')}" for k in inputs)
+    return NodeCase(
+        f"gabor_{gabor_type.lower()}_{output.lower()}{'_' + suffix if suffix else ''}",
+        build, "Gabor Texture", procedural=True,
+    )  # fmt: skip
+
+
 MUSGRAVE = hasattr(bpy.types, "ShaderNodeTexMusgrave")
 # Values that keep each fractal within a few units (a Hybrid or Ridged of high Gain grows
 # fast): Detail with a fractional octave, Dimension and Lacunarity off their defaults.
@@ -605,6 +625,18 @@ PROCEDURAL_CASES = [
         if MUSGRAVE
         else ()
     ),
+    *(
+        (
+            gabor_case("2D", "Value"),
+            gabor_case("2D", "Phase", Scale=3.0, Frequency=3.5),
+            gabor_case("2D", "Intensity", Anisotropy=0.4, **{"Orientation 2D": 1.1}),
+            gabor_case("3D", "Value", Scale=2.5),
+            gabor_case("3D", "Intensity", Anisotropy=0.6, **{"Orientation 3D": (0.3, 0.8, 0.5)}),
+            gabor_case("3D", "Phase", Anisotropy=0.0, Frequency=1.5),
+        )
+        if GABOR
+        else ()
+    ),
     brick_case("color", Scale=2.0, Bias=0.2, **{"Mortar Smooth": 0.5, "Mortar Size": 0.05}),
     brick_case("squash_fac", "Fac", {"offset": 0.3, "offset_frequency": 3, "squash": 0.6,
                                       "squash_frequency": 2}, Scale=2.5,
@@ -618,6 +650,19 @@ def tex_coord_case(output):
         return node.outputs[output]
 
     return NodeCase(f"texture_coordinate_{output.lower()}", build, "Texture Coordinate")
+
+
+def _other_object_coordinates(tree, uv):
+    # Texture Coordinate > Object of another object: the point in that object's space
+    # (an empty turned, stretched and moved, so every entry of its inverse counts).
+    empty = bpy.data.objects.new("Frame", None)
+    bpy.context.scene.collection.objects.link(empty)
+    empty.location = (0.3, -0.2, 0.5)
+    empty.rotation_euler = (0.4, -0.3, 0.7)
+    empty.scale = (1.5, 0.5, 2.0)
+    bpy.context.view_layer.update()
+    node = _node(tree, "ShaderNodeTexCoord", object=empty)
+    return node.outputs["Object"]
 
 
 def light_path_case(output):
@@ -773,6 +818,7 @@ CASES = [
     ),
     *PROCEDURAL_CASES,
     *(tex_coord_case(o) for o in ("UV", "Generated", "Object", "Normal", "Camera", "Window")),
+    NodeCase("texture_coordinate_other_object", _other_object_coordinates, "Texture Coordinate"),
     *(light_path_case(o) for o in ("Is Camera Ray", "Is Shadow Ray", "Ray Depth", "Ray Length")),
     *(
         light_falloff_case(o, smooth)

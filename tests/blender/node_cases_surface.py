@@ -92,8 +92,20 @@ def tangent_case(name, axis):
     return SurfaceCase(name, build, tilt=True, uniform=False)
 
 
+def _uv_map_tangent(tree):
+    """The Tangent node of a second UV map, "Turned", whose u runs at 35 degrees to the
+    plane's x: the tangent leans in the plane and the tilt carries it off every axis."""
+    mesh = bpy.data.objects["Plane"].data
+    turned = mesh.uv_layers.new(name="Turned")
+    c, s = math.cos(math.radians(35.0)), math.sin(math.radians(35.0))
+    corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
+    turned.data.foreach_set("uv", [v for x, y in corners for v in (c * x + s * y, c * y - s * x)])
+    return _node(tree, "ShaderNodeTangent", direction_type="UV_MAP", uv_map="Turned").outputs[0]
+
+
 CASES = [
     SurfaceCase("texture_coordinate_normal_tilted", _normal, tilt=True),
+    SurfaceCase("tangent_uv_map_tilted", _uv_map_tangent, tilt=True),
     tangent_case("tangent_radial_z_tilted", "Z"),
     tangent_case("geometry_tangent_tilted", None),
     bump_case("bump_object", "Object", 0.7, -0.4),

@@ -39,8 +39,9 @@ def _tex_coord(c, out):
     name = output_name(out)
     if name == "UV":
         return c.uv("")
-    if getattr(out.node, "object", None) is not None and name == "Object":
-        c.warn(out.node, "Object coordinates of another object are not supported; its own")
+    other = getattr(out.node, "object", None)
+    if other is not None and name == "Object":
+        return _in_object_space(c, other)
     if name == "Normal" and not c.world:
         # Cycles' Normal output is the shading normal in object space.
         return c.hit(ops.IN_OBJECT_NORMAL)
@@ -50,6 +51,21 @@ def _tex_coord(c, out):
         flip = c.b.const((1.0, 1.0, -1.0), VECTOR)
         return c.b.vmul(c.hit(ops.IN_CAMERA), flip, VECTOR)
     return c.hit(getattr(ops, _TEX_COORD[name]))
+
+
+def _in_object_space(c, other):
+    """The hit's world position in `other`'s object space, as Cycles' Object output of a
+    Texture Coordinate node naming another object: that object's inverse transform at the
+    frame (no motion blur of it) times the point, its rows dotted with the point."""
+    inverse = other.matrix_world.inverted_safe()
+    point = c.hit(ops.IN_POSITION)
+    b = c.b
+    rows = [
+        b.add(b.vmath("DOT_PRODUCT", point, b.const(tuple(inverse[i][:3]), VECTOR)),
+              b.f(inverse[i][3]))
+        for i in range(3)
+    ]  # fmt: skip
+    return b.pack(*rows)
 
 
 _GEOMETRY = {
@@ -233,13 +249,14 @@ def _warn_linked_normal(c, out):
 
 def _tangent(c, out):
     # Cycles' Tangent node: radial about the object's X, Y or Z axis (IN_RADIAL_TANGENT),
-    # or the UV map's tangent.
+    # or the UV map's tangent (the one a tangent-space normal map reads: its MikkTSpace
+    # tangent), carried to the world and made perpendicular to the normal (UV_TANGENT).
     node = out.node
-    axis = "XYZ".index(node.axis)
     if node.direction_type == "UV_MAP":
-        c.warn(node, "UV map tangents are not supported; the radial tangent about Z is used")
-        axis = 2
-    return c.hit(ops.IN_RADIAL_TANGENT + axis)
+        uv_set = c.needs.uv_set(node.uv_map)
+        c.needs.tangents.add(uv_set)
+        return c.b.op(ops.UV_TANGENT, 0, (), e=("set", uv_set), kind=VECTOR)
+    return c.hit(ops.IN_RADIAL_TANGENT + "XYZ".index(node.axis))
 
 
 def _normal_map(c, out):

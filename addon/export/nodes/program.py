@@ -94,8 +94,8 @@ def emit(fields):
                 constant_offsets[expr.e] = len(constants)
                 constants.extend(expr.e)
             e = constant_offsets[expr.e]
-        elif expr.op == ops.NORMAL_MAP:
-            e = expr.e[1]
+        elif expr.op in (ops.NORMAL_MAP, ops.UV_TANGENT):
+            e = expr.e[1]  # ("set", the UV set whose tangents it reads)
         row = [expr.op, expr.mode, out, *operands[:4]]
         row += [ops.UNUSED] * (7 - len(row))
         code.append((*row, e))

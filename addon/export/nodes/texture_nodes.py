@@ -268,6 +268,23 @@ def _white_noise(c, out):
     return noise if color else c.b.swizzle(noise, 3)
 
 
+def _gabor(c, out):
+    # Blender 4.3's Gabor Texture (native shader/gabor.cpp): Orientation is an angle in
+    # 2D, a direction in 3D (identifiers "Orientation 2D" and "Orientation 3D").
+    node = out.node
+    vector = _texture_vector(c, out)
+    scale, frequency, anisotropy = _float_inputs(
+        c, out, (("Scale", 5.0), ("Frequency", 2.0), ("Anisotropy", 1.0))
+    )
+    if node.gabor_type == "2D":
+        orientation = c.input(out, ("Orientation 2D",), FLOAT) or c.b.f(math.pi / 4.0)
+    else:
+        default = c.b.const((math.sqrt(2.0), math.sqrt(2.0), 0.0), VECTOR)
+        orientation = c.input(out, ("Orientation 3D",), VECTOR) or default
+    mode = ops.pack("GABOR", gabor_type=node.gabor_type, output=output_name(out).upper())
+    return c.b.op(ops.GABOR, mode, (vector, scale, frequency, anisotropy, orientation))
+
+
 def _texture_mapping(c, node, vector):
     """`vector` through the node's own Texture Mapping (its sidebar's Location, Rotation
     and Scale, as a Mapping node of its Vector Type); min/max clipping and axis remaps
@@ -345,4 +362,5 @@ TEXTURE_NODES = {
     "ShaderNodeTexSky": _sky,
     "ShaderNodeTexWhiteNoise": _white_noise,
     "ShaderNodeTexMusgrave": _musgrave,
+    "ShaderNodeTexGabor": _gabor,
 }

@@ -21,7 +21,6 @@ from .texture_nodes import TEXTURE_NODES
 
 # Textures the program does not compute (named in their warning).
 PROCEDURALS = {
-    "ShaderNodeTexGabor": "Gabor Texture",
     "ShaderNodeTexIES": "IES Texture",
     "ShaderNodeTexPointDensity": "Point Density Texture",
 }

@@ -52,6 +52,8 @@ enum class Op : uint32_t {
   kWireframe = 39,
   kAmbientOcclusion = 40,
   kBevel = 41,
+  kUvTangent = 42,
+  kGabor = 43,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -66,7 +68,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBevel) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kGabor) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -105,15 +107,20 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kBevel) + 1> kOpTabl
     {"WHITE_NOISE", 2, false},    // a vector, W (shader/procedural.h white_noise)
     {"WAVELENGTH", 1, false},     // a wavelength in nanometres (shader/wavelength.h)
     {"VECTOR_ROTATE", 4, false},  // vector, centre, axis or Euler rotation, angle
-    {"LIGHT_FALLOFF", 3, false},
-    {"WIREFRAME", 5, false},  // size, the point, the triangle's three corners (IN_TRIANGLE)  //
-                              // strength, smooth, the ray's length (IN_RAY_LENGTH)
+    {"LIGHT_FALLOFF", 3, false},  // strength, smooth, the ray's length (IN_RAY_LENGTH)
+    {"WIREFRAME", 5, false},      // size, the point, the triangle's three corners (IN_TRIANGLE)
     // Distance, the normal (unused: the shading normal); traces rays from the hit
     // (ProgramHit::rays).
     {"AMBIENT_OCCLUSION", 2, true},
     // Radius, the hit's point (IN_POSITION) and true normal (IN_TRUE_NORMAL), the Normal
     // input (unused: the shading normal); traces rays near the hit (ProgramHit::rays).
     {"BEVEL", 4, true},
+    // e: a UV set. Its tangent (kInputTangent) carried to the world as a normal and made
+    // perpendicular to the shading normal, as Cycles' Tangent node of a UV map.
+    {"UV_TANGENT", 0, true},
+    // Blender 4.3's Gabor Texture (shader/procedural.h gabor_op): the vector, scale,
+    // frequency, anisotropy, and in e the orientation (2D: an angle, 3D: a direction).
+    {"GABOR", 5, false},
 }};
 
 // The modes of op INPUT: what a hit offers a program.
@@ -173,7 +180,7 @@ enum Input : uint32_t {
   // bump offset (ProgramHit::bump_dx, bump_dy), for the height a Bump node differentiates.
   kInputBumpX = 1u << 8,
   kInputBumpY = 1u << 9,
-  // Not selectable by INPUT: what NORMAL_MAP reads in tangent space, asked of the hit
+  // Not selectable by INPUT: what NORMAL_MAP and UV_TANGENT read, asked of the hit
   // through the same table (Program::inputs).
   kInputTangent = 1u << 16,       // + k: tangent set k, object space xyz, bitangent sign w
   kInputObjectNormal = 1u << 17,  // the unnormalised interpolated normal in object space
@@ -451,6 +458,10 @@ inline constexpr std::array<std::string_view, 5> kVectorRotateNames = {
 // ShaderNodeLightFalloff's outputs: the strength scaled for each falloff.
 inline constexpr std::array<std::string_view, 3> kLightFalloffNames = {"QUADRATIC", "LINEAR",
                                                                        "CONSTANT"};
+// ShaderNodeTexGabor.gabor_type, and which of its outputs GABOR computes.
+inline constexpr std::array<std::string_view, 2> kGaborTypeNames = {"2D", "3D"};
+inline constexpr std::array<std::string_view, 3> kGaborOutputNames = {"VALUE", "PHASE",
+                                                                      "INTENSITY"};
 
 // Each field, named by op (the decoders read these).
 namespace mode_field {
@@ -506,6 +517,8 @@ inline constexpr ModeField kAoInside = flag("inside", 8);
 inline constexpr ModeField kAoOnlyLocal = flag("only_local", 9);
 // BEVEL: its probe rays per evaluation (Blender's Samples).
 inline constexpr ModeField kBevelSamples = number("samples", 0, 8, 256);
+inline constexpr ModeField kGaborType = choice("gabor_type", 0, 1, kGaborTypeNames);
+inline constexpr ModeField kGaborOutput = choice("output", 1, 2, kGaborOutputNames);
 
 inline constexpr std::array kMath = {kMathOperation, kClamp};
 inline constexpr std::array kVectorMath = {kVectorMathOperation};
@@ -536,6 +549,7 @@ inline constexpr std::array kVectorRotate = {kVectorRotateType, kVectorRotateInv
 inline constexpr std::array kLightFalloffOp = {kLightFalloff};
 inline constexpr std::array kAmbientOcclusion = {kAoSamples, kAoInside, kAoOnlyLocal};
 inline constexpr std::array kBevel = {kBevelSamples};
+inline constexpr std::array kGabor = {kGaborType, kGaborOutput};
 }  // namespace mode_field
 
 // The ops whose mode is fields, with them (whitted_native.OP_MODES): all but INPUT (its
@@ -545,7 +559,7 @@ struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 29> kOpModes = {{
+inline constexpr std::array<OpMode, 30> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
@@ -575,6 +589,7 @@ inline constexpr std::array<OpMode, 29> kOpModes = {{
     {Op::kLightFalloff, mode_field::kLightFalloffOp},
     {Op::kAmbientOcclusion, mode_field::kAmbientOcclusion},
     {Op::kBevel, mode_field::kBevel},
+    {Op::kGabor, mode_field::kGabor},
 }};
 
 // The fields of op's mode; empty for INPUT and an op without a mode.

@@ -108,5 +108,9 @@ glm::vec4 magic_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, c
 glm::vec4 brick_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& b, const glm::vec4& c);
 // (Color, Value) with the color field, else the Value in all four.
 glm::vec4 white_noise_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& w);
+// Blender 4.3's Gabor Texture (shader/gabor.cpp): its Value, Phase or Intensity in all four.
+glm::vec4 gabor_op(uint32_t mode, const glm::vec4& vector, const glm::vec4& scale,
+                   const glm::vec4& frequency, const glm::vec4& anisotropy,
+                   const glm::vec4& orientation);
 
 }  // namespace whitted::procedural

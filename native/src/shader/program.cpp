@@ -321,6 +321,10 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
           s.d = input_slot(kInputObjectNormal);
         }
         break;
+      case Op::kUvTangent:
+        if (c[7] >= kUvSets) fail("tangent set out of range");
+        s.e = input_slot(kInputTangent + c[7]);
+        break;
       case Op::kRgbToBw:
       case Op::kBlackbody:
       case Op::kWavelength:
@@ -336,6 +340,7 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.a = reg(3), s.b = reg(4), s.c = reg(5);
         break;
       case Op::kWireframe:
+      case Op::kGabor:
         s.a = reg(3), s.b = reg(4), s.c = reg(5), s.d = reg(6), s.e = reg(7);
         break;
       case Op::kNoise:
@@ -576,6 +581,9 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
                                 tangent ? Vec3(hit.inputs[s.d]) : Vec3(0.0f), hit));
         break;
       }
+      case Op::kUvTangent:
+        out = vector(tangent_across(hit.normal_to_world * Vec3(hit.inputs[s.e]), hit.normal));
+        break;
       case Op::kPack:
         out = vec4(a.x, b.x, c.x, r[s.d].x);
         break;
@@ -599,6 +607,9 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
         break;
       case Op::kWireframe:
         out = scalar(wireframe(a.x, Vec3(b), Vec3(c), Vec3(r[s.d]), Vec3(r[s.e])));
+        break;
+      case Op::kGabor:
+        out = procedural::gabor_op(s.mode, a, b, c, r[s.d], r[s.e]);
         break;
       case Op::kBump:
         out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
