@@ -334,6 +334,7 @@ TEST(Light, LightFalloffProgramScalesByTheDistanceToTheLitPoint) {
   LightParams point;
   point.color = Color(100.0f);
   point.position = Vec3(0.0f, 0.0f, 4.0f);
+  point.program_output = 2;
   for (const float d : {1.0f, 2.5f, 4.0f}) {
     const Vec3 p(0.0f, 0.0f, 4.0f - d);
     point.program = falloff_program(0, 0.5f);
@@ -351,6 +352,7 @@ TEST(Light, LightFalloffProgramScalesByTheDistanceToTheLitPoint) {
     return hit;
   }();
   area.program = falloff_program(2, 2.0f);
+  area.program_output = 2;
   LightHit hit;
   ASSERT_TRUE(intersect_light(Light(area), Ray{Vec3(0.1f, 0.0f, -2.0f), Vec3(0.0f, 0.0f, 1.0f)},
                               kInfinity, &hit));
