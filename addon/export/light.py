@@ -25,6 +25,13 @@ import numpy as np
 
 from .instance import instance_name
 from .light_linking import ALL_SETS
+from .nodes import ops
+from .nodes import warn as _warn
+from .nodes.graph import source
+from .nodes.ir import COLOR, FLOAT
+from .nodes.program import emit
+from .nodes.shaders import surface
+from .nodes.values import Lowering
 
 Vector = tuple[float, float, float]
 
@@ -84,6 +91,12 @@ class LightData:
     # blockers' shadow sets that cast its shadows, a bit per set.
     light_sets: int = ALL_SETS
     shadow_sets: int = ALL_SETS
+    # A node tree whose emission varies over the lamp (Light Falloff's ray length, the
+    # point on it): a nodes.program.ProgramData whose register `program_output` (xyz)
+    # multiplies `color` per feeler and where a ray sees the lamp (native
+    # scene/light.cpp lamp_emission); None: `color` alone, the tree's constant folded in.
+    program: object = None
+    program_output: int = 0
 
 
 def instance_light(
@@ -184,8 +197,10 @@ def _convert_light(name, light, position, unit_axes, scale, default_samples, war
         "direction": tuple(-unit_axes[:, 2]),
         "cast_shadows": getattr(owner, switch),
     }
-    shader = light_shader_factor(name, light, warnings)
+    shader, program, output = light_shader(name, light, warnings)
     color = tuple(c * f for c, f in zip(_light_color(light), shader, strict=True))
+    if program is not None:
+        common |= {"program": program, "program_output": output}
     # Blender 3.x always normalises; 4.x+ lets the artist turn it off.
     normalize = getattr(light, "normalize", True)
     if light.type in {"POINT", "SPOT"}:
@@ -255,31 +270,77 @@ def _samples(light, default_samples, sized):
     return light.whitted.samples or default_samples
 
 
-def light_shader_factor(name, light, warnings):
-    """What a light's node tree (Use Nodes; always on in 5.x) multiplies its colour by,
-    as Cycles reads it: the Emission node's Color x Strength feeding the active Light
-    Output. A tree that computes more (textures, IES, a mix) is not read: (1, 1, 1) and
-    a warning."""
+# What a lamp's program may read (native scene/light.cpp lamp_emission), as Cycles sets up
+# a lamp's shader (shader_setup_from_sample): the point on the lamp (Position), the lamp's
+# normal there (Normal, True Normal: facing the lit point for a point or spot lamp), the
+# direction towards the lit point (Incoming) and the distance to it (Ray Length, which
+# Light Falloff reads).
+LAMP_INPUTS = ("IN_POSITION", "IN_NORMAL", "IN_TRUE_NORMAL", "IN_INCOMING", "IN_RAY_LENGTH")
+# Ops a lamp's program cannot run: images (no texture reaches a lamp yet), a hit's rays and
+# tangents.
+_LAMP_REFUSED_OPS = ("IMAGE", "ENVIRONMENT", "NORMAL_MAP", "BUMP", "AMBIENT_OCCLUSION", "BEVEL")
+
+
+def light_shader(name, light, warnings):
+    """What a light's node tree (Use Nodes; always on in 5.x) multiplies its colour by, as
+    Cycles reads it: the emission its active Light Output receives, lowered as a
+    material's surface is (export/nodes: Emission, Mix and Add Shader, Blackbody, RGB,
+    Math, ...). (factor, None, 0) where that folds to a constant; (1, 1, 1), the
+    ProgramData and its output register where it varies over the lamp and the program
+    reads only LAMP_INPUTS (a point, spot or area lamp); else (1, 1, 1) and a warning.
+    An output fed by nothing emits nothing. A node the lowering does not support (the
+    IES Texture) is warned by name and its input keeps its unlinked value."""
+    white = (1.0, 1.0, 1.0)
     tree = light.node_tree if getattr(light, "use_nodes", False) else None
     if tree is None:
-        return (1.0, 1.0, 1.0)
+        return white, None, 0
     outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight"]
     output = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
-    if output is None or not output.inputs["Surface"].is_linked:
-        return (0.0, 0.0, 0.0)  # nothing feeds the output: Cycles' light emits nothing
-    emission = output.inputs["Surface"].links[0].from_node
-    color, strength = (
-        (emission.inputs["Color"], emission.inputs["Strength"])
-        if emission.bl_idname == "ShaderNodeEmission"
-        else (None, None)
-    )
-    if color is None or color.is_linked or strength.is_linked:
-        warnings.append(
-            f"Whitted: light '{name}''s node tree is not read (only an Emission node's "
-            "Color and Strength are): it lights with its colour and power"
+    if output is None:
+        return (0.0, 0.0, 0.0), None, 0  # no Light Output: Cycles' light emits nothing
+    lowering = Lowering(f"light '{name}'", warnings)
+    emission = surface(lowering, output).fields["emission"]
+    if emission.is_const:
+        return _exact_emission(lowering, output) or tuple(emission.value[:3]), None, 0
+    program, registers = emit({"emission": emission})
+    why = _unrunnable(program, light.type)
+    if why is not None:
+        _warn(
+            warnings,
+            f"Whitted: light '{name}''s node tree is not read: its emission varies over the "
+            f"lamp and {why}; it lights with its colour and power",
         )
-        return (1.0, 1.0, 1.0)
-    return tuple(float(c) * strength.default_value for c in color.default_value[:3])
+        return white, None, 0
+    return white, program, registers["emission"]
+
+
+def _exact_emission(lowering, output):
+    """Color x Strength of an Emission node feeding `output` with constant inputs, in
+    double precision, or None: the factor as it was read before lamp trees were lowered,
+    so that those lamps render the same pixels (the lowering's fold multiplies in the
+    program's float32, an ulp apart)."""
+    found, _ = source(output.inputs["Surface"])
+    if found is None or found.node.bl_idname != "ShaderNodeEmission":
+        return None
+    color = lowering.value(found.node.inputs["Color"], found.scope, COLOR)
+    strength = lowering.value(found.node.inputs["Strength"], found.scope, FLOAT)
+    if not (color.is_const and strength.is_const):
+        return None
+    return tuple(c * strength.value[0] for c in color.value[:3])
+
+
+def _unrunnable(program, light_type):
+    """Why a lamp of `light_type` cannot run `program` per feeler, or None."""
+    if light_type == "SUN":
+        return "a sun's program is not evaluated"
+    refused = {getattr(ops, name): name for name in _LAMP_REFUSED_OPS}
+    allowed = {getattr(ops, name) for name in LAMP_INPUTS}
+    for op, mode, *_ in program.code.tolist():
+        if op in refused:
+            return f"it reads {refused[op].replace('_', ' ').lower()}, which no lamp gives"
+        if op == ops.INPUT and mode not in allowed:
+            return "it reads a coordinate or a path input Whitted gives no lamp"
+    return None
 
 
 def _light_color(light):

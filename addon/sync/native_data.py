@@ -70,6 +70,8 @@ def native_light(native, light):
     # export.light.LightData as a native.Light.
     fields = asdict(light)
     del fields["name"]
+    # Its program as a native.Program (asdict made the ProgramData a dict).
+    fields["program"] = None if light.program is None else native_program(native, light.program)
     fields["type"] = getattr(native.LightType, light.type)
     fields["shape"] = getattr(native.AreaShape, light.shape)
     return native.Light(**fields)

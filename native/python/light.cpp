@@ -1,6 +1,10 @@
 #include "scene/light.h"
 
+#include <memory>
+#include <utility>
+
 #include "bindings.h"
+#include "shader/program.h"
 
 namespace whitted::python {
 
@@ -23,7 +27,8 @@ void bind_light(py::module_& m) {
                        AreaShape shape, int samples, bool cast_shadows, float radius, float angle,
                        bool spot_cosine_falloff, float spread, bool diffuse, bool glossy,
                        std::array<bool, 3> visibility, int max_bounces, uint64_t light_sets,
-                       uint64_t shadow_sets) {
+                       uint64_t shadow_sets, std::shared_ptr<Program> program,
+                       uint32_t program_output) {
              // Light's constructor checks the values (std::invalid_argument: ValueError).
              return Light(LightParams{.type = type,
                                       .color = color,
@@ -48,7 +53,9 @@ void bind_light(py::module_& m) {
                                                     (visibility[2] ? kRefractionRay : 0u),
                                       .max_bounces = max_bounces,
                                       .light_sets = light_sets,
-                                      .shadow_sets = shadow_sets});
+                                      .shadow_sets = shadow_sets,
+                                      .program = std::move(program),
+                                      .program_output = program_output});
            }),
            py::arg("type") = defaults.type, py::arg("color") = defaults.color,
            py::arg("position") = defaults.position, py::arg("direction") = defaults.direction,
@@ -64,14 +71,17 @@ void bind_light(py::module_& m) {
            py::arg("visibility") = std::array<bool, 3>{false, true, true},
            py::arg("max_bounces") = defaults.max_bounces,
            py::arg("light_sets") = defaults.light_sets,
-           py::arg("shadow_sets") = defaults.shadow_sets,
+           py::arg("shadow_sets") = defaults.shadow_sets, py::arg("program") = nullptr,
+           py::arg("program_output") = defaults.program_output,
            "spot_size: the spot's full cone angle in radians, in [0, pi]; spot_blend: the "
            "softness of its edge, in [0, 1]. size: an area's extents along axis_u and axis_v "
            "(world units), shape: RECTANGLE or ELLIPSE. visibility: whether camera, glossy "
            "(reflected) and transmission (refracted) rays see its shape. light_sets, shadow_sets: "
            "light "
            "linking, the receivers' light sets it lights and the blockers' shadow sets that "
-           "cast its shadows, a bit per set (all: no linking).")
+           "cast its shadows, a bit per set (all: no linking). program: a Program whose "
+           "register program_output (xyz) multiplies the colour at each point sampled on the "
+           "lamp and where rays see it (its node tree; Light Falloff's ray length), or None.")
       .def_readonly("type", &Light::type,
                     "The kind of light: POINT, SPOT, SUN or AREA (a LightType).")
       .def_readonly("color", &Light::color,
@@ -114,6 +124,9 @@ void bind_light(py::module_& m) {
       .def_readonly("light_sets", &Light::light_sets,
                     "Light linking: a bit per light set of the receivers it lights (all bits: "
                     "every receiver).")
+      .def_property_readonly(
+          "has_program", [](const Light& light) { return light.program != nullptr; },
+          "Whether a program (its node tree) multiplies its colour per feeler.")
       .def_readonly("shadow_sets", &Light::shadow_sets,
                     "Light linking: a bit per shadow set of the blockers that cast its shadows "
                     "(all bits: all).");

@@ -15,6 +15,7 @@ centre-point filter, Whitted at pixel centres with one reflection.
 import bpy
 import numpy as np
 import pytest
+from test_cycles_lights import falloff_strength
 from test_light import add_light
 from whitted_tools.cycles_scenes import render_rgba, set_cycles_reference
 from whitted_tools.material_scenes import (
@@ -111,6 +112,28 @@ def test_a_mirror_shows_a_sphere_or_spot_lamp_as_cycles(kind, empty_scene, tmp_p
     print(f"\n{kind} in a mirror: SSIM {value:.4f}, {lamps.sum()} px, ratio {ratio:.4f}")
     assert lamps.sum() > 10
     assert ratio == pytest.approx(1.0, abs=0.02)
+    assert value > 0.97
+
+
+def test_a_mirror_shows_lamps_whose_light_falloff_varies_as_cycles(empty_scene, tmp_path, native):
+    # Each area lamp's Strength from Light Falloff (Linear, Strength 0.6): where the
+    # mirror's ray meets the lamp, Cycles runs the lamp's tree at that ray's length, and
+    # Whitted its program (native scene/light.cpp intersect_light, lamp_emission). Before,
+    # the tree was not read: the lamps' own radiance, which Cycles scales by 0.6 times
+    # that length (2 to 3 m here).
+    for lamp in stage(empty_scene, mirror()).values():
+        lamp.data.use_nodes = True
+        nodes = lamp.data.node_tree.nodes
+        falloff_strength("Linear", 0.6)(
+            next(n for n in nodes if n.bl_idname == "ShaderNodeEmission")
+        )
+    cycles, whitted = both(empty_scene, tmp_path)
+    lamps = luminance(cycles[..., :3]) > 0.5
+    value, ratio = subject_figures(whitted, cycles, lamps)
+    print(f"\nfalloff lamps in a mirror: SSIM {value:.4f}, {lamps.sum()} px, ratio {ratio:.4f}")
+    # As the mirror of plain lamps (above): noiseless in Cycles but at the edges.
+    assert lamps.sum() > 40
+    assert ratio == pytest.approx(1.0, abs=0.01)
     assert value > 0.97
 
 

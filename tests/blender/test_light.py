@@ -1,6 +1,7 @@
 """Light export: Cycles' units, directions, area sizes, instances."""
 
 import math
+from dataclasses import replace
 
 import bpy
 import pytest
@@ -224,3 +225,110 @@ def test_zero_scale_light_is_skipped_with_a_warning(empty_scene, warnings):
     add_light(empty_scene, "SUN").scale = (1.0, 1.0, 0.0)
     assert convert(warnings) == []
     assert "zero scale" in warnings[0]
+
+
+def lamp_tree(scene, light_type="POINT", energy=1000.0):
+    """A lamp with its node tree on; (its object, the tree, its Emission node)."""
+    obj = add_light(scene, light_type, energy=energy)
+    obj.data.use_nodes = True
+    tree = obj.data.node_tree
+    emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    return obj, tree, emission
+
+
+def test_a_lamp_tree_of_constants_folds_to_one_factor(empty_scene, warnings):
+    # Mix Shader (0.25) of two Emissions: Cycles' lamp emits the mix of both; Whitted folds
+    # it to the factor of the lamp's power, with no program.
+    _, tree, emission = lamp_tree(empty_scene)
+    emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    emission.inputs["Strength"].default_value = 2.0
+    other = tree.nodes.new("ShaderNodeEmission")
+    other.inputs["Color"].default_value = (0.2, 0.4, 1.0, 1.0)
+    other.inputs["Strength"].default_value = 4.0
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.25
+    tree.links.new(emission.outputs[0], mix.inputs[1])
+    tree.links.new(other.outputs[0], mix.inputs[2])
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight")
+    tree.links.new(mix.outputs[0], output.inputs["Surface"])
+    (light,) = convert(warnings)
+    factor = (0.75 * 2.0 + 0.25 * 0.8, 0.75 * 1.0 + 0.25 * 1.6, 0.75 * 0.5 + 0.25 * 4.0)
+    intensity = 1000.0 / (4.0 * math.pi)
+    assert light.color == pytest.approx(tuple(intensity * f for f in factor), rel=1e-6)
+    assert light.program is None
+    assert warnings == []
+
+
+def test_a_lamp_tree_feeding_nothing_lights_nothing(empty_scene, warnings):
+    _, tree, _ = lamp_tree(empty_scene)
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight")
+    tree.links.remove(output.inputs["Surface"].links[0])
+    (light,) = convert(warnings)
+    assert light.color == (0.0, 0.0, 0.0)
+    assert light.program is None
+
+
+@pytest.mark.parametrize("light_type", ["POINT", "SPOT", "AREA"])
+def test_light_falloff_on_a_lamp_is_a_program_of_the_ray_length(empty_scene, warnings, light_type):
+    # Linear Light Falloff scales the strength by the distance to the lit point: the lamp
+    # carries a program (native scene/light.cpp lamp_emission); its colour is its power.
+    _, tree, emission = lamp_tree(empty_scene, light_type)
+    falloff = tree.nodes.new("ShaderNodeLightFalloff")
+    falloff.inputs["Strength"].default_value = 3.0
+    tree.links.new(falloff.outputs["Linear"], emission.inputs["Strength"])
+    (light,) = convert(warnings)
+    assert warnings == []
+    assert "LIGHT_FALLOFF" in light.program.describe()
+    bare = replace(light, program=None, program_output=0)
+    tree.links.remove(emission.inputs["Strength"].links[0])
+    emission.inputs["Strength"].default_value = 1.0
+    (plain,) = convert(warnings)
+    assert bare == plain
+
+
+def test_quadratic_light_falloff_without_smoothing_is_the_lamps_own_law(empty_scene, warnings):
+    # Quadratic with Smooth 0 is its Strength whatever the distance: folded, no program.
+    _, tree, emission = lamp_tree(empty_scene)
+    falloff = tree.nodes.new("ShaderNodeLightFalloff")
+    falloff.inputs["Strength"].default_value = 3.0
+    falloff.inputs["Smooth"].default_value = 0.0
+    tree.links.new(falloff.outputs["Quadratic"], emission.inputs["Strength"])
+    (light,) = convert(warnings)
+    assert light.program is None
+    assert light.color == pytest.approx((3000.0 / (4.0 * math.pi),) * 3)
+
+
+@pytest.mark.parametrize(
+    ("light_type", "node", "output", "why"),
+    [
+        ("SUN", "ShaderNodeLightFalloff", "Linear", "a sun's program is not evaluated"),
+        ("POINT", "ShaderNodeTexNoise", "Fac", "a coordinate or a path input"),
+    ],
+)
+def test_a_lamp_tree_whitted_cannot_run_is_warned_and_lights_plain(
+    empty_scene, warnings, light_type, node, output, why
+):
+    # A Noise Texture reads the lamp's Generated coordinates, which Whitted does not give
+    # a lamp; a sun runs no program: each is warned by the light's name and lights with its
+    # colour and power, as before.
+    _, tree, emission = lamp_tree(empty_scene, light_type, energy=2.0)
+    source = tree.nodes.new(node)
+    tree.links.new(source.outputs[output], emission.inputs["Strength"])
+    (light,) = convert(warnings)
+    assert light.program is None
+    assert light.color == pytest.approx(
+        (2.0,) * 3 if light_type == "SUN" else (2.0 / (4.0 * math.pi),) * 3
+    )
+    (message,) = warnings
+    assert "light 'Light''s node tree is not read" in message
+    assert why in message
+
+
+def test_an_ies_texture_on_a_lamp_is_named_and_its_input_keeps_its_value(empty_scene, warnings):
+    _, tree, emission = lamp_tree(empty_scene)
+    ies = tree.nodes.new("ShaderNodeTexIES")
+    emission.inputs["Strength"].default_value = 0.5
+    tree.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
+    (light,) = convert(warnings)
+    assert light.color == pytest.approx((500.0 / (4.0 * math.pi),) * 3)
+    assert any("IES Texture is not supported" in w and "light 'Light'" in w for w in warnings)

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "integrator/mis.h"
+#include "program_builder.h"
 
 #include <cmath>
 #include <limits>
@@ -315,6 +316,67 @@ TEST(Light, LampWeightsOfGlossyRaysAndFeelersSumToOne) {
     EXPECT_NEAR(ray, r * r / (1.0f + r * r), 1e-6f);
   }
   EXPECT_EQ(lamp_weight(0.0f, light, density), 1.0f);
+}
+
+// A lamp program: Light Falloff's output `falloff` (0 Quadratic, 1 Linear, 2 Constant) of
+// Strength `strength` at the ray length, in register 2.
+std::shared_ptr<const Program> falloff_program(uint32_t falloff, float strength) {
+  using testing::Row;
+  return std::make_shared<const Program>(testing::make(
+      {Row{Op::kInput, kInputRayLength, 1}, Row{Op::kLightFalloff, falloff, 2, 0, 3, 1}},
+      {glm::vec4(strength), glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)}));
+}
+
+// Light Falloff on a lamp (Cycles evaluates the lamp's node tree at each sample with the
+// distance to the lit point): Linear undoes one power of the inverse square, Constant
+// both, Quadratic neither; where a ray meets an area lamp its radiance is scaled alike.
+TEST(Light, LightFalloffProgramScalesByTheDistanceToTheLitPoint) {
+  LightParams point;
+  point.color = Color(100.0f);
+  point.position = Vec3(0.0f, 0.0f, 4.0f);
+  point.program_output = 2;
+  for (const float d : {1.0f, 2.5f, 4.0f}) {
+    const Vec3 p(0.0f, 0.0f, 4.0f - d);
+    point.program = falloff_program(0, 0.5f);
+    EXPECT_NEAR(sample_light(Light(point), p, 0).irradiance.x, 50.0f / (d * d), 1e-4f);
+    point.program = falloff_program(1, 0.5f);
+    EXPECT_NEAR(sample_light(Light(point), p, 0).irradiance.x, 50.0f / d, 1e-4f);
+    point.program = falloff_program(2, 0.5f);
+    EXPECT_NEAR(sample_light(Light(point), p, 0).irradiance.y, 50.0f, 1e-3f);
+  }
+  LightParams area = square_above_origin(0.5f);
+  const LightHit plain = [&] {
+    LightHit hit;
+    EXPECT_TRUE(intersect_light(Light(area), Ray{Vec3(0.1f, 0.0f, -2.0f), Vec3(0.0f, 0.0f, 1.0f)},
+                                kInfinity, &hit));
+    return hit;
+  }();
+  area.program = falloff_program(2, 2.0f);
+  area.program_output = 2;
+  LightHit hit;
+  ASSERT_TRUE(intersect_light(Light(area), Ray{Vec3(0.1f, 0.0f, -2.0f), Vec3(0.0f, 0.0f, 1.0f)},
+                              kInfinity, &hit));
+  EXPECT_NEAR(hit.t, 3.0f, 1e-5f);
+  EXPECT_NEAR(hit.radiance.z, plain.radiance.z * 2.0f * 9.0f, 1e-4f);
+}
+
+// What a lamp cannot run is refused (ValueError in Python), never run on made-up inputs.
+TEST(Light, RefusesProgramsALampCannotRun) {
+  using testing::Row;
+  LightParams sun;
+  sun.type = LightType::kSun;
+  sun.program = falloff_program(1, 1.0f);
+  EXPECT_THROW(Light{sun}, std::invalid_argument);
+  LightParams point;
+  point.program = falloff_program(1, 1.0f);
+  point.program_output = 4;  // past its four registers
+  EXPECT_THROW(Light{point}, std::invalid_argument);
+  point.program_output = 1;
+  EXPECT_NO_THROW(Light{point});
+  point.program = std::make_shared<const Program>(
+      testing::make({Row{Op::kInput, kInputGenerated, 0}}, {glm::vec4(0.0f)}));
+  point.program_output = 0;
+  EXPECT_THROW(Light{point}, std::invalid_argument);
 }
 
 }  // namespace

@@ -352,6 +352,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "hair and points",
         "light linking",
         "lamps seen by rays",
+        "lamp node trees",
         "ray-traced nodes",
         "depth of field",
         "motion blur",

@@ -123,11 +123,13 @@ def _light_falloff(c, out):
     # Cycles' node at a surface: the Strength scaled by the ray's length to the hit (the
     # camera's, a reflected or refracted ray's, or a shadow feeler's to an emitting mesh),
     # so that a mesh light's inverse-square falloff leaves the named one. In the world the
-    # length is 0 (Cycles' background): Linear and Constant give 0. Lamps do not run
-    # node trees here (docs/SUPPORT.md).
+    # length is 0 (Cycles' background): Linear and Constant give 0. A lamp runs it per
+    # feeler with the distance to the lit point (export/light.py light_shader).
     strength = c.input(out, ("Strength",), FLOAT)
     smooth = c.input(out, ("Smooth",), FLOAT)
     falloff = output_name(out).upper()
+    if falloff == "QUADRATIC" and smooth.is_const and smooth.value[0] <= 0.0:
+        return strength  # the op's identity, folded: no length read
     mode = ops.pack("LIGHT_FALLOFF", falloff=falloff)
     length = c.hit(ops.IN_RAY_LENGTH, FLOAT)
     return c.b.op(ops.LIGHT_FALLOFF, mode, (strength, smooth, length), kind=FLOAT)

@@ -98,6 +98,20 @@ EffectDecision lamps_seen(const CompiledScene& scene) {
           thousands(lamps) + (lamps == 1 ? " lamp" : " lamps") + " seen by " + rays + " rays"};
 }
 
+// The lamps whose node trees run per feeler (Light::program): named, as each of their
+// feelers runs the program.
+EffectDecision lamp_programs(const CompiledScene& scene) {
+  size_t lamps = 0;
+  for (const Light& light : scene.lights) lamps += light.program != nullptr;
+  if (lamps == 0) {
+    return {"lamp node trees", false,
+            "no lamp's emission varies over it (a constant tree is folded into its colour)"};
+  }
+  return {"lamp node trees", true,
+          thousands(lamps) + (lamps == 1 ? " lamp runs its" : " lamps run their") +
+              " node tree at each feeler and where rays see it (Light Falloff)"};
+}
+
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
 // their bounds without a surface (seen by no ray, in the BVH still) or glass with a volume;
 // those with a medium a program drives (heterogeneous.h) counted apart.
@@ -286,6 +300,7 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
   effects->decisions.push_back(lamps_seen(scene));
+  effects->decisions.push_back(lamp_programs(scene));
   effects->decisions.push_back(program_rays(scene));
 }
 

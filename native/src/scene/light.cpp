@@ -1,9 +1,12 @@
 #include "scene/light.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "shader/program.h"
 
 namespace whitted {
 namespace {
@@ -11,6 +14,30 @@ namespace {
 // The narrowest spread an area light takes (Cycles 4.x's; 3.x's is 1 degree): below it
 // the normalisation's float loses the light.
 constexpr float kMinSpread = 0.1f * kPi / 180.0f;
+
+// The inputs lamp_emission gives a lamp's program.
+bool lamp_input(uint32_t mode) {
+  return mode == kInputPosition || mode == kInputNormal || mode == kInputTrueNormal ||
+         mode == kInputIncoming || mode == kInputRayLength;
+}
+
+// Throws std::invalid_argument where `light`'s program is not one lamp_emission runs.
+void require_lamp_program(const Light& light) {
+  const Program& program = *light.program;
+  if (light.type == LightType::kSun) throw std::invalid_argument("a sun runs no program");
+  if (light.program_output >= program.register_count()) {
+    throw std::invalid_argument("a lamp's program output must be one of its registers");
+  }
+  if (!program.textures().empty() || program.traces() || program.bumps()) {
+    throw std::invalid_argument("a lamp's program samples no image, traces no ray, bumps nothing");
+  }
+  for (uint32_t mode : program.inputs()) {
+    if (!lamp_input(mode)) {
+      throw std::invalid_argument(
+          "a lamp's program reads only its point, normal, incoming direction and ray length");
+    }
+  }
+}
 
 void require_finite(bool finite, const char* what) {
   if (!finite) throw std::invalid_argument(std::string("light ") + what + " must be finite");
@@ -134,6 +161,7 @@ Light::Light(const LightParams& params) : LightParams(params) {
     throw std::invalid_argument("light samples must be between 1 and " +
                                 std::to_string(kMaxLightSamples));
   }
+  if (program) require_lamp_program(*this);
   color = glm::max(color, Vec3(0.0f));  // negative power emits nothing
   direction = glm::normalize(direction);
   spot_size = std::clamp(spot_size, 0.0f, kPi);
@@ -223,7 +251,44 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
     case LightType::kSun:
       break;
   }
+  if (light.program && !is_black(irradiance)) {
+    // A point or spot lamp faces the lit point (Cycles' Ng = -D); an area lamp's normal is
+    // the way its light travels.
+    const Vec3 normal = light.type == LightType::kArea ? light.direction : -wi;
+    irradiance *= lamp_emission(light, target, normal, -wi, dist);
+  }
   return {wi, dist, irradiance, density};
+}
+
+Color lamp_emission(const Light& light, const Vec3& point, const Vec3& normal, const Vec3& towards,
+                    float length) {
+  const Program& program = *light.program;
+  std::array<glm::vec4, Program::kMaxInputs> inputs;
+  for (size_t i = 0; i < program.inputs().size(); ++i) {
+    switch (program.inputs()[i]) {
+      case kInputPosition:
+        inputs[i] = glm::vec4(point, 0.0f);
+        break;
+      case kInputNormal:
+      case kInputTrueNormal:
+        inputs[i] = glm::vec4(normal, 0.0f);
+        break;
+      case kInputIncoming:
+        inputs[i] = glm::vec4(towards, 0.0f);
+        break;
+      default:  // kInputRayLength, the last the constructor lets through (lamp_input)
+        inputs[i] = glm::vec4(length);
+        break;
+    }
+  }
+  ProgramHit hit;
+  hit.inputs = inputs.data();
+  hit.incoming = towards;
+  hit.normal = normal;
+  // The register file of one evaluation, on the stack.
+  std::array<glm::vec4, Program::kMaxRegisters + 1> registers;
+  program.run(hit, registers.data());
+  return glm::max(Color(registers[light.program_output]), Color(0.0f));
 }
 
 bool intersect_light(const Light& light, const Ray& ray, float t_max, LightHit* hit) {
@@ -243,8 +308,13 @@ bool intersect_light(const Light& light, const Ray& ray, float t_max, LightHit* 
                             ? a * a + b * b <= 0.25f
                             : std::fabs(a) <= 0.5f && std::fabs(b) <= 0.5f;
     if (!inside) return false;
-    *hit = {t, light.color * spread_attenuation(light.spread, cos_l),
-            t * t / (area_of(light) * cos_l)};
+    Color radiance = light.color * spread_attenuation(light.spread, cos_l);
+    // Its program at the point met, for the ray's length from where it starts (a camera
+    // ray at its near clip distance, as a surface's Ray Length).
+    if (light.program) {
+      radiance *= lamp_emission(light, ray.origin + t * d, light.direction, -d, t - ray.t_min);
+    }
+    *hit = {t, radiance, t * t / (area_of(light) * cos_l)};
     return true;
   }
   // A sphere light: the disc of its radius through its centre, facing the ray's origin.
@@ -263,6 +333,8 @@ bool intersect_light(const Light& light, const Ray& ray, float t_max, LightHit* 
   // a spot's cone at the direction the ray came from, as Cycles weighs it.
   Color radiance = light.color * (1.0f / (kPi * r2));
   if (light.type == LightType::kSpot) radiance *= spot_falloff(light, -d);
+  if (light.program)
+    radiance *= lamp_emission(light, ray.origin + t * d, normal, -d, t - ray.t_min);
   if (is_black(radiance)) return false;
   *hit = {t, radiance, t * t / (kPi * r2 * cos_n)};
   return true;

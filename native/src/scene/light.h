@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -10,6 +11,8 @@
 #include "core/ray.h"
 
 namespace whitted {
+
+class Program;  // shader/program.h
 
 enum class LightType { kPoint, kSpot, kSun, kArea };
 
@@ -63,6 +66,13 @@ struct LightParams {
   // cast its shadows (all: no linking).
   uint64_t light_sets = kAllLightSets;
   uint64_t shadow_sets = kAllLightSets;
+  // A node tree whose emission varies over the lamp (the add-on's export/light.py
+  // light_shader; Light Falloff's ray length, say): the program whose register
+  // `program_output` (xyz) multiplies `color` at each point a feeler samples on the lamp
+  // and where a ray meets its shape (lamp_emission). Null: `color` alone, as for every
+  // lamp whose tree folds to a constant.
+  std::shared_ptr<const Program> program;
+  uint32_t program_output = 0;
 };
 
 // The samples per axis a sized light may ask for (64 x 64 feelers per shading point).
@@ -75,7 +85,9 @@ struct Light : LightParams {
   // clamps what has an obvious nearest light: negative colour to 0 (it emits nothing),
   // spot size to [0, pi], blend to [0, 1], negative sizes and radius to 0, the sun's
   // angle and an area light's spread to [0, pi], negative max bounces to 0. The direction
-  // is normalised.
+  // is normalised. A program must be one a lamp can run (lamp_emission): not on a sun, its
+  // output one of its registers, reading only the inputs a lamp gives and no image, and
+  // tracing no ray.
   explicit Light(const LightParams& params);
 
   bool sized() const {
@@ -113,6 +125,15 @@ struct LightSample {
 // *at of [0, 1)^2 placed on its shape (a Monte Carlo camera sample's draw: lights.h).
 LightSample sample_light(const Light& light, const Vec3& p, int index,
                          const glm::vec2* at = nullptr);
+
+// What light.program gives (xyz; a negative channel emits nothing) at `point` on the lamp,
+// whose normal there is `normal`, for a point `length` away along unit `towards` from it:
+// the inputs Cycles gives a lamp's shader (shader_setup_from_sample: P; N and Ng, facing the
+// lit point on a point or spot lamp, the area's own; I; the ray length Light Falloff
+// reads). The lamp's other inputs (coordinates, Light Path) are not given: the
+// constructor refuses a program that reads them.
+Color lamp_emission(const Light& light, const Vec3& point, const Vec3& normal, const Vec3& towards,
+                    float length);
 
 // Where a ray meets a light's shape, as Cycles' lamps are met: an area light's rectangle
 // or ellipse from its lit side, a point or spot light's sphere as the disc of its radius
