@@ -53,22 +53,26 @@ def udim_image(directory, tiles=TILES):
     return image
 
 
-def udim_case(image, interpolation):
+def udim_case(image, interpolation, projection="FLAT"):
     def build(tree, uv):
         node = _node(tree, "ShaderNodeTexImage", interpolation=interpolation)
+        node.projection = projection
         node.image = image
         mapping = _node(tree, "ShaderNodeMapping", vector_type="POINT")
         mapping.inputs["Scale"].default_value = (3.0, 2.0, 1.0)
+        if projection == "BOX":  # object coordinates, -3 to 3 and -2 to 2 on the plane
+            uv = _node(tree, "ShaderNodeTexCoord").outputs["Object"]
         tree.links.new(uv, mapping.inputs["Vector"])
         tree.links.new(mapping.outputs[0], node.inputs["Vector"])
         return node.outputs["Color"]
 
-    return NodeCase(f"udim_{interpolation.lower()}", build, "Image Texture", image=True)
+    name = f"udim_{projection.lower()}_{interpolation.lower()}"
+    return NodeCase(name, build, "Image Texture", image=True)
 
 
-def render_both(scene, image, interpolation, directory):
+def render_both(scene, image, interpolation, directory, projection="FLAT"):
     """(Whitted's, Cycles') image of the UDIM plane."""
-    case = udim_case(image, interpolation)
+    case = udim_case(image, interpolation, projection)
     build_scene(scene, case)
     set_cycles(scene)
     cycles = render(scene, "CYCLES", str(directory), case.name)
@@ -112,6 +116,14 @@ def test_every_tile_renders_as_in_cycles(interpolation, colorspace, empty_scene,
     assert np.array_equal(np.isin(tiles, TILES), ~np.all(cycles == MISSING, axis=-1))
     for number in TILES:
         assert len(np.unique(cycles[tiles == number], axis=0)) > 4, number
+    assert_as_cycles(whitted, cycles)
+
+
+def test_box_projection_shows_the_first_tile_as_in_cycles(empty_scene, tmp_path):
+    # Cycles projects a UDIM image's first tile on each side, repeated: no magenta.
+    image = udim_image(tmp_path)
+    whitted, cycles = render_both(empty_scene, image, "Closest", tmp_path, "BOX")
+    assert not np.all(cycles == MISSING, axis=-1).any()
     assert_as_cycles(whitted, cycles)
 
 
