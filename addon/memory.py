@@ -5,9 +5,9 @@ unique meshes) would otherwise run until the operating system kills Blender,
 and the artist's unsaved work with it. Before anything large is allocated, the
 memory a render needs is estimated from counts Blender already has (triangles
 of each distinct evaluated mesh, instances, texels of the images the materials
-use, pixels, curve keys and points) and compared with the memory available
-(MemAvailable) or the budget set in the environment variable WHITTED_MEMORY_BUDGET
-(MiB, for farms that share machines).
+use, every tile of a UDIM image, pixels, curve keys and points) and compared
+with the memory available (MemAvailable) or the budget set in the environment
+variable WHITTED_MEMORY_BUDGET (MiB, for farms that share machines).
 
 The costs are what Whitted adds beyond Blender's own memory, measured by
 whitted_tools bench-memory on the performance scenes (docs/MEMORY.md states how
@@ -111,12 +111,17 @@ def estimate(depsgraph, pixels):
             seen.add(address)
             triangles += max(0, len(mesh.loops) - 2 * len(mesh.polygons))
     texels = sum(
-        block.size[0] * block.size[1]
-        for block in depsgraph.ids
-        if isinstance(block, bpy.types.Image)
+        image_texels(block) for block in depsgraph.ids if isinstance(block, bpy.types.Image)
     )
     width, height = map_size(depsgraph.scene.world)
     return MemoryEstimate(triangles, instances, texels, pixels, keys, width * height)
+
+
+def image_texels(image):
+    """The texels of an image: of every tile of a UDIM image (each is read)."""
+    if image.source == "TILED":
+        return sum(tile.size[0] * tile.size[1] for tile in image.tiles)
+    return image.size[0] * image.size[1]
 
 
 def budget():

@@ -67,6 +67,9 @@ DEMO_APT_PACKAGES=(
   # Volume objects' OpenVDB grids (CMake's WHITTED_OPENVDB, on by default); OpenVDB's
   # headers include Boost's (libopenvdb-dev does not depend on them)
   libopenvdb-dev libboost-dev
+  # UDIM tiles beyond the first decoded from their PNG/JPEG/BMP/TGA files (stb_image,
+  # header-only: native/src/scene/image_file.cpp)
+  libstb-dev
 )
 # What the full set-up needs: the demo's, and for the tests and tools:
 APT_PACKAGES=(

@@ -2,14 +2,17 @@
 
 The node mapping (material.py) records each texture as a small spec without
 reading any pixels; `convert_textures` then reads every image once per render
-into a float32 numpy array of linear RGBA, rows bottom to top (Blender's
-`Image.pixels` order, which the tracer uses as is).
+into float32 numpy arrays of linear RGBA, rows bottom to top (Blender's
+`Image.pixels` order, which the tracer uses as is): one for a plain image, one
+per tile for a UDIM image.
 """
 
 from dataclasses import dataclass
 
+import bpy
 import numpy as np
 
+from ..native import load_native
 from .nodes import warn
 
 Color = tuple[float, float, float]
@@ -57,7 +60,10 @@ class CheckerTextureSpec:
 
 @dataclass(frozen=True)
 class ImageTextureData:
-    pixels: np.ndarray  # float32[H,W,4], linear RGBA with straight alpha, rows bottom to top
+    # (tile number, float32[H,W,4] linear RGBA with straight alpha, rows bottom to top):
+    # a plain image's one picture (number 0), or a UDIM image's tiles (udim).
+    tiles: tuple
+    udim: bool
     interpolation: str
     extension: str
     coordinates: str
@@ -96,17 +102,18 @@ def convert_textures(specs, warnings, texture_filter="AUTHORED"):
     `texture_filter` (scene.whitted.texture_filter) is AUTHORED, each node's own
     interpolation, or CLOSEST, which overrides them all.
     """
-    pixels_by_image = {}
+    tiles_by_image = {}
     textures = {}
     for name, spec in specs.items():
         if isinstance(spec, CheckerTextureSpec):
             textures[name] = spec
             continue
         key = spec.image.name_full
-        if key not in pixels_by_image:
-            pixels_by_image[key] = image_pixels(spec.image, warnings)
+        if key not in tiles_by_image:
+            tiles_by_image[key] = image_tiles(spec.image, warnings)
         textures[name] = ImageTextureData(
-            pixels=pixels_by_image[key],
+            tiles=tiles_by_image[key],
+            udim=spec.image.source == "TILED",
             interpolation=spec.interpolation if texture_filter == "AUTHORED" else texture_filter,
             extension=spec.extension,
             coordinates=spec.coordinates,
@@ -119,8 +126,17 @@ def convert_textures(specs, warnings, texture_filter="AUTHORED"):
 NEGLIGIBLE_NEGATIVE = 0.01
 
 
+def image_tiles(image, warnings):
+    """An image's pictures as ImageTextureData.tiles: a plain image's pixels
+    (image_pixels) as tile 0, or every tile of a UDIM image (udim_tiles)."""
+    if image.source == "TILED":
+        return udim_tiles(image, warnings)
+    return ((0, image_pixels(image, warnings)),)
+
+
 def image_pixels(image, warnings):
-    """An image's pixels as float32[H,W,4] linear RGBA, rows bottom to top.
+    """An image's pixels as float32[H,W,4] linear RGBA, rows bottom to top; a UDIM
+    image's first tile (what Image.pixels holds).
 
     A packed image reads from its packed file, like any other. An image that
     cannot be loaded is one magenta pixel, reported by name.
@@ -133,13 +149,72 @@ def image_pixels(image, warnings):
             f"Whitted: image '{image.name}' ({image.filepath or 'no file'}) could not be "
             "loaded; it renders magenta",
         )
-        return np.array(MISSING_COLOR, dtype=np.float32).reshape(1, 1, 4)
-    if image.source == "TILED":
-        warn(warnings, f"Whitted: image '{image.name}' has UDIM tiles; only its first tile is used")
+        return _missing_pixels()
     flat = np.empty(len(image.pixels), dtype=np.float32)
     image.pixels.foreach_get(flat)
     channels = flat.size // (width * height)
-    stored = flat.reshape(height, width, channels)
+    return linear_rgba(image, flat.reshape(height, width, channels), image.is_float, warnings)
+
+
+def udim_tiles(image, warnings):
+    """A UDIM image's tiles as ((number, pixels), ...), in image.tiles' order.
+
+    The first tile is Image.pixels (Blender reads it, whatever its format); the others,
+    which Blender does not hand to Python, are read from the image's packed files or
+    from its files (the filepath's <UDIM> or <UVTILE> made the tile's) and decoded by
+    whitted_native.decode_image. A tile that cannot be read renders magenta, as Cycles
+    renders it, reported by name.
+    """
+    packed = {packed.tile_number: packed.packed_file for packed in image.packed_files}
+    tiles = []
+    for index, tile in enumerate(image.tiles):
+        if index == 0:
+            tiles.append((tile.number, image_pixels(image, warnings)))
+            continue
+        source = "packed" if tile.number in packed else udim_tile_path(image, tile.number)
+        try:
+            data = packed[tile.number].data if tile.number in packed else _file_bytes(source)
+            stored = load_native().decode_image(data)
+        except (OSError, ValueError) as error:
+            warn(
+                warnings,
+                f"Whitted: image '{image.name}': UDIM tile {tile.number} ({source}) could "
+                f"not be read ({error}); it renders magenta",
+            )
+            tiles.append((tile.number, _missing_pixels()))
+            continue
+        # Decoded values are as stored in the file: a 16-bit PNG too, which Blender would
+        # hold as float and make linear on load.
+        tiles.append((tile.number, linear_rgba(image, stored, False, warnings)))
+    numbers = ", ".join(str(number) for number, _ in tiles)
+    warn(
+        warnings, f"Whitted: image '{image.name}' is a UDIM image of {len(tiles)} tiles: {numbers}"
+    )
+    return tuple(tiles)
+
+
+def udim_tile_path(image, number):
+    """The absolute path of a UDIM image's tile `number`: its filepath's <UDIM> token as
+    the number (1002), or its <UVTILE> token as u<column>_v<row> (u2_v1), both 1-based."""
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    column, row = (number - 1001) % 10, (number - 1001) // 10
+    return path.replace("<UDIM>", str(number)).replace("<UVTILE>", f"u{column + 1}_v{row + 1}")
+
+
+def _file_bytes(path):
+    with open(path, "rb") as file:
+        return file.read()
+
+
+def _missing_pixels():
+    return np.array(MISSING_COLOR, dtype=np.float32).reshape(1, 1, 4)
+
+
+def linear_rgba(image, stored, is_float, warnings):
+    """float32[H,W,C] values of `image` (C = 1 to 4; `is_float`: already scene linear,
+    as Blender holds float images) as float32[H,W,4] linear RGBA with its broken texels
+    set to 0."""
+    height, width, channels = stored.shape
     pixels = np.ones((height, width, 4), dtype=np.float32)
     # Grey (1 channel) fills R, G and B; a missing alpha channel is opaque.
     pixels[..., :3] = stored[..., : min(channels, 3)]
@@ -147,7 +222,7 @@ def image_pixels(image, warnings):
         pixels[..., 3] = stored[..., 3]
     if image.alpha_mode == "NONE":
         pixels[..., 3] = 1.0
-    _to_linear(image, pixels, warnings)
+    _to_linear(image, pixels, is_float, warnings)
     _sanitise_texels(image, pixels, warnings)
     return pixels
 
@@ -180,12 +255,12 @@ def _sanitise_texels(image, pixels, warnings):
         )
 
 
-def _to_linear(image, pixels, warnings):
+def _to_linear(image, pixels, is_float, warnings):
     # Blender converts float images to scene linear when it loads them, but returns
     # a byte image's values as stored, in the image's colour space (checked in 3.4
     # and 5.0: a saved sRGB PNG of 0.5 reads back 128/255).
     space = image.colorspace_settings.name
-    if image.is_float or image.colorspace_settings.is_data or space in LINEAR_SPACES:
+    if is_float or image.colorspace_settings.is_data or space in LINEAR_SPACES:
         return
     if space != "sRGB":
         warn(

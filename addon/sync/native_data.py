@@ -142,12 +142,15 @@ def native_texture(native, texture):
             scale=texture.scale,
             coordinates=coordinates,
         )
-    return native.ImageTexture(
-        pixels=texture.pixels,
-        extension=getattr(native.Extension, texture.extension),
-        interpolation=getattr(native.Interpolation, texture.interpolation),
-        coordinates=coordinates,
-    )
+    sampling = {
+        "extension": getattr(native.Extension, texture.extension),
+        "interpolation": getattr(native.Interpolation, texture.interpolation),
+        "coordinates": coordinates,
+    }
+    if texture.udim:
+        return native.UdimTexture(tiles=list(texture.tiles), **sampling)
+    ((_, pixels),) = texture.tiles
+    return native.ImageTexture(pixels=pixels, **sampling)
 
 
 def _native_visibility(native, visibility):

@@ -1,8 +1,18 @@
+#include <algorithm>
+#include <cstdint>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "scene/image_file.h"
 #include "scene/texture.h"
 
 #include "bindings.h"
 
 namespace whitted::python {
+
+// RGBA float pixels[height, width, 4] as the bindings take them.
+using Pixels = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
 void bind_texture(py::module_& m) {
   py::enum_<TexCoord>(m, "TexCoord")
@@ -24,8 +34,8 @@ void bind_texture(py::module_& m) {
 
   m.def(
       "ImageTexture",
-      [](const py::array_t<float, py::array::c_style | py::array::forcecast>& pixels,
-         Extension extension, Interpolation interpolation, TexCoord coordinates) {
+      [](const Pixels& pixels, Extension extension, Interpolation interpolation,
+         TexCoord coordinates) {
         if (pixels.ndim() != 3 || pixels.shape(2) != 4) {
           throw std::invalid_argument("pixels must have shape (height, width, 4)");
         }
@@ -38,6 +48,48 @@ void bind_texture(py::module_& m) {
       py::arg("interpolation") = Interpolation::kLinear, py::arg("coordinates") = TexCoord::kUV,
       "An image: linear RGBA float pixels[height, width, 4], rows bottom to top (as "
       "Blender's Image.pixels).");
+
+  m.def(
+      "UdimTexture",
+      [](const std::vector<std::pair<int, Pixels>>& tiles, Extension extension,
+         Interpolation interpolation, TexCoord coordinates) {
+        std::vector<ImageTile> made;
+        for (const auto& [number, pixels] : tiles) {
+          if (pixels.ndim() != 3 || pixels.shape(2) != 4) {
+            throw std::invalid_argument("each tile's pixels must have shape (height, width, 4)");
+          }
+          made.push_back(make_image_tile(number, pixels.data(), static_cast<int>(pixels.shape(1)),
+                                         static_cast<int>(pixels.shape(0))));
+        }
+        return Texture{coordinates, make_udim_texture(std::move(made), extension, interpolation)};
+      },
+      py::arg("tiles"), py::arg("extension") = Extension::kRepeat,
+      py::arg("interpolation") = Interpolation::kLinear, py::arg("coordinates") = TexCoord::kUV,
+      "A UDIM image: its tiles as (number, pixels) pairs, each tile's pixels as "
+      "ImageTexture's; uv (u, v) shows tile 1001 + int(u) + 10 int(v), and magenta (as "
+      "Cycles) where the image has no such tile.");
+
+  m.def(
+      "decode_image",
+      [](const py::bytes& data) {
+        const std::string_view view = data;
+        DecodedImage image;
+        try {
+          const py::gil_scoped_release unlocked;  // the bytes stay alive: they are an argument
+          image = decode_image(reinterpret_cast<const std::uint8_t*>(view.data()), view.size());
+        } catch (const ImageFileError& e) {
+          throw py::value_error(e.what());
+        }
+        py::array_t<float> pixels({image.height, image.width, 4});
+        std::copy(image.pixels.begin(), image.pixels.end(), pixels.mutable_data());
+        return pixels;
+      },
+      py::arg("data"),
+      "An image file's bytes (PNG of 8 or 16 bits, JPEG, BMP, TGA) decoded to float32 "
+      "pixels[height, width, 4], rows bottom to top (as Blender's Image.pixels): values as "
+      "stored, in the file's colour space (code k as k * (1 / 255), the bits of "
+      "Image.pixels, or k * (1 / 65535)); grey fills R, G and B and a missing alpha is 1. "
+      "ValueError for other formats (OpenEXR, Radiance HDR) and broken data.");
 
   m.def(
       "CheckerTexture",

@@ -218,9 +218,10 @@ TEST(WorldLight, ASunInAn8kImageStaysWithinItsDerivedVarianceBound) {
   const double radius = 0.25 * M_PI / 180.0;
   const double sun_theta = std::acos(static_cast<double>(sun.z));
   ImageTexture image;
-  image.width = kWidth;
-  image.height = kHeight;
-  image.pixels.assign(4 * static_cast<size_t>(kWidth) * kHeight, static_cast<float>(kSky));
+  ImageTile& tile = image.tiles.emplace_back();
+  tile.width = kWidth;
+  tile.height = kHeight;
+  tile.pixels.assign(4 * static_cast<size_t>(kWidth) * kHeight, static_cast<float>(kSky));
   // The sun's part of the floor's mean (its irradiance over pi) and of the world's
   // power, summed over its texels (a texel's solid angle (2 pi / W)(pi / H) sin(theta)).
   double sun_radiance = 0.0;
@@ -236,7 +237,7 @@ TEST(WorldLight, ASunInAn8kImageStaysWithinItsDerivedVarianceBound) {
                    static_cast<float>(std::sin(theta) * std::sin(phi)),
                    static_cast<float>(std::cos(theta)));
       if (glm::dot(d, sun) < std::cos(radius)) continue;
-      float* texel = &image.pixels[4 * (static_cast<size_t>(y) * kWidth + x)];
+      float* texel = &tile.pixels[4 * (static_cast<size_t>(y) * kWidth + x)];
       texel[0] = texel[1] = texel[2] = static_cast<float>(kSun);
       const double solid_angle = (2.0 * M_PI / kWidth) * (M_PI / kHeight) * std::sin(theta);
       sun_power += (kSun - kSky) * solid_angle;

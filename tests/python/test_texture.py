@@ -29,6 +29,49 @@ def test_image_texture_tints_the_diffuse_colour_by_uv():
     np.testing.assert_allclose(image[:, 2:, :3], [[[0, 1, 0]] * 2] * 4)
 
 
+def test_udim_texture_shows_each_tile_where_the_uvs_fall():
+    scene = wn.Scene()
+    # Tile 1001 red, 1002 green; UVs (3u, v) across the plane: tile 1003 does not exist.
+    tiles = [(1002, np.array([[[0, 1, 0, 1]]], np.float32))]
+    tiles.append((1001, np.array([[[1, 0, 0, 1]]], np.float32)))
+    scene.set_texture("udim", wn.UdimTexture(tiles, interpolation=wn.Interpolation.CLOSEST))
+    positions, triangles = quad(-1, 1, -1, 1, 0)
+    corner_uvs = np.array([[0, 0], [3, 0], [3, 1], [0, 0], [3, 1], [0, 1]], np.float32)
+    scene.set_mesh("plane", positions, triangles, uvs=corner_uvs.reshape(2, 3, 2))
+    scene.set_material("m", wn.Material(diffuse=(1, 1, 1), ambient=1.0, diffuse_texture="udim"))
+    scene.set_instance("plane", "plane", np.eye(4), ["m"])
+    scene.ambient = (1.0, 1.0, 1.0)
+    scene.camera = looking_down(5.0, 0.2)
+    image = finish(wn.RenderJob(scene, wn.Settings(width=6, height=2)))
+    np.testing.assert_allclose(image[:, :2, :3], [[[1, 0, 0]] * 2] * 2)
+    np.testing.assert_allclose(image[:, 2:4, :3], [[[0, 1, 0]] * 2] * 2)
+    np.testing.assert_allclose(image[:, 4:, :3], [[[1, 0, 1]] * 2] * 2)  # magenta, as Cycles
+    with pytest.raises(ValueError, match="twice"):
+        wn.UdimTexture(tiles + tiles[:1])
+    with pytest.raises(ValueError, match="1001 to 2000"):
+        wn.UdimTexture([(1000, tiles[0][1])])
+
+
+@pytest.mark.parametrize("mode, bits", [("L", 8), ("RGB", 8), ("RGBA", 8), ("I;16", 16)])
+def test_decode_image_reads_pillows_png_bottom_row_first(mode, bits, tmp_path):
+    from PIL import Image
+
+    rng = np.random.default_rng(3)
+    full = 2**bits - 1
+    channels = {"L": 1, "RGB": 3, "RGBA": 4, "I;16": 1}[mode]
+    codes = rng.integers(0, full + 1, size=(3, 5, channels))
+    dtype = np.uint16 if bits == 16 else np.uint8
+    array = codes.astype(dtype)
+    Image.fromarray(array[..., 0] if channels == 1 else array).save(tmp_path / "t.png")
+    decoded = wn.decode_image((tmp_path / "t.png").read_bytes())
+    expected = np.ones((3, 5, 4), np.float32)
+    expected[..., :3] = codes[..., :3] if channels >= 3 else codes[..., :1]
+    expected[..., :3] *= np.float32(1.0 / full)
+    if channels == 4:
+        expected[..., 3] = codes[..., 3] * np.float32(1.0 / full)
+    np.testing.assert_array_equal(decoded, expected[::-1])  # PNG rows run top to bottom
+
+
 def test_alpha_texture_cuts_out_and_a_missing_texture_is_an_error():
     scene = wn.Scene()
     pixels = np.array([[[1, 1, 1, 0], [1, 1, 1, 1]]], np.float32)  # left half transparent

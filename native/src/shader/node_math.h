@@ -635,15 +635,16 @@ inline vec4 box_image(const ImageTexture& image, const Vec3& co, const Vec3& sig
     w.x = 1.0f;  // no blend and no clear side (a zero normal): one side
   }
   vec4 out(0.0f);
-  // Oriented so that no side shows its image mirrored.
+  // Oriented so that no side shows its image mirrored; a UDIM image's first tile, as
+  // Cycles projects it.
   if (w.x > 0.0f) {
-    out += w.x * sample_image(image, {signed_n.x < 0.0f ? 1.0f - co.y : co.y, co.z});
+    out += w.x * sample_first_tile(image, {signed_n.x < 0.0f ? 1.0f - co.y : co.y, co.z});
   }
   if (w.y > 0.0f) {
-    out += w.y * sample_image(image, {signed_n.y > 0.0f ? 1.0f - co.x : co.x, co.z});
+    out += w.y * sample_first_tile(image, {signed_n.y > 0.0f ? 1.0f - co.x : co.x, co.z});
   }
   if (w.z > 0.0f) {
-    out += w.z * sample_image(image, {signed_n.z > 0.0f ? 1.0f - co.y : co.y, co.x});
+    out += w.z * sample_first_tile(image, {signed_n.z > 0.0f ? 1.0f - co.y : co.y, co.x});
   }
   return out;
 }

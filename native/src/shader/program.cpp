@@ -536,9 +536,10 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
       case Op::kImage:
         out = image(mode_field::kImageProjection.in(s.mode), *hit.images[s.e], Vec3(a), b.x, hit);
         break;
-      case Op::kEnvironment:
-        out = sample_image(*hit.images[s.e],
-                           environment_uv(mode_field::kEnvironmentProjection.in(s.mode), Vec3(a)));
+      case Op::kEnvironment:  // a UDIM image's first tile, as Cycles
+        out = sample_first_tile(
+            *hit.images[s.e],
+            environment_uv(mode_field::kEnvironmentProjection.in(s.mode), Vec3(a)));
         break;
       case Op::kChecker: {
         const bool first = checker_first(Vec3(a) * r[s.d].x);
