@@ -8,15 +8,9 @@ the node reads where nothing has the name."""
 
 from numbers import Real
 
-import bpy
-
 # What Cycles gives for a name none of the places looked at has: all four components 0
 # (the alpha too).
 MISSING = (0.0, 0.0, 0.0, 0.0)
-
-# Blender 3.4's lookup reads a number (float or int) or a float array; later versions
-# read booleans and int arrays too (Blender 5.0's source; 3.4 seen in Cycles).
-_BOOLEANS_AND_INT_ARRAYS = bpy.app.version >= (3, 5, 0)
 
 
 def property_rgba(owner, name):
@@ -39,9 +33,7 @@ def property_rgba(owner, name):
 
 
 def _rgba(value):
-    if isinstance(value, bool):
-        return (float(value),) * 3 + (1.0,) if _BOOLEANS_AND_INT_ARRAYS else None
-    if isinstance(value, Real):
+    if isinstance(value, Real):  # booleans too
         return (float(value),) * 3 + (1.0,)
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
         return None
@@ -50,8 +42,6 @@ def _rgba(value):
         return None
     if any(isinstance(x, bool) or not isinstance(x, Real) for x in items):
         return None  # booleans, or rows of a matrix
-    if not _BOOLEANS_AND_INT_ARRAYS and not any(isinstance(x, float) for x in items):
-        return None  # an int array
     return tuple(float(x) for x in items) + (0.0, 0.0, 0.0, 1.0)[len(items) :]
 
 

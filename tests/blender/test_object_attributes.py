@@ -99,6 +99,13 @@ CASES = [
         _set(_plane, "rgba", [0.1, 0.2, 0.3, 0.4]),
         (0.4,) * 3,
     ),
+    _attribute_case(
+        "object_int_array", "OBJECT", "ia", "Color", _set(_plane, "ia", [1, 2, 3]), (1.0, 2.0, 3.0)
+    ),
+    # An RNA boolean: Object Properties > Visibility > Camera, on.
+    _attribute_case(
+        "object_rna_boolean", "OBJECT", "visible_camera", "Color", _nothing, (1.0,) * 3
+    ),
     # The object's RNA property by its path: Object Properties > Viewport Display > Color
     # (node_cases.build_scene sets (0.2, 0.5, 0.7, 1)).
     _attribute_case("object_rna_color", "OBJECT", "color", "Color", _nothing, (0.2, 0.5, 0.7)),
