@@ -8,6 +8,7 @@ import numpy as np
 
 from .. import cryptomatte
 from .light_linking import NO_LINKS, UNLINKED
+from .properties import instance_attribute
 
 # Blender pads unused levels of DepsgraphObjectInstance.persistent_id with INT_MAX.
 _UNUSED_ID = 2**31 - 1
@@ -155,6 +156,9 @@ class InstanceData:
     # (location xyz, random, pass index, colour rgba) for Object Info; None when no
     # material of the instance reads it.
     info: tuple | None = None
+    # Its Object and Instancer attributes, (r, g, b, a) each, by the index its materials'
+    # programs read (instance_attributes); () when none reads one.
+    attributes: tuple = ()
     # (object id, asset id, (material id per slot)): its Cryptomatte ids (cryptomatte.py);
     # None when the view layer writes no Cryptomatte.
     cryptomatte: tuple | None = None
@@ -168,13 +172,14 @@ class InstanceData:
     volume: object = None
 
 
-def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):
+def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS, attributes=()):
     """InstanceData of a mesh instance placing geometry `mesh` (its key).
 
     `view_layer` is the depsgraph's evaluated view layer (holdout is per layer);
     `info` the names of the materials that read Object Info. An object with a pass
     index sends its Object Info too, for the IndexOB pass. `links`: the scene's
-    light_linking.LightLinks."""
+    light_linking.LightLinks. `attributes`: the Object and Instancer attributes its
+    materials read, ("OBJECT" | "INSTANCER", name) by index (mesh_layers.attribute_keys)."""
     materials = slot_materials(object_instance.object)
     reads_info = any(m in info for m in materials) or object_instance.object.pass_index != 0
     return InstanceData(
@@ -187,6 +192,7 @@ def instance_data(object_instance, mesh, view_layer, info=(), links=NO_LINKS):
         holdout=is_holdout(object_instance, view_layer),
         shadow_catcher=is_shadow_catcher(object_instance),
         info=object_info(object_instance) if reads_info else None,
+        attributes=instance_attributes(object_instance, attributes),
         cryptomatte=cryptomatte_ids(object_instance.object)
         if writes_cryptomatte(view_layer)
         else None,
@@ -211,6 +217,16 @@ def object_info(object_instance):
         random_id = _hash_uint2(_hash_string(obj.name), 0)
     random = float(np.float32(np.float32(random_id) * np.float32(1.0 / 0xFFFFFFFF)))
     return (*location, random, float(obj.pass_index), *(float(c) for c in obj.color))
+
+
+def instance_attributes(object_instance, keys):
+    """The values of Object and Instancer attributes `keys` (("OBJECT" | "INSTANCER",
+    name) each) for a depsgraph object instance, as Cycles looks them up
+    (properties.instance_attribute): a tuple of (r, g, b, a)."""
+    return tuple(
+        instance_attribute(object_instance, name, instancer=kind == "INSTANCER")
+        for kind, name in keys
+    )
 
 
 def _hash_string(text):

@@ -64,6 +64,12 @@ class MaterialExport:
     attributes: tuple = ()  # corner attributes it reads: ("COLOR" | "ATTRIBUTE", name)
     tangents: tuple = ()  # UV set indices whose tangents its normal maps read
     object_info: bool = False  # it reads Object Info (per-instance data)
+    # Its Object and Instancer attributes by index (per-instance data, export/instance.py
+    # instance_attributes): ("OBJECT" | "INSTANCER", name).
+    instance_attributes: tuple = ()
+    # The View Layer attributes folded into it, ((name, the RGBA read), ...): it is
+    # exported again when one reads otherwise (sync/scene.py).
+    layer_attributes: tuple = ()
     pass_index: int = 0  # Material Properties > Settings > Pass Index (the IndexMA pass)
 
     @property
@@ -115,14 +121,21 @@ def _black():
     )
 
 
-def convert_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDED_AO_DISTANCE):
+def convert_material(
+    material,
+    warnings,
+    local_model="BLENDER",
+    ao_distance=UNBOUNDED_AO_DISTANCE,
+    view_layer=None,
+):
     """Convert one material: the node mapping, or with the Whitted material
     panel's override on, its values (emission, alpha and textures still come
     from the nodes). `local_model`: scene.whitted.local_model, BLENDER (the BSDFs'
     own lobes: glossy reflection where they are rough) or LECTURE (the seed's mirror
     and Phong). `ao_distance`: the World's AO distance (world.ao_distance), which Ambient
-    Occlusion nodes of Distance 0 read."""
-    exported = map_material(material, warnings, local_model, ao_distance)
+    Occlusion nodes of Distance 0 read. `view_layer`: the evaluated view layer whose View
+    Layer attributes Attribute nodes read (None: they read 0, warned)."""
+    exported = map_material(material, warnings, local_model, ao_distance, view_layer)
     settings = material.whitted
     if not settings.use_override:
         return exported
@@ -167,7 +180,13 @@ def convert_material(material, warnings, local_model="BLENDER", ao_distance=UNBO
     return replace(exported, data=data, outputs=outputs)
 
 
-def map_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDED_AO_DISTANCE):
+def map_material(
+    material,
+    warnings,
+    local_model="BLENDER",
+    ao_distance=UNBOUNDED_AO_DISTANCE,
+    view_layer=None,
+):
     """The node mapping: a material's surface shader as Whitted parameters: the fixed
     native material where it shows the graph (constants, a texture on the diffuse
     colour, an image's alpha), else a shader program.
@@ -184,7 +203,7 @@ def map_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDE
     owner = f"material '{material.name}'"
     output_node = material.node_tree.get_output_node("CYCLES")
     found = []
-    lowering = Lowering(owner, found, ao_distance=ao_distance)
+    lowering = Lowering(owner, found, ao_distance=ao_distance, view_layer=view_layer)
     medium = Medium()
     varying = {}  # a heterogeneous medium's volume_* fields (Exprs)
     volume = False
@@ -208,12 +227,12 @@ def map_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDE
             return MaterialExport(_black())
         # Cycles lets rays through a volume's bounds: no surface (docs/notes/no_surface.md).
         if not varying:
-            return medium_material(medium)
+            return _with_layer_attributes(medium_material(medium), lowering)
         for message in found:
             _warn(warnings, message)
         exported = _programmed(varying, lowering, "NONE")
         data = replace(exported.data, surface=False, volume_step_rate=_volume_step_rate(material))
-        return replace(exported, data=data)
+        return _with_layer_attributes(replace(exported, data=data), lowering)
     bumped = _displacement(material, output_node, lowering, warnings)
     lowering.shading_normal = bumped
     closure = surface(lowering, output_node, local_model=local_model)
@@ -235,9 +254,15 @@ def map_material(material, warnings, local_model="BLENDER", ao_distance=UNBOUNDE
     volume_fields = (
         {"volume_step_rate": _volume_step_rate(material)} if varying else medium.fields()
     )
-    return replace(
+    exported = replace(
         exported, data=replace(exported.data, emission_sampling=sampling, **volume_fields)
     )
+    return _with_layer_attributes(exported, lowering)
+
+
+def _with_layer_attributes(exported, lowering):
+    # What the View Layer attributes read, also where everything folded (no program).
+    return replace(exported, layer_attributes=tuple(lowering.needs.layer_attributes.items()))
 
 
 def grid_material(material, grids, warnings):
@@ -414,6 +439,7 @@ def _programmed(fields, lowering, bump_shadowing):
         attributes=tuple(needs.attributes),
         tangents=tuple(sorted(needs.tangents)),
         object_info=needs.object_info,
+        instance_attributes=tuple(needs.instance_attributes),
     )
 
 

@@ -75,21 +75,35 @@ def object_needs(obj, needs_by_material, warnings):
         needs = needs_by_material.get(material)
         if needs is None:
             continue
-        for merged, wanted, what in (
-            (uv_sets, needs.uv_sets, "UV maps"),
-            (attributes, needs.attributes, "attributes"),
-        ):
-            for index, item in enumerate(wanted):
-                if index == len(merged):
-                    merged.append(item)
-                elif merged[index] != item:
-                    warn(
-                        warnings,
-                        f"Whitted: object '{obj.name}': material '{material}' reads its {what} "
-                        "in another order than the object's first material; it reads theirs",
-                    )
+        _merge(uv_sets, needs.uv_sets, obj, material, "UV maps", warnings)
+        _merge(attributes, needs.attributes, obj, material, "attributes", warnings)
         tangents = tangents or needs.tangents
     return MeshNeeds(tuple(uv_sets), tuple(attributes), tangents)
+
+
+def attribute_keys(obj, keys_by_material, warnings):
+    """The Object and Instancer attributes (("OBJECT" | "INSTANCER", name) by index) the
+    materials of evaluated `obj` read, merged in slot order as object_needs merges the
+    mesh's layers; `keys_by_material` maps a material name to its keys."""
+    keys = []
+    for material in slot_materials(obj):
+        wanted = keys_by_material.get(material)
+        if wanted:
+            _merge(keys, wanted, obj, material, "Object and Instancer attributes", warnings)
+    return tuple(keys)
+
+
+def _merge(merged, wanted, obj, material, what, warnings):
+    # An index means one item for every material of the object: the first one's wins.
+    for index, item in enumerate(wanted):
+        if index == len(merged):
+            merged.append(item)
+        elif merged[index] != item:
+            warn(
+                warnings,
+                f"Whitted: object '{obj.name}': material '{material}' reads its {what} "
+                "in another order than the object's first material; it reads theirs",
+            )
 
 
 def warn(warnings, message):

@@ -123,6 +123,7 @@ def set_instance(native, scene, instance):
         motion=list(instance.motion),
         links=instance.links,
         volume=instance.volume,
+        attributes=list(instance.attributes),
         **extra,
     )
 

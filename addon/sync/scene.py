@@ -42,8 +42,15 @@ from ..export.material import (
     medium_material,
 )
 from ..export.mesh import export_geometry, is_renderable_mesh
-from ..export.mesh_layers import NO_NEEDS, MeshNeeds, object_needs, object_uv_map
+from ..export.mesh_layers import (
+    NO_NEEDS,
+    MeshNeeds,
+    attribute_keys,
+    object_needs,
+    object_uv_map,
+)
 from ..export.nodes.values import UNBOUNDED_AO_DISTANCE
+from ..export.properties import view_layer_attribute
 from ..export.sanitise import Sanitised
 from ..export.texture import convert_textures
 from ..export.volume import Medium, volume_bounces_warning
@@ -162,7 +169,9 @@ class SceneSync:
         self._walked_uv_maps = {}  # the UV maps the meshes were last exported for
         self._needs = {}  # material name -> MeshNeeds its program reads
         self._info = frozenset()  # materials that read Object Info
-        self._walked_needs = ({}, frozenset())  # (needs, info) of the last walk
+        # Material name -> the Object and Instancer attributes it reads (by index).
+        self._attributes = {}
+        self._walked_needs = ({}, frozenset(), {})  # (needs, info, attributes) of the last walk
         self._textures = {}  # name -> texture spec (export.texture)
         self._geometry = {}  # geometry key -> _Geometry
         self._instances = {}  # instance name -> export.mesh.InstanceData
@@ -217,7 +226,7 @@ class SceneSync:
         changes = None if first else classify(depsgraph.updates)
         report = SyncReport(full=first)
         self.warnings = warnings = []
-        if self._materials_touched(changes, params):
+        if self._materials_touched(changes, params) or self._layer_attributes_changed(depsgraph):
             self._sync_materials(depsgraph, changes, params, report, warnings)
         # Light linking is the whole scene's: when it changes, every instance may change.
         # Reading it visits every object (44 ms for 10,000 in Blender 5.2), so an update
@@ -269,6 +278,12 @@ class SceneSync:
             or changes.meshes
         )
 
+    def _layer_attributes_changed(self, depsgraph):
+        # A view layer's, scene's or world's property a material folded reads otherwise
+        # (not every such edit is listed among the updates): a few property reads.
+        view_layer = depsgraph.view_layer_eval
+        return any(_reads_otherwise(m, view_layer) for m in self._materials.values())
+
     def _sync_materials(self, depsgraph, changes, params, report, warnings):
         # Every material the evaluated objects use is in the depsgraph.
         current = {
@@ -288,14 +303,22 @@ class SceneSync:
             self.scene.set_material(
                 DEFAULT_MATERIAL, native_data.native_material(self._native, default)
             )
+        view_layer = depsgraph.view_layer_eval
         for name, material in current.items():
-            if redo or name not in self._materials or name in changes.materials:
+            known = self._materials.get(name)
+            if (
+                redo
+                or known is None
+                or name in changes.materials
+                or _reads_otherwise(known, view_layer)
+            ):
                 exported = replace(
                     convert_material(
                         material,
                         warnings,
                         local_model=params.local_model,
                         ao_distance=params.ao_distance,
+                        view_layer=view_layer,
                     ),
                     pass_index=material.pass_index,  # for the IndexMA pass
                 )
@@ -330,6 +353,9 @@ class SceneSync:
         }
         self._needs = {name: n for name, n in needs.items() if n}
         self._info = frozenset(n for n, m in self._materials.items() if m.object_info)
+        self._attributes = {
+            n: m.instance_attributes for n, m in self._materials.items() if m.instance_attributes
+        }
 
     def _sync_textures(self, changes, params, report, warnings):
         wanted = {spec.name: spec for m in self._materials.values() for spec in m.textures}
@@ -365,8 +391,10 @@ class SceneSync:
             return True
         if self._uv_maps != self._walked_uv_maps:
             return True  # meshes may have to carry other UVs
-        if (self._needs, self._info) != self._walked_needs:
-            return True  # other program inputs: UV sets, attributes, tangents, object info
+        if (self._needs, self._info, self._attributes) != self._walked_needs:
+            # Other program inputs: UV sets, attributes, tangents, object info, object
+            # attributes.
+            return True
         roles = {name: self._roles.get(name) for name in changes.objects}
         if any(role in (None, _INSTANCER, _VOLUME) for role in roles.values()):
             return True  # an object new to the sync, one with instances, a Volume object
@@ -413,9 +441,7 @@ class SceneSync:
                             object_instance, key, changes, in_place, report, warnings, params.motion
                         )
                 if self._geometry[key].has_primitives:
-                    instance = instance_data(
-                        object_instance, key, view_layer, self._info, self._links
-                    )
+                    instance = self._instance_data(object_instance, key, view_layer, warnings)
                     domain = None if strands else fluid_domain(obj)
                     if domain is not None:
                         instance = self._fluid_instance(
@@ -439,7 +465,9 @@ class SceneSync:
             elif obj.type == "VOLUME" and not obj.original.hide_render:
                 read = volumes.add(instance_name(object_instance), object_instance)
                 if read is not None:
-                    instance = self._volume_instance(object_instance, read, view_layer, report)
+                    instance = self._volume_instance(
+                        object_instance, read, view_layer, report, warnings
+                    )
                     seen_geometry.add(instance.mesh)
                     instances[instance.name] = _with_motion(instance, params.motion)
                     grid_materials[instance.materials[0]] = (
@@ -459,9 +487,7 @@ class SceneSync:
                     )
                 if self._geometry[key].has_primitives:
                     # It moves as its emitter moves.
-                    emitter = instance_data(
-                        object_instance, key, view_layer, self._info, self._links
-                    )
+                    emitter = self._instance_data(object_instance, key, view_layer, warnings)
                     instance = replace(
                         _with_motion(emitter, params.motion), name=f"{emitter.name} hair"
                     )
@@ -484,9 +510,15 @@ class SceneSync:
         self._roles = roles
         self._instanced_light_data = instanced_light_data
         self._walked_uv_maps = dict(self._uv_maps)
-        self._walked_needs = (dict(self._needs), self._info)
+        self._walked_needs = (dict(self._needs), self._info, dict(self._attributes))
 
-    def _volume_instance(self, object_instance, read, view_layer, report):
+    def _instance_data(self, object_instance, mesh, view_layer, warnings):
+        """export.instance.instance_data of an instance placing `mesh`, with the Object
+        Info, light links and Object and Instancer attributes its materials read."""
+        keys = attribute_keys(object_instance.object, self._attributes, warnings)
+        return instance_data(object_instance, mesh, view_layer, self._info, self._links, keys)
+
+    def _volume_instance(self, object_instance, read, view_layer, report, warnings):
         """The instance of a Volume object whose grids were read (a sync.volumes.VolumeRead):
         its mesh (VolumeObject.bound_mesh) set again when the read built it anew, filled by
         its material read with its grids (grid_material_name)."""
@@ -496,7 +528,7 @@ class SceneSync:
             self.scene.set_mesh(key, mesh)
             self._geometry[key] = _Geometry(True, None, Sanitised())
             report.meshes += 1
-        instance = instance_data(object_instance, key, view_layer, self._info, self._links)
+        instance = self._instance_data(object_instance, key, view_layer, warnings)
         name = grid_material_name(read.data.material, read.data.grids)
         return replace(instance, materials=(name,), volume=read.native)
 
@@ -616,7 +648,7 @@ class SceneSync:
                 if known is None or not is_renderable_mesh(alone):
                     gone.add(name)  # hidden from renders (or never had triangles)
                 else:
-                    instance = instance_data(alone, known.mesh, view_layer, self._info, self._links)
+                    instance = self._instance_data(alone, known.mesh, view_layer, warnings)
                     instances[name] = _with_motion(instance, params.motion)
             elif role == _LIGHT:
                 light = None
@@ -763,3 +795,9 @@ def _same_instance(a, b):
         else getattr(a, f.name) == getattr(b, f.name)
         for f in fields(a)
     )
+
+
+def _reads_otherwise(exported, view_layer):
+    """Whether a View Layer attribute export.material.MaterialExport `exported` folded
+    reads otherwise now."""
+    return any(view_layer_attribute(view_layer, n) != v for n, v in exported.layer_attributes)

@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include "bindings.h"
+#include "shader/ops.h"
 
 namespace whitted::python {
 namespace {
@@ -64,7 +65,8 @@ void bind_scene(py::module_& m) {
              const std::optional<std::tuple<float, float, std::vector<float>>>& cryptomatte,
              const std::vector<py::object>& motion,
              const std::tuple<uint8_t, uint8_t, uint64_t, uint64_t>& links,
-             std::shared_ptr<VolumeObject> volume) {
+             std::shared_ptr<VolumeObject> volume,
+             const std::vector<std::array<float, 4>>& attributes) {
             Instance instance{mesh, matrix_from_numpy(to_world), std::move(materials),
                               visibility & kAllRayKinds, holdout};
             instance.shadow_catcher = shadow_catcher;
@@ -85,6 +87,18 @@ void bind_scene(py::module_& m) {
             } else {
               instance.info.location = Vec3(instance.to_world[3]);
             }
+            if (attributes.size() > kObjectAttributes) {
+              throw std::invalid_argument("an instance carries at most " +
+                                          std::to_string(kObjectAttributes) + " attributes");
+            }
+            for (const std::array<float, 4>& a : attributes) {
+              for (float v : a) {
+                if (!std::isfinite(v)) {
+                  throw std::invalid_argument("instance attributes must be finite");
+                }
+              }
+              instance.attributes.emplace_back(a[0], a[1], a[2], a[3]);
+            }
             if (cryptomatte) {
               const auto& [object, asset, materials_ids] = *cryptomatte;
               instance.cryptomatte = {object, asset, materials_ids};
@@ -98,6 +112,7 @@ void bind_scene(py::module_& m) {
           py::arg("cryptomatte") = py::none(), py::arg("motion") = std::vector<py::object>{},
           py::arg("links") = std::make_tuple(uint8_t{0}, uint8_t{0}, kAllLightSets, kAllLightSets),
           py::arg("volume") = py::none(),
+          py::arg("attributes") = std::vector<std::array<float, 4>>{},
           "transform: 4x4 row-major object to world; materials: material name per slot "
           "('' for the default material); visibility: RayVisibility flags of the rays that see "
           "it; holdout: camera rays that meet it give colour 0 and alpha 0; shadow_catcher: camera "
@@ -109,7 +124,9 @@ void bind_scene(py::module_& m) {
           "opening to its closing (motion blur; [] when it does not move); links: light linking, "
           "(light set, shadow set, light sets it lights, shadow sets that block it) as "
           "scene/light.h defines them; volume: a Volume object's VolumeObject, whose grids its "
-          "materials read inside its mesh (None for a mesh).")
+          "materials read inside its mesh (None for a mesh); attributes: its Object and "
+          "Instancer attributes (r, g, b, a), by the index its materials' programs read "
+          "(IN_OBJECT_ATTRIBUTE + k, at most OBJECT_ATTRIBUTES).")
       .def(
           "set_world",
           [](Scene& s, const std::shared_ptr<Program>& program, uint32_t output,

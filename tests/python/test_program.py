@@ -472,3 +472,25 @@ def test_uv_sets_attributes_and_instance_info_reach_input():
         wn.Mesh(*quad(-1, 1, -1, 1, 0), tangents=[tangents])
     with pytest.raises(ValueError, match="each of attributes"):
         wn.Mesh(*quad(-1, 1, -1, 1, 0), attributes=[np.zeros((m, 3, 3), np.float32)])
+
+
+def test_instance_attributes_reach_input():
+    # Each instance's Object and Instancer attributes (RGBA) by index; past the end: 0.
+    def emission_of(mode, attributes):
+        material = wn.Material(
+            **GLOW, program=program([(INPUT, mode, 0)], [0] * 4), outputs={"emission": 0}
+        )
+        scene = plane_scene(material)
+        scene.set_instance("plane", "plane", np.eye(4), ["m"], attributes=attributes)
+        return finish(wn.RenderJob(scene, wn.Settings(width=2, height=2)))[0, 0, :3]
+
+    first, second = (0.5, 0.25, 0.125, 1.0), (2.0, 3.0, 4.0, 0.0)
+    base = wn.OP_NUMBERS["IN_OBJECT_ATTRIBUTE"]
+    np.testing.assert_array_equal(emission_of(base, [first, second]), first[:3])
+    np.testing.assert_array_equal(emission_of(base + 1, [first, second]), second[:3])
+    np.testing.assert_array_equal(emission_of(base + 1, [first]), [0, 0, 0])
+    np.testing.assert_array_equal(emission_of(base, []), [0, 0, 0])
+    with pytest.raises(ValueError, match="at most 8 attributes"):
+        emission_of(base, [first] * (wn.OP_NUMBERS["OBJECT_ATTRIBUTES"] + 1))
+    with pytest.raises(ValueError, match="finite"):
+        emission_of(base, [(float("nan"), 0.0, 0.0, 1.0)])

@@ -4,6 +4,7 @@ attributes and colour attributes), the view-dependent factors (Fresnel, Layer
 Weight), Normal Map, Tangent, and Ambient Occlusion and Bevel (rays from and near the
 hit)."""
 
+from ..properties import view_layer_attribute
 from . import ops
 from .graph import source
 from .ir import COLOR, FLOAT, VECTOR
@@ -170,7 +171,12 @@ def _attribute_value(c, out, key):
     if c.world:
         c.warn(out.node, "attributes are not available in the world; 0")
         return c.b.f(0.0)
-    value = c.hit(ops.IN_ATTRIBUTE + c.needs.attribute(key), COLOR)
+    return _attribute_outputs(c, out, c.hit(ops.IN_ATTRIBUTE + c.needs.attribute(key), COLOR))
+
+
+def _attribute_outputs(c, out, value):
+    # An attribute as Cycles' node reads an RGBA one: Color and Vector its rgb, Fac their
+    # mean, Alpha its a.
     name = output_name(out)
     if name == "Alpha":
         return c.b.swizzle(value, 3)
@@ -186,12 +192,43 @@ def _vertex_color(c, out):
 
 def _attribute(c, out):
     node = out.node
-    if node.attribute_type != "GEOMETRY":
-        c.warn(node, f"{node.attribute_type} attributes are not supported; 0")
-        return c.b.f(0.0)
+    kind = node.attribute_type
+    if kind == "VIEW_LAYER":
+        return _layer_attribute(c, out, node.attribute_name)
+    if kind in ("OBJECT", "INSTANCER"):
+        return _instance_attribute(c, out, (kind, node.attribute_name))
     if c.grids is not None:
         return _grid_attribute(c, out, node.attribute_name)
     return _attribute_value(c, out, ("ATTRIBUTE", node.attribute_name))
+
+
+def _layer_attribute(c, out, name):
+    # A constant of the render (the view layer's, scene's or world's property), folded
+    # into the program as Cycles folds it; what was read is kept so that an edit of the
+    # property exports the material again (sync/scene.py).
+    if c.view_layer is None:
+        c.warn(out.node, "View Layer attributes are read by materials only; 0")
+        return c.b.f(0.0)
+    value = view_layer_attribute(c.view_layer, name)
+    c.needs.layer_attributes[name] = value
+    return _attribute_outputs(c, out, c.b.const(value, COLOR))
+
+
+def _instance_attribute(c, out, key):
+    # Each instance carries the values of its materials' Object and Instancer attributes
+    # (export/instance.py instance_attributes), read by IN_OBJECT_ATTRIBUTE + index.
+    if c.world:
+        c.warn(out.node, f"{key[0]} attributes are not available in the world; 0")
+        return c.b.f(0.0)
+    index = c.needs.instance_attribute(key)
+    if index is None:
+        c.warn(
+            out.node,
+            f"more than {ops.OBJECT_ATTRIBUTES} Object and Instancer attributes; "
+            f"'{key[1]}' reads 0",
+        )
+        return c.b.f(0.0)
+    return _attribute_outputs(c, out, c.hit(ops.IN_OBJECT_ATTRIBUTE + index, COLOR))
 
 
 def _grid_attribute(c, out, name):

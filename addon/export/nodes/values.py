@@ -39,6 +39,11 @@ class Needs:
     attributes: list = field(default_factory=list)  # ("COLOR" | "ATTRIBUTE", name)
     tangents: set = field(default_factory=set)  # UV set indices normal maps read
     object_info: bool = False
+    # Per-instance attributes (the Attribute node's Object and Instancer types), by
+    # index: ("OBJECT" | "INSTANCER", name).
+    instance_attributes: list = field(default_factory=list)
+    # The View Layer attributes folded into the program: {name: the RGBA read}.
+    layer_attributes: dict = field(default_factory=dict)
 
     def uv_set(self, name):
         if name not in self.uv_maps:
@@ -50,12 +55,29 @@ class Needs:
             self.attributes.append(key)
         return self.attributes.index(key)
 
+    def instance_attribute(self, key):
+        """The index of per-instance attribute `key`; None past the OBJECT_ATTRIBUTES
+        an instance carries."""
+        if key not in self.instance_attributes:
+            if len(self.instance_attributes) == ops.OBJECT_ATTRIBUTES:
+                return None
+            self.instance_attributes.append(key)
+        return self.instance_attributes.index(key)
+
 
 class Lowering:
     """One material's (or world's) lowering: the Builder, the warnings, the textures
     and the per-hit data its program reads."""
 
-    def __init__(self, owner, warnings, world=False, grids=None, ao_distance=UNBOUNDED_AO_DISTANCE):
+    def __init__(
+        self,
+        owner,
+        warnings,
+        world=False,
+        grids=None,
+        ao_distance=UNBOUNDED_AO_DISTANCE,
+        view_layer=None,
+    ):
         self.owner = owner  # "material 'Name'" or "world 'Name'"
         self.warnings = warnings
         self.world = world
@@ -76,6 +98,9 @@ class Lowering:
         # The World's AO distance (export/world.py ao_distance), which an Ambient Occlusion
         # node whose Distance is an unlinked 0 reads, as in Cycles.
         self.ao_distance = ao_distance
+        # The evaluated view layer whose View Layer attributes a material reads (folded
+        # into its program); None where they are not read (the world, lamps).
+        self.view_layer = view_layer
 
     def warn(self, node, message):
         _warn(self.warnings, f"Whitted: {self.owner}, node '{node.name}': {message}")

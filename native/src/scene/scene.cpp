@@ -397,6 +397,7 @@ std::shared_ptr<const CompiledScene> Scene::compile(bool* built_top_level,
     out.shadow_catcher = instance.shadow_catcher;
     out.visibility = instance.visibility;
     out.info = instance.info;
+    out.attributes = instance.attributes;
     out.name = name;
     out.cryptomatte = instance.cryptomatte;
     out.volume = instance.volume;

@@ -86,6 +86,9 @@ struct Instance {
   // (integrator/catcher.h).
   bool shadow_catcher = false;
   InstanceInfo info;
+  // Its Object and Instancer attributes (the Attribute node's), RGBA, by the index a
+  // material's program reads (kInputObjectAttribute + k); those past the end read 0.
+  std::vector<glm::vec4> attributes;
   CryptomatteIds cryptomatte;
   // Its transform over the shutter (motion blur), sampled at evenly spaced times from its
   // opening to its closing; empty (or all one transform) when it does not move.
@@ -216,6 +219,8 @@ struct CompiledScene {
     uint32_t visibility;
     InstanceInfo info;
     std::string name;  // the Scene's key, for what reports name it (the inspector)
+    // The Instance's attributes.
+    std::vector<glm::vec4> attributes;
     CryptomatteIds cryptomatte;
     InstanceLinks links;
     // Its mesh's box carried to the world (the box of the eight corners placed): where a

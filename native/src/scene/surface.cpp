@@ -119,6 +119,10 @@ struct SurfaceHit {
     if (mode >= kInputAttribute && mode < kInputPublicEnd) {
       return layer(mesh.attributes, mode - kInputAttribute, 4);
     }
+    if (mode >= kInputObjectAttribute && mode < kInputObjectAttribute + kObjectAttributes) {
+      const size_t k = mode - kInputObjectAttribute;
+      return k < instance.attributes.size() ? instance.attributes[k] : glm::vec4(0.0f);
+    }
     if (mode >= kInputGridTemperatureVoxel && mode < kInputGridVoxelWeight + kGridVoxels) {
       if (!grids) return glm::vec4(0.0f);
       const bool weight = mode >= kInputGridVoxelWeight;

@@ -155,6 +155,8 @@ enum Input : uint32_t {
   // Cycles' ray length at a surface: from where the ray starts (a camera ray at its near
   // clip distance) to the hit; 0 in the world.
   kInputRayLength = 23,
+  // The instance's Object and Instancer attributes (Scene Instance::attributes), RGBA.
+  kInputObjectAttribute = 24,  // + k, k < kObjectAttributes
   kInputObjectLocation = 32,
   kInputObjectRandom = 33,
   kInputObjectIndex = 34,
@@ -191,6 +193,10 @@ inline constexpr uint32_t kGridVoxels = 8;
 static_assert(kInputGridVoxelWeight + kGridVoxels <= kInputTriangleVertex &&
               kInputTriangleVertex + 3 <= kInputUvSet);
 
+// The per-instance attributes INPUT reaches (kInputObjectAttribute + k).
+inline constexpr uint32_t kObjectAttributes = 8;
+static_assert(kInputObjectAttribute + kObjectAttributes <= kInputObjectLocation);
+
 // The UV sets and the attributes INPUT reaches (kInputUvSet + k, kInputAttribute + k).
 inline constexpr uint32_t kUvSets = kInputAttribute - kInputUvSet;
 inline constexpr uint32_t kAttributes = kInputPublicEnd - kInputAttribute;
@@ -209,7 +215,7 @@ struct OpNumber {
   std::string_view name;
   uint32_t value;
 };
-inline constexpr std::array<OpNumber, 42> kOpNumbers = {{
+inline constexpr std::array<OpNumber, 44> kOpNumbers = {{
     {"IN_POSITION", kInputPosition},
     {"IN_NORMAL", kInputNormal},
     {"IN_TRUE_NORMAL", kInputTrueNormal},
@@ -231,6 +237,8 @@ inline constexpr std::array<OpNumber, 42> kOpNumbers = {{
     {"IN_IS_DIFFUSE_RAY", kInputIsDiffuseRay},
     {"IN_IS_SINGULAR_RAY", kInputIsSingularRay},
     {"IN_RAY_LENGTH", kInputRayLength},
+    {"IN_OBJECT_ATTRIBUTE", kInputObjectAttribute},
+    {"OBJECT_ATTRIBUTES", kObjectAttributes},
     {"IN_OBJECT_LOCATION", kInputObjectLocation},
     {"IN_OBJECT_RANDOM", kInputObjectRandom},
     {"IN_OBJECT_INDEX", kInputObjectIndex},

@@ -147,7 +147,8 @@ Vec3 bevel(const ProgramHit& hit, uint32_t mode, float radius, const Vec3& p, co
 bool public_input(uint32_t mode) {
   if ((mode & kInputBumpX) != 0 && (mode & kInputBumpY) == 0) mode &= ~kInputBumpX;
   if ((mode & kInputBumpY) != 0 && (mode & kInputBumpX) == 0) mode &= ~kInputBumpY;
-  return mode < kInputRadialTangent + 3 || (mode >= kInputIsCameraRay && mode <= kInputRayLength) ||
+  return mode < kInputRadialTangent + 3 ||
+         (mode >= kInputIsCameraRay && mode < kInputObjectAttribute + kObjectAttributes) ||
          (mode >= kInputObjectLocation && mode < kInputTriangleVertex + 3) ||
          (mode >= kInputUvSet && mode < kInputPublicEnd);
 }
