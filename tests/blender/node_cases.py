@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import bpy
 import numpy as np
-from whitted_tools.material_scenes import empty_node_material
+from whitted_tools.material_scenes import empty_node_material, plain_film, top_camera
 
 SIZE = 16
 
@@ -845,19 +845,8 @@ CASES = [
 def build_scene(scene, case):
     """The case's plane (with a colour attribute 'Paint' and a float 'height'),
     the orthographic camera, no world, no lights."""
-    scene.world = None
-    render = scene.render
-    render.resolution_x = render.resolution_y = SIZE
-    render.resolution_percentage = 100
-    render.film_transparent = False
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = 2.0
-    camera.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
+    plain_film(scene, SIZE, SIZE)
+    top_camera(scene, 2.0)
     mesh = bpy.data.meshes.new("Plane")
     mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
     uv = mesh.uv_layers.new(name="UVMap")

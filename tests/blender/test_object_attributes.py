@@ -13,6 +13,7 @@ from test_sync import LiveSync
 from test_sync import render as render_synced
 from whitted.export.material import convert_material
 from whitted_tools.cycles_scenes import render_exr
+from whitted_tools.material_scenes import plain_film, top_camera
 
 # Constants on both sides (float32 sums and means): Cycles' value within this.
 BOUND = 2e-5
@@ -216,19 +217,8 @@ def _shared_material():
 
 
 def _instancing_scene(scene):
-    scene.world = None
-    render = scene.render
-    render.resolution_x, render.resolution_y = WIDTH, HEIGHT
-    render.resolution_percentage = 100
-    render.film_transparent = False
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.type = "ORTHO"
-    camera.data.ortho_scale = SCALE
-    camera.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
+    plain_film(scene, WIDTH, HEIGHT)
+    top_camera(scene, SCALE)
     material = _shared_material()
     # Two objects sharing the material, each with its own tint.
     for name, x, tint in (("Left", -2.0, (0.8, 0.1, 0.1)), ("Middle", 0.0, (0.1, 0.7, 0.2))):

@@ -25,7 +25,7 @@ import numpy as np
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 
-from whitted_tools.material_scenes import lambert_material
+from whitted_tools.material_scenes import lambert_material, plain_film
 from whitted_tools.metrics import subject_figures
 
 WIDTH, HEIGHT = 64, 48
@@ -234,13 +234,7 @@ def build_scene(scene, case):
     scene.collection.objects.link(light_object)
 
     # No world: black background and no ambient term in either engine.
-    scene.world = None
-    render = scene.render
-    render.resolution_x, render.resolution_y = WIDTH, HEIGHT
-    render.resolution_percentage = 100
-    render.film_transparent = False
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
+    plain_film(scene, WIDTH, HEIGHT)
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     return light_object

@@ -43,6 +43,19 @@ def side_camera(scene, width):
     scene.camera = camera
 
 
+def plain_film(scene, width, height):
+    """No world (a black background, no ambient term), an opaque film of width x height
+    pixels at 100%, the Standard view transform without a look: linear values as they
+    are, for comparing two engines' renders."""
+    scene.world = None
+    render = scene.render
+    render.resolution_x, render.resolution_y = width, height
+    render.resolution_percentage = 100
+    render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+
+
 def top_camera(scene, width):
     """An orthographic camera 5 m above the origin looking straight down, its frame `width`
     m wide: the plane z = 0 seen square-on, image x along +X."""
