@@ -190,3 +190,25 @@ def test_finite_and_non_negative_everywhere(empty_scene, native, warnings, model
         for d in directions:
             value = native.fold_op(ops.SKY, row[1], [(*d, 0.0)], table)
             assert all(math.isfinite(x) and x >= 0.0 for x in value), (elevation, d, value)
+
+
+@pytest.mark.parametrize("texture", ["ShaderNodeTexNoise", "ShaderNodeTexGradient"])
+def test_a_procedural_world_is_cycles(texture, empty_scene, tmp_path):
+    # A world whose Background colour is a procedural texture of its default coordinates
+    # (Generated: the ray's direction in the world, as Cycles gives a world), seen in
+    # every direction: the world's program runs the surfaces' ops.
+    world = bpy.data.worlds.new("Procedural")
+    if not V5:
+        world.use_nodes = True
+    empty_scene.world = world
+    tree = world.node_tree
+    node = tree.nodes.new(texture)
+    if texture == "ShaderNodeTexGradient":
+        node.gradient_type = "QUADRATIC"  # x^2 of the direction, 0 where x < 0
+    tree.links.new(node.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    panorama(empty_scene)
+    whitted, cycles = render_both(empty_scene, tmp_path)
+    ratio, median, p95 = figures(whitted, cycles)
+    print(f"\n{texture} world: ratio {ratio:.4f}, per pixel median {median:.2e}, 95% {p95:.2e}")
+    assert abs(ratio - 1.0) < 1e-3
+    assert p95 < 1e-3
