@@ -796,16 +796,16 @@ def test_override_starts_from_the_mapping_and_wins(warnings):
     assert convert(material, warnings) == derived
 
 
-def test_linked_input_the_mapping_ignores_warns(warnings):
+def test_any_vector_linked_into_normal_is_the_shading_normal(warnings):
+    # Not only a Normal Map's, a Bump's or a Bevel's: the program computes the normal
+    # from whatever feeds it (here the Incoming direction), as Cycles reads its Normal.
     material = node_material("Bumpy")
     diffuse = surface_shader(material, "ShaderNodeBsdfDiffuse")
     geometry = material.node_tree.nodes.new("ShaderNodeNewGeometry")
     material.node_tree.links.new(geometry.outputs["Incoming"], diffuse.inputs["Normal"])
-    convert(material, warnings)
-    assert warnings == [
-        f"Whitted: material 'Bumpy', node '{diffuse.name}': input 'Normal' is linked; "
-        "Whitted ignores it"
-    ]
+    exported = convert_material(material, warnings)
+    assert set(dict(exported.outputs)) == {"normal"}
+    assert warnings == []
 
 
 def test_sheen_and_a_bumped_coat_need_a_program(warnings):

@@ -139,3 +139,45 @@ def _under_a_sun_as_cycles(scene, material, tmp_path, name):
     low, high = np.percentile(ratio, [2, 98])
     print(f"\n{name}: Whitted / Cycles {low:.4f}..{high:.4f}")
     assert low > 0.99 and high < 1.01
+
+
+@pytest.mark.parametrize(
+    "normalised",
+    [
+        True,
+        pytest.param(
+            False,
+            marks=pytest.mark.xfail(
+                __import__("bpy").app.version < (4, 0, 0),
+                strict=True,
+                reason="Cycles 3.x does not normalise a linked Normal: its lobes scale by "
+                "the vector's length (0.64..1.47 here); Whitted normalises, as 4.x+",
+            ),
+        ),
+    ],
+)
+def test_any_vector_into_normal_shades_as_in_cycles(normalised, empty_scene, tmp_path, native):
+    # A Diffuse BSDF whose Normal is a vector of the graph's own (the Geometry normal
+    # leaned towards +X, normalised in the graph or not): Cycles shades with it. Whitted
+    # read only a Normal Map, a Bump or a Bevel there, and ignored this link.
+    import bpy
+
+    material = bpy.data.materials.new("Leaning")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    tree = material.node_tree
+    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (0.5, 0.4, 0.3, 1.0)
+    lean = tree.nodes.new("ShaderNodeVectorMath")
+    lean.operation = "ADD"
+    lean.inputs[1].default_value = (0.6, 0.0, 0.2)
+    tree.links.new(tree.nodes.new("ShaderNodeNewGeometry").outputs["Normal"], lean.inputs[0])
+    normal = lean.outputs[0]
+    if normalised:
+        unit = tree.nodes.new("ShaderNodeVectorMath")
+        unit.operation = "NORMALIZE"
+        tree.links.new(normal, unit.inputs[0])
+        normal = unit.outputs[0]
+    tree.links.new(normal, bsdf.inputs["Normal"])
+    tree.links.new(bsdf.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    _under_a_sun_as_cycles(empty_scene, material, tmp_path, f"a leaning normal, {normalised}")

@@ -66,10 +66,6 @@ DEFAULTS = {
 }
 
 
-# Nodes whose output a shader's Normal input reads.
-NORMAL_NODES = ("ShaderNodeNormalMap", "ShaderNodeBump", "ShaderNodeBevel")
-
-
 @dataclass(frozen=True)
 class Closure:
     coverage: object  # Expr, float
@@ -159,10 +155,8 @@ class ShaderLowering:
         fed = None if socket is None else source(socket, output.scope)[0]
         if fed is None:
             return None
-        if fed.node.bl_idname not in NORMAL_NODES:
-            # Only a Normal Map or a Bump gives a normal.
-            self.c.warn(output.node, f"input '{socket.name}' is linked; Whitted ignores it")
-            return None
+        # Whatever feeds it (a Normal Map, a Bump, a Bevel, any vector) is the shading
+        # normal in the world, normalised natively, as Cycles normalises its Normal input.
         normal = self.c.value(socket, output.scope, VECTOR)
         if normal.op == ops.INPUT and normal.mode == ops.IN_NORMAL:
             return None  # the interpolated normal, as without the link
