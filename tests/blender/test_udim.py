@@ -119,8 +119,15 @@ def test_every_tile_renders_as_in_cycles(interpolation, colorspace, empty_scene,
     assert_as_cycles(whitted, cycles)
 
 
+@pytest.mark.xfail(
+    bpy.app.version >= (5, 2, 0),
+    strict=True,
+    reason="Cycles 5.2 shows a box-projected UDIM image mostly magenta (3.4 and 5.0 its "
+    "first tile); Whitted projects the first tile, as 3.4 and 5.0 (seen in CI, not studied)",
+)
 def test_box_projection_shows_the_first_tile_as_in_cycles(empty_scene, tmp_path):
-    # Cycles projects a UDIM image's first tile on each side, repeated: no magenta.
+    # Cycles 3.4 and 5.0 project a UDIM image's first tile on each side, repeated: no
+    # magenta.
     image = udim_image(tmp_path)
     whitted, cycles = render_both(empty_scene, image, "Closest", tmp_path, "BOX")
     assert not np.all(cycles == MISSING, axis=-1).any()
