@@ -226,8 +226,9 @@ class SceneSync:
         changes = None if first else classify(depsgraph.updates)
         report = SyncReport(full=first)
         self.warnings = warnings = []
-        if self._materials_touched(changes, params) or self._layer_attributes_changed(depsgraph):
-            self._sync_materials(depsgraph, changes, params, report, warnings)
+        stale = self._stale_layer_attributes(depsgraph)
+        if self._materials_touched(changes, params) or stale:
+            self._sync_materials(depsgraph, changes, params, report, warnings, stale)
         # Light linking is the whole scene's: when it changes, every instance may change.
         # Reading it visits every object (44 ms for 10,000 in Blender 5.2), so an update
         # that only moved objects or edited materials, lights or the world keeps it.
@@ -278,13 +279,14 @@ class SceneSync:
             or changes.meshes
         )
 
-    def _layer_attributes_changed(self, depsgraph):
-        # A view layer's, scene's or world's property a material folded reads otherwise
-        # (not every such edit is listed among the updates): a few property reads.
+    def _stale_layer_attributes(self, depsgraph):
+        # The materials a view layer's, scene's or world's property they folded now reads
+        # otherwise for (not every such edit is listed among the updates): a few property
+        # reads, once a sync.
         view_layer = depsgraph.view_layer_eval
-        return any(_reads_otherwise(m, view_layer) for m in self._materials.values())
+        return frozenset(n for n, m in self._materials.items() if _reads_otherwise(m, view_layer))
 
-    def _sync_materials(self, depsgraph, changes, params, report, warnings):
+    def _sync_materials(self, depsgraph, changes, params, report, warnings, stale):
         # Every material the evaluated objects use is in the depsgraph.
         current = {
             block.original.name_full: block
@@ -306,12 +308,7 @@ class SceneSync:
         view_layer = depsgraph.view_layer_eval
         for name, material in current.items():
             known = self._materials.get(name)
-            if (
-                redo
-                or known is None
-                or name in changes.materials
-                or _reads_otherwise(known, view_layer)
-            ):
+            if redo or known is None or name in changes.materials or name in stale:
                 exported = replace(
                     convert_material(
                         material,
