@@ -22,10 +22,11 @@ from dataclasses import dataclass, replace
 
 import bpy
 import numpy as np
+from mathutils import Matrix
 
+from ..native import load_native
 from .instance import instance_name
 from .light_linking import ALL_SETS
-from .nodes import ops
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import COLOR, FLOAT
@@ -157,9 +158,7 @@ def convert_light(
     if not np.all(scale > 0.0):
         warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
         return None
-    data = _convert_light(
-        name, light, matrix[:3, 3], axes / scale, scale, default_samples, warnings
-    )
+    data = _convert_light(name, light, matrix_world, axes / scale, scale, default_samples, warnings)
     if data is None:
         return None
     # Cycles' Max Bounces (light.cycles), or LightData's default without Cycles' settings.
@@ -187,17 +186,17 @@ def shadow_switch(light):
     return light, "use_shadow"
 
 
-def _convert_light(name, light, position, unit_axes, scale, default_samples, warnings):
+def _convert_light(name, light, matrix_world, unit_axes, scale, default_samples, warnings):
     owner, switch = shadow_switch(light)
     common = {
         "name": name,
         "type": light.type,
-        "position": tuple(position),
+        "position": tuple(np.array(matrix_world, dtype=np.float64)[:3, 3]),
         # The light travels along its local -Z axis.
         "direction": tuple(-unit_axes[:, 2]),
         "cast_shadows": getattr(owner, switch),
     }
-    shader, program, output = light_shader(name, light, warnings)
+    shader, program, output = light_shader(name, light, matrix_world, warnings)
     color = tuple(c * f for c, f in zip(_light_color(light), shader, strict=True))
     if program is not None:
         common |= {"program": program, "program_output": output}
@@ -270,26 +269,17 @@ def _samples(light, default_samples, sized):
     return light.whitted.samples or default_samples
 
 
-# What a lamp's program may read (native scene/light.cpp lamp_emission), as Cycles sets up
-# a lamp's shader (shader_setup_from_sample): the point on the lamp (Position), the lamp's
-# normal there (Normal, True Normal: facing the lit point for a point or spot lamp), the
-# direction towards the lit point (Incoming) and the distance to it (Ray Length, which
-# Light Falloff reads).
-LAMP_INPUTS = ("IN_POSITION", "IN_NORMAL", "IN_TRUE_NORMAL", "IN_INCOMING", "IN_RAY_LENGTH")
-# Ops a lamp's program cannot run: images (no texture reaches a lamp yet), a hit's rays and
-# tangents.
-_LAMP_REFUSED_OPS = ("IMAGE", "ENVIRONMENT", "NORMAL_MAP", "BUMP", "AMBIENT_OCCLUSION", "BEVEL")
-
-
-def light_shader(name, light, warnings):
+def light_shader(name, light, matrix_world, warnings):
     """What a light's node tree (Use Nodes; always on in 5.x) multiplies its colour by, as
     Cycles reads it: the emission its active Light Output receives, lowered as a
     material's surface is (export/nodes: Emission, Mix and Add Shader, Blackbody, RGB,
     Math, ...). (factor, None, 0) where that folds to a constant; (1, 1, 1), the
     ProgramData and its output register where it varies over the lamp and the program
-    reads only LAMP_INPUTS (a point, spot or area lamp); else (1, 1, 1) and a warning.
-    An output fed by nothing emits nothing. A node the lowering does not support (the
-    IES Texture) is warned by name and its input keeps its unlinked value."""
+    is one a lamp runs (native lamp_program_refusal: a point, spot or area lamp's,
+    reading the lamp's point, normal, incoming direction and ray length, and its object
+    space through constants); else (1, 1, 1) and a warning. An output fed by nothing emits
+    nothing. A node the lowering does not support is warned by name and its input keeps
+    its unlinked value."""
     white = (1.0, 1.0, 1.0)
     tree = light.node_tree if getattr(light, "use_nodes", False) else None
     if tree is None:
@@ -298,12 +288,12 @@ def light_shader(name, light, warnings):
     output = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
     if output is None:
         return (0.0, 0.0, 0.0), None, 0  # no Light Output: Cycles' light emits nothing
-    lowering = Lowering(f"light '{name}'", warnings)
+    lowering = Lowering(f"light '{name}'", warnings, lamp_matrix=Matrix(matrix_world))
     emission = surface(lowering, output).fields["emission"]
     if emission.is_const:
         return _exact_emission(lowering, output) or tuple(emission.value[:3]), None, 0
     program, registers = emit({"emission": emission})
-    why = _unrunnable(program, light.type)
+    why = _unrunnable(program, light.type, registers["emission"])
     if why is not None:
         _warn(
             warnings,
@@ -329,18 +319,13 @@ def _exact_emission(lowering, output):
     return tuple(c * strength.value[0] for c in color.value[:3])
 
 
-def _unrunnable(program, light_type):
-    """Why a lamp of `light_type` cannot run `program` per feeler, or None."""
-    if light_type == "SUN":
-        return "a sun's program is not evaluated"
-    refused = {getattr(ops, name): name for name in _LAMP_REFUSED_OPS}
-    allowed = {getattr(ops, name) for name in LAMP_INPUTS}
-    for op, mode, *_ in program.code.tolist():
-        if op in refused:
-            return f"it reads {refused[op].replace('_', ' ').lower()}, which no lamp gives"
-        if op == ops.INPUT and mode not in allowed:
-            return "it reads a coordinate or a path input Whitted gives no lamp"
-    return None
+def _unrunnable(program, light_type, output):
+    """Why a lamp of `light_type` cannot run `program` per feeler, or None: the native
+    rule (scene/light.h lamp_program_refusal), which the native Light applies too."""
+    native = load_native()
+    return native.lamp_program_refusal(
+        program.native(native), getattr(native.LightType, light_type), output
+    )
 
 
 def _light_color(light):

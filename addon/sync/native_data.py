@@ -61,9 +61,7 @@ def native_material(native, material):
 
 def native_program(native, program):
     # export.nodes.program.ProgramData as a native.Program.
-    return native.Program(
-        program.code, program.registers, program.constants, list(program.textures)
-    )
+    return program.native(native)
 
 
 def native_light(native, light):

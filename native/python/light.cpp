@@ -1,6 +1,8 @@
 #include "scene/light.h"
 
 #include <memory>
+#include <optional>
+#include <string>
 #include <utility>
 
 #include "bindings.h"
@@ -19,6 +21,16 @@ void bind_light(py::module_& m) {
       .value("RECTANGLE", AreaShape::kRectangle)
       .value("ELLIPSE", AreaShape::kEllipse);
 
+  m.def(
+      "lamp_program_refusal",
+      [](const Program& program, LightType type, uint32_t output) -> std::optional<std::string> {
+        std::string why = lamp_program_refusal(program, type, output);
+        if (why.empty()) return std::nullopt;
+        return why;
+      },
+      py::arg("program"), py::arg("type"), py::arg("output"),
+      "Why `program` (its output in register `output`) cannot be the program of a lamp of "
+      "`type`, or None where it can: the rule Light's constructor applies (scene/light.h).");
   py::class_<Light>(m, "Light",
                     "A lamp; checked on construction (ValueError for what cannot be one, "
                     "clamped where a nearest value is obvious), read-only afterwards.")

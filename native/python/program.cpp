@@ -41,6 +41,9 @@ void bind_program(py::module_& m) {
     numbers[py::str(number.name.data(), number.name.size())] = number.value;
   }
   m.attr("OP_NUMBERS") = numbers;
+  py::list tables;
+  for (Op op : kTableOps) tables.append(static_cast<uint32_t>(op));
+  m.attr("TABLE_OPS") = tables;
   // The ops whose mode is fields (kOpModes): op name -> ((field, shift, width, count,
   // Blender's identifiers or ()), ...), how the Python compiler packs their modes.
   py::dict op_modes;

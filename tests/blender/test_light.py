@@ -324,11 +324,15 @@ def test_a_lamp_tree_whitted_cannot_run_is_warned_and_lights_plain(
     assert why in message
 
 
-def test_an_ies_texture_on_a_lamp_is_named_and_its_input_keeps_its_value(empty_scene, warnings):
+def test_an_ies_texture_without_a_profile_is_named_and_lights_as_cycles(empty_scene, warnings):
+    # An IES Texture with no text or file: Cycles' node gives 100 x Strength there
+    # (tests/blender/test_ies.py renders a missing file against Cycles); Whitted folds it
+    # into the lamp's colour and names the node.
     _, tree, emission = lamp_tree(empty_scene)
     ies = tree.nodes.new("ShaderNodeTexIES")
     emission.inputs["Strength"].default_value = 0.5
     tree.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
     (light,) = convert(warnings)
-    assert light.color == pytest.approx((500.0 / (4.0 * math.pi),) * 3)
-    assert any("IES Texture is not supported" in w and "light 'Light'" in w for w in warnings)
+    assert light.program is None
+    assert light.color == pytest.approx((1000.0 * 100.0 / (4.0 * math.pi),) * 3)
+    assert any("no IES text" in w and "light 'Light'" in w for w in warnings)

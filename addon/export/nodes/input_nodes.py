@@ -42,7 +42,12 @@ def _tex_coord(c, out):
         return c.uv("")
     other = getattr(out.node, "object", None)
     if other is not None and name == "Object":
-        return _in_object_space(c, other)
+        return _in_object_space(c, other.matrix_world.inverted_safe())
+    if c.lamp_matrix is not None and name in ("Object", "Normal"):
+        # A lamp's tree: the point on the lamp, or its normal, in the lamp's object space.
+        if name == "Object":
+            return _in_object_space(c, c.lamp_matrix.inverted_safe())
+        return c.in_lamp_space(c.hit(ops.IN_NORMAL))
     if name == "Normal" and not c.world:
         # Cycles' Normal output is the shading normal in object space.
         return c.hit(ops.IN_OBJECT_NORMAL)
@@ -54,11 +59,11 @@ def _tex_coord(c, out):
     return c.hit(getattr(ops, _TEX_COORD[name]))
 
 
-def _in_object_space(c, other):
-    """The hit's world position in `other`'s object space, as Cycles' Object output of a
-    Texture Coordinate node naming another object: that object's inverse transform at the
-    frame (no motion blur of it) times the point, its rows dotted with the point."""
-    inverse = other.matrix_world.inverted_safe()
+def _in_object_space(c, inverse):
+    """The hit's world position in an object's space, as Cycles' Object output of a
+    Texture Coordinate node naming another object (its matrix at the frame: no motion
+    blur of it) or of a lamp's tree: the object's `inverse` transform (a mathutils
+    Matrix) times the point, its rows dotted with the point."""
     point = c.hit(ops.IN_POSITION)
     b = c.b
     rows = [

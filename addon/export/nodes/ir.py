@@ -231,7 +231,7 @@ def fold(op, mode, values, e=None):
     computed by the native program's own code (whitted_native.fold_op: one definition of
     each node's maths, in the program's float32), so a folded graph gives what running it
     would. None for an op that reads the hit (INPUT, IMAGE, FRESNEL, ...)."""
-    table = e if op in (ops.COLOR_RAMP, ops.CURVE, ops.SKY) else ()
+    table = e if op in ops.TABLE_OPS else ()
     return load_native().fold_op(op, mode, values, table)
 
 

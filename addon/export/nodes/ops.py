@@ -1,7 +1,7 @@
 """The shader program's numbers (docs/notes/shader_program.md): op codes, input
 modes, the operation lists and the other ops' mode fields, all defined by
 native/src/shader/ops.h and read from the native module (whitted_native.OPS,
-OP_NUMBERS, MATH_OPS, VECTOR_MATH_OPS, MIX_BLEND, OP_MODES) the first time one is asked
+OP_NUMBERS, MATH_OPS, VECTOR_MATH_OPS, MIX_BLEND, OP_MODES, TABLE_OPS) the first time one is asked
 for: the op codes and numbers as attributes of this module (ops.IMAGE, ops.IN_UV,
 ops.OP_NAMES, ...), the modes through pack() and unpack(). The add-on imports before
 that module loads (native.py).
@@ -27,6 +27,8 @@ def _native_numbers():
         "MATH_OPS": tuple(native.MATH_OPS),
         "VECTOR_MATH_OPS": tuple(native.VECTOR_MATH_OPS),
         "MIX_BLEND": tuple(native.MIX_BLEND),
+        # The ops whose `e` is a table the program keeps in its constants.
+        "TABLE_OPS": frozenset(native.TABLE_OPS),
     }
 
 

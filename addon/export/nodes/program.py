@@ -42,6 +42,10 @@ class ProgramData:
     def __hash__(self):
         return hash((self.code.tobytes(), self.registers.tobytes(), self.textures))
 
+    def native(self, native):
+        """This program as a whitted_native.Program (ValueError for one it refuses)."""
+        return native.Program(self.code, self.registers, self.constants, list(self.textures))
+
     def describe(self):
         """One line per instruction, for tests and debugging."""
         lines = []
@@ -89,7 +93,7 @@ def emit(fields):
             if expr.e not in textures:
                 textures.append(expr.e)
             e = textures.index(expr.e)
-        elif expr.op in (ops.COLOR_RAMP, ops.CURVE, ops.SKY):
+        elif expr.op in ops.TABLE_OPS:
             if expr.e not in constant_offsets:
                 constant_offsets[expr.e] = len(constants)
                 constants.extend(expr.e)

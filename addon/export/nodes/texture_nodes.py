@@ -8,6 +8,7 @@ import math
 import bpy
 
 from ...native import load_native
+from .. import ies
 from ..texture import INTERPOLATIONS, ImageTextureSpec, image_texture_spec
 from . import ops
 from .graph import source
@@ -285,6 +286,65 @@ def _gabor(c, out):
     return c.b.op(ops.GABOR, mode, (vector, scale, frequency, anisotropy, orientation))
 
 
+# Cycles 4.0+ looks an IES profile up along the incoming direction (from the lamp to the
+# lit point), 3.x along the Texture Coordinate's Normal: the same for a point or spot lamp,
+# the lamp's own normal for an area lamp. Both in the lamp's object space, as a normal.
+# And 4.0+ treats the table's edges otherwise (native shader/ies.h); 4.x is read as 5.0
+# (not measured).
+_IES_ALONG_INCOMING = bpy.app.version >= (4, 0, 0)
+_IES_EDGES = "BOUNDS" if _IES_ALONG_INCOMING else "LEGACY"
+
+# What Cycles' IES node gives per unit Strength where it has no profile (a missing or
+# unreadable file): its lookup's fallback.
+IES_WITHOUT_PROFILE = 100.0
+
+
+def _ies(c, out):
+    node = out.node
+    strength = c.input(out, ("Strength",), FLOAT) or c.b.f(1.0)
+    profile, why = _ies_profile(node)
+    if profile is None:
+        c.warn(node, f"{why}; it gives {IES_WITHOUT_PROFILE:g} x Strength, as in Cycles")
+        return c.b.mul(strength, c.b.f(IES_WITHOUT_PROFILE))
+    vector = _vector_input(c, out, default=None)
+    if vector is None:
+        if c.lamp_matrix is None:
+            # A surface's: its object-space normal (Cycles 3.x's default; 4.0+ takes the
+            # object-space incoming direction, which no surface program reads yet).
+            if _IES_ALONG_INCOMING:
+                c.warn(node, "outside a lamp its Vector is the object-space normal")
+            vector = c.hit(ops.IN_OBJECT_NORMAL)
+        else:
+            along = ops.IN_INCOMING if _IES_ALONG_INCOMING else ops.IN_NORMAL
+            vector = c.in_lamp_space(c.hit(along))
+    if profile.type_b and _IES_ALONG_INCOMING:
+        c.warn(node, "a type B profile is read as Cycles 3.x reads it; Cycles 4.0+ turns it "
+               "otherwise (not followed)")  # fmt: skip
+    mode = ops.pack("IES", edges=_IES_EDGES)
+    return c.b.op(ops.IES, mode, (vector, strength), e=tuple(profile.table), kind=FLOAT)
+
+
+def _ies_profile(node):
+    """(its ies.Profile, None) of an IES Texture node (its Text block, or its file,
+    relative to the blend file or its library), or (None, why not)."""
+    if node.mode == "INTERNAL":
+        if node.ies is None:
+            return None, "no IES text"
+        text, where = node.ies.as_string(), f"text '{node.ies.name}'"
+    else:
+        path = bpy.path.abspath(node.filepath, library=node.id_data.library)
+        try:
+            with open(path, encoding="latin-1") as f:
+                text = f.read()
+        except OSError as error:
+            return None, f"IES file '{node.filepath}' cannot be read ({error.strerror})"
+        where = f"file '{node.filepath}'"
+    profile = ies.parse(text)
+    if profile is None:
+        return None, f"IES {where} holds no type B or C profile Cycles reads"
+    return profile, None
+
+
 def _texture_mapping(c, node, vector):
     """`vector` through the node's own Texture Mapping (its sidebar's Location, Rotation
     and Scale, as a Mapping node of its Vector Type); min/max clipping and axis remaps
@@ -363,4 +423,5 @@ TEXTURE_NODES = {
     "ShaderNodeTexWhiteNoise": _white_noise,
     "ShaderNodeTexMusgrave": _musgrave,
     "ShaderNodeTexGabor": _gabor,
+    "ShaderNodeTexIES": _ies,
 }

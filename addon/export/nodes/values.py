@@ -21,7 +21,6 @@ from .texture_nodes import TEXTURE_NODES
 
 # Textures the program does not compute (named in their warning).
 PROCEDURALS = {
-    "ShaderNodeTexIES": "IES Texture",
     "ShaderNodeTexPointDensity": "Point Density Texture",
 }
 
@@ -77,6 +76,7 @@ class Lowering:
         grids=None,
         ao_distance=UNBOUNDED_AO_DISTANCE,
         view_layer=None,
+        lamp_matrix=None,
     ):
         self.owner = owner  # "material 'Name'" or "world 'Name'"
         self.warnings = warnings
@@ -101,6 +101,9 @@ class Lowering:
         # The evaluated view layer whose View Layer attributes a material reads (folded
         # into its program); None where they are not read (the world, lamps).
         self.view_layer = view_layer
+        # A lamp's tree: its object-to-world matrix (a mathutils Matrix), whose space its
+        # Texture Coordinate and IES Texture read; None for materials and the world.
+        self.lamp_matrix = lamp_matrix
 
     def warn(self, node, message):
         _warn(self.warnings, f"Whitted: {self.owner}, node '{node.name}': {message}")
@@ -184,6 +187,18 @@ class Lowering:
         if mode == ops.IN_NORMAL and self.shading_normal is not None:
             return self.shading_normal
         return self.b.op(ops.INPUT, mode, (), kind=kind)
+
+    def in_lamp_space(self, direction):
+        """World `direction` carried into the lamp's object space as a normal is (the
+        transpose of the lamp's linear part: each component the direction dotted with one
+        of its axes) and normalised, as Cycles' object_inverse_normal_transform."""
+        b = self.b
+        m = self.lamp_matrix
+        components = [
+            b.vmath("DOT_PRODUCT", direction, b.const((m[0][i], m[1][i], m[2][i]), VECTOR))
+            for i in range(3)
+        ]
+        return b.vmath("NORMALIZE", b.pack(*components))
 
     def grid(self, role, name, kind=None):
         """The Volume object's grid `name` in `role` at the point (a colour for the colour

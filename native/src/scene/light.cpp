@@ -21,24 +21,6 @@ bool lamp_input(uint32_t mode) {
          mode == kInputIncoming || mode == kInputRayLength;
 }
 
-// Throws std::invalid_argument where `light`'s program is not one lamp_emission runs.
-void require_lamp_program(const Light& light) {
-  const Program& program = *light.program;
-  if (light.type == LightType::kSun) throw std::invalid_argument("a sun runs no program");
-  if (light.program_output >= program.register_count()) {
-    throw std::invalid_argument("a lamp's program output must be one of its registers");
-  }
-  if (!program.textures().empty() || program.traces() || program.bumps()) {
-    throw std::invalid_argument("a lamp's program samples no image, traces no ray, bumps nothing");
-  }
-  for (uint32_t mode : program.inputs()) {
-    if (!lamp_input(mode)) {
-      throw std::invalid_argument(
-          "a lamp's program reads only its point, normal, incoming direction and ray length");
-    }
-  }
-}
-
 void require_finite(bool finite, const char* what) {
   if (!finite) throw std::invalid_argument(std::string("light ") + what + " must be finite");
 }
@@ -161,7 +143,11 @@ Light::Light(const LightParams& params) : LightParams(params) {
     throw std::invalid_argument("light samples must be between 1 and " +
                                 std::to_string(kMaxLightSamples));
   }
-  if (program) require_lamp_program(*this);
+  if (program) {
+    if (std::string why = lamp_program_refusal(*program, type, program_output); !why.empty()) {
+      throw std::invalid_argument("a lamp's program cannot run: " + why);
+    }
+  }
   color = glm::max(color, Vec3(0.0f));  // negative power emits nothing
   direction = glm::normalize(direction);
   spot_size = std::clamp(spot_size, 0.0f, kPi);
@@ -258,6 +244,18 @@ LightSample sample_light(const Light& light, const Vec3& p, int index, const glm
     irradiance *= lamp_emission(light, target, normal, -wi, dist);
   }
   return {wi, dist, irradiance, density};
+}
+
+std::string lamp_program_refusal(const Program& program, LightType type, uint32_t output) {
+  if (type == LightType::kSun) return "a sun's program is not evaluated";
+  if (output >= program.register_count()) return "its output is not one of its registers";
+  if (!program.textures().empty()) return "it samples an image, which no lamp gives";
+  if (program.traces()) return "it traces rays from a hit (Ambient Occlusion, Bevel)";
+  if (program.bumps()) return "it bumps a normal, which no lamp has";
+  for (uint32_t mode : program.inputs()) {
+    if (!lamp_input(mode)) return "it reads a coordinate or a path input Whitted gives no lamp";
+  }
+  return {};
 }
 
 Color lamp_emission(const Light& light, const Vec3& point, const Vec3& normal, const Vec3& towards,

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -125,6 +126,13 @@ struct LightSample {
 // *at of [0, 1)^2 placed on its shape (a Monte Carlo camera sample's draw: lights.h).
 LightSample sample_light(const Light& light, const Vec3& p, int index,
                          const glm::vec2* at = nullptr);
+
+// Why `program`, its output in register `output`, cannot be the program of a lamp of
+// `type` (lamp_emission's: it reads only the lamp's point, normal, incoming direction and
+// ray length, samples no image, traces no ray, bumps nothing, and no sun runs one); empty
+// where it can. The one statement of the rule: Light's constructor refuses what it names,
+// and the add-on asks it before handing a lamp a program (export/light.py).
+std::string lamp_program_refusal(const Program& program, LightType type, uint32_t output);
 
 // What light.program gives (xyz; a negative channel emits nothing) at `point` on the lamp,
 // whose normal there is `normal`, for a point `length` away along unit `towards` from it:

@@ -54,6 +54,7 @@ enum class Op : uint32_t {
   kBevel = 41,
   kUvTangent = 42,
   kGabor = 43,
+  kIes = 44,
 };
 
 // What every layer knows of an op, defined here once: its name (the Python compiler's
@@ -68,7 +69,7 @@ struct OpInfo {
   uint32_t operands;
   bool reads_hit;
 };
-inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kGabor) + 1> kOpTable = {{
+inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kIes) + 1> kOpTable = {{
     {"CONST", 0, false},
     {"INPUT", 0, true},
     {"MATH", 3, false},
@@ -121,6 +122,9 @@ inline constexpr std::array<OpInfo, static_cast<size_t>(Op::kGabor) + 1> kOpTabl
     // Blender 4.3's Gabor Texture (shader/procedural.h gabor_op): the vector, scale,
     // frequency, anisotropy, and in e the orientation (2D: an angle, 3D: a direction).
     {"GABOR", 5, false},
+    // The IES Texture (shader/ies.h): the lookup vector, Strength; e: the profile's table
+    // offset in the constants.
+    {"IES", 2, false},
 }};
 
 // The modes of op INPUT: what a hit offers a program.
@@ -468,6 +472,9 @@ inline constexpr std::array<std::string_view, 3> kLightFalloffNames = {"QUADRATI
                                                                        "CONSTANT"};
 // ShaderNodeTexGabor.gabor_type, and which of its outputs GABOR computes.
 inline constexpr std::array<std::string_view, 2> kGaborTypeNames = {"2D", "3D"};
+// How IES's interpolation treats the table's edges (shader/ies.h): as Cycles 3.x, or as
+// Cycles 4.x+.
+inline constexpr std::array<std::string_view, 2> kIesEdgeNames = {"LEGACY", "BOUNDS"};
 inline constexpr std::array<std::string_view, 3> kGaborOutputNames = {"VALUE", "PHASE",
                                                                       "INTENSITY"};
 
@@ -527,6 +534,7 @@ inline constexpr ModeField kAoOnlyLocal = flag("only_local", 9);
 inline constexpr ModeField kBevelSamples = number("samples", 0, 8, 256);
 inline constexpr ModeField kGaborType = choice("gabor_type", 0, 1, kGaborTypeNames);
 inline constexpr ModeField kGaborOutput = choice("output", 1, 2, kGaborOutputNames);
+inline constexpr ModeField kIesEdges = choice("edges", 0, 1, kIesEdgeNames);
 
 inline constexpr std::array kMath = {kMathOperation, kClamp};
 inline constexpr std::array kVectorMath = {kVectorMathOperation};
@@ -558,7 +566,18 @@ inline constexpr std::array kLightFalloffOp = {kLightFalloff};
 inline constexpr std::array kAmbientOcclusion = {kAoSamples, kAoInside, kAoOnlyLocal};
 inline constexpr std::array kBevel = {kBevelSamples};
 inline constexpr std::array kGabor = {kGaborType, kGaborOutput};
+inline constexpr std::array kIes = {kIesEdges};
 }  // namespace mode_field
+
+// The ops whose `e` is the offset of a table in the program's constants (whitted_native.
+// TABLE_OPS): the compiler places the table, and folding hands it over whole.
+inline constexpr std::array kTableOps = {Op::kColorRamp, Op::kCurve, Op::kSky, Op::kIes};
+constexpr bool reads_table(Op op) {
+  for (Op t : kTableOps) {
+    if (t == op) return true;
+  }
+  return false;
+}
 
 // The ops whose mode is fields, with them (whitted_native.OP_MODES): all but INPUT (its
 // modes are kOpNumbers') and those without a mode. Every bit of such a mode lies in a
@@ -567,7 +586,7 @@ struct OpMode {
   Op op;
   std::span<const ModeField> fields;
 };
-inline constexpr std::array<OpMode, 30> kOpModes = {{
+inline constexpr std::array<OpMode, 31> kOpModes = {{
     {Op::kMath, mode_field::kMath},
     {Op::kVectorMath, mode_field::kVectorMath},
     {Op::kMix, mode_field::kMix},
@@ -598,6 +617,7 @@ inline constexpr std::array<OpMode, 30> kOpModes = {{
     {Op::kAmbientOcclusion, mode_field::kAmbientOcclusion},
     {Op::kBevel, mode_field::kBevel},
     {Op::kGabor, mode_field::kGabor},
+    {Op::kIes, mode_field::kIes},
 }};
 
 // The fields of op's mode; empty for INPUT and an op without a mode.

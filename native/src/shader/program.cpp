@@ -11,6 +11,7 @@
 #include <glm/matrix.hpp>
 
 #include "shader/blackbody.h"
+#include "shader/ies.h"
 #include "shader/node_math.h"
 #include "shader/procedural.h"
 #include "shader/sky.h"
@@ -289,6 +290,14 @@ Program::Program(const uint32_t* code, size_t rows, const float* registers, size
         s.e = c[7];
         break;
       }
+      case Op::kIes:
+        s.a = reg(3), s.b = reg(4);
+        if (c[7] >= constants_.size() ||
+            ies::table_size(&constants_[c[7]], constants_.size() - c[7]) == 0) {
+          fail("constants at " + std::to_string(c[7]) + " do not hold an IES profile");
+        }
+        s.e = c[7];
+        break;
       case Op::kCurve:
         s.a = reg(3), s.b = reg(4);
         if (c[7] >= constants_.size() || c[7] + 4 * size_t{kCurveTable} > constants_.size()) {
@@ -613,6 +622,10 @@ void Program::run(const ProgramHit& hit, vec4* r) const {
       case Op::kGabor:
         out = procedural::gabor_op(s.mode, a, b, c, r[s.d], r[s.e]);
         break;
+      case Op::kIes:
+        out = scalar(b.x *
+                     ies::lookup(&constants_[s.e], Vec3(a), mode_field::kIesEdges.in(s.mode) == 0));
+        break;
       case Op::kBump:
         out = vector(bump(hit, a.x, a.y, mode_field::kBumpInvert.on(s.mode),
                           s.b_given ? Vec3(b) : hit.normal, c.x, r[s.d].x, r[s.e].x));
@@ -658,8 +671,7 @@ std::optional<vec4> Program::fold(uint32_t op, uint32_t mode,
   const auto out = static_cast<uint32_t>(registers.size() / 4);
   registers.insert(registers.end(), 4, 0.0f);
   row[2] = out;
-  if (op == static_cast<uint32_t>(Op::kColorRamp) || op == static_cast<uint32_t>(Op::kCurve) ||
-      op == static_cast<uint32_t>(Op::kSky)) {
+  if (reads_table(static_cast<Op>(op))) {
     row[7] = 0;  // the table is the whole of `constants`
   }
   const Program program(row, 1, registers.data(), out + 1, std::move(constants), {});
