@@ -170,6 +170,26 @@ TEST(Catcher, ThePassIsTheSameInWavesAndTheRecursion) {
   EXPECT_TRUE(waves->film().pixels() == recursion->film().pixels());
 }
 
+TEST(Catcher, ThePassOfAProgressiveRenderIsTheWholeRenders) {
+  // The film sums the pass's seven floats sample by sample (Film::add) or takes a
+  // pixel's mean record (Film::set): the same pass.
+  Scene scene = catcher_scene(true, 0.5f);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 3.0f);
+  Settings settings = testing::small_render(24, 24, 2, 2, 8);
+  settings.passes = pass_bit(FilmPass::kShadowCatcher);
+  RenderJob whole(scene, settings, scene.camera);
+  testing::run_to_end(whole);
+  settings.progressive = true;
+  settings.packets = false;
+  RenderJob progressive(scene, settings, scene.camera);
+  testing::run_to_end(progressive);
+  const std::vector<float>& a = whole.film().pass(FilmPass::kShadowCatcher);
+  const std::vector<float>& b = progressive.film().pass(FilmPass::kShadowCatcher);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-5f) << i;
+  EXPECT_NEAR(b[3 * (12 * 24 + 12)], 0.5f, 1e-6f);
+}
+
 TEST(Catcher, TheAnalysisNamesIt) {
   const auto with = catcher_scene(true, 1.0f).compile();
   Settings settings;
