@@ -222,8 +222,11 @@ Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribu
     channels_[p] = channels_of(pass, contribution_depth);
     if (!has_pass(pass)) continue;
     const size_t size = cost_.size() * static_cast<size_t>(channels_[p]);
-    // A pixel not traced yet shows the sky's depth, as Cycles does.
-    shown_[p].assign(size, pass == FilmPass::kDepth ? kNoDepth : 0.0f);
+    // A pixel not traced yet shows the sky's depth, as Cycles does, and no catcher's
+    // shadow.
+    const float untraced =
+        pass == FilmPass::kDepth ? kNoDepth : (pass == FilmPass::kShadowCatcher ? 1.0f : 0.0f);
+    shown_[p].assign(size, untraced);
     if (accumulate) {
       sums_[p].assign(cost_.size() * static_cast<size_t>(sums_of(pass, channels_[p])), 0.0f);
     }
