@@ -166,6 +166,17 @@ PASSES = (
     _light("VolumeInd", "cycles.use_pass_volume_indirect", "volume_indirect", "Volume", "Indirect"),
     _light("Emit", "use_pass_emit", "emission", "Other", "Emission"),
     _light("Env", "use_pass_environment", "environment", "Other", "Environment"),
+    # Cycles' Shadow Catcher pass, switched by Cycles' own view-layer property (Blender has
+    # none; the same in 3.x and 5.x): per channel, the light on the shadow catchers with the
+    # other objects over that with the catchers alone (1 off the catchers). With it on,
+    # Combined leaves the catchers out, as Cycles' does (integrator/catcher.h).
+    _light(
+        "Shadow Catcher",
+        "cycles.use_pass_shadow_catcher",
+        "shadow_catcher",
+        "Other",
+        "Shadow Catcher",
+    ),
     # Cycles' Denoising Data passes: the image before denoising (Combined itself when the
     # render is not denoised) and the denoiser's guides (addon/denoise.py).
     PassSpec(

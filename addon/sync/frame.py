@@ -100,14 +100,6 @@ def sync_frame(depsgraph, native, quality=None, frame_set=None):
             "Whitted: the scene has no lamps and no world light; only what emits (surfaces, "
             "glowing media) and the ambient light light it"
         )
-    cycles_layer = getattr(depsgraph.view_layer_eval, "cycles", None)
-    if getattr(cycles_layer, "use_pass_shadow_catcher", False):
-        # Cycles then leaves its catchers out of Combined (transparent there) and writes
-        # their shadows to the pass; Whitted folds them into Combined (integrator/catcher.h).
-        warnings.append(
-            "Whitted: the Shadow Catcher pass is not written; shadow catchers show in "
-            "Combined, as Cycles shows them with the pass off"
-        )
     film = convert_film(scene, camera.width, camera.height)
     return Frame(
         sync=sync,

@@ -10,6 +10,11 @@ are no catchers, and the report names the effect.
 The scene is test_cycles_lights.py's (cycles_scenes.build_scene: a Lambert floor, a
 floating box, no world; Cycles at direct-light settings with a centre-point filter,
 Whitted one sample at each pixel centre), the floor made a catcher.
+
+With Cycles' Shadow Catcher pass on (View Layer > Passes > Light > Shadow Catcher), both
+engines' multilayer EXRs are read: the pass is, per pixel and channel, the light on the
+catcher with the box over that without it, 1 off the catcher; Combined leaves the catcher
+out (black, alpha 0) over an opaque film and a transparent one alike.
 """
 
 import json
@@ -18,9 +23,9 @@ import bpy
 import numpy as np
 import pytest
 import whitted.result
-from whitted.sync.frame import sync_frame
+from test_passes import render_multilayer, rgb
 from whitted_tools import cycles_scenes
-from whitted_tools.material_scenes import grey_world
+from whitted_tools.material_scenes import add_sun, grey_world
 from whitted_tools.render import enable_every_pass
 
 CASES = {case.name: case for case in cycles_scenes.CASES}
@@ -157,18 +162,6 @@ def test_a_scene_without_a_catcher_names_none(empty_scene, tmp_path, native):
     }
 
 
-def test_the_shadow_catcher_pass_is_named_as_not_written(empty_scene, native):
-    # With its Shadow Catcher pass on, Cycles leaves the catchers out of Combined; Whitted
-    # writes no such pass and says that Combined keeps them.
-    _catcher_scene(empty_scene, "point")
-    empty_scene.view_layers[0].cycles.use_pass_shadow_catcher = True
-    warnings = sync_frame(bpy.context.evaluated_depsgraph_get(), native).warnings
-    assert (
-        "Whitted: the Shadow Catcher pass is not written; shadow catchers show in Combined, "
-        "as Cycles shows them with the pass off"
-    ) in warnings
-
-
 def test_with_every_pass_combined_is_the_same(empty_scene, tmp_path, native):
     # With passes the kernel records them (the pass recorder's kernel, effects read at
     # run time): the catcher's Combined and alpha are those of the render without.
@@ -177,6 +170,111 @@ def test_with_every_pass_combined_is_the_same(empty_scene, tmp_path, native):
     cycles_scenes.set_whitted_direct_light(empty_scene)
     plain = cycles_scenes.render_rgba(empty_scene, "WHITTED", str(tmp_path / "plain.exr"))
     enable_every_pass(empty_scene.view_layers[0], whitted.result, contribution_depth=1)
+    # Every pass but Shadow Catcher, which takes the catcher out of Combined.
+    empty_scene.view_layers[0].cycles.use_pass_shadow_catcher = False
     passes = cycles_scenes.render_rgba(empty_scene, "WHITTED", str(tmp_path / "passes.exr"))
     assert (plain[..., 3] > 0.5).mean() > 0.05
     assert np.abs(passes - plain).max() < 1e-6
+
+
+# The Shadow Catcher pass. The floor catches the box's shadows from the square area lamp
+# (soft) and from an orange sun (hard): where the area lamp is hidden the sun's orange
+# light is left and the area lamp's white is not, so the pass's blue falls below its red.
+SUN_COLOR = (1.0, 0.5, 0.2)
+# Bounds on the pass over the catcher, about 3x what was measured (Blender 3.4 / bpy 5.0):
+# the mean |difference| per pixel (measured 0.00101 / 0.00112; Cycles' own noise at 256
+# samples, seed 0 against seed 1, 0.00031 / 0.00061), the share of pixels off by more than
+# 0.05 (measured 1 of 2200 in both, in the area lamp's penumbra, where Whitted's 8 x 8
+# stratified feelers band; Cycles' noise 0 / 1 pixel), the relative difference of each
+# channel's sum (measured 2.3e-5 / 2.9e-5, Cycles' noise 4.7e-5 / 1.8e-5), and of each
+# channel's mean in the area lamp's shadow (measured 0.0032 / 0.0032, the penumbra's
+# bands; Cycles' noise 5e-5 / 7e-4).
+MEAN_BOUND, SHARE_BOUND, SUM_BOUND, CHANNEL_BOUND = 0.003, 0.002, 2e-4, 0.01
+
+
+def _pass_renders(scene, tmp_path, transparent):
+    """The catcher floor under both lamps with the Shadow Catcher pass on, rendered by
+    Cycles (256 samples) and Whitted: {engine: (Combined RGBA, Shadow Catcher RGB)},
+    float32[h, w, 4 or 3] from each engine's multilayer EXR, and the sky: where Cycles
+    shows the grey world (which lights nothing), in Combined over an opaque film, in the
+    Environment pass over a transparent one (over an opaque film Cycles' Environment
+    holds the world behind the catcher too)."""
+    _catcher_scene(scene, "area_square")
+    add_sun(scene, rotation=(30.0, 0.0, 30.0), strength=15.0)
+    bpy.data.objects["Sun"].data.color = SUN_COLOR
+    scene.render.film_transparent = transparent
+    grey_world(scene, 0.5)
+    view_layer = scene.view_layers[0]
+    view_layer.cycles.use_pass_shadow_catcher = True
+    view_layer.use_pass_environment = True
+    cycles_scenes.set_cycles_direct_light(scene, samples=256)
+    cycles_scenes.set_whitted_direct_light(scene)
+    out = {}
+    for engine in ("CYCLES", "WHITTED"):
+        channels = render_multilayer(scene, tmp_path / f"{engine}.exr", engine)
+        alpha = channels["ViewLayer.Combined.A"][..., None]
+        out[engine] = (
+            np.concatenate([rgb(channels, "Combined"), alpha], axis=-1),
+            rgb(channels, "Shadow Catcher"),
+        )
+        if engine == "CYCLES":
+            world = out[engine][0] if not transparent else rgb(channels, "Env")
+            sky = np.abs(world[..., :3] - 0.5).max(axis=-1) < 1e-4
+    return out, sky
+
+
+@pytest.mark.parametrize("transparent", [False, True], ids=["opaque", "transparent"])
+def test_the_shadow_catcher_pass_and_combined_with_it_are_as_cycles(
+    empty_scene, tmp_path, native, transparent
+):
+    renders, sky = _pass_renders(empty_scene, tmp_path, transparent)
+    (cycles, cycles_pass), (whitted, whitted_pass) = renders["CYCLES"], renders["WHITTED"]
+    # The catcher: where Cycles' Combined is transparent and the camera sees no sky.
+    catcher = (cycles[..., 3] == 0.0) & ~sky
+    caught = np.abs(whitted_pass - cycles_pass).max(axis=-1)
+    print(
+        f"\n{'transparent' if transparent else 'opaque'}: catcher {catcher.sum()} px; pass "
+        f"mean |difference| {caught[catcher].mean():.5f}, above 0.05 "
+        f"{(caught[catcher] > 0.05).mean():.5f}; per channel Whitted / Cycles sums "
+        f"{whitted_pass[catcher].sum(axis=0) / cycles_pass[catcher].sum(axis=0)}"
+    )
+    assert catcher.mean() > 0.3
+    # Combined leaves the catcher out: black and transparent, as Cycles' (to the pixel).
+    assert (np.abs(whitted[catcher]).max(axis=-1) == 0.0).mean() > 0.998
+    assert np.abs(whitted[..., 3] - cycles[..., 3]).mean() < 0.002
+    # The rest as without the pass: the box as bright as Cycles', the world behind the
+    # floor where the film is opaque.
+    box = (cycles[..., 3] == 1.0) & (cycles[..., :3].sum(axis=-1) > 0.05) & ~sky
+    assert box.sum() > 20
+    assert sky.sum() > 20
+    world = [0.5, 0.5, 0.5, 1.0] if not transparent else [0.0, 0.0, 0.0, 0.0]
+    assert np.abs(whitted[sky] - world).max() < 1e-4
+    ratio = whitted[..., :3][box].sum() / cycles[..., :3][box].sum()
+    print(f"box: {box.sum()} px, Whitted / Cycles {ratio:.4f}")
+    assert ratio == pytest.approx(1.0, abs=0.02)
+    # The pass over the catcher, per pixel and summed per channel, and both shadows in it.
+    shadow = catcher & (cycles_pass.mean(axis=-1) < 0.8)
+    assert shadow.sum() > 50
+    assert caught[catcher].mean() < MEAN_BOUND
+    assert (caught[catcher] > 0.05).mean() < SHARE_BOUND
+    np.testing.assert_allclose(
+        whitted_pass[catcher].sum(axis=0), cycles_pass[catcher].sum(axis=0), rtol=SUM_BOUND
+    )
+    # 1 off the catcher, exactly: the box, the world, the transparent sky.
+    off = ~catcher & (cycles[..., 3] == whitted[..., 3])
+    assert off.sum() > 100
+    assert np.abs(whitted_pass[off] - 1.0).max() < 1e-6
+    assert np.abs(cycles_pass[off] - 1.0).max() < 1e-4
+    # Per channel: where the white area lamp is hidden, what is left is the orange sun's
+    # light over white plus orange, so red is left most and blue least.
+    tinted = catcher & (cycles_pass[..., 0] - cycles_pass[..., 2] > 0.1)
+    assert tinted.sum() > 20
+    cycles_ratio = cycles_pass[tinted].mean(axis=0)
+    whitted_ratio = whitted_pass[tinted].mean(axis=0)
+    print(f"area lamp's shadow: {tinted.sum()} px, Cycles {cycles_ratio}, Whitted {whitted_ratio}")
+    assert whitted_ratio[0] - whitted_ratio[2] > 0.1
+    np.testing.assert_allclose(whitted_ratio, cycles_ratio, atol=CHANNEL_BOUND)
+    effects = {e["name"]: e for e in _report(empty_scene)["effects"]}
+    assert effects["shadow catcher"]["why"] == (
+        "1 object: Combined leaves it out, the Shadow Catcher pass holds the shadows cast on it"
+    )

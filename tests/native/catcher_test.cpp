@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "integrator/analysis.h"
@@ -128,6 +129,67 @@ TEST(Catcher, WavesAndTheRecursionRenderItAlike) {
   EXPECT_EQ(waves[4 * (1 * 24 + 1) + 3], 0.0f);
 }
 
+// A render of the catcher scene from above, 24 x 24 over a 6 x 6 window (the shadow the
+// square |x|,|y| < 4/3), with the Shadow Catcher pass kept.
+std::unique_ptr<RenderJob> caught_render(float blocker_alpha, bool transparent,
+                                         bool waves = false) {
+  Scene scene = catcher_scene(true, blocker_alpha);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 3.0f);
+  Settings settings = testing::small_render(24, 24, 2, 2, 8);
+  settings.transparent_background = transparent;
+  settings.waves = waves;
+  settings.passes = pass_bit(FilmPass::kShadowCatcher);
+  auto job = std::make_unique<RenderJob>(scene, settings, scene.camera);
+  testing::run_to_end(*job);
+  return job;
+}
+
+TEST(Catcher, ThePassIsTheLightLeftAndCombinedLeavesTheCatcherOut) {
+  for (const bool transparent : {true, false}) {
+    for (float a : {1.0f, 0.75f, 0.25f}) {
+      const auto job = caught_render(a, transparent);
+      const std::vector<float>& pass = job->film().pass(FilmPass::kShadowCatcher);
+      const std::vector<float>& pixels = job->film().pixels();
+      for (const size_t pixel : {size_t{12 * 24 + 12}, size_t{1 * 24 + 1}}) {
+        const bool shadowed = pixel == 12 * 24 + 12;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(pass[3 * pixel + c], shadowed ? 1.0f - a : 1.0f, 1e-6f) << a;
+        }
+        // Black and transparent over either film, as Cycles' Combined with the pass.
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(pixels[4 * pixel + c], 0.0f) << a;
+      }
+    }
+  }
+}
+
+TEST(Catcher, ThePassIsTheSameInWavesAndTheRecursion) {
+  const auto waves = caught_render(0.5f, true, true);
+  const auto recursion = caught_render(0.5f, true, false);
+  EXPECT_TRUE(waves->film().pass(FilmPass::kShadowCatcher) ==
+              recursion->film().pass(FilmPass::kShadowCatcher));
+  EXPECT_TRUE(waves->film().pixels() == recursion->film().pixels());
+}
+
+TEST(Catcher, ThePassOfAProgressiveRenderIsTheWholeRenders) {
+  // The film sums the pass's seven floats sample by sample (Film::add) or takes a
+  // pixel's mean record (Film::set): the same pass.
+  Scene scene = catcher_scene(true, 0.5f);
+  scene.camera = looking_down(Vec3(0.0f, 0.0f, 5.0f), 3.0f);
+  Settings settings = testing::small_render(24, 24, 2, 2, 8);
+  settings.passes = pass_bit(FilmPass::kShadowCatcher);
+  RenderJob whole(scene, settings, scene.camera);
+  testing::run_to_end(whole);
+  settings.progressive = true;
+  settings.packets = false;
+  RenderJob progressive(scene, settings, scene.camera);
+  testing::run_to_end(progressive);
+  const std::vector<float>& a = whole.film().pass(FilmPass::kShadowCatcher);
+  const std::vector<float>& b = progressive.film().pass(FilmPass::kShadowCatcher);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-5f) << i;
+  EXPECT_NEAR(b[3 * (12 * 24 + 12)], 0.5f, 1e-6f);
+}
+
 TEST(Catcher, TheAnalysisNamesIt) {
   const auto with = catcher_scene(true, 1.0f).compile();
   Settings settings;
@@ -138,6 +200,12 @@ TEST(Catcher, TheAnalysisNamesIt) {
   EXPECT_FALSE(off.has(kCatcherEffect));
   const EffectDecision none{"shadow catcher", false, "no object is a shadow catcher"};
   EXPECT_NE(std::find(off.decisions.begin(), off.decisions.end(), none), off.decisions.end());
+  settings.passes = pass_bit(FilmPass::kShadowCatcher);
+  const Effects pass = analyse(*with, settings);
+  const EffectDecision named{"shadow catcher", true,
+                             "1 object: Combined leaves it out, the Shadow Catcher pass holds "
+                             "the shadows cast on it"};
+  EXPECT_NE(std::find(pass.decisions.begin(), pass.decisions.end(), named), pass.decisions.end());
 }
 
 }  // namespace

@@ -288,15 +288,18 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   for (const CompiledScene::Instance& instance : scene.instances) {
     catchers += instance.shadow_catcher && (instance.visibility & kCameraRay) != 0;
   }
-  decide(effects, kCatcherEffect, catchers > 0, "shadow catcher",
-         catchers == 0 ? "no object is a shadow catcher"
-                       : thousands(catchers) + (catchers == 1 ? " object" : " objects") +
-                             ": camera rays show only the shadows cast on " +
-                             (catchers == 1 ? "it, " : "them, ") +
-                             (settings.transparent_background
-                                  ? "as alpha over the transparent film"
-                                  : (catchers == 1 ? "over the world behind it"
-                                                   : "over the world behind them")));
+  const std::string caught = thousands(catchers) + (catchers == 1 ? " object" : " objects");
+  const std::string them = catchers == 1 ? "it" : "them";
+  std::string why = "no object is a shadow catcher";
+  if (catchers > 0 && (settings.passes & pass_bit(FilmPass::kShadowCatcher)) != 0) {
+    why = caught + ": Combined leaves " + them + " out, the Shadow Catcher pass holds the " +
+          "shadows cast on " + them;
+  } else if (catchers > 0) {
+    why = caught + ": camera rays show only the shadows cast on " + them + ", " +
+          (settings.transparent_background ? "as alpha over the transparent film"
+                                           : "over the world behind " + them);
+  }
+  decide(effects, kCatcherEffect, catchers > 0, "shadow catcher", why);
   effects->decisions.push_back(strands(scene));
   effects->decisions.push_back(light_linking(scene));
   effects->decisions.push_back(lamps_seen(scene));

@@ -8,7 +8,10 @@
 // pass (Blender's default) it folds the ratio into Combined (the "approximate" shadow
 // catcher, film/read.h): over a transparent film the catcher is black with alpha 1 - the
 // ratio's mean over colour; over an opaque film it shows the world behind it (what the
-// camera ray would have met without it) times that mean, alpha 1.
+// camera ray would have met without it) times that mean, alpha 1. With the pass (the
+// film's FilmPass::kShadowCatcher) Combined leaves the catcher out, black and transparent
+// over either film (measured in Cycles 3.4 and 5.0), and the pass keeps the two sums per
+// channel (SampleRecord::caught), divided per pixel by the film.
 //
 // Whitted's form of the two paths: the catcher's local term (lights.h) is summed twice per
 // light sample, each feeler answered once by every object and once by the catchers alone
@@ -17,7 +20,6 @@
 // where only a path still on its camera ray (through cut-outs) splits.
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
 
 #include "core/ray.h"
@@ -25,6 +27,7 @@
 #include "integrator/kernel_recorder.h"
 #include "integrator/lights.h"
 #include "integrator/mis.h"
+#include "integrator/passes.h"
 #include "integrator/shading_point.h"
 #include "integrator/shadow.h"
 
@@ -57,14 +60,13 @@ struct CatcherFeelers {
   }
 };
 
-// What of the light reaching catcher point p is left by the other objects, the catcher's
-// local term in the scene over its local term with the catchers alone, a mean over colour
-// in [0, 1] (film/read.h: a channel with no light at all counts 1, and Combined keeps the
-// clamped mean). `seen` is what of the catcher's emission the ray counts (emission_weight):
-// the catcher's emission and ambient term are in both sums.
+// The light reaching catcher point p, the catcher's local term in the scene and its local
+// term with the catchers alone (their quotient is what the other objects leave).
+// `seen` is what of the catcher's emission the ray counts (emission_weight): the
+// catcher's emission and ambient term are in both sums.
 template <uint32_t kEffects, class Queries>
-float caught_light(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p, float seen,
-                   const NodeState& state, RayCounts* counts) {
+CaughtLight caught_light(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p,
+                         float seen, const NodeState& state, RayCounts* counts) {
   Color with(0.0f);
   Color without(0.0f);
   const CatcherFeelers<kEffects, Queries> policy{&in, counts, &with, &without};
@@ -73,11 +75,7 @@ float caught_light(const KernelInputs<kEffects, Queries>& in, const ShadingPoint
       in, recorder, policy);
   // No glossy ray leaves a catcher's hit: each feeler keeps its whole share (GlossyRays{}).
   const Color local = lights.local(p, GlossyRays{}, seen, state, counts);
-  with += local;
-  without += local;
-  float ratio = 0.0f;
-  for (int c = 0; c < 3; ++c) ratio += without[c] != 0.0f ? with[c] / without[c] : 1.0f;
-  return std::clamp(ratio / 3.0f, 0.0f, 1.0f);
+  return {with + local, without + local};
 }
 
 }  // namespace whitted

@@ -59,6 +59,17 @@ int channels_of(FilmPass pass, int contribution_depth) {
   return pass == FilmPass::kContributions ? channels * (contribution_depth + 1) : channels;
 }
 
+// The floats a pass sums per pixel: those it shows, but for Shadow Catcher, which sums
+// the light on the catchers with and without the other objects (RGB each) and the
+// catchers' coverage, and shows their quotient.
+constexpr int kCaughtSums = 7;
+int sums_of(FilmPass pass, int channels) {
+  return pass == FilmPass::kShadowCatcher ? kCaughtSums : channels;
+}
+// The floats gather() may write.
+constexpr size_t kRawFloats =
+    std::max(size_t{3} * (kMaxContributionDepth + 1), size_t{kCaughtSums});
+
 // Passes a pixel takes from its first sample alone (as Cycles), not a mean.
 bool first_sample_only(FilmPass pass) {
   return pass == FilmPass::kDepth || pass == FilmPass::kPosition ||
@@ -128,6 +139,11 @@ void gather(FilmPass pass, const SampleRecord& r, float* out) {
       return put(out, r.denoising_albedo);
     case FilmPass::kDenoisingNormal:
       return put(out, r.denoising_normal);
+    case FilmPass::kShadowCatcher:
+      put(out, r.caught.with);
+      put(out + 3, r.caught.without);
+      out[6] = r.caught_coverage;
+      return;
     case FilmPass::kSampleCount:  // the film's, not the record's
     case FilmPass::kCount:
       return;
@@ -151,10 +167,24 @@ FilmPass color_of(FilmPass pass) {
   }
 }
 
+// The Shadow Catcher pass as shown from its sums' means (`raw`: with, without, the
+// catchers' coverage) and Combined's alpha, as Cycles' film_calculate_shadow_catcher:
+// with / without per channel where the pixel met a catcher (1 where it met none), then
+// over white by the alpha the pixel has with the catchers in it (Combined's, which
+// leaves them out, plus their coverage), which keeps the catcher's edges clean.
+void resolve_caught(const float* raw, float alpha, float* shown) {
+  const CaughtLight light{Color(raw[0], raw[1], raw[2]), Color(raw[3], raw[4], raw[5])};
+  const Color ratio = raw[6] > 0.0f ? light.ratio() : Color(1.0f);
+  const float covered = std::clamp(alpha + raw[6], 0.0f, 1.0f);
+  for (int c = 0; c < 3; ++c) store(shown[c], (1.0f - covered) + covered * ratio[c]);
+}
+
 // A pass's value as shown from its mean (`raw`, `channels` floats) and, for Direct and
 // Indirect, its Color's mean (nullptr when the Color pass is not kept: then, as in
-// Cycles, the pass keeps colour times light).
-void resolve(FilmPass pass, const float* raw, const float* color, int channels, float* shown) {
+// Cycles, the pass keeps colour times light); `alpha`, Combined's, for Shadow Catcher.
+void resolve(FilmPass pass, const float* raw, const float* color, int channels, float alpha,
+             float* shown) {
+  if (pass == FilmPass::kShadowCatcher) return resolve_caught(raw, alpha, shown);
   for (int c = 0; c < channels; ++c) {
     float v = raw[c];
     if (pass == FilmPass::kMist) v = 1.0f - v;
@@ -192,9 +222,14 @@ Film::Film(int width, int height, bool accumulate, uint32_t passes, int contribu
     channels_[p] = channels_of(pass, contribution_depth);
     if (!has_pass(pass)) continue;
     const size_t size = cost_.size() * static_cast<size_t>(channels_[p]);
-    // A pixel not traced yet shows the sky's depth, as Cycles does.
-    shown_[p].assign(size, pass == FilmPass::kDepth ? kNoDepth : 0.0f);
-    if (accumulate) sums_[p].assign(size, 0.0f);
+    // A pixel not traced yet shows the sky's depth, as Cycles does, and no catcher's
+    // shadow.
+    const float untraced =
+        pass == FilmPass::kDepth ? kNoDepth : (pass == FilmPass::kShadowCatcher ? 1.0f : 0.0f);
+    shown_[p].assign(size, untraced);
+    if (accumulate) {
+      sums_[p].assign(cost_.size() * static_cast<size_t>(sums_of(pass, channels_[p])), 0.0f);
+    }
   }
 }
 
@@ -205,7 +240,7 @@ void Film::set(int x, int y, const Sample& value, float cost, uint32_t samples,
   store(cost_[i], cost);
   store_count(i, samples);
   if (record == nullptr) return;
-  std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
+  std::array<float, kRawFloats> raw{};
   std::array<float, 3> color{};
   for (size_t p = 0; p < kFilmPassCount; ++p) {
     const auto pass = static_cast<FilmPass>(p);
@@ -215,7 +250,7 @@ void Film::set(int x, int y, const Sample& value, float cost, uint32_t samples,
     const FilmPass divisor = color_of(pass);
     const bool divide = divisor != FilmPass::kCount && has_pass(divisor);
     if (divide) gather(divisor, *record, color.data());
-    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, &shown_[p][n * i]);
+    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, value.alpha, &shown_[p][n * i]);
   }
 }
 
@@ -229,7 +264,7 @@ void Film::add(int x, int y, const Sample* samples, const float* costs, int coun
   float* sum = &sum_[4 * i];
   // The first sample's rays replace the preview's.
   float cost = count_[i] == 0 ? 0.0f : load(cost_[i]);
-  std::array<float, 3 * (kMaxContributionDepth + 1)> raw{};
+  std::array<float, kRawFloats> raw{};
   for (int k = 0; k < count; ++k) {
     const Sample& sample = samples[k];
     // The same additions, in the same order, as a whole pixel's mean (CameraSampler), so
@@ -249,7 +284,7 @@ void Film::add(int x, int y, const Sample* samples, const float* costs, int coun
     for (size_t p = 0; p < kFilmPassCount; ++p) {
       const auto pass = static_cast<FilmPass>(p);
       if (!has_recorded(pass)) continue;
-      const int n = channels_[p];
+      const int n = sums_of(pass, channels_[p]);
       float* pixel_sum = &sums_[p][n * i];
       gather(pass, records[k], raw.data());
       for (int c = 0; c < n; ++c) {
@@ -269,14 +304,15 @@ void Film::add(int x, int y, const Sample* samples, const float* costs, int coun
     const auto pass = static_cast<FilmPass>(p);
     if (!has_recorded(pass)) continue;
     const int n = channels_[p];
+    const int summed = sums_of(pass, n);
     const float scale = first_sample_only(pass) ? 1.0f : w;
-    for (int c = 0; c < n; ++c) raw[c] = sums_[p][n * i + c] * scale;
+    for (int c = 0; c < summed; ++c) raw[c] = sums_[p][summed * i + c] * scale;
     const FilmPass divisor = color_of(pass);
     const bool divide = divisor != FilmPass::kCount && has_pass(divisor);
     if (divide) {
       for (int c = 0; c < 3; ++c) color[c] = sums_[static_cast<size_t>(divisor)][3 * i + c] * w;
     }
-    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, &shown_[p][n * i]);
+    resolve(pass, raw.data(), divide ? color.data() : nullptr, n, sum[3] * w, &shown_[p][n * i]);
   }
 }
 

@@ -159,6 +159,7 @@ class Kernel {
         if (in_.has(kCatcherEffect) && r.kind == kCameraRay &&
             in_.scene.instances[it.instance].shadow_catcher) {
           const Caught caught = catch_shadows(r, it, surface, here, counts);
+          recorder_.caught(caught.light, behind * a);
           radiance += (behind * a) * through * caught.radiance;
           coverage += behind * a * caught.coverage;
         } else {
@@ -258,24 +259,31 @@ class Kernel {
   }
 
  private:
-  // What a camera ray's hit on a shadow catcher shows (catcher.h), as Cycles' Combined
-  // without the Shadow Catcher pass: over a transparent film nothing, covering as much
-  // as the shadow is strong; over an opaque film the world the ray would have met
-  // without the catcher, times the light left, covering all.
+  // What a camera ray's hit on a shadow catcher shows (catcher.h), as Cycles' Combined:
+  // without the Shadow Catcher pass, over a transparent film nothing, covering as much
+  // as the shadow is strong, and over an opaque film the world the ray would have met
+  // without the catcher, times the light left, covering all; with the pass, nothing,
+  // covering nothing (the pass takes `light`).
   struct Caught {
     Color radiance;
     float coverage;
+    CaughtLight light;
   };
   Caught catch_shadows(const Ray& ray, const Interaction& it, const SurfaceParams& surface,
                        const NodeState& state, RayCounts* counts) const {
     const bool entering = glm::dot(ray.direction, it.geometric_normal) < 0.0f;
     const ShadingPoint p = shading_point(ray, it, surface, entering);
-    const float lit = caught_light(in_, p, emission_weight(in_, ray, p, state), state, counts);
-    if (in_.settings.transparent_background) return {Color(0.0f), 1.0f - lit};
+    const CaughtLight light =
+        caught_light(in_, p, emission_weight(in_, ray, p, state), state, counts);
+    if ((in_.settings.passes & pass_bit(FilmPass::kShadowCatcher)) != 0) {
+      return {Color(0.0f), 0.0f, light};
+    }
+    const float lit = light.left();
+    if (in_.settings.transparent_background) return {Color(0.0f), 1.0f - lit, light};
     const Color world = (in_.scene.world_visibility & ray.kind) != 0
                             ? in_.scene.world_radiance(ray, in_.context(state))
                             : Color(0.0f);
-    return {lit * world, 1.0f};
+    return {lit * world, 1.0f, light};
   }
 
   // The radiance a surface point sends back along the ray,

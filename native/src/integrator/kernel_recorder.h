@@ -17,6 +17,7 @@
 namespace whitted {
 
 class WhittedIntegrator;
+struct CaughtLight;
 struct SampleRecord;
 struct SegmentLight;
 struct Split;
@@ -104,6 +105,9 @@ struct NoRecorder {
   // The surface the ray met is shaded, covering `a` of the `behind` share of the ray,
   // seen through media that let `through` through.
   Scope cover(Node /*node*/, float /*behind*/, float /*a*/, const Color& /*through*/) { return {}; }
+  // A camera ray's hit on a shadow catcher (catcher.h), in that surface's scope: the
+  // light on it, and the share of the sample it covers.
+  void caught(const CaughtLight& /*light*/, float /*coverage*/) const {}
   // That surface, as seen along `ray` (for the camera's surface data).
   void surface(int /*depth*/, const Ray& /*ray*/, const Interaction& /*it*/,
                const SurfaceParams& /*surface*/) {}

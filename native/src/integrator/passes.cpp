@@ -31,6 +31,9 @@ void SampleRecord::add(const SampleRecord& s, uint32_t passes) {
   uv += s.uv;
   denoising_albedo += s.denoising_albedo;
   denoising_normal += s.denoising_normal;
+  caught.with += s.caught.with;
+  caught.without += s.caught.without;
+  caught_coverage += s.caught_coverage;
 }
 
 void SampleRecord::take_first(const SampleRecord& s) {
@@ -64,6 +67,9 @@ void SampleRecord::scale(float w, uint32_t passes) {
   uv *= w;
   denoising_albedo *= w;
   denoising_normal *= w;
+  caught.with *= w;
+  caught.without *= w;
+  caught_coverage *= w;
 }
 
 PassRecorder::PassRecorder(const WhittedIntegrator& integrator, SampleRecord* record)
@@ -75,7 +81,8 @@ PassRecorder::PassRecorder(const WhittedIntegrator& integrator, SampleRecord* re
       data_((settings_.passes & kDataPasses) != 0),
       contributions_((settings_.passes & pass_bit(FilmPass::kContributions)) != 0),
       cut_weight_((settings_.passes & pass_bit(FilmPass::kCutWeight)) != 0),
-      guides_((settings_.passes & kGuidePasses) != 0) {
+      guides_((settings_.passes & kGuidePasses) != 0),
+      caught_((settings_.passes & pass_bit(FilmPass::kShadowCatcher)) != 0) {
   // A camera ray seeks its guides, with all of the sample's tint and share.
   if (guides_) path_ = {IndirectPass::kNone, Color(1.0f), 1.0f};
 }

@@ -3,6 +3,7 @@
 // when passes are requested. docs/PASSES.md defines every pass.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string_view>
@@ -45,6 +46,11 @@ enum class FilmPass : uint32_t {
   // from the first rough surface along each path, through mirrors and clear glass.
   kDenoisingAlbedo,
   kDenoisingNormal,
+  // Cycles' Shadow Catcher: per channel, the light on the shadow catchers the camera sees
+  // with every object over that with the catchers alone (integrator/catcher.h), 1 off the
+  // catchers, over white by the pixel's alpha with the catchers in it. Kept, it takes the
+  // catchers out of Combined (transparent there), as Cycles' pass does.
+  kShadowCatcher,
   // Camera samples the pixel took (Cycles' Sample Count debug pass): the film's own count,
   // not recorded by the kernel.
   kSampleCount,
@@ -83,6 +89,7 @@ inline constexpr std::array<FilmPassInfo, kFilmPassCount> kFilmPasses = {{
     {"cut_weight", 1},
     {"denoising_albedo", 3},
     {"denoising_normal", 3},
+    {"shadow_catcher", 3},
     {"sample_count", 1},
 }};
 inline constexpr std::array<std::string_view, kFilmPassCount> kFilmPassNames = [] {
@@ -116,6 +123,32 @@ inline constexpr float kNoDepth = 1e10f;
 // Cycles' (film/denoising_passes.h: a closure whose alpha_x * alpha_y exceeds 0.075^2 is
 // rough).
 inline constexpr float kSharpGuideAlpha = 0.075f;
+
+// The light on a shadow catcher's point (integrator/catcher.h), per channel: its local
+// term with every object (`with`) and with the catchers alone (`without`), as Cycles'
+// two paths split at the catcher; or either summed over a pixel's catcher hits.
+struct CaughtLight {
+  Color with{0.0f};
+  Color without{0.0f};
+
+  // What the other objects leave, with / without per channel; 1 where even the catchers
+  // alone get no light (Cycles' safe_divide_shadow_catcher, film/read.h).
+  Color ratio() const {
+    Color r(1.0f);
+    for (int c = 0; c < 3; ++c) {
+      if (without[c] != 0.0f) r[c] = with[c] / without[c];
+    }
+    return r;
+  }
+  // The light left as Combined keeps it without the Shadow Catcher pass (Cycles'
+  // "approximate" catcher): the ratio's mean over colour, clamped to [0, 1].
+  float left() const {
+    const Color r = ratio();
+    float sum = 0.0f;
+    for (int c = 0; c < 3; ++c) sum += r[c];
+    return std::clamp(sum / 3.0f, 0.0f, 1.0f);
+  }
+};
 
 // What one camera sample (or, summed and scaled, one pixel) adds to each pass. The light
 // terms belong to the camera hit (depth 0; through cut-outs, every layer the camera ray
@@ -166,6 +199,11 @@ struct SampleRecord {
   // its tint (the normal adds nothing there).
   Color denoising_albedo{0.0f};
   Vec3 denoising_normal{0.0f};
+  // The Shadow Catcher pass's sums: the light on the catchers the camera ray meets, times
+  // its share of the sample (through cut-outs and media), and the share of the sample
+  // they cover (what Combined's alpha would have with them in it).
+  CaughtLight caught;
+  float caught_coverage = 0.0f;
 
   // Sums the per-sample terms of `s` into these (those the kept `passes`, bits of
   // FilmPass, read; the others stay as they are).
@@ -270,6 +308,13 @@ class PassRecorder : public NoRecorder {
   // Combined), with those its lights added; the sums start again for the next node.
   void local(const ShadingPoint& p, int depth, const Color& emission, const Color& ambient,
              const Color& total);
+  // A camera ray's hit on a shadow catcher, in the shading scope of its surface.
+  void caught(const CaughtLight& light, float coverage) const {
+    if (!caught_) return;
+    record_->caught.with += throughput_ * light.with;
+    record_->caught.without += throughput_ * light.without;
+    record_->caught_coverage += coverage;
+  }
   // From the camera hit: sigma_r into Glossy Color, and what its rays bring into Glossy
   // Indirect (sigma_t, Transmission, likewise).
   Scope reflected(int depth, const Color& sigma_r);
@@ -318,6 +363,7 @@ class PassRecorder : public NoRecorder {
   bool contributions_;  // Contributions is kept
   bool cut_weight_;     // Cut Weight is kept
   bool guides_;         // a pass of kGuidePasses is kept
+  bool caught_;         // Shadow Catcher is kept
   Color throughput_{1.0f};
   PassPath path_;
   // What the lights of the node being shaded add, summed as they arrive: kd/pi * E *

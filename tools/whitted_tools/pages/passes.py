@@ -131,6 +131,18 @@ PASSES = (
         "film, as Cycles, where Combined leaves it out).",
     ),
     (
+        "Shadow Catcher",
+        "color",
+        "Cycles' Shadow Catcher pass (switched by Cycles' view-layer property, in Blender "
+        "3.x and 5.x alike): per channel, the light on the shadow catchers the camera ray "
+        "meets with every object over that with the catchers alone (each light sample's "
+        "feeler answered twice), summed over the pixel's samples; 1 where the pixel meets "
+        "no catcher or a channel gets no light; then over white by the pixel's alpha with "
+        "the catchers in it, as Cycles. With it on, Combined leaves the catchers out "
+        "(black, alpha 0, over an opaque film too), as Cycles' does. White here: the demo "
+        "has no catcher. Not denoised.",
+    ),
+    (
         "Noisy Image",
         "color",
         "Combined before denoising (Render > Sampling > Denoise); Combined itself where "
