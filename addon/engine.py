@@ -5,6 +5,7 @@ sync layer (addon/sync); this class only hands each call to its owner."""
 import os
 import sys
 import time
+import traceback
 from dataclasses import asdict
 
 import bpy
@@ -48,8 +49,12 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
     def __del__(self):
         # Blender frees the engine when the viewport leaves Rendered mode, its area
         # closes or Blender quits: the session's job stops here. This may run on an
-        # instance whose __init__ never ran.
-        viewport = getattr(self, "_viewport", None)
+        # instance whose __init__ never ran, or one whose Blender data is already freed
+        # (at quit, after an F12 render: no viewport session was ever made for it).
+        try:
+            viewport = self._viewport
+        except (AttributeError, ReferenceError):
+            return
         if viewport is not None:
             viewport.stop()
 
@@ -59,6 +64,17 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
     # --- F12 and material previews ---------------------------------------------
 
     def render(self, depsgraph):
+        # The engine's boundary with Blender: an exception that escapes render() crashes
+        # Blender 3.4 as it then writes the frame's image (seen: a segmentation fault
+        # saving a 32-bit OpenEXR with write_still). So every error, an expected one or a
+        # bug, ends here as a failed frame with its report, and Blender lives on.
+        try:
+            self._render(depsgraph)
+        except Exception as error:  # noqa: BLE001 - the boundary above: nothing may escape
+            traceback.print_exc()
+            self._fail(depsgraph.scene, f"Whitted: internal error: {error!r}")
+
+    def _render(self, depsgraph):
         phases = render_stats.PhaseTimes()
         started = time.perf_counter()
         scene = depsgraph.scene

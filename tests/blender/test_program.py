@@ -332,15 +332,15 @@ def test_inputs_the_program_reads_are_recorded():
         assert compile_material(material).data.bump_shadowing == "SMOOTH_SIDE"
 
 
-def test_procedural_textures_warn_and_use_the_unlinked_value(warnings):
+def test_an_unsupported_node_warns_and_its_input_uses_the_unlinked_value(warnings):
     def build(tree):
-        noise = tree.nodes.new("ShaderNodeTexIES")
-        return noise.outputs["Fac"]
+        particle = tree.nodes.new("ShaderNodeParticleInfo")
+        return particle.outputs["Location"]
 
     exported = compile_material(emission_of(build), warnings)
     assert exported.program is None
     assert exported.data.emission == pytest.approx((1.0, 1.0, 1.0))  # Emission's own colour
-    assert "IES Texture is not supported" in warnings[0]
+    assert "ShaderNodeParticleInfo is not supported" in warnings[0]
 
 
 def mesh_with_data():

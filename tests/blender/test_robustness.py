@@ -276,3 +276,34 @@ def test_coplanar_quads_overlap_in_one_colour(empty_scene, render):
     red = middle[..., 0] > 2.0 * middle[..., 2]
     blue = middle[..., 2] > 2.0 * middle[..., 0]
     assert red.all() or blue.all()
+
+
+def test_a_bug_in_the_export_fails_the_frame_and_blender_lives(empty_scene, tmp_path, monkeypatch):
+    # An exception escaping the engine's render() made Blender 3.4 crash writing the
+    # frame's 32-bit OpenEXR (found when an exporter bug raised AttributeError). Now the
+    # engine turns any error into a failed frame: the report names it, Blender goes on.
+    from whitted.export.nodes import values
+
+    def broken(c, out):
+        raise AttributeError("a deliberate bug")
+
+    monkeypatch.setitem(values._NODES, "ShaderNodeTexChecker", broken)
+    material = bpy.data.materials.new("Checked")
+    material.use_nodes = True
+    tree = material.node_tree
+    checker = tree.nodes.new("ShaderNodeTexChecker")
+    bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    tree.links.new(checker.outputs["Color"], bsdf.inputs["Base Color"])
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.active_object.data.materials.append(material)
+    bpy.ops.object.camera_add(location=(0.0, 0.0, 4.0))
+    empty_scene.camera = bpy.context.active_object
+    empty_scene.render.engine = "WHITTED"
+    empty_scene.render.resolution_x, empty_scene.render.resolution_y = 32, 24
+    settings = empty_scene.render.image_settings
+    settings.file_format = "OPEN_EXR"
+    settings.color_depth = "32"
+    empty_scene.render.filepath = str(tmp_path / "frame.exr")
+    with pytest.raises(RuntimeError, match="internal error: AttributeError"):
+        bpy.ops.render.render(write_still=True)
+    assert bpy.data.materials["Checked"] is material  # Blender is still here
