@@ -186,10 +186,6 @@ def udim_tiles(image, warnings):
         # Decoded values are as stored in the file: a 16-bit PNG too, which Blender would
         # hold as float and make linear on load.
         tiles.append((tile.number, linear_rgba(image, stored, False, warnings)))
-    numbers = ", ".join(str(number) for number, _ in tiles)
-    warn(
-        warnings, f"Whitted: image '{image.name}' is a UDIM image of {len(tiles)} tiles: {numbers}"
-    )
     return tuple(tiles)
 
 

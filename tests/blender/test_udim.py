@@ -12,6 +12,8 @@ Python the first tile only): the first tile decoded must equal Blender's own rea
 of it after the same colour conversion.
 """
 
+import json
+
 import bpy
 import numpy as np
 import pytest
@@ -157,14 +159,30 @@ def test_a_tile_that_cannot_be_read_is_magenta_as_in_cycles(empty_scene, tmp_pat
     assert "UDIM tile 1002" in unread and "tiles.1002.png" in unread
 
 
-def test_the_report_names_the_image_and_its_tiles(tmp_path, warnings):
+def test_the_tiles_are_read_in_order_without_a_warning(tmp_path, warnings):
+    # A UDIM image is supported: its tiles are named by the render's effects report
+    # (native analysis "UDIM tiles", test_scene.py), not warned.
     image = udim_image(tmp_path)
     spec = ImageTextureSpec(image, "LINEAR", "REPEAT", "UV", "")
     (texture,) = convert_textures({"t": spec}, warnings).values()
     assert texture.udim
     assert [number for number, _ in texture.tiles] == list(TILES)
-    named = f"Whitted: image '{image.name}' is a UDIM image of 3 tiles: 1001, 1002, 1011"
-    assert warnings == [named]
+    assert warnings == []
+
+
+def test_the_effects_report_names_the_udim_textures(empty_scene, tmp_path, monkeypatch):
+    path = tmp_path / "stats.json"
+    monkeypatch.setenv("WHITTED_STATS", str(path))
+    image = udim_image(tmp_path)
+    build_scene(empty_scene, udim_case(image, "Closest", "FLAT"))
+    render(empty_scene, "WHITTED", str(tmp_path), "report")
+    stats = json.loads(path.read_text())
+    (udim,) = [e for e in stats["effects"] if e["name"] == "UDIM tiles"]
+    assert udim == {
+        "name": "UDIM tiles",
+        "on": True,
+        "why": "1 texture of 3 tiles, each read where its uv falls",
+    }
 
 
 def test_a_plain_image_is_one_tile(tmp_path, warnings):

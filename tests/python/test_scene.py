@@ -354,6 +354,7 @@ def test_analysis_names_what_it_skips_and_the_plain_tracer_changes_no_pixel():
         "lamps seen by rays",
         "lamp node trees",
         "ray-traced nodes",
+        "UDIM tiles",
         "depth of field",
         "motion blur",
         "pruning",

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 #include <utility>
+#include <variant>
 
 #include "integrator/passes.h"
 #include "scene/mesh_light.h"
@@ -110,6 +111,24 @@ EffectDecision lamp_programs(const CompiledScene& scene) {
   return {"lamp node trees", true,
           thousands(lamps) + (lamps == 1 ? " lamp runs its" : " lamps run their") +
               " node tree at each feeler and where rays see it (Light Falloff)"};
+}
+
+// The UDIM images the materials sample (a Texture whose image is udim): each tile is a
+// picture of its own, looked up where its uv falls (scene/texture.h udim_point). Counted
+// by texture (an image two nodes sample twice) and their tiles.
+EffectDecision udim_images(const CompiledScene& scene) {
+  size_t textures = 0;
+  size_t tiles = 0;
+  for (const std::shared_ptr<const Texture>& texture : scene.textures) {
+    const auto* image = std::get_if<ImageTexture>(&texture->source);
+    if (image == nullptr || !image->udim) continue;
+    textures += 1;
+    tiles += image->tiles.size();
+  }
+  if (textures == 0) return {"UDIM tiles", false, "no material samples a UDIM image"};
+  return {"UDIM tiles", true,
+          thousands(textures) + (textures == 1 ? " texture" : " textures") + " of " +
+              thousands(tiles) + " tiles, each read where its uv falls"};
 }
 
 // The objects whose meshes enclose a medium (Material::participating, integrator/volume.h):
@@ -305,6 +324,7 @@ void analyse_scene(const CompiledScene& scene, const Settings& settings, Effects
   effects->decisions.push_back(lamps_seen(scene));
   effects->decisions.push_back(lamp_programs(scene));
   effects->decisions.push_back(program_rays(scene));
+  effects->decisions.push_back(udim_images(scene));
 }
 
 // "0.0250": a length as the report writes it, in scene units.
