@@ -129,8 +129,8 @@ def test_emission_color_times_strength(warnings):
 def test_linked_input_uses_its_value_and_warns(warnings):
     material = node_material("Textured", **{"Base Color": (0.2, 0.4, 0.6, 1.0)})
     tree = material.node_tree
-    texture = tree.nodes.new("ShaderNodeTexIES")
-    tree.links.new(texture.outputs["Fac"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    texture = tree.nodes.new("ShaderNodeParticleInfo")  # a node the program lacks
+    tree.links.new(texture.outputs["Age"], tree.nodes["Principled BSDF"].inputs["Base Color"])
     data = convert(material, warnings)
     assert data.diffuse == pytest.approx((0.2, 0.4, 0.6))
     assert len(warnings) == 1
@@ -609,11 +609,12 @@ def test_mix_with_unsupported_factor_warns_and_uses_its_unlinked_value(warnings)
         ("ShaderNodeBsdfDiffuse", {"Color": (1.0, 0.0, 0.0, 1.0)}),
         ("ShaderNodeBsdfDiffuse", {"Color": (0.0, 0.0, 1.0, 1.0)}),
     )
-    noise = material.node_tree.nodes.new("ShaderNodeTexIES")
-    material.node_tree.links.new(noise.outputs[0], mix.inputs[0])
+    noise = material.node_tree.nodes.new("ShaderNodeParticleInfo")
+    material.node_tree.links.new(noise.outputs["Age"], mix.inputs[0])
     assert_material(convert(material, warnings), diffuse=(0.75, 0.0, 0.25))
     assert warnings == [
-        f"Whitted: material 'Noisy', node '{noise.name}': IES Texture is not supported; "
+        f"Whitted: material 'Noisy', node '{noise.name}': ShaderNodeParticleInfo is not "
+        "supported; "
         f"input '{mix.inputs[0].name}' of '{mix.name}' uses its unlinked value"
     ]
 

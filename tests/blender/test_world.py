@@ -41,8 +41,8 @@ def test_background_node_color_times_strength(warnings):
 def test_linked_background_color_warns(warnings):
     world = node_world((0.2, 0.4, 0.8), 1.0)
     tree = world.node_tree
-    noise = tree.nodes.new("ShaderNodeTexIES")  # a node the program lacks
-    tree.links.new(noise.outputs["Fac"], tree.nodes["Background"].inputs["Color"])
+    noise = tree.nodes.new("ShaderNodeParticleInfo")  # a node the program lacks
+    tree.links.new(noise.outputs["Age"], tree.nodes["Background"].inputs["Color"])
     assert convert_world(world, 1.0, warnings).background == pytest.approx((0.2, 0.4, 0.8))
     assert "'World'" in warnings[0]
     assert "'Background'" in warnings[0]
