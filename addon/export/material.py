@@ -156,6 +156,7 @@ def convert_material(
         coat_specular=0.0,
         coat_reflectivity=0.0,
         coat_roughness=0.0,
+        layer_reflectivity=(0.0, 0.0, 0.0),
     )
     overridden = (
         "diffuse",
@@ -171,6 +172,8 @@ def convert_material(
         "coat_ior",
         "coat_normal",
         "coat_roughness",
+        "layer_reflectivity",
+        "layer_ior",
     )
     outputs = tuple(
         (name, register) for name, register in exported.outputs if name not in overridden

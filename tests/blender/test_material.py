@@ -395,9 +395,12 @@ def test_principled_coat(warnings):
         coat_ior=1.5,
         diffuse=plain.diffuse,
     )
-    # Without a coat, the sharp dielectric share is the layer's mirror.
+    # Without a coat, the sharp dielectric share is the layer's mirror, in the coat fields;
+    # beneath a coat, in the layer fields (of the same IOR), and none without a coat.
     assert plain.coat_specular == 0.0
     assert plain.coat_reflectivity == pytest.approx(0.375 * 0.2)
+    assert_material(data, layer_reflectivity=(0.375 * 0.2,) * 3, layer_ior=plain.coat_ior)
+    assert_material(plain, layer_reflectivity=(0.0,) * 3)
     assert warnings == [
         "Whitted: material 'Fake', node 'Principled BSDF': 'Clearcoat' is approximated: a "
         "Phong highlight and a mirror of the coat's roughness, weighted by its Fresnel "
@@ -406,6 +409,8 @@ def test_principled_coat(warnings):
     # The Blender model: all of the coat is its GGX lobe, of its roughness.
     glossy = convert(fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), [])
     assert_material(glossy, coat_reflectivity=0.125, coat_specular=0.0, coat_roughness=0.03)
+    # Beneath it, all of the opaque dielectric share is the layer's, of the base roughness.
+    assert_material(glossy, layer_reflectivity=(0.375,) * 3, roughness=0.2)
     # 4.x: Coat Weight, IOR and Tint; what lies beneath is seen through the tint.
     inputs = {
         **BLENDER_4_INPUTS,
@@ -423,6 +428,9 @@ def test_principled_coat(warnings):
         coat_shininess=4999.5,  # roughness 0.1: (2 / 0.01^2 - 2) / 4
         coat_ior=1.3,
         diffuse=(0.75 * plain.diffuse[0], plain.diffuse[1], plain.diffuse[2]),
+        # The specular layer beneath, seen through the tint too.
+        layer_reflectivity=(0.75 * 0.375 * 0.2, 0.375 * 0.2, 0.375 * 0.2),
+        layer_ior=plain.coat_ior,
     )
 
 

@@ -275,28 +275,17 @@ def test_the_worlds_ray_visibility_hides_it_as_in_cycles(hidden, empty_scene, tm
         assert top[:, :3].max() == 0.0 and top[:, 3].min() == 1.0
 
 
-@pytest.mark.parametrize(
-    "coat",
-    [
-        0.0,
-        pytest.param(
-            1.0,
-            marks=pytest.mark.xfail(
-                bpy.app.version < (4, 0, 0),
-                strict=True,
-                reason="the base's own reflection is dropped under a coat (issue 49, 9a)",
-            ),
-        ),
-    ],
-)
+@pytest.mark.parametrize("coat", [0.0, 1.0])
 def test_a_coated_plastic_reflects_the_world_as_cycles(coat, empty_scene, tmp_path):
     # A red plastic of roughness 0.3 under the forest, with and without a clear coat
     # (3.x Clearcoat, 4.x+ Coat Weight, roughness 0.05). Cycles keeps the plastic's own
-    # specular layer beneath the coat; Whitted drops it, as a hit's glossy rays follow
-    # one lobe (glossy.h reflection_lobe): Blender 3.4 0.952 of Cycles' (an extra
-    # reflection of F0 beneath the coat, tried, gave 0.967 there but 1.12 in bpy 5.0,
-    # where the one lobe then carries the coat's weight too). The sphere alone (no
-    # floor), over a transparent film: its pixels are the opaque ones.
+    # specular layer beneath the coat, and so does Whitted: the reflected term draws rays
+    # from each layer's lobe, the world's feelers weighing each lobe's share against that
+    # lobe's rays (native split.h reflection_lobes, mis.h lobe_weights). Before, a hit's
+    # glossy rays followed one lobe and the layer beneath the coat was dropped: 0.952 of
+    # Cycles 3.4 (a strict xfail), 0.998 of bpy 5.0; now 1.005 and 0.999 (without the
+    # coat 1.000 and 0.999). The sphere alone (no floor), over a transparent film: its
+    # pixels are the opaque ones.
     material = principled_sphere_material("Plastic", (0.6, 0.05, 0.05), 0.3)
     bsdf = material.node_tree.nodes["Principled BSDF"]
     weight = "Clearcoat" if "Clearcoat" in bsdf.inputs else "Coat Weight"

@@ -115,13 +115,15 @@ def _principled(s, out):
     strength = s.scalar(out, ("Emission Strength",), 1.0)
     emission_color = s.color(out, PRINCIPLED_INPUTS["emission_color"], (0.0, 0.0, 0.0, 1.0))
     highlight_f0 = b.vmul(f0, tint)
-    if coat is None:
-        coat = _specular_layer(s, out, f0, tint, metallic, roughness, transmission)
-        if coat is not None:
-            # The highlight keeps the glass part's share and the rough one's.
-            opaque = b.sub(b.f(1.0), transmission)
-            kept = b.sub(b.f(1.0), b.mul(opaque, sharpness(b, roughness, s.glossy)))
-            highlight_f0 = b.vmul(b.mul(f0, kept), tint)
+    layer = _specular_layer(s, out, f0, tint, metallic, roughness, transmission)
+    if layer is not None:
+        # The highlight keeps the glass part's share and the rough one's.
+        opaque = b.sub(b.f(1.0), transmission)
+        kept = b.sub(b.f(1.0), b.mul(opaque, sharpness(b, roughness, s.glossy)))
+        highlight_f0 = b.vmul(b.mul(f0, kept), tint)
+        if coat is None:
+            # Without a coat the specular layer is the top layer: the coat fields hold it.
+            coat, layer = layer, None
     fields = whitted_fields(
         b,
         base_diffuse=base,
@@ -136,11 +138,20 @@ def _principled(s, out):
     if sheen is not None:
         fields["diffuse"] = b.vadd(fields["diffuse"], sheen)
     coat_normal = None
+    if layer is not None:
+        # Beneath a coat, the specular layer is the layer fields: a clear layer about the
+        # base's normal, whose rough lobe is the base's (its roughness and anisotropy).
+        layer_fields = layer[0]
+        fields["layer_reflectivity"] = layer_fields["coat_reflectivity"]
+        fields["layer_ior"] = layer_fields["coat_ior"]
+        if s.glossy and "roughness" not in fields:
+            fields["roughness"] = b.clamp01(roughness)
     if coat is not None:
         coat_fields, beneath, coat_normal = coat
         # What lies beneath the coat is seen through its tint (at normal incidence).
-        for name in ("diffuse", "specular", "reflectivity", "transmissivity"):
-            fields[name] = b.vmul(fields[name], beneath)
+        for name in ("diffuse", "specular", "reflectivity", "transmissivity", "layer_reflectivity"):
+            if name in fields:
+                fields[name] = b.vmul(fields[name], beneath)
         fields.update(coat_fields)
     # The Principled BSDF emits Emission Color * Emission Strength as radiance.
     fields["emission"] = b.vmul(emission_color, strength)
@@ -236,8 +247,10 @@ def _coat(s, out):
 
 def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
     """The sharp share (1 - 4 roughness) of the opaque dielectric part's specular as
-    a clear layer's mirror on top, in the coat fields (as _coat returns them), or None
-    when there is none or it is tinted. Cycles reflects the surroundings there,
+    a clear layer's mirror, in the coat fields (as _coat returns them), or None when
+    there is none or it is tinted: the top layer without a coat; beneath a coat, the
+    caller moves it to the layer fields (layer_reflectivity, layer_ior), whose lobe
+    is the base's. Cycles reflects the surroundings there,
     Fresnel-weighted; a highlight alone left glossy plastic black where Cycles
     mirrors. The layer's IOR is the one whose F0 is the Principled's, so at normal
     incidence its weight is that of the highlight share it replaces (3.x Cycles takes

@@ -40,6 +40,7 @@ LINEAR_FIELDS = (
     "emission",
     "coat_specular",
     "coat_reflectivity",
+    "layer_reflectivity",
     "sheen",
 )
 WEIGHTED_FIELDS = (
@@ -50,6 +51,7 @@ WEIGHTED_FIELDS = (
     "diffuse_roughness",
     "roughness",
     "coat_roughness",
+    "layer_ior",
     "anisotropy",
     "sheen_roughness",
 )
@@ -61,6 +63,7 @@ DEFAULTS = {
     "diffuse_roughness": 0.0,
     "roughness": 0.0,
     "coat_roughness": 0.0,
+    "layer_ior": 1.5,
     "anisotropy": 0.0,
     "sheen_roughness": 0.0,
 }
@@ -186,6 +189,8 @@ class ShaderLowering:
             "coat_shininess": coverage if coat else self.b.f(0.0),
             "coat_ior": coverage if coat else self.b.f(0.0),
             "coat_roughness": coverage if coat else self.b.f(0.0),
+            # The specular layer beneath a coat, by its IOR.
+            "layer_ior": coverage if "layer_ior" in fields else self.b.f(0.0),
             # A diffuse lobe of another shape than Lambert's, by its roughness.
             "diffuse_roughness": coverage if diffuse_model else self.b.f(0.0),
             # A glossy lobe, by its roughness, and an anisotropic one by its anisotropy.

@@ -21,35 +21,15 @@
 
 namespace whitted {
 
-// The lobe a glossy reflection draws its rays from.
-struct Lobe {
-  GgxLobe ggx;                // about the normal facing the ray; alpha 0: a mirror
-  Color energy;               // its multiple-scattering scale, or 1
-  const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
-};
-
-// The lobe the one reflection follows, the one that gives it most of its weight: the
-// coat's or the base's, where glossy and the glossy effect is on (alpha 0: a mirror's ray).
-inline Lobe reflection_lobe(const ShadingPoint& p, const Split& split, bool glossy) {
-  if (glossy && !split.total_internal_reflection) {
-    if (split.about_coat && p.coat.alpha > 0.0f) {
-      return Lobe{GgxLobe(p.coat.normal, p.coat.alpha), Color(1.0f), &p.coat};
-    }
-    if (!split.about_coat && p.alpha > 0.0f) return Lobe{p.ggx, p.energy};
-  }
-  return Lobe{GgxLobe(p.ns, 0.0f), Color(1.0f)};
-}
-
-// Glossy reflection: n x n rays drawn from the lobe, each weighing sigma_r * G2/G1 / n^2
+// Glossy reflection: n x n rays drawn from the lobe, each weighing its sigma * G2/G1 / n^2
 // (the lobe over its density). Their points (Strata) depend only on the pixel and the
 // camera sample (a Sobol sequence's, or a hash of the sample's seed), so every render of a
 // scene draws the same rays, whatever its scale, and neighbouring samples different ones. A ray the
 // lobe sends below the surface is lost, as light the single-scattering lobe does not return.
-// Returns the mean of what they bring, per unit sigma_r.
+// Returns the mean of what they bring, per unit of the lobe's sigma.
 template <uint32_t kEffects, class Queries, class Branch>
 Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const ShadingPoint& p,
-                        const Color& sigma_r, const Lobe& lobe_of, const NodeState& state,
-                        const Branch& branch) {
+                        const Lobe& lobe_of, const NodeState& state, const Branch& branch) {
   const Strata strata(state, in.settings.glossy_samples, 0x6c6fu, jittered_samples(in.settings));
   // The world light the rays' glossy share is weighed against (null: none), and rays per
   // emitter or world feeler, for each ray's MIS density (0: no emitters to weigh).
@@ -58,7 +38,7 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
   const float per_feeler =
       in.emitters || world != nullptr ? rays_per_feeler(in.settings, state) : 0.0f;
   const bool lamps = lamps_seen_by_glossy(in.scene);
-  Color mean(0.0f);  // sum over the rays of (weight / sigma_r) * radiance
+  Color mean(0.0f);  // sum over the rays of (weight / sigma) * radiance
   for (int k = 0; k < strata.count(); ++k) {
     const glm::vec2 u = strata.point(k);
     Vec3 wi;
@@ -70,7 +50,7 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     if (lobe_of.coat != nullptr) {
       lobe *= lobe_of.coat->facet_scale(p.wo, glm::normalize(p.wo + wi));
     }
-    const Color weight = sigma_r * lobe_of.energy * lobe;
+    const Color weight = lobe_of.sigma * lobe_of.energy * lobe;
     // Its density, for the MIS weight of the emission it may meet (emission_weight) and
     // of the lamps' shapes (lamp_weight).
     const float pdf = per_feeler > 0.0f || lamps ? ggx_reflection_pdf(lobe_of.ggx, p.wo, wi) : 0.0f;

@@ -325,27 +325,32 @@ class Kernel {
                   state, Color(1.0f), media, /*from=*/nullptr, TreeRayKind::kTransparent, counts);
   }
 
-  // The reflected term: sigma_r times what the mirror ray brings back, or the mean of
-  // what rays drawn from a glossy lobe bring back (glossy.h).
+  // The reflected term: over the layers' lobes (glossy.h, reflection_lobes), each lobe's
+  // sigma times what its mirror ray brings back, or the mean of what rays drawn from it
+  // bring back.
   Color reflection(const Ray& ray, const ShadingPoint& p, const Split& split,
                    const NodeState& state, RayCounts* counts) const {
     [[maybe_unused]] const auto term = recorder_.reflected(state.depth, split.sigma_r);
-    Color reflected;
-    if (const Lobe lobe = reflection_lobe(p, split, (in_.effects & kGlossyEffect) != 0);
-        lobe.ggx.alpha() > 0.0f) {
-      reflected =
-          glossy_reflection(in_, p, split.sigma_r, lobe, state, drawn_branch(p, state, counts));
-    } else {
-      Vec3 r = reflect(ray.direction, split.about_coat ? p.coat.normal : p.ns);
-      if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
-      const TreeRayKind kind = split.total_internal_reflection
-                                   ? TreeRayKind::kTotalInternalReflection
-                                   : TreeRayKind::kReflection;
-      reflected = branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal,
-                                   p.it.time, r, kReflectionRay),
-                         state, split.sigma_r, state.media, /*from=*/&p.it, kind, counts);
+    Color reflected(0.0f);
+    for (const Lobe& lobe : reflection_lobes(p, split, (in_.effects & kGlossyEffect) != 0)) {
+      reflected +=
+          lobe.sigma * (lobe.ggx.alpha() > 0.0f
+                            ? glossy_reflection(in_, p, lobe, state, drawn_branch(p, state, counts))
+                            : mirror(ray, p, split, lobe, state, counts));
     }
-    return split.sigma_r * reflected;
+    return reflected;
+  }
+
+  // What the mirror ray of a lobe of alpha 0 brings back, per unit of its sigma.
+  Color mirror(const Ray& ray, const ShadingPoint& p, const Split& split, const Lobe& lobe,
+               const NodeState& state, RayCounts* counts) const {
+    Vec3 r = reflect(ray.direction, lobe.ggx.n);
+    if (glm::dot(r, p.ng) <= 0.0f) r = reflect(ray.direction, p.ng);  // below the surface
+    const TreeRayKind kind = split.total_internal_reflection ? TreeRayKind::kTotalInternalReflection
+                                                             : TreeRayKind::kReflection;
+    return branch(spawn_ray(p.it.position, p.it.position_error, p.it.geometric_normal, p.it.time, r,
+                            kReflectionRay),
+                  state, lobe.sigma, state.media, /*from=*/&p.it, kind, counts);
   }
 
   // The refracted term: sigma_t times what the refracted ray brings back from the media

@@ -43,7 +43,7 @@ struct Feeler {
 struct Drawing {
   Feeler feeler;
   LightSample sample;
-  float mis;
+  LobeWeights mis;
 };
 
 // A light sample between its Phong terms and its shadow feeler's answer.
@@ -107,11 +107,10 @@ class Lights {
       const auto draw = [&](int s) {
         glm::vec2 at;
         if (sobol) at = points.point(s);
-        Drawing out{feeler, sample_light(light, p.it.position, s, sobol ? &at : nullptr), 1.0f};
+        Drawing out{feeler, sample_light(light, p.it.position, s, sobol ? &at : nullptr), {}};
         if (weighed) {
-          out.mis =
-              power_heuristic(static_cast<float>(samples) * out.sample.density,
-                              rays.drawn * ggx_reflection_pdf(rays.lobe, p.wo, out.sample.wi));
+          out.mis = lobe_weights(rays, rays.drawn, static_cast<float>(samples) * out.sample.density,
+                                 p.wo, out.sample.wi);
         }
         return out;
       };
@@ -177,7 +176,7 @@ class Lights {
       Drawing out{{true, strata.count(), -1, static_cast<int32_t>(triangle.instance), true, true,
                    links.shadow_sets},
                   {Vec3(0.0f, 0.0f, 1.0f), 0.0f, Color(0.0f)},
-                  1.0f};
+                  {}};
       if (!in_sets(links.light_sets, receiver)) return out;  // not linked to this surface
       // From where the feeler leaves (on a smooth mesh lifted off the facet, towards
       // the curved surface): measured from the facet, the feeler would reach past the
@@ -196,8 +195,7 @@ class Lights {
       const Color radiance = emitted(scene, triangle, s.barycentric, towards, in_.context(state));
       out.sample.irradiance = radiance * (cos_e * strata.share / (dist2 * s.density));
       if (rays.count > 0.0f) {
-        out.mis = power_heuristic(s.density * dist2 / cos_e,
-                                  rays.count * ggx_reflection_pdf(rays.lobe, p.wo, out.sample.wi));
+        out.mis = lobe_weights(rays, rays.count, s.density * dist2 / cos_e, p.wo, out.sample.wi);
       }
       return out;
     };
@@ -224,14 +222,14 @@ class Lights {
           light.sample(strata.point(k % strata.count()), p.ns, k / strata.count());
       Drawing out{{true, count, -1, -1, params.diffuse, params.glossy, kAllLightSets},
                   {s.wi, kInfinity, Color(0.0f)},
-                  1.0f};
+                  {}};
       counts->world_feelers += 1;
       // Behind the surface it adds nothing: the world's program unread.
       if (!(s.pdf > 0.0f) || glm::dot(p.ns, s.wi) <= 0.0f) return out;
       const Color radiance = in_.scene.world_light_radiance(s.wi, state.depth + 1);
       out.sample.irradiance = radiance * (strata.share / s.pdf);
       if (rays.count > 0.0f && params.glossy) {
-        out.mis = power_heuristic(s.pdf, rays.count * ggx_reflection_pdf(rays.lobe, p.wo, s.wi));
+        out.mis = lobe_weights(rays, rays.count, s.pdf, p.wo, s.wi);
       }
       return out;
     };
@@ -255,7 +253,7 @@ class Lights {
       const CompiledScene::Glow& g = glowing[static_cast<size_t>(k / strata.count())];
       Drawing out{{false, count, -1, static_cast<int32_t>(g.instance), true, true, kAllLightSets},
                   {Vec3(0.0f, 0.0f, 1.0f), 0.0f, Color(0.0f)},
-                  0.0f};
+                  {0.0f, 0.0f, 0.0f}};
       const Vec3 wi = GlowCone(g, origin).draw(strata.point(k % strata.count()));
       out.sample.wi = wi;
       // Behind the surface it adds nothing: no march.
@@ -325,7 +323,7 @@ class Lights {
     out->sends_feeler = false;
     if (out->dark) return;
     out->t = light_terms(p, ls.wi, cos_l);
-    if (drawing.mis < 1.0f) weigh_glossy(p, ls.wi, drawing.mis, &out->t);
+    if (drawing.mis.weighs()) weigh_glossy(p, ls.wi, drawing.mis, &out->t);
     if (!drawing.feeler.diffuse || !drawing.feeler.glossy) {
       unseen(drawing.feeler.diffuse, drawing.feeler.glossy, &out->t);
     }

@@ -45,6 +45,24 @@ Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool 
   return coat;
 }
 
+Coat layer_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ns, float alpha,
+              Masking masking) {
+  Coat layer;
+  const float weight = std::min(max_component(surface.layer_reflectivity), 1.0f);
+  if (!(weight > 0.0f)) return layer;
+  layer.normal = ns;
+  layer.eta = 1.0f / surface.layer_ior;
+  layer.fresnel = fresnel_exact(glm::dot(wo, ns), layer.eta);
+  layer.mirror = weight * layer.fresnel;
+  layer.cover = layer.mirror;
+  layer.alpha = alpha;
+  if (alpha > 0.0f && layer.fresnel > 0.0f) {
+    // What the rough layer takes from the diffuse beneath: its albedo (as the coat's).
+    layer.cover = weight * rough_layer_albedo(ns, wo, alpha, layer.eta, masking);
+  }
+  return layer;
+}
+
 float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {
   if (!(coat.alpha > 0.0f)) return 0.0f;
   const Vec3 half = wo + wi;

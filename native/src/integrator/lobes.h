@@ -139,6 +139,14 @@ float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, 
 Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering,
              Masking masking);
 
+// The base's specular layer beneath the coat (SurfaceParams::layer_reflectivity), seen
+// from wo: a clear layer about the base's shading normal ns (facing the ray), of the
+// base's GGX alpha (0: a mirror), whose `mirror` is the Fresnel factor of its IOR at ns
+// times the largest component of its weight (so `cover`, what it takes from the diffuse
+// beneath, stays within 1); a weight of 0 is no layer.
+Coat layer_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ns, float alpha,
+              Masking masking);
+
 // A rough coat's mirror lobe for light arriving from wi: its GGX lobe evaluated, times
 // its weight and its facet's Fresnel factor; 0 for a sharp coat.
 float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking);

@@ -59,7 +59,8 @@ inline LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l
       phong_lobe(p, v_dot_r),
       coat_highlight(p.coat, p.wo, wi, p.it.material->masking),
       p.alpha > 0.0f ? p.base * ggx_reflection(p.ggx, p.wo, wi, p.it.material->masking) : 0.0f,
-      0.0f};
+      0.0f,
+      coat_glossy(p.layer, p.wo, wi, p.it.material->masking)};
   diffuse_fade(p, wi, cos_l, &t);
   return t;
 }
@@ -69,16 +70,18 @@ inline LightTerms light_terms(const ShadingPoint& p, const Vec3& wi, float cos_l
 // glossy closure in Cycles) when no glossy one shows it (`glossy` false).
 inline void unseen(bool diffuse, bool glossy, LightTerms* t) {
   if (!diffuse) t->fade = t->loss = 0.0f;
-  if (!glossy) t->lobe = t->coat = t->glossy = t->sheen = 0.0f;
+  if (!glossy) t->lobe = t->coat = t->glossy = t->sheen = t->layer = 0.0f;
 }
 
-// An emitter feeler's MIS weight (mis.h) on its glossy lobes' share of t: the base's GGX
-// lobe and a rough coat's.
-inline void weigh_glossy(const ShadingPoint& p, const Vec3& wi, float mis, LightTerms* t) {
-  t->glossy *= mis;
+// An emitter feeler's MIS weights (mis.h, LobeWeights) on its glossy lobes' shares of t,
+// each lobe's its own: the base's GGX lobe, the specular layer's and a rough coat's.
+inline void weigh_glossy(const ShadingPoint& p, const Vec3& wi, const LobeWeights& mis,
+                         LightTerms* t) {
+  t->glossy *= mis.base;
+  t->layer *= mis.layer;
   if (p.coat.alpha > 0.0f && t->coat > 0.0f) {
     const float glossy = coat_glossy(p.coat, p.wo, wi, p.it.material->masking);
-    t->coat = std::max(0.0f, t->coat - (1.0f - mis) * glossy);
+    t->coat = std::max(0.0f, t->coat - (1.0f - mis.coat) * glossy);
   }
 }
 
@@ -92,6 +95,7 @@ inline Color unshadowed(const ShadingPoint& p, const LightTerms& t, const Color&
   Color share = (t.lit * brdf + Color(t.coat)) * irradiance;
   if (p.alpha > 0.0f) share += surface.reflectivity * p.energy * t.glossy * irradiance;
   if (t.sheen > 0.0f) share += sheen_share(p, t) * irradiance;
+  if (t.layer > 0.0f) share += p.layer_tint * t.layer * irradiance;
   return share;
 }
 

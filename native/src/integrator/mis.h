@@ -29,14 +29,49 @@ inline float power_heuristic(float a, float b) {
 }
 
 // The glossy rays a hit will send, as the feelers to emissive meshes weigh their glossy
-// share against them: the lobe they are drawn from and how many there are per feeler.
+// shares against them: the lobes they are drawn from (the coat's; the base's, which the
+// specular layer beneath the coat shares) and how many each lobe sends per feeler.
 // count 0: none will be sent (no glossy lobe, the depth, the cutoff), and the feelers
 // count whole.
 struct GlossyRays {
-  GgxLobe lobe{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
-  float count = 0.0f;
-  float drawn = 0.0f;  // how many (n x n), as the lamps' feelers weigh theirs against them
+  GgxLobe coat{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
+  GgxLobe base{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
+  // Which lobes send rays: a lobe that sends none leaves its share whole to the feelers.
+  bool coat_rays = false;
+  bool layer_rays = false;
+  bool base_rays = false;
+  float count = 0.0f;  // per lobe that sends rays
+  float drawn = 0.0f;  // how many each (n x n), as the lamps' feelers weigh theirs against them
 };
+
+// A feeler's MIS weights on the glossy lobes' shares, `density` its own (per solid angle,
+// times its technique's count) and `rays` each lobe's rays per feeler (GlossyRays::count,
+// or ::drawn against a lamp's n x n feelers).
+//
+// Why per lobe: the reflected term is a sum of integrals, one per lobe j (the coat, the
+// specular layer, the base), I_j = int f_j(wi) L(wi) dwi. Lobe j's rays are drawn from
+// p_j and carry f_j alone (glossy.h: their weight is that lobe's sigma), so each I_j has
+// exactly two techniques that estimate it: the feelers (density p_F, n_F of them) and
+// lobe j's rays (p_j, n_j). Veach's multi-sample MIS over those two gives the feeler's
+// share of f_j the weight w_F,j = h(n_F p_F, n_j p_j) and lobe j's ray the weight
+// w_j = h(n_j p_j, n_F p_F) (its NodeState::mis, world_weight, lamp_density), with h the
+// power heuristic: w_F,j + w_j = 1 for every direction, so each I_j, and their sum, is
+// estimated without bias. A lobe's rays never weigh against another lobe's: they do not
+// evaluate its f_k, which no other technique than its own rays and the feelers estimates.
+// The layer and the base draw from the same GGX lobe (ShadingPoint::ggx), one density.
+inline LobeWeights lobe_weights(const GlossyRays& rays, float count, float density, const Vec3& wo,
+                                const Vec3& wi) {
+  LobeWeights w;
+  if (rays.coat_rays) {
+    w.coat = power_heuristic(density, count * ggx_reflection_pdf(rays.coat, wo, wi));
+  }
+  if (rays.layer_rays || rays.base_rays) {
+    const float base = power_heuristic(density, count * ggx_reflection_pdf(rays.base, wo, wi));
+    if (rays.layer_rays) w.layer = base;
+    if (rays.base_rays) w.base = base;
+  }
+  return w;
+}
 
 // Whether glossy rays see some lamp's shape (their MIS weights against its feelers).
 inline bool lamps_seen_by_glossy(const CompiledScene& scene) {
@@ -72,12 +107,22 @@ template <uint32_t kEffects, class Queries>
     return rays;
   }
   if (split.total_internal_reflection || is_black(split.sigma_r)) return rays;
-  const bool coat = split.about_coat && p.coat.alpha > 0.0f;
-  if (!coat && (split.about_coat || !(p.alpha > 0.0f))) return rays;
   if (state.depth + 1 > in.settings.max_depth) return rays;
-  const Color energy = coat ? Color(1.0f) : p.energy;
-  if (max_component(state.weight * split.sigma_r * energy) < in.settings.cutoff) return rays;
-  rays.lobe = coat ? GgxLobe(p.coat.normal, p.coat.alpha) : p.ggx;
+  // Each glossy lobe above the cutoff (branch's, on a lobe's whole weight) sends rays.
+  for (const Lobe& lobe : reflection_lobes(p, split, true)) {
+    if (!(lobe.ggx.alpha() > 0.0f) ||
+        max_component(state.weight * lobe.sigma * lobe.energy) < in.settings.cutoff) {
+      continue;
+    }
+    if (lobe.coat == &p.coat) {
+      rays.coat = lobe.ggx;
+      rays.coat_rays = true;
+    } else {
+      rays.base = lobe.ggx;
+      (lobe.coat == &p.layer ? rays.layer_rays : rays.base_rays) = true;
+    }
+  }
+  if (!(rays.coat_rays || rays.layer_rays || rays.base_rays)) return rays;
   rays.count = rays_per_feeler(in.settings, state);
   const int side = Strata::side(state, in.settings.glossy_samples);
   rays.drawn = static_cast<float>(side * side);

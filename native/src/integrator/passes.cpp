@@ -150,13 +150,16 @@ void PassRecorder::split(const ShadingPoint& p, const Split& split, bool glossy)
   // The surface's lobes as Cycles' closures: rough (the diffuse, the Phong and coat
   // highlights, the reflection and the refraction where drawn from a lobe rougher than
   // kSharpGuideAlpha) or near-specular (the others), each weighing its colour.
-  const bool rough_reflection = reflection_lobe(p, split, glossy).ggx.alpha() > kSharpGuideAlpha;
+  Color rough_reflection(0.0f);
+  Color sharp_reflection(0.0f);
+  for (const Lobe& lobe : reflection_lobes(p, split, glossy)) {
+    (lobe.ggx.alpha() > kSharpGuideAlpha ? rough_reflection : sharp_reflection) += lobe.sigma;
+  }
   const bool rough_refraction = glossy && p.alpha > kSharpGuideAlpha;
   const Color rough = p.base * (p.surface.diffuse + p.surface.specular + p.surface.sheen) +
-                      Color(p.coat.highlight) + (rough_reflection ? split.sigma_r : Color(0.0f)) +
+                      Color(p.coat.highlight) + rough_reflection +
                       (rough_refraction ? split.sigma_t : Color(0.0f));
-  const Color sharp = (rough_reflection ? Color(0.0f) : split.sigma_r) +
-                      (rough_refraction ? Color(0.0f) : split.sigma_t);
+  const Color sharp = sharp_reflection + (rough_refraction ? Color(0.0f) : split.sigma_t);
   const Color emission = glm::clamp(p.surface.emission, 0.0f, 1.0f);
   const float rough_weight = mean_component(rough);
   const float sharp_weight = mean_component(sharp);

@@ -346,6 +346,7 @@ class PassRecorder : public NoRecorder {
     *specular = (t.lit * surface.specular * (p.phong_norm * t.lobe) + Color(t.coat)) * light_in;
     if (p.alpha > 0.0f) *specular += surface.reflectivity * p.energy * t.glossy * light_in;
     if (t.sheen > 0.0f) *specular += sheen_share(p, t) * light_in;  // Cycles' velvet is glossy
+    if (t.layer > 0.0f) *specular += p.layer_tint * t.layer * light_in;
   }
   // The record's field of the indirect pass the node being shaded feeds, if any is kept.
   Color* indirect_field() const;

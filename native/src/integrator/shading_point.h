@@ -20,13 +20,16 @@ struct ShadingPoint {
   Vec3 smooth;  // the interpolated normal on the ray's side (diffuse_shadowing)
   Vec3 wo;      // back along the ray
   Coat coat;
-  float base;          // 1 - coat.cover (1 if the coat is not layered): what reaches the base
+  float base;          // what reaches the base: (1 - coat.cover) (1 - layer.cover), or 1 if
+                       // the layers are not layered (Material::coat_layered)
   float phong_norm;    // (f+2)/(2pi), the normalisation of the Phong lobe
   Color multiscatter;  // kOrenNayarEnergy: the diffuse lobe's multiple scattering, per
                        // unit LightTerms::loss (0 for the other diffuse models)
   float alpha;         // GGX alpha of the reflection lobe; 0: a mirror (microfacet.h)
   Color energy;        // the lobe's multiple-scattering scale (Material::multiscatter), or 1
   GgxLobe ggx;         // the reflection lobe about ns: alpha, or anisotropic along the tangent
+  Coat layer;          // the base's specular layer beneath the coat (layer_of), its lobe ggx's
+  Color layer_tint;    // its weight per unit layer.mirror, seen through the coat
 };
 
 // One light sample's Phong terms at a shading point, per unit irradiance and unshadowed:
@@ -39,6 +42,17 @@ struct LightTerms {
   float coat;    // the coat's highlight
   float glossy;  // (1 - coat) * the GGX lobe times (l.n): reflectivity * glossy is its share
   float sheen;   // the velvet lobe's shape: sheen_share
+  float layer;   // the specular layer's lobe (coat_glossy of ShadingPoint::layer): layer_tint *
+                 // layer is its share
+};
+
+// A light sample's MIS weights (mis.h) on the share of each glossy lobe the reflected
+// term draws rays from (glossy.h): 1 where that lobe sends none.
+struct LobeWeights {
+  float coat = 1.0f;
+  float layer = 1.0f;
+  float base = 1.0f;
+  bool weighs() const { return coat < 1.0f || layer < 1.0f || base < 1.0f; }
 };
 
 // The geometric and shading normals of a hit turned to face the ray; a shading normal
@@ -67,7 +81,7 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   const Vec3 smooth = surface.normal == it.shading_normal        ? ns
                       : glm::dot(it.geometric_normal, ng) > 0.0f ? it.shading_normal
                                                                  : -it.shading_normal;
-  const float base = it.material->coat_layered ? 1.0f - coat.cover : 1.0f;
+  const bool layered = it.material->coat_layered;
   const float phong_norm = (surface.shininess + 2.0f) * (0.5f * kInvPi);
   const Color multiscatter =
       it.material->diffuse_model == DiffuseModel::kOrenNayarEnergy
@@ -77,7 +91,8 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   // A lobe rougher than a mirror is GGX's, for lights and rays (microfacet.h).
   const float alpha = surface.roughness * surface.roughness;
   const bool glossy = alpha >= kMirrorAlpha &&
-                      (!is_black(surface.reflectivity) || !is_black(surface.transmissivity));
+                      (!is_black(surface.reflectivity) || !is_black(surface.transmissivity) ||
+                       !is_black(surface.layer_reflectivity));
   // The multiple scattering of an anisotropic lobe is its round lobe's of the same mean
   // alpha, as Cycles takes it (alpha_x alpha_y = alpha^2).
   const Color energy =
@@ -90,6 +105,15 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   const GgxLobe ggx = alpha_x != alpha_y && surface.tangent != Vec3(0.0f)
                           ? GgxLobe(ns, surface.tangent, alpha_x, alpha_y)
                           : GgxLobe(ns, glossy ? alpha : 0.0f);
+  // The specular layer beneath the coat: seen through what the coat lets pass, and the
+  // base beneath both gets what each lets through.
+  const Coat layer = layer_of(surface, wo, ns, glossy ? alpha : 0.0f, it.material->masking);
+  float base = layered ? 1.0f - coat.cover : 1.0f;
+  Color layer_tint(0.0f);
+  if (layer.mirror > 0.0f) {
+    layer_tint = (base / max_component(surface.layer_reflectivity)) * surface.layer_reflectivity;
+    if (layered) base *= 1.0f - layer.cover;
+  }
   return {it,
           surface,
           ng,
@@ -102,7 +126,9 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
           multiscatter,
           glossy ? alpha : 0.0f,
           energy,
-          ggx};
+          ggx,
+          layer,
+          layer_tint};
 }
 
 // A light sample's share through the sheen lobe, per unit of what arrives: the velvet

@@ -110,6 +110,7 @@ void TreeRecorder::unshadowed(Node node, const ShadingPoint& p, const LightTerms
   n.specular = arriving * (t.lit * p.phong_norm * t.lobe * p.surface.specular + Color(t.coat));
   if (p.alpha > 0.0f) n.specular += arriving * t.glossy * p.surface.reflectivity * p.energy;
   if (t.sheen > 0.0f) n.specular += arriving * sheen_share(p, t);
+  if (t.layer > 0.0f) n.specular += arriving * t.layer * p.layer_tint;
   n.cut = TreeCut::kUnshadowed;
 }
 

@@ -20,6 +20,10 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     if (!std::isfinite(v)) throw std::invalid_argument("coat values must be finite");
   }
   if (coat_ior <= 0.0f) throw std::invalid_argument("coat_ior must be positive");
+  if (!is_finite(layer_reflectivity) || !std::isfinite(layer_ior) || layer_ior <= 0.0f) {
+    throw std::invalid_argument("layer_reflectivity must be finite and layer_ior positive");
+  }
+  layer_reflectivity = glm::max(layer_reflectivity, Color(0.0f));
   if (static_cast<uint32_t>(diffuse_model) >
       static_cast<uint32_t>(DiffuseModel::kOrenNayarEnergy)) {
     throw std::invalid_argument("diffuse_model is not a DiffuseModel");

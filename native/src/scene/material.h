@@ -26,31 +26,33 @@ namespace whitted {
 // MaterialParams member (all but the normals) has that member's name. The volume_* fields
 // are the medium's (a heterogeneous medium: its program run at points inside the mesh,
 // CompiledScene::medium), the others the surface's.
-#define WHITTED_MATERIAL_FIELDS(X)                  \
-  X(kDiffuseField, "diffuse", 3)                    \
-  X(kSpecularField, "specular", 3)                  \
-  X(kShininessField, "shininess", 1)                \
-  X(kReflectivityField, "reflectivity", 3)          \
-  X(kTransmissivityField, "transmissivity", 3)      \
-  X(kIorField, "ior", 1)                            \
-  X(kEmissionField, "emission", 3)                  \
-  X(kAlphaField, "alpha", 1)                        \
-  X(kNormalField, "normal", 3)                      \
-  X(kCoatSpecularField, "coat_specular", 1)         \
-  X(kCoatReflectivityField, "coat_reflectivity", 1) \
-  X(kCoatShininessField, "coat_shininess", 1)       \
-  X(kCoatIorField, "coat_ior", 1)                   \
-  X(kCoatNormalField, "coat_normal", 3)             \
-  X(kDiffuseRoughnessField, "diffuse_roughness", 1) \
-  X(kRoughnessField, "roughness", 1)                \
-  X(kCoatRoughnessField, "coat_roughness", 1)       \
-  X(kAnisotropyField, "anisotropy", 1)              \
-  X(kTangentField, "tangent", 3)                    \
-  X(kSheenField, "sheen", 3)                        \
-  X(kSheenRoughnessField, "sheen_roughness", 1)     \
-  X(kVolumeAbsorptionField, "volume_absorption", 3) \
-  X(kVolumeScatteringField, "volume_scattering", 3) \
-  X(kVolumeAnisotropyField, "volume_anisotropy", 1) \
+#define WHITTED_MATERIAL_FIELDS(X)                    \
+  X(kDiffuseField, "diffuse", 3)                      \
+  X(kSpecularField, "specular", 3)                    \
+  X(kShininessField, "shininess", 1)                  \
+  X(kReflectivityField, "reflectivity", 3)            \
+  X(kTransmissivityField, "transmissivity", 3)        \
+  X(kIorField, "ior", 1)                              \
+  X(kEmissionField, "emission", 3)                    \
+  X(kAlphaField, "alpha", 1)                          \
+  X(kNormalField, "normal", 3)                        \
+  X(kCoatSpecularField, "coat_specular", 1)           \
+  X(kCoatReflectivityField, "coat_reflectivity", 1)   \
+  X(kCoatShininessField, "coat_shininess", 1)         \
+  X(kCoatIorField, "coat_ior", 1)                     \
+  X(kCoatNormalField, "coat_normal", 3)               \
+  X(kDiffuseRoughnessField, "diffuse_roughness", 1)   \
+  X(kRoughnessField, "roughness", 1)                  \
+  X(kCoatRoughnessField, "coat_roughness", 1)         \
+  X(kAnisotropyField, "anisotropy", 1)                \
+  X(kTangentField, "tangent", 3)                      \
+  X(kSheenField, "sheen", 3)                          \
+  X(kSheenRoughnessField, "sheen_roughness", 1)       \
+  X(kLayerReflectivityField, "layer_reflectivity", 3) \
+  X(kLayerIorField, "layer_ior", 1)                   \
+  X(kVolumeAbsorptionField, "volume_absorption", 3)   \
+  X(kVolumeScatteringField, "volume_scattering", 3)   \
+  X(kVolumeAnisotropyField, "volume_anisotropy", 1)   \
   X(kVolumeEmissionField, "volume_emission", 3)
 
 enum Field : uint32_t {
@@ -148,6 +150,10 @@ struct MaterialParams {
   float coat_shininess = 1000.0f;
   float coat_ior = 1.5f;
   float coat_roughness = 0.0f;
+  // The base's specular layer beneath the coat (lobes.h, layer_of): a clear dielectric
+  // layer about the base's normal, of its roughness.
+  Color layer_reflectivity{0.0f};
+  float layer_ior = 1.5f;
   bool coat_layered = true;
   bool valid_reflection = false;  // Cycles 3.x's ensure_valid_reflection
   BumpShadowing bump_shadowing = BumpShadowing::kNone;
@@ -247,6 +253,12 @@ inline constexpr auto kMaterialParams = std::tuple{
     MaterialParam{
         "coat_roughness", &MaterialParams::coat_roughness,
         "Blender roughness of the coat's reflection in [0, 1], as roughness is for the base."},
+    MaterialParam{"layer_reflectivity", &MaterialParams::layer_reflectivity,
+                  "Weight (linear RGB) of a clear dielectric layer's mirror beneath the coat (a "
+                  "Principled BSDF's specular layer under its coat), scaled by its Fresnel "
+                  "factor; it follows the base's normal, roughness and anisotropy."},
+    MaterialParam{"layer_ior", &MaterialParams::layer_ior,
+                  "Index of refraction of that layer (outside is 1); must be above 0."},
     MaterialParam{"coat_layered", &MaterialParams::coat_layered,
                   "True: the layers beneath get only the light the coat lets through (Cycles 4.0 "
                   "on); False: the coat is added on top (Cycles 3.x)."},
@@ -300,8 +312,9 @@ struct Material : MaterialParams {
   // Whether its reflection can be glossy: a lobe rougher than a mirror, or one a program
   // computes (glossy rays and GGX highlights: integrator/glossy.h, local.h).
   bool glossy() const {
-    const bool base = (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
-                      (!is_black(reflectivity) || driven(kReflectivityField) || transmissive());
+    const bool base =
+        (roughness * roughness >= kMirrorAlpha || driven(kRoughnessField)) &&
+        (!is_black(reflectivity) || driven(kReflectivityField) || transmissive() || layered());
     const bool coat =
         (coat_roughness * coat_roughness >= kMirrorAlpha || driven(kCoatRoughnessField)) &&
         (coat_reflectivity > 0.0f || driven(kCoatReflectivityField));
@@ -309,8 +322,10 @@ struct Material : MaterialParams {
   }
   bool reflective() const {
     return !is_black(reflectivity) || driven(kReflectivityField) || coat_reflectivity > 0.0f ||
-           driven(kCoatReflectivityField);
+           driven(kCoatReflectivityField) || layered();
   }
+  // Whether it has a specular layer beneath its coat (layer_reflectivity).
+  bool layered() const { return !is_black(layer_reflectivity) || driven(kLayerReflectivityField); }
   // Whether the mesh encloses a medium that absorbs, scatters or emits (a volume shader's
   // constant coefficients, integrator/volume.h, or a program's); a zero volume is none.
   bool participating() const {

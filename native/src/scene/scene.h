@@ -136,14 +136,16 @@ struct SurfaceParams {
   float coat_reflectivity;
   float coat_shininess;
   float coat_ior;
-  Vec3 coat_normal;         // as `normal`: the interpolated normal unless a program drives it
-  float diffuse_roughness;  // shapes a DiffuseModel::kBurley lobe; in [0, 1]
-  float roughness;          // Blender's roughness of the reflection lobe, in [0, 1]
-  float coat_roughness;     // the coat's, likewise
-  float anisotropy;         // the reflection lobe's (Material::anisotropy)
-  Vec3 tangent;             // the lobe's tangent (world); zero: none, the lobe is round
-  Color sheen;              // the sheen lobe's weight (Material::sheen)
-  float sheen_roughness;    // its sigma, in [0, 1]
+  Vec3 coat_normal;          // as `normal`: the interpolated normal unless a program drives it
+  float diffuse_roughness;   // shapes a DiffuseModel::kBurley lobe; in [0, 1]
+  float roughness;           // Blender's roughness of the reflection lobe, in [0, 1]
+  float coat_roughness;      // the coat's, likewise
+  float anisotropy;          // the reflection lobe's (Material::anisotropy)
+  Vec3 tangent;              // the lobe's tangent (world); zero: none, the lobe is round
+  Color sheen;               // the sheen lobe's weight (Material::sheen)
+  float sheen_roughness;     // its sigma, in [0, 1]
+  Color layer_reflectivity;  // the specular layer beneath the coat (Material::layer_*)
+  float layer_ior;
 };
 
 // A material's fields before its textures and program: CompiledScene::material_constants

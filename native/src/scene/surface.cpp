@@ -61,12 +61,18 @@ glm::vec4 light_path_input(uint32_t mode, const Ray& ray, const RayContext& cont
 
 // A material's fields before its textures and program (declared in scene.h).
 SurfaceParams constant_surface(const Material& m) {
-  return {m.diffuse,        m.specular,      m.shininess,         m.reflectivity,
-          m.transmissivity, m.ior,           m.emission,          clamp_alpha(m.alpha),
-          Vec3(0.0f),       m.coat_specular, m.coat_reflectivity, m.coat_shininess,
-          m.coat_ior,       Vec3(0.0f),      m.diffuse_roughness, m.roughness,
-          m.coat_roughness, m.anisotropy,    Vec3(0.0f),          m.sheen,
-          m.sheen_roughness};
+  return {m.diffuse,           m.specular,
+          m.shininess,         m.reflectivity,
+          m.transmissivity,    m.ior,
+          m.emission,          clamp_alpha(m.alpha),
+          Vec3(0.0f),          m.coat_specular,
+          m.coat_reflectivity, m.coat_shininess,
+          m.coat_ior,          Vec3(0.0f),
+          m.diffuse_roughness, m.roughness,
+          m.coat_roughness,    m.anisotropy,
+          Vec3(0.0f),          m.sheen,
+          m.sheen_roughness,   m.layer_reflectivity,
+          m.layer_ior};
 }
 
 TexturePoint CompiledScene::texture_point(const Interaction& it) const {
@@ -515,6 +521,13 @@ SurfaceParams CompiledScene::surface(const Interaction& it, const Ray& ray,
     if (m.driven(kCoatIorField)) {
       const float ior = field(kCoatIorField).x;
       if (ior > 0.0f && std::isfinite(ior)) out.coat_ior = ior;
+    }
+    if (m.driven(kLayerReflectivityField)) {
+      out.layer_reflectivity = glm::max(Color(field(kLayerReflectivityField)), Color(0.0f));
+    }
+    if (m.driven(kLayerIorField)) {
+      const float ior = field(kLayerIorField).x;
+      if (ior > 0.0f && std::isfinite(ior)) out.layer_ior = ior;
     }
     if (m.driven(kDiffuseRoughnessField)) {
       const float roughness = field(kDiffuseRoughnessField).x;  // NaN: the material's own
