@@ -176,3 +176,36 @@ def test_a_missing_profile_is_reported_and_lights_as_cycles(empty_scene, tmp_pat
     warnings = []
     exported_lights(bpy.context.evaluated_depsgraph_get(), warnings)
     assert any("profile.ies" in w and "cannot be read" in w for w in warnings)
+
+
+@pytest.mark.parametrize(("case", "output"), [("point", "Normal"), ("area_square", "Object")])
+def test_texture_coordinates_in_a_lamps_tree_are_in_its_space(
+    empty_scene, tmp_path, native, case, output
+):
+    # A lamp's Texture Coordinate gives its normal towards the lit point (a point lamp
+    # turned 35 degrees about Z and tilted 20), in the lamp's object space, or the point on
+    # it (a square lamp), in the lamp's space in Cycles 4.0+ and in the world in 3.x (its
+    # lamps have no object to carry it): 1 + their X as the Emission Strength makes one
+    # side of the floor brighter, per pixel as in Cycles.
+    lamp = cycles_scenes.build_scene(
+        empty_scene, next(c for c in cycles_scenes.CASES if c.name == case)
+    )
+    lamp.rotation_euler = tuple(math.radians(a) for a in (20, 0, 35))
+    lamp.data.use_nodes = True
+    tree = lamp.data.node_tree
+    emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    add = tree.nodes.new("ShaderNodeMath")
+    add.inputs[1].default_value = 1.0
+    tree.links.new(coordinates.outputs[output], separate.inputs[0])
+    tree.links.new(separate.outputs["X"], add.inputs[0])
+    tree.links.new(add.outputs["Value"], emission.inputs["Strength"])
+    cycles_scenes.set_whitted_direct_light(empty_scene)
+    cycles_scenes.set_cycles_direct_light(empty_scene)
+    lit, low, high, summed, _ = _compare(empty_scene, tmp_path, f"{case} {output}")
+    assert lit.sum() > 1000
+    # The area lamp's soft light leaves Cycles' noise per pixel at 512 samples.
+    bound = PIXEL_BOUND if case == "point" else 0.08
+    assert low > 1.0 - bound and high < 1.0 + bound
+    assert summed == pytest.approx(1.0, abs=SUM_BOUND)

@@ -137,6 +137,21 @@ def test_a_mirror_shows_lamps_whose_light_falloff_varies_as_cycles(empty_scene, 
     assert value > 0.97
 
 
+def glossy_floor_figures(scene, tmp_path, label):
+    """Whitted (4 x 4 glossy rays) against Cycles (256 samples) over the pixels Cycles
+    shows lit: (their count, the summed luminance ratio, the median ratio, SSIM), printed."""
+    scene.whitted.glossy_samples = 4
+    cycles, whitted = both(scene, tmp_path, samples=256)
+    lit = luminance(cycles[..., :3]) > 0.01
+    summed = luminance(whitted[..., :3])[lit].sum() / luminance(cycles[..., :3])[lit].sum()
+    value, ratio = subject_figures(whitted, cycles, lit)
+    print(
+        f"\n{label}: summed luminance {summed:.4f}, median {ratio:.4f}, "
+        f"SSIM {value:.4f}, {lit.sum()} px"
+    )
+    return int(lit.sum()), summed, ratio, value
+
+
 @pytest.mark.parametrize("roughness", [0.1, 0.3])
 def test_a_glossy_floor_shows_an_area_lamps_highlight_once(
     roughness, empty_scene, tmp_path, native
@@ -146,22 +161,14 @@ def test_a_glossy_floor_shows_an_area_lamps_highlight_once(
     # Cycles'; by the feelers alone (before) it is right in sum but blotchy at low
     # roughness.
     stage(empty_scene, principled_sphere_material("Metal", (0.9, 0.9, 0.9), roughness, 1.0))
-    empty_scene.whitted.glossy_samples = 4
-    cycles, whitted = both(empty_scene, tmp_path, samples=256)
-    lit = luminance(cycles[..., :3]) > 0.01
-    summed = luminance(whitted[..., :3])[lit].sum() / luminance(cycles[..., :3])[lit].sum()
-    value, ratio = subject_figures(whitted, cycles, lit)
-    print(
-        f"\nglossy {roughness}: summed luminance {summed:.4f}, median {ratio:.4f}, "
-        f"SSIM {value:.4f}, {lit.sum()} px"
-    )
+    lit, summed, ratio, value = glossy_floor_figures(empty_scene, tmp_path, f"glossy {roughness}")
     # Measured (3.4 / bpy 5.0): summed 0.992 / 0.993 at roughness 0.1, 1.000 / 0.995 at
     # 0.3, the same as the feelers alone gave (0.992 / 0.993, 0.998 / 0.993): the lobe's,
     # not the lamp's; Cycles' own noise at 256 samples is 0.06% of the sum (seed 0
     # against seed 1). Per pixel at 0.1 the median was 0.74 / 0.76 of Cycles' with the
     # feelers alone, SSIM 0.990 / 0.991 (their 4 x 4 images of the lamp); now 0.97 / 0.96
     # and 0.997.
-    assert lit.sum() > 200
+    assert lit > 200
     assert summed == pytest.approx(1.0, abs=0.02)
     assert ratio == pytest.approx(1.0, abs=0.05)
     assert value > 0.995
@@ -191,16 +198,8 @@ def test_a_coated_glossy_floor_shows_an_area_lamp_in_both_layers_as_cycles(
     bsdf.inputs[weight].default_value = 1.0
     bsdf.inputs[weight.replace("Weight", "").strip() + " Roughness"].default_value = 0.1
     stage(empty_scene, material, lamps=("rectangle",))
-    empty_scene.whitted.glossy_samples = 4
-    cycles, whitted = both(empty_scene, tmp_path, samples=256)
-    lit = luminance(cycles[..., :3]) > 0.01
-    summed = luminance(whitted[..., :3])[lit].sum() / luminance(cycles[..., :3])[lit].sum()
-    value, ratio = subject_figures(whitted, cycles, lit)
-    print(
-        f"\ncoated glossy floor: summed luminance {summed:.4f}, median {ratio:.4f}, "
-        f"SSIM {value:.4f}, {lit.sum()} px"
-    )
-    assert lit.sum() > 200
+    lit, summed, ratio, value = glossy_floor_figures(empty_scene, tmp_path, "coated glossy floor")
+    assert lit > 200
     assert summed == pytest.approx(1.0, abs=0.02)
     assert ratio == pytest.approx(1.0, abs=0.05)
     assert value > 0.995

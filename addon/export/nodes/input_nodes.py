@@ -4,6 +4,8 @@ attributes and colour attributes), the view-dependent factors (Fresnel, Layer
 Weight), Normal Map, Tangent, and Ambient Occlusion and Bevel (rays from and near the
 hit)."""
 
+import bpy
+
 from ..properties import view_layer_attribute
 from . import ops
 from .graph import source
@@ -36,6 +38,11 @@ _TEX_COORD = {
 }
 
 
+# Whether a lamp's Texture Coordinate Object output is in the lamp's space (4.0+; 4.x is
+# read as 5.0, not measured) or the world (3.x).
+_LAMP_OBJECT_SPACE = bpy.app.version >= (4, 0, 0)
+
+
 def _tex_coord(c, out):
     name = output_name(out)
     if name == "UV":
@@ -44,10 +51,14 @@ def _tex_coord(c, out):
     if other is not None and name == "Object":
         return _in_object_space(c, other.matrix_world.inverted_safe())
     if c.lamp_matrix is not None and name in ("Object", "Normal"):
-        # A lamp's tree: the point on the lamp, or its normal, in the lamp's object space.
-        if name == "Object":
+        # A lamp's tree: its normal in the lamp's object space; the point on the lamp in
+        # it too from 4.0 (where Cycles gives lamps an object), in the world before
+        # (3.x's lamp has none to carry the point into: measured, tests/blender/test_ies.py).
+        if name == "Normal":
+            return c.in_lamp_space(c.hit(ops.IN_NORMAL))
+        if _LAMP_OBJECT_SPACE:
             return _in_object_space(c, c.lamp_matrix.inverted_safe())
-        return c.in_lamp_space(c.hit(ops.IN_NORMAL))
+        return c.hit(ops.IN_POSITION)
     if name == "Normal" and not c.world:
         # Cycles' Normal output is the shading normal in object space.
         return c.hit(ops.IN_OBJECT_NORMAL)
