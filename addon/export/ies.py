@@ -151,6 +151,13 @@ def _type_b(h, v, rows):
     return h, v, rows
 
 
+def _mirrored_past_last(h, rows):
+    """Angles `h` and their `rows` continued past the last angle by their mirror image
+    about it (2 last - a, in Cycles' float)."""
+    turn = _F32(2.0 * h[-1])
+    return h + [_F32(turn - a) for a in reversed(h[:-1])], rows + list(reversed(rows[:-1]))
+
+
 def _type_c(h, v, rows):
     """A type C file's horizontal angles completed to the full circle by its symmetry
     (one angle: round; a quadrant; a half), as Cycles does; None where it refuses it."""
@@ -161,11 +168,9 @@ def _type_c(h, v, rows):
     if len(h) == 1:
         h, rows = [*h, _F32(360.0)], [*rows, rows[0]]
     if h[-1] == 90.0:  # one quadrant: mirrored to a half
-        h = h + [_F32(_F32(180.0) - a) for a in reversed(h[:-1])]
-        rows = rows + list(reversed(rows[:-1]))
+        h, rows = _mirrored_past_last(h, rows)
     if h[-1] == 180.0:  # a half: mirrored to the full circle
-        h = h + [_F32(_F32(360.0) - a) for a in reversed(h[:-1])]
-        rows = rows + list(reversed(rows[:-1]))
+        h, rows = _mirrored_past_last(h, rows)
     if h[-1] != 360.0:
         # A file that leaves out 360 (as the first angle) is mended where its spacing shows
         # the gap is one step.

@@ -158,7 +158,7 @@ def convert_light(
     if not np.all(scale > 0.0):
         warnings.append(f"Whitted: light '{name}' has a zero scale; skipped")
         return None
-    data = _convert_light(name, light, matrix_world, axes / scale, scale, default_samples, warnings)
+    data = _convert_light(name, light, matrix, axes / scale, scale, default_samples, warnings)
     if data is None:
         return None
     # Cycles' Max Bounces (light.cycles), or LightData's default without Cycles' settings.
@@ -186,17 +186,17 @@ def shadow_switch(light):
     return light, "use_shadow"
 
 
-def _convert_light(name, light, matrix_world, unit_axes, scale, default_samples, warnings):
+def _convert_light(name, light, matrix, unit_axes, scale, default_samples, warnings):
     owner, switch = shadow_switch(light)
     common = {
         "name": name,
         "type": light.type,
-        "position": tuple(np.array(matrix_world, dtype=np.float64)[:3, 3]),
+        "position": tuple(matrix[:3, 3]),
         # The light travels along its local -Z axis.
         "direction": tuple(-unit_axes[:, 2]),
         "cast_shadows": getattr(owner, switch),
     }
-    shader, program, output = light_shader(name, light, matrix_world, warnings)
+    shader, program, output = light_shader(name, light, matrix, warnings)
     color = tuple(c * f for c, f in zip(_light_color(light), shader, strict=True))
     if program is not None:
         common |= {"program": program, "program_output": output}
@@ -269,7 +269,7 @@ def _samples(light, default_samples, sized):
     return light.whitted.samples or default_samples
 
 
-def light_shader(name, light, matrix_world, warnings):
+def light_shader(name, light, matrix, warnings):
     """What a light's node tree (Use Nodes; always on in 5.x) multiplies its colour by, as
     Cycles reads it: the emission its active Light Output receives, lowered as a
     material's surface is (export/nodes: Emission, Mix and Add Shader, Blackbody, RGB,
@@ -288,7 +288,8 @@ def light_shader(name, light, matrix_world, warnings):
     output = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
     if output is None:
         return (0.0, 0.0, 0.0), None, 0  # no Light Output: Cycles' light emits nothing
-    lowering = Lowering(f"light '{name}'", warnings, lamp_matrix=Matrix(matrix_world))
+    # The lamp's object-to-world `matrix` (numpy, 4 x 4), whose space its tree may read.
+    lowering = Lowering(f"light '{name}'", warnings, lamp_matrix=Matrix(matrix.tolist()))
     emission = surface(lowering, output).fields["emission"]
     if emission.is_const:
         return _exact_emission(lowering, output) or tuple(emission.value[:3]), None, 0

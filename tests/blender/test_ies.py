@@ -92,16 +92,24 @@ PROFILES = {
 }
 
 
-def _ies_lamp(scene, text, internal=True, tmp_path=None, rotation=None):
-    """cycles_scenes' point case, its Emission Strength the IES Texture's Fac."""
-    case = next(c for c in cycles_scenes.CASES if c.name == "point")
-    lamp = cycles_scenes.build_scene(scene, case)
-    lamp.data.energy = 2000.0
+def _lamp_tree(scene, case, rotation=None):
+    """cycles_scenes' scene of light `case` (turned by Euler `rotation`, degrees), both
+    engines at direct-light settings: (the lamp, its node tree, the tree's Emission)."""
+    lamp = cycles_scenes.build_scene(scene, next(c for c in cycles_scenes.CASES if c.name == case))
     if rotation is not None:
         lamp.rotation_euler = tuple(math.radians(a) for a in rotation)
     lamp.data.use_nodes = True
     tree = lamp.data.node_tree
     emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    cycles_scenes.set_whitted_direct_light(scene)
+    cycles_scenes.set_cycles_direct_light(scene)
+    return lamp, tree, emission
+
+
+def _ies_lamp(scene, text, internal=True, tmp_path=None, rotation=None):
+    """cycles_scenes' point case, its Emission Strength the IES Texture's Fac."""
+    lamp, tree, emission = _lamp_tree(scene, "point", rotation)
+    lamp.data.energy = 2000.0
     ies = tree.nodes.new("ShaderNodeTexIES")
     if internal:
         block = bpy.data.texts.new("profile.ies")
@@ -115,8 +123,6 @@ def _ies_lamp(scene, text, internal=True, tmp_path=None, rotation=None):
         ies.mode = "EXTERNAL"
         ies.filepath = str(path)
     tree.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
-    cycles_scenes.set_whitted_direct_light(scene)
-    cycles_scenes.set_cycles_direct_light(scene)
     return lamp
 
 
@@ -187,13 +193,7 @@ def test_texture_coordinates_in_a_lamps_tree_are_in_its_space(
     # it (a square lamp), in the lamp's space in Cycles 4.0+ and in the world in 3.x (its
     # lamps have no object to carry it): 1 + their X as the Emission Strength makes one
     # side of the floor brighter, per pixel as in Cycles.
-    lamp = cycles_scenes.build_scene(
-        empty_scene, next(c for c in cycles_scenes.CASES if c.name == case)
-    )
-    lamp.rotation_euler = tuple(math.radians(a) for a in (20, 0, 35))
-    lamp.data.use_nodes = True
-    tree = lamp.data.node_tree
-    emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    _, tree, emission = _lamp_tree(empty_scene, case, rotation=(20, 0, 35))
     coordinates = tree.nodes.new("ShaderNodeTexCoord")
     separate = tree.nodes.new("ShaderNodeSeparateXYZ")
     add = tree.nodes.new("ShaderNodeMath")
@@ -201,8 +201,6 @@ def test_texture_coordinates_in_a_lamps_tree_are_in_its_space(
     tree.links.new(coordinates.outputs[output], separate.inputs[0])
     tree.links.new(separate.outputs["X"], add.inputs[0])
     tree.links.new(add.outputs["Value"], emission.inputs["Strength"])
-    cycles_scenes.set_whitted_direct_light(empty_scene)
-    cycles_scenes.set_cycles_direct_light(empty_scene)
     lit, low, high, summed, _ = _compare(empty_scene, tmp_path, f"{case} {output}")
     assert lit.sum() > 1000
     # The area lamp's soft light leaves Cycles' noise per pixel at 512 samples.

@@ -48,10 +48,16 @@ def plain_film(scene, width, height):
     pixels at 100%, the Standard view transform without a look: linear values as they
     are, for comparing two engines' renders."""
     scene.world = None
+    standard_film(scene, width, height, transparent=False)
+
+
+def standard_film(scene, width, height, transparent):
+    """A film of width x height pixels at 100%, transparent or not, the Standard view
+    transform without a look: linear values as they are."""
     render = scene.render
     render.resolution_x, render.resolution_y = width, height
     render.resolution_percentage = 100
-    render.film_transparent = False
+    render.film_transparent = transparent
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
 

@@ -50,24 +50,32 @@ def _tex_coord(c, out):
     other = getattr(out.node, "object", None)
     if other is not None and name == "Object":
         return _in_object_space(c, other.matrix_world.inverted_safe())
-    if c.lamp_matrix is not None and name in ("Object", "Normal"):
-        # A lamp's tree: its normal in the lamp's object space; the point on the lamp in
-        # it too from 4.0 (where Cycles gives lamps an object), in the world before
-        # (3.x's lamp has none to carry the point into: measured, tests/blender/test_ies.py).
-        if name == "Normal":
-            return c.in_lamp_space(c.hit(ops.IN_NORMAL))
+    if name == "Normal":
+        return texture_normal(c)
+    if c.lamp_matrix is not None and name == "Object":
+        # A lamp's tree: the point on the lamp in the lamp's object space from 4.0 (where
+        # Cycles gives lamps an object), in the world before (3.x's lamp has none to carry
+        # the point into: measured, tests/blender/test_ies.py).
         if _LAMP_OBJECT_SPACE:
             return _in_object_space(c, c.lamp_matrix.inverted_safe())
         return c.hit(ops.IN_POSITION)
-    if name == "Normal" and not c.world:
-        # Cycles' Normal output is the shading normal in object space.
-        return c.hit(ops.IN_OBJECT_NORMAL)
     if name == "Camera" and not c.world:
         # INPUT 6 is Blender's camera space (looking down -Z); Cycles' Camera output
         # looks down +Z.
         flip = c.b.const((1.0, 1.0, -1.0), VECTOR)
         return c.b.vmul(c.hit(ops.IN_CAMERA), flip, VECTOR)
     return c.hit(getattr(ops, _TEX_COORD[name]))
+
+
+def texture_normal(c):
+    """What a Texture Coordinate's Normal output gives (and what Cycles 3.x's IES Texture
+    reads by default): a lamp's normal in its object space, a surface's shading normal in
+    its object's, the world's direction as it is."""
+    if c.lamp_matrix is not None:
+        return c.in_lamp_space(c.hit(ops.IN_NORMAL))
+    if not c.world:
+        return c.hit(ops.IN_OBJECT_NORMAL)
+    return c.hit(ops.IN_NORMAL)
 
 
 def _in_object_space(c, inverse):

@@ -12,6 +12,7 @@ from .. import ies
 from ..texture import INTERPOLATIONS, ImageTextureSpec, image_texture_spec
 from . import ops
 from .graph import source
+from .input_nodes import texture_normal
 from .ir import COLOR, FLOAT, VECTOR
 from .sockets import find_socket, output_name
 
@@ -307,16 +308,14 @@ def _ies(c, out):
         c.warn(node, f"{why}; it gives {IES_WITHOUT_PROFILE:g} x Strength, as in Cycles")
         return c.b.mul(strength, c.b.f(IES_WITHOUT_PROFILE))
     vector = _vector_input(c, out, default=None)
-    if vector is None:
-        if c.lamp_matrix is None:
-            # A surface's: its object-space normal (Cycles 3.x's default; 4.0+ takes the
-            # object-space incoming direction, which no surface program reads yet).
-            if _IES_ALONG_INCOMING:
-                c.warn(node, "outside a lamp its Vector is the object-space normal")
-            vector = c.hit(ops.IN_OBJECT_NORMAL)
-        else:
-            along = ops.IN_INCOMING if _IES_ALONG_INCOMING else ops.IN_NORMAL
-            vector = c.in_lamp_space(c.hit(along))
+    if vector is None and _IES_ALONG_INCOMING and c.lamp_matrix is not None:
+        vector = c.in_lamp_space(c.hit(ops.IN_INCOMING))
+    elif vector is None:
+        # The Texture Coordinate's Normal (Cycles 3.x's default); outside a lamp Cycles
+        # 4.0+ takes the object-space incoming direction, which no surface program reads.
+        if _IES_ALONG_INCOMING:
+            c.warn(node, "outside a lamp its Vector is the Texture Coordinate's Normal")
+        vector = texture_normal(c)
     if profile.type_b and _IES_ALONG_INCOMING:
         c.warn(node, "a type B profile is read as Cycles 3.x reads it; Cycles 4.0+ turns it "
                "otherwise (not followed)")  # fmt: skip

@@ -47,6 +47,7 @@ from whitted_tools.material_scenes import (
     import_file,
     numpy_image,
     smooth_sphere,
+    standard_film,
 )
 from whitted_tools.materials_page import (
     CYCLES_SAMPLES,
@@ -352,12 +353,7 @@ def third_party_scene(entry):
 
 
 def set_engines(scene):
-    render = scene.render
-    render.resolution_x, render.resolution_y = WIDTH, HEIGHT
-    render.resolution_percentage = 100
-    render.film_transparent = True
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
+    standard_film(scene, WIDTH, HEIGHT, transparent=True)
     # Direct light plus specular bounces: mirrors and glass deep.
     cycles_scenes.set_cycles_reference(scene, CYCLES_SAMPLES, specular_bounces=8, max_bounces=12)
     scene.cycles.filter_width = 0.01
