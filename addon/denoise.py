@@ -73,17 +73,32 @@ def rect_of(region):
     return xmin, ymin, xmax - xmin, ymax - ymin
 
 
-def denoise(native, job, rect, denoising, threads, cancel=None):
-    """The denoised RGBA of rectangle (x, y, w, h) of a finished `job`, float32[w*h, 4]:
-    RGB from the denoiser, alpha the render's. `cancel`: a native DenoiseCancel that
-    stops it (RuntimeError)."""
+# The film pass Cycles denoises besides Combined: the Shadow Catcher pass, whose guide is
+# the normal alone, with a constant albedo of 0.5 where the denoiser takes albedo (Cycles
+# 3.x-5.x, integrator/denoiser_oidn.cpp: the catcher's pass "does not need albedo", and
+# OIDN wants one whenever it has a normal).
+CATCHER_SOURCE = "shadow_catcher"
+CATCHER_ALBEDO = 0.5
+
+
+def denoise(native, job, rect, denoising, threads, cancel=None, source="combined"):
+    """The denoised RGBA of rectangle (x, y, w, h) of a finished `job`'s `source` (its
+    Combined, or CATCHER_SOURCE), float32[w*h, 4] (w*h, 3 for the catcher): RGB from the
+    denoiser, alpha the render's. `cancel`: a native DenoiseCancel that stops it
+    (RuntimeError)."""
     x, y, width, height = rect
-    noisy = np.array(job.tile(x, y, width, height), dtype=np.float32)
+    if source == "combined":
+        noisy = np.array(job.tile(x, y, width, height), dtype=np.float32)
+    else:
+        noisy = np.array(job.pass_tile(source, x, y, width, height), dtype=np.float32)
     shape = (height, width, 3)
     color = np.ascontiguousarray(noisy[:, :3]).reshape(shape)
     albedo = normal = None
     if denoising.input_passes != "RGB":
-        albedo = job.pass_tile(ALBEDO_SOURCE, x, y, width, height).reshape(shape)
+        if source == CATCHER_SOURCE:
+            albedo = np.full(shape, CATCHER_ALBEDO, dtype=np.float32)
+        else:
+            albedo = job.pass_tile(ALBEDO_SOURCE, x, y, width, height).reshape(shape)
     if denoising.input_passes == "RGB_ALBEDO_NORMAL":
         normal = job.pass_tile(NORMAL_SOURCE, x, y, width, height).reshape(shape)
     clean = native.oidn_denoise(

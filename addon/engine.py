@@ -215,21 +215,26 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
         phases.trace = native_stats["trace_seconds"]
 
     def _denoise(self, native, job, frame, phases, passes, denoising):
-        """Replace the finished render's Combined by its denoised image (the other passes,
-        Noisy Image among them, keep the job's)."""
+        """Replace the finished render's Combined, and its Shadow Catcher pass when it has
+        one, by their denoised images (the other passes, Noisy Image and Noisy Shadow
+        Catcher among them, keep the job's)."""
         self.update_stats("", "Whitted | denoising")
         started = time.perf_counter()
         region = frame.film.region
         rect = rect_of(region)
+        sources = {s.name: s.source for s in passes if s in render_result.DENOISED_PASSES}
         try:
-            clean = denoise(native, job, rect, denoising, frame.settings.threads)
+            clean = {
+                name: denoise(native, job, rect, denoising, frame.settings.threads, source=source)
+                for name, source in sources.items()
+            }
         except RuntimeError as error:
             # The library failed on this image (out of memory, say): keep the noisy one.
             self.report({"WARNING"}, f"Whitted: denoising failed, image left noisy: {error}")
             return
         phases.denoise = time.perf_counter() - started
         write_started = time.perf_counter()
-        render_result.write_tile(self, job, rect, region, passes, combined=clean)
+        render_result.write_tile(self, job, rect, region, passes, replaced=clean)
         phases.writeback += time.perf_counter() - write_started
 
     def _write(self, job, tiles, region, phases, passes):

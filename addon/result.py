@@ -43,18 +43,28 @@ class PassSpec:
     panel: str = ""  # the view-layer sub-panel its switch is drawn in (ui/passes.py)
     heading: str = ""  # the heading of its group of switches there
     label: str = ""  # the switch's label ("" for the property's own name)
+    requires: tuple = ()  # other toggles that must be on too (drawn elsewhere)
 
     def switch(self, view_layer):
         """(what holds the pass's switch in `view_layer`, the property's name); what holds
         it is None where its add-on (Cycles, for its volume passes) is not enabled."""
-        owner, _, prop = self.toggle.rpartition(".")
-        return (getattr(view_layer, owner, None) if owner else view_layer), prop
+        return _switch(view_layer, self.toggle)
 
     def enabled(self, view_layer):
-        if not self.toggle:
-            return True
-        holder, prop = self.switch(view_layer)
-        return holder is not None and bool(getattr(holder, prop))
+        return all(_switched_on(view_layer, toggle) for toggle in (self.toggle, *self.requires))
+
+
+def _switch(view_layer, toggle):
+    owner, _, prop = toggle.rpartition(".")
+    return (getattr(view_layer, owner, None) if owner else view_layer), prop
+
+
+def _switched_on(view_layer, toggle):
+    """Whether `toggle` (PassSpec.toggle's form; "" for always) is on in `view_layer`."""
+    if not toggle:
+        return True
+    holder, prop = _switch(view_layer, toggle)
+    return holder is not None and bool(getattr(holder, prop))
 
 
 # Blender 3.x and 4.x name passes as Cycles did for years ("DiffDir"); Blender 5.0's
@@ -101,6 +111,16 @@ def _light(name, toggle, source, heading, label):
         label=label,
     )
 
+
+# Cycles' Shadow Catcher pass, switched by Cycles' own view-layer property (Blender has
+# none; the same in 3.x and 5.x): per channel, the light on the shadow catchers with the
+# other objects over that with the catchers alone (1 off the catchers). With it on,
+# Combined leaves the catchers out, as Cycles' does (integrator/catcher.h).
+SHADOW_CATCHER = _light(
+    "Shadow Catcher", "cycles.use_pass_shadow_catcher", "shadow_catcher", "Other", "Shadow Catcher"
+)
+# The passes a denoised render writes denoised, as Cycles does (addon/denoise.py).
+DENOISED_PASSES = (COMBINED, SHADOW_CATCHER)
 
 # Every pass Whitted can write, in the order Cycles lists them (its
 # list_render_passes); the names and channels are Blender's (Cycles'), so the
@@ -166,17 +186,7 @@ PASSES = (
     _light("VolumeInd", "cycles.use_pass_volume_indirect", "volume_indirect", "Volume", "Indirect"),
     _light("Emit", "use_pass_emit", "emission", "Other", "Emission"),
     _light("Env", "use_pass_environment", "environment", "Other", "Environment"),
-    # Cycles' Shadow Catcher pass, switched by Cycles' own view-layer property (Blender has
-    # none; the same in 3.x and 5.x): per channel, the light on the shadow catchers with the
-    # other objects over that with the catchers alone (1 off the catchers). With it on,
-    # Combined leaves the catchers out, as Cycles' does (integrator/catcher.h).
-    _light(
-        "Shadow Catcher",
-        "cycles.use_pass_shadow_catcher",
-        "shadow_catcher",
-        "Other",
-        "Shadow Catcher",
-    ),
+    SHADOW_CATCHER,
     # Cycles' Denoising Data passes: the image before denoising (Combined itself when the
     # render is not denoised) and the denoiser's guides (addon/denoise.py).
     PassSpec(
@@ -188,6 +198,15 @@ PASSES = (
         panel="DATA",
         heading="Denoising",
         label="Denoising Data",
+    ),
+    # ... and the Shadow Catcher pass before denoising, where the render has one.
+    PassSpec(
+        "Noisy Shadow Catcher",
+        "RGB",
+        "COLOR",
+        "whitted.use_pass_denoising_data",
+        "shadow_catcher",
+        requires=(SHADOW_CATCHER.toggle,),
     ),
     PassSpec(
         "Denoising Normal",
@@ -403,9 +422,9 @@ def add_passes(engine, passes):
             engine.add_pass(spec.name, len(spec.channels), spec.channels)
 
 
-def write_tile(engine, job, tile, region, passes, combined=None):
-    """Copy finished tile (x, y, w, h) of `job` into the render result; `combined`, when
-    given, is the tile's Combined in place of the job's (the denoised image).
+def write_tile(engine, job, tile, region, passes, replaced=None):
+    """Copy finished tile (x, y, w, h) of `job` into the render result; `replaced`:
+    {pass name: the tile's pixels in place of the job's} (the denoised images).
 
     The render result covers only the region (the render border), so its pixel
     (0, 0) is the region's corner. Rows run bottom to top in both.
@@ -414,8 +433,8 @@ def write_tile(engine, job, tile, region, passes, combined=None):
     result = engine.begin_result(x - region[0], y - region[1], width, height)
     layer = result.layers[0].passes
     for spec in passes:
-        if spec is COMBINED and combined is not None:
-            pixels = combined
+        if replaced and spec.name in replaced:
+            pixels = replaced[spec.name]
         else:
             pixels = _pixels(job, spec, x, y, width, height)
         _set_pass(layer[spec.name], pixels)

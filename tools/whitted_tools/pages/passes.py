@@ -140,13 +140,21 @@ PASSES = (
         "no catcher or a channel gets no light; then over white by the pixel's alpha with "
         "the catchers in it, as Cycles. With it on, Combined leaves the catchers out "
         "(black, alpha 0, over an opaque film too), as Cycles' does. White here: the demo "
-        "has no catcher. Not denoised.",
+        "has no catcher. A denoised render denoises it too, as Cycles: its normal as the "
+        "guide, with a constant albedo of 0.5 where the guides include albedo.",
     ),
     (
         "Noisy Image",
         "color",
         "Combined before denoising (Render > Sampling > Denoise); Combined itself where "
         "the render is not denoised.",
+    ),
+    (
+        "Noisy Shadow Catcher",
+        "color",
+        "The Shadow Catcher pass before denoising, written with the Denoising Data passes "
+        "when the Shadow Catcher pass is on, as Cycles; the pass itself where the render "
+        "is not denoised. White here: the demo has no catcher.",
     ),
     (
         "Denoising Normal",
