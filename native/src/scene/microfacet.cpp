@@ -14,7 +14,7 @@ Frame::Frame(const Vec3& normal) : n(normal) {
 }
 
 Frame::Frame(const Vec3& normal, const Vec3& tangent)
-    : n(normal), b(glm::normalize(glm::cross(normal, tangent))) {
+    : b(glm::normalize(glm::cross(normal, tangent))), n(normal) {
   t = glm::cross(b, n);
 }
 
