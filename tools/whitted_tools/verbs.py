@@ -40,6 +40,7 @@ GROUPS = {
         "gallery-lights": "gallery.lights",
         "gallery-materials": "gallery.materials",
         "gallery-effects": "gallery.effects",
+        "gallery-features": "gallery.features",
     },
     "pages": {
         "passes-page": "pages.passes",

@@ -24,6 +24,7 @@ import json
 import os
 import statistics
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import bpy
@@ -53,15 +54,10 @@ from whitted_tools.verbs import blender_line, python_line
 CYCLES_SAMPLES = 512
 
 
-def parse_args(argv):
-    parser = page_parser(__name__, __doc__, repeats=3)
-    return parser.parse_args(argv)
-
-
 # --- the scenes: each builds itself and says how to turn its effect off ---------------
 
 
-def _sphere_on_floor(scene, material):
+def sphere_on_floor(scene, material):
     """A sphere of `material` on a grey floor under a sun and a grey sky that lights no
     diffuse surface: what a rough surface reflects or refracts is the floor and sky."""
     grey_world(scene, 0.5)
@@ -95,17 +91,15 @@ def motion_blur(scene, on):
 
 
 def scene_rough_gold(scene):
-    _sphere_on_floor(
-        scene, principled_sphere_material("Gold", (1.0, 0.78, 0.34), 0.4, metallic=1.0)
-    )
+    sphere_on_floor(scene, principled_sphere_material("Gold", (1.0, 0.78, 0.34), 0.4, metallic=1.0))
 
 
 def scene_rough_plastic(scene):
-    _sphere_on_floor(scene, principled_sphere_material("Plastic", (0.05, 0.05, 0.3), 0.3))
+    sphere_on_floor(scene, principled_sphere_material("Plastic", (0.05, 0.05, 0.3), 0.3))
 
 
 def scene_frosted_glass(scene):
-    _sphere_on_floor(scene, glass_bsdf_material("Frosted", 0.25))
+    sphere_on_floor(scene, glass_bsdf_material("Frosted", 0.25))
 
 
 def scene_panel_light(scene):
@@ -186,20 +180,35 @@ def timed_whitted(scene, path, stats_path):
     return image, stats
 
 
+def _decision(stats, effect):
+    """The report's entry for `effect` in a render's statistics; None for a scene whose
+    feature is a material's shading, which the report does not name."""
+    return None if effect is None else next(e for e in stats["effects"] if e["name"] == effect)
+
+
+def _says(result):
+    """The page's "the report says" cell of a result."""
+    if result["decision"] is None:
+        return "(not an effect of its own: a material's shading)"
+    return f"{result['effect']} ({result['decision']['why']})"
+
+
 def render_scene(entry, image_dir, repeats):
     name, build, effect, toggle, how = entry
     with tempfile.TemporaryDirectory() as work:
         stats_path = os.path.join(work, "stats.json")
         os.environ["WHITTED_STATS"] = stats_path
         scene = factory_scene()
-        build(scene)
+        finish = build(scene)
         set_engines(scene)
+        if finish is not None:  # what a scene sets that the engines' set-up would undo
+            finish(scene)
         if name in CAMERA_SAMPLES:
             scene.whitted.aa_mode = "JITTERED"
             scene.whitted.aa_samples = CAMERA_SAMPLES[name]
         cycles = render_exr(scene, os.path.join(work, "cycles.exr"), engine="CYCLES")
         whitted, stats = timed_whitted(scene, os.path.join(work, "whitted.exr"), stats_path)
-        decision = next(e for e in stats["effects"] if e["name"] == effect)
+        decision = _decision(stats, effect)
         rays = stats["rays"]
         # The subject: what still covers the film with the floor hidden.
         floor = scene.objects["Floor"]
@@ -216,7 +225,7 @@ def render_scene(entry, image_dir, repeats):
             off.append(timed_whitted(scene, os.path.join(work, "off.exr"), stats_path)[1])
             toggle(scene, True)
         del os.environ["WHITTED_STATS"]
-    off_decision = next(e for e in off[0]["effects"] if e["name"] == effect)
+    off_decision = _decision(off[0], effect)
     result = {
         "scene": name,
         "effect": effect,
@@ -235,7 +244,7 @@ def render_scene(entry, image_dir, repeats):
         "rays_off": off[0]["rays"]["total"],
     }
     print(
-        f"gallery_effects: {name}: SSIM {ssim:.3f}, ratio {ratio:.3f}, "
+        f"gallery: {name}: SSIM {ssim:.3f}, ratio {ratio:.3f}, "
         f"{result['seconds_on']:.3f} s on, {result['seconds_off']:.3f} s off"
     )
     return result
@@ -244,38 +253,65 @@ def render_scene(entry, image_dir, repeats):
 # --- the page ------------------------------------------------------------------------
 
 
-def write_markdown(out, command):
-    """OUT/DISTRIBUTED.md from every Blender's results under OUT/images/effects/;
+@dataclass(frozen=True)
+class Page:
+    """One gallery page the harness writes: its verb, file, images' folder under
+    OUT/images/, title, and the paragraph that says what it shows."""
+
+    module: str  # the verb's module, whose docstring its --help shows
+    doc: str
+    verb: str
+    file: str
+    images: str
+    title: str
+    intro: str
+    scenes: tuple
+
+
+MEASURES = (
+    "**Whitted on the left, Cycles on the right**, over a mid grey where the film is "
+    f"transparent. Cycles: {CYCLES_SAMPLES} samples, direct light plus glossy and "
+    "transmission bounces (no diffuse bounce, no caustics), no denoising; the sky lights no "
+    "diffuse surface. Whitted: 2 x 2 samples per pixel (6 x 6 jittered for depth of field "
+    "and motion blur, whose lens and shutter samples are the pixel's), depth 8, the Final "
+    "preset's 3 x 3 glossy rays and 4 x 4 emitter feelers. SSIM (sRGB) and the median "
+    "luminance ratio Whitted / Cycles over the subject's pixels (the floor left out). "
+    "Time: the engine's total (export, BVH, trace, write-back) from its statistics, the "
+    "median of the renders with the effect on and off, alternating in one process; the "
+    "effect is turned off as the last column says, and the report then names it skipped."
+)
+
+EFFECTS_PAGE = Page(
+    __name__,
+    __doc__,
+    "gallery-effects",
+    "DISTRIBUTED.md",
+    "effects",
+    "Distributed ray tracing: Whitted beside Cycles",
+    "What Whitted traces beyond the 1980 set where a scene calls for it (Cook, Porter and "
+    "Carpenter 1984): rays drawn from a rough surface's GGX lobe (glossy reflection, "
+    "frosted glass), feelers to emissive meshes, weighed against the glossy rays by "
+    "multiple importance sampling, and camera rays spread over the lens (depth of field) "
+    "and the shutter (motion blur).",
+    SCENES,
+)
+
+
+def write_markdown(out, command, page=EFFECTS_PAGE):
+    """OUT/<page.file> from every Blender's results under OUT/images/<page.images>/;
     `command`: the one writing it."""
     out = Path(out)
-    root = out / "images" / "effects"
+    root = out / "images" / page.images
     versions = sorted(p for p in root.glob("blender-*") if (p / "results.json").is_file())
     lines = [
-        "# Distributed ray tracing: Whitted beside Cycles",
+        f"# {page.title}",
         "",
-        "Generated by `python -m whitted_tools gallery-effects`; do not edit. What Whitted "
-        "traces "
-        "beyond the 1980 set where a scene calls for it (Cook, Porter and Carpenter 1984): "
-        "rays drawn from a rough surface's GGX lobe (glossy reflection, frosted glass), "
-        "feelers to emissive meshes, weighed against the glossy rays by multiple importance "
-        "sampling, and camera rays spread over the lens (depth of field) and the shutter "
-        "(motion blur). **Whitted on the left, Cycles on the right**, over a mid grey where the "
-        f"film is transparent. Cycles: {CYCLES_SAMPLES} samples, direct light plus glossy "
-        "and transmission bounces (no diffuse bounce, no caustics), no denoising; the sky "
-        "lights no diffuse surface. Whitted: 2 x 2 samples per pixel (6 x 6 jittered for "
-        "depth of field and motion blur, whose lens and shutter samples are the pixel's), "
-        "depth 8, the Final preset's 3 x 3 glossy rays and 4 x 4 emitter feelers. SSIM "
-        "(sRGB) and the median luminance ratio Whitted / Cycles over the subject's pixels "
-        "(the floor left out). "
-        "Time: the engine's total (export, BVH, trace, write-back) from its statistics, "
-        "the median of the renders with the effect on and off, alternating in one "
-        "process; the effect is turned off as the last column says, and the report then "
-        "names it skipped.",
+        f"Generated by `python -m whitted_tools {page.verb}`; do not edit. {page.intro} {MEASURES}",
         "",
         "Regenerate:",
         "",
-        f"    {blender_line('gallery-effects', '--out', 'docs')}",
-        f"    {python_line('gallery-effects', '--out', 'docs', python='.venv-5.2/bin/python')}",
+        f"    {blender_line(page.verb, '--out', 'docs')}",
+        f"    {python_line(page.verb, '--out', 'docs', python='.venv-5.2/bin/python')}",
         "",
         "Last written by:",
         "",
@@ -295,7 +331,7 @@ def write_markdown(out, command):
                 num(r["seconds_off"], 3),
                 num(r["seconds_on"] / r["seconds_off"], 2),
                 f"{r['rays_on'] / 1e6:.2f} / {r['rays_off'] / 1e6:.2f}",
-                f"{r['effect']} ({r['decision']['why']})",
+                _says(r),
                 r["turned_off_by"],
             ]
             for r in results
@@ -324,15 +360,21 @@ def write_markdown(out, command):
         for r in results:
             image = relative_link(version_dir / f"{r['scene']}.png", out)
             lines += [f"**{r['scene']}** ({version})", "", f"![{r['scene']}]({image})", ""]
-    write_page(out / "DISTRIBUTED.md", lines)
+    write_page(out / page.file, lines)
+
+
+def run(argv, page):
+    """Render `page`'s scenes with the Blender running this, keep its results, and
+    rewrite the page from every Blender's."""
+    args = page_parser(page.module, page.doc, repeats=3).parse_args(argv)
+    version = ".".join(str(v) for v in bpy.app.version[:2])
+    image_dir = os.path.join(args.out, "images", page.images, f"blender-{version}")
+    os.makedirs(image_dir, exist_ok=True)
+    results = [render_scene(entry, image_dir, args.repeats) for entry in page.scenes]
+    with open(os.path.join(image_dir, "results.json"), "w", encoding="utf-8") as file:
+        json.dump(results, file, indent=2)
+    write_markdown(args.out, command_line(page.verb, argv), page)
 
 
 def main(argv):
-    args = parse_args(argv)
-    version = ".".join(str(v) for v in bpy.app.version[:2])
-    image_dir = os.path.join(args.out, "images", "effects", f"blender-{version}")
-    os.makedirs(image_dir, exist_ok=True)
-    results = [render_scene(entry, image_dir, args.repeats) for entry in SCENES]
-    with open(os.path.join(image_dir, "results.json"), "w", encoding="utf-8") as file:
-        json.dump(results, file, indent=2)
-    write_markdown(args.out, command_line("gallery-effects", argv))
+    run(argv, EFFECTS_PAGE)
