@@ -7,6 +7,7 @@
 // its value (eval), a glossy ray is drawn from it (sample), so direct light and one
 // specular bounce agree with Cycles'. Single scattering only (Cycles' Multiscatter GGX
 // adds the energy the facets' inter-reflections keep; docs/SUPPORT.md says how much).
+// Beside it, at the end, the GTR1 lobe of Blender 3.x's Clearcoat (CoatModel).
 #pragma once
 
 #include <cstdint>
