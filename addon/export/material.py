@@ -351,7 +351,8 @@ def _displacement(material, output_node, lowering, warnings):
 
 
 def _with_lobe_models(exported, closure):
-    """`exported` with the diffuse model and multiple scattering its closure asks for."""
+    """`exported` with the diffuse model, multiple scattering and coat model its closure
+    asks for."""
     if closure.diffuse_model is not None:
         model = closure.diffuse_model
         if model == "OREN_NAYAR" and bpy.app.version >= (4, 3, 0):
@@ -361,6 +362,8 @@ def _with_lobe_models(exported, closure):
         exported = replace(exported, data=replace(exported.data, diffuse_model=model))
     if closure.multiscatter:
         exported = replace(exported, data=replace(exported.data, multiscatter=True))
+    if closure.coat_model is not None:
+        exported = replace(exported, data=replace(exported.data, coat_model=closure.coat_model))
     return exported
 
 

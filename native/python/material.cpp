@@ -133,6 +133,12 @@ void bind_material(py::module_& m) {
                      "(height-correlated, Cycles 4.0 on) or SEPARABLE (G1_o G1_i, Cycles 3.x).")
       .value("CORRELATED", Masking::kCorrelated)
       .value("SEPARABLE", Masking::kSeparable);
+  py::enum_<CoatModel>(m, "CoatModel",
+                       "The distribution of a coat's rough lobe: GGX (Blender 4.0 on) or GTR1 "
+                       "(Blender 3.x's Clearcoat, as Cycles 3.x: its masking of a fixed alpha "
+                       "0.25).")
+      .value("GGX", CoatModel::kGgx)
+      .value("GTR1", CoatModel::kGtr1);
   py::enum_<DiffuseModel>(m, "DiffuseModel",
                           "The shape of the diffuse lobe: LAMBERT; BURLEY (Burley's diffuse with "
                           "retro-reflection: Cycles 3.x's Principled BSDF), OREN_NAYAR (a rough "

@@ -239,6 +239,30 @@ def test_rough_plastic_under_a_sun_as_cycles(roughness, empty_scene, tmp_path, n
     assert 0.95 < energy < 1.05
 
 
+@pytest.mark.parametrize("roughness", [0.3, 0.5])
+def test_a_clear_coats_highlight_under_a_sun_is_cycles(roughness, empty_scene, tmp_path, native):
+    # A black Principled without specular under a full coat (3.x Clearcoat, 4.x+ Coat
+    # Weight) of `roughness`: the sun's highlight is the coat's lobe alone, which Cycles
+    # evaluates at the light sample (its rays cannot find the sun's tiny disc). 3.x:
+    # Cycles 3.x's GTR1 clearcoat (coat_model GTR1), 1.000 of Cycles 3.4 per pixel (as a
+    # GGX lobe the median pixel was 0.12 and 0.43 of Cycles'); 4.x+: a GGX dielectric
+    # layer, bpy 5.0 summed 0.999 and 0.991.
+    material = principled_sphere_material("Coated", (0.0, 0.0, 0.0), 0.5, specular=0.0)
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    weight = "Clearcoat" if "Clearcoat" in bsdf.inputs else "Coat Weight"
+    bsdf.inputs[weight].default_value = 1.0
+    bsdf.inputs[weight.replace("Weight", "").strip() + " Roughness"].default_value = roughness
+    cycles, whitted, lit, ratio = lobe_under_sun(empty_scene, material, tmp_path)
+    low, median, high = np.percentile(ratio, [5, 50, 95])
+    energy = whitted[lit][:, 0].sum() / cycles[lit][:, 0].sum()
+    print(
+        f"\ncoat {roughness}: Whitted / Cycles {low:.4f} {median:.4f} {high:.4f}, "
+        f"summed {energy:.4f}, {int(lit.sum())} px"
+    )
+    assert 0.98 < energy < 1.02
+    assert 0.97 < median < 1.03
+
+
 @pytest.mark.parametrize("roughness", [0.2, 0.5])
 def test_rough_black_plastic_reflects_the_sky_as_cycles(roughness, empty_scene, tmp_path, native):
     # Black plastic under a grey sky that lights nothing diffuse: all it shows is its

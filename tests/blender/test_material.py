@@ -406,9 +406,13 @@ def test_principled_coat(warnings):
         "Phong highlight and a mirror of the coat's roughness, weighted by its Fresnel "
         "factor at the view (docs/SUPPORT.md)"
     ]
-    # The Blender model: all of the coat is its GGX lobe, of its roughness.
+    # The Blender model: all of the coat is its lobe, of its roughness: 3.x's Clearcoat
+    # is GTR1's, as Cycles 3.x's clearcoat closure; a specular layer in the coat fields
+    # (no Clearcoat) stays GGX's.
     glossy = convert(fake_principled_material({**BLENDER_3_INPUTS, "Clearcoat": 0.5}), [])
     assert_material(glossy, coat_reflectivity=0.125, coat_specular=0.0, coat_roughness=0.03)
+    assert glossy.coat_model == "GTR1"
+    assert convert(fake_principled_material(BLENDER_3_INPUTS), []).coat_model == "GGX"
     # Beneath it, all of the opaque dielectric share is the layer's, of the base roughness.
     assert_material(glossy, layer_reflectivity=(0.375,) * 3, roughness=0.2)
     # 4.x: Coat Weight, IOR and Tint; what lies beneath is seen through the tint.
@@ -432,6 +436,8 @@ def test_principled_coat(warnings):
         layer_reflectivity=(0.75 * 0.375 * 0.2, 0.375 * 0.2, 0.375 * 0.2),
         layer_ior=plain.coat_ior,
     )
+    # 4.x's Coat is a GGX dielectric layer.
+    assert convert(fake_principled_material(inputs), []).coat_model == "GGX"
 
 
 def surface_shader(material, bl_idname, **inputs):

@@ -97,7 +97,8 @@ TEST(Layers, ACoatOverASpecularLayerReflectsTheSumOfTheirAlbedos) {
   const Coat coat = [&] {
     SurfaceParams surface = constant_surface(coated_plastic());
     surface.coat_normal = Vec3(0.0f, 0.0f, 1.0f);
-    return coat_of(surface, wo, Vec3(0.0f, 0.0f, 1.0f), true, Masking::kCorrelated);
+    return coat_of(surface, wo, Vec3(0.0f, 0.0f, 1.0f), true, Masking::kCorrelated,
+                   CoatModel::kGgx);
   }();
   const double expected =
       fine_albedo(wo, kCoatRoughness) + (1.0 - coat.cover) * fine_albedo(wo, kLayerRoughness);

@@ -28,6 +28,7 @@ def test_given_values_come_back():
         priority=2,
         masking="SEPARABLE",
         diffuse_model=wn.DiffuseModel.BURLEY,
+        coat_model="GTR1",
         diffuse_texture="wood",
     )
     assert material.diffuse == pytest.approx((0.1, 0.2, 0.3))
@@ -35,6 +36,8 @@ def test_given_values_come_back():
     assert material.priority == 2
     assert material.masking == wn.Masking.SEPARABLE
     assert material.diffuse_model == wn.DiffuseModel.BURLEY
+    assert material.coat_model == wn.CoatModel.GTR1
+    assert wn.Material().coat_model == wn.CoatModel.GGX
     assert material.diffuse_texture == "wood"
 
 

@@ -122,7 +122,8 @@ def _principled(s, out):
         kept = b.sub(b.f(1.0), b.mul(opaque, sharpness(b, roughness, s.glossy)))
         highlight_f0 = b.vmul(b.mul(f0, kept), tint)
         if coat is None:
-            # Without a coat the specular layer is the top layer: the coat fields hold it.
+            # Without a coat the specular layer is the top layer: the coat fields hold it
+            # (a GGX lobe, of the base's roughness).
             coat, layer = layer, None
     fields = whitted_fields(
         b,
@@ -138,6 +139,7 @@ def _principled(s, out):
     if sheen is not None:
         fields["diffuse"] = b.vadd(fields["diffuse"], sheen)
     coat_normal = None
+    coat_model = None
     if layer is not None:
         # Beneath a coat, the specular layer is the layer fields: a clear layer about the
         # base's normal, whose rough lobe is the base's (its roughness and anisotropy).
@@ -147,7 +149,7 @@ def _principled(s, out):
         if s.glossy and "roughness" not in fields:
             fields["roughness"] = b.clamp01(roughness)
     if coat is not None:
-        coat_fields, beneath, coat_normal = coat
+        coat_fields, beneath, coat_normal, coat_model = coat
         # What lies beneath the coat is seen through its tint (at normal incidence).
         for name in ("diffuse", "specular", "reflectivity", "transmissivity", "layer_reflectivity"):
             if name in fields:
@@ -181,6 +183,7 @@ def _principled(s, out):
         refracts=True,
         coat=coat is not None,
         coat_normal=coat_normal,
+        coat_model=coat_model,
         diffuse_model=diffuse_model,
         multiscatter="roughness" in fields and node.distribution == "MULTI_GGX",
         **anisotropy,
@@ -202,10 +205,12 @@ def _anisotropy(s, out):
 
 def _coat(s, out):
     """The Principled coat as Whitted coat fields: (fields, the tint beneath, the coat's
-    normal or None), or None without a coat. Cycles' coat is a dielectric microfacet
-    layer of its own roughness and IOR (3.x's Clearcoat: a quarter of its weight, IOR
-    1.5); here it is a Phong highlight and a mirror split by roughness as a metal's are,
-    both weighted per hit by the exact Fresnel factor of the IOR (native)."""
+    normal or None, its rough lobe's distribution: "GTR1" or None for GGX's), or None
+    without a coat. Cycles' coat is a dielectric microfacet layer of its own roughness
+    and IOR (3.x's Clearcoat: a quarter of its weight, IOR 1.5, and a GTR1 lobe); here
+    it is that lobe (the Blender model) or a Phong highlight and a mirror split by
+    roughness as a metal's are (the Lecture's), weighted per hit by the exact Fresnel
+    factor of the IOR (native)."""
     b = s.b
     node = out.node
     weight_socket = find_socket(node.inputs, COAT_INPUTS["weight"])
@@ -215,17 +220,20 @@ def _coat(s, out):
     if is_zero(weight):
         return None
     roughness = b.clamp01(s.scalar(out, COAT_INPUTS["roughness"], 0.03))
+    model = None
     if weight_socket.name == "Clearcoat":
-        # 3.x: Cycles scales the clearcoat lobe by a quarter and fixes its IOR at 1.5.
+        # 3.x: Cycles scales the clearcoat lobe by a quarter, fixes its IOR at 1.5 and
+        # gives it the GTR1 distribution (native CoatModel).
         weight = b.mul(b.f(0.25), weight)
         ior = b.f(1.5)
         beneath = b.const((1.0, 1.0, 1.0), COLOR)
+        model = "GTR1"
     else:
         ior = s.scalar(out, COAT_INPUTS["ior"], 1.5)
         tint = s.color(out, COAT_INPUTS["tint"], (1.0, 1.0, 1.0, 1.0))
         beneath = b.vlerp(weight, b.const((1.0, 1.0, 1.0), COLOR), tint)
     shape = (
-        "a GGX lobe of the coat's roughness"
+        f"a {model or 'GGX'} lobe of the coat's roughness"
         if s.glossy
         else "a Phong highlight and a mirror of the coat's roughness"
     )
@@ -242,7 +250,7 @@ def _coat(s, out):
         "coat_ior": ior,
         **({"coat_roughness": roughness} if s.glossy else {}),
     }
-    return fields, beneath, s.normal(out, COAT_INPUTS["normal"])
+    return fields, beneath, s.normal(out, COAT_INPUTS["normal"]), model
 
 
 def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
@@ -273,7 +281,7 @@ def _specular_layer(s, out, f0, tint, metallic, roughness, transmission):
         "coat_ior": b.div(b.add(b.f(1.0), root), b.sub(b.f(1.0), root)),
         **({"coat_roughness": b.clamp01(roughness)} if s.glossy else {}),
     }
-    return layer, b.const((1.0, 1.0, 1.0), COLOR), s.normal(out)
+    return layer, b.const((1.0, 1.0, 1.0), COLOR), s.normal(out), None
 
 
 def _sheen(s, out, base):

@@ -83,6 +83,9 @@ class Closure:
     # inter-reflections kept).
     multiscatter: bool = False
     tangent: object = None  # Expr (world vector) or None: the anisotropic lobe's tangent
+    # The distribution of its coat's rough lobe where not GGX's (native CoatModel's name:
+    # "GTR1", Blender 3.x's Clearcoat); None: GGX's.
+    coat_model: object = None
 
 
 class ShaderLowering:
@@ -176,6 +179,7 @@ class ShaderLowering:
         diffuse_model=None,
         multiscatter=False,
         tangent=None,
+        coat_model=None,
         **fields,
     ):
         base = self.black()
@@ -200,7 +204,15 @@ class ShaderLowering:
             "sheen_roughness": coverage if "sheen_roughness" in fields else self.b.f(0.0),
         }
         return Closure(
-            coverage, values, weights, normal, coat_normal, diffuse_model, multiscatter, tangent
+            coverage,
+            values,
+            weights,
+            normal,
+            coat_normal,
+            diffuse_model,
+            multiscatter,
+            tangent,
+            coat_model if coat else None,
         )
 
     def anisotropic(self, output, amount, normal, rotation=("Rotation",)):
@@ -290,7 +302,11 @@ class ShaderLowering:
         if a.diffuse_model and b.diffuse_model and a.diffuse_model != b.diffuse_model:
             self.c.warn(node, "combines two diffuse models; the first one is used")
         multiscatter = a.multiscatter or b.multiscatter
-        return Closure(coverage, fields, weights, normal, coat_normal, model, multiscatter, tangent)
+        # Only Blender 3.x's Clearcoat is GTR1's, and 3.x has no other coat: the two agree.
+        coat_model = a.coat_model or b.coat_model
+        return Closure(
+            coverage, fields, weights, normal, coat_normal, model, multiscatter, tangent, coat_model
+        )
 
 
 def fixed_texture(expr):

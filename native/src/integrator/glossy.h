@@ -1,8 +1,8 @@
 // Distributed ray tracing's glossy terms (Cook et al. 1984): the reflected and the
-// refracted term of a rough surface as the mean of n x n rays drawn from its GGX lobe
-// (microfacet.h), one per stratum (strata.h). Each ray is handed to `branch`, the kernel's
-// (kernel.h: traced now, or queued in a wave), as branch(ray, weight, media, drawn), which
-// returns the radiance it brings back.
+// refracted term of a rough surface as the mean of n x n rays drawn from its lobe
+// (microfacet.h: GGX's, or GTR1's for Blender 3.x's Clearcoat), one per stratum (strata.h). Each
+// ray is handed to `branch`, the kernel's (kernel.h: traced now, or queued in a wave), as
+// branch(ray, weight, media, drawn), which returns the radiance it brings back.
 #pragma once
 
 #include <algorithm>
@@ -21,9 +21,9 @@
 
 namespace whitted {
 
-// Glossy reflection: n x n rays drawn from the lobe, each weighing its sigma * G2/G1 / n^2
-// (the lobe over its density). Their points (Strata) depend only on the pixel and the
-// camera sample (a Sobol sequence's, or a hash of the sample's seed), so every render of a
+// Glossy reflection: n x n rays drawn from the lobe, each weighing its sigma * f cos / pdf
+// / n^2 (the lobe over its density: GGX's G2/G1). Their points (Strata) depend only on the pixel
+// and the camera sample (a Sobol sequence's, or a hash of the sample's seed), so every render of a
 // scene draws the same rays, whatever its scale, and neighbouring samples different ones. A ray the
 // lobe sends below the surface is lost, as light the single-scattering lobe does not return.
 // Returns the mean of what they bring, per unit of the lobe's sigma.
@@ -42,8 +42,9 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
   for (int k = 0; k < strata.count(); ++k) {
     const glm::vec2 u = strata.point(k);
     Vec3 wi;
-    float lobe = 0.0f;  // G2 / G1
-    if (!ggx_sample_reflection(lobe_of.ggx, p.wo, u.x, u.y, &wi, &lobe, p.it.material->masking)) {
+    float lobe = 0.0f;  // f cos / pdf (GGX's G2 / G1)
+    if (!lobe_sample_reflection(lobe_of.model(), lobe_of.ggx, p.wo, u.x, u.y, &wi, &lobe,
+                                p.it.material->masking)) {
       continue;
     }
     if (glm::dot(wi, p.ng) <= 0.0f) continue;  // below the surface itself
@@ -53,7 +54,9 @@ Color glossy_reflection(const KernelInputs<kEffects, Queries>& in, const Shading
     const Color weight = lobe_of.sigma * lobe_of.energy * lobe;
     // Its density, for the MIS weight of the emission it may meet (emission_weight) and
     // of the lamps' shapes (lamp_weight).
-    const float pdf = per_feeler > 0.0f || lamps ? ggx_reflection_pdf(lobe_of.ggx, p.wo, wi) : 0.0f;
+    const float pdf = per_feeler > 0.0f || lamps
+                          ? lobe_reflection_pdf(lobe_of.model(), lobe_of.ggx, p.wo, wi)
+                          : 0.0f;
     const float density = per_feeler * pdf;
     const float mis = in.emitters ? density : 0.0f;
     // Its weight on the world where it escapes, against the world's feelers.

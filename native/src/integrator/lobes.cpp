@@ -2,15 +2,16 @@
 
 namespace whitted {
 
-float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, Masking masking) {
+float rough_layer_albedo(CoatModel model, const Vec3& n, const Vec3& wo, float alpha, float eta,
+                         Masking masking) {
   constexpr int kSide = 3;
   float sum = 0.0f;
   for (int i = 0; i < kSide; ++i) {
     for (int j = 0; j < kSide; ++j) {
       Vec3 wi;
       float weight = 0.0f;
-      if (!ggx_sample_reflection(GgxLobe(n, alpha), wo, (i + 0.5f) / kSide, (j + 0.5f) / kSide, &wi,
-                                 &weight, masking)) {
+      if (!lobe_sample_reflection(model, GgxLobe(n, alpha), wo, (i + 0.5f) / kSide,
+                                  (j + 0.5f) / kSide, &wi, &weight, masking)) {
         continue;
       }
       sum += weight * fresnel_exact(std::max(0.0f, glm::dot(wo, glm::normalize(wo + wi))), eta);
@@ -20,7 +21,7 @@ float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, 
 }
 
 Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering,
-             Masking masking) {
+             Masking masking, CoatModel model) {
   Coat coat;
   const float weight = surface.coat_specular + surface.coat_reflectivity;
   if (!(weight > 0.0f)) return coat;
@@ -36,11 +37,12 @@ Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool 
   coat.shininess = surface.coat_shininess;
   const float alpha = surface.coat_roughness * surface.coat_roughness;
   coat.alpha = alpha >= kMirrorAlpha && coat.mirror > 0.0f ? alpha : 0.0f;
+  coat.model = model;
   if (coat.alpha > 0.0f && f > 0.0f) {
     // What the rough mirror takes from the base: its albedo, not its Fresnel factor.
     coat.cover =
         coat.highlight +
-        coat.mirror * rough_layer_albedo(coat.normal, wo, coat.alpha, coat.eta, masking) / f;
+        coat.mirror * rough_layer_albedo(model, coat.normal, wo, coat.alpha, coat.eta, masking) / f;
   }
   return coat;
 }
@@ -58,7 +60,7 @@ Coat layer_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ns, floa
   layer.alpha = alpha;
   if (alpha > 0.0f && layer.fresnel > 0.0f) {
     // What the rough layer takes from the diffuse beneath: its albedo (as the coat's).
-    layer.cover = weight * rough_layer_albedo(ns, wo, alpha, layer.eta, masking);
+    layer.cover = weight * rough_layer_albedo(CoatModel::kGgx, ns, wo, alpha, layer.eta, masking);
   }
   return layer;
 }
@@ -69,7 +71,7 @@ float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking mask
   const float length = glm::length(half);
   if (!(length > 0.0f)) return 0.0f;
   return coat.mirror * coat.facet_scale(wo, half / length) *
-         ggx_reflection(GgxLobe(coat.normal, coat.alpha), wo, wi, masking);
+         lobe_reflection(coat.model, GgxLobe(coat.normal, coat.alpha), wo, wi, masking);
 }
 
 float coat_highlight(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking) {

@@ -114,10 +114,11 @@ struct Coat {
   float mirror = 0.0f;     // weight of its mirror reflection
   float cover = 0.0f;      // highlight + mirror: the share it takes from the base
   float shininess = 1.0f;
-  float alpha = 0.0f;             // GGX alpha of its mirror's lobe; 0: a mirror (microfacet.h)
-  Vec3 normal{0.0f, 0.0f, 1.0f};  // facing the ray
-  float eta = 1.0f;               // 1 / its IOR
-  float fresnel = 0.0f;           // its Fresnel factor at the view and its normal
+  float alpha = 0.0f;                 // alpha of its mirror's lobe; 0: a mirror (microfacet.h)
+  CoatModel model = CoatModel::kGgx;  // that lobe's distribution
+  Vec3 normal{0.0f, 0.0f, 1.0f};      // facing the ray
+  float eta = 1.0f;                   // 1 / its IOR
+  float fresnel = 0.0f;               // its Fresnel factor at the view and its normal
 
   // What its rough lobe's share becomes for a facet of normal m: the Fresnel factor
   // at the facet over the one at the layer's normal that `mirror` holds (a rough
@@ -129,15 +130,17 @@ struct Coat {
 };
 
 // The share of the light a rough dielectric layer reflects, its albedo: the mean of
-// G2/G1 times the facet's Fresnel factor over 3 x 3 fixed visible normals (Cycles takes
-// it from tables; 1 - albedo reaches the layers beneath). Lower than the Fresnel factor
-// at the layer's normal at grazing views, where that tends to 1.
-float rough_layer_albedo(const Vec3& n, const Vec3& wo, float alpha, float eta, Masking masking);
+// the sampled weights (GGX's G2/G1) times the facet's Fresnel factor over 3 x 3 fixed
+// samples of its lobe (Cycles takes it from tables; 1 - albedo reaches the layers
+// beneath). Lower than the Fresnel factor at the layer's normal at grazing views, where
+// that tends to 1.
+float rough_layer_albedo(CoatModel model, const Vec3& n, const Vec3& wo, float alpha, float eta,
+                         Masking masking);
 
 // The coat of a hit seen from wo (geometric normal ng facing the ray; `entering`: the
-// ray meets the surface's front).
+// ray meets the surface's front), its rough lobe of distribution `model`.
 Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool entering,
-             Masking masking);
+             Masking masking, CoatModel model);
 
 // The base's specular layer beneath the coat (SurfaceParams::layer_reflectivity), seen
 // from wo: a clear layer about the base's shading normal ns (facing the ray), of the
@@ -147,8 +150,8 @@ Coat coat_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ng, bool 
 Coat layer_of(const SurfaceParams& surface, const Vec3& wo, const Vec3& ns, float alpha,
               Masking masking);
 
-// A rough coat's mirror lobe for light arriving from wi: its GGX lobe evaluated, times
-// its weight and its facet's Fresnel factor; 0 for a sharp coat.
+// A rough coat's mirror lobe for light arriving from wi: its lobe (of its model)
+// evaluated, times its weight and its facet's Fresnel factor; 0 for a sharp coat.
 float coat_glossy(const Coat& coat, const Vec3& wo, const Vec3& wi, Masking masking);
 
 // The coat's highlight for light arriving from wi, per unit irradiance: the normalised

@@ -35,6 +35,7 @@ inline float power_heuristic(float a, float b) {
 // count whole.
 struct GlossyRays {
   GgxLobe coat{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
+  CoatModel coat_model = CoatModel::kGgx;  // the coat lobe's distribution
   GgxLobe base{Vec3(0.0f, 0.0f, 1.0f), 0.0f};
   // Which lobes send rays: a lobe that sends none leaves its share whole to the feelers.
   bool coat_rays = false;
@@ -63,7 +64,8 @@ inline LobeWeights lobe_weights(const GlossyRays& rays, float count, float densi
                                 const Vec3& wi) {
   LobeWeights w;
   if (rays.coat_rays) {
-    w.coat = power_heuristic(density, count * ggx_reflection_pdf(rays.coat, wo, wi));
+    w.coat =
+        power_heuristic(density, count * lobe_reflection_pdf(rays.coat_model, rays.coat, wo, wi));
   }
   if (rays.layer_rays || rays.base_rays) {
     const float base = power_heuristic(density, count * ggx_reflection_pdf(rays.base, wo, wi));
@@ -116,6 +118,7 @@ template <uint32_t kEffects, class Queries>
     }
     if (lobe.coat == &p.coat) {
       rays.coat = lobe.ggx;
+      rays.coat_model = lobe.model();
       rays.coat_rays = true;
     } else {
       rays.base = lobe.ggx;

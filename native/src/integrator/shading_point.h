@@ -74,7 +74,8 @@ inline ShadingPoint shading_point(const Ray& ray, const Interaction& it,
   Vec3 ns;
   facing_normals(ray, it, surface, &ng, &ns);
   const Vec3 wo = -ray.direction;
-  const Coat coat = coat_of(surface, wo, ng, entering, it.material->masking);
+  const Coat coat =
+      coat_of(surface, wo, ng, entering, it.material->masking, it.material->coat_model);
   // A normal the material turned (a program's, or Cycles 3.x's lift) fades the diffuse
   // lobe towards the smooth surface's horizon, as Cycles does (diffuse_shadowing); one it
   // left as interpolated does not, even where facing_normals had to replace it.

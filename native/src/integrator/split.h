@@ -83,6 +83,9 @@ struct Lobe {
   Color energy{1.0f};                         // its multiple-scattering scale, or 1
   const Coat* coat{nullptr};  // a dielectric layer's: each ray by its facet's Fresnel
   Color sigma{0.0f};          // its share of sigma_r
+
+  // Its distribution: the coat's model (GTR1's for 3.x's Clearcoat), else GGX's.
+  CoatModel model() const { return coat != nullptr ? coat->model : CoatModel::kGgx; }
 };
 
 // The lobes of a reflection, each of its own rays: up to one per layer (coat, specular

@@ -24,6 +24,9 @@ Material::Material(const MaterialParams& params) : MaterialParams(params) {
     throw std::invalid_argument("layer_reflectivity must be finite and layer_ior positive");
   }
   layer_reflectivity = glm::max(layer_reflectivity, Color(0.0f));
+  if (static_cast<uint32_t>(coat_model) > static_cast<uint32_t>(CoatModel::kGtr1)) {
+    throw std::invalid_argument("coat_model is not a CoatModel");
+  }
   if (static_cast<uint32_t>(diffuse_model) >
       static_cast<uint32_t>(DiffuseModel::kOrenNayarEnergy)) {
     throw std::invalid_argument("diffuse_model is not a DiffuseModel");

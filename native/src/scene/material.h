@@ -150,6 +150,7 @@ struct MaterialParams {
   float coat_shininess = 1000.0f;
   float coat_ior = 1.5f;
   float coat_roughness = 0.0f;
+  CoatModel coat_model = CoatModel::kGgx;
   // The base's specular layer beneath the coat (lobes.h, layer_of): a clear dielectric
   // layer about the base's normal, of its roughness.
   Color layer_reflectivity{0.0f};
@@ -253,6 +254,9 @@ inline constexpr auto kMaterialParams = std::tuple{
     MaterialParam{
         "coat_roughness", &MaterialParams::coat_roughness,
         "Blender roughness of the coat's reflection in [0, 1], as roughness is for the base."},
+    MaterialParam{"coat_model", &MaterialParams::coat_model,
+                  "The distribution of the coat's rough lobe (a CoatModel): GGX, or GTR1 as "
+                  "Cycles 3.x's Clearcoat."},
     MaterialParam{"layer_reflectivity", &MaterialParams::layer_reflectivity,
                   "Weight (linear RGB) of a clear dielectric layer's mirror beneath the coat (a "
                   "Principled BSDF's specular layer under its coat), scaled by its Fresnel "

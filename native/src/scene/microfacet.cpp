@@ -272,4 +272,97 @@ Color ggx_multiscatter_scale(const Color& f, float cos_o, float roughness) {
   return scale;
 }
 
+namespace {
+
+// Cycles 3.x's fixed alpha of the clearcoat's masking and shadowing.
+constexpr float kGtr1MaskingAlpha = 0.25f;
+
+float gtr1_masking(float cos_theta) {
+  return 1.0f / (1.0f + ggx_lambda(cos_theta, kGtr1MaskingAlpha));
+}
+
+// A reflection's cosines to n, of the view and the light, and its unit half vector;
+// false below either horizon or for opposite directions.
+bool half_vector(const Vec3& n, const Vec3& wo, const Vec3& wi, float* cos_o, float* cos_i,
+                 Vec3* m) {
+  *cos_o = glm::dot(n, wo);
+  *cos_i = glm::dot(n, wi);
+  if (*cos_o <= 0.0f || *cos_i <= 0.0f) return false;
+  const Vec3 half = wo + wi;
+  const float length = glm::length(half);
+  if (!(length > 0.0f)) return false;
+  *m = half / length;
+  return true;
+}
+
+}  // namespace
+
+float gtr1_distribution(float cos_m, float alpha) {
+  if (cos_m <= 0.0f) return 0.0f;
+  const float a2 = alpha * alpha;
+  if (a2 >= 1.0f) return kInvPi;
+  return (a2 - 1.0f) / (kPi * std::log(a2) * (1.0f + (a2 - 1.0f) * cos_m * cos_m));
+}
+
+float gtr1_reflection(const Vec3& n, float alpha, const Vec3& wo, const Vec3& wi) {
+  float cos_o = 0.0f;
+  float cos_i = 0.0f;
+  Vec3 m;
+  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m)) return 0.0f;
+  return gtr1_distribution(glm::dot(n, m), alpha) * gtr1_masking(cos_o) * gtr1_masking(cos_i) /
+         (4.0f * cos_o);
+}
+
+float gtr1_reflection_pdf(const Vec3& n, float alpha, const Vec3& wo, const Vec3& wi) {
+  float cos_o = 0.0f;
+  float cos_i = 0.0f;
+  Vec3 m;
+  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m)) return 0.0f;
+  const float cos_m = glm::dot(n, m);
+  // dwi = 4 (wo.m) dm: the reflection's Jacobian.
+  return gtr1_distribution(cos_m, alpha) * cos_m / (4.0f * glm::dot(wo, m));
+}
+
+bool gtr1_sample_reflection(const Vec3& n, float alpha, const Vec3& wo, float u1, float u2,
+                            Vec3* wi, float* weight) {
+  *weight = 0.0f;
+  const float cos_o = glm::dot(n, wo);
+  if (cos_o <= 0.0f) return false;
+  // sin^2 of the half vector's angle, from the inverted cumulative distribution (kept
+  // as 1 - cos^2 computed directly: near the sharp core cos^2 rounds to 1).
+  const float a2 = alpha * alpha;
+  const float sin2 = a2 >= 1.0f ? u1 : (std::pow(a2, 1.0f - u1) - a2) / (1.0f - a2);
+  const float sin_m = std::sqrt(std::clamp(sin2, 0.0f, 1.0f));
+  const float cos_m = std::sqrt(std::clamp(1.0f - sin2, 0.0f, 1.0f));
+  const float phi = 2.0f * kPi * u2;
+  const Frame frame(n);
+  const Vec3 m = frame.to_world({sin_m * std::cos(phi), sin_m * std::sin(phi), cos_m});
+  const float o_dot_m = glm::dot(wo, m);
+  if (o_dot_m <= 0.0f) return false;
+  const Vec3 l = 2.0f * o_dot_m * m - wo;  // the view mirrored about m
+  const float cos_i = glm::dot(n, l);
+  if (cos_i <= 0.0f || !(cos_m > 0.0f)) return false;
+  *weight = gtr1_masking(cos_o) * gtr1_masking(cos_i) * o_dot_m / (cos_o * cos_m);
+  *wi = glm::normalize(l);
+  return true;
+}
+
+float lobe_reflection(CoatModel model, const GgxLobe& lobe, const Vec3& wo, const Vec3& wi,
+                      Masking masking) {
+  return model == CoatModel::kGtr1 ? gtr1_reflection(lobe.n, lobe.alpha(), wo, wi)
+                                   : ggx_reflection(lobe, wo, wi, masking);
+}
+
+bool lobe_sample_reflection(CoatModel model, const GgxLobe& lobe, const Vec3& wo, float u1,
+                            float u2, Vec3* wi, float* weight, Masking masking) {
+  return model == CoatModel::kGtr1
+             ? gtr1_sample_reflection(lobe.n, lobe.alpha(), wo, u1, u2, wi, weight)
+             : ggx_sample_reflection(lobe, wo, u1, u2, wi, weight, masking);
+}
+
+float lobe_reflection_pdf(CoatModel model, const GgxLobe& lobe, const Vec3& wo, const Vec3& wi) {
+  return model == CoatModel::kGtr1 ? gtr1_reflection_pdf(lobe.n, lobe.alpha(), wo, wi)
+                                   : ggx_reflection_pdf(lobe, wo, wi);
+}
+
 }  // namespace whitted

@@ -7,7 +7,10 @@
 // its value (eval), a glossy ray is drawn from it (sample), so direct light and one
 // specular bounce agree with Cycles'. Single scattering only (Cycles' Multiscatter GGX
 // adds the energy the facets' inter-reflections keep; docs/SUPPORT.md says how much).
+// Beside it, at the end, the GTR1 lobe of Blender 3.x's Clearcoat (CoatModel).
 #pragma once
+
+#include <cstdint>
 
 #include "core/math.h"
 #include "core/ray.h"
@@ -114,5 +117,45 @@ float ggx_average_albedo(float roughness);
 // Multiscatter GGX): 1 + F_ms (1 - E) / E per channel, F_ms = f E_avg / (1 - f (1 -
 // E_avg)). A white lobe then returns all the light that reaches it.
 Color ggx_multiscatter_scale(const Color& f, float cos_o, float roughness);
+
+// Which distribution a coat's rough lobe has: GGX's (the functions above; Blender 4.0
+// on, where Coat is a GGX dielectric layer) or GTR1's (below; Blender 3.x's Clearcoat,
+// as Cycles 3.x evaluates it). The material field coat_model.
+enum class CoatModel : uint32_t { kGgx, kGtr1 };
+
+// The GTR1 lobe, Cycles 3.x's clearcoat: the "generalized Trowbridge-Reitz" distribution
+// of exponent 1 (Burley, "Physically Based Shading at Disney", SIGGRAPH 2012 course), a
+// sharp core in long tails (the haze around a varnish's highlight):
+//   D(m) = (a^2 - 1) / (pi ln(a^2) (1 + (a^2 - 1) cos_m^2)), 1/pi from a = 1 on,
+// of alpha a = Clearcoat Roughness^2 (Cycles 3.x squares it when it sets up the closure;
+// coat_of here). Its masking and shadowing are Smith's GGX G1 of a FIXED alpha 0.25,
+// separable (G1_o G1_i), whatever the roughness, as Cycles 3.x evaluates the closure.
+// Isotropic; single scattering (Cycles 3.x keeps no more energy for it).
+float gtr1_distribution(float cos_m, float alpha);
+
+// f * cos_i = D G1(wo) G1(wi) / (4 cos_o) about unit normal n, without Fresnel or
+// colour; 0 below either horizon.
+float gtr1_reflection(const Vec3& n, float alpha, const Vec3& wo, const Vec3& wi);
+
+// A direction drawn from the GTR1 lobe for view wo: the half vector m of density
+// D(m) cos_m (inverting its cumulative distribution, Burley 2012: cos_m^2 = (1 -
+// a^(2 (1 - u1))) / (1 - a^2), azimuth 2 pi u2), wi = reflect(-wo, m). *weight
+// receives f cos_i / pdf = G1(wo) G1(wi) (wo.m) / (cos_o cos_m). False when m faces
+// away from the view or wi falls below the surface (weight 0).
+bool gtr1_sample_reflection(const Vec3& n, float alpha, const Vec3& wo, float u1, float u2,
+                            Vec3* wi, float* weight);
+
+// The density, per unit solid angle, with which gtr1_sample_reflection draws wi:
+// D(m) cos_m / (4 wo.m) for m the half vector; 0 below either horizon.
+float gtr1_reflection_pdf(const Vec3& n, float alpha, const Vec3& wo, const Vec3& wi);
+
+// A lobe of either model, as the coat's (`model`) and every other layer's (kGgx) rays
+// and feelers take it: GGX's functions with `lobe` as is, or GTR1's about its normal,
+// of its alpha() (masking: GGX's only; GTR1's is its own).
+float lobe_reflection(CoatModel model, const GgxLobe& lobe, const Vec3& wo, const Vec3& wi,
+                      Masking masking);
+bool lobe_sample_reflection(CoatModel model, const GgxLobe& lobe, const Vec3& wo, float u1,
+                            float u2, Vec3* wi, float* weight, Masking masking);
+float lobe_reflection_pdf(CoatModel model, const GgxLobe& lobe, const Vec3& wo, const Vec3& wi);
 
 }  // namespace whitted
