@@ -278,7 +278,7 @@ MEASURES = (
     "luminance ratio Whitted / Cycles over the subject's pixels (the floor left out). "
     "Time: the engine's total (export, BVH, trace, write-back) from its statistics, the "
     "median of the renders with the effect on and off, alternating in one process; the "
-    "effect is turned off as the last column says, and the report then names it skipped."
+    "effect is turned off as the last column says."
 )
 
 EFFECTS_PAGE = Page(
@@ -292,7 +292,8 @@ EFFECTS_PAGE = Page(
     "Carpenter 1984): rays drawn from a rough surface's GGX lobe (glossy reflection, "
     "frosted glass), feelers to emissive meshes, weighed against the glossy rays by "
     "multiple importance sampling, and camera rays spread over the lens (depth of field) "
-    "and the shutter (motion blur).",
+    "and the shutter (motion blur). Turned off, each effect is named skipped in the "
+    "report.",
     SCENES,
 )
 
