@@ -338,7 +338,10 @@ def displacement_method(material):
     """Cycles' Displacement method of `material` (Material > Settings > Surface:
     `material.displacement_method` from 4.1, `material.cycles.displacement_method`
     before): BUMP (the default, also where the Cycles add-on that holds it is off),
-    DISPLACEMENT or BOTH."""
+    DISPLACEMENT or BOTH. Read on the original material: Blender 3.4's evaluated copy
+    keeps Cycles' property as it was when a script sets it (measured: BUMP on the copy,
+    DISPLACEMENT on the original, after a depsgraph update for the same material's links)."""
+    material = getattr(material, "original", material)
     method = getattr(material, "displacement_method", None)
     if method is None:
         method = getattr(getattr(material, "cycles", None), "displacement_method", "BUMP")

@@ -79,8 +79,14 @@ def shading_figures(whitted, cycles, label):
     [
         "DISPLACEMENT",
         # Measured in 3.4: SSIM 0.955, median ratio 0.976, summed 0.949 (the bump over
-        # the moved surface is not yet Cycles'; not investigated).
-        pytest.param("BOTH", marks=pytest.mark.xfail(strict=True, reason="summed ratio 0.949")),
+        # the moved surface is not yet Cycles 3.x's; not investigated). bpy 5.0: SSIM
+        # 0.999, ratios 0.993. Blender 4.x not measured (the smoke tier does not run this).
+        pytest.param(
+            "BOTH",
+            marks=pytest.mark.xfail(
+                bpy.app.version < (5, 0, 0), strict=True, reason="3.4: summed ratio 0.949"
+            ),
+        ),
     ],
 )
 def test_displaced_plane_shades_as_cycles(method, empty_scene, tmp_path, native):
