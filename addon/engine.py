@@ -137,6 +137,9 @@ class WhittedRenderEngine(bpy.types.RenderEngine):
             render_stats.sampling_decision(stats),
             denoising.decision(),
         ]
+        displaced = frame.sync.displacement_effect()
+        if displaced is not None:
+            stats["effects"].append(displaced)
         stats["sync"] = frame.report.as_dict()
         # What the memory guard expected this render to need (docs/MEMORY.md).
         stats["memory_estimate_mib"] = frame.memory.bytes / memory.MIB

@@ -32,7 +32,7 @@ from .nodes import ops, uses_nodes
 from .nodes import warn as _warn
 from .nodes.graph import source
 from .nodes.ir import evaluate
-from .nodes.normals import displacement_bump
+from .nodes.normals import displacement_bump, output_displacement
 from .nodes.program import emit, material_fields
 from .nodes.shader_fields import MAX_SHININESS, phong_exponent
 from .nodes.shaders import default_surface, finish, fixed_texture, surface
@@ -43,6 +43,7 @@ from .volume import Medium, NotRendered, default_volume, volume_medium
 
 __all__ = [
     "MAX_SHININESS",
+    "Displacement",
     "MaterialExport",
     "convert_material",
     "map_material",
@@ -71,12 +72,27 @@ class MaterialExport:
     # exported again when one reads otherwise (sync/scene.py).
     layer_attributes: tuple = ()
     pass_index: int = 0  # Material Properties > Settings > Pass Index (the IndexMA pass)
+    # Displacement Only or Displacement and Bump with a linked Displacement: what moves
+    # the vertices of the meshes that use it (a Displacement), else None.
+    displacement: object = None
 
     @property
     def uv_map(self):
         """The UV map the fixed textures read ("" = the active render map), or None
         when none uses UV coordinates."""
         return next((t.uv_map for t in self.textures if t.coordinates == "UV"), None)
+
+
+@dataclass(frozen=True)
+class Displacement:
+    """What moves a material's vertices (Cycles' true displacement without adaptive
+    subdivision): a program run once per vertex (native displace) whose `output` register
+    holds the world displacement, the output's Displacement lowered as the bump lowers it
+    (nodes/normals.py output_displacement)."""
+
+    method: str  # DISPLACEMENT (the normals follow the moved faces) | BOTH (they are kept)
+    program: object  # nodes.program.ProgramData
+    output: int  # the register of the world displacement
 
 
 @cache
@@ -236,7 +252,7 @@ def map_material(
         exported = _programmed(varying, lowering, "NONE")
         data = replace(exported.data, surface=False, volume_step_rate=_volume_step_rate(material))
         return _with_layer_attributes(replace(exported, data=data), lowering)
-    bumped = _displacement(material, output_node, lowering, warnings)
+    bumped, moved = _displacement(material, output_node, lowering)
     lowering.shading_normal = bumped
     closure = surface(lowering, output_node, local_model=local_model)
     fields = {**finish(lowering, closure), **varying}
@@ -251,6 +267,7 @@ def map_material(
     for message in found:
         _warn(warnings, message)
     exported = _with_lobe_models(exported, closure)
+    exported = _with_displacement(exported, moved, displacement_method(material), lowering)
     sampling = _emission_sampling(material)
     # A surface's volume fills what its refraction enters (glass with an absorbing volume).
     # A heterogeneous one's fields are the program's, its constants the stand-ins.
@@ -317,37 +334,55 @@ def default_material(local_model="BLENDER"):
     return _with_lobe_models(exported, closure)
 
 
-def _displacement(material, output_node, lowering, warnings):
-    """The shading normal the output's linked Displacement bumps, or None. Cycles'
-    Displacement method (Material > Settings > Surface: `material.displacement_method`
-    from 4.1, `material.cycles.displacement_method` before; Bump Only by default): Bump
-    Only shades it as a bump (nodes/normals.py displacement_bump); Displacement and Bump
-    also moves the vertices, Displacement Only moves them alone, which Whitted does not
-    do: said in the report, the bump kept for the first, nothing for the second (whose
-    graph is then not read: its nodes add no warnings of their own)."""
+def displacement_method(material):
+    """Cycles' Displacement method of `material` (Material > Settings > Surface:
+    `material.displacement_method` from 4.1, `material.cycles.displacement_method`
+    before): BUMP (the default, also where the Cycles add-on that holds it is off),
+    DISPLACEMENT or BOTH. Read on the original material: Blender 3.4's evaluated copy
+    keeps Cycles' property as it was when a script sets it (measured: BUMP on the copy,
+    DISPLACEMENT on the original, after a depsgraph update for the same material's links)."""
+    material = getattr(material, "original", material)
     method = getattr(material, "displacement_method", None)
     if method is None:
         method = getattr(getattr(material, "cycles", None), "displacement_method", "BUMP")
-    owner = f"material '{material.name}'"
-    if method == "DISPLACEMENT":
-        socket = output_node.inputs.get("Displacement")
-        if socket is not None and source(socket)[0] is not None:
-            _warn(
-                warnings,
-                f"Whitted: {owner}: Displacement Only moves vertices, which Whitted does not; "
-                "its displacement is not rendered",
-            )
-        return None
-    bumped = displacement_bump(lowering, output_node)
-    if bumped is None or method == "BUMP":
-        return bumped
-    if method == "BOTH":
-        _warn(
-            warnings,
-            f"Whitted: {owner}: Displacement and Bump moves no vertex here; "
-            "its displacement is shaded as a bump only",
-        )
-    return bumped
+    return method
+
+
+def _displacement(material, output_node, lowering):
+    """(the shading normal the output's linked Displacement bumps or None, the world
+    displacement vector that moves the vertices or None). Cycles' Displacement method
+    (displacement_method): Bump Only shades it as a bump (nodes/normals.py
+    displacement_bump); Displacement Only moves the vertices and keeps the shading normal
+    they get; Displacement and Bump moves them and bumps too (Cycles without adaptive
+    subdivision: the native displace, sync/displace.py)."""
+    method = displacement_method(material)
+    moved = None
+    if method in ("DISPLACEMENT", "BOTH"):
+        moved = output_displacement(lowering, output_node)
+        if moved is not None and moved.is_const and not any(moved.value[:3]):
+            moved = None  # it moves nothing
+    bumped = None if method == "DISPLACEMENT" else displacement_bump(lowering, output_node)
+    return bumped, moved
+
+
+def _with_displacement(exported, moved, method, lowering):
+    """`exported` with the program that computes the world displacement `moved` (an
+    Expr) at a vertex, its textures and the mesh layers it reads (the same lowering as
+    the surface's: one index space of UV sets and attributes)."""
+    if moved is None:
+        return exported
+    program, outputs = emit({"displacement": moved}, keep_constant=True)
+    needs = lowering.needs
+    textures = {spec.name: spec for spec in exported.textures}
+    textures.update({name: lowering.textures[name] for name in program.textures})
+    return replace(
+        exported,
+        displacement=Displacement(method, program, outputs["displacement"]),
+        textures=tuple(textures.values()),
+        uv_maps=tuple(needs.uv_maps),
+        attributes=tuple(needs.attributes),
+        tangents=tuple(sorted(needs.tangents)),
+    )
 
 
 def _with_lobe_models(exported, closure):

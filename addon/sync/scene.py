@@ -63,6 +63,7 @@ from ..export.volume_object import (
 from ..export.world import ao_distance, convert_world
 from . import native_data
 from .changes import classify
+from .displace import adaptive_warning, displace, displacement_effect, slot_displacements
 from .volumes import VolumeReads
 
 # What an original object contributes, as the last walk over the instances saw it.
@@ -87,6 +88,9 @@ class SyncParams:
     # The World's AO distance (export/world.py ao_distance), read by Ambient Occlusion
     # nodes of Distance 0.
     ao_distance: float = UNBOUNDED_AO_DISTANCE
+    # Cycles' Feature Set is Experimental (3.x-4.x: where an object's Adaptive
+    # Subdivision applies; sync/displace.py adaptive_warning).
+    experimental: bool = False
     # What moves within the shutter (export/motion.py MotionData; F12 with motion blur
     # on), None otherwise: the instances it names carry their transforms over it.
     motion: object = field(default=None, compare=False)
@@ -101,6 +105,8 @@ class SyncParams:
             local_model=scene.whitted.local_model,
             uv_pass=any(layer.use_pass_uv for layer in scene.view_layers),
             ao_distance=ao_distance(scene.world),
+            experimental=getattr(getattr(scene, "cycles", None), "feature_set", "")
+            == "EXPERIMENTAL",
         )
 
 
@@ -155,6 +161,10 @@ class _Geometry:
     uv_map: str | None  # the UV map it was exported with
     sanitised: Sanitised
     needs: MeshNeeds = NO_NEEDS  # the UV sets, attributes and tangents it carries
+    # What moved its vertices: its slots' export.material.Displacement (None for a slot
+    # that moves none), () when none does (sync/displace.py slot_displacements).
+    displacement: tuple = ()
+    displaced: int = 0  # how many vertices its displacement moved
 
 
 class SceneSync:
@@ -172,6 +182,10 @@ class SceneSync:
         # Material name -> the Object and Instancer attributes it reads (by index).
         self._attributes = {}
         self._walked_needs = ({}, frozenset(), {})  # (needs, info, attributes) of the last walk
+        # Material name -> the export.material.Displacement that moves its vertices, now
+        # and at the last walk (a change exports the meshes that use it again).
+        self._displacements = {}
+        self._walked_displacements = {}
         self._textures = {}  # name -> texture spec (export.texture)
         self._geometry = {}  # geometry key -> _Geometry
         self._instances = {}  # instance name -> export.mesh.InstanceData
@@ -200,6 +214,13 @@ class SceneSync:
         # objects the depsgraph evaluates tell (instances come from these).
         shown = {obj.original.name_full for obj in depsgraph.objects}
         return shown != self._roles.keys()
+
+    def displacement_effect(self):
+        """The report's entry for the vertices displacements moved ({name, on, why}), or
+        None where no mesh is displaced."""
+        return displacement_effect(
+            {key: g.displaced for key, g in self._geometry.items() if g.displaced}
+        )
 
     @property
     def volume_bytes(self):
@@ -353,6 +374,9 @@ class SceneSync:
         self._attributes = {
             n: m.instance_attributes for n, m in self._materials.items() if m.instance_attributes
         }
+        self._displacements = {
+            n: m.displacement for n, m in self._materials.items() if m.displacement is not None
+        }
 
     def _sync_textures(self, changes, params, report, warnings):
         wanted = {spec.name: spec for m in self._materials.values() for spec in m.textures}
@@ -392,6 +416,8 @@ class SceneSync:
             # Other program inputs: UV sets, attributes, tangents, object info, object
             # attributes.
             return True
+        if self._displacements != self._walked_displacements:
+            return True  # the meshes that use a displacement now moved otherwise
         roles = {name: self._roles.get(name) for name in changes.objects}
         if any(role in (None, _INSTANCER, _VOLUME) for role in roles.values()):
             return True  # an object new to the sync, one with instances, a Volume object
@@ -435,7 +461,7 @@ class SceneSync:
                         self._sync_strands(key, strands_data(obj, depsgraph.scene), report)
                     else:
                         self._sync_geometry(
-                            object_instance, key, changes, in_place, report, warnings, params.motion
+                            object_instance, key, changes, in_place, report, warnings, params
                         )
                 if self._geometry[key].has_primitives:
                     instance = self._instance_data(object_instance, key, view_layer, warnings)
@@ -508,6 +534,7 @@ class SceneSync:
         self._instanced_light_data = instanced_light_data
         self._walked_uv_maps = dict(self._uv_maps)
         self._walked_needs = (dict(self._needs), self._info, dict(self._attributes))
+        self._walked_displacements = dict(self._displacements)
 
     def _instance_data(self, object_instance, mesh, view_layer, warnings):
         """export.instance.instance_data of an instance placing `mesh`, with the Object
@@ -584,17 +611,19 @@ class SceneSync:
         )
         report.materials += 1
 
-    def _sync_geometry(
-        self, object_instance, key, changes, in_place, report, warnings, motion=None
-    ):
+    def _sync_geometry(self, object_instance, key, changes, in_place, report, warnings, params):
         obj = object_instance.object
         uv_map = object_uv_map(obj, self._uv_maps)
         needs = object_needs(obj, self._needs, warnings)
+        displacement = slot_displacements(obj, self._displacements)
+        if displacement:
+            adaptive_warning(obj, params.experimental, warnings)
         known = self._geometry.get(key)
         if (
             known is not None
             and known.uv_map == uv_map
             and known.needs == needs
+            and known.displacement == displacement
             and not _reshaped(object_instance, key, changes)
         ):
             return
@@ -607,15 +636,22 @@ class SceneSync:
             in_place=in_place,
             needs=needs,
         )
+        motion = params.motion
         if mesh is not None and motion is not None and not object_instance.is_instance:
             _deform(mesh, motion, obj, warnings)
+        displaced = 0
+        if mesh is not None and displacement:
+            # After the deformation's steps are set: each step moves as the vertices do.
+            displaced = displace(self._native, self.scene, mesh, displacement, object_instance)
         if mesh is not None:
             self.scene.set_mesh(key, mesh)
             report.meshes += 1
         elif known is not None and known.has_primitives:
             self.scene.remove_mesh(key)
             report.removed += 1
-        self._geometry[key] = _Geometry(mesh is not None, uv_map, sanitised, needs)
+        self._geometry[key] = _Geometry(
+            mesh is not None, uv_map, sanitised, needs, displacement, displaced
+        )
 
     def _sync_strands(self, key, data, report):
         """Curves, points or particle hair (export/curves.py data, or None) as geometry

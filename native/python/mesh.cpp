@@ -194,6 +194,25 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("deforms", &Mesh::deforms,
                              "Whether set_motion gave it positions that move over the shutter.")
       .def_property_readonly("vertex_count", &Mesh::vertex_count, "Its number of vertices (N).")
+      .def_property_readonly(
+          "positions",
+          [](const Mesh& mesh) {
+            const auto n = static_cast<py::ssize_t>(mesh.vertex_count());
+            py::array_t<float> out({n, py::ssize_t{3}});
+            std::copy(mesh.positions.begin(), mesh.positions.begin() + 3 * n, out.mutable_data());
+            return out;
+          },
+          "A copy of its vertices, float32[N,3], object space.")
+      .def_property_readonly(
+          "vertex_normals",
+          [](const Mesh& mesh) -> std::optional<py::array_t<float>> {
+            if (mesh.vertex_normals.empty()) return std::nullopt;
+            const auto n = static_cast<py::ssize_t>(mesh.vertex_count());
+            py::array_t<float> out({n, py::ssize_t{3}});
+            std::copy(mesh.vertex_normals.begin(), mesh.vertex_normals.end(), out.mutable_data());
+            return out;
+          },
+          "A copy of its vertex normals, float32[N,3], or None (corner normals, or flat).")
       .def_property_readonly("triangle_count", &Mesh::triangle_count,
                              "Its number of triangles (M).")
       .def_property_readonly(

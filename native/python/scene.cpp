@@ -58,6 +58,32 @@ void bind_scene(py::module_& m) {
           py::arg("tangents") = std::vector<FloatArray>{},
           "The same as set_mesh(name, Mesh(positions, triangles, ...)).")
       .def(
+          "displace",
+          [](const Scene& scene, Mesh& mesh,
+             const std::vector<std::optional<std::tuple<std::shared_ptr<Program>, uint32_t, bool>>>&
+                 slots,
+             const py::object& to_world) {
+            std::vector<SlotDisplacement> native;
+            for (const auto& slot : slots) {
+              SlotDisplacement d;
+              if (slot) {
+                d.program = std::get<0>(*slot);
+                d.output = std::get<1>(*slot);
+                d.renormal = std::get<2>(*slot);
+              }
+              native.push_back(std::move(d));
+            }
+            const glm::mat4 matrix = matrix_from_numpy(to_world);
+            py::gil_scoped_release release;
+            return scene.displace(&mesh, std::move(native), matrix);
+          },
+          py::arg("mesh"), py::arg("slots"), py::arg("to_world"),
+          "Moves a Mesh's vertices as Cycles' true displacement does (scene/displace.h), "
+          "before set_mesh: `slots` per material slot, None (it moves nothing) or (Program, "
+          "the register of its world displacement, whether the moved faces' vertex normals "
+          "are made again: Displacement Only); `to_world` the object's 4x4 transform. Its "
+          "images are this scene's textures. How many vertices moved.")
+      .def(
           "set_instance",
           [](Scene& s, const std::string& name, const std::string& mesh, const py::object& to_world,
              std::vector<std::string> materials, uint32_t visibility, bool holdout,

@@ -853,11 +853,13 @@ def test_sheen_and_a_bumped_coat_need_a_program(warnings):
 
 
 @pytest.mark.parametrize("method", ["BUMP", "BOTH", "DISPLACEMENT"])
-def test_a_displacement_is_a_bump_or_said_not_rendered(method, warnings):
+def test_a_displacement_is_a_bump_or_moves_vertices(method, warnings):
     # Cycles' Displacement methods (Material > Settings): Bump Only (the default) shades
-    # the output's Displacement as a bump of the closures' normal; Whitted moves no
-    # vertex, so Displacement and Bump keeps the bump and says so, Displacement Only is
-    # said not rendered (tests/blender/test_surface_vs_cycles.py compares the bump).
+    # the output's Displacement as a bump of the closures' normal; Displacement Only
+    # moves the vertices (a program run per vertex: sync/displace.py) and bumps nothing;
+    # Displacement and Bump does both. One lowering of the output's Displacement serves
+    # both (tests/blender/test_surface_vs_cycles.py compares the bump, test_displacement.py
+    # the moved vertices).
     from whitted.export.nodes import ops
 
     material = node_material("Displaced")
@@ -866,32 +868,22 @@ def test_a_displacement_is_a_bump_or_said_not_rendered(method, warnings):
     tree = material.node_tree
     output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
     displacement = tree.nodes.new("ShaderNodeDisplacement")
-    if method == "DISPLACEMENT":
-        # A graph Whitted would warn about (Pointiness is not supported): not read at all,
-        # since nothing of it is rendered; one warning says why.
-        height = tree.nodes.new("ShaderNodeNewGeometry").outputs["Pointiness"]
-    else:
-        height = tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"]
+    height = tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"]
     tree.links.new(height, displacement.inputs["Height"])
     tree.links.new(displacement.outputs["Displacement"], output.inputs["Displacement"])
     exported = convert_material(material, warnings)
+    assert warnings == []
     outputs = dict(exported.outputs or ())
     codes = [] if exported.program is None else [int(row[0]) for row in exported.program.code]
-    if method == "DISPLACEMENT":
-        assert "normal" not in outputs and ops.BUMP not in codes
-        assert warnings == [
-            "Whitted: material 'Displaced': Displacement Only moves vertices, which Whitted "
-            "does not; its displacement is not rendered"
-        ]
-        return
-    assert "normal" in outputs and ops.BUMP in codes
+    assert ("normal" in outputs and ops.BUMP in codes) == (method != "DISPLACEMENT")
+    moved = exported.displacement
     if method == "BUMP":
-        assert warnings == []
-    else:
-        assert warnings == [
-            "Whitted: material 'Displaced': Displacement and Bump moves no vertex here; its "
-            "displacement is shaded as a bump only"
-        ]
+        assert moved is None
+        return
+    assert moved.method == method
+    code = [int(row[0]) for row in moved.program.code]
+    assert ops.NOISE in code and ops.BUMP not in code
+    assert moved.output < len(moved.program.registers)
 
 
 def test_the_exporters_fields_are_the_native_tables(warnings):
@@ -905,9 +897,10 @@ def test_the_exporters_fields_are_the_native_tables(warnings):
     from whitted.sync.native_data import native_material
 
     native = load_native()
-    # The surface's fields, and the medium's (export/volume.py).
+    # The surface's fields, the medium's (export/volume.py) and the displacement's
+    # (export/material.py Displacement: a program of its own, run at the vertices).
     lowered = [*LINEAR_FIELDS, *WEIGHTED_FIELDS, "alpha", "normal", "coat_normal", "tangent"]
-    lowered += VOLUME_FIELDS
+    lowered += [*VOLUME_FIELDS, "displacement"]
     assert sorted(lowered) == sorted(name for name, _ in native.MATERIAL_FIELDS)
     exported = convert_material(node_material("Tables", Roughness=0.4), warnings)
     data = dataclasses.asdict(exported.data)

@@ -1,6 +1,7 @@
 """The Bump node: a normal from the height the texture graph gives; the Displacement
-node and a material output's Displacement, which Cycles' default method (Bump Only)
-shades as such a bump (displacement_bump).
+node and a material output's Displacement (output_displacement), which Cycles' default
+method (Bump Only) shades as such a bump (displacement_bump) and its two other methods
+add to the mesh's vertices.
 
 As Cycles does (its SVM compiler's bump states), the height sub-graph is lowered
 three times: at the hit, and with every input that moves with the point read at
@@ -106,17 +107,28 @@ def displacement(c, out):
     return b.vmul(amount, normal, VECTOR)
 
 
+def output_displacement(c, output_node):
+    """The world vector a material output's linked Displacement gives (the Displacement
+    node's, a Vector Displacement's or any vector linked there), lowered once for both of
+    its uses: the bump of Bump Only and Displacement and Bump (displacement_bump), and
+    the vertices Displacement Only and Displacement and Bump move (export/material.py,
+    evaluated at each vertex by the native displace). None where it is unlinked."""
+    socket = output_node.inputs.get("Displacement")
+    if socket is None or source(socket, ())[0] is None:
+        return None
+    return c.value(socket, (), VECTOR)
+
+
 def displacement_bump(c, output_node):
     """The shading normal a material output's linked Displacement gives under Cycles'
     Bump Only method (and the bump of Displacement and Bump), as Cycles' shader graph
     builds it (bump_from_displacement): a Bump of Distance 1 and Strength 1 whose height
     is the displacement along the shading normal, at the hit and at both offsets. None
     without a linked Displacement, or where it does not change along the surface."""
-    socket = output_node.inputs.get("Displacement")
-    if socket is None or source(socket, ())[0] is None:
+    vector = output_displacement(c, output_node)
+    if vector is None:
         return None
     b = c.b
-    vector = c.value(socket, (), VECTOR)
     height = b.vmath("DOT_PRODUCT", vector, c.hit(ops.IN_NORMAL))
     if height.is_const:
         return None

@@ -56,15 +56,17 @@ class ProgramData:
         return "\n".join(lines)
 
 
-def emit(fields):
+def emit(fields, keep_constant=False):
     """(ProgramData, {field: register}) computing the non-constant `fields`
-    ({field: Expr}, fields of material_fields()); (None, {}) when all are constant."""
+    ({field: Expr}, fields of material_fields()); (None, {}) when all are constant.
+    With `keep_constant`, constant fields are outputs too (their registers hold them)
+    and a program is always made: a displacement's, which a vertex reads from it."""
     order = [name for name, _ in material_fields()]
     unknown = fields.keys() - set(order)
     if unknown:
         raise ValueError(f"not material fields: {sorted(unknown)}")
     varying = [(name, fields[name]) for name in order if name in fields]
-    varying = [(name, expr) for name, expr in varying if not expr.is_const]
+    varying = [(name, expr) for name, expr in varying if keep_constant or not expr.is_const]
     if not varying:
         return None, {}
     registers = {}  # id(Expr) -> index

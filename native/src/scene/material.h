@@ -25,7 +25,8 @@ namespace whitted {
 // whose compiler emits a program's outputs in this order; a field that is also a
 // MaterialParams member (all but the normals) has that member's name. The volume_* fields
 // are the medium's (a heterogeneous medium: its program run at points inside the mesh,
-// CompiledScene::medium), the others the surface's.
+// CompiledScene::medium); displacement, a world vector, is only a displacement's program's
+// (scene/displace.h: run once per vertex, never at a hit); the others the surface's.
 #define WHITTED_MATERIAL_FIELDS(X)                    \
   X(kDiffuseField, "diffuse", 3)                      \
   X(kSpecularField, "specular", 3)                    \
@@ -53,7 +54,8 @@ namespace whitted {
   X(kVolumeAbsorptionField, "volume_absorption", 3)   \
   X(kVolumeScatteringField, "volume_scattering", 3)   \
   X(kVolumeAnisotropyField, "volume_anisotropy", 1)   \
-  X(kVolumeEmissionField, "volume_emission", 3)
+  X(kVolumeEmissionField, "volume_emission", 3)     \
+  X(kDisplacementField, "displacement", 3)
 
 enum Field : uint32_t {
 #define WHITTED_FIELD_ENUMERATOR(enumerator, name, components) enumerator,

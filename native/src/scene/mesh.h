@@ -57,6 +57,10 @@ struct Mesh {
   // Blender's automatic texture space: generated = (p - location + size) / (2 size).
   Vec3 texspace_location{0.0f};
   Vec3 texspace_size{1.0f};
+  // Where displace() (scene/displace.h) found the vertices, 3 per vertex, object space:
+  // Generated coordinates read the undisplaced surface, as Cycles' attribute does. Empty
+  // when nothing moved them.
+  std::vector<float> undisplaced;
   // Deformation motion blur: its positions at evenly spaced times from the shutter's
   // opening to its closing, each laid out as `positions` (padding included); empty when
   // it does not deform. Embree blends neighbouring steps linearly, as vertex_at does.
@@ -87,6 +91,18 @@ struct Mesh {
     const float* a = &motion_positions[k][3 * size_t{i}];
     const float* b = &motion_positions[k + 1][3 * size_t{i}];
     return (1.0f - f) * Vec3(a[0], a[1], a[2]) + f * Vec3(b[0], b[1], b[2]);
+  }
+  // The object-space point Generated coordinates read at barycentric `b` (weights of
+  // vertices 1 and 2) of primitive `primitive`, whose own point is `local`: the
+  // undisplaced triangle's there, or `local` itself where nothing was displaced.
+  Vec3 undisplaced_point(uint32_t primitive, glm::vec2 b, const Vec3& local) const {
+    if (undisplaced.empty() || kind(primitive) != PrimitiveKind::kTriangle) return local;
+    const uint32_t* tri = &triangles[3 * size_t{primitive}];
+    const auto at = [&](uint32_t v) {
+      return Vec3(undisplaced[3 * size_t{v}], undisplaced[3 * size_t{v} + 1],
+                  undisplaced[3 * size_t{v} + 2]);
+    };
+    return (1.0f - b.x - b.y) * at(tri[0]) + b.x * at(tri[1]) + b.y * at(tri[2]);
   }
   // Whether triangles carry shading normals (smooth shading) rather than their face normal.
   bool has_normals() const { return !normals.empty() || !vertex_normals.empty(); }

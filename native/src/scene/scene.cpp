@@ -128,6 +128,24 @@ void Scene::world_changed() {
   state_.world_light_built = false;
 }
 
+size_t Scene::displace(Mesh* mesh, std::vector<SlotDisplacement> slots,
+                       const glm::mat4& to_world) const {
+  // The textures are shared: a copy of the map keeps them alive outside the lock.
+  std::map<std::string, std::shared_ptr<const Texture>> textures;
+  {
+    std::lock_guard lock(mutex_);
+    textures = state_.textures;
+  }
+  std::vector<const SlotDisplacement*> by_slot;
+  for (SlotDisplacement& slot : slots) {
+    if (slot.program) {
+      slot.images = resolve_images(*slot.program, textures, "a displacement");
+    }
+    by_slot.push_back(slot.program ? &slot : nullptr);
+  }
+  return whitted::displace(mesh, by_slot, to_world);
+}
+
 bool Scene::world_reads(const std::string& texture) const {
   if (!state_.world) return false;
   const std::vector<std::string>& names = state_.world->textures();

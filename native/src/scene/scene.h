@@ -13,6 +13,7 @@
 
 #include "accel/embree.h"
 #include "scene/camera.h"
+#include "scene/displace.h"
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/mesh.h"
@@ -334,6 +335,11 @@ class Scene {
   // background, world or ambient change only the snapshot, which the next compile() resolves
   // again around the existing top-level BVH.
   void set_mesh(const std::string& name, Mesh mesh);
+  // Moves `mesh`'s vertices by `slots` (scene/displace.h displace, a slot without a
+  // program moves none), the images their programs sample resolved among this scene's
+  // textures (SlotDisplacement::images filled here); how many vertices moved. Throws
+  // std::invalid_argument for a texture the scene does not have.
+  size_t displace(Mesh* mesh, std::vector<SlotDisplacement> slots, const glm::mat4& to_world) const;
   void set_instance(const std::string& name, Instance instance);
   void set_material(const std::string& name, const Material& material);
   void set_light(const std::string& name, const Light& light);

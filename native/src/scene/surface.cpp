@@ -79,8 +79,9 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
   const Mesh& mesh = instances[it.instance].mesh->mesh;
   TexturePoint tp;
   tp.object = it.local_position;
-  tp.generated = (it.local_position - mesh.texspace_location + mesh.texspace_size) /
-                 (2.0f * mesh.texspace_size);
+  const Vec3 local = mesh.undisplaced_point(it.primitive, it.barycentric, it.local_position);
+  tp.generated =
+      (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
   if (!mesh.uvs.empty() && mesh.kind(it.primitive) == PrimitiveKind::kTriangle) {
     tp.uv = glm::vec2(interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric));
   }
@@ -244,8 +245,10 @@ struct SurfaceHit {
   }
   // The object's position mapped to [0, 1] over its texture space (the mesh's bounds).
   Vec3 generated(const Mesh& mesh) const {
-    return (it.local_position - mesh.texspace_location + mesh.texspace_size) /
-           (2.0f * mesh.texspace_size);
+    const Vec3 local =
+        inside ? it.local_position
+               : mesh.undisplaced_point(it.primitive, it.barycentric, it.local_position);
+    return (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
   }
   // Cycles' radial tangent about object axis `axis` (0, 1, 2: X, Y, Z) at the hit: the
   // generated coordinates' offset from their centre turned a quarter about the axis
