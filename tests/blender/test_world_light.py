@@ -284,8 +284,8 @@ def test_a_coated_plastic_reflects_the_world_as_cycles(coat, empty_scene, tmp_pa
     # lobe's rays (native split.h reflection_lobes, mis.h lobe_weights). Before, a hit's
     # glossy rays followed one lobe and the layer beneath the coat was dropped: 0.952 of
     # Cycles 3.4 (a strict xfail), 0.998 of bpy 5.0; then 1.005 and 0.999, and with 3.x's
-    # GTR1 clearcoat 1.003 in 3.4 (without the coat 1.000 and 0.999). The sphere alone (no floor), over a transparent film: its
-    # pixels are the opaque ones.
+    # GTR1 clearcoat 1.003 in 3.4 (without the coat 1.000 and 0.999). The sphere alone
+    # (no floor), over a transparent film: its pixels are the opaque ones.
     material = principled_sphere_material("Plastic", (0.6, 0.05, 0.05), 0.3)
     bsdf = material.node_tree.nodes["Principled BSDF"]
     weight = "Clearcoat" if "Clearcoat" in bsdf.inputs else "Coat Weight"

@@ -54,7 +54,7 @@ namespace whitted {
   X(kVolumeAbsorptionField, "volume_absorption", 3)   \
   X(kVolumeScatteringField, "volume_scattering", 3)   \
   X(kVolumeAnisotropyField, "volume_anisotropy", 1)   \
-  X(kVolumeEmissionField, "volume_emission", 3)     \
+  X(kVolumeEmissionField, "volume_emission", 3)       \
   X(kDisplacementField, "displacement", 3)
 
 enum Field : uint32_t {
