@@ -37,7 +37,7 @@ def test_a_features_page_has_a_row_per_scene_and_says_what_the_report_does_not_n
     assert "## Blender 9.9" in page
     assert "| shadow_catcher | 0.980 | 1.010 | 0.500 | 0.250 | 2.00 | 2.00 / 1.00 |" in page
     assert "| shadow catcher (1 object) |" in page
-    assert "(not an effect of its own: a material's shading)" in page
+    assert "(not named in the report: a material's shading)" in page
     assert "![bump_displacement](images/features/blender-9.9/bump_displacement.png)" in page
 
 

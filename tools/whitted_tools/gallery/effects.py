@@ -182,14 +182,15 @@ def timed_whitted(scene, path, stats_path):
 
 def _decision(stats, effect):
     """The report's entry for `effect` in a render's statistics; None for a scene whose
-    feature is a material's shading, which the report does not name."""
-    return None if effect is None else next(e for e in stats["effects"] if e["name"] == effect)
+    feature is a material's shading, which the report does not name, or for one the
+    report names only where it is used (vertex displacement)."""
+    return next((e for e in stats["effects"] if e["name"] == effect), None)
 
 
 def _says(result):
     """The page's "the report says" cell of a result."""
     if result["decision"] is None:
-        return "(not an effect of its own: a material's shading)"
+        return "(not named in the report: a material's shading)"
     return f"{result['effect']} ({result['decision']['why']})"
 
 

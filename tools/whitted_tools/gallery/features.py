@@ -1,7 +1,8 @@
 """What artists' files hold, by Whitted beside Cycles (in Blender): docs/FEATURES.md.
 
 The features issue 49 added (a shadow catcher, the Ambient Occlusion and Bevel nodes,
-anisotropic metal, an area lamp seen in a mirror, a bump from the Displacement output, a
+anisotropic metal, an area lamp seen in a mirror, the Displacement output as a bump and
+moving the vertices, a
 coat over a glossy base), each in a small scene beside Cycles, with the time of its
 render against the same scene with the feature turned off as an artist would turn it
 off. The harness, measures and page are the distributed ray tracing gallery's
@@ -22,6 +23,7 @@ from whitted_tools.material_scenes import (
     add_sun,
     grey_world,
     principled_sphere_material,
+    smooth_sphere,
 )
 
 # --- the scenes: each builds itself; its switch turns the feature on and off ----------
@@ -169,6 +171,31 @@ def displaced(scene, on):
     _linked(material, nodes["Displacement"].outputs["Displacement"], output, on)
 
 
+def scene_displaced(scene):
+    """A ball (128 x 64 faces) whose vertices a Noise texture (scale 4) moves along their
+    normals, by a Displacement node of Scale 0.15: Displacement Only, Cycles without
+    adaptive subdivision."""
+    material = principled_sphere_material("Displaced", (0.55, 0.4, 0.25), 0.5)
+    nodes = material.node_tree.nodes
+    noise = nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 4.0
+    displacement = nodes.new("ShaderNodeDisplacement")
+    displacement.inputs["Scale"].default_value = 0.15
+    links = material.node_tree.links
+    links.new(noise.outputs["Fac"], displacement.inputs["Height"])
+    links.new(displacement.outputs["Displacement"], nodes["Material Output"].inputs["Displacement"])
+    sphere_on_floor(scene, material)
+    bpy.data.objects.remove(bpy.data.objects["Ball"])  # for a denser one
+    smooth_sphere("Ball", (0.0, 0.0, 1.0), 1.0, material, segments=128, rings=64)
+    moved(scene, True)
+
+
+def moved(scene, on):
+    material = bpy.data.materials["Displaced"]
+    settings = material if hasattr(material, "displacement_method") else material.cycles
+    settings.displacement_method = "DISPLACEMENT" if on else "BUMP"
+
+
 def scene_coat(scene):
     """A red plastic of roughness 0.4 under a full clear coat of roughness 0.05 (3.x
     Clearcoat, 4.x+ Coat Weight)."""
@@ -198,6 +225,7 @@ SCENES = (
         "the lamp's Visibility > Glossy off",
     ),
     ("bump_displacement", scene_bump_displacement, None, displaced, "Displacement unlinked"),
+    ("displaced_vertices", scene_displaced, "displacement", moved, "Bump Only"),
     ("coat", scene_coat, "glossy reflection", coated, "Coat 0"),
 )
 
@@ -210,7 +238,8 @@ FEATURES_PAGE = Page(
     "What artists' files hold: Whitted beside Cycles",
     "What issue 49 added for the scenes artists make: a shadow catcher, the ray-traced "
     "Ambient Occlusion and Bevel nodes, anisotropic metal, an area lamp seen in a mirror, "
-    "the Displacement output shaded as a bump, a clear coat over a glossy base. Each "
+    "the Displacement output shaded as a bump and moving the vertices, a clear coat over a "
+    "glossy base. Each "
     "scene's feature is turned off as an artist would turn it off (the last column).",
     SCENES,
 )
