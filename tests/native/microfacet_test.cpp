@@ -36,8 +36,10 @@ double hemisphere(F f, int n = 1024) {
   return sum * 2.0 * kPi / (static_cast<double>(n) * n);
 }
 
-// The mean weight of n x n stratified samples of the lobe: its directional albedo.
-double sampled_albedo(const GgxLobe& lobe, const Vec3& wo, int n = 256) {
+// The mean weight of a sampler's n x n stratified draws, sample(u1, u2, &wi, &weight)
+// (false: weight 0): a lobe's directional albedo.
+template <class Sample>
+double stratified_albedo(const Sample& sample, int n) {
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
@@ -45,10 +47,19 @@ double sampled_albedo(const GgxLobe& lobe, const Vec3& wo, int n = 256) {
       float weight = 0.0f;
       const float u1 = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
       const float u2 = (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
-      if (ggx_sample_reflection(lobe, wo, u1, u2, &wi, &weight)) sum += weight;
+      if (sample(u1, u2, &wi, &weight)) sum += weight;
     }
   }
   return sum / (static_cast<double>(n) * n);
+}
+
+// GGX's, drawn from its visible normals.
+double sampled_albedo(const GgxLobe& lobe, const Vec3& wo, int n = 256) {
+  return stratified_albedo(
+      [&](float u1, float u2, Vec3* wi, float* weight) {
+        return ggx_sample_reflection(lobe, wo, u1, u2, wi, weight);
+      },
+      n);
 }
 double sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
   return sampled_albedo(GgxLobe(kNormal, alpha), wo, n);
@@ -212,17 +223,11 @@ TEST(AnisotropicGgx, EqualAlphasOrAFlatTangentGiveTheRoundLobeExactly) {
 
 // Cycles 3.x's clearcoat: the GTR1 lobe, against the same defining integrals.
 double gtr1_sampled_albedo(const Vec3& wo, float alpha, int n = 256) {
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      Vec3 wi;
-      float weight = 0.0f;
-      const float u1 = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
-      const float u2 = (static_cast<float>(j) + 0.5f) / static_cast<float>(n);
-      if (gtr1_sample_reflection(kNormal, alpha, wo, u1, u2, &wi, &weight)) sum += weight;
-    }
-  }
-  return sum / (static_cast<double>(n) * n);
+  return stratified_albedo(
+      [&](float u1, float u2, Vec3* wi, float* weight) {
+        return gtr1_sample_reflection(kNormal, alpha, wo, u1, u2, wi, weight);
+      },
+      n);
 }
 
 TEST(Gtr1, TheDistributionsProjectedAreaIsOne) {

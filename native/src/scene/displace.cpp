@@ -105,8 +105,7 @@ struct VertexPoint {
         return vec(safe_normalize(normal_to_world * face_normal(mesh, t)));
       }
       case kInputGenerated:
-        return vec((local - mesh.texspace_location + mesh.texspace_size) /
-                   (2.0f * mesh.texspace_size));
+        return vec(mesh.generated(local));
       case kInputObject:
         return vec(local);
       case kInputReflection:

@@ -95,6 +95,10 @@ struct Mesh {
   // The object-space point Generated coordinates read at barycentric `b` (weights of
   // vertices 1 and 2) of primitive `primitive`, whose own point is `local`: the
   // undisplaced triangle's there, or `local` itself where nothing was displaced.
+  // The Generated coordinates of object-space point `local` in the texture space above.
+  Vec3 generated(const Vec3& local) const {
+    return (local - texspace_location + texspace_size) / (2.0f * texspace_size);
+  }
   Vec3 undisplaced_point(uint32_t primitive, glm::vec2 b, const Vec3& local) const {
     if (undisplaced.empty() || kind(primitive) != PrimitiveKind::kTriangle) return local;
     const uint32_t* tri = &triangles[3 * size_t{primitive}];

@@ -120,17 +120,30 @@ Vec3 visible_normal(const Vec3& v, float ax, float ay, float u1, float u2) {
   return glm::normalize(Vec3(ax * nh.x, ay * nh.y, std::max(1e-7f, nh.z)));
 }
 
-// A reflection's cosines to the normal, of the view and the light, and GGX's D of its
-// half vector; false below either horizon or for opposite directions (no half vector).
-bool reflection_geometry(const GgxLobe& g, const Vec3& wo, const Vec3& wi, float* cos_o,
-                         float* cos_i, float* d) {
-  *cos_o = glm::dot(g.n, wo);
-  *cos_i = glm::dot(g.n, wi);
+// A reflection's cosines to n, of the view and the light, its unit half vector m and
+// n.m; false below either horizon or for opposite directions (no half vector). GGX's
+// and GTR1's lobes both start here.
+bool half_vector(const Vec3& n, const Vec3& wo, const Vec3& wi, float* cos_o, float* cos_i, Vec3* m,
+                 float* cos_m) {
+  *cos_o = glm::dot(n, wo);
+  *cos_i = glm::dot(n, wi);
   if (*cos_o <= 0.0f || *cos_i <= 0.0f) return false;
   const Vec3 half = wo + wi;
   const float length = glm::length(half);
   if (!(length > 0.0f)) return false;
-  *d = distribution(g, in_frame(g, half / length, glm::dot(g.n, half) / length));
+  *m = half / length;
+  *cos_m = glm::dot(n, half) / length;
+  return true;
+}
+
+// A reflection's cosines to the normal, of the view and the light, and GGX's D of its
+// half vector; false below either horizon or for opposite directions (no half vector).
+bool reflection_geometry(const GgxLobe& g, const Vec3& wo, const Vec3& wi, float* cos_o,
+                         float* cos_i, float* d) {
+  Vec3 m;
+  float cos_m = 0.0f;
+  if (!half_vector(g.n, wo, wi, cos_o, cos_i, &m, &cos_m)) return false;
+  *d = distribution(g, in_frame(g, m, cos_m));
   return true;
 }
 
@@ -281,20 +294,6 @@ float gtr1_masking(float cos_theta) {
   return 1.0f / (1.0f + ggx_lambda(cos_theta, kGtr1MaskingAlpha));
 }
 
-// A reflection's cosines to n, of the view and the light, and its unit half vector;
-// false below either horizon or for opposite directions.
-bool half_vector(const Vec3& n, const Vec3& wo, const Vec3& wi, float* cos_o, float* cos_i,
-                 Vec3* m) {
-  *cos_o = glm::dot(n, wo);
-  *cos_i = glm::dot(n, wi);
-  if (*cos_o <= 0.0f || *cos_i <= 0.0f) return false;
-  const Vec3 half = wo + wi;
-  const float length = glm::length(half);
-  if (!(length > 0.0f)) return false;
-  *m = half / length;
-  return true;
-}
-
 }  // namespace
 
 float gtr1_distribution(float cos_m, float alpha) {
@@ -308,8 +307,9 @@ float gtr1_reflection(const Vec3& n, float alpha, const Vec3& wo, const Vec3& wi
   float cos_o = 0.0f;
   float cos_i = 0.0f;
   Vec3 m;
-  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m)) return 0.0f;
-  return gtr1_distribution(glm::dot(n, m), alpha) * gtr1_masking(cos_o) * gtr1_masking(cos_i) /
+  float cos_m = 0.0f;
+  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m, &cos_m)) return 0.0f;
+  return gtr1_distribution(cos_m, alpha) * gtr1_masking(cos_o) * gtr1_masking(cos_i) /
          (4.0f * cos_o);
 }
 
@@ -317,8 +317,8 @@ float gtr1_reflection_pdf(const Vec3& n, float alpha, const Vec3& wo, const Vec3
   float cos_o = 0.0f;
   float cos_i = 0.0f;
   Vec3 m;
-  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m)) return 0.0f;
-  const float cos_m = glm::dot(n, m);
+  float cos_m = 0.0f;
+  if (!half_vector(n, wo, wi, &cos_o, &cos_i, &m, &cos_m)) return 0.0f;
   // dwi = 4 (wo.m) dm: the reflection's Jacobian.
   return gtr1_distribution(cos_m, alpha) * cos_m / (4.0f * glm::dot(wo, m));
 }

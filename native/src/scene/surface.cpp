@@ -80,8 +80,7 @@ TexturePoint CompiledScene::texture_point(const Interaction& it) const {
   TexturePoint tp;
   tp.object = it.local_position;
   const Vec3 local = mesh.undisplaced_point(it.primitive, it.barycentric, it.local_position);
-  tp.generated =
-      (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
+  tp.generated = mesh.generated(local);
   if (!mesh.uvs.empty() && mesh.kind(it.primitive) == PrimitiveKind::kTriangle) {
     tp.uv = glm::vec2(interpolate_corners(mesh.uvs, 2, it.primitive, it.barycentric));
   }
@@ -248,7 +247,7 @@ struct SurfaceHit {
     const Vec3 local =
         inside ? it.local_position
                : mesh.undisplaced_point(it.primitive, it.barycentric, it.local_position);
-    return (local - mesh.texspace_location + mesh.texspace_size) / (2.0f * mesh.texspace_size);
+    return mesh.generated(local);
   }
   // Cycles' radial tangent about object axis `axis` (0, 1, 2: X, Y, Z) at the hit: the
   // generated coordinates' offset from their centre turned a quarter about the axis
