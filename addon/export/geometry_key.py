@@ -45,6 +45,12 @@ def geometry_key(object_instance, render):
     return f"mesh:{original.data.name_full}"
 
 
+def key_owner(key):
+    """The name of the data-block a geometry key is made from (its mesh's, object's or
+    instancer's: what follows geometry_key's "mesh:" or "object:")."""
+    return key.partition(":")[2] or key
+
+
 def _own_geometry(obj, render):
     # Modifiers (geometry nodes among them) or edit mode make an object's evaluated
     # mesh its own: no other user of the data-block shares it.

@@ -11,11 +11,9 @@ and, for Displacement Only, gives the displaced faces' vertices new normals. Cal
 the main thread while a geometry is exported (sync/scene.py), before its BVH is built.
 """
 
+from ..export.geometry_key import key_owner
 from ..export.instance import slot_materials
-
-# What a geometry key starts with before its object's or mesh's name
-# (export/geometry_key.py geometry_key).
-_KEY_PREFIXES = ("mesh:", "object:")
+from ..export.nodes import warn
 
 
 def slot_displacements(obj, displacements):
@@ -61,8 +59,7 @@ def adaptive_warning(obj, experimental, warnings):
         f"Whitted: object '{obj.name}': adaptive subdivision (microdisplacement) is not "
         "rendered; its vertices are displaced at the mesh's own resolution"
     )
-    if message not in warnings:
-        warnings.append(message)
+    warn(warnings, message)
 
 
 def displacement_effect(displaced):
@@ -70,8 +67,5 @@ def displacement_effect(displaced):
     vertices moved}; None where none moved."""
     if not displaced:
         return None
-    parts = []
-    for key, count in sorted(displaced.items()):
-        name = next((key[len(p) :] for p in _KEY_PREFIXES if key.startswith(p)), key)
-        parts.append(f"{count:,} vertices of '{name}'")
+    parts = (f"{n:,} vertices of '{key_owner(key)}'" for key, n in sorted(displaced.items()))
     return {"name": "displacement", "on": True, "why": "displaced " + ", ".join(parts)}
